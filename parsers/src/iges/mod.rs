@@ -1,0 +1,1 @@
+//! Placeholder: the iges format layer is being written.

@@ -1,0 +1,112 @@
+//! # nurbsx-parsers: the format layer of nurbsx
+//!
+//! Pure syntax for the two neutral CAD formats nurbsx exchanges, and nothing else:
+//!
+//! - [`step`]: ISO 10303-21 (STEP Part 21) exchange structures: lexer, parser, a borrowed
+//!   AST with an `#id` index, typed records for the ISO 10303-42 B-spline entities, and a
+//!   writer.
+//! - [`iges`]: IGES 5.3 fixed-column files: the S, G, D, P, T sections, the Global section
+//!   with its delimiters, Directory Entries, free-format Parameter Data, typed records for
+//!   entities 124, 126 and 128, and a writer.
+//! - [`real`]: the one place where REAL literals are lexed and written (shortest digits
+//!   that round-trip an `f64`, always with a decimal point), shared by both formats.
+//! - [`limits`]: explicit resource limits applied while parsing untrusted input.
+//!
+//! This crate has no geometry in it: records follow the standards' attribute lists one to
+//! one and check only what the syntax requires. Turning records into NURBS (knot
+//! multiplicities, weights, units, transforms) is the job of `nurbsx::exchange`.
+//!
+//! Every error carries a location: STEP errors a line, column and `#id`; IGES errors a
+//! section letter, sequence number, column and DE pointer.
+
+pub mod iges;
+pub mod limits;
+pub mod real;
+pub mod step;
+
+pub use limits::Limits;
+
+/// The exchange formats this crate reads and writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// ISO 10303-21 clear-text encoding (STEP Part 21).
+    Step,
+    /// IGES 5.3 fixed-column ASCII form.
+    Iges,
+}
+
+impl Format {
+    /// Guesses the format from the first bytes of a file.
+    ///
+    /// STEP files start (after optional whitespace and comments) with `ISO-10303-21;`.
+    /// IGES files have an `S` (or, for a file without a Start section, `G`) in column 73
+    /// of the first record followed by a sequence number. Returns `None` when neither
+    /// signature is present.
+    pub fn sniff(bytes: &[u8]) -> Option<Format> {
+        let head = &bytes[..bytes.len().min(4096)];
+        let trimmed = trim_leading_noise(head);
+        if trimmed.starts_with(b"ISO-10303-21") {
+            return Some(Format::Step);
+        }
+        let first_line = head.split(|&b| b == b'\n').next().unwrap_or(&[]);
+        let first_line = first_line.strip_suffix(b"\r").unwrap_or(first_line);
+        if first_line.len() >= 74 {
+            let letter = first_line[72];
+            let seq = &first_line[73..];
+            if matches!(letter, b'S' | b'G')
+                && seq.iter().any(|b| b.is_ascii_digit())
+                && seq.iter().all(|b| b.is_ascii_digit() || *b == b' ')
+            {
+                return Some(Format::Iges);
+            }
+        }
+        None
+    }
+}
+
+/// Skips a UTF-8 byte-order mark, whitespace and `/* ... */` comments at the start of a
+/// STEP file, so that sniffing accepts files whose first token is preceded by them.
+fn trim_leading_noise(mut s: &[u8]) -> &[u8] {
+    if let Some(rest) = s.strip_prefix(b"\xEF\xBB\xBF") {
+        s = rest;
+    }
+    loop {
+        let before = s.len();
+        while let Some((first, rest)) = s.split_first() {
+            if first.is_ascii_whitespace() {
+                s = rest;
+            } else {
+                break;
+            }
+        }
+        if let Some(rest) = s.strip_prefix(b"/*") {
+            match memchr::memmem::find(rest, b"*/") {
+                Some(end) => s = &rest[end + 2..],
+                None => return &[],
+            }
+        }
+        if s.len() == before {
+            return s;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sniffs_step_after_comment_and_bom() {
+        assert_eq!(
+            Format::sniff(b"\xEF\xBB\xBF /* hi */\r\nISO-10303-21;\nHEADER;"),
+            Some(Format::Step)
+        );
+    }
+
+    #[test]
+    fn sniffs_iges_start_record() {
+        let line = format!("{:<72}S{:>7}\n", "hello", 1);
+        assert_eq!(Format::sniff(line.as_bytes()), Some(Format::Iges));
+        assert_eq!(Format::sniff(b"garbage"), None);
+    }
+}

@@ -1,0 +1,1 @@
+//! Placeholder: the step format layer is being written.
