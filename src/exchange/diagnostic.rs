@@ -1,0 +1,151 @@
+//! Diagnostics: what the reader or writer noticed, with a stable code and a location.
+
+use serde::Serialize;
+
+/// How serious a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Informational: a decision the tool made that the user may want to know (units applied).
+    Info,
+    /// The data is readable but suspicious or was interpreted (flags disagree with data).
+    Warning,
+    /// The entity or file is invalid; the entity was not loaded.
+    Error,
+}
+
+/// Where a diagnostic points. STEP uses `line`, `column` and `entity` (`#17`); IGES uses
+/// `section` (`'D'`, `'P'`, `'G'`...), `sequence` (the sequence number in that section),
+/// `column` and `entity` (`D5`, the DE pointer). Unknown parts are `None`.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
+pub struct Location {
+    /// 1-based line number in the file.
+    pub line: Option<usize>,
+    /// 1-based column.
+    pub column: Option<usize>,
+    /// The entity: `#17` (STEP instance) or `D5` (IGES directory entry).
+    pub entity: Option<String>,
+    /// IGES section letter.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub section: Option<char>,
+    /// IGES sequence number within the section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sequence: Option<usize>,
+}
+
+impl Location {
+    /// A location that knows only a line.
+    pub fn at_line(line: usize) -> Self {
+        Location {
+            line: Some(line),
+            ..Location::default()
+        }
+    }
+
+    /// A location that knows only an entity id.
+    pub fn at_entity(entity: impl Into<String>) -> Self {
+        Location {
+            entity: Some(entity.into()),
+            ..Location::default()
+        }
+    }
+}
+
+impl std::fmt::Display for Location {
+    /// `line:column` (or `line` alone), then ` (#17)` / ` (D5, P seq 12)` when known.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut wrote = false;
+        if let Some(line) = self.line {
+            write!(f, "{line}")?;
+            if let Some(column) = self.column {
+                write!(f, ":{column}")?;
+            }
+            wrote = true;
+        }
+        let mut extra = Vec::new();
+        if let Some(e) = &self.entity {
+            extra.push(e.clone());
+        }
+        if let (Some(s), Some(n)) = (self.section, self.sequence) {
+            match self.column {
+                Some(c) if self.line.is_none() => extra.push(format!("{s}{n} col {c}")),
+                _ => extra.push(format!("{s}{n}")),
+            }
+        }
+        if !extra.is_empty() {
+            if wrote {
+                write!(f, " ")?;
+            }
+            write!(f, "({})", extra.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+/// One finding, with a stable machine-readable `code` (e.g. `knot_count_mismatch`,
+/// `flag_mismatch`, `trim_ignored`, `step.syntax`) documented by the module that emits it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Diagnostic {
+    /// How serious it is.
+    pub severity: Severity,
+    /// Stable identifier of the kind of finding.
+    pub code: String,
+    /// Human-readable explanation, naming the offending value or index.
+    pub message: String,
+    /// Where in the file.
+    pub location: Location,
+}
+
+impl Diagnostic {
+    /// An error.
+    pub fn error(code: impl Into<String>, message: impl Into<String>, location: Location) -> Self {
+        Diagnostic {
+            severity: Severity::Error,
+            code: code.into(),
+            message: message.into(),
+            location,
+        }
+    }
+
+    /// A warning.
+    pub fn warning(
+        code: impl Into<String>,
+        message: impl Into<String>,
+        location: Location,
+    ) -> Self {
+        Diagnostic {
+            severity: Severity::Warning,
+            code: code.into(),
+            message: message.into(),
+            location,
+        }
+    }
+
+    /// An informational note.
+    pub fn info(code: impl Into<String>, message: impl Into<String>, location: Location) -> Self {
+        Diagnostic {
+            severity: Severity::Info,
+            code: code.into(),
+            message: message.into(),
+            location,
+        }
+    }
+}
+
+impl std::fmt::Display for Diagnostic {
+    /// `line:col: error[code]: message` (the location part as [`Location`] prints it).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sev = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Info => "info",
+        };
+        let loc = self.location.to_string();
+        if !loc.is_empty() {
+            write!(f, "{loc}: ")?;
+        }
+        write!(f, "{sev}[{}]: {}", self.code, self.message)
+    }
+}
+
+impl std::error::Error for Diagnostic {}

@@ -1,0 +1,136 @@
+//! What a file holds, in one form for both formats.
+
+use serde::Serialize;
+
+use super::{Diagnostic, Format, LengthUnit, Severity};
+use crate::nurbs::{Geometry, Point3};
+
+/// A STEP or IGES file as nurbsx understands it: its B-spline entities (each with provenance
+/// and format metadata), its declared length unit, and what the reader noticed.
+///
+/// Geometry coordinates are in [`Document::units`]: the file's own unit unless the import
+/// options asked for another one (then the reader scaled and said so in a diagnostic).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Document {
+    /// The format the document was read from (or will be written as).
+    #[serde(serialize_with = "format_name")]
+    pub format: Format,
+    /// STEP: the FILE_SCHEMA identifier(s) joined by `, `; IGES: `IGES 5.3` etc. from the
+    /// version flag.
+    pub schema: Option<String>,
+    /// The length unit the coordinates are in.
+    pub units: LengthUnit,
+    /// The B-spline curves and surfaces, in file order.
+    pub entities: Vec<Entity>,
+    /// Everything the reader noticed, in file order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Serialises a [`Format`] as `"step"` or `"iges"`.
+fn format_name<S: serde::Serializer>(f: &Format, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(match f {
+        Format::Step => "step",
+        Format::Iges => "iges",
+    })
+}
+
+impl Document {
+    /// An empty document in the given format and unit.
+    pub fn new(format: Format, units: LengthUnit) -> Self {
+        Document {
+            format,
+            schema: None,
+            units,
+            entities: Vec::new(),
+            diagnostics: Vec::new(),
+        }
+    }
+
+    /// Whether any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics
+            .iter()
+            .any(|d| d.severity == Severity::Error)
+    }
+}
+
+/// One B-spline curve or surface with where it came from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Entity {
+    /// The id in the source file: `#17` (STEP) or `D5` (IGES DE pointer); for geometry
+    /// made in memory, any unique label.
+    pub id: String,
+    /// The exact geometry.
+    pub geometry: Geometry,
+    /// The source entity.
+    pub source: Source,
+    /// Format metadata kept for information and for writing back.
+    pub meta: Meta,
+}
+
+/// Provenance of an entity.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
+pub struct Source {
+    /// Entity type as the file names it: `B_SPLINE_CURVE_WITH_KNOTS`,
+    /// `(B_SPLINE_CURVE,RATIONAL_B_SPLINE_CURVE,...)`, `126`, `128`.
+    pub entity: String,
+    /// 1-based line where the entity starts (STEP instance line; IGES first D line).
+    pub line: Option<usize>,
+}
+
+/// Format metadata of an entity: flags and forms that are "for information" in the
+/// standards. Readers keep them as written and *check* them against the data (a mismatch is
+/// a diagnostic, never a silent change); writers compute them from the data.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Meta {
+    /// STEP `name` attribute, IGES entity label (DE field 18) or 406 name property.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// STEP `curve_form`/`surface_form` in lower case (`circular_arc`), or the IGES form
+    /// number as a string.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub form: Option<String>,
+    /// STEP `closed_curve`/`u_closed`, IGES PROP2 (126) / PROP1 (128).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_u: Option<bool>,
+    /// STEP `v_closed`, IGES 128 PROP2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_v: Option<bool>,
+    /// IGES PROP4 (126/128): periodic flag as written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periodic_u: Option<bool>,
+    /// IGES 128 PROP5.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periodic_v: Option<bool>,
+    /// STEP `self_intersect`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub self_intersect: Option<bool>,
+    /// STEP `knot_spec` in lower case (`piecewise_bezier_knots`), or the implicit-knot
+    /// subtype the knots were synthesised for (`bezier`, `uniform`, `quasi_uniform`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub knot_spec: Option<String>,
+    /// IGES 126 `V(0), V(1)` / 128 `U(0), U(1), V(0), V(1)`: the parameter range the file
+    /// declares (kept; geometry is trimmed to it only on request).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parameter_range: Option<ParameterRange>,
+    /// IGES 126 unit normal of a planar curve (PROP1 = 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane_normal: Option<Point3>,
+    /// IGES: the DE pointers of the 124 transformation chain applied to the poles.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub transforms_applied: Vec<String>,
+    /// IGES: the 144/186/142 entities that use this one (their trims/topology are not
+    /// applied).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub used_by: Vec<String>,
+}
+
+/// A declared parameter range: `u` for curves, `u` and `v` for surfaces.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ParameterRange {
+    /// `(start, end)` in u (IGES `V(0), V(1)` for curves, `U(0), U(1)` for surfaces).
+    pub u: (f64, f64),
+    /// `(start, end)` in v, for surfaces.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub v: Option<(f64, f64)>,
+}
