@@ -26,8 +26,9 @@ fn de_boor(c: &NurbsCurve, u: f64) -> [f64; 3] {
         for j in (r..=p).rev() {
             let i = j + l - p;
             let a = (u - k[i]) / (k[i + p + 1 - r] - k[i]);
-            for c in 0..4 {
-                d[j][c] = (1.0 - a) * d[j - 1][c] + a * d[j][c];
+            let prev = d[j - 1];
+            for (x, y) in d[j].iter_mut().zip(prev) {
+                *x = (1.0 - a) * y + a * *x;
             }
         }
     }

@@ -3,7 +3,7 @@
 //! interior knots), and geometric comparison by sampling.
 //!
 //! Every test file that uses it declares `mod common;`; not every file uses every item.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface, Point3};
 use proptest::prelude::*;
