@@ -1,1 +1,24 @@
-//! (being written)
+//! # The conversion pipeline
+//!
+//! The one place where a request becomes work: load (sniff -> parse -> import), operate
+//! (evaluate, elevate, clamp, ...), export (write -> optionally verify). The CLI and the
+//! HTTP service call these functions and only parse arguments and print; they hold no
+//! logic of their own, so the two front ends cannot drift apart.
+//!
+//! Everything here is synchronous and CPU-bound; the service runs it off the async threads.
+
+mod error;
+mod input;
+mod ops;
+mod reports;
+
+pub use error::{ErrorKind, PipelineError};
+pub use input::{InputKind, Loaded, Settings, load};
+pub use ops::{
+    ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,
+    apply, convert, evaluate, info, select, tessellate, validate, write,
+};
+pub use reports::{
+    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
+    ValidationReport,
+};

@@ -1,0 +1,568 @@
+//! The pipeline's operations: convert, info, validate, evaluate, geometric operations and
+//! tessellation. Each takes loaded input and returns a report or new bytes.
+
+use crate::exchange::{
+    self, Diagnostic, Document, Entity, ExportOptions, Format, LengthUnit, Location,
+};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+
+use super::reports::{
+    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
+    ValidationReport,
+};
+use super::{ErrorKind, InputKind, Loaded, PipelineError, Settings, load};
+
+/// What to do with knot-vector ends while converting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ClampPolicy {
+    /// Keep the knots exactly as read (the default: unclamped and periodic data stays exact).
+    #[default]
+    Keep,
+    /// Clamp every entity (knot insertion at the domain ends; geometry unchanged).
+    Clamp,
+    /// Unclamp every entity (NURBS Book A12.1; geometry unchanged).
+    Unclamp,
+}
+
+/// A conversion request.
+#[derive(Debug, Clone, Default)]
+pub struct ConvertRequest {
+    /// Output format.
+    pub to: Option<Format>,
+    /// Writer options (schema, output unit, time stamp, ...).
+    pub export: ExportOptions,
+    /// Knot-end policy.
+    pub clamp: ClampPolicy,
+    /// Re-read the output and compare each entity by sampling; fail when the relative
+    /// deviation exceeds this tolerance.
+    pub verify: Option<f64>,
+}
+
+/// The result of a conversion.
+#[derive(Debug, Clone)]
+pub struct ConvertOutput {
+    /// The format written.
+    pub format: Format,
+    /// The file text.
+    pub text: String,
+    /// What happened.
+    pub report: ConvertReport,
+}
+
+/// A parametric direction of a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Direction {
+    /// Along u.
+    U,
+    /// Along v.
+    V,
+    /// Both (for curves: the only direction).
+    #[default]
+    Both,
+}
+
+/// A shape-preserving (or, for reduction, tolerance-bounded) geometric operation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Operation {
+    /// Degree elevation by `by` (NURBS Book A5.9/A5.10).
+    Elevate {
+        /// Amount.
+        by: usize,
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Clamp both ends (all directions for surfaces).
+    Clamp {
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Unclamp both ends (A12.1).
+    Unclamp {
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Insert the knot `u` `times` times (A5.1/A5.3).
+    InsertKnot {
+        /// Parameter value.
+        u: f64,
+        /// How many times.
+        times: usize,
+        /// Surface direction (U or V; Both is refused for surfaces).
+        direction: Direction,
+    },
+}
+
+/// An output format for tessellation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// Wavefront OBJ (polylines and triangle meshes).
+    Obj,
+    /// SVG (curves projected on XY).
+    Svg,
+}
+
+/// An evaluation request.
+#[derive(Debug, Clone, Default)]
+pub struct EvalRequest {
+    /// Entity id (`#17`, `D5`, or the index for JSON input); `None`: the first entity.
+    pub entity: Option<String>,
+    /// `[u]` for curves, `[u, v]` for surfaces.
+    pub params: Vec<Vec<f64>>,
+    /// Highest derivative order (0: points only).
+    pub derivatives: usize,
+    /// Surface normals.
+    pub normals: bool,
+    /// Curvature.
+    pub curvature: bool,
+}
+
+/// Finds an entity by id; `None` selects the first. The error lists the ids available.
+pub fn select<'d>(doc: &'d Document, id: Option<&str>) -> Result<&'d Entity, PipelineError> {
+    let found = match id {
+        None => doc.entities.first(),
+        Some(id) => doc
+            .entities
+            .iter()
+            .find(|e| e.id == id || e.id.trim_start_matches(['#', 'D']) == id),
+    };
+    found.ok_or_else(|| {
+        let ids: Vec<&str> = doc
+            .entities
+            .iter()
+            .take(20)
+            .map(|e| e.id.as_str())
+            .collect();
+        let message = match id {
+            None => "the input holds no B-spline curve or surface".to_owned(),
+            Some(id) => format!(
+                "no entity {id}; the input holds {} entities: {}{}",
+                doc.entities.len(),
+                ids.join(", "),
+                if doc.entities.len() > ids.len() {
+                    ", ..."
+                } else {
+                    ""
+                }
+            ),
+        };
+        PipelineError::new(
+            ErrorKind::Usage,
+            "entity.not_found",
+            message,
+            Location::default(),
+        )
+    })
+}
+
+/// Writes a document in the given format, with the document's diagnostics untouched.
+pub fn write(
+    doc: &Document,
+    format: Format,
+    options: &ExportOptions,
+) -> Result<String, PipelineError> {
+    exchange::write(doc, format, options).map_err(PipelineError::from_exchange)
+}
+
+/// Reads, optionally clamps or unclamps, writes, and optionally verifies by re-reading.
+pub fn convert(
+    bytes: &[u8],
+    hint: Option<InputKind>,
+    request: &ConvertRequest,
+    settings: &Settings,
+) -> Result<ConvertOutput, PipelineError> {
+    let Loaded { kind, mut document } = load(bytes, hint, settings)?;
+    let format = request.to.or(kind.format()).ok_or_else(|| {
+        PipelineError::usage(
+            "convert.no_target",
+            "model JSON input needs an output format (--to step|iges)",
+        )
+    })?;
+    if document.entities.is_empty() {
+        return Err(PipelineError::new(
+            ErrorKind::Invalid,
+            "convert.empty",
+            format!(
+                "the input holds no readable B-spline curve or surface ({} diagnostics)",
+                document.diagnostics.len()
+            ),
+            Location::default(),
+        ));
+    }
+    let op = match request.clamp {
+        ClampPolicy::Keep => None,
+        ClampPolicy::Clamp => Some(Operation::Clamp {
+            direction: Direction::Both,
+        }),
+        ClampPolicy::Unclamp => Some(Operation::Unclamp {
+            direction: Direction::Both,
+        }),
+    };
+    let original = op.is_some().then(|| document.clone());
+    if let Some(op) = op {
+        apply(&mut document, op, None, settings)?;
+    }
+    let text = write(&document, format, &request.export)?;
+    let out_units = request.export.units.unwrap_or(document.units);
+    let verify = match request.verify {
+        None => None,
+        Some(tolerance) => {
+            let reference = original.as_ref().unwrap_or(&document);
+            Some(verify_output(
+                reference, &text, out_units, tolerance, settings,
+            )?)
+        }
+    };
+    let mut diagnostics = document.diagnostics.clone();
+    if let Some(devs) = &verify {
+        for d in devs.iter().filter(|d| !d.ok) {
+            diagnostics.push(Diagnostic::error(
+                "verify.deviation",
+                format!(
+                    "re-read entity {} deviates by {:e} (relative {:e}) from input {}",
+                    d.output_id, d.max_deviation, d.relative, d.input_id
+                ),
+                Location::at_entity(d.input_id.clone()),
+            ));
+        }
+    }
+    let report = ConvertReport {
+        input_format: kind.name().to_owned(),
+        output_format: format_name(format).to_owned(),
+        entities_in: document.entities.len(),
+        entities_out: document.entities.len(),
+        units: units_info(out_units),
+        diagnostics,
+        verify,
+    };
+    if let Some(bad) = report
+        .verify
+        .as_ref()
+        .and_then(|v| v.iter().find(|d| !d.ok))
+    {
+        return Err(PipelineError::new(
+            ErrorKind::Geometry,
+            "verify.failed",
+            format!(
+                "verification failed: entity {} deviates by {:e} relative (tolerance {:e})",
+                bad.input_id,
+                bad.relative,
+                request.verify.unwrap_or_default()
+            ),
+            Location::at_entity(bad.input_id.clone()),
+        ));
+    }
+    Ok(ConvertOutput {
+        format,
+        text,
+        report,
+    })
+}
+
+/// Re-reads written text and compares every entity with the one it came from by sampling.
+fn verify_output(
+    reference: &Document,
+    text: &str,
+    out_units: LengthUnit,
+    tolerance: f64,
+    settings: &Settings,
+) -> Result<Vec<EntityDeviation>, PipelineError> {
+    let reread = exchange::read(text.as_bytes(), &settings.import).map_err(|d| {
+        PipelineError::new(
+            ErrorKind::Geometry,
+            "verify.unreadable",
+            format!("the output does not read back: {d}"),
+            d.location.clone(),
+        )
+    })?;
+    if reread.entities.len() != reference.entities.len() {
+        return Err(PipelineError::new(
+            ErrorKind::Geometry,
+            "verify.count",
+            format!(
+                "wrote {} entities but read back {}",
+                reference.entities.len(),
+                reread.entities.len()
+            ),
+            Location::default(),
+        ));
+    }
+    let scale = reference.units.to_mm() / out_units.to_mm();
+    Ok(reference
+        .entities
+        .iter()
+        .zip(&reread.entities)
+        .map(|(a, b)| {
+            let (max, size) = sampled_deviation(&a.geometry, &b.geometry, scale);
+            let relative = max / size.max(f64::MIN_POSITIVE);
+            EntityDeviation {
+                input_id: a.id.clone(),
+                output_id: b.id.clone(),
+                max_deviation: max,
+                relative,
+                ok: relative <= tolerance,
+            }
+        })
+        .collect())
+}
+
+/// Largest distance between `a` (scaled by `scale`) and `b` at the same normalised
+/// parameters (65 on curves, 17 x 17 on surfaces), and the size of `b`'s control box.
+fn sampled_deviation(a: &Geometry, b: &Geometry, scale: f64) -> (f64, f64) {
+    let lerp = |(s, e): (f64, f64), f: f64| s + (e - s) * f;
+    let scaled = |p: Point3| [p[0] * scale, p[1] * scale, p[2] * scale];
+    match (a, b) {
+        (Geometry::Curve(a), Geometry::Curve(b)) => {
+            let mut worst: f64 = 0.0;
+            for k in 0..=64 {
+                let f = f64::from(k) / 64.0;
+                let pa = scaled(a.point_at_unchecked(lerp(a.domain(), f)));
+                let pb = b.point_at_unchecked(lerp(b.domain(), f));
+                worst = worst.max(distance(pa, pb));
+            }
+            (worst, box_size(b.control_points()))
+        }
+        (Geometry::Surface(a), Geometry::Surface(b)) => {
+            let mut worst: f64 = 0.0;
+            let ((au, av), (bu, bv)) = (a.domain(), b.domain());
+            for i in 0..=16 {
+                for j in 0..=16 {
+                    let (fu, fv) = (f64::from(i) / 16.0, f64::from(j) / 16.0);
+                    let pa = scaled(a.point_at_unchecked(lerp(au, fu), lerp(av, fv)));
+                    let pb = b.point_at_unchecked(lerp(bu, fu), lerp(bv, fv));
+                    worst = worst.max(distance(pa, pb));
+                }
+            }
+            (worst, box_size(b.control_points().as_slice()))
+        }
+        _ => (f64::INFINITY, 1.0),
+    }
+}
+
+fn distance(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn box_size(points: &[Point3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    distance(lo, hi)
+}
+
+fn format_name(f: Format) -> &'static str {
+    match f {
+        Format::Step => "step",
+        Format::Iges => "iges",
+    }
+}
+
+fn units_info(u: LengthUnit) -> UnitsInfo {
+    UnitsInfo {
+        name: u.short_name().to_owned(),
+        to_mm: u.to_mm(),
+    }
+}
+
+/// Everything `nurbsx info` shows.
+pub fn info(loaded: &Loaded) -> InfoReport {
+    let doc = &loaded.document;
+    InfoReport {
+        format: loaded.kind.name().to_owned(),
+        schema: doc.schema.clone(),
+        units: units_info(doc.units),
+        entities: doc.entities.iter().map(entity_info).collect(),
+        diagnostics: doc.diagnostics.clone(),
+    }
+}
+
+fn entity_info(e: &Entity) -> EntityInfo {
+    match &e.geometry {
+        Geometry::Curve(c) => EntityInfo {
+            id: e.id.clone(),
+            kind: "curve",
+            dimension: c.dimension(),
+            degree: vec![c.degree()],
+            poles: vec![c.num_poles()],
+            rational: c.is_rational(),
+            layout: vec![layout_name(c.degree(), c.num_poles(), c.knots())],
+            domain: vec![c.domain()],
+            geometry: e.geometry.clone(),
+            source: e.source.clone(),
+        },
+        Geometry::Surface(s) => {
+            let net = s.control_points();
+            let (du, dv) = s.domain();
+            EntityInfo {
+                id: e.id.clone(),
+                kind: "surface",
+                dimension: s.dimension(),
+                degree: vec![s.degree_u(), s.degree_v()],
+                poles: vec![net.nu(), net.nv()],
+                rational: s.is_rational(),
+                layout: vec![
+                    layout_name(s.degree_u(), net.nu(), s.knots_u()),
+                    layout_name(s.degree_v(), net.nv(), s.knots_v()),
+                ],
+                domain: vec![du, dv],
+                geometry: e.geometry.clone(),
+                source: e.source.clone(),
+            }
+        }
+    }
+}
+
+/// Knot layout name (interim: clamped / unclamped until the classifier lands).
+fn layout_name(degree: usize, poles: usize, knots: &[f64]) -> String {
+    let start = knots[..=degree].iter().all(|&k| k == knots[degree]);
+    let end = knots[poles..].iter().all(|&k| k == knots[poles]);
+    if start && end { "clamped" } else { "unclamped" }.to_owned()
+}
+
+/// Validates input: parse and geometry diagnostics; a file that cannot be read at all is
+/// one error diagnostic.
+pub fn validate(
+    bytes: &[u8],
+    hint: Option<InputKind>,
+    strict: bool,
+    settings: &Settings,
+) -> ValidationReport {
+    match load(bytes, hint, settings) {
+        Ok(loaded) => ValidationReport::new(
+            loaded.document.entities.len(),
+            loaded.document.diagnostics,
+            strict,
+        ),
+        Err(e) => ValidationReport::new(0, vec![e.diagnostic], strict),
+    }
+}
+
+/// Evaluates one entity at the requested parameters.
+pub fn evaluate(
+    doc: &Document,
+    request: &EvalRequest,
+    settings: &Settings,
+) -> Result<EvalReport, PipelineError> {
+    if request.params.len() > settings.max_eval_points {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.eval_points",
+            format!(
+                "{} parameters requested, above the limit of {}",
+                request.params.len(),
+                settings.max_eval_points
+            ),
+            Location::default(),
+        ));
+    }
+    let entity = select(doc, request.entity.as_deref())?;
+    if request.derivatives > 0 || request.normals || request.curvature {
+        return Err(PipelineError::usage(
+            "evaluate.pending",
+            "derivatives, normals and curvature are being integrated",
+        ));
+    }
+    let mut results = Vec::with_capacity(request.params.len());
+    for at in &request.params {
+        let point = match (&entity.geometry, at.as_slice()) {
+            (Geometry::Curve(c), &[u]) => c.point_at(u).map(|p| p[..c.dimension()].to_vec()),
+            (Geometry::Surface(s), &[u, v]) => {
+                s.point_at(u, v).map(|p| p[..s.dimension()].to_vec())
+            }
+            (g, _) => {
+                return Err(PipelineError::usage(
+                    "evaluate.arity",
+                    format!(
+                        "{} {} takes {} parameter(s) per point, got {:?}",
+                        if matches!(g, Geometry::Curve(_)) {
+                            "curve"
+                        } else {
+                            "surface"
+                        },
+                        entity.id,
+                        if matches!(g, Geometry::Curve(_)) {
+                            1
+                        } else {
+                            2
+                        },
+                        at
+                    ),
+                ));
+            }
+        }
+        .map_err(|e| {
+            PipelineError::new(
+                ErrorKind::Usage,
+                "evaluate.domain",
+                e.to_string(),
+                Location::at_entity(entity.id.clone()),
+            )
+        })?;
+        results.push(EvalResult {
+            at: at.clone(),
+            point,
+            derivatives: None,
+            normal: None,
+            curvature: None,
+        });
+    }
+    Ok(EvalReport {
+        entity: entity.id.clone(),
+        results,
+    })
+}
+
+/// Applies an operation to one entity (`entity = Some(id)`) or to all.
+pub fn apply(
+    doc: &mut Document,
+    op: Operation,
+    entity: Option<&str>,
+    settings: &Settings,
+) -> Result<(), PipelineError> {
+    if let Some(id) = entity {
+        select(doc, Some(id))?;
+    }
+    for e in doc.entities.iter_mut() {
+        if let Some(id) = entity {
+            if e.id != id && e.id.trim_start_matches(['#', 'D']) != id {
+                continue;
+            }
+        }
+        e.geometry = apply_one(&e.geometry, op, settings).map_err(|err| PipelineError {
+            diagnostic: Diagnostic {
+                location: Location::at_entity(e.id.clone()),
+                ..err.diagnostic
+            },
+            ..err
+        })?;
+    }
+    Ok(())
+}
+
+fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometry, PipelineError> {
+    let _ = (g, settings);
+    let _: Option<(&NurbsCurve, &NurbsSurface)> = None;
+    Err(PipelineError::usage(
+        "operation.pending",
+        format!("{op:?} is being integrated"),
+    ))
+}
+
+/// Tessellates one entity (or all with `entity = None`) under a chord tolerance.
+pub fn tessellate(
+    doc: &Document,
+    entity: Option<&str>,
+    tolerance: f64,
+    format: MeshFormat,
+    settings: &Settings,
+) -> Result<String, PipelineError> {
+    let _ = (doc, entity, tolerance, format, settings);
+    Err(PipelineError::usage(
+        "tessellate.pending",
+        "tessellation is being integrated",
+    ))
+}
