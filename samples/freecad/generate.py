@@ -1,0 +1,621 @@
+"""Deterministic generator of the FreeCAD/OCCT sample corpus (STEP + IGES + readings).
+
+Regenerate (from the repository root):
+
+    freecadcmd samples/freecad/generate.py
+
+Writes, into the directory of this script, for every case:
+  <case>.step / <case>.igs        files exported by FreeCAD (time stamps normalised)
+  <case>.step.json / <case>.igs.json
+                                  FreeCAD's reading of the file after RE-IMPORT
+                                  (scripts/freecad/evaluate.py, same code)
+  <case>.source.json              the same reading of the in-memory shape BEFORE export
+and comparison.json / COMPARISON.md: what changed between source and re-import.
+
+Determinism: poles/knots/weights come from random.Random(<fixed seed per case>); the only
+varying bytes OCCT writes are time stamps, which are rewritten to fixed values
+(STEP FILE_NAME time_stamp -> 2000-01-01T00:00:00, IGES Global parameters 18 and 25 ->
+15H20000101.000000, same lengths so IGES 80-column records stay intact).
+"""
+
+import json
+import math
+import os
+import random
+import re
+import sys
+
+import FreeCAD
+import Import
+import Part
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "freecad"))
+import evaluate  # noqa: E402  (one reader for generator and live checks)
+
+V = FreeCAD.Vector
+
+FIXED_STEP_STAMP = "2000-01-01T00:00:00"
+FIXED_IGES_STAMP = "20000101.000000"
+
+# Statics touched by cases, with the values restored after every case.
+DEFAULT_STATICS = [
+    ("write.step.schema", "AP214IS"),
+    ("write.step.unit", "MM"),
+    ("write.iges.unit", "MM"),
+    ("write.iges.brep.mode", 0),
+]
+
+
+# ----------------------------------------------------------------------------- helpers
+def rng_for(seed):
+    return random.Random(seed)
+
+
+def curve(poles, mults, knots, degree, weights=None, periodic=False):
+    c = Part.BSplineCurve()
+    c.buildFromPolesMultsKnots(
+        [V(*p) for p in poles], mults, knots, periodic, degree, weights, bool(weights)
+    )
+    return c
+
+
+def surface(poles, umults, vmults, uknots, vknots, udeg, vdeg, weights=None, up=False, vp=False):
+    s = Part.BSplineSurface()
+    pts = [[V(*p) for p in row] for row in poles]
+    if weights is None:
+        s.buildFromPolesMultsKnots(pts, umults, vmults, uknots, vknots, up, vp, udeg, vdeg)
+    else:
+        s.buildFromPolesMultsKnots(
+            pts, umults, vmults, uknots, vknots, up, vp, udeg, vdeg, weights
+        )
+    return s
+
+
+def increasing(r, n, start=0.0):
+    """n strictly increasing, irregularly spaced values."""
+    out = [start]
+    for _ in range(n - 1):
+        out.append(round(out[-1] + r.uniform(0.4, 1.6), 6))
+    return out
+
+
+def space_poles(r, n, scale=1.0):
+    """n poles of a wavy space curve."""
+    return [
+        (
+            scale * (i * 10.0 + r.uniform(-2, 2)),
+            scale * r.uniform(-8, 8),
+            scale * r.uniform(-5, 5),
+        )
+        for i in range(n)
+    ]
+
+
+def clamped_curve(seed, degree, rational, scale=1.0):
+    """Clamped, non-uniform; one interior knot doubled when the degree allows."""
+    r = rng_for(seed)
+    ninterior = 3
+    knots = increasing(r, ninterior + 2, start=-1.25)
+    mults = [degree + 1] + [1] * ninterior + [degree + 1]
+    if degree >= 2:
+        mults[2] = 2
+    npoles = sum(mults) - degree - 1
+    poles = space_poles(r, npoles, scale)
+    weights = [round(r.uniform(0.5, 2.0), 6) for _ in range(npoles)] if rational else None
+    return curve(poles, mults, knots, degree, weights)
+
+
+def grid_poles(r, nu, nv, amp=3.0):
+    return [
+        [(i * 10.0, j * 8.0, r.uniform(-amp, amp) + 0.3 * i - 0.2 * j) for j in range(nv)]
+        for i in range(nu)
+    ]
+
+
+def ring(n, radius, z, r, wobble=0.5, phase=0.0):
+    return [
+        (
+            (radius + r.uniform(-wobble, wobble)) * math.cos(phase + 2 * math.pi * k / n),
+            (radius + r.uniform(-wobble, wobble)) * math.sin(phase + 2 * math.pi * k / n),
+            z + r.uniform(-wobble, wobble),
+        )
+        for k in range(n)
+    ]
+
+
+def edge(c):
+    return c.toShape()
+
+
+def compound(*shapes):
+    return Part.Compound(list(shapes))
+
+
+# ----------------------------------------------------------------------------- cases
+def case_curves():
+    cases = []
+    for d in list(range(1, 10)) + [25]:
+        cases.append(
+            (f"curve_deg{d}_clamped", f"degree {d}, polynomial, clamped, non-uniform knots "
+             "starting at -1.25, one interior knot of multiplicity 2 (degree >= 2)",
+             lambda d=d: edge(clamped_curve(100 + d, d, False)), {})
+        )
+        cases.append(
+            (f"curve_deg{d}_rational_clamped", f"degree {d}, rational (weights 0.5..2), clamped, "
+             "non-uniform knots starting at -1.25",
+             lambda d=d: edge(clamped_curve(200 + d, d, True)), {})
+        )
+
+    def uniform_unclamped():
+        r = rng_for(301)
+        poles = space_poles(r, 8)
+        return edge(curve(poles, [1] * 12, [float(k) for k in range(12)], 3))
+
+    def quasi_uniform():
+        r = rng_for(302)
+        poles = space_poles(r, 7)
+        return edge(curve(poles, [4, 1, 1, 1, 4], [0.0, 1.0, 2.0, 3.0, 4.0], 3))
+
+    def piecewise_bezier():
+        r = rng_for(303)
+        poles = space_poles(r, 10)
+        return edge(curve(poles, [4, 3, 3, 4], [0.0, 1.0, 2.0, 3.0], 3))
+
+    def periodic():
+        r = rng_for(304)
+        poles = ring(6, 20.0, 0.0, r, wobble=3.0)
+        knots = increasing(r, 7, start=0.0)
+        return edge(curve(poles, [1] * 7, knots, 3, periodic=True))
+
+    def periodic_rational():
+        r = rng_for(305)
+        poles = ring(7, 15.0, 5.0, r, wobble=2.0)
+        knots = increasing(r, 8, start=0.5)
+        weights = [round(r.uniform(0.6, 1.8), 6) for _ in range(7)]
+        return edge(curve(poles, [1] * 8, knots, 2, weights, periodic=True))
+
+    def interp_periodic():
+        r = rng_for(306)
+        pts = [V(*p) for p in ring(8, 12.0, 0.0, r, wobble=2.0)]
+        c = Part.BSplineCurve()
+        c.interpolate(Points=pts, PeriodicFlag=True)
+        return edge(c)
+
+    def closed_nonperiodic():
+        r = rng_for(307)
+        poles = ring(7, 10.0, 0.0, r, wobble=2.0)
+        poles.append(poles[0])
+        return edge(curve(poles, [4, 1, 1, 1, 1, 4], [0.0, 1.0, 2.0, 3.0, 4.0, 5.0], 3))
+
+    def planar_tilted():
+        r = rng_for(308)
+        n = V(1, 2, 3)
+        n.normalize()
+        a = n.cross(V(0, 0, 1))
+        a.normalize()
+        b = n.cross(a)
+        origin = V(5, -3, 2)
+        poles = []
+        for i in range(8):
+            p = origin + a * (i * 6.0) + b * r.uniform(-10, 10)
+            poles.append((p.x, p.y, p.z))
+        return edge(curve(poles, [4, 1, 2, 1, 4], [0.0, 0.3, 0.55, 0.8, 1.0], 3))
+
+    def circle():
+        return edge(Part.Circle(V(1, 2, 3), V(0, 0, 1), 7.5).toNurbs())
+
+    def circle_tilted_arc():
+        c = Part.Circle(V(0, 0, 0), V(1, 1, 1), 4.0)
+        return edge(Part.ArcOfCircle(c, 0.3, 4.0).toNurbs())
+
+    def ellipse():
+        return edge(Part.Ellipse(V(0, 0, 0), 12.0, 5.0).toNurbs())
+
+    def parabola():
+        p = Part.Parabola()
+        p.Focal = 2.0
+        return edge(Part.ArcOfParabola(p, -3.0, 4.0).toNurbs())
+
+    cases += [
+        ("curve_deg3_uniform_unclamped", "degree 3, 8 poles, 12 knots 0..11 all multiplicity 1 "
+         "(uniform, unclamped ends; valid range [3, 8])", uniform_unclamped, {}),
+        ("curve_deg3_quasi_uniform", "degree 3, knots 0..4, multiplicities (4,1,1,1,4)",
+         quasi_uniform, {}),
+        ("curve_deg3_piecewise_bezier", "degree 3, 10 poles, knots 0..3 multiplicities (4,3,3,4)",
+         piecewise_bezier, {}),
+        ("curve_deg3_periodic", "degree 3 periodic: buildFromPolesMultsKnots(6 poles, mults 1x7, "
+         "non-uniform knots, periodic=True)", periodic, {}),
+        ("curve_deg2_rational_periodic", "degree 2 rational periodic: 7 poles, knots from 0.5, "
+         "mults 1x8, periodic=True", periodic_rational, {}),
+        ("curve_deg3_interp_periodic", "interpolate(8 points, PeriodicFlag=True)",
+         interp_periodic, {}),
+        ("curve_deg3_closed_nonperiodic", "degree 3 clamped, last pole = first pole (closed but "
+         "not periodic)", closed_nonperiodic, {}),
+        ("curve_deg3_planar_tilted", "degree 3 clamped, all poles in the plane through (5,-3,2) "
+         "with normal (1,2,3)", planar_tilted, {}),
+        ("curve_deg5_tiny", "degree 5 rational clamped, coordinates scaled by 1e-6",
+         lambda: edge(clamped_curve(309, 5, True, scale=1e-6)), {}),
+        ("curve_deg5_huge", "degree 5 rational clamped, coordinates scaled by 1e6",
+         lambda: edge(clamped_curve(310, 5, True, scale=1e6)), {}),
+        ("curve_circle_nurbs", "Part.Circle(r=7.5 at (1,2,3)).toNurbs()", circle, {}),
+        ("curve_arc_tilted_nurbs", "ArcOfCircle(r=4, normal (1,1,1), 0.3..4.0).toNurbs()",
+         circle_tilted_arc, {}),
+        ("curve_ellipse_nurbs", "Part.Ellipse(12 x 5).toNurbs()", ellipse, {}),
+        ("curve_parabola_nurbs", "ArcOfParabola(focal 2, -3..4).toNurbs()", parabola, {}),
+    ]
+    return cases
+
+
+def case_surfaces():
+    def bicubic():
+        r = rng_for(401)
+        poles = grid_poles(r, 6, 5)
+        return surface(poles, [4, 1, 1, 4], [4, 1, 4], [0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 2.0],
+                       3, 3).toShape()
+
+    def rational_nonuniform():
+        r = rng_for(402)
+        poles = grid_poles(r, 6, 5)
+        w = [[round(r.uniform(0.5, 2.0), 6) for _ in range(5)] for _ in range(6)]
+        return surface(poles, [4, 2, 4], [3, 1, 1, 3], [-0.5, 0.35, 1.5],
+                       [2.0, 2.7, 3.1, 4.5], 3, 2, w).toShape()
+
+    def deg2x5():
+        r = rng_for(403)
+        poles = grid_poles(r, 4, 7)
+        return surface(poles, [3, 1, 3], [6, 1, 6], [0.0, 0.4, 1.0], [0.0, 0.6, 1.0],
+                       2, 5).toShape()
+
+    def poles4x3():
+        # Poles chosen so that every index is visible in the coordinates:
+        # pole[i][j] = (10 i, 100 j, i + 10 j) (+ small bumps) -- transpositions show at once.
+        poles = [[(10.0 * i, 100.0 * j, i + 10.0 * j + (1.5 if (i, j) == (1, 2) else 0.0))
+                  for j in range(3)] for i in range(4)]
+        return surface(poles, [4, 4], [3, 3], [0.0, 1.0], [0.0, 1.0], 3, 2).toShape()
+
+    def periodic_u():
+        r = rng_for(404)
+        rows = [ring(6, 10.0 + 2 * j, 8.0 * j, r, wobble=1.0) for j in range(4)]
+        poles = [[rows[j][i] for j in range(4)] for i in range(6)]  # poles[u][v]
+        uk = increasing(r, 7)
+        return surface(poles, [1] * 7, [4, 4], uk, [0.0, 1.0], 3, 3, up=True).toShape()
+
+    def periodic_v():
+        r = rng_for(405)
+        rows = [ring(5, 9.0 + 1.5 * i, 6.0 * i, r, wobble=1.0) for i in range(4)]
+        poles = [[rows[i][j] for j in range(5)] for i in range(4)]  # v runs around
+        vk = increasing(r, 6, start=1.0)
+        return surface(poles, [3, 1, 3], [1] * 6, [0.0, 0.5, 1.0], vk, 2, 2, vp=True).toShape()
+
+    def periodic_uv():
+        r = rng_for(406)
+        nu, nv = 7, 5
+        big, small = 20.0, 5.0
+        poles = []
+        for i in range(nu):
+            a = 2 * math.pi * i / nu
+            row = []
+            for j in range(nv):
+                b = 2 * math.pi * j / nv
+                rr = small + r.uniform(-0.5, 0.5)
+                row.append(((big + rr * math.cos(b)) * math.cos(a),
+                            (big + rr * math.cos(b)) * math.sin(a), rr * math.sin(b)))
+            poles.append(row)
+        w = [[round(r.uniform(0.8, 1.3), 6) for _ in range(nv)] for _ in range(nu)]
+        return surface(poles, [1] * 8, [1] * 6, increasing(r, 8), increasing(r, 6), 3, 2, w,
+                       up=True, vp=True).toShape()
+
+    def sphere():
+        return Part.makeSphere(10.0).Faces[0].toNurbs()
+
+    def torus():
+        return Part.makeTorus(20.0, 4.0).Faces[0].toNurbs()
+
+    def cylinder():
+        return Part.makeCylinder(5.0, 12.0).Faces[0].toNurbs()
+
+    def loft():
+        r = rng_for(407)
+        wires = []
+        for k in range(3):
+            poles = [(x * 8.0, r.uniform(-3, 3) + 15.0 * k, r.uniform(-2, 2) + 4.0 * k)
+                     for x in range(6)]
+            wires.append(Part.Wire(edge(curve(poles, [4, 1, 1, 4], [0.0, 1.0, 2.0, 3.0], 3))))
+        return Part.makeLoft(wires, False)
+
+    def trimmed_hole():
+        r = rng_for(408)
+        poles = grid_poles(r, 5, 5, amp=1.0)
+        s = surface(poles, [4, 1, 4], [4, 1, 4], [0.0, 0.5, 1.0], [0.0, 0.5, 1.0], 3, 3)
+        face = s.toShape(0.1, 0.9, 0.05, 0.95)
+        hole = Part.makeCylinder(5.0, 40.0, V(20.0, 16.0, -20.0), V(0, 0, 1))
+        res = face.cut(hole)
+        return res.Faces[0]
+
+    def filleted_box():
+        box = Part.makeBox(10.0, 8.0, 6.0)
+        return box.makeFillet(1.5, box.Edges).toNurbs()
+
+    return [
+        ("surf_bicubic", "bicubic polynomial, 6x5 poles, clamped", bicubic, {}),
+        ("surf_rational_nonuniform", "degrees (3,2), rational, non-uniform knots (u from -0.5 "
+         "with a double knot, v from 2.0)", rational_nonuniform, {}),
+        ("surf_deg2x5", "degrees (2,5), polynomial, 4x7 poles", deg2x5, {}),
+        ("surf_poles4x3", "degrees (3,2), 4x3 poles (single Bezier patch); pole[i][j] = "
+         "(10i, 100j, i+10j), +1.5 on z of pole[1][2]", poles4x3, {}),
+        ("surf_periodic_u", "degree (3,3), periodic in u (6 poles around), clamped v",
+         periodic_u, {}),
+        ("surf_periodic_v", "degree (2,2), periodic in v (5 poles around), clamped u",
+         periodic_v, {}),
+        ("surf_periodic_uv", "degree (3,2), rational, periodic in u and v (torus-like 7x5 net)",
+         periodic_uv, {}),
+        ("surf_sphere_nurbs", "sphere r=10 face, Shape.toNurbs()", sphere, {}),
+        ("surf_torus_nurbs", "torus 20/4 face, Shape.toNurbs()", torus, {}),
+        ("surf_cylinder_nurbs", "cylinder r=5 h=12 lateral face, Shape.toNurbs()", cylinder, {}),
+        ("surf_loft", "Part.makeLoft of 3 cubic B-spline sections (ruled=False)", loft, {}),
+        ("face_trimmed_hole", "bicubic face trimmed to u 0.1..0.9, v 0.05..0.95, with a "
+         "circular hole (cut by a cylinder r=5)", trimmed_hole, {}),
+        ("brep_filleted_box_nurbs", "box 10x8x6, all edges filleted r=1.5, whole solid "
+         "converted with Shape.toNurbs()", filleted_box, {}),
+    ]
+
+
+def mixed():
+    """One rational curve and one rational surface in a compound (unit/schema cases)."""
+    c = clamped_curve(501, 3, True)
+    r = rng_for(502)
+    poles = grid_poles(r, 4, 4)
+    w = [[round(r.uniform(0.5, 2.0), 6) for _ in range(4)] for _ in range(4)]
+    s = surface(poles, [4, 4], [3, 1, 3], [0.0, 2.0], [0.0, 0.5, 1.0], 3, 2, w)
+    return compound(edge(c), s.toShape())
+
+
+def small_filleted_box():
+    box = Part.makeBox(10.0, 8.0, 6.0)
+    vertical = [e for e in box.Edges if abs(e.Vertexes[0].Point.z - e.Vertexes[1].Point.z) > 1]
+    return box.makeFillet(2.0, vertical).toNurbs()
+
+
+def case_options():
+    return [
+        ("units_inch", "rational curve + rational surface, exported with Part.exportUnits('INCH')"
+         " (write.step.unit / write.iges.unit = INCH)", mixed, {"units": "INCH"}),
+        ("units_metre", "same geometry, exported with Part.exportUnits('M')", mixed,
+         {"units": "M"}),
+        ("schema_ap203", "same geometry, STEP with write.step.schema = AP203", mixed,
+         {"schema": "AP203", "formats": ["step"]}),
+        ("schema_ap242", "same geometry, STEP with write.step.schema = AP242DIS", mixed,
+         {"schema": "AP242DIS", "formats": ["step"]}),
+        ("iges_brep_filleted_box", "box 10x8x6 with its 4 vertical edges filleted r=2, "
+         "Shape.toNurbs(), IGES with write.iges.brep.mode = 1 (186/514/510/508/504/502 B-rep "
+         "entities)", small_filleted_box, {"brep": 1, "formats": ["iges"]}),
+        ("iges_brep_trimmed_hole", "trimmed face with hole, IGES B-rep mode 1",
+         lambda: case_surfaces()[-2][2](), {"brep": 1, "formats": ["iges"]}),
+        ("import_export_named", "Import.export of two named document objects ('NamedCurve', "
+         "'NamedSurface'); headless, so no colours", mixed, {"named": True}),
+    ]
+
+
+# ----------------------------------------------------------------------------- export
+def set_statics(opts):
+    for k, v in DEFAULT_STATICS:
+        Part.setStaticValue(k, v)
+    if "units" in opts:
+        Part.exportUnits(opts["units"])
+    if "schema" in opts:
+        Part.setStaticValue("write.step.schema", opts["schema"])
+    if "brep" in opts:
+        Part.setStaticValue("write.iges.brep.mode", opts["brep"])
+
+
+def normalise_step(path):
+    with open(path, "r", encoding="latin-1") as f:
+        text = f.read()
+    head, sep, rest = text.partition("ENDSEC;")
+    head = re.sub(r"'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", "'" + FIXED_STEP_STAMP + "'", head, 1)
+    with open(path, "w", encoding="latin-1", newline="") as f:
+        f.write(head + sep + rest)
+
+
+def normalise_iges(path):
+    """Rewrite the two Global-section dates keeping every record at 80 columns."""
+    with open(path, "r", encoding="latin-1") as f:
+        lines = f.read().split("\n")
+    gidx = [i for i, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "G"]
+    body = "".join(lines[i][:72] for i in gidx)
+    new, n = re.subn(r"15H\d{8}\.\d{6}", "15H" + FIXED_IGES_STAMP, body)
+    if n != 2:
+        raise RuntimeError(f"{path}: expected 2 IGES dates, found {n}")
+    assert len(new) == len(body)
+    for k, i in enumerate(gidx):
+        lines[i] = new[72 * k:72 * (k + 1)] + lines[i][72:]
+    with open(path, "w", encoding="latin-1", newline="") as f:
+        f.write("\n".join(lines))
+
+
+def export(shape, path, opts):
+    if opts.get("named"):
+        doc = FreeCAD.newDocument("named")
+        objs = []
+        for name, sub in zip(["NamedCurve", "NamedSurface"], shape.childShapes()):
+            o = doc.addObject("Part::Feature", name)
+            o.Shape = sub
+            objs.append(o)
+        doc.recompute()
+        Import.export(objs, path)
+        FreeCAD.closeDocument(doc.Name)
+    elif path.endswith(".step"):
+        shape.exportStep(path)
+    else:
+        shape.exportIges(path)
+    if path.endswith(".step"):
+        normalise_step(path)
+    else:
+        normalise_iges(path)
+
+
+# ----------------------------------------------------------------------------- comparison
+def _maxabs(a, b):
+    return max((abs(x - y) for x, y in zip(a, b)), default=0.0)
+
+
+def _flat(x):
+    if isinstance(x, list):
+        out = []
+        for y in x:
+            out.extend(_flat(y))
+        return out
+    return [x]
+
+
+def _rel_digits(a, b):
+    """Smallest number of agreeing significant digits over paired values (None = exact)."""
+    worst = None
+    for x, y in zip(a, b):
+        if x == y:
+            continue
+        scale = max(abs(x), abs(y))
+        d = -math.log10(abs(x - y) / scale) if scale > 0 else 0.0
+        worst = d if worst is None else min(worst, d)
+    return None if worst is None else round(worst, 2)
+
+
+def compare_item(src, dst, kind, src_geom):
+    """Differences between one source item and its re-imported counterpart."""
+    out = {}
+    if kind == "curve":
+        keys = ["degree", "periodic", "rational", "closed"]
+        knot_pairs = [("knots", "multiplicities")]
+        range_src = [src["first_parameter"], src["last_parameter"]]
+        range_dst = [dst["first_parameter"], dst["last_parameter"]]
+    else:
+        keys = ["u_degree", "v_degree", "u_periodic", "v_periodic", "u_rational", "v_rational",
+                "u_closed", "v_closed", "nb_u_poles", "nb_v_poles"]
+        knot_pairs = [("u_knots", "u_multiplicities"), ("v_knots", "v_multiplicities")]
+        range_src, range_dst = src["bounds"], dst["bounds"]
+    for k in keys:
+        if src[k] != dst[k]:
+            out[k] = [src[k], dst[k]]
+    for kn, mu in knot_pairs:
+        if src[kn] != dst[kn] or src[mu] != dst[mu]:
+            if len(src[kn]) == len(dst[kn]) and src[mu] == dst[mu]:
+                out[kn + "_max_abs_diff"] = _maxabs(src[kn], dst[kn])
+            else:
+                out[kn] = [src[kn], dst[kn]]
+                out[mu] = [src[mu], dst[mu]]
+    if range_src != range_dst:
+        out["parameter_range"] = [range_src, range_dst]
+    ps, pd = _flat(src["poles"]), _flat(dst["poles"])
+    if len(ps) == len(pd):
+        out["poles_max_abs_diff"] = _maxabs(ps, pd)
+        out["poles_min_significant_digits"] = _rel_digits(ps, pd)
+        ws, wd = _flat(src["weights"]), _flat(dst["weights"])
+        out["weights_min_significant_digits"] = _rel_digits(ws, wd)
+    else:
+        out["pole_count"] = [len(ps) // 3, len(pd) // 3]
+    # Geometry: distance of each re-imported evaluation point to the source geometry, and
+    # the difference at the same parameter (shows re-parameterisation).
+    dist = 0.0
+    same = 0.0
+    for ev in dst["evaluations"]:
+        p = V(*ev["point"])
+        dist = max(dist, src_geom.distToShape(Part.Vertex(p))[0])
+        if kind == "curve":
+            t = ev["t"]
+            if range_src[0] - 1e-9 <= t <= range_src[1] + 1e-9 or src["periodic"]:
+                same = max(same, (src_geom.Curve.value(t) - p).Length)
+            else:
+                same = float("inf")
+        else:
+            g = src_geom.Surface
+            u0, u1, v0, v1 = range_src
+            if (u0 - 1e-9 <= ev["u"] <= u1 + 1e-9 or src["u_periodic"]) and (
+                v0 - 1e-9 <= ev["v"] <= v1 + 1e-9 or src["v_periodic"]
+            ):
+                same = max(same, (g.value(ev["u"], ev["v"]) - p).Length)
+            else:
+                same = float("inf")
+    out["max_dist_to_source_geometry"] = dist
+    out["max_point_diff_at_same_parameter"] = same if math.isfinite(same) else "outside source range"
+    return out
+
+
+def compare(src_reading, dst_reading, src_shape):
+    res = {
+        "counts": [
+            {k: src_reading["counts"][k] for k in ("bspline_curves", "bspline_surfaces")},
+            {k: dst_reading["counts"][k] for k in ("bspline_curves", "bspline_surfaces")},
+        ],
+        "curves": [],
+        "surfaces": [],
+    }
+    # Match items by order; for B-rep cases with many items this is only meaningful when the
+    # counts agree, so compare pairwise only then.
+    for kind, key, idx, shapes in [
+        ("curve", "curves", "edge_index", src_shape.Edges),
+        ("surface", "surfaces", "face_index", src_shape.Faces),
+    ]:
+        s_items, d_items = src_reading[key], dst_reading[key]
+        if len(s_items) != len(d_items):
+            res[key] = f"count differs: {len(s_items)} -> {len(d_items)}"
+            continue
+        for s, d in zip(s_items, d_items):
+            res[key].append(compare_item(s, d, kind, shapes[s[idx]]))
+    return res
+
+
+# ----------------------------------------------------------------------------- main
+def main():
+    only = os.environ.get("NURBSX_ONLY")
+    cases = case_curves() + case_surfaces() + case_options()
+    names = [c[0] for c in cases]
+    assert len(names) == len(set(names))
+    fc, occt = evaluate.versions()
+    comparison = {"freecad_version": fc, "occt_version": occt, "cases": {}}
+    index = []
+    for name, desc, build, opts in cases:
+        if only and name not in only.split(","):
+            continue
+        shape = build()
+        src = {
+            "schema": evaluate.SCHEMA_ID,
+            "file": None,
+            "format": "in-memory",
+            "reader": "in-memory shape before export",
+            "freecad_version": fc,
+            "occt_version": occt,
+            "order_rule": evaluate.ORDER_RULE,
+            "parameter_space": evaluate.PARAMETER_SPACE.replace(
+                "AFTER re-import", "BEFORE export (as built in FreeCAD)"
+            ),
+            "case": name,
+            "description": desc,
+        }
+        src.update(evaluate.describe_shape(shape))
+        with open(os.path.join(HERE, name + ".source.json"), "w", encoding="utf-8") as f:
+            f.write(evaluate.dumps(src))
+        files = []
+        for fmt in opts.get("formats", ["step", "iges"]):
+            ext = ".step" if fmt == "step" else ".igs"
+            path = os.path.join(HERE, name + ext)
+            set_statics(opts)
+            export(shape, path, opts)
+            set_statics({})
+            reading = evaluate.read_file(path)
+            with open(path + ".json", "w", encoding="utf-8") as f:
+                f.write(evaluate.dumps(reading))
+            comparison["cases"].setdefault(name, {})[fmt] = compare(src, reading, shape)
+            files.append({"file": name + ext, "counts": reading["counts"]})
+        index.append({"case": name, "description": desc, "options": opts,
+                      "source_counts": src["counts"], "files": files})
+    if not only:
+        with open(os.path.join(HERE, "comparison.json"), "w", encoding="utf-8") as f:
+            f.write(evaluate.dumps(comparison))
+        with open(os.path.join(HERE, "index.json"), "w", encoding="utf-8") as f:
+            f.write(evaluate.dumps({"freecad_version": fc, "occt_version": occt,
+                                    "cases": index}))
+
+
+main()
