@@ -260,15 +260,30 @@ def dumps(obj):
 
 
 def main():
+    """Read NURBSX_IN, write NURBSX_OUT; exit status 0 on success, 1 on failure, 2 on usage.
+
+    freecadcmd itself exits 0 even when a script raises, so failures end the process with
+    os._exit after writing {"schema", "file", "error"} to NURBSX_OUT (when given).
+    """
     src = os.environ.get("NURBSX_IN")
     dst = os.environ.get("NURBSX_OUT")
     if not src or not dst:
-        sys.stderr.write("usage: NURBSX_IN=file NURBSX_OUT=out.json freecadcmd evaluate.py\n")
-        raise SystemExit(2)
-    text = dumps(read_file(src))
+        print("usage: NURBSX_IN=file.step|file.igs NURBSX_OUT=out.json freecadcmd evaluate.py")
+        sys.stdout.flush()
+        os._exit(2)
+    try:
+        text = dumps(read_file(src))
+        status = 0
+    except Exception as ex:  # report every reader failure to the caller as data
+        text = dumps({"schema": SCHEMA_ID, "file": os.path.basename(src), "error": str(ex)})
+        status = 1
     with open(dst, "w", encoding="utf-8") as f:
         f.write(text)
+    sys.stdout.flush()
+    os._exit(status)
 
 
-if os.environ.get("NURBSX_IN"):
+# freecadcmd runs a script under the name of its file stem ("evaluate"), or "__main__" with
+# some launchers; generate.py loads this file under another module name, so it does not run.
+if __name__ in ("__main__", "evaluate"):
     main()
