@@ -175,6 +175,12 @@ def case_curves():
         knots = increasing(r, 7, start=0.0)
         return edge(curve(poles, [1] * 7, knots, 3, periodic=True))
 
+    def periodic_trimmed_edge():
+        r = rng_for(304)
+        poles = ring(6, 20.0, 0.0, r, wobble=3.0)
+        knots = increasing(r, 7, start=0.0)
+        return Part.Edge(curve(poles, [1] * 7, knots, 3, periodic=True), 1.0, 4.0)
+
     def periodic_rational():
         r = rng_for(305)
         poles = ring(7, 15.0, 5.0, r, wobble=2.0)
@@ -233,6 +239,8 @@ def case_curves():
          piecewise_bezier, {}),
         ("curve_deg3_periodic", "degree 3 periodic: buildFromPolesMultsKnots(6 poles, mults 1x7, "
          "non-uniform knots, periodic=True)", periodic, {}),
+        ("curve_deg3_periodic_trimmed_edge", "the periodic curve of curve_deg3_periodic as "
+         "an edge over the sub-range [1.0, 4.0] only", periodic_trimmed_edge, {}),
         ("curve_deg2_rational_periodic", "degree 2 rational periodic: 7 poles, knots from 0.5, "
          "mults 1x8, periodic=True", periodic_rational, {}),
         ("curve_deg3_interp_periodic", "interpolate(8 points, PeriodicFlag=True)",
@@ -313,6 +321,9 @@ def case_surfaces():
         return surface(poles, [1] * 8, [1] * 6, increasing(r, 8), increasing(r, 6), 3, 2, w,
                        up=True, vp=True).toShape()
 
+    def periodic_u_trimmed():
+        return periodic_u().Faces[0].Surface.toShape(1.0, 4.5, 0.1, 0.8)
+
     def sphere():
         return Part.makeSphere(10.0).Faces[0].toNurbs()
 
@@ -353,6 +364,8 @@ def case_surfaces():
          "(10i, 100j, i+10j), +1.5 on z of pole[1][2]", poles4x3, {}),
         ("surf_periodic_u", "degree (3,3), periodic in u (6 poles around), clamped v",
          periodic_u, {}),
+        ("surf_periodic_u_trimmed_face", "the surface of surf_periodic_u as a face over "
+         "u 1.0..4.5, v 0.1..0.8 only", periodic_u_trimmed, {}),
         ("surf_periodic_v", "degree (2,2), periodic in v (5 poles around), clamped u",
          periodic_v, {}),
         ("surf_periodic_uv", "degree (3,2), rational, periodic in u and v (torus-like 7x5 net)",
@@ -436,6 +449,11 @@ def normalise_step(path):
                   "CALENDAR_DATE(2000,1,1)", rest)
     rest = re.sub(r"LOCAL_TIME\(\s*\d+\s*,\s*\d+\s*,\s*(\$|[0-9.E+-]+)\s*,",
                   "LOCAL_TIME(0,0,$,", rest)
+    rest = re.sub(r"COORDINATED_UNIVERSAL_TIME_OFFSET\([^)]*\)",
+                  "COORDINATED_UNIVERSAL_TIME_OFFSET(0,$,.EXACT.)", rest)
+    # AP203 also names the exporting user and host (OCCT OSD_Host: 'IP<address>,<user>').
+    rest = re.sub(r"= PERSON\('[^']*','[^']*','[^']*',", "= PERSON('user','','user',", rest)
+    rest = re.sub(r"= ORGANIZATION\('[^']*',", "= ORGANIZATION('host',", rest)
     with open(path, "w", encoding="latin-1", newline="") as f:
         f.write(head + sep + rest)
 
