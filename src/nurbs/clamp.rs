@@ -179,6 +179,18 @@ pub(super) fn unclamp_bundle(b: &Bundle) -> Bundle {
     unclamp_end_with(&unclamp_start_with(&clamped, &s0), &s1)
 }
 
+/// Unclamping extrapolates the homogeneous poles; for a rational curve the new end weights
+/// can come out zero or negative, which the model (and ISO 10303-42) forbids. Say so.
+fn explain_unclamp(e: GeometryError) -> GeometryError {
+    match e {
+        GeometryError::BadWeight { index, value } => GeometryError::InvalidArgument(format!(
+            "unclamping gives weight {value} at pole {index}: this rational geometry has no \
+             unclamped form with positive weights on the 2-168/2-169 knots"
+        )),
+        other => other,
+    }
+}
+
 impl NurbsCurve {
     /// Clamps the start: the first `p + 1` knots become `u_p` and the first pole the start
     /// point (knot insertion A5.1, then the outer knots and poles are dropped; seed 2-29).
@@ -200,18 +212,25 @@ impl NurbsCurve {
     /// Unclamps the start (NURBS Book A12.1 left end, knots by seed formula 2-168; see the
     /// module documentation). Exact up to rounding; same domain. An unclamped start is
     /// first clamped, so its outer knots are replaced.
+    ///
+    /// Rational curves: the new end poles are extrapolated in homogeneous space and their
+    /// weights can become non-positive; then [`GeometryError::InvalidArgument`] says so
+    /// (polynomial curves always succeed).
     pub fn unclamp_start(&self) -> Result<NurbsCurve, GeometryError> {
         self.with_bundle(unclamp_start_bundle(&self.to_bundle()))
+            .map_err(explain_unclamp)
     }
 
     /// Unclamps the end (A12.1 right end, knots by seed formula 2-169).
     pub fn unclamp_end(&self) -> Result<NurbsCurve, GeometryError> {
         self.with_bundle(unclamp_end_bundle(&self.to_bundle()))
+            .map_err(explain_unclamp)
     }
 
     /// Unclamps both ends (A12.1).
     pub fn unclamp(&self) -> Result<NurbsCurve, GeometryError> {
         self.with_bundle(unclamp_bundle(&self.to_bundle()))
+            .map_err(explain_unclamp)
     }
 
     /// Whether the first `p + 1` knots are equal.
@@ -272,6 +291,6 @@ impl NurbsSurface {
             (End::End, true) => unclamp_end_bundle(&b),
             (End::Both, true) => unclamp_bundle(&b),
         };
-        self.with_bundle(dir, out)
+        self.with_bundle(dir, out).map_err(explain_unclamp)
     }
 }
