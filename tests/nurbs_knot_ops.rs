@@ -493,7 +493,9 @@ fn circle_stays_a_circle() {
     let on_circle = |c: &NurbsCurve| {
         let (a, b) = c.domain();
         for i in 0..=1000 {
-            let p = c.point_at((a + (b - a) * f64::from(i) / 1000.0).min(b)).unwrap();
+            let p = c
+                .point_at((a + (b - a) * f64::from(i) / 1000.0).min(b))
+                .unwrap();
             assert!(((p[0] * p[0] + p[1] * p[1]).sqrt() - 1.0).abs() < 1e-14);
         }
         assert!(c.is_rational());
@@ -547,19 +549,55 @@ fn invalid_arguments_are_refused() {
         None,
     )
     .unwrap();
-    assert!(matches!(c.insert_knot(2.5, 1), Err(GeometryError::OutOfDomain { .. })));
-    assert!(matches!(c.insert_knot(f64::NAN, 1), Err(GeometryError::OutOfDomain { .. })));
-    assert!(matches!(c.insert_knot(f64::INFINITY, 1), Err(GeometryError::OutOfDomain { .. })));
-    assert!(matches!(c.insert_knot(1.0, 2), Err(GeometryError::InvalidArgument(_))));
+    assert!(matches!(
+        c.insert_knot(2.5, 1),
+        Err(GeometryError::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        c.insert_knot(f64::NAN, 1),
+        Err(GeometryError::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        c.insert_knot(f64::INFINITY, 1),
+        Err(GeometryError::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        c.insert_knot(1.0, 2),
+        Err(GeometryError::InvalidArgument(_))
+    ));
     assert!(c.insert_knot(1.0, 1).is_ok());
-    assert!(matches!(c.insert_knot(0.0, 1), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.refine(&[0.5, 0.5, 0.5]), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.refine(&[0.5, -1.0]), Err(GeometryError::OutOfDomain { .. })));
-    assert!(matches!(c.split_at(0.0), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.split_at(2.0), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.remove_knot(0.5, 1, 1.0), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.remove_knot(1.0, 1, -1.0), Err(GeometryError::InvalidArgument(_))));
-    assert!(matches!(c.remove_knot(1.0, 1, f64::NAN), Err(GeometryError::InvalidArgument(_))));
+    assert!(matches!(
+        c.insert_knot(0.0, 1),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.refine(&[0.5, 0.5, 0.5]),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.refine(&[0.5, -1.0]),
+        Err(GeometryError::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        c.split_at(0.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.split_at(2.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.remove_knot(0.5, 1, 1.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.remove_knot(1.0, 1, -1.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        c.remove_knot(1.0, 1, f64::NAN),
+        Err(GeometryError::InvalidArgument(_))
+    ));
     let far = NurbsCurve::new(
         2,
         vec![0., 0., 0., 1., 1., 1.],
@@ -567,8 +605,20 @@ fn invalid_arguments_are_refused() {
         None,
     )
     .unwrap();
-    assert!(matches!(c.join(&far, 1e-6), Err(GeometryError::ToleranceExceeded { .. })));
-    let cubic = NurbsCurve::new(3, vec![0., 0., 0., 0., 1., 1., 1., 1.], vec![[0.; 3]; 4], None).unwrap();
-    assert!(matches!(c.join(&cubic, 1.0), Err(GeometryError::InvalidArgument(_))));
+    assert!(matches!(
+        c.join(&far, 1e-6),
+        Err(GeometryError::ToleranceExceeded { .. })
+    ));
+    let cubic = NurbsCurve::new(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        vec![[0.; 3]; 4],
+        None,
+    )
+    .unwrap();
+    assert!(matches!(
+        c.join(&cubic, 1.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
     let _: Option<NurbsSurface> = None;
 }

@@ -122,15 +122,7 @@ impl NurbsSurface {
             Dir::U => (b.degree, self.degree_v(), b.knots, self.knots_v().to_vec()),
             Dir::V => (self.degree_u(), b.degree, self.knots_u().to_vec(), b.knots),
         };
-        NurbsSurface::from_homogeneous(
-            du,
-            dv,
-            ku,
-            kv,
-            &net,
-            self.is_rational(),
-            self.dimension(),
-        )
+        NurbsSurface::from_homogeneous(du, dv, ku, kv, &net, self.is_rational(), self.dimension())
     }
 }
 

@@ -86,7 +86,11 @@ fn remove_bundle(b: &Bundle, u: f64, num: usize, budget: f64) -> Removal {
                 dist4(pw[i], mix)
             };
             // NaN (overflow) counts as a failure.
-            worst = if d.is_nan() { f64::INFINITY } else { worst.max(d) };
+            worst = if d.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(d)
+            };
             temps.push(temp);
         }
         if spent + worst > budget {
@@ -206,7 +210,11 @@ fn remove_checked(
 }
 
 /// Removes every interior knot as often as the shared budget allows, knot by knot.
-fn remove_all(b: &Bundle, rational: bool, tolerance: f64) -> Result<(Bundle, usize), GeometryError> {
+fn remove_all(
+    b: &Bundle,
+    rational: bool,
+    tolerance: f64,
+) -> Result<(Bundle, usize), GeometryError> {
     check_tolerance(tolerance)?;
     let mut budget = homogeneous_tolerance(b, rational, tolerance);
     let mut cur = b.clone();
@@ -302,7 +310,13 @@ impl NurbsSurface {
         times: usize,
         tolerance: f64,
     ) -> Result<(NurbsSurface, usize), GeometryError> {
-        let (b, k) = remove_checked(&self.to_bundle(dir), self.is_rational(), t, times, tolerance)?;
+        let (b, k) = remove_checked(
+            &self.to_bundle(dir),
+            self.is_rational(),
+            t,
+            times,
+            tolerance,
+        )?;
         Ok((self.with_bundle(dir, b)?, k))
     }
 }

@@ -103,8 +103,8 @@ impl NurbsCurve {
         };
         let pl = super::from_homogeneous(hl);
         let pr = super::from_homogeneous(hr);
-        let gap = ((pl[0] - pr[0]).powi(2) + (pl[1] - pr[1]).powi(2) + (pl[2] - pr[2]).powi(2))
-            .sqrt();
+        let gap =
+            ((pl[0] - pr[0]).powi(2) + (pl[1] - pr[1]).powi(2) + (pl[2] - pr[2]).powi(2)).sqrt();
         if gap.is_nan() || gap > tolerance {
             return Err(GeometryError::ToleranceExceeded {
                 what: "join: gap between end and start",
