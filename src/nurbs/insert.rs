@@ -178,8 +178,8 @@ pub(super) fn insert_bundle(b: &Bundle, u: f64, r: usize) -> Bundle {
             qw[l] = rw[0];
             qw[k + r - j - s] = rw[p - j - s];
         }
-        for i in l + 1..k - s {
-            qw[i] = rw[i - l];
+        if l + 1 < k - s {
+            qw[l + 1..k - s].copy_from_slice(&rw[1..k - s - l]);
         }
         qw
     })

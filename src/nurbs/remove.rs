@@ -130,11 +130,8 @@ fn remove_bundle(b: &Bundle, u: f64, num: usize, budget: f64) -> Removal {
         }
     }
     for pw in &mut rows {
-        let mut jw = j;
-        for k in i + 1..=n {
-            pw[jw] = pw[k];
-            jw += 1;
-        }
+        // A5.8's final shift: poles i+1..=n move down to start at j (memmove).
+        pw.copy_within(i + 1..=n, j);
         pw.truncate(n + 1 - t);
     }
     Removal {
