@@ -254,6 +254,56 @@ proptest! {
     }
 
     #[test]
+    fn unclamping_each_end_of_any_curve(c in arb_curve(4, false, Ends::Any)) {
+        // One end unclamped, the other left exactly as it was.
+        let s = c.unclamp_start().unwrap();
+        prop_assert!(!s.is_clamped_start());
+        let p = c.degree();
+        let tail = |k: &[f64]| k[k.len() - p - 1..].to_vec();
+        prop_assert_eq!(tail(s.knots()), tail(c.knots()));
+        prop_assert_eq!(s.domain(), c.domain());
+        prop_assert!(curve_deviation(&c, &s, 1000) < REL);
+        let e = c.unclamp_end().unwrap();
+        prop_assert!(!e.is_clamped_end());
+        prop_assert_eq!(&e.knots()[..=p], &c.knots()[..=p]);
+        prop_assert!(curve_deviation(&c, &e, 1000) < REL);
+    }
+
+    #[test]
+    fn two_d_curves_stay_two_d(c in arb_curve(3, true, Ends::Any), f in 0.05f64..0.95) {
+        let (p, k, pts, w, _) = c.into_parts();
+        let flat: Vec<[f64; 3]> = pts.iter().map(|q| [q[0], q[1], 0.0]).collect();
+        let c = NurbsCurve::with_dimension(p, k, flat, w, 2).unwrap();
+        let t = inside(&c, f);
+        let (l, r) = c.split_at(t).unwrap();
+        for d in [l, r, c.clamp().unwrap(), c.bezier_segments().unwrap().remove(0)] {
+            prop_assert_eq!(d.dimension(), 2);
+            prop_assert!(d.control_points().iter().all(|q| q[2] == 0.0));
+        }
+    }
+
+    #[test]
+    fn surface_removal_respects_its_tolerance(s in arb_surface(3, true, Ends::Any), tol in prop::sample::select(vec![1e-6, 0.1, 1.0, 10.0])) {
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let interior: Vec<f64> = s.knots_v().iter().copied().filter(|&k| k > v0 && k < v1).collect();
+        prop_assume!(!interior.is_empty());
+        match s.remove_knot_v(interior[0], 1, tol) {
+            Ok((d, 1)) => {
+                let mut worst: f64 = 0.0;
+                for &u in &params(u0, u1, s.knots_u(), 32) {
+                    for &v in &params(v0, v1, s.knots_v(), 32) {
+                        worst = worst.max(dist(s.point_at(u, v).unwrap(), d.point_at(u, v).unwrap()));
+                    }
+                }
+                prop_assert!(worst <= tol * (1.0 + 1e-9), "moved {worst} > {tol}");
+            }
+            Ok((_, k)) => panic!("removed {k}"),
+            Err(GeometryError::ToleranceExceeded { bound, .. }) => prop_assert!(bound > tol),
+            Err(e) => panic!("unexpected {e}"),
+        }
+    }
+
+    #[test]
     fn split_then_join_is_the_identity(c in arb_curve(5, true, Ends::Any), f in 0.01f64..0.99) {
         let t = inside(&c, f);
         let (l, r) = c.split_at(t).unwrap();
@@ -621,4 +671,60 @@ fn invalid_arguments_are_refused() {
         Err(GeometryError::InvalidArgument(_))
     ));
     let _: Option<NurbsSurface> = None;
+}
+
+/// Removal of a knot whose removal is *not* exact: a pole next to an inserted knot is moved
+/// by 0.01. A tolerance far above that accepts, and the curve moves by at most the
+/// tolerance (and by something non-zero); a tolerance far below refuses, reporting a bound
+/// above it.
+#[test]
+fn inexact_removal_is_bounded() {
+    let pts: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            let x = f64::from(i);
+            [x, (x * 0.9).sin() * 3.0, 0.0]
+        })
+        .collect();
+    let c = NurbsCurve::new(
+        3,
+        vec![0., 0., 0., 0., 1., 2., 3., 4., 5., 5., 5., 5.],
+        pts,
+        None,
+    )
+    .unwrap();
+    let d = c.insert_knot(2.5, 1).unwrap();
+    let (p, k, mut q, w, _) = d.into_parts();
+    q[4][1] += 0.01;
+    let bumped = NurbsCurve::new(p, k, q, w).unwrap();
+    let (a, b) = bumped.domain();
+    let moved = |x: &NurbsCurve| {
+        params(a, b, bumped.knots(), 2000)
+            .into_iter()
+            .map(|t| dist(x.point_at(t).unwrap(), bumped.point_at(t).unwrap()))
+            .fold(0.0, f64::max)
+    };
+    let (r, n) = bumped.remove_knot(2.5, 1, 0.05).unwrap();
+    assert_eq!(n, 1);
+    assert_eq!(r.knots(), c.knots());
+    let m = moved(&r);
+    assert!(m > 1e-4 && m <= 0.05, "moved {m}");
+    match bumped.remove_knot(2.5, 1, 1e-6) {
+        Err(GeometryError::ToleranceExceeded { bound, .. }) => assert!(bound > 1e-3, "{bound}"),
+        other => panic!("{other:?}"),
+    }
+    // Rational: same with weights, the eq. 5.30 scaling keeps the bound geometric.
+    let wc = NurbsCurve::new(
+        3,
+        bumped.knots().to_vec(),
+        bumped.control_points().to_vec(),
+        Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0, 0.7, 1.0, 2.0]),
+    )
+    .unwrap();
+    if let Ok((r, 1)) = wc.remove_knot(2.5, 1, 0.5) {
+        let worst = params(a, b, wc.knots(), 2000)
+            .into_iter()
+            .map(|t| dist(r.point_at(t).unwrap(), wc.point_at(t).unwrap()))
+            .fold(0.0, f64::max);
+        assert!(worst <= 0.5, "moved {worst}");
+    }
 }

@@ -2,7 +2,7 @@
 //! (A5.4 RefineKnotVectCurve, applied per direction for surfaces as in A5.5).
 //!
 //! All knot algorithms of this crate (insertion, removal, Bezier decomposition, split,
-//! clamping, periodic conversion) run on a [`Bundle`]: several homogeneous control polygons
+//! clamping, periodic conversion) run on a `Bundle`: several homogeneous control polygons
 //! that share one degree and one knot vector. A curve is a bundle of one polygon; a surface
 //! seen along u is the bundle of its `nv` columns `(0..nu, j)`, and along v the bundle of its
 //! `nu` rows `(i, 0..nv)`. So every curve algorithm is also the per-direction surface
