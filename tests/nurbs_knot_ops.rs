@@ -728,3 +728,40 @@ fn inexact_removal_is_bounded() {
         assert!(worst <= 0.5, "moved {worst}");
     }
 }
+
+/// pitfalls.md A.1: cubic, 4 poles, knots 0..7 has domain [3, 4]; clamping keeps the points
+/// at 1000 samples; the seed's unclamped vector of figure 2-125b clamps to
+/// {3,3,3,3,4,5,6,7,8,8,8,8} (figure 2-125a) with the same geometry.
+#[test]
+fn pitfall_a1_and_seed_figure_2_125() {
+    let pts = vec![[0., 0., 0.], [1., 3., 0.], [4., 3., 1.], [5., 0., 2.]];
+    let c = NurbsCurve::new(3, (0..8).map(f64::from).collect(), pts, None).unwrap();
+    assert_eq!(c.domain(), (3.0, 4.0));
+    let k = c.clamp().unwrap();
+    assert_eq!(k.knots(), &[3., 3., 3., 3., 4., 4., 4., 4.]);
+    assert!(curve_deviation(&c, &k, 1000) < REL);
+
+    let pts: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            let a = f64::from(i);
+            [a.cos() * 2.0, a.sin(), 0.3 * a]
+        })
+        .collect();
+    let b = NurbsCurve::new(
+        3,
+        vec![0., 0.5, 2.3, 3., 4., 5., 6., 7., 8., 8.7, 10.5, 11.],
+        pts,
+        None,
+    )
+    .unwrap();
+    let k = b.clamp().unwrap();
+    assert_eq!(k.knots(), &[3., 3., 3., 3., 4., 5., 6., 7., 8., 8., 8., 8.]);
+    assert!(curve_deviation(&b, &k, 1000) < REL);
+    // And back: unclamping the clamped curve uses the wrap-around spacing of 2-168/2-169.
+    let u = k.unclamp().unwrap();
+    assert_eq!(
+        u.knots(),
+        &[0., 1., 2., 3., 4., 5., 6., 7., 8., 9., 10., 11.]
+    );
+    assert!(curve_deviation(&b, &u, 1000) < REL);
+}
