@@ -765,3 +765,21 @@ fn pitfall_a1_and_seed_figure_2_125() {
     );
     assert!(curve_deviation(&b, &u, 1000) < REL);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    #[test]
+    fn surface_remove_all_removable_takes_inserted_knots(s in arb_surface(3, true, Ends::Any), fu in 0.1f64..0.9, fv in 0.1f64..0.9) {
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let (u, v) = ((u0 + (u1 - u0) * fu).min(u1), (v0 + (v1 - v0) * fv).min(v1));
+        prop_assume!(s.knots_u().iter().all(|&k| k != u) && s.knots_v().iter().all(|&k| k != v));
+        let t = s.insert_knot_u(u, 1).unwrap().insert_knot_v(v, 1).unwrap();
+        let size = bbox_diagonal(s.control_points().as_slice());
+        let tol = 1e-9 * size;
+        let (r, k) = t.remove_all_removable(tol).unwrap();
+        prop_assert!(k >= 2, "removed {k}");
+        prop_assert!(!r.knots_u().contains(&u) && !r.knots_v().contains(&v));
+        prop_assert!(surface_deviation(&t, &r, 32) * bbox_diagonal(t.control_points().as_slice()) <= tol);
+    }
+}
