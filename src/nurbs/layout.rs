@@ -1,1 +1,271 @@
-//! (being written)
+//! Classification of knot vectors (seed 000 section 2-29: clamped / unclamped, uniform /
+//! non-uniform; ISO 10303-42 `knot_type`) and detection of the periodic form.
+//!
+//! Knot values are compared with a relative tolerance of [`KNOT_REL_TOL`] times the knot
+//! vector's total range, because exchanged files print knots with a limited number of
+//! digits (`1/3` is never exactly equally spaced).
+//!
+//! **Periodic form** (pitfalls.md A.3, spec.md d.1/d.2). nurbsx has no separate periodic
+//! type: a periodic curve is stored as Open CASCADE writes it after `SetNotPeriodic`, a flat
+//! unclamped knot vector with wrapped poles. With `n + 1` poles, degree `p`, domain
+//! `[u_p, u_{n+1}]` of length `T`, and `w` wrapped poles (`1 <= w <= p`, index period
+//! `N = n + 1 - w`), the data is periodic when
+//! - the knots wrap: `u_{i+N} = u_i + T` for every `i` with `i + N <= n + p + 1`, and
+//! - the poles wrap homogeneously: `P_{i+N} = P_i` and `w_{i+N} = w_i` for `i < w`.
+//!
+//! `w = p` is the classic periodic curve with a simple seam knot (C^(p-1) at the seam, seed
+//! figure 2-124); smaller `w` is an Open CASCADE periodic curve whose seam knot has
+//! multiplicity `p + 1 - w` (C^(w-1)), e.g. the degree-2 circle of spec.md c.4 with `w = 1`.
+
+use super::insert::{Bundle, Dir};
+use super::knots::to_distinct;
+use super::{NurbsCurve, NurbsSurface};
+
+/// Relative tolerance (of the knot range) for comparing knot values and spacings.
+pub const KNOT_REL_TOL: f64 = 1e-10;
+
+/// The ISO 10303-42 `knot_type` of a knot vector, which a STEP writer puts in `knot_spec`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KnotType {
+    /// Equally spaced knots, all multiplicity 1 (`.UNIFORM_KNOTS.`).
+    UniformKnots,
+    /// Equally spaced distinct knots, end multiplicity `p + 1`, interior 1
+    /// (`.QUASI_UNIFORM_KNOTS.`).
+    QuasiUniformKnots,
+    /// Equally spaced distinct knots, end multiplicity `p + 1`, interior `p`; also a single
+    /// Bezier span (`.PIECEWISE_BEZIER_KNOTS.`).
+    PiecewiseBezierKnots,
+    /// Anything else (`.UNSPECIFIED.`).
+    Unspecified,
+}
+
+impl KnotType {
+    /// The Part 21 enumeration literal, e.g. `.QUASI_UNIFORM_KNOTS.`.
+    pub fn step_name(self) -> &'static str {
+        match self {
+            KnotType::UniformKnots => ".UNIFORM_KNOTS.",
+            KnotType::QuasiUniformKnots => ".QUASI_UNIFORM_KNOTS.",
+            KnotType::PiecewiseBezierKnots => ".PIECEWISE_BEZIER_KNOTS.",
+            KnotType::Unspecified => ".UNSPECIFIED.",
+        }
+    }
+}
+
+/// What a knot vector (and, for [`Layout::Periodic`], its poles) looks like; the most
+/// specific kind wins (periodic, then uniform / quasi-uniform / piecewise Bezier, then
+/// clamped / unclamped).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// Periodic form with `wrapped` repeated poles (see the module documentation).
+    Periodic {
+        /// Number of wrapped poles `w` (`p` for a simple seam knot).
+        wrapped: usize,
+    },
+    /// [`KnotType::UniformKnots`] (unclamped, equally spaced, not periodic).
+    Uniform,
+    /// [`KnotType::QuasiUniformKnots`].
+    QuasiUniform,
+    /// [`KnotType::PiecewiseBezierKnots`].
+    PiecewiseBezier,
+    /// Both ends clamped (multiplicity `p + 1`), otherwise non-uniform.
+    Clamped,
+    /// At least one end not clamped, non-uniform.
+    Unclamped,
+}
+
+impl Layout {
+    /// The name `nurbsx info` prints: "periodic", "uniform", "quasi-uniform",
+    /// "piecewise Bezier", "clamped" or "unclamped".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Layout::Periodic { .. } => "periodic",
+            Layout::Uniform => "uniform",
+            Layout::QuasiUniform => "quasi-uniform",
+            Layout::PiecewiseBezier => "piecewise Bezier",
+            Layout::Clamped => "clamped",
+            Layout::Unclamped => "unclamped",
+        }
+    }
+}
+
+impl std::fmt::Display for Layout {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+fn knot_tol(knots: &[f64]) -> f64 {
+    match (knots.first(), knots.last()) {
+        (Some(a), Some(b)) => KNOT_REL_TOL * (b - a).abs(),
+        _ => 0.0,
+    }
+}
+
+/// The ISO 10303-42 `knot_type` of a flat knot vector of degree `degree` (see
+/// [`KnotType`]). For degree 1, clamped equally spaced knots with simple interior knots are
+/// reported as quasi-uniform (they are piecewise Bezier too).
+pub fn knot_type(degree: usize, knots: &[f64]) -> KnotType {
+    let (values, mults) = to_distinct(knots);
+    if values.len() < 2 {
+        return KnotType::Unspecified;
+    }
+    let tol = knot_tol(knots);
+    let h = (values[values.len() - 1] - values[0]) / (values.len() - 1) as f64;
+    let equal = values.windows(2).all(|w| ((w[1] - w[0]) - h).abs() <= tol);
+    if !equal {
+        return KnotType::Unspecified;
+    }
+    let last = mults.len() - 1;
+    let interior = &mults[1..last];
+    if mults.iter().all(|&m| m == 1) {
+        return KnotType::UniformKnots;
+    }
+    if mults[0] == degree + 1 && mults[last] == degree + 1 {
+        if interior.is_empty() {
+            return KnotType::PiecewiseBezierKnots;
+        }
+        if interior.iter().all(|&m| m == 1) {
+            return KnotType::QuasiUniformKnots;
+        }
+        if interior.iter().all(|&m| m == degree) {
+            return KnotType::PiecewiseBezierKnots;
+        }
+    }
+    KnotType::Unspecified
+}
+
+/// The layout of a knot vector alone (never [`Layout::Periodic`], which needs the poles).
+pub fn classify_knots(degree: usize, knots: &[f64]) -> Layout {
+    match knot_type(degree, knots) {
+        KnotType::UniformKnots => Layout::Uniform,
+        KnotType::QuasiUniformKnots => Layout::QuasiUniform,
+        KnotType::PiecewiseBezierKnots => Layout::PiecewiseBezier,
+        KnotType::Unspecified => {
+            let m = knots.len() - 1;
+            if knots[0] == knots[degree] && knots[m - degree] == knots[m] {
+                Layout::Clamped
+            } else {
+                Layout::Unclamped
+            }
+        }
+    }
+}
+
+/// The largest `w` for which every row of the bundle is in periodic form (module
+/// documentation); poles are compared with `tolerance` (Euclidean distance) and weights
+/// with [`KNOT_REL_TOL`] relative.
+pub(super) fn periodic_wrap_bundle(b: &Bundle, tolerance: f64) -> Option<usize> {
+    let p = b.degree;
+    let np = b.poles();
+    let u = &b.knots;
+    let m = u.len() - 1;
+    let (a, e) = b.domain();
+    let period = e - a;
+    let ktol = knot_tol(u);
+    (1..=p).rev().find(|&w| {
+        let Some(nn) = np.checked_sub(w).filter(|&nn| nn >= 1) else {
+            return false;
+        };
+        let knots_wrap = (0..=m - nn).all(|i| (u[i + nn] - u[i] - period).abs() <= ktol);
+        knots_wrap
+            && b.rows.iter().all(|row| {
+                (0..w).all(|i| {
+                    let (h0, h1) = (row[i], row[i + nn]);
+                    let (p0, p1) = (super::from_homogeneous(h0), super::from_homogeneous(h1));
+                    let d = ((p0[0] - p1[0]).powi(2)
+                        + (p0[1] - p1[1]).powi(2)
+                        + (p0[2] - p1[2]).powi(2))
+                    .sqrt();
+                    d <= tolerance && (h0[3] - h1[3]).abs() <= KNOT_REL_TOL * h0[3].max(h1[3])
+                })
+            })
+    })
+}
+
+impl NurbsCurve {
+    /// The layout of the knot vector, [`Layout::Periodic`] when the data is in periodic
+    /// form (poles compared within `tolerance`; see the module documentation).
+    pub fn layout(&self, tolerance: f64) -> Layout {
+        match periodic_wrap_bundle(&self.to_bundle(), tolerance) {
+            Some(wrapped) => Layout::Periodic { wrapped },
+            None => classify_knots(self.degree(), self.knots()),
+        }
+    }
+
+    /// The ISO 10303-42 `knot_type` a STEP writer should put in `knot_spec`.
+    pub fn knot_type(&self) -> KnotType {
+        knot_type(self.degree(), self.knots())
+    }
+
+    /// Whether the start and end points of the domain are within `tolerance`.
+    pub fn is_closed(&self, tolerance: f64) -> bool {
+        let (a, b) = self.domain();
+        let (p, q) = (self.point_at_unchecked(a), self.point_at_unchecked(b));
+        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+        d <= tolerance
+    }
+}
+
+impl NurbsSurface {
+    /// The layout of the u knot vector ([`Layout::Periodic`] if every column wraps).
+    pub fn layout_u(&self, tolerance: f64) -> Layout {
+        self.layout_dir(Dir::U, tolerance)
+    }
+
+    /// The layout of the v knot vector ([`Layout::Periodic`] if every row wraps).
+    pub fn layout_v(&self, tolerance: f64) -> Layout {
+        self.layout_dir(Dir::V, tolerance)
+    }
+
+    /// The ISO 10303-42 `knot_type` for `knot_spec`: the common type of both directions,
+    /// `Unspecified` when they differ.
+    pub fn knot_type(&self) -> KnotType {
+        let ku = knot_type(self.degree_u(), self.knots_u());
+        let kv = knot_type(self.degree_v(), self.knots_v());
+        if ku == kv { ku } else { KnotType::Unspecified }
+    }
+
+    /// Whether `S(u_start, v)` and `S(u_end, v)` are within `tolerance` at every v knot and
+    /// 64 evenly spaced v values (a sampled check).
+    pub fn is_closed_u(&self, tolerance: f64) -> bool {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        sample_params(v0, v1, self.knots_v()).all(|v| {
+            close(
+                self.point_at_unchecked(u0, v),
+                self.point_at_unchecked(u1, v),
+                tolerance,
+            )
+        })
+    }
+
+    /// Whether `S(u, v_start)` and `S(u, v_end)` are within `tolerance` (sampled as
+    /// [`is_closed_u`](Self::is_closed_u)).
+    pub fn is_closed_v(&self, tolerance: f64) -> bool {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        sample_params(u0, u1, self.knots_u()).all(|u| {
+            close(
+                self.point_at_unchecked(u, v0),
+                self.point_at_unchecked(u, v1),
+                tolerance,
+            )
+        })
+    }
+
+    fn layout_dir(&self, dir: Dir, tolerance: f64) -> Layout {
+        let b = self.to_bundle(dir);
+        match periodic_wrap_bundle(&b, tolerance) {
+            Some(wrapped) => Layout::Periodic { wrapped },
+            None => classify_knots(b.degree, &b.knots),
+        }
+    }
+}
+
+fn close(p: [f64; 3], q: [f64; 3], tolerance: f64) -> bool {
+    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt() <= tolerance
+}
+
+fn sample_params<'a>(a: f64, b: f64, knots: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+    (0..=64)
+        .map(move |i| (a + (b - a) * f64::from(i) / 64.0).clamp(a, b))
+        .chain(knots.iter().copied().filter(move |&k| k >= a && k <= b))
+}
