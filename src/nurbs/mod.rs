@@ -30,6 +30,7 @@
 //!   surfaces.
 
 pub mod basis;
+pub mod bernstein;
 pub mod batch;
 pub mod bezier;
 pub mod clamp;
