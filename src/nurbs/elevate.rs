@@ -17,12 +17,6 @@ use super::bernstein::binomial;
 use super::knots::multiplicity;
 use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface};
 
-/// Pole `k` of a flat array.
-#[inline]
-pub(super) fn pole(data: &[f64], dim: usize, k: usize) -> &[f64] {
-    &data[k * dim..(k + 1) * dim]
-}
-
 /// Flattens homogeneous points.
 pub(super) fn flatten(h: &[Hpoint]) -> Vec<f64> {
     h.iter().flat_map(|q| q.iter().copied()).collect()
