@@ -84,6 +84,8 @@ fn issue_125_arc() -> NurbsCurve {
             [-0.5, 1.5, 0.3],
             [-1., 0., 0.],
         ],
+        // 0.7071 is the issue's truncated value, deliberately not FRAC_1_SQRT_2.
+        #[allow(clippy::approx_constant)]
         Some(vec![1., 0.7071, 1., 0.99998, 1.]),
     )
     .unwrap()
@@ -255,7 +257,13 @@ fn elevation_limits() {
         Err(GeometryError::BadDegree { .. })
     ));
     assert!(c.elevate(nurbsx::nurbs::MAX_DEGREE - 2).is_ok());
-    assert!(matches!(c.elevate(usize::MAX), Err(GeometryError::BadDegree { .. })));
+    assert!(matches!(
+        c.elevate(usize::MAX),
+        Err(GeometryError::BadDegree { .. })
+    ));
     let line = NurbsCurve::new(1, vec![0., 0., 1., 1.], vec![[0.; 3], [1.; 3]], None).unwrap();
-    assert!(matches!(line.reduce(1.0), Err(GeometryError::InvalidArgument(_))));
+    assert!(matches!(
+        line.reduce(1.0),
+        Err(GeometryError::InvalidArgument(_))
+    ));
 }

@@ -84,7 +84,11 @@ fn nurbs_circles_are_exact() {
     }
     // Quarter points of the 9-pole circle are the axis points.
     let c = circle9(2.0);
-    for (u, p) in [(0.25, [0., 2., 0.]), (0.5, [-2., 0., 0.]), (0.75, [0., -2., 0.])] {
+    for (u, p) in [
+        (0.25, [0., 2., 0.]),
+        (0.5, [-2., 0., 0.]),
+        (0.75, [0., -2., 0.]),
+    ] {
         assert!(dist(c.point_at(u).unwrap(), p) < 1e-15);
     }
 }
@@ -121,12 +125,12 @@ proptest! {
         // Partition of unity.
         let sum: f64 = all.iter().sum();
         prop_assert!((sum - 1.0).abs() <= 1e-14);
-        for i in 0..=n {
+        for (i, &from_all) in all.iter().enumerate() {
             let b = bernstein(i, n, t);
             // Closed form C(n, i) t^i (1 - t)^(n - i).
             let closed = binomial(n, i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32);
             prop_assert!((b - closed).abs() <= 1e-13, "B_{},{} = {} vs {}", i, n, b, closed);
-            prop_assert!((b - all[i]).abs() <= 1e-15);
+            prop_assert!((b - from_all).abs() <= 1e-15);
             // Symmetry B_{i,n}(t) = B_{n-i,n}(1 - t).
             prop_assert!((b - bernstein(n - i, n, 1.0 - t)).abs() <= 1e-14);
             prop_assert!(b >= 0.0 && b <= bernstein_max(i, n) + 1e-15);

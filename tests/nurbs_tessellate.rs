@@ -76,7 +76,13 @@ fn circle9(r: f64) -> NurbsCurve {
 /// (NURBS Book section 8.5, surface of revolution), biquadratic rational.
 fn sphere(r: f64) -> NurbsSurface {
     let w = FRAC_1_SQRT_2;
-    let meridian = [(0., -1., 1.), (1., -1., w), (1., 0., 1.), (1., 1., w), (0., 1., 1.)];
+    let meridian = [
+        (0., -1., 1.),
+        (1., -1., w),
+        (1., 0., 1.),
+        (1., 1., w),
+        (0., 1., 1.),
+    ];
     let circle = [
         (1., 0., 1.),
         (1., 1., w),
@@ -151,7 +157,10 @@ fn check_mesh(s: &NurbsSurface, m: &Mesh, tol: f64) -> f64 {
         if on_boundary(a, b) {
             assert_eq!(n, 1, "boundary edge {a}-{b} used {n} times");
         } else {
-            assert_eq!(n, 2, "interior edge {a}-{b} used {n} times (crack or overlap)");
+            assert_eq!(
+                n, 2,
+                "interior edge {a}-{b} used {n} times (crack or overlap)"
+            );
         }
     }
     worst
@@ -219,12 +228,18 @@ fn straight_line_needs_only_its_knots_and_a_few_points() {
     let c = NurbsCurve::new(
         3,
         vec![0., 0., 0., 0., 1., 2., 2., 2., 2.],
-        (0..5).map(|i| [f64::from(i), 2.0 * f64::from(i), 0.]).collect(),
+        (0..5)
+            .map(|i| [f64::from(i), 2.0 * f64::from(i), 0.])
+            .collect(),
         None,
     )
     .unwrap();
     let pl = c.tessellate(1e-6).unwrap();
-    assert!(pl.points.len() <= 12, "{} points for a line", pl.points.len());
+    assert!(
+        pl.points.len() <= 12,
+        "{} points for a line",
+        pl.points.len()
+    );
     assert!(sampled_chord_error(&c, &pl) <= 1e-6);
 }
 
@@ -248,14 +263,21 @@ fn sphere_mesh_lies_within_tolerance() {
             assert!((d - r).abs() <= 1e-13 * r, "vertex at radius {d}");
         }
         let worst = check_mesh(&s, &m, tol);
-        assert!(worst > 0.2 * tol, "mesh much finer than needed: {worst:e} vs {tol:e}");
+        assert!(
+            worst > 0.2 * tol,
+            "mesh much finer than needed: {worst:e} vs {tol:e}"
+        );
         // Geometric check independent of the parameterisation: edge midpoints and centroids
         // are inside the sphere by at most tol.
         for t in &m.triangles {
             let [a, b, c] = t.map(|k| m.vertices[k]);
             for q in [mid(a, b), mid(b, c), mid(c, a)] {
                 let d = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
-                assert!(r - d <= tol * (1.0 + 1e-9), "edge midpoint {:e} inside", r - d);
+                assert!(
+                    r - d <= tol * (1.0 + 1e-9),
+                    "edge midpoint {:e} inside",
+                    r - d
+                );
             }
         }
         // Normals point outwards (the sphere is parameterised with outward S_u x S_v or
@@ -297,15 +319,24 @@ fn obj_and_svg_writers_round_trip() {
         })
         .collect();
     assert_eq!(faces, m.triangles);
-    assert_eq!(obj.lines().filter(|l| l.starts_with("vn ")).count(), m.vertices.len());
+    assert_eq!(
+        obj.lines().filter(|l| l.starts_with("vn ")).count(),
+        m.vertices.len()
+    );
 
     let c1 = circle9(2.0).tessellate(1e-2).unwrap();
     let c2 = circle9(1.0).tessellate(1e-2).unwrap();
     let obj = polylines_to_obj(&[c1.clone(), c2.clone()]);
     let ls: Vec<&str> = obj.lines().filter(|l| l.starts_with("l ")).collect();
     assert_eq!(ls.len(), 2);
-    assert_eq!(ls[1].split(' ').nth(1).unwrap().parse::<usize>().unwrap(), c1.points.len() + 1);
-    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), c1.points.len() + c2.points.len());
+    assert_eq!(
+        ls[1].split(' ').nth(1).unwrap().parse::<usize>().unwrap(),
+        c1.points.len() + 1
+    );
+    assert_eq!(
+        obj.lines().filter(|l| l.starts_with("v ")).count(),
+        c1.points.len() + c2.points.len()
+    );
 
     let svg = polylines_to_svg(&[c1.clone(), c2], 400.0);
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));

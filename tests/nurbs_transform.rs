@@ -16,7 +16,13 @@ fn arb_affine() -> impl Strategy<Value = Affine> {
 /// `n + 1` parameters evenly over `[a, b]`, ends exact.
 fn grid(a: f64, b: f64, n: usize) -> Vec<f64> {
     (0..=n)
-        .map(|i| if i == n { b } else { a + (b - a) * i as f64 / n as f64 })
+        .map(|i| {
+            if i == n {
+                b
+            } else {
+                a + (b - a) * i as f64 / n as f64
+            }
+        })
         .collect()
 }
 

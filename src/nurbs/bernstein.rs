@@ -42,6 +42,8 @@ pub fn bernstein(i: usize, n: usize, t: f64) -> f64 {
 }
 
 /// All `n + 1` Bernstein polynomials of degree `n` at `t` (A1.3 AllBernstein).
+// Index loops mirror the NURBS Book pseudo-code line by line, which is how they are checked.
+#[allow(clippy::needless_range_loop)]
 pub fn all_bernstein(n: usize, t: f64) -> Vec<f64> {
     let mut b = vec![0.0; n + 1];
     b[0] = 1.0;

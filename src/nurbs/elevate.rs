@@ -68,7 +68,8 @@ pub(super) fn insert_flat(
         }
         q[l * dim..(l + 1) * dim].copy_from_slice(&rw[..dim]);
         let last = k + r - j - s;
-        q[last * dim..(last + 1) * dim].copy_from_slice(&rw[(p - j - s) * dim..(p - j - s + 1) * dim]);
+        q[last * dim..(last + 1) * dim]
+            .copy_from_slice(&rw[(p - j - s) * dim..(p - j - s + 1) * dim]);
     }
     for i in (l + 1)..(k - s) {
         q[i * dim..(i + 1) * dim].copy_from_slice(&rw[(i - l) * dim..(i - l + 1) * dim]);
@@ -117,6 +118,8 @@ pub(super) fn clamp_flat(
 /// Each pass extracts one Bezier segment by knot insertion, elevates it with the
 /// coefficients `C(p, j) C(t, i - j) / C(p + t, i)` (eq. 5.36, seed 000 eq. 2-65 for repeated
 /// elevation), and removes the inserted knots again from the previous segment's seam.
+// Index loops and counters mirror A5.9's pseudo-code line by line, which is how it is checked.
+#[allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 pub(super) fn elevate_flat(
     p: usize,
     knots: &[f64],
@@ -197,7 +200,8 @@ pub(super) fn elevate_flat(
                 for k in (s..=p).rev() {
                     let al = alfs[k - s];
                     for c in 0..dim {
-                        bpts[k * dim + c] = al * bpts[k * dim + c] + (1.0 - al) * bpts[(k - 1) * dim + c];
+                        bpts[k * dim + c] =
+                            al * bpts[k * dim + c] + (1.0 - al) * bpts[(k - 1) * dim + c];
                     }
                 }
                 next_bpts[save * dim..(save + 1) * dim]

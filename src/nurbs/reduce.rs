@@ -230,7 +230,9 @@ impl NurbsCurve {
         }
         let e4 = err.iter().copied().fold(0.0, f64::max);
         let bound = if rational {
-            let wmin = self.weights().map_or(1.0, |w| w.iter().copied().fold(f64::INFINITY, f64::min));
+            let wmin = self
+                .weights()
+                .map_or(1.0, |w| w.iter().copied().fold(f64::INFINITY, f64::min));
             if e4 >= wmin {
                 f64::INFINITY
             } else {

@@ -87,7 +87,10 @@ pub fn point_segment_distance(x: Point3, a: Point3, b: Point3) -> f64 {
     } else {
         0.0
     };
-    norm(sub(x, [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]]))
+    norm(sub(
+        x,
+        [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]],
+    ))
 }
 
 fn check_tolerance(tolerance: f64) -> Result<(), GeometryError> {
@@ -102,6 +105,8 @@ fn check_tolerance(tolerance: f64) -> Result<(), GeometryError> {
 
 /// Basis functions and their first two derivatives (NURBS Book A2.3 DersBasisFuns with
 /// `n = min(2, p)`): `ders[k][j]` is the k-th derivative of `N_{span-p+j,p}(u)`.
+// Index loops mirror the NURBS Book pseudo-code line by line, which is how they are checked.
+#[allow(clippy::needless_range_loop)]
 fn ders_basis_2(span: usize, u: f64, p: usize, knots: &[f64]) -> [Vec<f64>; 3] {
     let n = p.min(2);
     let w = p + 1;
@@ -381,7 +386,11 @@ fn test_cell(
                 if i == n || j == n || k == n {
                     continue; // a vertex
                 }
-                let w = [i as f64 / n as f64, j as f64 / n as f64, k as f64 / n as f64];
+                let w = [
+                    i as f64 / n as f64,
+                    j as f64 / n as f64,
+                    k as f64 / n as f64,
+                ];
                 let u = w[0] * uv[0].0 + w[1] * uv[1].0 + w[2] * uv[2].0;
                 let v = w[0] * uv[0].1 + w[1] * uv[1].1 + w[2] * uv[2].1;
                 let err = norm(sub(
@@ -615,7 +624,11 @@ pub fn polylines_to_svg(lines: &[Polyline], width: f64) -> String {
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
     let margin = 0.02 * size;
     let (w, h) = (hi[0] - lo[0] + 2.0 * margin, hi[1] - lo[1] + 2.0 * margin);
-    let width = if width.is_finite() && width > 0.0 { width } else { 800.0 };
+    let width = if width.is_finite() && width > 0.0 {
+        width
+    } else {
+        800.0
+    };
     let height = width * h / w;
     let mut s = String::new();
     let _ = writeln!(

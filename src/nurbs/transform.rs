@@ -255,7 +255,11 @@ impl NurbsSurface {
     pub fn iso_u(&self, u: f64) -> Result<NurbsCurve, GeometryError> {
         let ((a, b), _) = self.domain();
         if !(u >= a && u <= b) {
-            return Err(GeometryError::OutOfDomain { t: u, start: a, end: b });
+            return Err(GeometryError::OutOfDomain {
+                t: u,
+                start: a,
+                end: b,
+            });
         }
         let h = contract(self.degree_u(), self.knots_u(), &self.homogeneous(), u);
         NurbsCurve::from_homogeneous(
@@ -273,7 +277,11 @@ impl NurbsSurface {
     pub fn iso_v(&self, v: f64) -> Result<NurbsCurve, GeometryError> {
         let (_, (c, d)) = self.domain();
         if !(v >= c && v <= d) {
-            return Err(GeometryError::OutOfDomain { t: v, start: c, end: d });
+            return Err(GeometryError::OutOfDomain {
+                t: v,
+                start: c,
+                end: d,
+            });
         }
         let h = contract(
             self.degree_v(),
