@@ -30,8 +30,8 @@
 //!   surfaces.
 
 pub mod basis;
-pub mod bernstein;
 pub mod batch;
+pub mod bernstein;
 pub mod bezier;
 pub mod clamp;
 pub mod curve;
