@@ -198,6 +198,43 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn surface_reduction_per_direction(s in arb_surface(3, true, Ends::Any), in_v in any::<bool>()) {
+        let size = bbox_diagonal(s.control_points().as_slice()).max(1.0);
+        // Elevated then reduced: the original comes back with a bound at rounding level.
+        let (e, r) = if in_v {
+            let e = s.elevate_v(1).unwrap();
+            let r = e.reduce_v(1e-9).unwrap();
+            (e, r)
+        } else {
+            let e = s.elevate_u(1).unwrap();
+            let r = e.reduce_u(1e-9).unwrap();
+            (e, r)
+        };
+        let (r, bound) = r;
+        prop_assert_eq!((r.degree_u(), r.degree_v()), (s.degree_u(), s.degree_v()));
+        prop_assert!(bound <= 1e-12 * size, "bound {:e}", bound);
+        prop_assert!(surface_deviation(&s, &r, 30) <= 1e-12);
+        prop_assert!(surface_deviation(&e, &r, 30) <= 1e-12);
+        // A genuine reduction: the bound covers the sampled deviation.
+        let red = if in_v { s.reduce_v(f64::INFINITY) } else { s.reduce_u(f64::INFINITY) };
+        match red {
+            Ok((r, bound)) => {
+                let worst = surface_deviation(&s, &r, 40) * bbox_diagonal(s.control_points().as_slice()).max(f64::MIN_POSITIVE);
+                prop_assert!(worst <= bound * (1.0 + 1e-9) + 1e-12, "sampled {:e} > bound {:e}", worst, bound);
+            }
+            Err(GeometryError::InvalidArgument(_)) => {
+                prop_assert_eq!(if in_v { s.degree_v() } else { s.degree_u() }, 1);
+            }
+            Err(GeometryError::ToleranceExceeded { bound, .. }) => prop_assert!(bound.is_infinite()),
+            Err(e) => return Err(TestCaseError::fail(format!("{e}"))),
+        }
+    }
+}
+
 #[test]
 fn issue_125_arc_elevates_exactly() {
     let c = issue_125_arc();

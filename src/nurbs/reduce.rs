@@ -1,4 +1,5 @@
-//! Degree reduction by one with a computed error bound (NURBS Book A5.11
+//! Degree reduction by one with a computed error bound, curves and surfaces per direction
+//! (NURBS Book A5.11
 //! DegreeReduceCurve, Bezier step eqs. 5.41-5.46; seed 000 section 2-10, eqs. 2-66 .. 2-69).
 //!
 //! Like A5.11 the curve is processed Bezier segment by Bezier segment: (1) the curve is
@@ -20,13 +21,13 @@
 use super::bernstein::bernstein_max;
 use super::elevate::{clamp_flat, insert_flat};
 use super::knots::{multiplicity, runs};
-use super::{GeometryError, NurbsCurve, Point3};
+use super::{GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
 /// Reduces one Bezier segment of degree `p` (flat poles, `dim` wide) to degree `p - 1`
 /// (eqs. 5.41-5.44). Returns the new poles and the largest value of the homogeneous error
 /// curve (eqs. 5.45, 5.46 with the Bernstein maxima instead of 1, both exact maxima or upper
 /// bounds of them).
-fn bezier_reduce(q: &[f64], dim: usize, p: usize, norm: fn(&[f64]) -> f64) -> (Vec<f64>, f64) {
+fn bezier_reduce(q: &[f64], dim: usize, p: usize, norm: &Norm<'_>) -> (Vec<f64>, f64) {
     let mut out = vec![0.0; p * dim];
     let r = (p - 1) / 2;
     let alpha = |i: usize| i as f64 / p as f64;
@@ -86,7 +87,7 @@ fn remove_once(
     dim: usize,
     r: usize,
     s: usize,
-    norm: fn(&[f64]) -> f64,
+    norm: &Norm<'_>,
 ) -> (f64, f64, f64) {
     let u = knots[r];
     let first = r - p;
@@ -121,12 +122,172 @@ fn remove_once(
     (norm(&d), support.0, support.1)
 }
 
+/// A norm on one flat pole (for a surface row: the largest point norm in the row).
+type Norm<'a> = dyn Fn(&[f64]) -> f64 + 'a;
+
 fn norm4(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 fn norm3(v: &[f64]) -> f64 {
     v[..3].iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Reduces a flat B-spline (poles already centred and scaled) from degree `p` to `p - 1`:
+/// clamp, Bezier decomposition, per-segment reduction, knot removal. Returns the knots, the
+/// poles and the bound of the homogeneous error (in `norm`), accumulated per knot span.
+fn reduce_flat(
+    p: usize,
+    knots: &[f64],
+    flat: &[f64],
+    dim: usize,
+    norm: &Norm<'_>,
+) -> (Vec<f64>, Vec<f64>, f64) {
+    let (mut knots, mut pw) = clamp_flat(p, knots, flat, dim);
+    let (a, b) = (knots[0], knots[knots.len() - 1]);
+    // Interior distinct knots with their multiplicities in the clamped input.
+    let interior: Vec<(f64, usize)> = runs(&knots)
+        .filter(|&(_, v, _)| v > a && v < b)
+        .map(|(_, v, m)| (v, m))
+        .collect();
+    for &(v, m) in &interior {
+        let (k, q) = insert_flat(p, &knots, &pw, dim, v, p - m);
+        knots = k;
+        pw = q;
+    }
+    // Bezier segments: poles s*p ..= s*p + p.
+    let nseg = interior.len() + 1;
+    let mut bounds: Vec<f64> = Vec::with_capacity(nseg + 1);
+    bounds.push(a);
+    bounds.extend(interior.iter().map(|&(v, _)| v));
+    bounds.push(b);
+    let ph = p - 1;
+    let mut err = vec![0.0; nseg];
+    let mut red = Vec::with_capacity((nseg * ph + 1) * dim);
+    for (s, e) in err.iter_mut().enumerate() {
+        let seg = &pw[s * p * dim..(s * p + p + 1) * dim];
+        let (rp, es) = bezier_reduce(seg, dim, p, norm);
+        *e = es;
+        let skip = if s == 0 { 0 } else { 1 };
+        red.extend_from_slice(&rp[skip * dim..]);
+    }
+    let mut rk = Vec::with_capacity(nseg * ph + ph + 1);
+    rk.extend(std::iter::repeat_n(a, ph + 1));
+    for &(v, _) in &interior {
+        rk.extend(std::iter::repeat_n(v, ph));
+    }
+    rk.extend(std::iter::repeat_n(b, ph + 1));
+    // Remove each interior knot down to multiplicity m - 1.
+    for &(v, m) in &interior {
+        for _ in 0..(p - m) {
+            let s = multiplicity(&rk, v);
+            let r = rk.partition_point(|&x| x <= v) - 1;
+            let (e, lo, hi) = remove_once(ph, &mut rk, &mut red, dim, r, s, norm);
+            for (k, es) in err.iter_mut().enumerate() {
+                if bounds[k] < hi && bounds[k + 1] > lo {
+                    *es += e;
+                }
+            }
+        }
+    }
+    (rk, red, err.iter().copied().fold(0.0, f64::max))
+}
+
+/// The centring and scaling applied before reduction (a linear map of homogeneous space, so
+/// it commutes with every step; it makes the rational bound independent of the origin).
+struct Frame {
+    centre: Point3,
+    scale: f64,
+}
+
+impl Frame {
+    fn of(points: &[Point3]) -> Frame {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for q in points {
+            for k in 0..3 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        let centre: Point3 = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
+        let radius = points
+            .iter()
+            .map(|q| norm3(&[q[0] - centre[0], q[1] - centre[1], q[2] - centre[2]]))
+            .fold(0.0, f64::max);
+        Frame {
+            centre,
+            scale: if radius > 0.0 { radius } else { 1.0 },
+        }
+    }
+
+    /// Homogeneous, centred and scaled flat poles.
+    fn lift(&self, points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<f64> {
+        let mut flat = Vec::with_capacity(points.len() * 4);
+        for (i, q) in points.iter().enumerate() {
+            let w = weight(i);
+            for k in 0..3 {
+                flat.push(w * (q[k] - self.centre[k]) / self.scale);
+            }
+            flat.push(w);
+        }
+        flat
+    }
+
+    /// The Euclidean bound from the homogeneous one (module notes).
+    fn bound(&self, e: f64, rational: bool, wmin: f64) -> f64 {
+        if !rational {
+            self.scale * e
+        } else if e >= wmin {
+            f64::INFINITY
+        } else {
+            self.scale * std::f64::consts::SQRT_2 * e / (wmin - e)
+        }
+    }
+
+    /// Euclidean points and weights back from reduced flat poles.
+    fn project(&self, red: &[f64], rational: bool, dimension: usize) -> (Vec<Point3>, Vec<f64>) {
+        red.chunks_exact(4)
+            .map(|h| {
+                let w = if rational { h[3] } else { 1.0 };
+                let mut q: Point3 = std::array::from_fn(|k| h[k] / w * self.scale + self.centre[k]);
+                if dimension == 2 {
+                    q[2] = 0.0;
+                }
+                (q, w)
+            })
+            .unzip()
+    }
+}
+
+/// Argument checks shared by curves and surfaces.
+fn check_reduction(p: usize, tolerance: f64) -> Result<(), GeometryError> {
+    if p < 2 {
+        return Err(GeometryError::InvalidArgument(format!(
+            "degree reduction: degree {p} cannot be reduced"
+        )));
+    }
+    if tolerance.is_nan() || tolerance < 0.0 {
+        return Err(GeometryError::InvalidArgument(format!(
+            "degree reduction: tolerance {tolerance} must be >= 0"
+        )));
+    }
+    Ok(())
+}
+
+/// Accepts or refuses a reduction: the bound must be finite and within the tolerance, and
+/// every reduced weight positive.
+fn accept(red: &[f64], rational: bool, bound: f64, tolerance: f64) -> Result<(), GeometryError> {
+    let weights_ok = !rational || red.chunks_exact(4).all(|h| h[3] > 0.0);
+    if weights_ok && bound.is_finite() && bound <= tolerance {
+        Ok(())
+    } else {
+        Err(GeometryError::ToleranceExceeded {
+            what: "degree reduction",
+            bound: if weights_ok { bound } else { f64::INFINITY },
+            tolerance,
+        })
+    }
 }
 
 impl NurbsCurve {
@@ -144,125 +305,20 @@ impl NurbsCurve {
     /// weight <= 0 ([`GeometryError::ToleranceExceeded`], carrying the bound).
     pub fn reduce(&self, tolerance: f64) -> Result<(NurbsCurve, f64), GeometryError> {
         let p = self.degree();
-        if p < 2 {
-            return Err(GeometryError::InvalidArgument(format!(
-                "degree reduction: degree {p} cannot be reduced"
-            )));
-        }
-        if tolerance.is_nan() || tolerance < 0.0 {
-            return Err(GeometryError::InvalidArgument(format!(
-                "degree reduction: tolerance {tolerance} must be >= 0"
-            )));
-        }
+        check_reduction(p, tolerance)?;
         let rational = self.is_rational();
-        let norm: fn(&[f64]) -> f64 = if rational { norm4 } else { norm3 };
-        // Centre and scale (a linear map of homogeneous space, so it commutes with every
-        // step; it makes the rational bound independent of where the origin is).
-        let pts = self.control_points();
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for q in pts {
-            for k in 0..3 {
-                lo[k] = lo[k].min(q[k]);
-                hi[k] = hi[k].max(q[k]);
-            }
-        }
-        let centre: Point3 = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
-        let radius = pts
-            .iter()
-            .map(|q| norm3(&[q[0] - centre[0], q[1] - centre[1], q[2] - centre[2]]))
-            .fold(0.0, f64::max);
-        let scale = if radius > 0.0 { radius } else { 1.0 };
-        let mut flat = Vec::with_capacity(pts.len() * 4);
-        for (i, q) in pts.iter().enumerate() {
-            let w = self.weight(i);
-            for k in 0..3 {
-                flat.push(w * (q[k] - centre[k]) / scale);
-            }
-            flat.push(w);
-        }
-        let (mut knots, mut pw) = clamp_flat(p, self.knots(), &flat, 4);
-        let (a, b) = (knots[0], knots[knots.len() - 1]);
-        // Interior distinct knots with their multiplicities in the clamped input.
-        let interior: Vec<(f64, usize)> = runs(&knots)
-            .filter(|&(_, v, _)| v > a && v < b)
-            .map(|(_, v, m)| (v, m))
-            .collect();
-        for &(v, m) in &interior {
-            let (k, q) = insert_flat(p, &knots, &pw, 4, v, p - m);
-            knots = k;
-            pw = q;
-        }
-        // Bezier segments: poles s*p ..= s*p + p.
-        let nseg = interior.len() + 1;
-        let mut bounds: Vec<f64> = Vec::with_capacity(nseg + 1);
-        bounds.push(a);
-        bounds.extend(interior.iter().map(|&(v, _)| v));
-        bounds.push(b);
-        let ph = p - 1;
-        let mut err = vec![0.0; nseg];
-        let mut red = Vec::with_capacity((nseg * ph + 1) * 4);
-        for (s, e) in err.iter_mut().enumerate() {
-            let seg = &pw[s * p * 4..(s * p + p + 1) * 4];
-            let (rp, es) = bezier_reduce(seg, 4, p, norm);
-            *e = es;
-            let skip = if s == 0 { 0 } else { 1 };
-            red.extend_from_slice(&rp[skip * 4..]);
-        }
-        let mut rk = Vec::with_capacity(nseg * ph + ph + 1);
-        rk.extend(std::iter::repeat_n(a, ph + 1));
-        for &(v, _) in &interior {
-            rk.extend(std::iter::repeat_n(v, ph));
-        }
-        rk.extend(std::iter::repeat_n(b, ph + 1));
-        // Remove each interior knot down to multiplicity m - 1.
-        for &(v, m) in &interior {
-            for _ in 0..(p - m) {
-                let s = multiplicity(&rk, v);
-                let r = rk.partition_point(|&x| x <= v) - 1;
-                let (e, lo, hi) = remove_once(ph, &mut rk, &mut red, 4, r, s, norm);
-                for (k, es) in err.iter_mut().enumerate() {
-                    if bounds[k] < hi && bounds[k + 1] > lo {
-                        *es += e;
-                    }
-                }
-            }
-        }
-        let e4 = err.iter().copied().fold(0.0, f64::max);
-        let bound = if rational {
-            let wmin = self
-                .weights()
-                .map_or(1.0, |w| w.iter().copied().fold(f64::INFINITY, f64::min));
-            if e4 >= wmin {
-                f64::INFINITY
-            } else {
-                scale * std::f64::consts::SQRT_2 * e4 / (wmin - e4)
-            }
-        } else {
-            scale * e4
-        };
-        // A reduced weight <= 0 cannot be represented (and the bound is then infinite).
-        let weights_ok = !rational || red.chunks_exact(4).all(|h| h[3] > 0.0);
-        if !(weights_ok && bound.is_finite() && bound <= tolerance) {
-            return Err(GeometryError::ToleranceExceeded {
-                what: "degree reduction",
-                bound: if weights_ok { bound } else { f64::INFINITY },
-                tolerance,
-            });
-        }
-        let mut points = Vec::with_capacity(red.len() / 4);
-        let mut weights = Vec::with_capacity(red.len() / 4);
-        for h in red.chunks_exact(4) {
-            let w = if rational { h[3] } else { 1.0 };
-            let mut q: Point3 = std::array::from_fn(|k| h[k] / w * scale + centre[k]);
-            if self.dimension() == 2 {
-                q[2] = 0.0;
-            }
-            points.push(q);
-            weights.push(w);
-        }
+        let norm: &Norm<'_> = if rational { &norm4 } else { &norm3 };
+        let frame = Frame::of(self.control_points());
+        let flat = frame.lift(self.control_points(), |i| self.weight(i));
+        let (rk, red, e) = reduce_flat(p, self.knots(), &flat, 4, norm);
+        let wmin = self
+            .weights()
+            .map_or(1.0, |w| w.iter().copied().fold(f64::INFINITY, f64::min));
+        let bound = frame.bound(e, rational, wmin);
+        accept(&red, rational, bound, tolerance)?;
+        let (points, weights) = frame.project(&red, rational, self.dimension());
         let c = NurbsCurve::with_dimension(
-            ph,
+            p - 1,
             rk,
             points,
             rational.then_some(weights),
@@ -270,4 +326,80 @@ impl NurbsCurve {
         )?;
         Ok((c, bound))
     }
+}
+
+impl NurbsSurface {
+    /// Degree reduction by one in u (A5.11 applied to every row of the net at once, as
+    /// A5.10 does for elevation). The bound covers the whole surface: at fixed v the surface
+    /// error is a convex combination of the rows' errors, so the per-row maximum bounds it.
+    /// Same errors as [`NurbsCurve::reduce`].
+    pub fn reduce_u(&self, tolerance: f64) -> Result<(NurbsSurface, f64), GeometryError> {
+        reduce_surface(self, tolerance, false)
+    }
+
+    /// Degree reduction by one in v (the net is transposed, reduced in its first index and
+    /// transposed back). Same errors as [`NurbsCurve::reduce`].
+    pub fn reduce_v(&self, tolerance: f64) -> Result<(NurbsSurface, f64), GeometryError> {
+        reduce_surface(self, tolerance, true)
+    }
+}
+
+fn reduce_surface(
+    s: &NurbsSurface,
+    tolerance: f64,
+    in_v: bool,
+) -> Result<(NurbsSurface, f64), GeometryError> {
+    let (p, knots) = if in_v {
+        (s.degree_v(), s.knots_v())
+    } else {
+        (s.degree_u(), s.knots_u())
+    };
+    check_reduction(p, tolerance)?;
+    let rational = s.is_rational();
+    let (points, weights) = if in_v {
+        (
+            s.control_points().transposed(),
+            s.weights().map(Grid::transposed),
+        )
+    } else {
+        (s.control_points().clone(), s.weights().cloned())
+    };
+    let rows = points.nv();
+    let frame = Frame::of(points.as_slice());
+    let flat = frame.lift(points.as_slice(), |i| {
+        weights.as_ref().map_or(1.0, |w| w.as_slice()[i])
+    });
+    let point_norm: fn(&[f64]) -> f64 = if rational { norm4 } else { norm3 };
+    let row_norm = move |v: &[f64]| v.chunks_exact(4).map(point_norm).fold(0.0, f64::max);
+    let (rk, red, e) = reduce_flat(p, knots, &flat, 4 * rows, &row_norm);
+    let wmin = weights.as_ref().map_or(1.0, |w| {
+        w.as_slice().iter().copied().fold(f64::INFINITY, f64::min)
+    });
+    let bound = frame.bound(e, rational, wmin);
+    accept(&red, rational, bound, tolerance)?;
+    let (pts, ws) = frame.project(&red, rational, s.dimension());
+    let n = pts.len() / rows;
+    let shape = || GeometryError::InvalidArgument("reduced net shape".into());
+    let mut pts = Grid::from_u_major(n, rows, pts).ok_or_else(shape)?;
+    let mut ws = Grid::from_u_major(n, rows, ws).ok_or_else(shape)?;
+    if in_v {
+        pts = pts.transposed();
+        ws = ws.transposed();
+    }
+    let (du, dv) = if in_v { (0, 1) } else { (1, 0) };
+    let (ku, kv) = if in_v {
+        (s.knots_u().to_vec(), rk)
+    } else {
+        (rk, s.knots_v().to_vec())
+    };
+    let out = NurbsSurface::with_dimension(
+        s.degree_u() - du,
+        s.degree_v() - dv,
+        ku,
+        kv,
+        pts,
+        rational.then_some(ws),
+        s.dimension(),
+    )?;
+    Ok((out, bound))
 }
