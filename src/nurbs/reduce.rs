@@ -226,8 +226,8 @@ impl Frame {
         let mut flat = Vec::with_capacity(points.len() * 4);
         for (i, q) in points.iter().enumerate() {
             let w = weight(i);
-            for k in 0..3 {
-                flat.push(w * (q[k] - self.centre[k]) / self.scale);
+            for (x, c) in q.iter().zip(self.centre) {
+                flat.push(w * (x - c) / self.scale);
             }
             flat.push(w);
         }
