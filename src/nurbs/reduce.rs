@@ -1,15 +1,16 @@
-//! Degree reduction by one with a computed error bound, curves and surfaces per direction
-//! (NURBS Book A5.11
-//! DegreeReduceCurve, Bezier step eqs. 5.41-5.46; seed 000 section 2-10, eqs. 2-66 .. 2-69).
+//! Degree reduction by one with a computed error bound, for curves and for surfaces per
+//! direction (NURBS Book A5.11 DegreeReduceCurve, Bezier step eqs. 5.41-5.46; seed 000
+//! section 2-10, eqs. 2-66 .. 2-69).
 //!
 //! Like A5.11 the curve is processed Bezier segment by Bezier segment: (1) the curve is
-//! clamped and every interior knot is inserted up to multiplicity `p` (A5.1), giving
-//! Bezier segments; (2) each segment is reduced from degree `p` to `p - 1` by the two-sided
-//! inversion of degree elevation (eqs. 5.41-5.44), whose error is a known combination of one
-//! or two Bernstein polynomials (eqs. 5.45, 5.46); (3) every interior knot is removed again
-//! until its multiplicity is one less than in the input (the continuity `C^{p-m}` is kept),
-//! each removal measuring the change of the control polygon it makes (as A5.8 / A5.11's
-//! `Br`). Errors are accumulated per knot span as in A5.11's error vector `e[]`.
+//! clamped and each knot span is extracted as a Bezier segment by local knot insertion
+//! (A5.1, equivalent to A5.6 DecomposeCurve); (2) each segment is reduced from degree `p`
+//! to `p - 1` by the two-sided inversion of degree elevation (eqs. 5.41-5.44), whose error
+//! is a known combination of one or two Bernstein polynomials (eqs. 5.45, 5.46); (3) every
+//! interior knot is removed again until its multiplicity is one less than in the input (the
+//! continuity `C^{p-m}` is kept), each removal measuring the change of the control polygon
+//! it makes (as A5.8 / A5.11's `Br`). Errors are accumulated per knot span as in A5.11's
+//! error vector `e[]`.
 //!
 //! All steps run in homogeneous space on poles that are first centred at the control
 //! polygon's box centre and scaled by its radius `R`, so the homogeneous error `E` is
@@ -19,7 +20,7 @@
 //! bound is `R |E_xyz|`.
 
 use super::bernstein::bernstein_max;
-use super::elevate::{clamp_flat, insert_flat};
+use super::elevate::clamp_flat;
 use super::knots::{multiplicity, runs};
 use super::{GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
@@ -143,32 +144,39 @@ fn reduce_flat(
     dim: usize,
     norm: &Norm<'_>,
 ) -> (Vec<f64>, Vec<f64>, f64) {
-    let (mut knots, mut pw) = clamp_flat(p, knots, flat, dim);
+    let (knots, pw) = clamp_flat(p, knots, flat, dim);
     let (a, b) = (knots[0], knots[knots.len() - 1]);
     // Interior distinct knots with their multiplicities in the clamped input.
     let interior: Vec<(f64, usize)> = runs(&knots)
         .filter(|&(_, v, _)| v > a && v < b)
         .map(|(_, v, m)| (v, m))
         .collect();
-    for &(v, m) in &interior {
-        let (k, q) = insert_flat(p, &knots, &pw, dim, v, p - m);
-        knots = k;
-        pw = q;
-    }
-    // Bezier segments: poles s*p ..= s*p + p.
     let nseg = interior.len() + 1;
     let mut bounds: Vec<f64> = Vec::with_capacity(nseg + 1);
     bounds.push(a);
     bounds.extend(interior.iter().map(|&(v, _)| v));
     bounds.push(b);
     let ph = p - 1;
-    let mut err = vec![0.0; nseg];
+    let mut err = Vec::with_capacity(nseg);
     let mut red = Vec::with_capacity((nseg * ph + 1) * dim);
-    for (s, e) in err.iter_mut().enumerate() {
-        let seg = &pw[s * p * dim..(s * p + p + 1) * dim];
-        let (rp, es) = bezier_reduce(seg, dim, p, norm);
-        *e = es;
-        let skip = if s == 0 { 0 } else { 1 };
+    // Bezier segments, one per non-empty span [U_k, U_{k+1}]: the span depends only on
+    // poles k-p..=k and knots k-p..=k+p+1, so clamping that local piece at both ends
+    // (A5.1) yields its Bezier poles in O(p^2), the whole decomposition in O(n p^2).
+    let np = pw.len() / dim;
+    for k in p..np {
+        if knots[k] >= knots[k + 1] {
+            continue;
+        }
+        let (_, seg) = clamp_flat(
+            p,
+            &knots[k - p..=k + p + 1],
+            &pw[(k - p) * dim..(k + 1) * dim],
+            dim,
+        );
+        let (rp, es) = bezier_reduce(&seg, dim, p, norm);
+        err.push(es);
+        // Adjacent segments share their end pole; keep the left one.
+        let skip = if red.is_empty() { 0 } else { 1 };
         red.extend_from_slice(&rp[skip * dim..]);
     }
     let mut rk = Vec::with_capacity(nseg * ph + ph + 1);

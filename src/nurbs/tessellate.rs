@@ -231,7 +231,7 @@ fn too_many(what: &'static str, tolerance: f64) -> GeometryError {
 const CHORD_SAMPLES: usize = 15;
 
 /// Golden-section iterations that sharpen the largest sampled chord distance.
-const GOLDEN_STEPS: usize = 40;
+const GOLDEN_STEPS: usize = 24;
 
 /// Largest distance between the curve on `[u0, u1]` and the chord: the best of
 /// [`CHORD_SAMPLES`] evenly spaced samples, then refined by a golden-section search on the
