@@ -357,3 +357,42 @@ fn obj_and_svg_writers_round_trip() {
         assert!(-p[1] >= vb[1] && -p[1] <= vb[1] + vb[3]);
     }
 }
+
+#[test]
+fn degenerate_geometry_terminates() {
+    // All poles at one point: zero speed everywhere.
+    let c = NurbsCurve::new(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        vec![[1., 2., 3.]; 4],
+        None,
+    )
+    .unwrap();
+    let pl = c.tessellate(1e-9).unwrap();
+    assert!(pl.points.len() <= 8);
+    // A cusp (two coincident middle poles) and a huge tolerance.
+    let c = NurbsCurve::new(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        vec![[0., 0., 0.], [1., 1., 0.], [1., 1., 0.], [2., 0., 0.]],
+        None,
+    )
+    .unwrap();
+    for tol in [1e-8, 1e3] {
+        let pl = c.tessellate(tol).unwrap();
+        assert!(sampled_chord_error(&c, &pl) <= tol);
+    }
+    // A surface collapsed to a point: one cell per span, no refinement.
+    let s = NurbsSurface::new(
+        1,
+        1,
+        vec![0., 0., 1., 1.],
+        vec![0., 0., 1., 1.],
+        Grid::from_fn(2, 2, |_, _| [5., 5., 5.]),
+        None,
+    )
+    .unwrap();
+    let m = s.tessellate(1e-9).unwrap();
+    assert_eq!(m.triangles.len(), 2);
+    assert_eq!(m.normals, vec![[0.; 3]; 4]);
+}
