@@ -45,6 +45,19 @@ fn surface_deviation(a: &NurbsSurface, b: &NurbsSurface, n: usize) -> f64 {
     worst / size
 }
 
+/// The same control net without weights.
+fn polynomial(s: &NurbsSurface) -> NurbsSurface {
+    NurbsSurface::new(
+        s.degree_u(),
+        s.degree_v(),
+        s.knots_u().to_vec(),
+        s.knots_v().to_vec(),
+        s.control_points().clone(),
+        None,
+    )
+    .unwrap()
+}
+
 /// Checks the knot structure of `e = c.elevate(t)`: every distinct knot strictly inside the
 /// domain gains exactly `t` copies, the ends are clamped at degree + 1, and for clamped
 /// inputs every multiplicity (ends included) grows by `t`.
@@ -113,8 +126,10 @@ proptest! {
     #[test]
     fn surface_elevation_keeps_geometry(
         s in arb_surface(3, true, Ends::Any),
+        rational in any::<bool>(),
         t in 1usize..3,
     ) {
+        let s = if rational { s } else { polynomial(&s) };
         let eu = s.elevate_u(t).unwrap();
         prop_assert_eq!(eu.degree_u(), s.degree_u() + t);
         prop_assert_eq!(eu.degree_v(), s.degree_v());
@@ -202,7 +217,12 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
     #[test]
-    fn surface_reduction_per_direction(s in arb_surface(3, true, Ends::Any), in_v in any::<bool>()) {
+    fn surface_reduction_per_direction(
+        s in arb_surface(3, true, Ends::Any),
+        in_v in any::<bool>(),
+        rational in any::<bool>(),
+    ) {
+        let s = if rational { s } else { polynomial(&s) };
         let size = bbox_diagonal(s.control_points().as_slice()).max(1.0);
         // Elevated then reduced: the original comes back with a bound at rounding level.
         let (e, r) = if in_v {
