@@ -31,6 +31,7 @@
 
 pub mod basis;
 pub mod batch;
+pub mod bernstein;
 pub mod bezier;
 pub mod clamp;
 pub mod curve;

@@ -1,1 +1,653 @@
-//! (being written)
+//! Adaptive tessellation under a chord tolerance: curves to polylines by the
+//! osculating-circle rule (seed 004), surfaces to conforming triangle meshes; plus tiny OBJ
+//! and SVG writers for the results.
+//!
+//! ## Curves (seed 004)
+//! At a parameter `u` the osculating circle has radius `r = 1 / kappa`,
+//! `kappa = |C' x C''| / |C'|^3`. A chord spanning the angle `theta` of that circle has the
+//! sagitta `r (1 - cos(theta / 2))`; setting it to the tolerance gives
+//! `theta = 2 acos(1 - tol / r)`, and the parameter step covering one such sector is
+//! `du = theta r / |C'(u)|` (arc length over speed). Steps stop at every knot (the
+//! curvature may jump there), `theta` is capped at a quarter turn, and a straight piece
+//! (`kappa = 0`) takes a quarter of the knot span. The step is computed with `0.8 tol`
+//! (the osculating circle is only a local model), and every resulting chord is then
+//! *verified* by sampling: any segment whose sampled distance to the curve exceeds `tol`
+//! is halved until it passes.
+//!
+//! Derivatives: a local A2.3 (DersBasisFuns) + A3.2/A4.2 evaluation of `C'` and `C''`
+//! (the shared derivative module is written in parallel; this one can be switched to it).
+//!
+//! ## Surfaces
+//! A global tensor grid of parameters: initially the knot lines, each span cut in `degree`
+//! parts; then every cell is split in two triangles (diagonal `(i, j)-(i+1, j+1)`), and a
+//! lattice of points in each triangle (barycentric step 1/6: edge midpoints, thirds,
+//! centroid) is compared with the surface at the same barycentric parameters. A failing
+//! edge marks its whole grid column or row for halving; failing interior points mark both.
+//! Refining whole rows and columns keeps the mesh conforming (no T-junctions, no cracks:
+//! every interior edge belongs to exactly two triangles).
+
+use std::collections::HashSet;
+use std::fmt::Write as _;
+
+use super::knots::{find_span, runs};
+use super::{GeometryError, NurbsCurve, NurbsSurface, Point3};
+
+/// A polyline approximating a curve: `params[k]` maps to `points[k]`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Polyline {
+    /// Curve parameters, increasing, from the domain start to its end.
+    pub params: Vec<f64>,
+    /// The curve points at those parameters.
+    pub points: Vec<Point3>,
+}
+
+/// A triangle mesh approximating a surface.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Mesh {
+    /// Vertex positions (on the surface).
+    pub vertices: Vec<Point3>,
+    /// The `(u, v)` parameters of each vertex.
+    pub params: Vec<[f64; 2]>,
+    /// Unit vertex normals: area-weighted average of the adjacent triangles' normals
+    /// (zero where all adjacent triangles are degenerate).
+    pub normals: Vec<Point3>,
+    /// Triangles as vertex index triples, counter-clockwise seen from `S_u x S_v`.
+    pub triangles: Vec<[usize; 3]>,
+}
+
+/// Most points or vertices a tessellation may produce before it gives up.
+pub const MAX_TESSELLATION_POINTS: usize = 4_000_000;
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: Point3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Distance from `x` to the segment `[a, b]`.
+pub fn point_segment_distance(x: Point3, a: Point3, b: Point3) -> f64 {
+    let ab = sub(b, a);
+    let len2 = dot(ab, ab);
+    let t = if len2 > 0.0 {
+        (dot(sub(x, a), ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    norm(sub(
+        x,
+        [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]],
+    ))
+}
+
+fn check_tolerance(tolerance: f64) -> Result<(), GeometryError> {
+    if tolerance.is_finite() && tolerance > 0.0 {
+        Ok(())
+    } else {
+        Err(GeometryError::InvalidArgument(format!(
+            "tessellation: tolerance {tolerance} must be finite and > 0"
+        )))
+    }
+}
+
+/// Basis functions and their first two derivatives (NURBS Book A2.3 DersBasisFuns with
+/// `n = min(2, p)`): `ders[k][j]` is the k-th derivative of `N_{span-p+j,p}(u)`.
+// Index loops mirror the NURBS Book pseudo-code line by line, which is how they are checked.
+#[allow(clippy::needless_range_loop)]
+fn ders_basis_2(span: usize, u: f64, p: usize, knots: &[f64]) -> [Vec<f64>; 3] {
+    let n = p.min(2);
+    let w = p + 1;
+    let mut ndu = vec![0.0; w * w];
+    let mut left = vec![0.0; w];
+    let mut right = vec![0.0; w];
+    ndu[0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            ndu[j * w + r] = right[r + 1] + left[j - r];
+            let temp = ndu[r * w + j - 1] / ndu[j * w + r];
+            ndu[r * w + j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j * w + j] = saved;
+    }
+    let mut ders = [vec![0.0; w], vec![0.0; w], vec![0.0; w]];
+    for j in 0..=p {
+        ders[0][j] = ndu[j * w + p];
+    }
+    let mut a = [vec![0.0; w], vec![0.0; w]];
+    let pi = p as isize;
+    for r in 0..=p {
+        let ri = r as isize;
+        let (mut s1, mut s2) = (0usize, 1usize);
+        a[0][0] = 1.0;
+        for k in 1..=n {
+            let ki = k as isize;
+            let mut d = 0.0;
+            let rk = ri - ki;
+            let pk = pi - ki;
+            if ri >= ki {
+                a[s2][0] = a[s1][0] / ndu[(pk + 1) as usize * w + rk as usize];
+                d = a[s2][0] * ndu[rk as usize * w + pk as usize];
+            }
+            let j1: isize = if rk >= -1 { 1 } else { -rk };
+            let j2: isize = if ri - 1 <= pk { ki - 1 } else { pi - ri };
+            for j in j1..=j2 {
+                let ju = j as usize;
+                a[s2][ju] =
+                    (a[s1][ju] - a[s1][ju - 1]) / ndu[(pk + 1) as usize * w + (rk + j) as usize];
+                d += a[s2][ju] * ndu[(rk + j) as usize * w + pk as usize];
+            }
+            if ri <= pk {
+                a[s2][k] = -a[s1][k - 1] / ndu[(pk + 1) as usize * w + r];
+                d += a[s2][k] * ndu[r * w + pk as usize];
+            }
+            ders[k][r] = d;
+            std::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut f = p as f64;
+    for k in 1..=n {
+        for x in ders[k].iter_mut() {
+            *x *= f;
+        }
+        f *= (p - k) as f64;
+    }
+    ders
+}
+
+/// `C(u)`, `C'(u)`, `C''(u)` (A3.2 on homogeneous poles, then A4.2's quotient rule).
+fn curve_ders_2(c: &NurbsCurve, u: f64) -> [Point3; 3] {
+    let p = c.degree();
+    let span = find_span(p, c.num_poles(), c.knots(), u);
+    let ders = ders_basis_2(span, u, p, c.knots());
+    let mut h = [[0.0f64; 4]; 3];
+    for (k, dk) in ders.iter().enumerate() {
+        for (j, nj) in dk.iter().enumerate() {
+            let i = span - p + j;
+            let q = c.control_points()[i];
+            let wi = c.weight(i);
+            h[k][0] += nj * wi * q[0];
+            h[k][1] += nj * wi * q[1];
+            h[k][2] += nj * wi * q[2];
+            h[k][3] += nj * wi;
+        }
+    }
+    let w = h[0][3];
+    let c0: Point3 = std::array::from_fn(|i| h[0][i] / w);
+    let c1: Point3 = std::array::from_fn(|i| (h[1][i] - h[1][3] * c0[i]) / w);
+    let c2: Point3 =
+        std::array::from_fn(|i| (h[2][i] - 2.0 * h[1][3] * c1[i] - h[2][3] * c0[i]) / w);
+    [c0, c1, c2]
+}
+
+/// The osculating-circle parameter step at `u` (seed 004), or `None` for a straight or
+/// stationary point.
+fn osculating_step(c: &NurbsCurve, u: f64, tol: f64) -> Option<f64> {
+    let [_, d1, d2] = curve_ders_2(c, u);
+    let speed = norm(d1);
+    if !(speed > 0.0 && speed.is_finite()) {
+        return None;
+    }
+    let kappa = norm(cross(d1, d2)) / (speed * speed * speed);
+    if !(kappa > 0.0 && kappa.is_finite()) {
+        return None;
+    }
+    let radius = 1.0 / kappa;
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let theta = if tol >= radius {
+        quarter
+    } else {
+        (2.0 * (1.0 - tol / radius).acos()).min(quarter)
+    };
+    let du = theta * radius / speed;
+    (du.is_finite() && du > 0.0).then_some(du)
+}
+
+fn too_many(what: &'static str, tolerance: f64) -> GeometryError {
+    GeometryError::ToleranceExceeded {
+        what,
+        bound: f64::INFINITY,
+        tolerance,
+    }
+}
+
+/// Interior samples per segment used to verify a chord.
+const CHORD_SAMPLES: usize = 15;
+
+/// Golden-section iterations that sharpen the largest sampled chord distance.
+const GOLDEN_STEPS: usize = 24;
+
+/// Largest distance between the curve on `[u0, u1]` and the chord: the best of
+/// [`CHORD_SAMPLES`] evenly spaced samples, then refined by a golden-section search on the
+/// two sample intervals around it (the distance is unimodal there once the samples resolve
+/// the curve), so a maximum falling between samples is not missed.
+fn chord_error(c: &NurbsCurve, u0: f64, p0: Point3, u1: f64, p1: Point3) -> f64 {
+    let h = (u1 - u0) / (CHORD_SAMPLES + 1) as f64;
+    let f = |s: f64| point_segment_distance(c.point_at_unchecked(s), p0, p1);
+    let (mut best_k, mut best) = (1, f64::NEG_INFINITY);
+    for k in 1..=CHORD_SAMPLES {
+        let d = f(u0 + h * k as f64);
+        if d > best {
+            best = d;
+            best_k = k;
+        }
+    }
+    let (mut lo, mut hi) = (u0 + h * (best_k - 1) as f64, u0 + h * (best_k + 1) as f64);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..GOLDEN_STEPS {
+        if f1 < f2 {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        }
+    }
+    best.max(f1).max(f2)
+}
+
+impl NurbsCurve {
+    /// A polyline within `tolerance` of the curve (chord error: the distance from the curve
+    /// on each parameter interval to its chord, verified by sampling), by the
+    /// osculating-circle rule of seed 004 (see the module notes). Both domain ends and
+    /// every knot inside the domain are polyline vertices.
+    ///
+    /// Errors: `tolerance` not finite and positive ([`GeometryError::InvalidArgument`]);
+    /// more than [`MAX_TESSELLATION_POINTS`] needed ([`GeometryError::ToleranceExceeded`]).
+    pub fn tessellate(&self, tolerance: f64) -> Result<Polyline, GeometryError> {
+        check_tolerance(tolerance)?;
+        let (a, b) = self.domain();
+        let mut breaks: Vec<f64> = runs(self.knots())
+            .map(|(_, v, _)| v)
+            .filter(|&v| v > a && v < b)
+            .collect();
+        breaks.insert(0, a);
+        breaks.push(b);
+        let step_tol = 0.8 * tolerance;
+        // 1. Osculating-circle steps, span by span.
+        let mut params = vec![a];
+        for w in breaks.windows(2) {
+            let (k0, k1) = (w[0], w[1]);
+            let mut u = k0;
+            loop {
+                let du = osculating_step(self, u, step_tol)
+                    .unwrap_or(0.25 * (k1 - k0))
+                    .min(0.25 * (k1 - k0))
+                    // A floor so that a huge curvature cannot stall the walk; the
+                    // verification below refines where this is too coarse.
+                    .max((k1 - k0) * 1e-9);
+                if u + du >= k1 {
+                    break;
+                }
+                if u + 1.5 * du >= k1 {
+                    // Balance the last two steps instead of leaving a sliver.
+                    params.push(u + 0.5 * (k1 - u));
+                    break;
+                }
+                u += du;
+                params.push(u);
+                if params.len() > MAX_TESSELLATION_POINTS {
+                    return Err(too_many("curve tessellation", tolerance));
+                }
+            }
+            params.push(k1);
+        }
+        // 2. Verify every chord; halve the failing ones (explicit stack, no recursion).
+        let min_du = (b - a) * 1e-12;
+        let mut out = Polyline {
+            params: vec![a],
+            points: vec![self.point_at_unchecked(a)],
+        };
+        let mut stack: Vec<(f64, Point3)> = Vec::new();
+        for &u1 in &params[1..] {
+            stack.push((u1, self.point_at_unchecked(u1)));
+            while let Some(&(ue, pe)) = stack.last() {
+                let (us, ps) = match (out.params.last(), out.points.last()) {
+                    (Some(&u), Some(&p)) => (u, p),
+                    _ => break,
+                };
+                if ue - us > min_du && chord_error(self, us, ps, ue, pe) > tolerance {
+                    let um = us + 0.5 * (ue - us);
+                    stack.push((um, self.point_at_unchecked(um)));
+                } else {
+                    out.params.push(ue);
+                    out.points.push(pe);
+                    stack.pop();
+                }
+                if out.params.len() + stack.len() > MAX_TESSELLATION_POINTS {
+                    return Err(too_many("curve tessellation", tolerance));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Barycentric lattice step for the surface flatness test (1/6: contains edge midpoints,
+/// edge thirds and the centroid).
+const LATTICE: usize = 6;
+
+/// Which grid intervals must be halved, from the lattice test on one cell's two triangles.
+struct CellVerdict {
+    split_u: bool,
+    split_v: bool,
+}
+
+fn lerp3(p: [Point3; 3], w: [f64; 3]) -> Point3 {
+    std::array::from_fn(|k| w[0] * p[0][k] + w[1] * p[1][k] + w[2] * p[2][k])
+}
+
+/// Tests the two triangles of cell `[u0, u1] x [v0, v1]` with corners `c[i][j]`.
+fn test_cell(
+    s: &NurbsSurface,
+    (u0, u1): (f64, f64),
+    (v0, v1): (f64, f64),
+    c: [[Point3; 2]; 2],
+    tol: f64,
+) -> CellVerdict {
+    // Triangles (00, 10, 11) and (00, 11, 01) in parameter and model space.
+    let tris = [
+        ([(u0, v0), (u1, v0), (u1, v1)], [c[0][0], c[1][0], c[1][1]]),
+        ([(u0, v0), (u1, v1), (u0, v1)], [c[0][0], c[1][1], c[0][1]]),
+    ];
+    let mut verdict = CellVerdict {
+        split_u: false,
+        split_v: false,
+    };
+    let n = LATTICE;
+    for (t, (uv, pts)) in tris.iter().enumerate() {
+        for i in 0..=n {
+            for j in 0..=(n - i) {
+                let k = n - i - j;
+                if i == n || j == n || k == n {
+                    continue; // a vertex
+                }
+                let w = [
+                    i as f64 / n as f64,
+                    j as f64 / n as f64,
+                    k as f64 / n as f64,
+                ];
+                let u = w[0] * uv[0].0 + w[1] * uv[1].0 + w[2] * uv[2].0;
+                let v = w[0] * uv[0].1 + w[1] * uv[1].1 + w[2] * uv[2].1;
+                let err = norm(sub(
+                    s.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1)),
+                    lerp3(*pts, w),
+                ));
+                if err <= tol {
+                    continue;
+                }
+                // Classify the point: on a u edge (constant v), a v edge (constant u), or
+                // inside / on the diagonal.
+                let (uc, vc) = match t {
+                    // Triangle 0: edge 00-10 is a u edge (k = 0 means the point is on
+                    // the edge opposite vertex 2, i.e. 00-10).
+                    0 => (k == 0, i == 0),
+                    // Triangle 1: edge 11-01 (i = 0) is a u edge; edge 01-00 (j = 0) a
+                    // v edge.
+                    _ => (i == 0, j == 0),
+                };
+                if uc {
+                    verdict.split_u = true;
+                } else if vc {
+                    verdict.split_v = true;
+                } else {
+                    verdict.split_u = true;
+                    verdict.split_v = true;
+                }
+            }
+        }
+    }
+    verdict
+}
+
+/// Distinct knots of the domain, each span cut into `parts` pieces.
+fn initial_params(knots: &[f64], (a, b): (f64, f64), parts: usize) -> Vec<f64> {
+    let mut ks: Vec<f64> = runs(knots)
+        .map(|(_, v, _)| v)
+        .filter(|&v| v > a && v < b)
+        .collect();
+    ks.insert(0, a);
+    ks.push(b);
+    let mut out = vec![a];
+    for w in ks.windows(2) {
+        for k in 1..parts {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / parts as f64);
+        }
+        out.push(w[1]);
+    }
+    out
+}
+
+impl NurbsSurface {
+    /// A conforming triangle mesh within `tolerance` of the surface (see the module notes):
+    /// every vertex lies on the surface, and at every lattice point of every triangle
+    /// (edge midpoints and thirds, centroid, ...) the flat triangle is within `tolerance` of
+    /// the surface point at the same parameters.
+    ///
+    /// Errors: bad tolerance ([`GeometryError::InvalidArgument`]); more than
+    /// [`MAX_TESSELLATION_POINTS`] vertices needed ([`GeometryError::ToleranceExceeded`]).
+    pub fn tessellate(&self, tolerance: f64) -> Result<Mesh, GeometryError> {
+        check_tolerance(tolerance)?;
+        let (du, dv) = self.domain();
+        let mut us = initial_params(self.knots_u(), du, self.degree_u());
+        let mut vs = initial_params(self.knots_v(), dv, self.degree_v());
+        let mut grid: Vec<Point3>;
+        // Cells (by their exact parameter bounds) that already passed the test.
+        let mut passed: HashSet<[u64; 4]> = HashSet::new();
+        loop {
+            let (nu, nv) = (us.len(), vs.len());
+            if nu.saturating_mul(nv) > MAX_TESSELLATION_POINTS {
+                return Err(too_many("surface tessellation", tolerance));
+            }
+            grid = Vec::with_capacity(nu * nv);
+            for &u in &us {
+                for &v in &vs {
+                    grid.push(self.point_at_unchecked(u, v));
+                }
+            }
+            let mut split_u = vec![false; nu - 1];
+            let mut split_v = vec![false; nv - 1];
+            for i in 0..nu - 1 {
+                for j in 0..nv - 1 {
+                    let key = [us[i], us[i + 1], vs[j], vs[j + 1]].map(f64::to_bits);
+                    if passed.contains(&key) {
+                        continue; // unchanged since it last passed
+                    }
+                    let c = [
+                        [grid[i * nv + j], grid[i * nv + j + 1]],
+                        [grid[(i + 1) * nv + j], grid[(i + 1) * nv + j + 1]],
+                    ];
+                    let verdict =
+                        test_cell(self, (us[i], us[i + 1]), (vs[j], vs[j + 1]), c, tolerance);
+                    if !(verdict.split_u || verdict.split_v) {
+                        passed.insert(key);
+                    }
+                    split_u[i] |= verdict.split_u;
+                    split_v[j] |= verdict.split_v;
+                }
+            }
+            if !split_u.contains(&true) && !split_v.contains(&true) {
+                break;
+            }
+            let (nus, nvs) = (refine(&us, &split_u), refine(&vs, &split_v));
+            if nus.len() == us.len() && nvs.len() == vs.len() {
+                // Intervals at floating-point resolution: no further progress possible.
+                return Err(too_many("surface tessellation", tolerance));
+            }
+            us = nus;
+            vs = nvs;
+        }
+        let (nu, nv) = (us.len(), vs.len());
+        let mut mesh = Mesh {
+            params: us
+                .iter()
+                .flat_map(|&u| vs.iter().map(move |&v| [u, v]))
+                .collect(),
+            vertices: grid,
+            normals: Vec::new(),
+            triangles: Vec::with_capacity(2 * (nu - 1) * (nv - 1)),
+        };
+        for i in 0..nu - 1 {
+            for j in 0..nv - 1 {
+                let (a, b) = (i * nv + j, (i + 1) * nv + j);
+                mesh.triangles.push([a, b, b + 1]);
+                mesh.triangles.push([a, b + 1, a + 1]);
+            }
+        }
+        mesh.normals = vertex_normals(&mesh.vertices, &mesh.triangles);
+        Ok(mesh)
+    }
+}
+
+/// Halves the flagged intervals of a parameter list.
+fn refine(ts: &[f64], split: &[bool]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(ts.len() * 2);
+    out.push(ts[0]);
+    for (k, w) in ts.windows(2).enumerate() {
+        let mid = w[0] + 0.5 * (w[1] - w[0]);
+        if split.get(k).copied().unwrap_or(false) && mid > w[0] && mid < w[1] {
+            out.push(mid);
+        }
+        out.push(w[1]);
+    }
+    out
+}
+
+/// Area-weighted vertex normals.
+fn vertex_normals(vertices: &[Point3], triangles: &[[usize; 3]]) -> Vec<Point3> {
+    let mut acc = vec![[0.0; 3]; vertices.len()];
+    for t in triangles {
+        let n = cross(
+            sub(vertices[t[1]], vertices[t[0]]),
+            sub(vertices[t[2]], vertices[t[0]]),
+        );
+        for &v in t {
+            for k in 0..3 {
+                acc[v][k] += n[k];
+            }
+        }
+    }
+    for n in &mut acc {
+        let l = norm(*n);
+        if l > 0.0 {
+            *n = [n[0] / l, n[1] / l, n[2] / l];
+        }
+    }
+    acc
+}
+
+/// Wavefront OBJ text of a mesh (`v`, `vn`, `f a//a b//b c//c`, 1-based indices).
+pub fn mesh_to_obj(mesh: &Mesh) -> String {
+    let mut s = String::new();
+    for v in &mesh.vertices {
+        let _ = writeln!(s, "v {} {} {}", v[0], v[1], v[2]);
+    }
+    let with_normals = mesh.normals.len() == mesh.vertices.len();
+    if with_normals {
+        for n in &mesh.normals {
+            let _ = writeln!(s, "vn {} {} {}", n[0], n[1], n[2]);
+        }
+    }
+    for t in &mesh.triangles {
+        let [a, b, c] = [t[0] + 1, t[1] + 1, t[2] + 1];
+        if with_normals {
+            let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+        } else {
+            let _ = writeln!(s, "f {a} {b} {c}");
+        }
+    }
+    s
+}
+
+/// Wavefront OBJ text of polylines (`v` lines, then one `l` element per polyline).
+pub fn polylines_to_obj(lines: &[Polyline]) -> String {
+    let mut s = String::new();
+    for l in lines {
+        for p in &l.points {
+            let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
+        }
+    }
+    let mut base = 1;
+    for l in lines {
+        if l.points.len() >= 2 {
+            s.push('l');
+            for k in 0..l.points.len() {
+                let _ = write!(s, " {}", base + k);
+            }
+            s.push('\n');
+        }
+        base += l.points.len();
+    }
+    s
+}
+
+/// SVG text of polylines projected on the XY plane (y up), scaled to a `width`-pixel-wide
+/// picture: the viewBox is the XY bounding box with a 2 % margin, strokes are one pixel
+/// wide whatever the scale.
+pub fn polylines_to_svg(lines: &[Polyline], width: f64) -> String {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in lines.iter().flat_map(|l| &l.points) {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+        lo = [0.0; 2];
+        hi = [1.0; 2];
+    }
+    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+    let margin = 0.02 * size;
+    let (w, h) = (hi[0] - lo[0] + 2.0 * margin, hi[1] - lo[1] + 2.0 * margin);
+    let width = if width.is_finite() && width > 0.0 {
+        width
+    } else {
+        800.0
+    };
+    let height = width * h / w;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"{} {} {w} {h}\">",
+        lo[0] - margin,
+        -hi[1] - margin,
+    );
+    for l in lines {
+        s.push_str("<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1\" vector-effect=\"non-scaling-stroke\" points=\"");
+        for (k, p) in l.points.iter().enumerate() {
+            if k > 0 {
+                s.push(' ');
+            }
+            // SVG's y axis points down: mirror.
+            let _ = write!(s, "{},{}", p[0], -p[1]);
+        }
+        s.push_str("\"/>\n");
+    }
+    s.push_str("</svg>\n");
+    s
+}

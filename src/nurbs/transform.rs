@@ -1,1 +1,300 @@
-//! (being written)
+//! Affine transforms (IGES 5.3 entity 124, `x' = R x + T`), reversal, affine
+//! reparameterisation and isoparametric curves (NURBS Book sections 4.4 "invariance",
+//! 5.x reversal, A3.5 / A4.3 for the iso-curve contraction).
+
+use super::basis::basis_funs;
+use super::knots::find_span;
+use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
+
+/// A 3x4 affine matrix `[[r11, r12, r13, t1], [r21, r22, r23, t2], [r31, r32, r33, t3]]`,
+/// the layout of IGES entity 124 (`x' = R x + T`).
+pub type Affine = [[f64; 4]; 3];
+
+/// Applies an affine matrix to a point.
+#[inline]
+pub fn apply(m: &Affine, p: Point3) -> Point3 {
+    std::array::from_fn(|r| m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3])
+}
+
+fn check_matrix(m: &Affine) -> Result<(), GeometryError> {
+    if m.iter().flatten().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(GeometryError::InvalidArgument(
+            "transform: matrix entries must be finite".into(),
+        ))
+    }
+}
+
+/// The dimension of transformed poles: 2 if the input was 2-D and every transformed z is
+/// exactly 0, else 3.
+fn result_dimension(dimension: usize, points: &[Point3]) -> usize {
+    if dimension == 2 && points.iter().all(|q| q[2] == 0.0) {
+        2
+    } else {
+        3
+    }
+}
+
+/// Maps a knot vector by `u -> a + b - u` and reverses it (NURBS Book section 5.x,
+/// "reversing a curve"). The domain ends map exactly onto each other, and values are kept
+/// monotone and on the right side of the domain ends despite rounding, so the reversed
+/// vector is valid and has exactly the same domain.
+fn reverse_knots(knots: &[f64], a: f64, b: f64) -> Vec<f64> {
+    let s = a + b;
+    knots
+        .iter()
+        .rev()
+        .map(|&u| {
+            if u == a {
+                b
+            } else if u == b {
+                a
+            } else if u < a {
+                (s - u).max(b)
+            } else if u > b {
+                (s - u).min(a)
+            } else {
+                (s - u).clamp(a, b)
+            }
+        })
+        .collect()
+}
+
+/// Maps a knot vector affinely so that `[a, b]` becomes `[c, d]` (ends exact, order kept).
+fn map_knots(knots: &[f64], (a, b): (f64, f64), (c, d): (f64, f64)) -> Vec<f64> {
+    let scale = (d - c) / (b - a);
+    knots
+        .iter()
+        .map(|&u| {
+            if u == a {
+                c
+            } else if u == b {
+                d
+            } else {
+                let v = c + (u - a) * scale;
+                if u > a && u < b { v.clamp(c, d) } else { v }
+            }
+        })
+        .collect()
+}
+
+fn check_interval(c: f64, d: f64) -> Result<(), GeometryError> {
+    if c.is_finite() && d.is_finite() && c < d {
+        Ok(())
+    } else {
+        Err(GeometryError::InvalidArgument(format!(
+            "reparameterize: [{c}, {d}] is not a finite interval with start < end"
+        )))
+    }
+}
+
+impl NurbsCurve {
+    /// The curve under the affine map `x' = R x + T` (IGES 124 matrix layout, see
+    /// [`Affine`]).
+    ///
+    /// Applied to the Euclidean poles, weights unchanged. This is exact for rational curves
+    /// too: `C(u) = sum R_i(u) P_i` with rational basis functions `R_i` that sum to 1, so
+    /// `A C(u) + T = sum R_i(u) (A P_i + T)` (affine invariance, NURBS Book eq. 4.x).
+    /// A 2-D curve stays 2-D if every image has z = 0.
+    pub fn transform(&self, m: &Affine) -> Result<NurbsCurve, GeometryError> {
+        check_matrix(m)?;
+        let points: Vec<Point3> = self.control_points().iter().map(|&q| apply(m, q)).collect();
+        let dim = result_dimension(self.dimension(), &points);
+        NurbsCurve::with_dimension(
+            self.degree(),
+            self.knots().to_vec(),
+            points,
+            self.weights().map(<[f64]>::to_vec),
+            dim,
+        )
+    }
+
+    /// The same point set traversed the other way: `C'(u) = C(a + b - u)` on the same
+    /// domain `[a, b]` (poles and weights reversed, knots mirrored).
+    pub fn reverse(&self) -> Result<NurbsCurve, GeometryError> {
+        let (a, b) = self.domain();
+        let mut points = self.control_points().to_vec();
+        points.reverse();
+        let weights = self.weights().map(|w| w.iter().rev().copied().collect());
+        NurbsCurve::with_dimension(
+            self.degree(),
+            reverse_knots(self.knots(), a, b),
+            points,
+            weights,
+            self.dimension(),
+        )
+    }
+
+    /// The same curve on the domain `[c, d]`: `C'(c + (d - c) s) = C(a + (b - a) s)`. The
+    /// knot vector is mapped affinely, which changes no pole (the basis functions are
+    /// invariant under an affine change of parameter).
+    pub fn reparameterize(&self, c: f64, d: f64) -> Result<NurbsCurve, GeometryError> {
+        check_interval(c, d)?;
+        NurbsCurve::with_dimension(
+            self.degree(),
+            map_knots(self.knots(), self.domain(), (c, d)),
+            self.control_points().to_vec(),
+            self.weights().map(<[f64]>::to_vec),
+            self.dimension(),
+        )
+    }
+}
+
+/// Contracts a homogeneous net along u at parameter `u`: for every column j,
+/// `sum_k N_{k,p}(u) Pw_{k,j}` (A3.5 / A4.3 first stage). Exact in homogeneous space.
+fn contract(p: usize, knots: &[f64], net: &Grid<Hpoint>, u: f64) -> Vec<Hpoint> {
+    let span = find_span(p, net.nu(), knots, u);
+    let mut n = [0.0; MAX_DEGREE + 1];
+    basis_funs(span, u, p, knots, &mut n);
+    (0..net.nv())
+        .map(|j| {
+            let mut s = [0.0; 4];
+            for (k, nk) in n[..=p].iter().enumerate() {
+                let q = net.get(span - p + k, j);
+                for c in 0..4 {
+                    s[c] += nk * q[c];
+                }
+            }
+            s
+        })
+        .collect()
+}
+
+impl NurbsSurface {
+    /// The surface under `x' = R x + T` (IGES 124), applied to the Euclidean poles; exact for
+    /// rational surfaces for the same reason as [`NurbsCurve::transform`].
+    pub fn transform(&self, m: &Affine) -> Result<NurbsSurface, GeometryError> {
+        check_matrix(m)?;
+        let points = self.control_points().map(|&q| apply(m, q));
+        let dim = result_dimension(self.dimension(), points.as_slice());
+        NurbsSurface::with_dimension(
+            self.degree_u(),
+            self.degree_v(),
+            self.knots_u().to_vec(),
+            self.knots_v().to_vec(),
+            points,
+            self.weights().cloned(),
+            dim,
+        )
+    }
+
+    /// Reverses the u direction: `S'(u, v) = S(a + b - u, v)` on the same domain.
+    pub fn reverse_u(&self) -> Result<NurbsSurface, GeometryError> {
+        let ((a, b), _) = self.domain();
+        let nu = self.control_points().nu();
+        let nv = self.control_points().nv();
+        let points = Grid::from_fn(nu, nv, |i, j| *self.control_points().get(nu - 1 - i, j));
+        let weights = self
+            .weights()
+            .map(|w| Grid::from_fn(nu, nv, |i, j| *w.get(nu - 1 - i, j)));
+        NurbsSurface::with_dimension(
+            self.degree_u(),
+            self.degree_v(),
+            reverse_knots(self.knots_u(), a, b),
+            self.knots_v().to_vec(),
+            points,
+            weights,
+            self.dimension(),
+        )
+    }
+
+    /// Reverses the v direction: `S'(u, v) = S(u, c + d - v)` on the same domain.
+    pub fn reverse_v(&self) -> Result<NurbsSurface, GeometryError> {
+        let (_, (c, d)) = self.domain();
+        let nu = self.control_points().nu();
+        let nv = self.control_points().nv();
+        let points = Grid::from_fn(nu, nv, |i, j| *self.control_points().get(i, nv - 1 - j));
+        let weights = self
+            .weights()
+            .map(|w| Grid::from_fn(nu, nv, |i, j| *w.get(i, nv - 1 - j)));
+        NurbsSurface::with_dimension(
+            self.degree_u(),
+            self.degree_v(),
+            self.knots_u().to_vec(),
+            reverse_knots(self.knots_v(), c, d),
+            points,
+            weights,
+            self.dimension(),
+        )
+    }
+
+    /// Maps the u domain affinely onto `[c, d]` (poles unchanged).
+    pub fn reparameterize_u(&self, c: f64, d: f64) -> Result<NurbsSurface, GeometryError> {
+        check_interval(c, d)?;
+        let (du, _) = self.domain();
+        NurbsSurface::with_dimension(
+            self.degree_u(),
+            self.degree_v(),
+            map_knots(self.knots_u(), du, (c, d)),
+            self.knots_v().to_vec(),
+            self.control_points().clone(),
+            self.weights().cloned(),
+            self.dimension(),
+        )
+    }
+
+    /// Maps the v domain affinely onto `[c, d]` (poles unchanged).
+    pub fn reparameterize_v(&self, c: f64, d: f64) -> Result<NurbsSurface, GeometryError> {
+        check_interval(c, d)?;
+        let (_, dv) = self.domain();
+        NurbsSurface::with_dimension(
+            self.degree_u(),
+            self.degree_v(),
+            self.knots_u().to_vec(),
+            map_knots(self.knots_v(), dv, (c, d)),
+            self.control_points().clone(),
+            self.weights().cloned(),
+            self.dimension(),
+        )
+    }
+
+    /// The isoparametric curve `v -> S(u, v)` at fixed `u` (exact: the homogeneous net is
+    /// contracted with the u basis functions, A3.5 / A4.3 first stage; degree `q`, knots
+    /// `V`; rational iff the surface is).
+    pub fn iso_u(&self, u: f64) -> Result<NurbsCurve, GeometryError> {
+        let ((a, b), _) = self.domain();
+        if !(u >= a && u <= b) {
+            return Err(GeometryError::OutOfDomain {
+                t: u,
+                start: a,
+                end: b,
+            });
+        }
+        let h = contract(self.degree_u(), self.knots_u(), &self.homogeneous(), u);
+        NurbsCurve::from_homogeneous(
+            self.degree_v(),
+            self.knots_v().to_vec(),
+            &h,
+            self.is_rational(),
+            self.dimension(),
+        )
+    }
+
+    /// The isoparametric curve `u -> S(u, v)` at fixed `v` (exact, as [`iso_u`]).
+    ///
+    /// [`iso_u`]: NurbsSurface::iso_u
+    pub fn iso_v(&self, v: f64) -> Result<NurbsCurve, GeometryError> {
+        let (_, (c, d)) = self.domain();
+        if !(v >= c && v <= d) {
+            return Err(GeometryError::OutOfDomain {
+                t: v,
+                start: c,
+                end: d,
+            });
+        }
+        let h = contract(
+            self.degree_v(),
+            self.knots_v(),
+            &self.homogeneous().transposed(),
+            v,
+        );
+        NurbsCurve::from_homogeneous(
+            self.degree_u(),
+            self.knots_u().to_vec(),
+            &h,
+            self.is_rational(),
+            self.dimension(),
+        )
+    }
+}
