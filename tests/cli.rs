@@ -1067,3 +1067,60 @@ fn evaluate_derivatives_and_curvature_of_the_circle() {
         assert!((k - 1.0).abs() < 1e-10, "curvature {k}");
     }
 }
+
+#[test]
+fn a_failed_single_conversion_still_writes_its_report() {
+    let dir = temp_dir("single-report");
+    let fake = dir.join("fake.igs");
+    std::fs::write(&fake, "not IGES at all\n").unwrap();
+    let report = dir.join("r.json");
+    let out = dir.join("out.step");
+    let o = nurbsx([
+        "convert",
+        fake.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(!out.exists(), "nothing written on failure");
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["ok"], false);
+    assert_eq!(r["error_code"], "format.mismatch");
+    assert_eq!(r["input_format"], "iges");
+    assert_eq!(
+        stderr(&o).trim_end(),
+        r["error"].as_str().unwrap(),
+        "the same one-line error on stderr and in the report"
+    );
+}
+
+#[test]
+fn logs_go_to_stderr_as_json_lines_on_request() {
+    let dir = temp_dir("logs");
+    let o = Command::new(BIN)
+        .args(["-v", "--log-format", "json", "clamp"])
+        .arg(data("circle.json"))
+        .arg("-o")
+        .arg(dir.join("c.json"))
+        .env_remove("RUST_LOG")
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("a JSON log line in {err}"));
+    let v: Value = serde_json::from_str(line).unwrap();
+    assert_eq!(v["level"], "INFO");
+    assert_eq!(v["fields"]["message"], "modify");
+    // Without -v the info line is not shown.
+    let o = nurbsx([
+        "clamp",
+        data("circle.json").to_str().unwrap(),
+        "-o",
+        dir.join("d.json").to_str().unwrap(),
+    ]);
+    assert!(!stderr(&o).contains("INFO"), "{}", stderr(&o));
+}

@@ -305,7 +305,8 @@ pub struct ConvertArgs {
     #[arg(long)]
     pub unclamp: bool,
     /// Re-read the output and compare every entity with its input by sampling; fail when the
-    /// deviation relative to the entity's size exceeds TOL (default 1e-9).
+    /// deviation relative to the entity's size exceeds TOL (default 1e-9). Write `--verify=TOL`
+    /// or put --verify after the input, so that IN is not read as TOL.
     #[arg(long, value_name = "TOL", num_args = 0..=1, default_missing_value = "1e-9",
           value_parser = parse_tolerance)]
     pub verify: Option<f64>,

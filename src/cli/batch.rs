@@ -64,7 +64,7 @@ fn walk(root: &Path) -> Result<Vec<PathBuf>, CliError> {
 
 /// Expands the inputs into jobs: files as given, folders searched recursively, each output
 /// at the same relative place under `out_dir`. Outputs that would collide (`a.igs` and
-/// `a.stp` both to `a.step`) keep the input extension (`a.igs.step`).
+/// `a.stp` both to `a.step`) are numbered (`a-2.step`).
 fn plan_jobs(inputs: &[PathBuf], out_dir: &Path, plan: &Plan) -> Result<Vec<Job>, CliError> {
     let mut jobs = Vec::new();
     let mut taken = HashSet::new();
@@ -86,19 +86,18 @@ fn plan_jobs(inputs: &[PathBuf], out_dir: &Path, plan: &Plan) -> Result<Vec<Job>
             vec![(input.clone(), name)]
         };
         for (file, relative) in pairs {
-            let mut output = batch_output_path(out_dir, &relative, plan.request.to);
-            if !taken.insert(output.clone()) {
-                let mut name = relative.clone().into_os_string();
-                name.push(match plan.request.to {
-                    Some(crate::exchange::Format::Iges) => ".igs",
-                    _ => ".step",
-                });
-                output = out_dir.join(name);
-                let mut n = 2;
-                while !taken.insert(output.clone()) {
-                    output = out_dir.join(format!("{}.{n}", relative.display()));
-                    n += 1;
-                }
+            let base = batch_output_path(out_dir, &relative, plan.request.to);
+            let mut output = base.clone();
+            // `a.igs` and `a.stp` both map to `a.step`: number the later ones `a-2.step`, ...
+            let mut n = 2usize;
+            while !taken.insert(output.clone()) {
+                let stem = base.file_stem().unwrap_or_default().to_string_lossy();
+                let name = match base.extension() {
+                    Some(ext) => format!("{stem}-{n}.{}", ext.to_string_lossy()),
+                    None => format!("{stem}-{n}"),
+                };
+                output = base.with_file_name(name);
+                n += 1;
             }
             jobs.push(Job {
                 input: file,
@@ -267,4 +266,40 @@ pub fn run(
     } else {
         Outcome::Failure
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::{ConvertRequest, Settings};
+
+    #[test]
+    fn plans_keep_the_folder_layout_and_number_collisions() {
+        let root = std::env::temp_dir().join(format!("nurbsx-plan-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(root.join("in/sub")).unwrap();
+        for f in ["in/a.igs", "in/a.STP", "in/sub/b.iges", "in/notes.txt"] {
+            std::fs::write(root.join(f), "x").unwrap();
+        }
+        let plan = Plan {
+            request: ConvertRequest {
+                to: Some(crate::exchange::Format::Step),
+                ..ConvertRequest::default()
+            },
+            settings: Settings::default(),
+        };
+        let out = root.join("out");
+        let jobs = plan_jobs(&[root.join("in")], &out, &plan).unwrap();
+        let pairs: Vec<(PathBuf, PathBuf)> =
+            jobs.into_iter().map(|j| (j.input, j.output)).collect();
+        assert_eq!(
+            pairs,
+            vec![
+                (root.join("in/a.STP"), out.join("a.step")),
+                (root.join("in/a.igs"), out.join("a-2.step")),
+                (root.join("in/sub/b.iges"), out.join("sub/b.step")),
+            ]
+        );
+        let _ = std::fs::remove_dir_all(&root);
+    }
 }
