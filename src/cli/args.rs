@@ -557,8 +557,8 @@ pub fn parse_units(s: &str) -> Result<UnitsArg, String> {
 pub fn parse_finite(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err(format!("`{s}` is not a finite number")),
-        Err(_) => Err(format!("`{s}` is not a number")),
+        Ok(_) => Err(format!("`{}` is not a finite number", clip(s))),
+        Err(_) => Err(format!("`{}` is not a number", clip(s))),
     }
 }
 
@@ -572,17 +572,33 @@ pub fn parse_tolerance(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Parses a parameter tuple `u` or `u,v` (commas and/or whitespace separate).
+/// Parses a parameter tuple `u` or `u,v` (commas and/or whitespace separate). Stops at the
+/// third number, so a huge line costs no memory.
 pub fn parse_tuple(s: &str) -> Result<Vec<f64>, String> {
-    let values = s
+    let mut values = Vec::with_capacity(2);
+    for token in s
         .split(|c: char| c == ',' || c.is_whitespace())
         .filter(|t| !t.is_empty())
-        .map(parse_finite)
-        .collect::<Result<Vec<f64>, String>>()?;
-    match values.len() {
-        1 | 2 => Ok(values),
-        0 => Err("empty parameter tuple".to_owned()),
-        n => Err(format!("expected `u` or `u,v`, got {n} numbers in `{s}`")),
+    {
+        if values.len() == 2 {
+            return Err(format!(
+                "expected `u` or `u,v`, got more than 2 numbers in `{}`",
+                clip(s)
+            ));
+        }
+        values.push(parse_finite(token)?);
+    }
+    if values.is_empty() {
+        return Err("empty parameter tuple".to_owned());
+    }
+    Ok(values)
+}
+
+/// The first 40 characters of a value for a message.
+fn clip(s: &str) -> String {
+    match s.char_indices().nth(40) {
+        Some((i, _)) => format!("{}...", &s[..i]),
+        None => s.to_owned(),
     }
 }
 

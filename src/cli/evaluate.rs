@@ -2,7 +2,9 @@
 
 use std::path::Path;
 
-use crate::pipeline::{self, EvalRequest};
+use serde::de::{self, DeserializeSeed, Deserializer, SeqAccess, Visitor};
+
+use crate::pipeline::{self, ErrorKind, EvalRequest, PipelineError};
 
 use super::args::{EvaluateArgs, parse_tuple};
 use super::{CliError, Context, Outcome, display_name, output, print_stdout, read_input};
@@ -53,32 +55,55 @@ pub fn run(ctx: &Context, a: EvaluateArgs) -> Result<Outcome, CliError> {
 }
 
 /// Reads a parameter file: a JSON array of arrays (when it starts with `[`), else one tuple
-/// per line (`u`, `u,v` or `u v`), blank lines and `#` comments skipped.
+/// per line (`u`, `u,v` or `u v`), blank lines and `#` comments skipped. At most
+/// `max_eval_points` tuples are read, so a huge file fails early instead of filling memory.
 fn read_params(path: &Path, ctx: &Context) -> Result<Vec<Vec<f64>>, CliError> {
     let (bytes, _) = read_input(path, &ctx.settings)?;
     let name = display_name(path);
     let text = std::str::from_utf8(&bytes)
         .map_err(|e| CliError::Usage(format!("{name}: not UTF-8 text: {e}")))?;
-    parse_params(text).map_err(|m| CliError::Usage(format!("{name}:{m}")))
+    let max = ctx.settings.max_eval_points;
+    parse_params(text, max).map_err(|e| match e {
+        ParamError::Syntax(m) => CliError::Usage(format!("{name}:{m}")),
+        ParamError::TooMany => CliError::pipeline(
+            path,
+            PipelineError::new(
+                ErrorKind::Limit,
+                "limit.eval_points",
+                format!("more than {max} parameters requested, above the limit"),
+                Default::default(),
+            ),
+        ),
+    })
 }
 
-/// Parses parameter text; the error starts with the line number (`3: ...`).
-fn parse_params(text: &str) -> Result<Vec<Vec<f64>>, String> {
+/// Why a parameter file was refused.
+#[derive(Debug, PartialEq)]
+enum ParamError {
+    /// Bad text; the message starts with the line (`3: ...`, `1:7: ...` for JSON).
+    Syntax(String),
+    /// More tuples than the limit.
+    TooMany,
+}
+
+/// Parses parameter text, reading at most `max` tuples.
+fn parse_params(text: &str, max: usize) -> Result<Vec<Vec<f64>>, ParamError> {
     if text.trim_start().starts_with('[') {
-        let tuples: Vec<Vec<f64>> = serde_json::from_str(text).map_err(|e| {
-            format!(
-                "{}:{}: expected [[u], [u, v], ...]: {e}",
-                e.line(),
-                e.column()
-            )
-        })?;
-        for (i, t) in tuples.iter().enumerate() {
-            if !(1..=2).contains(&t.len()) || t.iter().any(|x| !x.is_finite()) {
-                return Err(format!(
-                    " element {i}: expected [u] or [u, v] with finite numbers, got {t:?}"
-                ));
-            }
-        }
+        let mut de = serde_json::Deserializer::from_str(text);
+        let tuples = CappedTuples { max }
+            .deserialize(&mut de)
+            .and_then(|t| de.end().map(|()| t))
+            .map_err(|e| {
+                if e.to_string().starts_with(TOO_MANY) {
+                    ParamError::TooMany
+                } else {
+                    ParamError::Syntax(format!(
+                        "{}:{}: expected [[u], [u, v], ...]: {e}",
+                        e.line(),
+                        e.column()
+                    ))
+                }
+            })?;
         return Ok(tuples);
     }
     let mut tuples = Vec::new();
@@ -87,27 +112,112 @@ fn parse_params(text: &str) -> Result<Vec<Vec<f64>>, String> {
         if content.is_empty() {
             continue;
         }
-        tuples.push(parse_tuple(content).map_err(|m| format!("{}: {m}", i + 1))?);
+        if tuples.len() == max {
+            return Err(ParamError::TooMany);
+        }
+        tuples
+            .push(parse_tuple(content).map_err(|m| ParamError::Syntax(format!("{}: {m}", i + 1)))?);
     }
     Ok(tuples)
 }
 
+const TOO_MANY: &str = "too many parameters";
+
+/// A JSON array of at most `max` tuples of one or two finite numbers, read without ever
+/// holding more than that (an inner array stops at its third element).
+struct CappedTuples {
+    max: usize,
+}
+
+impl<'de> DeserializeSeed<'de> for CappedTuples {
+    type Value = Vec<Vec<f64>>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for CappedTuples {
+    type Value = Vec<Vec<f64>>;
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("an array of [u] or [u, v] arrays")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut out = Vec::new();
+        while let Some(t) = seq.next_element_seed(Tuple)? {
+            if out.len() == self.max {
+                return Err(de::Error::custom(TOO_MANY));
+            }
+            out.push(t);
+        }
+        Ok(out)
+    }
+}
+
+/// One `[u]` or `[u, v]` of finite numbers.
+struct Tuple;
+
+impl<'de> DeserializeSeed<'de> for Tuple {
+    type Value = Vec<f64>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Tuple {
+    type Value = Vec<f64>;
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("[u] or [u, v]")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut t = Vec::with_capacity(2);
+        while let Some(x) = seq.next_element::<f64>()? {
+            if t.len() == 2 {
+                return Err(de::Error::custom(
+                    "expected [u] or [u, v], got a third number",
+                ));
+            }
+            if !x.is_finite() {
+                return Err(de::Error::custom("parameters must be finite"));
+            }
+            t.push(x);
+        }
+        if t.is_empty() {
+            return Err(de::Error::custom("empty parameter tuple"));
+        }
+        Ok(t)
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::parse_params;
+    use super::{ParamError, parse_params};
 
     #[test]
     fn parameter_files_parse_in_both_forms() {
         assert_eq!(
-            parse_params("# u v\n0.1, 0.2\n\n0.3 0.4\n").unwrap(),
+            parse_params("# u v\n0.1, 0.2\n\n0.3 0.4\n", 10).unwrap(),
             vec![vec![0.1, 0.2], vec![0.3, 0.4]]
         );
         assert_eq!(
-            parse_params(" [[0.5], [0.25]]").unwrap(),
+            parse_params(" [[0.5], [0.25]]", 10).unwrap(),
             vec![vec![0.5], vec![0.25]]
         );
-        let err = parse_params("0.1\nx\n").unwrap_err();
-        assert!(err.starts_with("2: "), "{err}");
-        assert!(parse_params("[[1,2,3]]").is_err());
+        match parse_params("0.1\nx\n", 10) {
+            Err(ParamError::Syntax(m)) => assert!(m.starts_with("2: "), "{m}"),
+            other => panic!("{other:?}"),
+        }
+        for bad in ["[[1,2,3]]", "[[]]", "[[1]] x", "[1]", "[[1e999]]"] {
+            assert!(
+                matches!(parse_params(bad, 10), Err(ParamError::Syntax(_))),
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn parameter_files_stop_at_the_limit() {
+        assert_eq!(parse_params("1\n2\n3\n", 2), Err(ParamError::TooMany));
+        assert_eq!(parse_params("[[1],[2],[3]]", 2), Err(ParamError::TooMany));
+        assert_eq!(parse_params("[[1],[2]]", 2).unwrap().len(), 2);
     }
 }
