@@ -1124,3 +1124,26 @@ fn logs_go_to_stderr_as_json_lines_on_request() {
     ]);
     assert!(!stderr(&o).contains("INFO"), "{}", stderr(&o));
 }
+
+#[test]
+fn validate_searches_folders_for_exchange_files() {
+    let dir = temp_dir("validate-folder");
+    std::fs::create_dir_all(dir.join("deep/er")).unwrap();
+    std::fs::write(dir.join("deep/er/broken.igs"), "junk\n").unwrap();
+    std::fs::write(dir.join("readme.txt"), "not checked\n").unwrap();
+    let o = nurbsx(["validate", "--json", dir.to_str().unwrap()]);
+    assert_exit(&o, 1);
+    let r = json(&o);
+    let files = r.as_array().unwrap();
+    assert_eq!(files.len(), 1);
+    assert!(files[0]["file"].as_str().unwrap().ends_with("deep/er/broken.igs"));
+    assert_eq!(files[0]["valid"], false);
+}
+
+#[test]
+#[ignore = "needs exchange integration"]
+fn the_freecad_samples_validate() {
+    let o = nurbsx(["validate", data("").to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert_eq!(stdout(&o).matches(": valid (").count(), 4, "{}", stdout(&o));
+}

@@ -319,9 +319,10 @@ pub struct ConvertArgs {
     /// IGES: trim to the declared parameter range (exact, by knot insertion).
     #[arg(long)]
     pub trim_to_range: bool,
-    /// Batch: number of files converted at once (default: the number of cores).
-    #[arg(short = 'j', long, value_name = "N")]
-    pub jobs: Option<usize>,
+    /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
+    #[arg(short = 'j', long, value_name = "N",
+          value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub jobs: Option<u16>,
 }
 
 /// `--units`: keep the document's unit or convert to one.
@@ -355,7 +356,7 @@ pub enum ValidateFormat {
 /// `nurbsx validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// Files to check.
+    /// Files to check; folders are searched recursively for .step/.stp/.p21/.igs/.iges.
     #[arg(required = true, value_name = "FILE")]
     pub inputs: Vec<PathBuf>,
     /// Same as --format json.

@@ -32,7 +32,7 @@ fn is_exchange_file(path: &Path) -> bool {
 
 /// Lists the exchange files under `root`, sorted, without following symbolic links to
 /// folders (so a link cycle cannot loop). Iterative: folder depth cannot exhaust the stack.
-fn walk(root: &Path) -> Result<Vec<PathBuf>, CliError> {
+pub fn walk(root: &Path) -> Result<Vec<PathBuf>, CliError> {
     let mut found = Vec::new();
     let mut stack = vec![root.to_path_buf()];
     while let Some(dir) = stack.pop() {

@@ -112,7 +112,14 @@ pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
                 "standard input (`-`) cannot be part of a batch".into(),
             ));
         }
-        return batch::run(ctx, &a.inputs, out_dir, &plan, a.report.as_deref(), a.jobs);
+        return batch::run(
+            ctx,
+            &a.inputs,
+            out_dir,
+            &plan,
+            a.report.as_deref(),
+            a.jobs.map(usize::from),
+        );
     }
     let (Some(input), Some(out)) = (a.inputs.first(), a.output.as_ref()) else {
         return Err(CliError::Usage(

@@ -35,9 +35,18 @@ pub fn validate(ctx: &Context, a: ValidateArgs) -> Result<Outcome, CliError> {
     } else {
         a.format
     };
-    let mut files = Vec::with_capacity(a.inputs.len());
+    // Plan: folders expand to the exchange files below them.
+    let mut paths = Vec::with_capacity(a.inputs.len());
+    for input in &a.inputs {
+        if input.is_dir() {
+            paths.extend(super::batch::walk(input)?);
+        } else {
+            paths.push(input.clone());
+        }
+    }
+    let mut files = Vec::with_capacity(paths.len());
     let mut io_failed = false;
-    for path in &a.inputs {
+    for path in &paths {
         let file = display_name(path);
         let checked = match read_input(path, &ctx.settings) {
             Ok((bytes, hint)) => FileValidation {
