@@ -31,8 +31,11 @@ fn is_exchange_file(path: &Path) -> bool {
 }
 
 /// Lists the exchange files under `root`, sorted, without following symbolic links to
-/// folders (so a link cycle cannot loop). Iterative: folder depth cannot exhaust the stack.
-pub fn walk(root: &Path) -> Result<Vec<PathBuf>, CliError> {
+/// folders (so a link cycle cannot loop) and without entering `skip` (the batch's own output
+/// folder, so that a rerun does not convert its previous outputs). Iterative: folder depth
+/// cannot exhaust the stack.
+pub fn walk(root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> {
+    let skip = skip.and_then(|p| p.canonicalize().ok());
     let mut found = Vec::new();
     let mut stack = vec![root.to_path_buf()];
     while let Some(dir) = stack.pop() {
@@ -49,7 +52,9 @@ pub fn walk(root: &Path) -> Result<Vec<PathBuf>, CliError> {
             let path = entry.path();
             let file_type = entry.file_type().map_err(io_err)?;
             if file_type.is_dir() {
-                stack.push(path);
+                if skip.is_none() || path.canonicalize().ok() != skip {
+                    stack.push(path);
+                }
             } else if (file_type.is_file() || file_type.is_symlink())
                 && path.is_file()
                 && is_exchange_file(&path)
@@ -74,7 +79,7 @@ fn plan_jobs(inputs: &[PathBuf], out_dir: &Path, plan: &Plan) -> Result<Vec<Job>
             source,
         })?;
         let pairs: Vec<(PathBuf, PathBuf)> = if meta.is_dir() {
-            walk(input)?
+            walk(input, Some(out_dir))?
                 .into_iter()
                 .map(|file| {
                     let relative = file.strip_prefix(input).unwrap_or(&file).to_path_buf();
@@ -278,7 +283,14 @@ mod tests {
         let root = std::env::temp_dir().join(format!("nurbsx-plan-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&root);
         std::fs::create_dir_all(root.join("in/sub")).unwrap();
-        for f in ["in/a.igs", "in/a.STP", "in/sub/b.iges", "in/notes.txt"] {
+        std::fs::create_dir_all(root.join("in/out")).unwrap();
+        for f in [
+            "in/a.igs",
+            "in/a.STP",
+            "in/sub/b.iges",
+            "in/notes.txt",
+            "in/out/old.step",
+        ] {
             std::fs::write(root.join(f), "x").unwrap();
         }
         let plan = Plan {
@@ -288,7 +300,8 @@ mod tests {
             },
             settings: Settings::default(),
         };
-        let out = root.join("out");
+        // The output folder inside the input folder is not searched.
+        let out = root.join("in/out");
         let jobs = plan_jobs(&[root.join("in")], &out, &plan).unwrap();
         let pairs: Vec<(PathBuf, PathBuf)> =
             jobs.into_iter().map(|j| (j.input, j.output)).collect();

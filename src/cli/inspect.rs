@@ -39,7 +39,7 @@ pub fn validate(ctx: &Context, a: ValidateArgs) -> Result<Outcome, CliError> {
     let mut paths = Vec::with_capacity(a.inputs.len());
     for input in &a.inputs {
         if input.is_dir() {
-            paths.extend(super::batch::walk(input)?);
+            paths.extend(super::batch::walk(input, None)?);
         } else {
             paths.push(input.clone());
         }
