@@ -43,10 +43,17 @@ pub fn walk(root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> 
             context: format!("cannot list `{}`", dir.display()),
             source,
         };
-        let mut entries = std::fs::read_dir(&dir)
-            .map_err(io_err)?
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(io_err)?;
+        let listed = std::fs::read_dir(&dir).and_then(|d| d.collect::<Result<Vec<_>, _>>());
+        let mut entries = match listed {
+            Ok(entries) => entries,
+            Err(e) if dir == root => return Err(io_err(e)),
+            // One unreadable subfolder should not stop a batch over a large tree: say so and
+            // go on (the summary counts only the files found).
+            Err(e) => {
+                eprint_line(&format!("warning: skipping `{}`: {e}", dir.display()));
+                continue;
+            }
+        };
         entries.sort_by_key(|e| e.file_name());
         for entry in entries {
             let path = entry.path();

@@ -1,5 +1,7 @@
 //! `nurbsx info` and `nurbsx validate`.
 
+use rayon::prelude::*;
+
 use crate::pipeline::{self, ValidationReport};
 
 use super::args::{InfoArgs, ValidateArgs, ValidateFormat};
@@ -44,36 +46,12 @@ pub fn validate(ctx: &Context, a: ValidateArgs) -> Result<Outcome, CliError> {
             paths.push(input.clone());
         }
     }
-    let mut files = Vec::with_capacity(paths.len());
-    let mut io_failed = false;
-    for path in &paths {
-        let file = display_name(path);
-        let checked = match read_input(path, &ctx.settings) {
-            Ok((bytes, hint)) => FileValidation {
-                file,
-                report: pipeline::validate(&bytes, hint, a.strict, &ctx.settings),
-                io_error: None,
-            },
-            // A limit refusal is a finding about the file, not an I/O failure.
-            Err(CliError::Pipeline { error, .. }) => FileValidation {
-                file,
-                report: ValidationReport::new(0, vec![error.diagnostic], a.strict),
-                io_error: None,
-            },
-            Err(e) => {
-                io_failed = true;
-                let line = e.message().unwrap_or_default();
-                eprint_line(&line);
-                let message = line.trim_start_matches("error: ").to_owned();
-                FileValidation {
-                    file,
-                    report: ValidationReport::new(0, Vec::new(), a.strict),
-                    io_error: Some(message),
-                }
-            }
-        };
-        files.push(checked);
-    }
+    // Run: files are independent, so they are checked in parallel (order kept).
+    let files: Vec<FileValidation> = paths
+        .par_iter()
+        .map(|path| check_one(ctx, path, a.strict))
+        .collect();
+    let io_failed = files.iter().any(|f| f.io_error.is_some());
     let text = match format {
         ValidateFormat::Text => output::validate_text(&files),
         ValidateFormat::Json => output::validate_json(&files),
@@ -89,5 +67,32 @@ pub fn validate(ctx: &Context, a: ValidateArgs) -> Result<Outcome, CliError> {
         Ok(Outcome::Success)
     } else {
         Ok(Outcome::Failure)
+    }
+}
+
+/// Validates one file; an I/O failure is recorded in the result (and printed on stderr).
+fn check_one(ctx: &Context, path: &std::path::Path, strict: bool) -> FileValidation {
+    let file = display_name(path);
+    match read_input(path, &ctx.settings) {
+        Ok((bytes, hint)) => FileValidation {
+            file,
+            report: pipeline::validate(&bytes, hint, strict, &ctx.settings),
+            io_error: None,
+        },
+        // A limit refusal is a finding about the file, not an I/O failure.
+        Err(CliError::Pipeline { error, .. }) => FileValidation {
+            file,
+            report: ValidationReport::new(0, vec![error.diagnostic], strict),
+            io_error: None,
+        },
+        Err(e) => {
+            let line = e.message().unwrap_or_default();
+            eprint_line(&line);
+            FileValidation {
+                file,
+                report: ValidationReport::new(0, Vec::new(), strict),
+                io_error: Some(line.trim_start_matches("error: ").to_owned()),
+            }
+        }
     }
 }
