@@ -43,3 +43,33 @@ pub fn write_as(
         None => write_model_json(doc),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::{Settings, load};
+
+    const CURVE: &str = r#"{"degree":2,"knots":[0,0,0,1,1,1],"control_points":[[1,0],[1,1],[0,1]],"weights":[1,0.7071067811865476,1]}"#;
+    const SURFACE: &str = r#"{"degree_u":1,"degree_v":1,"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],"control_points":[[[0,0,0],[0,1,0.1]],[[1,0,0.3],[1,1,0]]]}"#;
+
+    #[test]
+    fn model_json_reloads_to_the_same_geometries() {
+        let settings = Settings::default();
+        for input in [CURVE.to_owned(), format!("[{CURVE},{SURFACE}]")] {
+            let doc = load(input.as_bytes(), Some(InputKind::Json), &settings)
+                .unwrap()
+                .document;
+            let text = write_as(&doc, InputKind::Json, &ExportOptions::default()).unwrap();
+            // One entity: a single object; several: an array.
+            assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");
+            let again = load(text.as_bytes(), None, &settings).unwrap().document;
+            let geometries = |d: &Document| {
+                d.entities
+                    .iter()
+                    .map(|e| e.geometry.clone())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(geometries(&doc), geometries(&again));
+        }
+    }
+}
