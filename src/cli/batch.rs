@@ -223,7 +223,15 @@ pub fn run(
         work.par_iter()
             .map(|job| {
                 bar.set_message(display_name(&job.input));
+                let started = Instant::now();
                 let (record, diagnostics) = convert_one(job, plan);
+                tracing::info!(
+                    file = %record.file,
+                    ok = record.ok,
+                    entities = record.entities,
+                    ms = started.elapsed().as_millis(),
+                    "batch file done"
+                );
                 bar.suspend(|| {
                     ctx.print_diagnostics(&record.file, &diagnostics);
                     if let (Some(line), true) = (&record.error, ctx.quiet < 2) {

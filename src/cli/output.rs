@@ -335,13 +335,22 @@ pub fn validate_junit(files: &[FileValidation]) -> String {
     s
 }
 
-/// Percent-encodes a path as a relative URI reference (SARIF `artifactLocation.uri`):
-/// unreserved characters and `/` stay, backslashes become `/`, everything else is encoded.
+/// A path as a URI reference for SARIF `artifactLocation.uri`: relative paths stay relative,
+/// absolute ones become `file://` URIs; backslashes become `/`; unreserved characters and
+/// `/` stay, everything else is percent-encoded (RFC 3986).
 pub fn path_uri(path: &str) -> String {
-    let mut s = String::new();
-    for b in path.replace('\\', "/").bytes() {
+    let slashed = path.replace('\\', "/");
+    let drive = slashed.as_bytes().get(1) == Some(&b':');
+    let mut s = match (slashed.starts_with('/'), drive) {
+        (true, _) => String::from("file://"),
+        (false, true) => String::from("file:///"),
+        _ => String::new(),
+    };
+    for (i, b) in slashed.bytes().enumerate() {
         if b.is_ascii_alphanumeric() || matches!(b, b'-' | b'.' | b'_' | b'~' | b'/') {
             s.push(char::from(b));
+        } else if drive && i == 1 {
+            s.push(':');
         } else {
             let _ = write!(s, "%{b:02X}");
         }
@@ -452,5 +461,7 @@ mod tests {
     fn uris_are_percent_encoded() {
         assert_eq!(path_uri("dir/my part#1.step"), "dir/my%20part%231.step");
         assert_eq!(path_uri("a\\b.igs"), "a/b.igs");
+        assert_eq!(path_uri("/tmp/a b.step"), "file:///tmp/a%20b.step");
+        assert_eq!(path_uri("C:\\cad\\a.igs"), "file:///C:/cad/a.igs");
     }
 }
