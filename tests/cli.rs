@@ -1136,7 +1136,12 @@ fn validate_searches_folders_for_exchange_files() {
     let r = json(&o);
     let files = r.as_array().unwrap();
     assert_eq!(files.len(), 1);
-    assert!(files[0]["file"].as_str().unwrap().ends_with("deep/er/broken.igs"));
+    assert!(
+        files[0]["file"]
+            .as_str()
+            .unwrap()
+            .ends_with("deep/er/broken.igs")
+    );
     assert_eq!(files[0]["valid"], false);
 }
 
@@ -1146,4 +1151,23 @@ fn the_freecad_samples_validate() {
     let o = nurbsx(["validate", data("").to_str().unwrap()]);
     assert_exit(&o, 0);
     assert_eq!(stdout(&o).matches(": valid (").count(), 4, "{}", stdout(&o));
+}
+
+#[test]
+fn to_overrides_a_contradicting_extension_with_a_warning() {
+    let dir = temp_dir("to-ext");
+    let o = nurbsx([
+        "convert",
+        data("circle.json").to_str().unwrap(),
+        "-o",
+        dir.join("x.igs").to_str().unwrap(),
+        "--to",
+        "step",
+    ]);
+    assert!(
+        stderr(&o).contains("warning: writing STEP to"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("panicked"));
 }

@@ -137,6 +137,14 @@ pub fn format_of(f: FormatArg) -> Format {
     }
 }
 
+/// `STEP` or `IGES`.
+fn format_label(f: Format) -> &'static str {
+    match f {
+        Format::Step => "STEP",
+        Format::Iges => "IGES",
+    }
+}
+
 /// The output format named by OUT's extension; `Ok(None)` when there is no extension (or
 /// OUT is `-`); an error for `.json` and unknown extensions.
 fn format_from_output(out: &Path) -> Result<Option<Format>, CliError> {
@@ -166,8 +174,20 @@ fn single(
     mut plan: Plan,
     report_path: Option<&Path>,
 ) -> Result<Outcome, CliError> {
-    if plan.request.to.is_none() {
-        plan.request.to = format_from_output(out)?;
+    match plan.request.to {
+        None => plan.request.to = format_from_output(out)?,
+        Some(to) => {
+            // --to wins over the extension; a contradiction is worth a word.
+            if let Ok(Some(ext)) = format_from_output(out) {
+                if ext != to && ctx.quiet == 0 {
+                    eprint_line(&format!(
+                        "warning: writing {} to `{}` as --to asks, despite the extension",
+                        format_label(to),
+                        out.display()
+                    ));
+                }
+            }
+        }
     }
     if let Some(name) = out.file_name().and_then(|n| n.to_str()) {
         plan.request.export.file_name = name.to_owned();

@@ -32,7 +32,7 @@ pub fn write_model_json(doc: &Document) -> Result<String, PipelineError> {
         })
 }
 
-/// Writes the document as STEP, IGES ([`write`]) or model JSON ([`write_model_json`]).
+/// Writes the document as STEP, IGES ([`write()`]) or model JSON ([`write_model_json`]).
 pub fn write_as(
     doc: &Document,
     kind: InputKind,
