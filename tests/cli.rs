@@ -812,6 +812,10 @@ fn eval_points(file: &Path, entity: Option<&str>, params: &[f64]) -> Vec<Vec<f64
 #[allow(clippy::approx_constant)]
 const TWO_PI: f64 = 6.28318530718;
 
+/// The FreeCAD IGES files write it with 10 significant digits.
+#[allow(clippy::approx_constant)]
+const IGES_PERIOD: f64 = 6.283185307;
+
 #[test]
 #[ignore = "needs exchange integration"]
 fn info_names_step_and_iges_entities_with_their_source() {
@@ -846,7 +850,7 @@ fn info_names_step_and_iges_entities_with_their_source() {
 fn evaluate_step_and_iges_circles_at_radius_7_5() {
     // The IGES file writes the period with 10 digits (6.283185307): stay inside both domains.
     let params: Vec<f64> = (0..=12)
-        .map(|i| 6.283185307 * f64::from(i) / 12.0)
+        .map(|i| IGES_PERIOD * f64::from(i) / 12.0)
         .collect();
     for file in ["curve_circle_nurbs.step", "curve_circle_nurbs.igs"] {
         for p in eval_points(&data(file), None, &params) {
