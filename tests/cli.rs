@@ -164,6 +164,8 @@ fn bad_flags_and_values_exit_2() {
         vec!["tessellate", "c.json", "-o", "c.obj", "--tolerance", "0"],
         vec!["serve", "--max-body", "12XB"],
         vec!["serve", "--timeout", "soon"],
+        vec!["serve", "--timeout", "0s"],
+        vec!["serve", "--max-body", "0"],
         vec![],
     ] {
         let o = nurbsx(&args);

@@ -333,6 +333,11 @@ pub fn print_stdout(text: &str) -> Result<(), CliError> {
 
 /// `nurbsx serve`: fills the service configuration and runs it.
 fn serve(ctx: &Context, a: args::ServeArgs) -> Result<Outcome, CliError> {
+    if a.max_body == 0 || a.timeout.is_zero() {
+        return Err(CliError::Usage(
+            "--max-body and --timeout must be above zero".into(),
+        ));
+    }
     let mut config = crate::service::ServeConfig {
         addr: a.addr,
         max_body_bytes: a.max_body,
