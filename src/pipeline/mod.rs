@@ -8,11 +8,13 @@
 //! Everything here is synchronous and CPU-bound; the service runs it off the async threads.
 
 mod error;
+mod export;
 mod input;
 mod ops;
 mod reports;
 
 pub use error::{ErrorKind, PipelineError};
+pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,

@@ -1,0 +1,681 @@
+//! Command-line arguments (clap derive). Parsing only: every value is checked here (units,
+//! byte sizes, durations, parameter tuples), and the commands receive typed values.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
+
+use crate::exchange::{LengthUnit, StepSchema};
+use crate::pipeline::Direction;
+
+/// The exit-code table every `--help` ends with.
+pub const EXIT_CODES: &str = "\
+Exit codes:
+  0  success (validate: every file valid)
+  1  the input is invalid or unreadable, the conversion or its verification failed,
+     or (batch) any file failed
+  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)";
+
+const TOP_HELP: &str = "\
+Examples:
+  nurbsx convert part.igs -o part.step --verify
+  nurbsx convert drawings/ --out-dir converted/ --to step --report report.jsonl
+  nurbsx info part.step
+  nurbsx validate --format sarif *.step > results.sarif
+  nurbsx evaluate circle.json --at 0.25 --at 0.5 --json
+
+Exit codes:
+  0  success (validate: every file valid)
+  1  the input is invalid or unreadable, the conversion or its verification failed,
+     or (batch) any file failed
+  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)
+
+Logging: -v / -q, or RUST_LOG (e.g. RUST_LOG=nurbsx=debug); logs go to stderr.";
+
+/// `nurbsx`: exact NURBS exchange between IGES 5.3 and STEP.
+#[derive(Debug, Parser)]
+#[command(
+    name = "nurbsx",
+    version,
+    about = "Exact NURBS exchange between IGES 5.3 (126/128) and STEP (ISO 10303-21/42)",
+    long_about = "Exact NURBS exchange between IGES 5.3 (entities 126/128) and STEP \
+                  (ISO 10303-21 files with ISO 10303-42 B-spline entities): convert, inspect, \
+                  validate, evaluate and modify B-spline curves and surfaces without losing a bit.",
+    after_help = TOP_HELP,
+    propagate_version = true,
+    max_term_width = 100
+)]
+pub struct Cli {
+    /// Options that apply to every command.
+    #[command(flatten)]
+    pub global: GlobalArgs,
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Logging and limits, accepted before or after the command name.
+#[derive(Debug, Args)]
+pub struct GlobalArgs {
+    /// More log output on stderr (-v info, -vv debug, -vvv trace). RUST_LOG overrides.
+    #[arg(short, long, action = ArgAction::Count, global = true, help_heading = "Global options")]
+    pub verbose: u8,
+    /// Less output: -q hides warnings and progress, -qq also hides error logs.
+    #[arg(short, long, action = ArgAction::Count, global = true, conflicts_with = "verbose", help_heading = "Global options")]
+    pub quiet: u8,
+    /// Log line format on stderr.
+    #[arg(long, value_enum, default_value_t = LogFormat::Text, global = true, help_heading = "Global options")]
+    pub log_format: LogFormat,
+    /// Highest B-spline degree accepted when reading and produced by operations
+    /// (default 25, as Open CASCADE).
+    #[arg(long, value_name = "N", global = true, help_heading = "Global options")]
+    pub max_degree: Option<usize>,
+    /// Largest input file accepted, e.g. 512MiB (default 2GiB).
+    #[arg(long, value_name = "SIZE", value_parser = parse_bytes, global = true, help_heading = "Global options")]
+    pub max_input_bytes: Option<usize>,
+}
+
+/// How log lines are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LogFormat {
+    /// Human-readable lines.
+    Text,
+    /// One JSON object per line.
+    Json,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Convert STEP <-> IGES (one file with -o, or many with --out-dir).
+    #[command(
+        long_about = "Convert B-spline curves and surfaces between STEP and IGES, exactly \
+                      (poles, weights and knots are copied, never approximated).\n\n\
+                      One file: the output format comes from --to or from OUT's extension \
+                      (.step/.stp/.p21, .igs/.iges). Many files or folders: give --out-dir; \
+                      folders are searched recursively for .step/.stp/.p21/.igs/.iges files, \
+                      converted in parallel, and --report writes one JSON line per file.\n\n\
+                      Diagnostics (warnings about the input) go to stderr as \
+                      `file:line:col: warning[code]: message`.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx convert part.igs -o part.step\n",
+            "  nurbsx convert part.step -o part.igs --units in --verify 1e-12\n",
+            "  nurbsx convert cad/ more.igs --out-dir out/ --to step --report report.jsonl\n\n",
+            "Exit codes:\n",
+            "  0  converted (batch: every file)\n",
+            "  1  input invalid, conversion or verification failed, or (batch) any file failed\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Convert(ConvertArgs),
+    /// Show the format, units and every B-spline entity of a file.
+    #[command(
+        long_about = "Show a file's format, schema and length unit, then every B-spline curve \
+                      and surface: id (STEP #17, IGES D5), kind, dimension, degree(s), pole \
+                      counts, knot layout, rational or not, domain, and the source entity and \
+                      line; then what the reader noticed (diagnostics).",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx info part.step\n",
+            "  nurbsx info part.igs --json | jq '.entities[].id'\n\n",
+            "Exit codes:\n",
+            "  0  the file was read\n",
+            "  1  the file is not readable STEP, IGES or model JSON\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Info(InfoArgs),
+    /// Check files for syntax and geometry errors (for CI).
+    #[command(
+        long_about = "Check STEP, IGES and model-JSON files: syntax, entity structure and \
+                      B-spline geometry (knot vectors, weights, pole counts, flags against \
+                      data). Text output is one `file:line:col: error[code]: message` line per \
+                      finding (usable as CI annotations); JUnit XML and SARIF 2.1.0 are \
+                      available for test reports and code-scanning dashboards.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx validate part.step part.igs\n",
+            "  nurbsx validate --strict --format junit cad/*.step > validate.xml\n",
+            "  nurbsx validate --format sarif cad/*.igs > validate.sarif\n\n",
+            "Exit codes:\n",
+            "  0  every file is valid (with --strict: and has no warnings)\n",
+            "  1  at least one file is invalid\n",
+            "  2  usage or I/O error (e.g. a file does not exist)"
+        )
+    )]
+    Validate(ValidateArgs),
+    /// Evaluate a curve or surface at parameters (points, derivatives, normals, curvature).
+    #[command(
+        long_about = "Evaluate one curve or surface at given parameters: `--at U` for curves, \
+                      `--at U,V` for surfaces (repeatable), or `--params FILE` with one tuple \
+                      per line (`u`, `u,v` or `u v`) or a JSON array of arrays. IN may be \
+                      STEP, IGES or model JSON.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx evaluate circle.json --at 0 --at 0.125 --at 0.25\n",
+            "  nurbsx evaluate part.step --entity '#17' --at 0.5,0.5 --normals --json\n",
+            "  nurbsx evaluate part.igs --entity D5 --params params.txt --derivatives 2\n\n",
+            "Exit codes:\n",
+            "  0  evaluated\n",
+            "  1  the input is invalid or unreadable\n",
+            "  2  usage or I/O error (unknown entity, parameter outside the domain, bad tuple)"
+        )
+    )]
+    Evaluate(EvaluateArgs),
+    /// Raise the degree without changing the shape (NURBS Book A5.9/A5.10).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx elevate part.step -o part-p5.step --by 2\n",
+        "  nurbsx elevate surface.json -o raised.json --by 1 --direction u\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, or the result would exceed --max-degree\n",
+        "  2  usage or I/O error"
+    ))]
+    Elevate(ElevateArgs),
+    /// Make every knot vector clamped (open) without changing the shape.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx clamp periodic.igs -o clamped.igs\n",
+        "  nurbsx clamp curve.json -o clamped.json\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid\n",
+        "  2  usage or I/O error"
+    ))]
+    Clamp(SimpleOpArgs),
+    /// Make every knot vector unclamped without changing the shape (NURBS Book A12.1).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx unclamp part.step -o unclamped.step\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid\n",
+        "  2  usage or I/O error"
+    ))]
+    Unclamp(SimpleOpArgs),
+    /// Insert a knot without changing the shape (NURBS Book A5.1/A5.3).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx insert-knot curve.json -o refined.json --at 0.5 --times 2\n",
+        "  nurbsx insert-knot part.step -o refined.step --entity '#17' --at 0.3 --direction v\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or the knot cannot be inserted that often\n",
+        "  2  usage or I/O error"
+    ))]
+    InsertKnot(InsertKnotArgs),
+    /// Tessellate curves and surfaces into OBJ or SVG under a chord tolerance.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx tessellate part.step -o part.obj --tolerance 0.01\n",
+        "  nurbsx tessellate curve.igs -o curve.svg --tolerance 0.001 --entity D1\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, or the mesh would exceed the vertex limit\n",
+        "  2  usage or I/O error"
+    ))]
+    Tessellate(TessellateArgs),
+    /// Run the HTTP service.
+    #[command(
+        long_about = "Run the HTTP service (POST /v1/convert, /v1/info, /v1/validate, \
+                      /v1/evaluate, ...). Every option can also come from an environment \
+                      variable. Stops cleanly on SIGTERM or Ctrl-C.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx serve --addr 0.0.0.0:8080 --max-body 128MiB --timeout 2m\n",
+            "  NURBSX_ADDR=127.0.0.1:9000 NURBSX_CONCURRENCY=4 nurbsx serve\n\n",
+            "Exit codes:\n",
+            "  0  stopped cleanly\n",
+            "  2  usage error, or the address cannot be bound"
+        )
+    )]
+    Serve(ServeArgs),
+}
+
+/// An output exchange format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// STEP Part 21 (ISO 10303-21).
+    Step,
+    /// IGES 5.3.
+    Iges,
+}
+
+/// An output format for the modify commands (which also write model JSON).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModelFormatArg {
+    /// STEP Part 21 (ISO 10303-21).
+    Step,
+    /// IGES 5.3.
+    Iges,
+    /// nurbsx model JSON.
+    Json,
+}
+
+/// The STEP application protocol written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SchemaArg {
+    /// AUTOMOTIVE_DESIGN (the default, as Open CASCADE).
+    Ap214,
+    /// CONFIG_CONTROL_DESIGN.
+    Ap203,
+    /// AP242 managed model-based 3D engineering.
+    Ap242,
+}
+
+impl From<SchemaArg> for StepSchema {
+    fn from(s: SchemaArg) -> Self {
+        match s {
+            SchemaArg::Ap214 => StepSchema::Ap214,
+            SchemaArg::Ap203 => StepSchema::Ap203,
+            SchemaArg::Ap242 => StepSchema::Ap242,
+        }
+    }
+}
+
+/// `nurbsx convert`.
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Input file(s) or folder(s); `-` reads standard input.
+    #[arg(required = true, value_name = "IN")]
+    pub inputs: Vec<PathBuf>,
+    /// Output file for a single input; `-` writes standard output.
+    #[arg(short, long, value_name = "OUT", conflicts_with = "out_dir")]
+    pub output: Option<PathBuf>,
+    /// Output folder for a batch (many files or folders); the folder layout is kept.
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: Option<PathBuf>,
+    /// Output format (default: from OUT's extension, else the input's format).
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub to: Option<FormatArg>,
+    /// STEP schema to write.
+    #[arg(long, value_enum, default_value_t = SchemaArg::Ap214)]
+    pub schema: SchemaArg,
+    /// Length unit to write: keep, mm, cm, m, in, ft (also um, km, mil, uin, mi).
+    #[arg(long, value_name = "UNIT", value_parser = parse_units, default_value = "keep")]
+    pub units: UnitsArg,
+    /// Clamp every knot vector (shape unchanged).
+    #[arg(long, conflicts_with = "unclamp")]
+    pub clamp: bool,
+    /// Unclamp every knot vector (shape unchanged).
+    #[arg(long)]
+    pub unclamp: bool,
+    /// Re-read the output and compare every entity with its input by sampling; fail when the
+    /// deviation relative to the entity's size exceeds TOL (default 1e-9). Write `--verify=TOL`
+    /// or put --verify after the input, so that IN is not read as TOL.
+    #[arg(long, value_name = "TOL", num_args = 0..=1, default_missing_value = "1e-9",
+          value_parser = parse_tolerance)]
+    pub verify: Option<f64>,
+    /// Write a JSON report (batch: JSON Lines, one object per file).
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+    /// Time stamp written in the file header (ISO 8601, default: now), for reproducible output.
+    #[arg(long, value_name = "YYYY-MM-DDTHH:MM:SS")]
+    pub timestamp: Option<String>,
+    /// IGES: trim to the declared parameter range (exact, by knot insertion).
+    #[arg(long)]
+    pub trim_to_range: bool,
+    /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
+    #[arg(short = 'j', long, value_name = "N",
+          value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub jobs: Option<u16>,
+}
+
+/// `--units`: keep the document's unit or convert to one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UnitsArg(pub Option<LengthUnit>);
+
+/// `nurbsx info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Input file (STEP, IGES or model JSON); `-` reads standard input.
+    #[arg(value_name = "FILE")]
+    pub input: PathBuf,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Output formats of `validate`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ValidateFormat {
+    /// `file:line:col: error[code]: message` lines and a summary per file.
+    Text,
+    /// One JSON array of reports.
+    Json,
+    /// JUnit XML: one testcase per file.
+    Junit,
+    /// SARIF 2.1.0 for code-scanning tools.
+    Sarif,
+}
+
+/// `nurbsx validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Files to check; folders are searched recursively for .step/.stp/.p21/.igs/.iges.
+    #[arg(required = true, value_name = "FILE")]
+    pub inputs: Vec<PathBuf>,
+    /// Same as --format json.
+    #[arg(long, conflicts_with = "format")]
+    pub json: bool,
+    /// Warnings make a file invalid too.
+    #[arg(long)]
+    pub strict: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = ValidateFormat::Text)]
+    pub format: ValidateFormat,
+}
+
+/// `nurbsx evaluate`.
+#[derive(Debug, Args)]
+pub struct EvaluateArgs {
+    /// Input file (STEP, IGES or model JSON); `-` reads standard input.
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Entity id: `#17` (STEP), `D5` (IGES), or the index for model JSON (default: the first).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+    /// A parameter: `U` for curves, `U,V` for surfaces. Repeatable.
+    #[arg(long = "at", value_name = "U[,V]", value_parser = parse_tuple, allow_hyphen_values = true)]
+    pub at: Vec<Vec<f64>>,
+    /// A file of parameters: one tuple per line (`u`, `u,v` or `u v`; `#` comments), or a
+    /// JSON array of arrays.
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
+    /// Also compute derivatives up to order K.
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub derivatives: usize,
+    /// Also compute unit normals (surfaces).
+    #[arg(long)]
+    pub normals: bool,
+    /// Also compute curvature.
+    #[arg(long)]
+    pub curvature: bool,
+    /// Print the results as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Where a modify command writes and in what format.
+#[derive(Debug, Args)]
+pub struct OutputArgs {
+    /// Output file; `-` writes standard output.
+    #[arg(short, long, value_name = "OUT", required = true)]
+    pub output: PathBuf,
+    /// Output format (default: from OUT's extension, else the input's format).
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub to: Option<ModelFormatArg>,
+}
+
+/// A surface direction on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DirectionArg {
+    /// Along u.
+    U,
+    /// Along v.
+    V,
+    /// Both directions.
+    Both,
+}
+
+impl From<DirectionArg> for Direction {
+    fn from(d: DirectionArg) -> Self {
+        match d {
+            DirectionArg::U => Direction::U,
+            DirectionArg::V => Direction::V,
+            DirectionArg::Both => Direction::Both,
+        }
+    }
+}
+
+/// `nurbsx elevate`.
+#[derive(Debug, Args)]
+pub struct ElevateArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Raise the degree by N.
+    #[arg(long, value_name = "N")]
+    pub by: usize,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx clamp` and `nurbsx unclamp`.
+#[derive(Debug, Args)]
+pub struct SimpleOpArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx insert-knot`.
+#[derive(Debug, Args)]
+pub struct InsertKnotArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The parameter value of the new knot.
+    #[arg(long, value_name = "U", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub at: f64,
+    /// How many times to insert it.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub times: usize,
+    /// Surface direction (u or v); curves ignore it.
+    #[arg(long, value_enum, default_value_t = DirectionArg::U)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// A tessellation output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MeshFormatArg {
+    /// Wavefront OBJ.
+    Obj,
+    /// SVG (projection on XY).
+    Svg,
+}
+
+/// `nurbsx tessellate`.
+#[derive(Debug, Args)]
+pub struct TessellateArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file (.obj or .svg); `-` writes standard output (then give --format).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Mesh format (default: from OUT's extension).
+    #[arg(long, value_enum)]
+    pub format: Option<MeshFormatArg>,
+    /// Largest distance between the mesh and the exact geometry (chord tolerance), in the
+    /// file's unit.
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// Address to listen on.
+    #[arg(long, env = "NURBSX_ADDR", default_value = "127.0.0.1:8080")]
+    pub addr: SocketAddr,
+    /// Largest request body, e.g. 64MiB.
+    #[arg(long, env = "NURBSX_MAX_BODY", value_name = "SIZE", default_value = "64MiB",
+          value_parser = parse_bytes)]
+    pub max_body: usize,
+    /// Per-request time limit, e.g. 60s, 500ms, 2m.
+    #[arg(long, env = "NURBSX_TIMEOUT", value_name = "DURATION", default_value = "60s",
+          value_parser = parse_duration)]
+    pub timeout: Duration,
+    /// Most requests doing CPU work at once (default: the number of cores).
+    #[arg(long, env = "NURBSX_CONCURRENCY", value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub concurrency: Option<u32>,
+}
+
+/// Parses `keep` or a length-unit name.
+pub fn parse_units(s: &str) -> Result<UnitsArg, String> {
+    if s.eq_ignore_ascii_case("keep") {
+        return Ok(UnitsArg(None));
+    }
+    LengthUnit::parse_name(s)
+        .map(|u| UnitsArg(Some(u)))
+        .ok_or_else(|| {
+            format!("unknown unit `{s}` (expected keep, mm, cm, m, in, ft, um, km, mil, uin, mi)")
+        })
+}
+
+/// Parses a finite number.
+pub fn parse_finite(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err(format!("`{}` is not a finite number", clip(s))),
+        Err(_) => Err(format!("`{}` is not a number", clip(s))),
+    }
+}
+
+/// Parses a positive finite tolerance.
+pub fn parse_tolerance(s: &str) -> Result<f64, String> {
+    let x = parse_finite(s)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("the tolerance must be positive, got {s}"))
+    }
+}
+
+/// Parses a parameter tuple `u` or `u,v` (commas and/or whitespace separate). Stops at the
+/// third number, so a huge line costs no memory.
+pub fn parse_tuple(s: &str) -> Result<Vec<f64>, String> {
+    let mut values = Vec::with_capacity(2);
+    for token in s
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+    {
+        if values.len() == 2 {
+            return Err(format!(
+                "expected `u` or `u,v`, got more than 2 numbers in `{}`",
+                clip(s)
+            ));
+        }
+        values.push(parse_finite(token)?);
+    }
+    if values.is_empty() {
+        return Err("empty parameter tuple".to_owned());
+    }
+    Ok(values)
+}
+
+/// The first 40 characters of a value for a message.
+fn clip(s: &str) -> String {
+    match s.char_indices().nth(40) {
+        Some((i, _)) => format!("{}...", &s[..i]),
+        None => s.to_owned(),
+    }
+}
+
+/// Parses a byte size: `1024`, `64k`, `64KiB`, `10MB`, `2GiB` (binary multiples for
+/// k/K/KiB/M/MiB/G/GiB; decimal for KB/MB/GB).
+pub fn parse_bytes(s: &str) -> Result<usize, String> {
+    let t = s.trim();
+    let split = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
+    let (digits, suffix) = t.split_at(split);
+    let n: u64 = digits
+        .parse()
+        .map_err(|_| format!("`{s}` is not a size (e.g. 1048576, 512KiB, 64MiB, 2GiB)"))?;
+    let factor: u64 = match suffix.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kib" => 1 << 10,
+        "kb" => 1_000,
+        "m" | "mib" => 1 << 20,
+        "mb" => 1_000_000,
+        "g" | "gib" => 1 << 30,
+        "gb" => 1_000_000_000,
+        other => return Err(format!("unknown size suffix `{other}` in `{s}`")),
+    };
+    n.checked_mul(factor)
+        .and_then(|b| usize::try_from(b).ok())
+        .ok_or_else(|| format!("`{s}` is too large"))
+}
+
+/// Parses a duration: `60`, `60s`, `500ms`, `2m`, `1h`.
+pub fn parse_duration(s: &str) -> Result<Duration, String> {
+    let t = s.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, suffix) = t.split_at(split);
+    let n: f64 = number
+        .parse()
+        .map_err(|_| format!("`{s}` is not a duration (e.g. 60s, 500ms, 2m)"))?;
+    let seconds = match suffix.trim() {
+        "" | "s" => n,
+        "ms" => n / 1000.0,
+        "m" | "min" => n * 60.0,
+        "h" => n * 3600.0,
+        other => return Err(format!("unknown duration unit `{other}` in `{s}`")),
+    };
+    Duration::try_from_secs_f64(seconds).map_err(|_| format!("`{s}` is not a valid duration"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_durations_parse() {
+        assert_eq!(parse_bytes("64MiB"), Ok(64 << 20));
+        assert_eq!(parse_bytes("10MB"), Ok(10_000_000));
+        assert_eq!(parse_bytes("1024"), Ok(1024));
+        assert!(parse_bytes("12XB").is_err());
+        assert!(parse_bytes("99999999999999999999G").is_err());
+        assert_eq!(parse_duration("500ms"), Ok(Duration::from_millis(500)));
+        assert_eq!(parse_duration("2m"), Ok(Duration::from_secs(120)));
+        assert!(parse_duration("-1s").is_err());
+    }
+
+    #[test]
+    fn tuples_parse_with_commas_or_spaces() {
+        assert_eq!(parse_tuple("0.5"), Ok(vec![0.5]));
+        assert_eq!(parse_tuple("0.5, 0.25"), Ok(vec![0.5, 0.25]));
+        assert_eq!(parse_tuple("0.5 0.25"), Ok(vec![0.5, 0.25]));
+        assert!(parse_tuple("1,2,3").is_err());
+        assert!(parse_tuple("nan").is_err());
+        assert!(parse_tuple("").is_err());
+    }
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}
