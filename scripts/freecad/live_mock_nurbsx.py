@@ -26,6 +26,7 @@ live_roundtrip.sh):
                             reported by info as dimension 2
     MOCK_NURBSX_DROP=1      omit the last surface from the file (info still lists it)
     MOCK_NURBSX_FAIL=1      exit 1 from convert
+    MOCK_NURBSX_GARBAGE=1   write a file that is not STEP / IGES (exit 0)
 """
 
 import json
@@ -345,7 +346,10 @@ def convert(src, out, fmt):
     written_surfaces = surfaces
     if os.environ.get("MOCK_NURBSX_DROP") == "1" and surfaces:
         written_surfaces = surfaces[:-1]
-    if fmt == "step":
+    if os.environ.get("MOCK_NURBSX_GARBAGE") == "1":
+        with open(out, "w", encoding="ascii") as f:
+            f.write("this is not a CAD file\n")
+    elif fmt == "step":
         write_step(out, curves, written_surfaces)
     elif fmt == "iges":
         write_iges(out, curves, written_surfaces)

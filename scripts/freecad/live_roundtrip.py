@@ -679,9 +679,10 @@ def _describe(res, tol):
         parts.append("candidates %s" % res["matched"])
     if "projection" in res:
         p = res["projection"]
-        parts.append("projection fallback: point %.3g%s" % (
-            p["worst"].get("point", math.nan),
-            ", %d uncovered" % p["uncovered"] if p["uncovered"] else ""))
+        if "point" in p["worst"]:
+            parts.append("projection fallback: point %.3g" % p["worst"]["point"])
+        else:
+            parts.append("no B-spline geometry in OUT to project on")
     return "; ".join(parts)
 
 
