@@ -594,6 +594,19 @@ def check_conversion(binary, samples, src, reading, fmt, work):
                 expected["curves_2d"])
         rec["failures"].append(msg)
 
+    if copy_mode and fmt == "iges" and reading["counts"]["faces"] == 0:
+        # Check the IGES counting rule used in real mode against what OCCT really did with
+        # FreeCAD's own IGES file: lone curves only (faces-mode IGES duplicates edges).
+        predicted = 0
+        for c in reading["curves"]:
+            flat = [k for k, m in zip(c["knots"], c["multiplicities"]) for _ in range(m)]
+            predicted += pieces_after_iges_import(
+                c["degree"], flat, (c["first_parameter"], c["last_parameter"]))
+        rec["iges_count_rule"] = {"predicted": predicted, "found": found_curves}
+        if predicted != found_curves:
+            rec["failures"].append(
+                "%s: IGES counting rule predicts %d curves from %s, OCCT made %d"
+                % (what, predicted, os.path.basename(src), found_curves))
     size = model_size(reading)
     rec["model_size"] = size
     items = []
