@@ -27,6 +27,7 @@ live_roundtrip.sh):
     MOCK_NURBSX_DROP=1      omit the last surface from the file (info still lists it)
     MOCK_NURBSX_FAIL=1      exit 1 from convert
     MOCK_NURBSX_GARBAGE=1   write a file that is not STEP / IGES (exit 0)
+    MOCK_NURBSX_NOCURVES=1  a reader that loses every curve: neither info nor convert has any
 """
 
 import json
@@ -322,27 +323,56 @@ def write_iges(path, curves, surfaces):
 # ------------------------------------------------------------------------------------ CLI
 
 
-def convert(src, out, fmt):
-    if os.environ.get("MOCK_NURBSX_FAIL") == "1":
-        print("mock: conversion refused (MOCK_NURBSX_FAIL=1)", file=sys.stderr)
-        return 1
+def read_entities(src):
+    """(curves, surfaces) of FreeCAD's reading of src, in writable (non-periodic) form."""
     with open(src + ".json", encoding="utf-8") as f:
         reading = json.load(f)
     curves = [curve_entity(c) for c in reading["curves"]]
     surfaces = [surface_entity(s) for s in reading["surfaces"]]
-    info_curves = [dict(c, dimension=3) for c in curves]
+    if os.environ.get("MOCK_NURBSX_NOCURVES") == "1":
+        curves = []
+    return [dict(c, dimension=3) for c in curves], surfaces
+
+
+def info_json(entities, fmt):
+    """nurbsx `info --json` layout for (curves, surfaces)."""
+    curves, surfaces = entities
+    ents = []
+    for c in curves:
+        ents.append({"id": len(ents) + 1, "kind": "curve", "dimension": c["dimension"],
+                     "degree": [c["degree"]], "poles": [len(c["control_points"])],
+                     "rational": rational(c["weights"]),
+                     "geometry": {k: c[k] for k in ("degree", "knots", "control_points",
+                                                    "weights")}})
+    for s in surfaces:
+        ents.append({"id": len(ents) + 1, "kind": "surface", "dimension": 3,
+                     "degree": [s["degree_u"], s["degree_v"]],
+                     "poles": [len(s["control_points"]), len(s["control_points"][0])],
+                     "rational": rational(s["weights"]), "geometry": s})
+    return {"format": fmt, "schema": None, "units": {"name": "mm", "to_mm": 1.0},
+            "entities": ents, "diagnostics": []}
+
+
+def convert(src, out, fmt):
+    if os.environ.get("MOCK_NURBSX_FAIL") == "1":
+        print("mock: conversion refused (MOCK_NURBSX_FAIL=1)", file=sys.stderr)
+        return 1
+    info_curves, surfaces = read_entities(src)
+    curves = [dict(c) for c in info_curves]
     perturb = float(os.environ.get("MOCK_NURBSX_PERTURB", "0") or 0)
     if perturb and curves:
         size = 0.0
         for c in curves:
             for q in c["control_points"]:
                 size = max(size, max(abs(x) for x in q))
-        curves[0]["control_points"][1][0] += perturb * max(size, 1.0)
+        c0 = curves[0]
+        c0["control_points"] = [list(q) for q in c0["control_points"]]
+        c0["control_points"][1][0] += perturb * max(size, 1.0)
     if os.environ.get("MOCK_NURBSX_PCURVE") == "1":
         pc = {"degree": 1, "knots": [0.0, 0.0, 1.0, 1.0],
               "control_points": [[0.25, 0.5, 0.0], [0.75, 0.5, 0.0]], "weights": [1.0, 1.0]}
         curves.append(pc)
-        info_curves.append(dict(pc, dimension=2))
+        info_curves = info_curves + [dict(pc, dimension=2)]
     written_surfaces = surfaces
     if os.environ.get("MOCK_NURBSX_DROP") == "1" and surfaces:
         written_surfaces = surfaces[:-1]
@@ -356,22 +386,8 @@ def convert(src, out, fmt):
     else:
         print("mock: unknown format %s" % fmt, file=sys.stderr)
         return 2
-    ents = []
-    for i, c in enumerate(info_curves):
-        ents.append({"id": i + 1, "kind": "curve", "dimension": c["dimension"],
-                     "degree": [c["degree"]], "poles": [len(c["control_points"])],
-                     "rational": rational(c["weights"]),
-                     "geometry": {k: c[k] for k in ("degree", "knots", "control_points",
-                                                    "weights")}})
-    for s in surfaces:
-        ents.append({"id": len(ents) + 1, "kind": "surface", "dimension": 3,
-                     "degree": [s["degree_u"], s["degree_v"]],
-                     "poles": [len(s["control_points"]), len(s["control_points"][0])],
-                     "rational": rational(s["weights"]), "geometry": s})
-    info = {"format": fmt, "schema": None, "units": {"name": "mm", "to_mm": 1.0},
-            "entities": ents, "diagnostics": []}
     with open(out + ".mock.json", "w", encoding="utf-8") as f:
-        json.dump(info, f)
+        json.dump(info_json((info_curves, surfaces), fmt), f)
     return 0
 
 
@@ -379,8 +395,11 @@ def main(argv):
     if len(argv) >= 5 and argv[0] == "convert" and argv[2] == "-o" and argv[4] == "--to":
         return convert(argv[1], argv[3], argv[5] if len(argv) > 5 else "")
     if len(argv) == 3 and argv[0] == "info" and argv[1] == "--json":
-        with open(argv[2] + ".mock.json", encoding="utf-8") as f:
-            sys.stdout.write(f.read())
+        if os.path.exists(argv[2] + ".mock.json"):  # a file the mock wrote
+            with open(argv[2] + ".mock.json", encoding="utf-8") as f:
+                sys.stdout.write(f.read())
+        else:  # a sample: its entities are those of FreeCAD's reading
+            json.dump(info_json(read_entities(argv[2]), "?"), sys.stdout)
         return 0
     print("usage: live_mock_nurbsx.py convert S -o OUT --to step|iges | info --json OUT",
           file=sys.stderr)
