@@ -28,6 +28,7 @@ live_roundtrip.sh):
     MOCK_NURBSX_FAIL=1      exit 1 from convert
     MOCK_NURBSX_GARBAGE=1   write a file that is not STEP / IGES (exit 0)
     MOCK_NURBSX_NOCURVES=1  a reader that loses every curve: neither info nor convert has any
+    MOCK_NURBSX_FROM_FILE=1 STEP->STEP / IGES->IGES copy S's own entities (see file mode)
 """
 
 import json
@@ -320,6 +321,140 @@ def write_iges(path, curves, surfaces):
         f.write("\n".join(s_rec + g_rec + d_rec + p_rec + ["%-72sT%7d" % (t, 1)]) + "\n")
 
 
+# --------------------------------------------------------- file mode (same format only)
+#
+# MOCK_NURBSX_FROM_FILE=1: for STEP->STEP and IGES->IGES the mock copies the B-spline
+# entities of S itself (their text, so their exact digits) into loose geometry, instead of
+# writing FreeCAD's reading.  This tests what the real nurbsx relies on: that OCCT reads a
+# curve / surface entity the same way standalone as inside S's topology (faces-mode IGES
+# 142 boundaries, STEP EDGE_CURVEs).
+
+
+def _step_instances(text):
+    import re
+
+    data = text[text.find("DATA;"):]
+    out = {}
+    for m in re.finditer(r"#(\d+)\s*=\s*(.*?);\s*(?=#\d+\s*=|ENDSEC)", data, re.S):
+        out[int(m.group(1))] = m.group(2)
+    return out
+
+
+def step_from_file(src, out):
+    """Loose copy of S's 3-D B-spline curves and surfaces; None if S is not a one-shape file."""
+    import re
+
+    with open(src, encoding="latin-1") as f:
+        text = f.read()
+    inst = _step_instances(text)
+    sdr = [i for i, b in inst.items() if b.startswith("SHAPE_DEFINITION_REPRESENTATION(")]
+    if len(sdr) != 1:
+        return None
+    pds, rep = re.findall(r"#(\d+)", inst[sdr[0]])[:2]
+    ctx = re.findall(r"#(\d+)", inst[int(rep)])[-1]
+    curves, surfaces = [], []
+    for i, b in sorted(inst.items()):
+        if "B_SPLINE_SURFACE_WITH_KNOTS" in b:
+            surfaces.append(i)
+        elif "B_SPLINE_CURVE_WITH_KNOTS" in b:
+            m = re.search(r"B_SPLINE_CURVE(?:_WITH_KNOTS)?\(\s*(?:'[^']*'\s*,)?\s*\d+\s*,"
+                          r"\s*\(\s*#(\d+)", b)
+            pt = re.search(r"\(([^()]*)\)\s*\)\s*$", inst[int(m.group(1))])
+            if pt and len(pt.group(1).split(",")) == 3:
+                curves.append(i)
+    nid = max(inst) + 1
+    extra = []
+    if curves:
+        extra += ["#%d = GEOMETRIC_CURVE_SET('',(%s));" % (nid, ",".join("#%d" % c for c in curves)),
+                  "#%d = GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('',(#%d),#%s);"
+                  % (nid + 1, nid, ctx),
+                  "#%d = SHAPE_DEFINITION_REPRESENTATION(#%s,#%d);" % (nid + 2, pds, nid + 1)]
+        nid += 3
+    if surfaces:
+        extra += ["#%d = GEOMETRIC_SET('',(%s));" % (nid, ",".join("#%d" % c for c in surfaces)),
+                  "#%d = GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION('',(#%d),#%s);"
+                  % (nid + 1, nid, ctx),
+                  "#%d = SHAPE_DEFINITION_REPRESENTATION(#%s,#%d);" % (nid + 2, pds, nid + 1)]
+    # Drop S's own shape link, so that only the loose geometry is a transfer root.
+    text = re.sub(r"#%d\s*=\s*SHAPE_DEFINITION_REPRESENTATION\([^;]*;\s*" % sdr[0], "", text)
+    end = text.rfind("ENDSEC;")
+    text = text[:end] + "\n".join(extra) + "\n" + text[end:]
+    with open(out, "w", encoding="latin-1") as f:
+        f.write(text)
+    ents = [{"id": c, "kind": "curve", "dimension": 3} for c in curves]
+    ents += [{"id": c, "kind": "surface", "dimension": 3} for c in surfaces]
+    return {"format": "step", "schema": None, "units": None, "entities": ents,
+            "diagnostics": []}
+
+
+def iges_from_file(src, out):
+    """Independent copies of S's 3-D 126 and all 128 entities (same parameter text)."""
+    with open(src, encoding="latin-1") as f:
+        lines = [l.rstrip("\r\n") for l in f]
+    sec = {k: [l for l in lines if len(l) >= 73 and l[72] == k] for k in "SGDP"}
+    params = {}
+    for l in sec["P"]:
+        de = int(l[64:72])
+        params[de] = params.get(de, "") + l[:64]
+    d = sec["D"]
+    types, forms = {}, {}
+    for i in range(0, len(d) - 1, 2):
+        types[i + 1] = int(d[i][0:8])
+        forms[i + 1] = int(d[i + 1][32:40] or 0)
+    fields = {de: [x.strip() for x in t.split(";")[0].split(",")] for de, t in params.items()}
+    two_d = set()
+    for de, t in types.items():
+        f = fields.get(de, [])
+        if t == 142:
+            two_d.add(int(f[3]))
+        elif t == 508:
+            k = 2
+            for _ in range(int(f[1])):
+                nk = int(f[k + 4])
+                for j in range(nk):
+                    two_d.add(int(f[k + 6 + 2 * j]))
+                k += 5 + 2 * nk
+    todo = list(two_d)
+    while todo:
+        de = todo.pop()
+        if types.get(de) == 102:
+            for x in fields[de][2:2 + int(fields[de][1])]:
+                if int(x) not in two_d:
+                    two_d.add(int(x))
+                    todo.append(int(x))
+    keep = [de for de, t in sorted(types.items())
+            if (t == 126 and de not in two_d) or t == 128]
+    d_lines, p_lines, ents = [], [], []
+    for idx, de in enumerate(keep):
+        f = fields[de]
+        nde = 2 * idx + 1
+        plines = _params(f, nde)
+        start = len(p_lines) + 1
+        p_lines += plines
+        d_lines += ["%8d%8d%8d%8d%8d%8d%8d%8d%8s" % (types[de], start, 0, 0, 0, 0, 0, 0,
+                                                     "00000000"),
+                    "%8d%8d%8d%8d%8d%8s%8s%8s%8d" % (types[de], 0, 0, len(plines), forms[de],
+                                                     "", "", "", 0)]
+        num = lambda x: float(x.replace("D", "E"))  # noqa: E731
+        if types[de] == 126:
+            kk, m = int(f[1]), int(f[2])
+            knots = [num(x) for x in f[7:7 + kk + m + 2]]
+            v = 7 + (kk + m + 2) + 4 * (kk + 1)
+            ents.append({"id": nde, "kind": "curve", "dimension": 3, "domain": [[num(f[v]),
+                                                                                   num(f[v + 1])]],
+                         "geometry": {"degree": m, "knots": knots,
+                                      "control_points": [[0.0, 0.0, 0.0]] * (kk + 1)}})
+        else:
+            ents.append({"id": nde, "kind": "surface", "dimension": 3})
+    d_rec = ["%-72sD%7d" % (l, i + 1) for i, l in enumerate(d_lines)]
+    p_rec = ["%sP%7d" % (l, i + 1) for i, l in enumerate(p_lines)]
+    t = "S%7dG%7dD%7dP%7d" % (len(sec["S"]), len(sec["G"]), len(d_rec), len(p_rec))
+    with open(out, "w", encoding="ascii") as f:
+        f.write("\n".join(sec["S"] + sec["G"] + d_rec + p_rec + ["%-72sT%7d" % (t, 1)]) + "\n")
+    return {"format": "iges", "schema": None, "units": None, "entities": ents,
+            "diagnostics": []}
+
+
 # ------------------------------------------------------------------------------------ CLI
 
 
@@ -357,6 +492,13 @@ def convert(src, out, fmt):
     if os.environ.get("MOCK_NURBSX_FAIL") == "1":
         print("mock: conversion refused (MOCK_NURBSX_FAIL=1)", file=sys.stderr)
         return 1
+    sfmt = "step" if src.lower().endswith((".step", ".stp")) else "iges"
+    if os.environ.get("MOCK_NURBSX_FROM_FILE") == "1" and sfmt == fmt:
+        info = step_from_file(src, out) if fmt == "step" else iges_from_file(src, out)
+        if info is not None:
+            with open(out + ".mock.json", "w", encoding="utf-8") as f:
+                json.dump(info, f)
+            return 0
     info_curves, surfaces = read_entities(src)
     curves = [dict(c) for c in info_curves]
     perturb = float(os.environ.get("MOCK_NURBSX_PERTURB", "0") or 0)
@@ -398,6 +540,18 @@ def main(argv):
         if os.path.exists(argv[2] + ".mock.json"):  # a file the mock wrote
             with open(argv[2] + ".mock.json", encoding="utf-8") as f:
                 sys.stdout.write(f.read())
+        elif os.environ.get("MOCK_NURBSX_FROM_FILE") == "1":  # a sample, read as a file
+            import tempfile
+
+            with tempfile.TemporaryDirectory() as tmp:
+                src = argv[2]
+                if src.lower().endswith((".step", ".stp")):
+                    info = step_from_file(src, os.path.join(tmp, "x.step"))
+                else:
+                    info = iges_from_file(src, os.path.join(tmp, "x.igs"))
+            if info is None:
+                info = info_json(read_entities(src), "?")
+            json.dump(info, sys.stdout)
         else:  # a sample: its entities are those of FreeCAD's reading
             json.dump(info_json(read_entities(argv[2]), "?"), sys.stdout)
         return 0

@@ -17,6 +17,7 @@ freecadcmd swallows argv, so everything is configured by environment variables:
     NURBSX_WORK     scratch directory for converted files (default: a new temp dir)
     NURBSX_REPORT   JSON report path (default: <NURBSX_WORK>/live_report.json)
     NURBSX_ONLY     optional comma list of case names (file stems, e.g. surf_loft)
+    NURBSX_CONVERSIONS  optional comma list of step->step, step->iges, iges->step, iges->iges
 
     NURBSX_BIN=target/debug/nurbsx freecadcmd scripts/freecad/live_roundtrip.py
 
@@ -273,7 +274,9 @@ def expected_from_info(info, fmt):
             p = int(geom["degree"])
             knots = [float(k) for k in geom["knots"]]
             n = len(geom["control_points"])
-            curves += pieces_after_iges_import(p, knots, (knots[p], knots[n]))
+            # The entity's own domain (IGES V0, V1) when info gives it, else the knot domain.
+            dom = e.get("domain") or [[knots[p], knots[n]]]
+            curves += pieces_after_iges_import(p, knots, (float(dom[0][0]), float(dom[0][1])))
     return curves, surfaces, len(curves2)
 
 
@@ -854,6 +857,12 @@ def main():
     os.makedirs(work, exist_ok=True)
     report_path = os.environ.get("NURBSX_REPORT") or os.path.join(work, "live_report.json")
     only = set(x.strip() for x in os.environ.get("NURBSX_ONLY", "").split(",") if x.strip())
+    pairs = set(
+        x.strip() for x in os.environ.get("NURBSX_CONVERSIONS", "").split(",") if x.strip())
+    bad = pairs - set("%s->%s" % (a, b) for a in FORMATS for b in FORMATS)
+    if bad:
+        print("live_roundtrip: unknown NURBSX_CONVERSIONS %s" % sorted(bad))
+        return 2
     cases = _cases(samples, only)
     if not cases:
         print("live_roundtrip: no samples in %s (NURBSX_ONLY=%s)" % (samples, sorted(only)))
@@ -869,6 +878,9 @@ def main():
         with open(src + ".json", encoding="utf-8") as f:
             reading = json.load(f)
         for fmt in FORMATS:
+            pair = "%s->%s" % (SRC_FORMAT[os.path.splitext(src)[1]], fmt)
+            if pairs and pair not in pairs:
+                continue
             try:
                 rec = check_conversion(binary, samples, src, reading, fmt, work)
             except Failure as ex:
