@@ -54,6 +54,9 @@ expect pass - copy-mode-all -- copy
 # itself (no curve entity in surf_sphere_nurbs.step): the text scan must catch that.
 expect pass - mock-mode -- "$mock" NURBSX_ONLY="${NURBSX_ONLY:-curve_deg1_clamped,curve_circle_nurbs,curve_deg3_periodic,curve_deg3_uniform_unclamped,surf_periodic_uv,face_trimmed_hole,units_inch,iges_brep_trimmed_hole}"
 expect fail 'S holds 0 3-D B-spline curves and 1 surfaces (text scan), nurbsx info reads 1' mock-writes-sphere-seam -- "$mock" NURBSX_ONLY=surf_sphere_nurbs
+# File mode: S's own curve / surface entities copied as loose geometry must read back exactly
+# as FreeCAD read them inside S's faces (faces-mode IGES, B-rep IGES, the sphere's seam).
+expect pass - mock-file-mode -- "$mock" MOCK_NURBSX_FROM_FILE=1 NURBSX_CONVERSIONS='step->step,iges->iges' NURBSX_ONLY=surf_bicubic,face_trimmed_hole,surf_sphere_nurbs,iges_brep_trimmed_hole
 expect pass - perturb-below-tolerance -- "$mock" NURBSX_ONLY=curve_deg3_clamped MOCK_NURBSX_PERTURB=1e-13
 expect fail 'is not reproduced' perturb-above-tolerance -- "$mock" NURBSX_ONLY=curve_deg3_clamped MOCK_NURBSX_PERTURB=3e-12
 expect fail '2-D pcurve written as 3-D' pcurve-as-3d -- "$mock" NURBSX_ONLY=surf_bicubic MOCK_NURBSX_PCURVE=1
