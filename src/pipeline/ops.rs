@@ -4,7 +4,7 @@
 use crate::exchange::{
     self, Diagnostic, Document, Entity, ExportOptions, Format, LengthUnit, Location,
 };
-use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+use crate::nurbs::{Geometry, Point3};
 
 use super::reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
@@ -389,7 +389,11 @@ fn entity_info(e: &Entity) -> EntityInfo {
             degree: vec![c.degree()],
             poles: vec![c.num_poles()],
             rational: c.is_rational(),
-            layout: vec![layout_name(c.degree(), c.num_poles(), c.knots())],
+            layout: vec![
+                c.layout(layout_tolerance(c.control_points()))
+                    .name()
+                    .to_owned(),
+            ],
             domain: vec![c.domain()],
             geometry: e.geometry.clone(),
             source: e.source.clone(),
@@ -404,10 +408,13 @@ fn entity_info(e: &Entity) -> EntityInfo {
                 degree: vec![s.degree_u(), s.degree_v()],
                 poles: vec![net.nu(), net.nv()],
                 rational: s.is_rational(),
-                layout: vec![
-                    layout_name(s.degree_u(), net.nu(), s.knots_u()),
-                    layout_name(s.degree_v(), net.nv(), s.knots_v()),
-                ],
+                layout: {
+                    let tol = layout_tolerance(net.as_slice());
+                    vec![
+                        s.layout_u(tol).name().to_owned(),
+                        s.layout_v(tol).name().to_owned(),
+                    ]
+                },
                 domain: vec![du, dv],
                 geometry: e.geometry.clone(),
                 source: e.source.clone(),
@@ -416,11 +423,11 @@ fn entity_info(e: &Entity) -> EntityInfo {
     }
 }
 
-/// Knot layout name (interim: clamped / unclamped until the classifier lands).
-fn layout_name(degree: usize, poles: usize, knots: &[f64]) -> String {
-    let start = knots[..=degree].iter().all(|&k| k == knots[degree]);
-    let end = knots[poles..].iter().all(|&k| k == knots[poles]);
-    if start && end { "clamped" } else { "unclamped" }.to_owned()
+/// Geometric tolerance for recognising wrapped (periodic) poles: 1e-10 of the control
+/// polygon's size, far below any modelling tolerance and far above the rounding of poles
+/// written with 12+ significant digits.
+fn layout_tolerance(points: &[Point3]) -> f64 {
+    1e-10 * box_size(points).max(f64::MIN_POSITIVE)
 }
 
 /// Validates input: parse and geometry diagnostics; a file that cannot be read at all is
@@ -544,15 +551,110 @@ pub fn apply(
 }
 
 fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometry, PipelineError> {
-    let _ = (g, settings);
-    let _: Option<(&NurbsCurve, &NurbsSurface)> = None;
-    Err(PipelineError::usage(
-        "operation.pending",
-        format!("{op:?} is being integrated"),
-    ))
+    use crate::nurbs::clamp::End;
+    let check_degree = |d: usize| -> Result<(), PipelineError> {
+        if d > settings.max_degree {
+            return Err(PipelineError::new(
+                ErrorKind::Limit,
+                "limit.degree",
+                format!(
+                    "the result would have degree {d}, above the limit of {}",
+                    settings.max_degree
+                ),
+                Location::default(),
+            ));
+        }
+        Ok(())
+    };
+    let (u, v) = match op {
+        Operation::Elevate { direction, .. }
+        | Operation::Clamp { direction }
+        | Operation::Unclamp { direction }
+        | Operation::InsertKnot { direction, .. } => (
+            matches!(direction, Direction::U | Direction::Both),
+            matches!(direction, Direction::V | Direction::Both),
+        ),
+    };
+    Ok(match (g, op) {
+        (_, Operation::Elevate { by, .. }) if by == 0 || by > settings.max_elevate_by => {
+            return Err(PipelineError::new(
+                if by == 0 {
+                    ErrorKind::Usage
+                } else {
+                    ErrorKind::Limit
+                },
+                if by == 0 {
+                    "elevate.zero"
+                } else {
+                    "limit.elevate_by"
+                },
+                format!("elevation by {by}: must be 1..={}", settings.max_elevate_by),
+                Location::default(),
+            ));
+        }
+        (Geometry::Curve(c), Operation::Elevate { by, .. }) => {
+            check_degree(c.degree() + by)?;
+            Geometry::Curve(c.elevate(by)?)
+        }
+        (Geometry::Surface(s), Operation::Elevate { by, .. }) => {
+            let mut s = s.clone();
+            if u {
+                check_degree(s.degree_u() + by)?;
+                s = s.elevate_u(by)?;
+            }
+            if v {
+                check_degree(s.degree_v() + by)?;
+                s = s.elevate_v(by)?;
+            }
+            Geometry::Surface(s)
+        }
+        (Geometry::Curve(c), Operation::Clamp { .. }) => Geometry::Curve(c.clamp()?),
+        (Geometry::Curve(c), Operation::Unclamp { .. }) => Geometry::Curve(c.unclamp()?),
+        (Geometry::Surface(s), Operation::Clamp { .. } | Operation::Unclamp { .. }) => {
+            let un = matches!(op, Operation::Unclamp { .. });
+            let mut s = s.clone();
+            if u {
+                s = if un {
+                    s.unclamp_u(End::Both)?
+                } else {
+                    s.clamp_u(End::Both)?
+                };
+            }
+            if v {
+                s = if un {
+                    s.unclamp_v(End::Both)?
+                } else {
+                    s.clamp_v(End::Both)?
+                };
+            }
+            Geometry::Surface(s)
+        }
+        (Geometry::Curve(c), Operation::InsertKnot { u: t, times, .. }) => {
+            Geometry::Curve(c.insert_knot(t, times)?)
+        }
+        (
+            Geometry::Surface(s),
+            Operation::InsertKnot {
+                u: t,
+                times,
+                direction,
+            },
+        ) => match direction {
+            Direction::U => Geometry::Surface(s.insert_knot_u(t, times)?),
+            Direction::V => Geometry::Surface(s.insert_knot_v(t, times)?),
+            Direction::Both => {
+                return Err(PipelineError::usage(
+                    "insert_knot.direction",
+                    "knot insertion into a surface needs a direction (u or v)",
+                ));
+            }
+        },
+    })
 }
 
-/// Tessellates one entity (or all with `entity = None`) under a chord tolerance.
+/// Tessellates one entity (or all with `entity = None`) under a chord tolerance: curves by
+/// the osculating-circle rule, surfaces to crack-free triangle meshes. OBJ holds both (one
+/// `o` group per entity); SVG holds curves projected on XY.
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
@@ -560,9 +662,105 @@ pub fn tessellate(
     format: MeshFormat,
     settings: &Settings,
 ) -> Result<String, PipelineError> {
-    let _ = (doc, entity, tolerance, format, settings);
-    Err(PipelineError::usage(
-        "tessellate.pending",
-        "tessellation is being integrated",
-    ))
+    use crate::nurbs::tessellate::{Polyline, polylines_to_svg};
+    use std::fmt::Write as _;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(PipelineError::usage(
+            "tessellate.tolerance",
+            format!("tolerance must be a positive number, got {tolerance}"),
+        ));
+    }
+    let selected: Vec<&Entity> = match entity {
+        Some(id) => vec![select(doc, Some(id))?],
+        None => doc.entities.iter().collect(),
+    };
+    if selected.is_empty() {
+        select(doc, None)?;
+    }
+    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
+        PipelineError::new(
+            ErrorKind::Geometry,
+            "tessellate.failed",
+            err.to_string(),
+            Location::at_entity(e.id.clone()),
+        )
+    };
+    let mut vertices = 0usize;
+    let mut budget = |n: usize| -> Result<(), PipelineError> {
+        vertices = vertices.saturating_add(n);
+        if vertices > settings.max_mesh_vertices {
+            return Err(PipelineError::new(
+                ErrorKind::Limit,
+                "limit.mesh_vertices",
+                format!(
+                    "the tessellation exceeds {} vertices; use a larger tolerance",
+                    settings.max_mesh_vertices
+                ),
+                Location::default(),
+            ));
+        }
+        Ok(())
+    };
+    match format {
+        MeshFormat::Svg => {
+            let mut lines: Vec<Polyline> = Vec::new();
+            for e in &selected {
+                match &e.geometry {
+                    Geometry::Curve(c) => {
+                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
+                        budget(line.points.len())?;
+                        lines.push(line);
+                    }
+                    Geometry::Surface(_) => {
+                        return Err(PipelineError::usage(
+                            "tessellate.svg_surface",
+                            format!(
+                                "{} is a surface; SVG output holds curves only (use .obj)",
+                                e.id
+                            ),
+                        ));
+                    }
+                }
+            }
+            Ok(polylines_to_svg(&lines, 800.0))
+        }
+        MeshFormat::Obj => {
+            let mut out = String::from("# nurbsx tessellation\n");
+            let mut base = 1usize; // OBJ vertex indices are 1-based and global
+            for e in &selected {
+                let _ = writeln!(out, "o {}", e.id);
+                match &e.geometry {
+                    Geometry::Curve(c) => {
+                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
+                        budget(line.points.len())?;
+                        for p in &line.points {
+                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+                        }
+                        out.push('l');
+                        for k in 0..line.points.len() {
+                            let _ = write!(out, " {}", base + k);
+                        }
+                        out.push('\n');
+                        base += line.points.len();
+                    }
+                    Geometry::Surface(s) => {
+                        let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
+                        budget(mesh.vertices.len())?;
+                        for p in &mesh.vertices {
+                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+                        }
+                        for n in &mesh.normals {
+                            let _ = writeln!(out, "vn {} {} {}", n[0], n[1], n[2]);
+                        }
+                        for t in &mesh.triangles {
+                            let (a, b, c) = (base + t[0], base + t[1], base + t[2]);
+                            let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+                        }
+                        base += mesh.vertices.len();
+                    }
+                }
+            }
+            Ok(out)
+        }
+    }
 }

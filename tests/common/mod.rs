@@ -137,7 +137,8 @@ pub fn bbox_diagonal(points: &[Point3]) -> f64 {
 /// spaced values, so spans and knot boundaries are all exercised.
 pub fn params(a: f64, b: f64, knots: &[f64], samples: usize) -> Vec<f64> {
     let mut t: Vec<f64> = (0..samples)
-        .map(|i| a + (b - a) * i as f64 / (samples - 1) as f64)
+        // The last sample must be exactly `b`: `a + (b - a) * 1.0` can round above it.
+        .map(|i| (a + (b - a) * i as f64 / (samples - 1) as f64).min(b))
         .collect();
     t.extend(knots.iter().copied().filter(|&k| k >= a && k <= b));
     t
