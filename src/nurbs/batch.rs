@@ -1,1 +1,671 @@
-//! (being written)
+//! Fast batch evaluation: many points (and first derivatives) of one curve or surface per
+//! call, for the HTTP/CLI batch APIs, tessellation and sampling.
+//!
+//! What makes it fast, compared with calling [`NurbsCurve::point_at`] in a loop:
+//! - the poles are packed once per call (or once per [`CurveEvaluator`] /
+//!   [`SurfaceEvaluator`]) as `[x, y, z, w]`, contiguous in memory;
+//! - scratch arrays are sized for the degree tier (`p < 4`, `p < 8`, else
+//!   [`MAX_DEGREE`]), chosen once per call, and the kernels are monomorphised per tier;
+//! - sorted parameters reuse the previous knot span (incremental span search instead of
+//!   A2.1's binary search);
+//! - grids ([`NurbsSurface::evaluate_grid`]) compute every u-basis and v-basis once, and the
+//!   v-contraction `T_i(v) = sum_l N_l(v) w_ij P_ij` once per (row, v): a grid point then
+//!   costs `p + 1` four-component multiply-adds.
+//!
+//! **Exactness:** every point equals the single-point [`NurbsCurve::point_at`] /
+//! [`NurbsSurface::point_at`] bit for bit: the kernels perform the same floating-point
+//! operations in the same order (A2.2 basis functions, `f = N w`, `t += f P`, division by the
+//! weight last). The tests check it.
+//!
+//! **Errors:** a parameter outside the domain stops the call with
+//! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
+
+use super::basis::{basis_funs_in, ders_basis_funs};
+use super::knots::find_span;
+use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
+
+/// Scratch-array tier for degree `p`: 0 for `p < 4`, 1 for `p < 8`, 2 above.
+#[inline]
+fn tier(p: usize) -> u8 {
+    if p < 4 {
+        0
+    } else if p < 8 {
+        1
+    } else {
+        2
+    }
+}
+
+/// The knot span of `u`, trying `hint` and the spans after it first (parameters sorted
+/// ascending hit the hint or its successors). Always the span A2.1
+/// ([`find_span`]) returns.
+#[inline]
+fn span_from_hint(p: usize, poles: usize, knots: &[f64], u: f64, hint: usize) -> usize {
+    // Only below the domain end: there A2.1 has its own rule (last non-empty span).
+    if hint >= p && hint < poles && u >= knots[hint] && u < knots[poles] {
+        // Bounded forward scan; a large jump falls back to the binary search. Since
+        // u < knots[poles], the scan stops at s <= poles - 1 at the latest.
+        for s in hint..(hint + 8).min(poles) {
+            if u < knots[s + 1] {
+                return s;
+            }
+        }
+    }
+    find_span(p, poles, knots, u)
+}
+
+fn check_range(t: f64, (start, end): (f64, f64)) -> Result<(), GeometryError> {
+    if t >= start && t <= end {
+        Ok(())
+    } else {
+        Err(GeometryError::OutOfDomain { t, start, end })
+    }
+}
+
+fn reserve<T>(out: &mut Vec<T>, n: usize) -> Result<(), GeometryError> {
+    out.try_reserve(n).map_err(|_| {
+        GeometryError::InvalidArgument(format!("cannot allocate {n} evaluation results"))
+    })
+}
+
+/// Packs Euclidean poles and weights as `[x, y, z, w]` (`w = 1` when polynomial).
+fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, q)| [q[0], q[1], q[2], weight(i)])
+        .collect()
+}
+
+/// A curve prepared for repeated evaluation: packed poles, reusable across calls.
+#[derive(Debug, Clone)]
+pub struct CurveEvaluator<'a> {
+    curve: &'a NurbsCurve,
+    poles: Vec<[f64; 4]>,
+}
+
+impl<'a> CurveEvaluator<'a> {
+    /// Packs the curve's poles once.
+    pub fn new(curve: &'a NurbsCurve) -> Self {
+        let poles = pack(curve.control_points(), |i| curve.weight(i));
+        CurveEvaluator { curve, poles }
+    }
+
+    /// The curve evaluated.
+    pub fn curve(&self) -> &NurbsCurve {
+        self.curve
+    }
+
+    /// The point at `u` (A3.1 / A4.1), bit-identical to [`NurbsCurve::point_at`].
+    pub fn point(&self, u: f64) -> Result<Point3, GeometryError> {
+        check_range(u, self.curve.domain())?;
+        let p = self.curve.degree();
+        let span = find_span(p, self.poles.len(), self.curve.knots(), u);
+        Ok(match tier(p) {
+            0 => self.point_in_span::<4>(u, span),
+            1 => self.point_in_span::<8>(u, span),
+            _ => self.point_in_span::<{ MAX_DEGREE + 1 }>(u, span),
+        })
+    }
+
+    /// The point and first derivative `[C(u), C'(u)]` at `u`; `C(u)` is bit-identical to
+    /// [`NurbsCurve::point_at`], `C'` follows A3.2 + A4.2 with `d = 1`.
+    pub fn point_and_derivative(&self, u: f64) -> Result<[Point3; 2], GeometryError> {
+        check_range(u, self.curve.domain())?;
+        let p = self.curve.degree();
+        let span = find_span(p, self.poles.len(), self.curve.knots(), u);
+        Ok(self.point_and_derivative_in_span(u, span))
+    }
+
+    /// The points at `us` (any order), appended to `out` after clearing it.
+    pub fn points(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        match tier(self.curve.degree()) {
+            0 => self.points_impl::<4, false>(us, out),
+            1 => self.points_impl::<8, false>(us, out),
+            _ => self.points_impl::<{ MAX_DEGREE + 1 }, false>(us, out),
+        }
+    }
+
+    /// The points at `us`, fastest when `us` is sorted ascending (the knot span of the
+    /// previous parameter is tried first); correct for any order.
+    pub fn points_sorted(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        match tier(self.curve.degree()) {
+            0 => self.points_impl::<4, true>(us, out),
+            1 => self.points_impl::<8, true>(us, out),
+            _ => self.points_impl::<{ MAX_DEGREE + 1 }, true>(us, out),
+        }
+    }
+
+    /// `[C(u), C'(u)]` for every `u` in `us` (any order; sorted is faster), appended to `out`
+    /// after clearing it.
+    pub fn points_and_derivatives(
+        &self,
+        us: &[f64],
+        out: &mut Vec<[Point3; 2]>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        reserve(out, us.len())?;
+        let (p, knots, n) = (self.curve.degree(), self.curve.knots(), self.poles.len());
+        let dom = self.curve.domain();
+        let mut span = p;
+        for &u in us {
+            check_range(u, dom)?;
+            span = span_from_hint(p, n, knots, u, span);
+            out.push(self.point_and_derivative_in_span(u, span));
+        }
+        Ok(())
+    }
+
+    fn points_impl<const N: usize, const SORTED: bool>(
+        &self,
+        us: &[f64],
+        out: &mut Vec<Point3>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        reserve(out, us.len())?;
+        let (p, knots, n) = (self.curve.degree(), self.curve.knots(), self.poles.len());
+        let dom = self.curve.domain();
+        let mut span = p;
+        for &u in us {
+            check_range(u, dom)?;
+            span = if SORTED {
+                span_from_hint(p, n, knots, u, span)
+            } else {
+                find_span(p, n, knots, u)
+            };
+            out.push(self.point_in_span::<N>(u, span));
+        }
+        Ok(())
+    }
+
+    /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.
+    #[inline(always)]
+    fn point_in_span<const N: usize>(&self, u: f64, span: usize) -> Point3 {
+        let p = self.curve.degree();
+        let mut nb = [0.0; N];
+        basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
+        let poles = &self.poles[span - p..=span];
+        if self.curve.is_rational() {
+            let mut c = [0.0; 4];
+            for (nj, q) in nb.iter().zip(poles) {
+                let f = nj * q[3];
+                c[0] += f * q[0];
+                c[1] += f * q[1];
+                c[2] += f * q[2];
+                c[3] += f;
+            }
+            [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+        } else {
+            let mut c = [0.0; 3];
+            for (nj, q) in nb.iter().zip(poles) {
+                c[0] += nj * q[0];
+                c[1] += nj * q[1];
+                c[2] += nj * q[2];
+            }
+            c
+        }
+    }
+
+    #[inline]
+    fn point_and_derivative_in_span(&self, u: f64, span: usize) -> [Point3; 2] {
+        let p = self.curve.degree();
+        let mut table = [0.0; 2 * (MAX_DEGREE + 1)];
+        ders_basis_funs(span, u, p, 1, self.curve.knots(), &mut table);
+        let poles = &self.poles[span - p..=span];
+        let (n0, n1) = table.split_at(p + 1);
+        let mut c = [0.0; 4];
+        let mut d = [0.0; 4];
+        if self.curve.is_rational() {
+            for ((a, b), q) in n0.iter().zip(n1).zip(poles) {
+                let f = a * q[3];
+                c[0] += f * q[0];
+                c[1] += f * q[1];
+                c[2] += f * q[2];
+                c[3] += f;
+                let g = b * q[3];
+                d[0] += g * q[0];
+                d[1] += g * q[1];
+                d[2] += g * q[2];
+                d[3] += g;
+            }
+            let pt = [c[0] / c[3], c[1] / c[3], c[2] / c[3]];
+            // A4.2 with k = 1: C' = (A' - w' C) / w.
+            let der = [
+                (d[0] - d[3] * pt[0]) / c[3],
+                (d[1] - d[3] * pt[1]) / c[3],
+                (d[2] - d[3] * pt[2]) / c[3],
+            ];
+            [pt, der]
+        } else {
+            for ((a, b), q) in n0.iter().zip(n1).zip(poles) {
+                c[0] += a * q[0];
+                c[1] += a * q[1];
+                c[2] += a * q[2];
+                d[0] += b * q[0];
+                d[1] += b * q[1];
+                d[2] += b * q[2];
+            }
+            [[c[0], c[1], c[2]], [d[0], d[1], d[2]]]
+        }
+    }
+}
+
+impl NurbsCurve {
+    /// The points at `us` in any order (A3.1 / A4.1), written to `out` (cleared first);
+    /// bit-identical to [`point_at`](Self::point_at) for each.
+    pub fn points_at(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        CurveEvaluator::new(self).points(us, out)
+    }
+
+    /// [`points_at`](Self::points_at) for parameters sorted ascending (a sampling grid):
+    /// the knot span is found incrementally. Correct, only slower, for unsorted input.
+    pub fn points_at_sorted(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        CurveEvaluator::new(self).points_sorted(us, out)
+    }
+
+    /// `[C(u), C'(u)]` for each `u` in `us`, written to `out` (cleared first).
+    pub fn points_and_derivatives_at(
+        &self,
+        us: &[f64],
+        out: &mut Vec<[Point3; 2]>,
+    ) -> Result<(), GeometryError> {
+        CurveEvaluator::new(self).points_and_derivatives(us, out)
+    }
+}
+
+/// A surface prepared for repeated evaluation: the control net packed u-major as
+/// `[x, y, z, w]`, reusable across calls.
+#[derive(Debug, Clone)]
+pub struct SurfaceEvaluator<'a> {
+    surface: &'a NurbsSurface,
+    poles: Vec<[f64; 4]>,
+    nu: usize,
+    nv: usize,
+}
+
+/// The scratch for one grid evaluation: spans and basis values per parameter.
+struct Bases {
+    spans: Vec<usize>,
+    /// `(d + 1) * (p + 1)` values per parameter (A2.3 table).
+    vals: Vec<f64>,
+    stride: usize,
+}
+
+impl Bases {
+    /// Spans (incremental search) and basis functions (`d = 0`) or basis functions and
+    /// first derivatives (`d = 1`) of every parameter, checking each against the domain.
+    fn new(
+        ts: &[f64],
+        p: usize,
+        poles: usize,
+        knots: &[f64],
+        d: usize,
+    ) -> Result<Self, GeometryError> {
+        let dom = (knots[p], knots[poles]);
+        let stride = (d + 1) * (p + 1);
+        let mut spans = Vec::new();
+        reserve(&mut spans, ts.len())?;
+        let mut vals = Vec::new();
+        let total = ts.len().checked_mul(stride).ok_or_else(|| {
+            GeometryError::InvalidArgument("too many grid parameters".to_string())
+        })?;
+        reserve(&mut vals, total)?;
+        vals.resize(total, 0.0);
+        let mut span = p;
+        for (k, &t) in ts.iter().enumerate() {
+            check_range(t, dom)?;
+            span = span_from_hint(p, poles, knots, t, span);
+            spans.push(span);
+            let row = &mut vals[k * stride..(k + 1) * stride];
+            if d == 0 {
+                basis_funs_in::<{ MAX_DEGREE + 1 }>(span, t, p, knots, row);
+            } else {
+                ders_basis_funs(span, t, p, d, knots, row);
+            }
+        }
+        Ok(Bases {
+            spans,
+            vals,
+            stride,
+        })
+    }
+
+    /// The range of pole rows `first..=last` any parameter touches.
+    fn rows(&self, p: usize) -> (usize, usize) {
+        let lo = self.spans.iter().min().map_or(p, |&s| s - p);
+        let hi = self.spans.iter().max().copied().unwrap_or(p);
+        (lo, hi)
+    }
+}
+
+/// Number of `[f64; 4]` entries of v-contracted rows kept at once in grid evaluation
+/// (2 MiB): bounds memory whatever the grid and net sizes.
+const GRID_BLOCK: usize = 1 << 16;
+
+impl<'a> SurfaceEvaluator<'a> {
+    /// Packs the surface's control net once.
+    pub fn new(surface: &'a NurbsSurface) -> Self {
+        let net = surface.control_points();
+        let (nu, nv) = (net.nu(), net.nv());
+        let poles = match surface.weights() {
+            Some(w) => pack(net.as_slice(), |k| w.as_slice()[k]),
+            None => pack(net.as_slice(), |_| 1.0),
+        };
+        SurfaceEvaluator {
+            surface,
+            poles,
+            nu,
+            nv,
+        }
+    }
+
+    /// The surface evaluated.
+    pub fn surface(&self) -> &NurbsSurface {
+        self.surface
+    }
+
+    /// The point at `(u, v)` (A3.5 / A4.3), bit-identical to [`NurbsSurface::point_at`].
+    pub fn point(&self, u: f64, v: f64) -> Result<Point3, GeometryError> {
+        self.surface.check_parameter(u, v)?;
+        let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
+        Ok(match tier(p.max(q)) {
+            0 => self.point_kernel::<4>(u, v),
+            1 => self.point_kernel::<8>(u, v),
+            _ => self.point_kernel::<{ MAX_DEGREE + 1 }>(u, v),
+        })
+    }
+
+    /// `[S, S_u, S_v]` at `(u, v)`: `S` bit-identical to [`NurbsSurface::point_at`], the
+    /// partials by A3.6 + A4.4 with `d = 1`.
+    pub fn point_and_partials(&self, u: f64, v: f64) -> Result<[Point3; 3], GeometryError> {
+        self.surface.check_parameter(u, v)?;
+        Ok(self.partials_kernel(u, v))
+    }
+
+    /// The points at `uvs` (any order), written to `out` (cleared first).
+    pub fn points(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
+        match tier(p.max(q)) {
+            0 => self.points_impl::<4>(uvs, out),
+            1 => self.points_impl::<8>(uvs, out),
+            _ => self.points_impl::<{ MAX_DEGREE + 1 }>(uvs, out),
+        }
+    }
+
+    /// `[S, S_u, S_v]` at `uvs` (any order), written to `out` (cleared first).
+    pub fn points_and_partials(
+        &self,
+        uvs: &[[f64; 2]],
+        out: &mut Vec<[Point3; 3]>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        reserve(out, uvs.len())?;
+        for &[u, v] in uvs {
+            self.surface.check_parameter(u, v)?;
+            out.push(self.partials_kernel(u, v));
+        }
+        Ok(())
+    }
+
+    fn points_impl<const N: usize>(
+        &self,
+        uvs: &[[f64; 2]],
+        out: &mut Vec<Point3>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        reserve(out, uvs.len())?;
+        for &[u, v] in uvs {
+            self.surface.check_parameter(u, v)?;
+            out.push(self.point_kernel::<N>(u, v));
+        }
+        Ok(())
+    }
+
+    /// Same operations, in the same order, as `NurbsSurface::point_at_unchecked`.
+    #[inline(always)]
+    fn point_kernel<const N: usize>(&self, u: f64, v: f64) -> Point3 {
+        let s = self.surface;
+        let (p, q) = (s.degree_u(), s.degree_v());
+        let su = find_span(p, self.nu, s.knots_u(), u);
+        let sv = find_span(q, self.nv, s.knots_v(), v);
+        let mut bu = [0.0; N];
+        let mut bv = [0.0; N];
+        basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
+        basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);
+        let mut acc = [0.0; 4];
+        for (k, nk) in bu[..=p].iter().enumerate() {
+            let start = (su - p + k) * self.nv + sv - q;
+            let row = &self.poles[start..=start + q];
+            let mut t = [0.0; 4];
+            for (nl, pw) in bv.iter().zip(row) {
+                let f = nl * pw[3];
+                t[0] += f * pw[0];
+                t[1] += f * pw[1];
+                t[2] += f * pw[2];
+                t[3] += f;
+            }
+            for c in 0..4 {
+                acc[c] += nk * t[c];
+            }
+        }
+        [acc[0] / acc[3], acc[1] / acc[3], acc[2] / acc[3]]
+    }
+
+    #[inline]
+    fn partials_kernel(&self, u: f64, v: f64) -> [Point3; 3] {
+        let s = self.surface;
+        let (p, q) = (s.degree_u(), s.degree_v());
+        let su = find_span(p, self.nu, s.knots_u(), u);
+        let sv = find_span(q, self.nv, s.knots_v(), v);
+        let mut bu = [0.0; 2 * (MAX_DEGREE + 1)];
+        let mut bv = [0.0; 2 * (MAX_DEGREE + 1)];
+        ders_basis_funs(su, u, p, 1, s.knots_u(), &mut bu);
+        ders_basis_funs(sv, v, q, 1, s.knots_v(), &mut bv);
+        let (bu0, bu1) = bu.split_at(p + 1);
+        let (bv0, bv1) = bv.split_at(q + 1);
+        let mut acc = [[0.0; 4]; 3];
+        for k in 0..=p {
+            let start = (su - p + k) * self.nv + sv - q;
+            let row = &self.poles[start..=start + q];
+            let mut t0 = [0.0; 4];
+            let mut t1 = [0.0; 4];
+            for ((a, b), pw) in bv0.iter().zip(bv1).zip(row) {
+                let f = a * pw[3];
+                t0[0] += f * pw[0];
+                t0[1] += f * pw[1];
+                t0[2] += f * pw[2];
+                t0[3] += f;
+                let g = b * pw[3];
+                t1[0] += g * pw[0];
+                t1[1] += g * pw[1];
+                t1[2] += g * pw[2];
+                t1[3] += g;
+            }
+            let (nk, dk) = (bu0[k], bu1[k]);
+            for c in 0..4 {
+                acc[0][c] += nk * t0[c];
+                acc[1][c] += dk * t0[c];
+                acc[2][c] += nk * t1[c];
+            }
+        }
+        project_partials(&acc)
+    }
+
+    /// The points on the grid `us x vs`: `grid.get(i, j) = S(us[i], vs[j])`, bit-identical
+    /// to [`NurbsSurface::point_at`]. Each u-basis and v-basis is computed once, and each
+    /// v-contracted pole row once per `v`; parameters in ascending order are fastest (span
+    /// search), any order is correct.
+    pub fn grid(&self, us: &[f64], vs: &[f64]) -> Result<Grid<Point3>, GeometryError> {
+        self.grid_impl::<0, Point3>(us, vs, |acc| {
+            let a = acc[0];
+            [a[0] / a[3], a[1] / a[3], a[2] / a[3]]
+        })
+    }
+
+    /// `[S, S_u, S_v]` on the grid `us x vs` (see [`grid`](Self::grid)).
+    pub fn grid_with_partials(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+    ) -> Result<Grid<[Point3; 3]>, GeometryError> {
+        self.grid_impl::<1, [Point3; 3]>(us, vs, project_partials)
+    }
+
+    /// Grid evaluation with first derivatives when `D = 1`. `acc[0]` is the homogeneous
+    /// point, `acc[1]`, `acc[2]` its u and v partials (zero when `D = 0`).
+    fn grid_impl<const D: usize, T: Copy + Default>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        finish: impl Fn(&[[f64; 4]; 3]) -> T,
+    ) -> Result<Grid<T>, GeometryError> {
+        let s = self.surface;
+        let (p, q) = (s.degree_u(), s.degree_v());
+        let bu = Bases::new(us, p, self.nu, s.knots_u(), D)?;
+        let bv = Bases::new(vs, q, self.nv, s.knots_v(), D)?;
+        let total = us
+            .len()
+            .checked_mul(vs.len())
+            .ok_or_else(|| GeometryError::InvalidArgument("grid size overflows".to_string()))?;
+        let mut data: Vec<T> = Vec::new();
+        reserve(&mut data, total)?;
+        data.resize(total, T::default());
+        if total == 0 {
+            return Grid::from_u_major(us.len(), vs.len(), data)
+                .ok_or_else(|| GeometryError::InvalidArgument("grid shape".to_string()));
+        }
+        let (row0, row1) = bu.rows(p);
+        let rows = row1 - row0 + 1;
+        // v-contracted rows for a block of v values: tv[(jl * rows + r) * (D + 1) + e] is
+        // sum_l N^(e)_l(v) w P over pole row row0 + r (e = 0: value, 1: v-derivative).
+        let block = (GRID_BLOCK / (rows * (D + 1))).clamp(1, vs.len());
+        let mut tv: Vec<[f64; 4]> = Vec::new();
+        reserve(&mut tv, block * rows * (D + 1))?;
+        tv.resize(block * rows * (D + 1), [0.0; 4]);
+        let nvs = vs.len();
+        for j0 in (0..nvs).step_by(block) {
+            let j1 = (j0 + block).min(nvs);
+            for j in j0..j1 {
+                let sv = bv.spans[j];
+                let vals = &bv.vals[j * bv.stride..(j + 1) * bv.stride];
+                let (n0, n1) = vals.split_at(q + 1);
+                for r in 0..rows {
+                    let start = (row0 + r) * self.nv + sv - q;
+                    let prow = &self.poles[start..=start + q];
+                    let base = ((j - j0) * rows + r) * (D + 1);
+                    let mut t = [0.0; 4];
+                    for (nl, pw) in n0.iter().zip(prow) {
+                        let f = nl * pw[3];
+                        t[0] += f * pw[0];
+                        t[1] += f * pw[1];
+                        t[2] += f * pw[2];
+                        t[3] += f;
+                    }
+                    tv[base] = t;
+                    if D == 1 {
+                        let mut t1 = [0.0; 4];
+                        for (nl, pw) in n1.iter().zip(prow) {
+                            let f = nl * pw[3];
+                            t1[0] += f * pw[0];
+                            t1[1] += f * pw[1];
+                            t1[2] += f * pw[2];
+                            t1[3] += f;
+                        }
+                        tv[base + 1] = t1;
+                    }
+                }
+            }
+            for (i, &su) in bu.spans.iter().enumerate() {
+                let vals = &bu.vals[i * bu.stride..(i + 1) * bu.stride];
+                let (n0, n1) = vals.split_at(p + 1);
+                let first = su - p - row0;
+                let out_row = &mut data[i * nvs + j0..i * nvs + j1];
+                for (jl, cell) in out_row.iter_mut().enumerate() {
+                    let base = (jl * rows + first) * (D + 1);
+                    let mut acc = [[0.0; 4]; 3];
+                    for k in 0..=p {
+                        let t = tv[base + k * (D + 1)];
+                        let nk = n0[k];
+                        for c in 0..4 {
+                            acc[0][c] += nk * t[c];
+                        }
+                        if D == 1 {
+                            let dk = n1[k];
+                            let t1 = tv[base + k * (D + 1) + 1];
+                            for c in 0..4 {
+                                acc[1][c] += dk * t[c];
+                                acc[2][c] += nk * t1[c];
+                            }
+                        }
+                    }
+                    *cell = finish(&acc);
+                }
+            }
+        }
+        Grid::from_u_major(us.len(), nvs, data)
+            .ok_or_else(|| GeometryError::InvalidArgument("grid shape".to_string()))
+    }
+}
+
+/// `[S, S_u, S_v]` from homogeneous `[A, A_u, A_v]` (A4.4 with `d = 1`:
+/// `S_u = (A_u - w_u S) / w`).
+#[inline]
+fn project_partials(acc: &[[f64; 4]; 3]) -> [Point3; 3] {
+    let [a, au, av] = *acc;
+    let w = a[3];
+    let pt = [a[0] / w, a[1] / w, a[2] / w];
+    let d = |h: [f64; 4]| {
+        [
+            (h[0] - h[3] * pt[0]) / w,
+            (h[1] - h[3] * pt[1]) / w,
+            (h[2] - h[3] * pt[2]) / w,
+        ]
+    };
+    [pt, d(au), d(av)]
+}
+
+impl NurbsSurface {
+    /// The points at `uvs` (any order), written to `out` (cleared first); bit-identical to
+    /// [`point_at`](Self::point_at). Reuse a [`SurfaceEvaluator`] across calls to pack the
+    /// net only once.
+    pub fn points_at(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
+        SurfaceEvaluator::new(self).points(uvs, out)
+    }
+
+    /// `[S, S_u, S_v]` at `(u, v)` (A3.6 + A4.4 with `d = 1`); `S` is bit-identical to
+    /// [`point_at`](Self::point_at). Reads the net directly (no packing); for many points use
+    /// [`points_and_partials_at`](Self::points_and_partials_at) or a [`SurfaceEvaluator`].
+    pub fn point_and_partials(&self, u: f64, v: f64) -> Result<[Point3; 3], GeometryError> {
+        self.check_parameter(u, v)?;
+        let aders = self.homogeneous_derivatives(u, v, 1);
+        let acc = [aders[0][0], aders[1][0], aders[0][1]];
+        let mut r = project_partials(&acc);
+        // The point itself through the point_at arithmetic, so it matches bit for bit.
+        r[0] = self.point_at_unchecked(u, v);
+        Ok(r)
+    }
+
+    /// `[S, S_u, S_v]` at `uvs` (any order), written to `out` (cleared first).
+    pub fn points_and_partials_at(
+        &self,
+        uvs: &[[f64; 2]],
+        out: &mut Vec<[Point3; 3]>,
+    ) -> Result<(), GeometryError> {
+        SurfaceEvaluator::new(self).points_and_partials(uvs, out)
+    }
+
+    /// The points on the grid `us x vs` (`get(i, j) = S(us[i], vs[j])`), bit-identical to
+    /// [`point_at`](Self::point_at); see [`SurfaceEvaluator::grid`].
+    pub fn evaluate_grid(&self, us: &[f64], vs: &[f64]) -> Result<Grid<Point3>, GeometryError> {
+        SurfaceEvaluator::new(self).grid(us, vs)
+    }
+
+    /// `[S, S_u, S_v]` on the grid `us x vs`; see [`SurfaceEvaluator::grid_with_partials`].
+    pub fn evaluate_grid_with_partials(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+    ) -> Result<Grid<[Point3; 3]>, GeometryError> {
+        SurfaceEvaluator::new(self).grid_with_partials(us, vs)
+    }
+}
