@@ -118,13 +118,14 @@ impl NurbsCurve {
         for (k, row) in out.iter_mut().enumerate().take(du + 1) {
             for j in 0..=p {
                 let i = span - p + j;
-                let w = self.weight(i);
-                let f = table[k * (p + 1) + j];
+                // (N w) P, the order point_at uses, so that derivative 0 equals the point
+                // bit for bit.
+                let g = table[k * (p + 1) + j] * self.weight(i);
                 let q = pts[i];
-                row[0] += f * (q[0] * w);
-                row[1] += f * (q[1] * w);
-                row[2] += f * (q[2] * w);
-                row[3] += f * w;
+                row[0] += g * q[0];
+                row[1] += g * q[1];
+                row[2] += g * q[2];
+                row[3] += g;
             }
         }
         out
@@ -133,10 +134,12 @@ impl NurbsCurve {
 
 /// A4.4 RatSurfaceDerivs: Euclidean `skl[k][l]` (`k + l <= d`) from homogeneous
 /// `aders[k][l] = (A^(k,l), w^(k,l))`. Terms with `w^(i,j)` above the degrees vanish.
+/// `point` is `S(u, v)` itself (`skl[0][0]`), computed by the caller.
 pub(crate) fn rat_surface_derivs(
     aders: &[Vec<Hpoint>],
     degrees: (usize, usize),
     rational: bool,
+    point: Point3,
     skl: &mut [Vec<Point3>],
 ) {
     if !rational {
@@ -145,6 +148,7 @@ pub(crate) fn rat_surface_derivs(
                 *s = [a[0], a[1], a[2]];
             }
         }
+        skl[0][0] = point;
         return;
     }
     let d = aders.len() - 1;
@@ -166,6 +170,10 @@ pub(crate) fn rat_surface_derivs(
     }
     for k in 0..=d {
         for l in 0..=d - k {
+            if k + l == 0 {
+                skl[0][0] = point;
+                continue;
+            }
             let a = aders[k][l];
             let mut v = [a[0], a[1], a[2]];
             for j in 1..=l.min(degrees.1) {
@@ -211,12 +219,17 @@ impl NurbsSurface {
         self.check_parameter(u, v)?;
         check_order(order)?;
         let aders = self.homogeneous_derivatives(u, v, order);
+        // The point through point_at's exact arithmetic (v contracted first, division by the
+        // weight sum even when polynomial), so [0][0] equals point_at bit for bit and the
+        // higher derivatives are projected around that same point.
+        let point = self.point_at_unchecked(u, v);
         let mut skl: Vec<Vec<Point3>> =
             (0..=order).map(|k| vec![[0.0; 3]; order - k + 1]).collect();
         rat_surface_derivs(
             &aders,
             (self.degree_u(), self.degree_v()),
             self.is_rational(),
+            point,
             &mut skl,
         );
         check_finite(skl.iter().flatten().copied(), "surface derivatives")?;
