@@ -46,6 +46,69 @@ pub(crate) fn basis_funs_in<const N: usize>(
     }
 }
 
+/// The `p + 1` non-zero basis functions (A2.2, bit-identical to [`basis_funs`]) and their
+/// first derivatives, written to `out[..=p]` and `der[..=p]`.
+///
+/// The derivatives come from the last level of A2.2 at no extra division: with
+/// `T_r = N_{i,p-1} / (u_{i+p} - u_i)` (`i = span - p + 1 + r`), the quotient A2.2 already
+/// forms, `N'_{span-p+r,p} = p (T_{r-1} - T_r)` (NURBS Book eq. 2.7, `T_{-1} = T_p = 0`).
+#[inline]
+pub fn basis_funs_ders1(
+    span: usize,
+    u: f64,
+    p: usize,
+    knots: &[f64],
+    out: &mut [f64],
+    der: &mut [f64],
+) {
+    if p < 4 {
+        basis_funs_ders1_in::<4>(span, u, p, knots, out, der);
+    } else if p < 8 {
+        basis_funs_ders1_in::<8>(span, u, p, knots, out, der);
+    } else {
+        basis_funs_ders1_in::<{ MAX_DEGREE + 1 }>(span, u, p, knots, out, der);
+    }
+}
+
+/// [`basis_funs_ders1`] with scratch arrays of `N > p` entries.
+#[inline(always)]
+pub(crate) fn basis_funs_ders1_in<const N: usize>(
+    span: usize,
+    u: f64,
+    p: usize,
+    knots: &[f64],
+    out: &mut [f64],
+    der: &mut [f64],
+) {
+    let mut left = [0.0; N];
+    let mut right = [0.0; N];
+    out[0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        if j == p {
+            let pf = p as f64;
+            let mut prev = 0.0;
+            for r in 0..j {
+                let temp = out[r] / (right[r + 1] + left[j - r]);
+                out[r] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+                der[r] = pf * (prev - temp);
+                prev = temp;
+            }
+            der[p] = pf * prev;
+        } else {
+            for r in 0..j {
+                let temp = out[r] / (right[r + 1] + left[j - r]);
+                out[r] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+        }
+        out[j] = saved;
+    }
+}
+
 /// The non-zero basis functions and their derivatives up to order `n` (NURBS Book A2.3
 /// DersBasisFuns).
 ///
@@ -228,6 +291,13 @@ mod tests {
                 ders_basis_funs(span, u, p, n, k, &mut ders);
                 let mut b = [0.0; 8];
                 basis_funs(span, u, p, k, &mut b);
+                let (mut b1, mut d1) = ([0.0; 8], [0.0; 8]);
+                basis_funs_ders1(span, u, p, k, &mut b1, &mut d1);
+                for j in 0..=p {
+                    assert_eq!(b1[j].to_bits(), b[j].to_bits());
+                    let want = ders[p + 1 + j];
+                    assert!((d1[j] - want).abs() <= 1e-12 * (1.0 + want.abs()));
+                }
                 for j in 0..=p {
                     assert_eq!(ders[j].to_bits(), b[j].to_bits());
                     for ord in 0..=n {

@@ -4,8 +4,11 @@
 //! What makes it fast, compared with calling [`NurbsCurve::point_at`] in a loop:
 //! - the poles are packed once per call (or once per [`CurveEvaluator`] /
 //!   [`SurfaceEvaluator`]) as `[x, y, z, w]`, contiguous in memory;
-//! - scratch arrays are sized for the degree tier (`p < 4`, `p < 8`, else
-//!   [`MAX_DEGREE`]), chosen once per call, and the kernels are monomorphised per tier;
+//! - the kernels are monomorphised per degree: degrees 1-3 (equal in u and v for surfaces)
+//!   with the degree as a constant, so every loop unrolls; others with scratch arrays of
+//!   the tier's size (`p < 8`, else [`MAX_DEGREE`]) chosen once per call;
+//! - first derivatives of the basis come from the last level of A2.2 at no extra division
+//!   ([`basis_funs_ders1`](super::basis::basis_funs_ders1));
 //! - sorted parameters reuse the previous knot span (incremental span search instead of
 //!   A2.1's binary search);
 //! - grids ([`NurbsSurface::evaluate_grid`]) compute every u-basis and v-basis once, and the
@@ -20,21 +23,9 @@
 //! **Errors:** a parameter outside the domain stops the call with
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
-use super::basis::{basis_funs_in, ders_basis_funs};
+use super::basis::{basis_funs_ders1_in, basis_funs_in};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
-
-/// Scratch-array tier for degree `p`: 0 for `p < 4`, 1 for `p < 8`, 2 above.
-#[inline]
-fn tier(p: usize) -> u8 {
-    if p < 4 {
-        0
-    } else if p < 8 {
-        1
-    } else {
-        2
-    }
-}
 
 /// The knot span of `u`, trying `hint` and the spans after it first (parameters sorted
 /// ascending hit the hint or its successors). Always the span A2.1
@@ -77,6 +68,40 @@ fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
         .collect()
 }
 
+/// Calls `$e` with the const scratch size `N` and the degree as a literal for degrees 1-3
+/// (so the kernels are fully unrolled), else with the tier's size and the runtime degree.
+macro_rules! by_degree {
+    ($p:expr, |$n:ident, $deg:ident| $e:expr) => {
+        match $p {
+            1 => {
+                const $n: usize = 2;
+                let $deg = 1;
+                $e
+            }
+            2 => {
+                const $n: usize = 3;
+                let $deg = 2;
+                $e
+            }
+            3 => {
+                const $n: usize = 4;
+                let $deg = 3;
+                $e
+            }
+            d if d < 8 => {
+                const $n: usize = 8;
+                let $deg = d;
+                $e
+            }
+            d => {
+                const $n: usize = MAX_DEGREE + 1;
+                let $deg = d;
+                $e
+            }
+        }
+    };
+}
+
 /// A curve prepared for repeated evaluation: packed poles, reusable across calls.
 #[derive(Debug, Clone)]
 pub struct CurveEvaluator<'a> {
@@ -99,41 +124,31 @@ impl<'a> CurveEvaluator<'a> {
     /// The point at `u` (A3.1 / A4.1), bit-identical to [`NurbsCurve::point_at`].
     pub fn point(&self, u: f64) -> Result<Point3, GeometryError> {
         check_range(u, self.curve.domain())?;
-        let p = self.curve.degree();
-        let span = find_span(p, self.poles.len(), self.curve.knots(), u);
-        Ok(match tier(p) {
-            0 => self.point_in_span::<4>(u, span),
-            1 => self.point_in_span::<8>(u, span),
-            _ => self.point_in_span::<{ MAX_DEGREE + 1 }>(u, span),
-        })
+        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        Ok(by_degree!(self.curve.degree(), |N, p| self
+            .point_in_span::<N>(p, u, span)))
     }
 
     /// The point and first derivative `[C(u), C'(u)]` at `u`; `C(u)` is bit-identical to
     /// [`NurbsCurve::point_at`], `C'` follows A3.2 + A4.2 with `d = 1`.
     pub fn point_and_derivative(&self, u: f64) -> Result<[Point3; 2], GeometryError> {
         check_range(u, self.curve.domain())?;
-        let p = self.curve.degree();
-        let span = find_span(p, self.poles.len(), self.curve.knots(), u);
-        Ok(self.point_and_derivative_in_span(u, span))
+        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        Ok(by_degree!(self.curve.degree(), |N, p| self
+            .point_and_derivative_in_span::<N>(p, u, span)))
     }
 
     /// The points at `us` (any order), appended to `out` after clearing it.
     pub fn points(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
-        match tier(self.curve.degree()) {
-            0 => self.points_impl::<4, false>(us, out),
-            1 => self.points_impl::<8, false>(us, out),
-            _ => self.points_impl::<{ MAX_DEGREE + 1 }, false>(us, out),
-        }
+        by_degree!(self.curve.degree(), |N, p| self
+            .points_impl::<N, false, false, _>(p, us, out, |o, x| o.push(x[0])))
     }
 
     /// The points at `us`, fastest when `us` is sorted ascending (the knot span of the
     /// previous parameter is tried first); correct for any order.
     pub fn points_sorted(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
-        match tier(self.curve.degree()) {
-            0 => self.points_impl::<4, true>(us, out),
-            1 => self.points_impl::<8, true>(us, out),
-            _ => self.points_impl::<{ MAX_DEGREE + 1 }, true>(us, out),
-        }
+        by_degree!(self.curve.degree(), |N, p| self
+            .points_impl::<N, true, false, _>(p, us, out, |o, x| o.push(x[0])))
     }
 
     /// `[C(u), C'(u)]` for every `u` in `us` (any order; sorted is faster), appended to `out`
@@ -143,27 +158,23 @@ impl<'a> CurveEvaluator<'a> {
         us: &[f64],
         out: &mut Vec<[Point3; 2]>,
     ) -> Result<(), GeometryError> {
-        out.clear();
-        reserve(out, us.len())?;
-        let (p, knots, n) = (self.curve.degree(), self.curve.knots(), self.poles.len());
-        let dom = self.curve.domain();
-        let mut span = p;
-        for &u in us {
-            check_range(u, dom)?;
-            span = span_from_hint(p, n, knots, u, span);
-            out.push(self.point_and_derivative_in_span(u, span));
-        }
-        Ok(())
+        by_degree!(self.curve.degree(), |N, p| self
+            .points_impl::<N, true, true, _>(p, us, out, |o, x| o.push(x)))
     }
 
-    fn points_impl<const N: usize, const SORTED: bool>(
+    /// The batch loop. `D1`: compute the first derivative too; `SORTED`: incremental span
+    /// search. `p` is a literal at the call sites for low degrees, so everything unrolls.
+    #[inline(always)]
+    fn points_impl<const N: usize, const SORTED: bool, const D1: bool, T>(
         &self,
+        p: usize,
         us: &[f64],
-        out: &mut Vec<Point3>,
+        out: &mut Vec<T>,
+        push: impl Fn(&mut Vec<T>, [Point3; 2]),
     ) -> Result<(), GeometryError> {
         out.clear();
         reserve(out, us.len())?;
-        let (p, knots, n) = (self.curve.degree(), self.curve.knots(), self.poles.len());
+        let (knots, n) = (self.curve.knots(), self.poles.len());
         let dom = self.curve.domain();
         let mut span = p;
         for &u in us {
@@ -173,15 +184,18 @@ impl<'a> CurveEvaluator<'a> {
             } else {
                 find_span(p, n, knots, u)
             };
-            out.push(self.point_in_span::<N>(u, span));
+            if D1 {
+                push(out, self.point_and_derivative_in_span::<N>(p, u, span));
+            } else {
+                push(out, [self.point_in_span::<N>(p, u, span), [0.0; 3]]);
+            }
         }
         Ok(())
     }
 
     /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.
     #[inline(always)]
-    fn point_in_span<const N: usize>(&self, u: f64, span: usize) -> Point3 {
-        let p = self.curve.degree();
+    fn point_in_span<const N: usize>(&self, p: usize, u: f64, span: usize) -> Point3 {
         let mut nb = [0.0; N];
         basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
         let poles = &self.poles[span - p..=span];
@@ -206,17 +220,21 @@ impl<'a> CurveEvaluator<'a> {
         }
     }
 
-    #[inline]
-    fn point_and_derivative_in_span(&self, u: f64, span: usize) -> [Point3; 2] {
-        let p = self.curve.degree();
-        let mut table = [0.0; 2 * (MAX_DEGREE + 1)];
-        ders_basis_funs(span, u, p, 1, self.curve.knots(), &mut table);
+    #[inline(always)]
+    fn point_and_derivative_in_span<const N: usize>(
+        &self,
+        p: usize,
+        u: f64,
+        span: usize,
+    ) -> [Point3; 2] {
+        let mut n0 = [0.0; N];
+        let mut n1 = [0.0; N];
+        basis_funs_ders1_in::<N>(span, u, p, self.curve.knots(), &mut n0, &mut n1);
         let poles = &self.poles[span - p..=span];
-        let (n0, n1) = table.split_at(p + 1);
         let mut c = [0.0; 4];
         let mut d = [0.0; 4];
         if self.curve.is_rational() {
-            for ((a, b), q) in n0.iter().zip(n1).zip(poles) {
+            for ((a, b), q) in n0.iter().zip(&n1).zip(poles) {
                 let f = a * q[3];
                 c[0] += f * q[0];
                 c[1] += f * q[1];
@@ -237,7 +255,7 @@ impl<'a> CurveEvaluator<'a> {
             ];
             [pt, der]
         } else {
-            for ((a, b), q) in n0.iter().zip(n1).zip(poles) {
+            for ((a, b), q) in n0.iter().zip(&n1).zip(poles) {
                 c[0] += a * q[0];
                 c[1] += a * q[1];
                 c[2] += a * q[2];
@@ -293,7 +311,8 @@ struct Bases {
 
 impl Bases {
     /// Spans (incremental search) and basis functions (`d = 0`) or basis functions and
-    /// first derivatives (`d = 1`) of every parameter, checking each against the domain.
+    /// first derivatives (`d = 1`, layout of A2.3) of every parameter, checking each against
+    /// the domain.
     fn new(
         ts: &[f64],
         p: usize,
@@ -320,7 +339,8 @@ impl Bases {
             if d == 0 {
                 basis_funs_in::<{ MAX_DEGREE + 1 }>(span, t, p, knots, row);
             } else {
-                ders_basis_funs(span, t, p, d, knots, row);
+                let (n0, n1) = row.split_at_mut(p + 1);
+                basis_funs_ders1_in::<{ MAX_DEGREE + 1 }>(span, t, p, knots, n0, n1);
             }
         }
         Ok(Bases {
@@ -368,10 +388,10 @@ impl<'a> SurfaceEvaluator<'a> {
     pub fn point(&self, u: f64, v: f64) -> Result<Point3, GeometryError> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
-        Ok(match tier(p.max(q)) {
-            0 => self.point_kernel::<4>(u, v),
-            1 => self.point_kernel::<8>(u, v),
-            _ => self.point_kernel::<{ MAX_DEGREE + 1 }>(u, v),
+        Ok(if p == q {
+            by_degree!(p, |N, d| self.kernel::<N, false>(d, d, u, v)[0])
+        } else {
+            by_degree!(p.max(q), |N, _d| self.kernel::<N, false>(p, q, u, v)[0])
         })
     }
 
@@ -379,16 +399,33 @@ impl<'a> SurfaceEvaluator<'a> {
     /// partials by A3.6 + A4.4 with `d = 1`.
     pub fn point_and_partials(&self, u: f64, v: f64) -> Result<[Point3; 3], GeometryError> {
         self.surface.check_parameter(u, v)?;
-        Ok(self.partials_kernel(u, v))
+        let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
+        Ok(if p == q {
+            by_degree!(p, |N, d| self.kernel::<N, true>(d, d, u, v))
+        } else {
+            by_degree!(p.max(q), |N, _d| self.kernel::<N, true>(p, q, u, v))
+        })
     }
 
     /// The points at `uvs` (any order), written to `out` (cleared first).
     pub fn points(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
-        match tier(p.max(q)) {
-            0 => self.points_impl::<4>(uvs, out),
-            1 => self.points_impl::<8>(uvs, out),
-            _ => self.points_impl::<{ MAX_DEGREE + 1 }>(uvs, out),
+        if p == q {
+            by_degree!(p, |N, d| self.points_impl::<N, false, _>(
+                d,
+                d,
+                uvs,
+                out,
+                |x| x[0]
+            ))
+        } else {
+            by_degree!(p.max(q), |N, _d| self.points_impl::<N, false, _>(
+                p,
+                q,
+                uvs,
+                out,
+                |x| x[0]
+            ))
         }
     }
 
@@ -398,97 +435,108 @@ impl<'a> SurfaceEvaluator<'a> {
         uvs: &[[f64; 2]],
         out: &mut Vec<[Point3; 3]>,
     ) -> Result<(), GeometryError> {
-        out.clear();
-        reserve(out, uvs.len())?;
-        for &[u, v] in uvs {
-            self.surface.check_parameter(u, v)?;
-            out.push(self.partials_kernel(u, v));
+        let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
+        if p == q {
+            by_degree!(p, |N, d| self.points_impl::<N, true, _>(
+                d,
+                d,
+                uvs,
+                out,
+                |x| x
+            ))
+        } else {
+            by_degree!(p.max(q), |N, _d| self.points_impl::<N, true, _>(
+                p,
+                q,
+                uvs,
+                out,
+                |x| x
+            ))
         }
-        Ok(())
     }
 
-    fn points_impl<const N: usize>(
+    #[inline(always)]
+    fn points_impl<const N: usize, const D1: bool, T>(
         &self,
+        p: usize,
+        q: usize,
         uvs: &[[f64; 2]],
-        out: &mut Vec<Point3>,
+        out: &mut Vec<T>,
+        finish: impl Fn([Point3; 3]) -> T,
     ) -> Result<(), GeometryError> {
         out.clear();
         reserve(out, uvs.len())?;
+        let ((u0, u1), (v0, v1)) = self.surface.domain();
         for &[u, v] in uvs {
-            self.surface.check_parameter(u, v)?;
-            out.push(self.point_kernel::<N>(u, v));
+            check_range(u, (u0, u1))?;
+            check_range(v, (v0, v1))?;
+            out.push(finish(self.kernel::<N, D1>(p, q, u, v)));
         }
         Ok(())
     }
 
-    /// Same operations, in the same order, as `NurbsSurface::point_at_unchecked`.
+    /// The point (same operations, in the same order, as
+    /// `NurbsSurface::point_at_unchecked`) and, when `D1`, the first partials.
     #[inline(always)]
-    fn point_kernel<const N: usize>(&self, u: f64, v: f64) -> Point3 {
+    fn kernel<const N: usize, const D1: bool>(
+        &self,
+        p: usize,
+        q: usize,
+        u: f64,
+        v: f64,
+    ) -> [Point3; 3] {
         let s = self.surface;
-        let (p, q) = (s.degree_u(), s.degree_v());
         let su = find_span(p, self.nu, s.knots_u(), u);
         let sv = find_span(q, self.nv, s.knots_v(), v);
         let mut bu = [0.0; N];
         let mut bv = [0.0; N];
-        basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
-        basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);
-        let mut acc = [0.0; 4];
-        for (k, nk) in bu[..=p].iter().enumerate() {
-            let start = (su - p + k) * self.nv + sv - q;
-            let row = &self.poles[start..=start + q];
-            let mut t = [0.0; 4];
-            for (nl, pw) in bv.iter().zip(row) {
-                let f = nl * pw[3];
-                t[0] += f * pw[0];
-                t[1] += f * pw[1];
-                t[2] += f * pw[2];
-                t[3] += f;
-            }
-            for c in 0..4 {
-                acc[c] += nk * t[c];
-            }
+        let mut du = [0.0; N];
+        let mut dv = [0.0; N];
+        if D1 {
+            basis_funs_ders1_in::<N>(su, u, p, s.knots_u(), &mut bu, &mut du);
+            basis_funs_ders1_in::<N>(sv, v, q, s.knots_v(), &mut bv, &mut dv);
+        } else {
+            basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
+            basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);
         }
-        [acc[0] / acc[3], acc[1] / acc[3], acc[2] / acc[3]]
-    }
-
-    #[inline]
-    fn partials_kernel(&self, u: f64, v: f64) -> [Point3; 3] {
-        let s = self.surface;
-        let (p, q) = (s.degree_u(), s.degree_v());
-        let su = find_span(p, self.nu, s.knots_u(), u);
-        let sv = find_span(q, self.nv, s.knots_v(), v);
-        let mut bu = [0.0; 2 * (MAX_DEGREE + 1)];
-        let mut bv = [0.0; 2 * (MAX_DEGREE + 1)];
-        ders_basis_funs(su, u, p, 1, s.knots_u(), &mut bu);
-        ders_basis_funs(sv, v, q, 1, s.knots_v(), &mut bv);
-        let (bu0, bu1) = bu.split_at(p + 1);
-        let (bv0, bv1) = bv.split_at(q + 1);
         let mut acc = [[0.0; 4]; 3];
         for k in 0..=p {
             let start = (su - p + k) * self.nv + sv - q;
             let row = &self.poles[start..=start + q];
-            let mut t0 = [0.0; 4];
+            let mut t = [0.0; 4];
             let mut t1 = [0.0; 4];
-            for ((a, b), pw) in bv0.iter().zip(bv1).zip(row) {
-                let f = a * pw[3];
-                t0[0] += f * pw[0];
-                t0[1] += f * pw[1];
-                t0[2] += f * pw[2];
-                t0[3] += f;
-                let g = b * pw[3];
-                t1[0] += g * pw[0];
-                t1[1] += g * pw[1];
-                t1[2] += g * pw[2];
-                t1[3] += g;
+            for (l, pw) in row.iter().enumerate() {
+                let f = bv[l] * pw[3];
+                t[0] += f * pw[0];
+                t[1] += f * pw[1];
+                t[2] += f * pw[2];
+                t[3] += f;
+                if D1 {
+                    let g = dv[l] * pw[3];
+                    t1[0] += g * pw[0];
+                    t1[1] += g * pw[1];
+                    t1[2] += g * pw[2];
+                    t1[3] += g;
+                }
             }
-            let (nk, dk) = (bu0[k], bu1[k]);
+            let nk = bu[k];
             for c in 0..4 {
-                acc[0][c] += nk * t0[c];
-                acc[1][c] += dk * t0[c];
-                acc[2][c] += nk * t1[c];
+                acc[0][c] += nk * t[c];
+            }
+            if D1 {
+                let dk = du[k];
+                for c in 0..4 {
+                    acc[1][c] += dk * t[c];
+                    acc[2][c] += nk * t1[c];
+                }
             }
         }
-        project_partials(&acc)
+        if D1 {
+            project_partials(&acc)
+        } else {
+            let a = acc[0];
+            [[a[0] / a[3], a[1] / a[3], a[2] / a[3]], [0.0; 3], [0.0; 3]]
+        }
     }
 
     /// The points on the grid `us x vs`: `grid.get(i, j) = S(us[i], vs[j])`, bit-identical
