@@ -162,6 +162,111 @@ impl<'a> CurveEvaluator<'a> {
             .points_impl::<N, true, true, _>(p, us, out, |o, x| o.push(x)))
     }
 
+    /// The points at sorted parameters by the per-span **Bezier form**: when the knot span
+    /// changes, its Bezier poles are computed once (blossoms `b(a^(p-i), b^i)` by de Boor's
+    /// algorithm on the homogeneous poles, NURBS Book 5.2 / seed 000 blossoming), then each
+    /// point is a Bernstein combination (A1.3 AllBernstein) at `t = (u - a) / (b - a)`: no
+    /// division per point for polynomial curves, one for rational ones. The fastest path for
+    /// sampling grids.
+    ///
+    /// Not bit-identical to [`NurbsCurve::point_at`]: both round differently, and the
+    /// difference is of the order of the rounding of either: relative to the size of the
+    /// span's homogeneous poles over the weight at `u`, at most `(p + 1) 2.5e-16` in the
+    /// tests (`1e-15` for cubics; observed `<= 4.5e-16` for `p <= 3`), polynomial and
+    /// rational. Unsorted input is correct, only slower.
+    pub fn points_sorted_bezier(
+        &self,
+        us: &[f64],
+        out: &mut Vec<Point3>,
+    ) -> Result<(), GeometryError> {
+        by_degree!(self.curve.degree(), |N, p| self
+            .bezier_impl::<N>(p, us, out))
+    }
+
+    #[inline(always)]
+    fn bezier_impl<const N: usize>(
+        &self,
+        p: usize,
+        us: &[f64],
+        out: &mut Vec<Point3>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        reserve(out, us.len())?;
+        let (knots, n) = (self.curve.knots(), self.poles.len());
+        let dom = self.curve.domain();
+        let rational = self.curve.is_rational();
+        let mut span = usize::MAX;
+        let mut q = [[0.0; 4]; N];
+        let (mut a, mut inv) = (0.0, 0.0);
+        for &u in us {
+            check_range(u, dom)?;
+            let s = span_from_hint(p, n, knots, u, if span == usize::MAX { p } else { span });
+            if s != span {
+                span = s;
+                a = knots[s];
+                inv = 1.0 / (knots[s + 1] - a);
+                self.bezier_poles(p, s, &mut q);
+            }
+            let t = (u - a) * inv;
+            let t1 = 1.0 - t;
+            // A1.3 AllBernstein.
+            let mut b = [0.0; N];
+            b[0] = 1.0;
+            for j in 1..=p {
+                let mut saved = 0.0;
+                for k in 0..j {
+                    let temp = b[k];
+                    b[k] = saved + t1 * temp;
+                    saved = t * temp;
+                }
+                b[j] = saved;
+            }
+            let mut c = [0.0; 4];
+            for (bk, qk) in b.iter().zip(&q[..=p]) {
+                for i in 0..4 {
+                    c[i] += bk * qk[i];
+                }
+            }
+            out.push(if rational {
+                [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+            } else {
+                [c[0], c[1], c[2]]
+            });
+        }
+        Ok(())
+    }
+
+    /// Homogeneous Bezier poles of knot span `s`: `Q_i = blossom(a^(p-i), b^i)`, each by
+    /// de Boor's algorithm with the argument `a` on the first `p - i` levels and `b` on the
+    /// rest (the blossom is symmetric); every step is a convex combination, so the poles are
+    /// accurate to a few ulps of the span's homogeneous poles.
+    #[inline(always)]
+    fn bezier_poles<const N: usize>(&self, p: usize, s: usize, q: &mut [[f64; 4]; N]) {
+        let knots = self.curve.knots();
+        let (a, b) = (knots[s], knots[s + 1]);
+        let rational = self.curve.is_rational();
+        for (i, qi) in q.iter_mut().enumerate().take(p + 1) {
+            let mut d = [[0.0; 4]; N];
+            for (j, dj) in d.iter_mut().enumerate().take(p + 1) {
+                let pw = self.poles[s - p + j];
+                let w = if rational { pw[3] } else { 1.0 };
+                *dj = [pw[0] * w, pw[1] * w, pw[2] * w, w];
+            }
+            for r in 1..=p {
+                let t = if r <= p - i { a } else { b };
+                for j in (r..=p).rev() {
+                    let k = s - p + j;
+                    let alpha = (t - knots[k]) / (knots[k + p + 1 - r] - knots[k]);
+                    let prev = d[j - 1];
+                    for c in 0..4 {
+                        d[j][c] = (1.0 - alpha) * prev[c] + alpha * d[j][c];
+                    }
+                }
+            }
+            *qi = d[p];
+        }
+    }
+
     /// The batch loop. `D1`: compute the first derivative too; `SORTED`: incremental span
     /// search. `p` is a literal at the call sites for low degrees, so everything unrolls.
     #[inline(always)]
@@ -279,6 +384,17 @@ impl NurbsCurve {
     /// the knot span is found incrementally. Correct, only slower, for unsorted input.
     pub fn points_at_sorted(&self, us: &[f64], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
         CurveEvaluator::new(self).points_sorted(us, out)
+    }
+
+    /// [`points_at_sorted`](Self::points_at_sorted) through the per-span Bezier form: the
+    /// fastest path for sampling, equal to `point_at` up to rounding (not bit for bit); see
+    /// [`CurveEvaluator::points_sorted_bezier`].
+    pub fn points_at_sorted_bezier(
+        &self,
+        us: &[f64],
+        out: &mut Vec<Point3>,
+    ) -> Result<(), GeometryError> {
+        CurveEvaluator::new(self).points_sorted_bezier(us, out)
     }
 
     /// `[C(u), C'(u)]` for each `u` in `us`, written to `out` (cleared first).
