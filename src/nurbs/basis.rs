@@ -80,6 +80,12 @@ pub(crate) fn basis_funs_ders1_in<const N: usize>(
     out: &mut [f64],
     der: &mut [f64],
 ) {
+    if N == 4 && p == 3 {
+        let (b, d) = cubic::<true>(span, u, knots);
+        out[..4].copy_from_slice(&b);
+        der[..4].copy_from_slice(&d);
+        return;
+    }
     let mut left = [0.0; N];
     let mut right = [0.0; N];
     out[0] = 1.0;
@@ -107,6 +113,45 @@ pub(crate) fn basis_funs_ders1_in<const N: usize>(
         }
         out[j] = saved;
     }
+}
+
+/// A2.2 for `p = 3` written out, register-only (the loops and scratch arrays of the general
+/// version cost store-forwarding stalls in the hot kernels). The operations are those of the
+/// loop, in the same order (including the `0.0 +` of `saved`, which keeps the sign of zero),
+/// so the values are bit-identical. With `D1`, the first derivatives as in
+/// [`basis_funs_ders1`].
+#[inline(always)]
+fn cubic<const D1: bool>(span: usize, u: f64, knots: &[f64]) -> ([f64; 4], [f64; 4]) {
+    let k = &knots[span - 2..span + 4];
+    let (l1, l2, l3) = (u - k[2], u - k[1], u - k[0]);
+    let (r1, r2, r3) = (k[3] - u, k[4] - u, k[5] - u);
+    // j = 1
+    let t = 1.0 / (r1 + l1);
+    let o0 = 0.0 + r1 * t;
+    let o1 = l1 * t;
+    // j = 2
+    let t = o0 / (r1 + l2);
+    let a0 = 0.0 + r1 * t;
+    let s = l2 * t;
+    let t = o1 / (r2 + l1);
+    let a1 = s + r2 * t;
+    let a2 = l1 * t;
+    // j = 3
+    let t0 = a0 / (r1 + l3);
+    let b0 = 0.0 + r1 * t0;
+    let s = l3 * t0;
+    let t1 = a1 / (r2 + l2);
+    let b1 = s + r2 * t1;
+    let s = l2 * t1;
+    let t2 = a2 / (r3 + l1);
+    let b2 = s + r3 * t2;
+    let b3 = l1 * t2;
+    let d = if D1 {
+        [3.0 * (0.0 - t0), 3.0 * (t0 - t1), 3.0 * (t1 - t2), 3.0 * t2]
+    } else {
+        [0.0; 4]
+    };
+    ([b0, b1, b2, b3], d)
 }
 
 /// The non-zero basis functions and their derivatives up to order `n` (NURBS Book A2.3

@@ -209,18 +209,7 @@ impl<'a> CurveEvaluator<'a> {
             }
             let t = (u - a) * inv;
             let t1 = 1.0 - t;
-            // A1.3 AllBernstein.
-            let mut b = [0.0; N];
-            b[0] = 1.0;
-            for j in 1..=p {
-                let mut saved = 0.0;
-                for k in 0..j {
-                    let temp = b[k];
-                    b[k] = saved + t1 * temp;
-                    saved = t * temp;
-                }
-                b[j] = saved;
-            }
+            let b = bernstein::<N>(p, t, t1);
             let mut c = [0.0; 4];
             for (bk, qk) in b.iter().zip(&q[..=p]) {
                 for i in 0..4 {
@@ -405,6 +394,32 @@ impl NurbsCurve {
     ) -> Result<(), GeometryError> {
         CurveEvaluator::new(self).points_and_derivatives(us, out)
     }
+}
+
+/// The Bernstein polynomials of degree `p` at `t` (`t1 = 1 - t`): A1.3 AllBernstein, with
+/// the cubic written out (register-only; the loop stalls on its scratch array).
+#[inline(always)]
+fn bernstein<const N: usize>(p: usize, t: f64, t1: f64) -> [f64; N] {
+    let mut b = [0.0; N];
+    if N == 4 && p == 3 {
+        let (tt, tt1) = (t * t, t1 * t1);
+        b[0] = tt1 * t1;
+        b[1] = 3.0 * t * tt1;
+        b[2] = 3.0 * tt * t1;
+        b[3] = tt * t;
+        return b;
+    }
+    b[0] = 1.0;
+    for j in 1..=p {
+        let mut saved = 0.0;
+        for bk in &mut b[..j] {
+            let temp = *bk;
+            *bk = saved + t1 * temp;
+            saved = t * temp;
+        }
+        b[j] = saved;
+    }
+    b
 }
 
 /// A surface prepared for repeated evaluation: the control net packed u-major as
