@@ -202,7 +202,8 @@ fn bench_curve<M: Measurement>(c: &mut Criterion<M>) {
         });
         g.bench_function("point/grid_bezier", |b| {
             b.iter(|| {
-                ev.points_sorted_bezier(black_box(&sorted), &mut out).unwrap();
+                ev.points_sorted_bezier(black_box(&sorted), &mut out)
+                    .unwrap();
                 black_box(out.len())
             })
         });
