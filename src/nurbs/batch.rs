@@ -190,6 +190,7 @@ impl<'a> CurveEvaluator<'a> {
         us: &[f64],
         out: &mut Vec<Point3>,
     ) -> Result<(), GeometryError> {
+        let p = if N <= 4 { N - 1 } else { p };
         out.clear();
         reserve(out, us.len())?;
         let (knots, n) = (self.curve.knots(), self.poles.len());
@@ -290,6 +291,8 @@ impl<'a> CurveEvaluator<'a> {
     /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.
     #[inline(always)]
     fn point_in_span<const N: usize>(&self, p: usize, u: f64, span: usize) -> Point3 {
+        // N <= 4 only comes from by_degree!'s exact arms: a compile-time degree.
+        let p = if N <= 4 { N - 1 } else { p };
         let mut nb = [0.0; N];
         basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
         let poles = &self.poles[span - p..=span];
@@ -321,6 +324,7 @@ impl<'a> CurveEvaluator<'a> {
         u: f64,
         span: usize,
     ) -> [Point3; 2] {
+        let p = if N <= 4 { N - 1 } else { p };
         let mut n0 = [0.0; N];
         let mut n1 = [0.0; N];
         basis_funs_ders1_in::<N>(span, u, p, self.curve.knots(), &mut n0, &mut n1);
@@ -520,9 +524,10 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, false>(d, d, u, v)[0])
+            by_degree!(p, |N, d| self.kernel::<N, false, { N <= 4 }>(d, d, u, v)[0])
         } else {
-            by_degree!(p.max(q), |N, _d| self.kernel::<N, false>(p, q, u, v)[0])
+            by_degree!(p.max(q), |N, _d| self.kernel::<N, false, false>(p, q, u, v)
+                [0])
         })
     }
 
@@ -532,9 +537,9 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, true>(d, d, u, v))
+            by_degree!(p, |N, d| self.kernel::<N, true, { N <= 4 }>(d, d, u, v))
         } else {
-            by_degree!(p.max(q), |N, _d| self.kernel::<N, true>(p, q, u, v))
+            by_degree!(p.max(q), |N, _d| self.kernel::<N, true, false>(p, q, u, v))
         })
     }
 
@@ -542,7 +547,7 @@ impl<'a> SurfaceEvaluator<'a> {
     pub fn points(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, false, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, false, { N <= 4 }, _>(
                 d,
                 d,
                 uvs,
@@ -550,7 +555,7 @@ impl<'a> SurfaceEvaluator<'a> {
                 |x| x[0]
             ))
         } else {
-            by_degree!(p.max(q), |N, _d| self.points_impl::<N, false, _>(
+            by_degree!(p.max(q), |N, _d| self.points_impl::<N, false, false, _>(
                 p,
                 q,
                 uvs,
@@ -568,7 +573,7 @@ impl<'a> SurfaceEvaluator<'a> {
     ) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, true, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, true, { N <= 4 }, _>(
                 d,
                 d,
                 uvs,
@@ -576,7 +581,7 @@ impl<'a> SurfaceEvaluator<'a> {
                 |x| x
             ))
         } else {
-            by_degree!(p.max(q), |N, _d| self.points_impl::<N, true, _>(
+            by_degree!(p.max(q), |N, _d| self.points_impl::<N, true, false, _>(
                 p,
                 q,
                 uvs,
@@ -587,7 +592,7 @@ impl<'a> SurfaceEvaluator<'a> {
     }
 
     #[inline(always)]
-    fn points_impl<const N: usize, const D1: bool, T>(
+    fn points_impl<const N: usize, const D1: bool, const EXACT: bool, T>(
         &self,
         p: usize,
         q: usize,
@@ -601,21 +606,23 @@ impl<'a> SurfaceEvaluator<'a> {
         for &[u, v] in uvs {
             check_range(u, (u0, u1))?;
             check_range(v, (v0, v1))?;
-            out.push(finish(self.kernel::<N, D1>(p, q, u, v)));
+            out.push(finish(self.kernel::<N, D1, EXACT>(p, q, u, v)));
         }
         Ok(())
     }
 
     /// The point (same operations, in the same order, as
-    /// `NurbsSurface::point_at_unchecked`) and, when `D1`, the first partials.
+    /// `NurbsSurface::point_at_unchecked`) and, when `D1`, the first partials. `EXACT`:
+    /// both degrees are `N - 1`, a compile-time constant, so every loop unrolls.
     #[inline(always)]
-    fn kernel<const N: usize, const D1: bool>(
+    fn kernel<const N: usize, const D1: bool, const EXACT: bool>(
         &self,
         p: usize,
         q: usize,
         u: f64,
         v: f64,
     ) -> [Point3; 3] {
+        let (p, q) = if EXACT { (N - 1, N - 1) } else { (p, q) };
         let s = self.surface;
         let su = find_span(p, self.nu, s.knots_u(), u);
         let sv = find_span(q, self.nv, s.knots_v(), v);
