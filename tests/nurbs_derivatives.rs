@@ -620,6 +620,14 @@ fn batch_errors_name_the_parameter_and_empty_grids_work() {
     let s = sphere([0.; 3], 1.0);
     assert!(s.evaluate_grid(&[0.5], &[2.0]).is_err());
     assert!(s.points_at(&[[0.5, f64::INFINITY]], &mut out).is_err());
+    // An error keeps the values before it.
+    let e = s.points_at(
+        &[[0.5, 0.5], [0.2, 0.3], [0.5, 0.5], [0.5, 2.0], [0.1, 0.1]],
+        &mut out,
+    );
+    assert!(e.unwrap_err().to_string().contains('2'));
+    assert_eq!(out.len(), 3);
+    assert_eq!(out[2], s.point_at(0.5, 0.5).unwrap());
     let g = s.evaluate_grid(&[], &[0.5, 0.6]).unwrap();
     assert_eq!((g.nu(), g.nv()), (0, 2));
     let g = s.evaluate_grid(&[0.5, 0.6], &[]).unwrap();
