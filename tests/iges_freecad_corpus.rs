@@ -6,6 +6,8 @@
 //! B-spline curve FreeCAD holds must match one of our curves at the same parameters
 //! (OCCT's IGES import segments to `V(0)..V(1)` but keeps the parameterisation), and each
 //! surface one of our surfaces, within 1e-6 of the model size.
+// Test helpers outside #[test] functions may unwrap and panic too.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::Path;
 
@@ -68,7 +70,12 @@ fn freecad_corpus_matches() {
                 .map(|ours| {
                     evals.iter().fold(0.0f64, |m, ev| {
                         let t = ev["t"].as_f64().unwrap();
-                        let p: Vec<f64> = ev["point"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+                        let p: Vec<f64> = ev["point"]
+                            .as_array()
+                            .unwrap()
+                            .iter()
+                            .map(|x| x.as_f64().unwrap())
+                            .collect();
                         match ours.point_at(t) {
                             Ok(q) => m.max(dist(q, &p)),
                             Err(_) => f64::INFINITY,
@@ -95,7 +102,12 @@ fn freecad_corpus_matches() {
                     evals.iter().fold(0.0f64, |m, ev| {
                         let u = ev["u"].as_f64().unwrap();
                         let v = ev["v"].as_f64().unwrap();
-                        let p: Vec<f64> = ev["point"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+                        let p: Vec<f64> = ev["point"]
+                            .as_array()
+                            .unwrap()
+                            .iter()
+                            .map(|x| x.as_f64().unwrap())
+                            .collect();
                         match ours.point_at(u, v) {
                             Ok(q) => m.max(dist(q, &p)),
                             Err(_) => f64::INFINITY,

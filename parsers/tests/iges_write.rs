@@ -1,4 +1,6 @@
 //! Writer: exact 80-column layout checked column by column, and write -> parse -> equal.
+// Test helpers outside #[test] functions may unwrap and panic too.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nurbsx_parsers::iges::{
     self, DirectoryEntry, Global, Status,
