@@ -165,10 +165,9 @@ impl Tokenizer {
                     content + n,
                 )
             } else {
-                let mut k = i;
-                while k < b.len() && b[k] != self.param && b[k] != self.record {
-                    k += 1;
-                }
+                // SIMD search for the next delimiter (tokens are short, lines are long).
+                let k =
+                    memchr::memchr2(self.param, self.record, &b[j..]).map_or(b.len(), |e| j + e);
                 let mut e = k;
                 while e > start && b[e - 1] == b' ' {
                     e -= 1;
