@@ -601,3 +601,62 @@ fn unreadable_file_is_a_located_error() {
     let doc = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
     assert_eq!(doc.entities.len(), 1);
 }
+
+#[test]
+fn freecad_file_matches_freecad_evaluations() {
+    // See tests/data/iges/README.md for how the file was made.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iges/");
+    let text = std::fs::read_to_string(format!("{dir}freecad_arc_surface.igs")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(format!("{dir}freecad_arc_surface.json")).unwrap(),
+    )
+    .unwrap();
+    let doc = exchange::iges::read(&text, &ImportOptions::default()).unwrap();
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    assert_eq!(doc.units, LengthUnit::Mm);
+    assert_eq!(doc.entities.len(), 2);
+    // OCCT writes 9 significant digits (weights 0.707106781): agreement to ~1e-8.
+    let tol = 1e-7;
+    let c = curve(&doc, "D7");
+    assert!(c.is_rational());
+    for row in json["curve"].as_array().unwrap() {
+        let r: Vec<f64> = row
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let p = c.point_at(r[0]).unwrap();
+        for d in 0..3 {
+            assert!((p[d] - r[1 + d]).abs() < tol, "t={}: {p:?} vs {r:?}", r[0]);
+        }
+    }
+    let se = doc.entities.iter().find(|e| e.id == "D5").unwrap();
+    assert_eq!(se.meta.used_by, vec!["D3".to_owned()]);
+    assert!(
+        doc.diagnostics
+            .iter()
+            .any(|d| d.code == "trim_ignored" && d.location.entity.as_deref() == Some("D5"))
+    );
+    let Geometry::Surface(s) = &se.geometry else {
+        panic!("not a surface")
+    };
+    assert_eq!((s.control_points().nu(), s.control_points().nv()), (4, 3));
+    for row in json["surface"].as_array().unwrap() {
+        let r: Vec<f64> = row
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let p = s.point_at(r[0], r[1]).unwrap();
+        for d in 0..3 {
+            assert!(
+                (p[d] - r[2 + d]).abs() < tol,
+                "uv=({}, {}): {p:?} vs {r:?}",
+                r[0],
+                r[1]
+            );
+        }
+    }
+}
