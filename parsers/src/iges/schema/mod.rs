@@ -1,5 +1,5 @@
 //! Typed records for the entities nurbsx maps: 124, 126 and 128. All other entities stay
-//! raw ([`Parameters`](super::Parameters) gives typed access to any parameter).
+//! raw ([`Parameters`] gives typed access to any parameter).
 
 pub mod layout;
 
