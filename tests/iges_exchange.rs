@@ -660,3 +660,25 @@ fn freecad_file_matches_freecad_evaluations() {
         }
     }
 }
+
+#[test]
+fn missing_range_and_trim_option_are_reported() {
+    // LINE_126 without its trailing V(0), V(1).
+    let short = LINE_126.replace(",0.,1.;", ";");
+    let mut b = Builder::new(&global(2, "MM"));
+    b.entity(De::default(), &short);
+    let opts = ImportOptions {
+        trim_to_parameter_range: true,
+        ..ImportOptions::default()
+    };
+    let doc = exchange::iges::read(&b.build(), &opts).unwrap();
+    let d = find(&doc, "missing_param_range");
+    assert_eq!(d.location.entity.as_deref(), Some("D1"));
+    assert!(has(&doc, "trim_not_applied"));
+    let e = &doc.entities[0];
+    assert_eq!(e.meta.parameter_range, None);
+    let c = curve(&doc, "D1");
+    // Nothing shifted: the last pole is still (3, 3, 0.5) and the domain is the knots'.
+    assert_eq!(c.control_points()[3], [3., 3., 0.5]);
+    assert_eq!(c.domain(), (0.0, 1.0));
+}

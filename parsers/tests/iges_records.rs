@@ -564,3 +564,40 @@ fn terminate_counts_checked() {
     assert_eq!(file.terminate_counts.map(|c| c[3]), Some(999));
     let _ = rec;
 }
+
+#[test]
+fn missing_start_section_and_global_field_13_missing() {
+    // No S records; Global parameter 13 (model scale) empty; a malformed parameter 16.
+    let global = ",,4Htest,8Hfile.igs,,,,,,,,,,2,2HMM,x1,,,1.E-7,,,,11,0,;";
+    let mut b = Builder::new(global);
+    b.start.clear();
+    b.entity(De::default(), &sentinel_126());
+    let text = b.build();
+    let file = iges::parse(&text).unwrap();
+    assert!(file.warnings.iter().any(|w| w.code == "missing_start"));
+    let w = file
+        .warnings
+        .iter()
+        .find(|w| w.code == "global_field")
+        .unwrap();
+    assert_eq!((w.section, w.sequence), ('G', 1));
+    assert!(w.message.contains("16"), "{}", w.message);
+    assert_eq!(file.global.model_scale, None);
+    assert_eq!(file.global.units_flag, Some(2));
+    assert_eq!(file.global.line_weight_gradations, None);
+    assert_eq!(file.global.resolution, Some(1e-7));
+    // A malformed units flag is fatal: coordinates depend on it.
+    let mut b = Builder::new(",,4Htest,8Hfile.igs,,,,,,,,,1.,MM,2HMM;");
+    b.entity(De::default(), &sentinel_126());
+    let text = b.build();
+    let e = iges::parse(&text).unwrap_err();
+    assert!(
+        matches!(e.kind, ErrorKind::BadParameter { index: 14, .. }),
+        "{e}"
+    );
+    assert_eq!((e.section, e.sequence), ('G', 1));
+    assert_eq!(
+        e.column,
+        Some(text.lines().nth(1).unwrap().find(",MM,").unwrap() + 2)
+    );
+}

@@ -23,13 +23,21 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 /// `limit.poles`, `transform.invalid`, `prop3_inconsistent`, `prop3_rational_equal_weights`,
 /// `flag_mismatch`, `flag_invalid`, `missing_param_range`, `param_range_outside`,
 /// `missing_normal`, `unit_conflict`, `unit_unknown`, `unit_default`, `units_converted`,
-/// `model_scale_ignored`, `trim_ignored`, `topology_ignored`, `entities_skipped`, and the
+/// `model_scale_ignored`, `trim_not_applied`, `trim_ignored`, `topology_ignored`, `entities_skipped`, and the
 /// parser's warnings (`crlf`, `short_line`, `sequence`, `terminate_count`,
 /// `param_line_count`, `delimiter_form`, `global_field`, `missing_start`...).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     let file =
         iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
+    if options.trim_to_parameter_range {
+        // Trimming to V(0)..V(1) needs knot insertion (nurbs::split), wired by the pipeline.
+        diags.push(Diagnostic::warning(
+            "trim_not_applied",
+            "trimming to the declared parameter ranges is not done by the IGES reader; the ranges are kept in meta.parameter_range",
+            Location::default(),
+        ));
+    }
     let (file_unit, scale) = units(&file, &mut diags);
     let units = options.target_units.unwrap_or(file_unit);
     if units != file_unit {
