@@ -682,3 +682,36 @@ fn missing_range_and_trim_option_are_reported() {
     assert_eq!(c.control_points()[3], [3., 3., 0.5]);
     assert_eq!(c.domain(), (0.0, 1.0));
 }
+
+#[test]
+fn long_transform_chains_are_refused() {
+    // 70 chained identity 124s (above the default nesting limit of 64).
+    let mut b = Builder::new(&global(2, "MM"));
+    let mut prev = 0i64;
+    for _ in 0..70 {
+        prev = b.entity(
+            De {
+                ty: 124,
+                transform: prev,
+                ..De::default()
+            },
+            "124,1.,0.,0.,0.,0.,1.,0.,0.,0.,0.,1.,0.;",
+        ) as i64;
+    }
+    let c = b.entity(
+        De {
+            transform: prev,
+            ..De::default()
+        },
+        LINE_126,
+    );
+    let doc = exchange::iges::read(&b.build(), &ImportOptions::default()).unwrap();
+    let d = find(&doc, "transform.invalid");
+    assert!(
+        d.message.contains("longer than the limit of 64"),
+        "{}",
+        d.message
+    );
+    assert_eq!(d.location.entity.as_deref(), Some(format!("D{c}").as_str()));
+    assert!(doc.entities.is_empty());
+}

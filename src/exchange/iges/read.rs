@@ -323,10 +323,11 @@ fn warning_diag(w: &ParseWarning) -> Diagnostic {
 fn transforms(
     file: &IgesFile<'_>,
     entry: &DirectoryEntry,
+    options: &ImportOptions,
     meta: &mut Meta,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Vec<nurbsx_parsers::iges::schema::Transform124>> {
-    match chain::resolve(file, entry.transform) {
+    match chain::resolve(file, entry.transform, options.limits.max_nesting_depth) {
         Ok(list) => {
             meta.transforms_applied = list.iter().map(|(de, _)| format!("D{de}")).collect();
             Some(list.into_iter().map(|(_, t)| t).collect())
@@ -474,7 +475,7 @@ fn read_curve(
     let periodic = flag(rec.periodic, "PROP4 (periodic)", entry, diags);
     meta.closed_u = Some(closed);
     meta.periodic_u = Some(periodic);
-    let ts = transforms(file, entry, &mut meta, diags)?;
+    let ts = transforms(file, entry, options, &mut meta, diags)?;
     let points: Vec<Point3> = rec
         .points
         .iter()
@@ -611,7 +612,7 @@ fn read_surface(
     meta.closed_v = Some(closed[1]);
     meta.periodic_u = Some(periodic[0]);
     meta.periodic_v = Some(periodic[1]);
-    let ts = transforms(file, entry, &mut meta, diags)?;
+    let ts = transforms(file, entry, options, &mut meta, diags)?;
     let [nu, nv] = rec.poles;
     // IGES lists the first (u) index fastest; Grid is u-major: transpose explicitly.
     let points = Grid::from_fn(nu, nv, |i, j| {
