@@ -38,7 +38,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             Location::default(),
         ));
     }
-    let (file_unit, scale) = units(&file, &mut diags);
+    let file_unit = units(&file, &mut diags);
     let units = options.target_units.unwrap_or(file_unit);
     if units != file_unit {
         diags.push(Diagnostic::info(
@@ -57,7 +57,6 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     } else {
         Some(file_unit.to_mm() / units.to_mm())
     };
-    let _ = scale;
     let users = users(&file);
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
@@ -144,8 +143,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     Ok(doc)
 }
 
-/// The unit of the file (flag wins over name) and the model-space scale.
-fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> (LengthUnit, f64) {
+/// The unit of the file (flag wins over name); a model-space scale other than 1 is reported.
+fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> LengthUnit {
     let g = &file.global;
     let by_name = g.units_name.as_deref().and_then(LengthUnit::parse_name);
     let unit = match g.units_flag {
@@ -212,7 +211,7 @@ fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> (LengthUnit, f64) 
             global_location(),
         ));
     }
-    (unit, scale)
+    unit
 }
 
 /// For every entity, the entities that reference it as a trim, composite member or B-rep
