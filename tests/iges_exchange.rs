@@ -715,3 +715,21 @@ fn long_transform_chains_are_refused() {
     assert_eq!(d.location.entity.as_deref(), Some(format!("D{c}").as_str()));
     assert!(doc.entities.is_empty());
 }
+
+#[test]
+fn polynomial_flag_with_unusable_weights_reads_as_polynomial() {
+    let zero_w = "126,2,2,0,0,1,0,0.,0.,0.,1.,1.,1.,0.,0.,1.,1.,0.,0.,1.,1.,0.,0.,1.,0.,0.,1.;";
+    let mut b = Builder::new(&global(2, "MM"));
+    b.entity(De::default(), zero_w);
+    b.entity(
+        De::default(),
+        &zero_w.replace("126,2,2,0,0,1,0", "126,2,2,0,0,0,0"),
+    );
+    let doc = exchange::iges::read(&b.build(), &ImportOptions::default()).unwrap();
+    assert_eq!(curve(&doc, "D1").weights(), None);
+    assert!(has(&doc, "prop3_inconsistent"));
+    // Flagged rational with a zero weight: invalid, located, not loaded.
+    let d = find(&doc, "geometry.invalid");
+    assert_eq!(d.location.entity.as_deref(), Some("D3"));
+    assert_eq!(doc.entities.len(), 1);
+}

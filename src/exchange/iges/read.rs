@@ -418,6 +418,16 @@ fn weights_policy(
     let equal = weights.iter().all(|&w| w == first);
     match (prop3, equal) {
         (true, true) => None,
+        (true, false) if weights.iter().any(|&w| !(w.is_finite() && w > 0.0)) => {
+            // Unusable weights on an entity flagged polynomial: read it as polynomial, as
+            // Open CASCADE does (it never looks at the weights when PROP3 = 1).
+            diags.push(Diagnostic::warning(
+                "prop3_inconsistent",
+                "PROP3 = 1 (polynomial) and the weights differ, some not positive; the weights are ignored (polynomial)".to_owned(),
+                entity_location(entry),
+            ));
+            None
+        }
         (true, false) => {
             diags.push(Diagnostic::warning(
                 "prop3_inconsistent",
