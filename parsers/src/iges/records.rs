@@ -1,0 +1,293 @@
+//! The fixed 80-column records and the five sections (IGES 5.3 section 2.1; spec.md a.1).
+//!
+//! A record is a line whose column 73 holds the section letter and columns 74-80 a
+//! right-justified sequence number. Lines are split with `memchr`; CR before LF and lines
+//! shorter than 80 columns are tolerated with a warning when the section letter and
+//! sequence number can still be found at the end of the line (as Open CASCADE does).
+
+use super::error::{ErrorKind, ParseError, ParseWarning};
+use crate::Limits;
+
+/// One record: its data columns (1-72, possibly shorter for a short line) and its position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Record<'a> {
+    /// Columns 1-72 (fewer when the line was short; never longer).
+    pub data: &'a str,
+    /// The sequence number as written in columns 74-80.
+    pub sequence: usize,
+    /// 1-based line number in the file.
+    pub line: usize,
+}
+
+/// The records of a file, grouped by section, in file order.
+#[derive(Debug, Clone, Default)]
+pub struct Sections<'a> {
+    /// Start section records.
+    pub start: Vec<Record<'a>>,
+    /// Global section records.
+    pub global: Vec<Record<'a>>,
+    /// Directory Entry records (two per entity).
+    pub directory: Vec<Record<'a>>,
+    /// Parameter Data records.
+    pub parameters: Vec<Record<'a>>,
+    /// Terminate record(s).
+    pub terminate: Vec<Record<'a>>,
+}
+
+/// Splits `text` into records and sections, checking order and sequence numbers.
+pub fn split<'a>(
+    text: &'a str,
+    limits: &Limits,
+    warnings: &mut Vec<ParseWarning>,
+) -> Result<Sections<'a>, ParseError> {
+    if text.len() > limits.max_input_bytes {
+        return Err(ParseError::new(
+            ErrorKind::Limit(format!(
+                "input is {} bytes, above {}",
+                text.len(),
+                limits.max_input_bytes
+            )),
+            ' ',
+            0,
+        ));
+    }
+    let mut sections = Sections::default();
+    let mut current = 0u8; // index into ORDER of the last section seen
+    const ORDER: [char; 5] = ['S', 'G', 'D', 'P', 'T'];
+    let mut crlf_warned = false;
+    let mut short_warned = false;
+    let mut long_warned = false;
+    let bytes = text.as_bytes();
+    let mut pos = 0usize;
+    let mut line_no = 0usize;
+    while pos < bytes.len() {
+        line_no += 1;
+        let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |e| pos + e);
+        let mut line = &text[pos..end];
+        pos = end + 1;
+        if let Some(l) = line.strip_suffix('\r') {
+            line = l;
+            if !crlf_warned {
+                crlf_warned = true;
+                warnings.push(warning("crlf", "lines end with CR LF", ' ', 0, line_no));
+            }
+        }
+        if line.trim().is_empty() {
+            continue; // blank lines (a trailing newline, padding) carry nothing
+        }
+        if current == 4 && !sections.terminate.is_empty() {
+            // Anything after the Terminate record is not part of the file.
+            warnings.push(warning(
+                "after_terminate",
+                "text after the Terminate record ignored",
+                'T',
+                0,
+                line_no,
+            ));
+            break;
+        }
+        let (data, letter, seq) = match classify(line) {
+            Some((data, letter, seq, shape)) => {
+                match shape {
+                    Shape::Short if !short_warned => {
+                        short_warned = true;
+                        warnings.push(warning(
+                            "short_line",
+                            "records shorter than 80 columns (tolerated)",
+                            letter,
+                            seq,
+                            line_no,
+                        ));
+                    }
+                    Shape::Long if !long_warned => {
+                        long_warned = true;
+                        warnings.push(warning(
+                            "long_line",
+                            "records longer than 80 columns (extra columns ignored)",
+                            letter,
+                            seq,
+                            line_no,
+                        ));
+                    }
+                    _ => {}
+                }
+                (data, letter, seq)
+            }
+            None => {
+                return Err(
+                    ParseError::new(ErrorKind::BadRecord, ORDER[current as usize], 0)
+                        .at_line(line_no)
+                        .at_column(73),
+                );
+            }
+        };
+        if letter == 'C' || letter == 'B' {
+            return Err(ParseError::new(ErrorKind::Compressed, letter, seq).at_line(line_no));
+        }
+        let Some(idx) = ORDER.iter().position(|&c| c == letter) else {
+            return Err(ParseError::new(ErrorKind::BadRecord, letter, seq)
+                .at_line(line_no)
+                .at_column(73));
+        };
+        let idx = idx as u8;
+        if idx < current {
+            return Err(ParseError::new(
+                ErrorKind::SectionOrder {
+                    found: letter,
+                    after: ORDER[current as usize],
+                },
+                letter,
+                seq,
+            )
+            .at_line(line_no)
+            .at_column(73));
+        }
+        current = idx;
+        let list = match letter {
+            'S' => &mut sections.start,
+            'G' => &mut sections.global,
+            'D' => &mut sections.directory,
+            'P' => &mut sections.parameters,
+            _ => &mut sections.terminate,
+        };
+        if list.len() >= limits.max_entities.saturating_mul(4).max(1024) {
+            return Err(
+                ParseError::new(ErrorKind::Limit("too many records".into()), letter, seq)
+                    .at_line(line_no),
+            );
+        }
+        let expected = list.len() + 1;
+        if seq != expected {
+            warnings.push(warning(
+                "sequence",
+                &format!("sequence number {seq} where {expected} was expected"),
+                letter,
+                seq,
+                line_no,
+            ));
+        }
+        list.push(Record {
+            data,
+            sequence: seq,
+            line: line_no,
+        });
+    }
+    if sections.start.is_empty() {
+        warnings.push(warning(
+            "missing_start",
+            "the file has no Start (S) section",
+            'S',
+            0,
+            1,
+        ));
+    }
+    for (letter, list) in [
+        ('G', &sections.global),
+        ('D', &sections.directory),
+        ('P', &sections.parameters),
+    ] {
+        if list.is_empty() {
+            return Err(
+                ParseError::new(ErrorKind::MissingSection(letter), letter, 0)
+                    .at_line(line_no.max(1)),
+            );
+        }
+    }
+    if sections.terminate.is_empty() {
+        return Err(ParseError::new(ErrorKind::MissingSection('T'), 'T', 0).at_line(line_no.max(1)));
+    }
+    Ok(sections)
+}
+
+fn warning(
+    code: &'static str,
+    message: &str,
+    section: char,
+    sequence: usize,
+    line: usize,
+) -> ParseWarning {
+    ParseWarning {
+        code,
+        message: message.to_owned(),
+        section,
+        sequence,
+        de: None,
+        line: Some(line),
+    }
+}
+
+/// How a line matched the 80-column shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    Exact,
+    Short,
+    Long,
+}
+
+/// Finds the data, section letter and sequence number of a line.
+fn classify(line: &str) -> Option<(&str, char, usize, Shape)> {
+    let b = line.as_bytes();
+    if b.len() >= 80 {
+        let letter = b[72];
+        let seq = parse_seq(&b[73..80])?;
+        if !letter.is_ascii_uppercase() {
+            return None;
+        }
+        let shape = if b.len() == 80 || b[80..].iter().all(|c| *c == b' ') {
+            Shape::Exact
+        } else {
+            Shape::Long
+        };
+        let data = line.get(..72)?;
+        return Some((data, letter as char, seq, shape));
+    }
+    // Short line: scan back over the sequence digits to the section letter.
+    let trimmed = line.trim_end();
+    let tb = trimmed.as_bytes();
+    let mut i = tb.len();
+    while i > 0 && tb[i - 1].is_ascii_digit() {
+        i -= 1;
+    }
+    let digits = &tb[i..];
+    // Zero-padded "S0000001" or a plain "S1": blanks between letter and digits allowed.
+    let mut j = i;
+    while j > 0 && tb[j - 1] == b' ' {
+        j -= 1;
+    }
+    if digits.is_empty() || digits.len() > 7 || j == 0 {
+        return None;
+    }
+    let letter = tb[j - 1];
+    if !matches!(letter, b'S' | b'G' | b'D' | b'P' | b'T' | b'C' | b'B') {
+        return None;
+    }
+    let seq = parse_seq(digits)?;
+    let data_end = (j - 1).min(72);
+    let data = trimmed.get(..data_end)?;
+    Some((data, letter as char, seq, Shape::Short))
+}
+
+/// Parses a right-justified sequence number (blanks and leading zeros allowed).
+fn parse_seq(b: &[u8]) -> Option<usize> {
+    let mut v: usize = 0;
+    let mut any = false;
+    for &c in b {
+        match c {
+            b' ' if !any => {}
+            b'0'..=b'9' => {
+                any = true;
+                v = v * 10 + usize::from(c - b'0');
+            }
+            _ => return None,
+        }
+    }
+    any.then_some(v)
+}
+
+/// The character at 1-based `column` of a record's data, for error columns.
+pub(crate) fn field(data: &str, from: usize, to: usize) -> &str {
+    let len = data.len();
+    let a = from.min(len);
+    let b = to.min(len);
+    data.get(a..b).unwrap_or("")
+}

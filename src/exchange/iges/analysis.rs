@@ -1,0 +1,270 @@
+//! What the data says about the IGES PROP flags: clamped ends, periodic layout, closure and
+//! planarity. The reader compares the flags with these, the writer computes the flags from
+//! them (pitfalls.md A2, A4, B11).
+
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+/// Relative tolerance for "equal" coordinates and knots: a few ulps of double precision
+/// at the size of the model, far below any modelling resolution.
+const REL_TOL: f64 = 1e-10;
+
+/// Relative tolerance for knot intervals and weights in the periodic test: files written by
+/// Open CASCADE carry 9-10 significant digits, so a period of 2 pi repeats only to ~1e-9.
+const KNOT_TOL: f64 = 1e-8;
+
+/// A distance tolerance scaled to the size of a point set (its largest coordinate).
+pub fn tolerance<'a>(points: impl Iterator<Item = &'a Point3>) -> f64 {
+    let m = points
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |m, &x| m.max(x.abs()));
+    REL_TOL * m.max(1.0)
+}
+
+fn dist(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Whether both ends of a knot vector repeat `degree + 1` times (the usual clamped form).
+pub fn clamped(knots: &[f64], degree: usize) -> bool {
+    let m = knots.len();
+    if m < 2 * (degree + 1) {
+        return false;
+    }
+    knots[..=degree].iter().all(|&k| k == knots[0])
+        && knots[m - degree - 1..].iter().all(|&k| k == knots[m - 1])
+}
+
+/// Whether the knots and poles are a periodic B-spline written out flat (the form Open
+/// CASCADE's `SetNotPeriodic` produces, and the uniform textbook form): with period
+/// `T = u_{n+1} - u_p` (the domain length) there is a shift `s` with `n + 1 - p <= s <= n`
+/// such that the whole knot sequence repeats, `u_{i+s} - u_i = T` for every `i`, and the
+/// `w = n + 1 - s` wrapped poles (and weights) repeat the first ones, `P_{i+s} = P_i`.
+/// A clamped knot vector never qualifies (its end knots cannot repeat shifted by `T`).
+pub fn periodic_layout(
+    knots: &[f64],
+    degree: usize,
+    poles: usize,
+    point: &dyn Fn(usize) -> Point3,
+    weight: &dyn Fn(usize) -> f64,
+    tol: f64,
+) -> bool {
+    if poles <= degree || knots.len() != poles + degree + 1 {
+        return false;
+    }
+    let period = knots[poles] - knots[degree];
+    let ktol = KNOT_TOL * period.abs().max(1.0);
+    (poles - degree..poles).any(|s| {
+        (0..knots.len() - s).all(|i| ((knots[i + s] - knots[i]) - period).abs() <= ktol)
+            && (0..poles - s).all(|i| {
+                dist(point(i), point(s + i)) <= tol
+                    && (weight(i) - weight(s + i)).abs() <= KNOT_TOL * weight(i).abs()
+            })
+    })
+}
+
+/// Whether a curve's two ends meet (evaluated at its domain ends).
+pub fn curve_closed(c: &NurbsCurve, tol: f64) -> bool {
+    let (a, b) = c.domain();
+    dist(c.point_at_unchecked(a), c.point_at_unchecked(b)) <= tol
+}
+
+/// Whether a curve has the periodic layout.
+pub fn curve_periodic(c: &NurbsCurve, tol: f64) -> bool {
+    let pts = c.control_points();
+    periodic_layout(
+        c.knots(),
+        c.degree(),
+        c.num_poles(),
+        &|i| pts[i],
+        &|i| c.weight(i),
+        tol,
+    )
+}
+
+/// Sample parameters spread over `[a, b]` (ends included).
+fn samples(a: f64, b: f64, n: usize) -> impl Iterator<Item = f64> {
+    (0..=n).map(move |k| a + (b - a) * (k as f64 / n as f64))
+}
+
+/// Whether the surface closes in u (`dir = 0`) or v (`dir = 1`): the boundary curves at
+/// both ends of that direction coincide at sample points.
+pub fn surface_closed(s: &NurbsSurface, dir: usize, tol: f64) -> bool {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let n = 4 * (s.control_points().nu() + s.control_points().nv()).min(64);
+    if dir == 0 {
+        samples(v0, v1, n)
+            .all(|v| dist(s.point_at_unchecked(u0, v), s.point_at_unchecked(u1, v)) <= tol)
+    } else {
+        samples(u0, u1, n)
+            .all(|u| dist(s.point_at_unchecked(u, v0), s.point_at_unchecked(u, v1)) <= tol)
+    }
+}
+
+/// Whether every row (dir 0: along u for each v index; dir 1: along v) has the periodic
+/// layout.
+pub fn surface_periodic(s: &NurbsSurface, dir: usize, tol: f64) -> bool {
+    let net = s.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    if dir == 0 {
+        (0..nv).all(|j| {
+            periodic_layout(
+                s.knots_u(),
+                s.degree_u(),
+                nu,
+                &|i| *net.get(i, j),
+                &|i| s.weight(i, j),
+                tol,
+            )
+        })
+    } else {
+        (0..nu).all(|i| {
+            periodic_layout(
+                s.knots_v(),
+                s.degree_v(),
+                nv,
+                &|j| *net.get(i, j),
+                &|j| s.weight(i, j),
+                tol,
+            )
+        })
+    }
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn norm(a: Point3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The unit normal of the plane holding all `points`, if they span one: `None` when they
+/// are collinear (no unique plane) or not coplanar within `tol`. The sign is chosen with
+/// `z >= 0` (then `y`, then `x`), as Open CASCADE writes it.
+pub fn plane_normal(points: &[Point3], tol: f64) -> Option<Point3> {
+    let p0 = *points.first()?;
+    let far = points
+        .iter()
+        .copied()
+        .max_by(|a, b| norm(sub(*a, p0)).total_cmp(&norm(sub(*b, p0))))?;
+    let d = sub(far, p0);
+    if norm(d) <= tol {
+        return None;
+    }
+    let best = points
+        .iter()
+        .map(|&q| cross(d, sub(q, p0)))
+        .max_by(|a, b| norm(*a).total_cmp(&norm(*b)))?;
+    let len = norm(best);
+    // Collinear (within tolerance): the plane is not determined.
+    if len <= tol * norm(d) {
+        return None;
+    }
+    let mut n = [best[0] / len, best[1] / len, best[2] / len];
+    let flip = if n[2] != 0.0 {
+        n[2] < 0.0
+    } else if n[1] != 0.0 {
+        n[1] < 0.0
+    } else {
+        n[0] < 0.0
+    };
+    if flip {
+        n = [-n[0], -n[1], -n[2]];
+    }
+    on_plane(points, n, tol).then_some(n)
+}
+
+/// Whether all points lie within `tol` of the plane through the first point with unit
+/// normal `n`.
+pub fn on_plane(points: &[Point3], n: Point3, tol: f64) -> bool {
+    let len = norm(n);
+    if len.is_nan() || len <= 0.0 {
+        return false;
+    }
+    let Some(&p0) = points.first() else {
+        return true;
+    };
+    points
+        .iter()
+        .all(|&q| (dot(sub(q, p0), n) / len).abs() <= tol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn periodic_layout_of_a_closed_quadratic() {
+        // Degree 2, 5 poles, the last 2 repeating the first 2, uniform knots.
+        let pts = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 0., 0.],
+            [1., 0., 0.],
+        ];
+        let knots: Vec<f64> = (0..8).map(f64::from).collect();
+        assert!(periodic_layout(&knots, 2, 5, &|i| pts[i], &|_| 1.0, 1e-12));
+        let mut k2 = knots.clone();
+        k2[7] = 7.5;
+        assert!(!periodic_layout(&k2, 2, 5, &|i| pts[i], &|_| 1.0, 1e-12));
+        assert!(clamped(&[0., 0., 0., 1., 1., 1.], 2));
+        // Open CASCADE's unperiodized circle (spec.md d.2): knots with multiplicity 2,
+        // 7 poles of which only the last repeats the first.
+        let t = 2.0 * std::f64::consts::PI / 3.0;
+        let k = [-t, 0., 0., t, t, 2. * t, 2. * t, 3. * t, 3. * t, 4. * t];
+        let c = [
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [-1., 1., 0.],
+            [-1., 0., 0.],
+            [0., -1., 0.],
+            [1., 0., 0.],
+        ];
+        assert!(periodic_layout(&k, 2, 7, &|i| c[i], &|_| 1.0, 1e-12));
+        let mut c2 = c;
+        c2[6] = [1., 0.1, 0.];
+        assert!(!periodic_layout(&k, 2, 7, &|i| c2[i], &|_| 1.0, 1e-12));
+        // A clamped closed curve is closed but not periodic.
+        let kc = [0., 0., 0., 1., 2., 3., 3., 3.];
+        let cc = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 0.],
+        ];
+        assert!(!periodic_layout(&kc, 2, 5, &|i| cc[i], &|_| 1.0, 1e-12));
+        assert!(!clamped(&knots, 2));
+    }
+
+    #[test]
+    fn plane_normals() {
+        let pts = [[0., 0., 1.], [1., 0., 1.], [1., 1., 1.]];
+        assert_eq!(plane_normal(&pts, 1e-12), Some([0., 0., 1.]));
+        assert_eq!(
+            plane_normal(&[[0., 0., 0.], [1., 1., 1.], [2., 2., 2.]], 1e-12),
+            None
+        );
+        assert_eq!(
+            plane_normal(
+                &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+                1e-12
+            ),
+            None
+        );
+    }
+}

@@ -1,0 +1,25 @@
+//! IGES 5.3 entities 126/128 <-> the NURBS model (spec.md b, d; pitfalls.md A4, B9, B11, D18-22).
+//!
+//! - [`read()`]: every 126 Rational B-Spline Curve and 128 Rational B-Spline Surface of a file
+//!   becomes an [`Entity`](super::Entity) with id `D<n>` (its DE pointer). Flags are kept in
+//!   [`Meta`](super::Meta) and *checked* against the data, never used to rewrite it
+//!   (PROP3 vs weights: `prop3_inconsistent`; PROP2/PROP4 vs knots and end points:
+//!   `flag_mismatch`). 124 transformation chains are applied to the Euclidean poles;
+//!   Global units (flag wins over name, `unit_conflict`) are reported and, on request,
+//!   converted. Entities used by 142/144 (trims) or 102/186/5xx (topology) are read alone and
+//!   a `trim_ignored` / `topology_ignored` diagnostic says so. One bad entity gives a
+//!   located error diagnostic; the others still load.
+//! - [`write()`]: every curve and surface of a document as 126/128 with PROP flags computed
+//!   from the data, `V(0)`, `V(1)` and the plane normal, and a Global section declaring the
+//!   unit the numbers are in.
+//!
+//! Not implemented here: [`ImportOptions::trim_to_parameter_range`](super::ImportOptions)
+//! (the range is kept in `Meta::parameter_range`; trimming is wired by the pipeline).
+
+mod analysis;
+mod chain;
+mod read;
+mod write;
+
+pub use read::read;
+pub use write::write;

@@ -1,0 +1,701 @@
+//! IGES file -> [`Document`]: entities 126 and 128 with their flags checked, 124 chains
+//! applied, units reported or converted (spec.md a.2, b.1-b.4; pitfalls.md A4, B11, D20-22).
+
+use std::collections::BTreeMap;
+
+use nurbsx_parsers::iges::schema::{Curve126, Surface128};
+use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
+
+use super::analysis;
+use super::chain::{self, ChainError};
+use crate::exchange::{
+    Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta,
+    ParameterRange, Source,
+};
+use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
+
+/// Reads every 126 and 128 entity of an IGES file.
+///
+/// Returns `Err` only when the file as a whole cannot be read (sections, Global section,
+/// directory structure); per-entity problems are error diagnostics in the document, and
+/// the other entities still load. Diagnostic codes: `iges.syntax` (file-level),
+/// `iges.entity` (an entity's record is unreadable), `geometry.invalid`, `limit.degree`,
+/// `limit.poles`, `transform.invalid`, `prop3_inconsistent`, `prop3_rational_equal_weights`,
+/// `flag_mismatch`, `flag_invalid`, `missing_param_range`, `param_range_outside`,
+/// `missing_normal`, `unit_conflict`, `unit_unknown`, `unit_default`, `units_converted`,
+/// `model_scale_ignored`, `trim_not_applied`, `trim_ignored`, `topology_ignored`, `entities_skipped`, and the
+/// parser's warnings (`crlf`, `short_line`, `sequence`, `terminate_count`,
+/// `param_line_count`, `delimiter_form`, `global_field`, `missing_start`...).
+pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
+    let file =
+        iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
+    let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
+    if options.trim_to_parameter_range {
+        // Trimming to V(0)..V(1) needs knot insertion (nurbs::split), wired by the pipeline.
+        diags.push(Diagnostic::warning(
+            "trim_not_applied",
+            "trimming to the declared parameter ranges is not done by the IGES reader; the ranges are kept in meta.parameter_range",
+            Location::default(),
+        ));
+    }
+    let file_unit = units(&file, &mut diags);
+    let units = options.target_units.unwrap_or(file_unit);
+    if units != file_unit {
+        diags.push(Diagnostic::info(
+            "units_converted",
+            format!(
+                "coordinates converted from {} (the file's unit) to {} (factor {})",
+                file_unit.short_name(),
+                units.short_name(),
+                file_unit.to_mm() / units.to_mm()
+            ),
+            global_location(),
+        ));
+    }
+    let factor = if units == file_unit {
+        None
+    } else {
+        Some(file_unit.to_mm() / units.to_mm())
+    };
+    let users = users(&file);
+    let mut doc = Document::new(Format::Iges, units);
+    doc.schema = file.global.version_name().map(str::to_owned);
+    let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();
+    for entry in &file.entries {
+        let entry = match entry {
+            Ok(e) => e,
+            Err(e) => {
+                diags.push(parse_diag("iges.entity", e));
+                continue;
+            }
+        };
+        let result = match entry.entity_type {
+            126 => read_curve(&file, entry, options, factor, &mut diags),
+            128 => read_surface(&file, entry, options, factor, &mut diags),
+            124 => continue,
+            t => {
+                *skipped.entry(t).or_default() += 1;
+                continue;
+            }
+        };
+        let Some((geometry, mut meta)) = result else {
+            continue;
+        };
+        if let Some(list) = users.get(&entry.pointer) {
+            let mut trim = Vec::new();
+            let mut topo = Vec::new();
+            for &(de, ty) in list {
+                meta.used_by.push(format!("D{de}"));
+                if matches!(ty, 141..=144) {
+                    trim.push(format!("D{de} ({ty})"));
+                } else {
+                    topo.push(format!("D{de} ({ty})"));
+                }
+            }
+            if !trim.is_empty() {
+                diags.push(Diagnostic::info(
+                    "trim_ignored",
+                    format!(
+                        "used by {}; the trim is not applied, the untrimmed {} is returned",
+                        trim.join(", "),
+                        if entry.entity_type == 126 {
+                            "curve"
+                        } else {
+                            "surface"
+                        }
+                    ),
+                    entity_location(entry),
+                ));
+            }
+            if !topo.is_empty() {
+                diags.push(Diagnostic::info(
+                    "topology_ignored",
+                    format!(
+                        "used by {}; that topology (composite curve, B-rep edge or face) is not converted",
+                        topo.join(", ")
+                    ),
+                    entity_location(entry),
+                ));
+            }
+        }
+        doc.entities.push(Entity {
+            id: format!("D{}", entry.pointer),
+            geometry,
+            source: Source {
+                entity: entry.entity_type.to_string(),
+                line: Some(entry.line),
+            },
+            meta,
+        });
+    }
+    if !skipped.is_empty() {
+        let list: Vec<String> = skipped.iter().map(|(t, n)| format!("{n} x {t}")).collect();
+        diags.push(Diagnostic::info(
+            "entities_skipped",
+            format!(
+                "entities other than 124/126/128 are not converted: {}",
+                list.join(", ")
+            ),
+            Location::default(),
+        ));
+    }
+    doc.diagnostics = diags;
+    Ok(doc)
+}
+
+/// The unit of the file (flag wins over name); a model-space scale other than 1 is reported.
+fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> LengthUnit {
+    let g = &file.global;
+    let by_name = g.units_name.as_deref().and_then(LengthUnit::parse_name);
+    let unit = match g.units_flag {
+        Some(3) | Some(0) | None => match by_name {
+            Some(u) => u,
+            None => {
+                let (code, msg) = if g.units_flag.is_none() && g.units_name.is_none() {
+                    (
+                        "unit_default",
+                        "no units flag or name: the IGES default, inch (flag 1), is assumed"
+                            .to_owned(),
+                    )
+                } else {
+                    (
+                        "unit_unknown",
+                        format!(
+                            "units flag {:?} refers to the unit name {:?}, which is not known: inch assumed",
+                            g.units_flag, g.units_name
+                        ),
+                    )
+                };
+                diags.push(Diagnostic::warning(code, msg, global_location()));
+                LengthUnit::In
+            }
+        },
+        Some(flag) => match LengthUnit::from_iges_flag(flag) {
+            Some(u) => {
+                if let Some(n) = by_name
+                    && n != u
+                {
+                    diags.push(Diagnostic::warning(
+                        "unit_conflict",
+                        format!(
+                            "units flag {flag} ({}) and units name {:?} disagree; the flag wins",
+                            u.iges_name(),
+                            g.units_name.as_deref().unwrap_or("")
+                        ),
+                        global_location(),
+                    ));
+                }
+                u
+            }
+            None => {
+                let u = by_name.unwrap_or(LengthUnit::In);
+                diags.push(Diagnostic::warning(
+                    "unit_unknown",
+                    format!(
+                        "units flag {flag} is not defined by IGES 5.3; {} assumed",
+                        u.iges_name()
+                    ),
+                    global_location(),
+                ));
+                u
+            }
+        },
+    };
+    let scale = g.model_scale.unwrap_or(1.0);
+    if scale != 1.0 {
+        diags.push(Diagnostic::warning(
+            "model_scale_ignored",
+            format!(
+                "model space scale (Global parameter 13) is {scale}; coordinates are kept as model-space values (as Open CASCADE does)"
+            ),
+            global_location(),
+        ));
+    }
+    unit
+}
+
+/// For every entity, the entities that reference it as a trim, composite member or B-rep
+/// element: `(user DE, user type)`. Reads 102, 141-144 and 504/510 parameters.
+fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
+    let mut map: BTreeMap<usize, Vec<(usize, i64)>> = BTreeMap::new();
+    for entry in file.entries.iter().flatten() {
+        let ty = entry.entity_type;
+        if !matches!(ty, 102 | 142 | 144 | 504 | 510) {
+            continue;
+        }
+        let Ok(p) = file.parameters(entry) else {
+            continue; // an unreadable user is reported nowhere else; its users are unknown
+        };
+        let mut add = |ptr: i64| {
+            if let Some(target) = file.entry(ptr)
+                && matches!(target.entity_type, 126 | 128)
+            {
+                map.entry(target.pointer)
+                    .or_default()
+                    .push((entry.pointer, ty));
+            }
+        };
+        let int = |i: usize| p.int(i, "pointer").ok();
+        match ty {
+            102 => {
+                let n = int(1).unwrap_or(0).clamp(0, p.len() as i64) as usize;
+                for k in 0..n {
+                    if let Some(v) = int(2 + k) {
+                        add(v);
+                    }
+                }
+            }
+            142 => {
+                for i in 2..=4 {
+                    if let Some(v) = int(i) {
+                        add(v);
+                    }
+                }
+            }
+            144 | 510 => {
+                if let Some(v) = int(1) {
+                    add(v);
+                }
+            }
+            _ => {
+                // 504 Edge List: N, then (CURV, SVP, SV, TVP, TV) per edge.
+                let n = int(1).unwrap_or(0).clamp(0, p.len() as i64) as usize;
+                for k in 0..n {
+                    if let Some(v) = int(2 + 5 * k) {
+                        add(v);
+                    }
+                }
+            }
+        }
+    }
+    map
+}
+
+fn global_location() -> Location {
+    Location {
+        section: Some('G'),
+        sequence: Some(1),
+        ..Location::default()
+    }
+}
+
+/// The location of an entity: its first DE line.
+fn entity_location(e: &DirectoryEntry) -> Location {
+    Location {
+        line: Some(e.line),
+        column: None,
+        entity: Some(format!("D{}", e.pointer)),
+        section: Some('D'),
+        sequence: Some(e.pointer),
+    }
+}
+
+fn parse_diag(code: &str, e: &ParseError) -> Diagnostic {
+    Diagnostic::error(
+        code,
+        e.kind.to_string(),
+        Location {
+            line: e.line,
+            column: e.column,
+            entity: e.de.map(|d| format!("D{d}")),
+            section: (e.section != ' ').then_some(e.section),
+            sequence: (e.sequence != 0).then_some(e.sequence),
+        },
+    )
+}
+
+fn warning_diag(w: &ParseWarning) -> Diagnostic {
+    Diagnostic::warning(
+        w.code,
+        w.message.clone(),
+        Location {
+            line: w.line,
+            column: None,
+            entity: w.de.map(|d| format!("D{d}")),
+            section: (w.section != ' ').then_some(w.section),
+            sequence: (w.sequence != 0).then_some(w.sequence),
+        },
+    )
+}
+
+/// The 124 chain of an entity, or an error diagnostic.
+fn transforms(
+    file: &IgesFile<'_>,
+    entry: &DirectoryEntry,
+    options: &ImportOptions,
+    meta: &mut Meta,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Vec<nurbsx_parsers::iges::schema::Transform124>> {
+    match chain::resolve(file, entry.transform, options.limits.max_nesting_depth) {
+        Ok(list) => {
+            meta.transforms_applied = list.iter().map(|(de, _)| format!("D{de}")).collect();
+            Some(list.into_iter().map(|(_, t)| t).collect())
+        }
+        Err(e) => {
+            let mut loc = entity_location(entry);
+            if let ChainError::Parse(pe) = &e {
+                loc = parse_diag("", pe).location;
+            }
+            diags.push(Diagnostic::error(
+                "transform.invalid",
+                format!("{e}; entity not loaded"),
+                loc,
+            ));
+            None
+        }
+    }
+}
+
+fn apply_all(
+    ts: &[nurbsx_parsers::iges::schema::Transform124],
+    p: Point3,
+    factor: Option<f64>,
+) -> Point3 {
+    let mut q = p;
+    for t in ts {
+        q = t.apply(q);
+    }
+    if let Some(f) = factor {
+        q = [q[0] * f, q[1] * f, q[2] * f];
+    }
+    q
+}
+
+fn check_limits(
+    entry: &DirectoryEntry,
+    degrees: &[usize],
+    poles: usize,
+    options: &ImportOptions,
+    diags: &mut Vec<Diagnostic>,
+) -> bool {
+    if let Some(&d) = degrees.iter().find(|&&d| d > options.limits.max_degree) {
+        diags.push(Diagnostic::error(
+            "limit.degree",
+            format!(
+                "degree {d} is above the limit of {}; entity not loaded",
+                options.limits.max_degree
+            ),
+            entity_location(entry),
+        ));
+        return false;
+    }
+    if poles > options.limits.max_poles {
+        diags.push(Diagnostic::error(
+            "limit.poles",
+            format!(
+                "{poles} control points are above the limit of {}; entity not loaded",
+                options.limits.max_poles
+            ),
+            entity_location(entry),
+        ));
+        return false;
+    }
+    true
+}
+
+fn flag(value: i64, name: &str, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+    if value != 0 && value != 1 {
+        diags.push(Diagnostic::warning(
+            "flag_invalid",
+            format!(
+                "{name} = {value}; IGES allows 0 or 1 (read as {})",
+                value != 0
+            ),
+            entity_location(entry),
+        ));
+    }
+    value != 0
+}
+
+/// PROP3 against the weights: returns the weights to keep (`None` = polynomial).
+fn weights_policy(
+    prop3: bool,
+    weights: Vec<f64>,
+    entry: &DirectoryEntry,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Vec<f64>> {
+    let first = weights.first().copied().unwrap_or(1.0);
+    let equal = weights.iter().all(|&w| w == first);
+    match (prop3, equal) {
+        (true, true) => None,
+        (true, false) if weights.iter().any(|&w| !(w.is_finite() && w > 0.0)) => {
+            // Unusable weights on an entity flagged polynomial: read it as polynomial, as
+            // Open CASCADE does (it never looks at the weights when PROP3 = 1).
+            diags.push(Diagnostic::warning(
+                "prop3_inconsistent",
+                "PROP3 = 1 (polynomial) and the weights differ, some not positive; the weights are ignored (polynomial)".to_owned(),
+                entity_location(entry),
+            ));
+            None
+        }
+        (true, false) => {
+            diags.push(Diagnostic::warning(
+                "prop3_inconsistent",
+                "PROP3 = 1 (polynomial) but the weights differ; the weights are kept (rational). Open CASCADE would drop them".to_owned(),
+                entity_location(entry),
+            ));
+            Some(weights)
+        }
+        (false, true) => {
+            diags.push(Diagnostic::info(
+                "prop3_rational_equal_weights",
+                format!("PROP3 = 0 (rational) with all weights equal to {first}; kept rational (the same geometry as polynomial)"),
+                entity_location(entry),
+            ));
+            Some(weights)
+        }
+        (false, false) => Some(weights),
+    }
+}
+
+fn name_of(entry: &DirectoryEntry) -> Option<String> {
+    (!entry.label.is_empty()).then(|| entry.label.clone())
+}
+
+fn read_curve(
+    file: &IgesFile<'_>,
+    entry: &DirectoryEntry,
+    options: &ImportOptions,
+    factor: Option<f64>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<(Geometry, Meta)> {
+    let rec = match file.parameters(entry).and_then(|p| {
+        diags.extend(p.warnings.iter().map(warning_diag));
+        Curve126::from_params(&p)
+    }) {
+        Ok(r) => r,
+        Err(e) => {
+            diags.push(parse_diag("iges.entity", &e));
+            return None;
+        }
+    };
+    if !check_limits(entry, &[rec.degree], rec.points.len(), options, diags) {
+        return None;
+    }
+    let loc = entity_location(entry);
+    let mut meta = Meta {
+        name: name_of(entry),
+        form: Some(entry.form.to_string()),
+        ..Meta::default()
+    };
+    let planar = flag(rec.planar, "PROP1 (planar)", entry, diags);
+    let closed = flag(rec.closed, "PROP2 (closed)", entry, diags);
+    let polynomial = flag(rec.polynomial, "PROP3 (polynomial)", entry, diags);
+    let periodic = flag(rec.periodic, "PROP4 (periodic)", entry, diags);
+    meta.closed_u = Some(closed);
+    meta.periodic_u = Some(periodic);
+    let ts = transforms(file, entry, options, &mut meta, diags)?;
+    let points: Vec<Point3> = rec
+        .points
+        .iter()
+        .map(|&p| apply_all(&ts, p, factor))
+        .collect();
+    let weights = weights_policy(polynomial, rec.weights, entry, diags);
+    // IGES 2-D parametric curves (use flag 05, e.g. the B(t) of a 142) stay 2-D.
+    let dimension = if entry.status.use_flag == 5 && points.iter().all(|p| p[2] == 0.0) {
+        2
+    } else {
+        3
+    };
+    let curve = match NurbsCurve::with_dimension(rec.degree, rec.knots, points, weights, dimension)
+    {
+        Ok(c) => c,
+        Err(e) => {
+            diags.push(Diagnostic::error(
+                "geometry.invalid",
+                format!("126 entity is not a valid B-spline: {e}; entity not loaded"),
+                loc,
+            ));
+            return None;
+        }
+    };
+    let tol = analysis::tolerance(curve.control_points().iter())
+        .max(file.global.resolution.unwrap_or(0.0));
+    // PROP2 vs the end points; PROP4 vs the knot layout (never used to rewrite knots).
+    let geo_closed = analysis::curve_closed(&curve, tol);
+    if closed != geo_closed {
+        diags.push(Diagnostic::warning(
+            "flag_mismatch",
+            format!(
+                "PROP2 (closed) = {} but the curve's ends are {}",
+                rec.closed,
+                if geo_closed { "equal" } else { "apart" }
+            ),
+            loc.clone(),
+        ));
+    }
+    if periodic && !analysis::curve_periodic(&curve, tol) {
+        let how = if analysis::clamped(curve.knots(), curve.degree()) {
+            "the knots are clamped (as Open CASCADE writes periodic curves)"
+        } else {
+            "the knots and poles do not have the periodic layout"
+        };
+        diags.push(Diagnostic::warning(
+            "flag_mismatch",
+            format!("PROP4 (periodic) = 1 but {how}; the data is read as written"),
+            loc.clone(),
+        ));
+    }
+    // V(0), V(1): kept; checked against the knot domain.
+    let (d0, d1) = curve.domain();
+    match (rec.v0, rec.v1) {
+        (Some(a), Some(b)) => {
+            meta.parameter_range = Some(ParameterRange { u: (a, b), v: None });
+            if !(a >= d0 && b <= d1 && a < b) {
+                diags.push(Diagnostic::warning(
+                    "param_range_outside",
+                    format!("V(0), V(1) = {a}, {b} is not an increasing range inside the knot domain [{d0}, {d1}]"),
+                    loc.clone(),
+                ));
+            }
+        }
+        _ => diags.push(Diagnostic::warning(
+            "missing_param_range",
+            format!("V(0)/V(1) absent: the knot domain [{d0}, {d1}] is used"),
+            loc.clone(),
+        )),
+    }
+    // The plane normal of a planar curve, rotated with the poles.
+    if planar {
+        match rec.normal {
+            Some(n) if n != [0.0, 0.0, 0.0] => {
+                let mut m = n;
+                for t in &ts {
+                    m = t.apply_linear(m);
+                }
+                if !analysis::on_plane(curve.control_points(), m, tol) {
+                    diags.push(Diagnostic::warning(
+                        "flag_mismatch",
+                        "PROP1 (planar) = 1 but the control points do not lie in the plane of the given normal".to_owned(),
+                        loc.clone(),
+                    ));
+                }
+                meta.plane_normal = Some(m);
+            }
+            _ => diags.push(Diagnostic::warning(
+                "missing_normal",
+                "PROP1 (planar) = 1 but the plane normal is absent or zero".to_owned(),
+                loc.clone(),
+            )),
+        }
+    }
+    Some((Geometry::Curve(curve), meta))
+}
+
+fn read_surface(
+    file: &IgesFile<'_>,
+    entry: &DirectoryEntry,
+    options: &ImportOptions,
+    factor: Option<f64>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<(Geometry, Meta)> {
+    let rec = match file.parameters(entry).and_then(|p| {
+        diags.extend(p.warnings.iter().map(warning_diag));
+        Surface128::from_params(&p)
+    }) {
+        Ok(r) => r,
+        Err(e) => {
+            diags.push(parse_diag("iges.entity", &e));
+            return None;
+        }
+    };
+    if !check_limits(entry, &rec.degree, rec.points.len(), options, diags) {
+        return None;
+    }
+    let loc = entity_location(entry);
+    let mut meta = Meta {
+        name: name_of(entry),
+        form: Some(entry.form.to_string()),
+        ..Meta::default()
+    };
+    let closed = [
+        flag(rec.closed[0], "PROP1 (closed in u)", entry, diags),
+        flag(rec.closed[1], "PROP2 (closed in v)", entry, diags),
+    ];
+    let polynomial = flag(rec.polynomial, "PROP3 (polynomial)", entry, diags);
+    let periodic = [
+        flag(rec.periodic[0], "PROP4 (periodic in u)", entry, diags),
+        flag(rec.periodic[1], "PROP5 (periodic in v)", entry, diags),
+    ];
+    meta.closed_u = Some(closed[0]);
+    meta.closed_v = Some(closed[1]);
+    meta.periodic_u = Some(periodic[0]);
+    meta.periodic_v = Some(periodic[1]);
+    let ts = transforms(file, entry, options, &mut meta, diags)?;
+    let [nu, nv] = rec.poles;
+    // IGES lists the first (u) index fastest; Grid is u-major: transpose explicitly.
+    let points = Grid::from_fn(nu, nv, |i, j| {
+        apply_all(&ts, rec.points[rec.index(i, j)], factor)
+    });
+    let weights = weights_policy(polynomial, rec.weights.clone(), entry, diags)
+        .map(|_| Grid::from_fn(nu, nv, |i, j| rec.weights[rec.index(i, j)]));
+    let surface = match NurbsSurface::new(
+        rec.degree[0],
+        rec.degree[1],
+        rec.knots_u,
+        rec.knots_v,
+        points,
+        weights,
+    ) {
+        Ok(s) => s,
+        Err(e) => {
+            diags.push(Diagnostic::error(
+                "geometry.invalid",
+                format!("128 entity is not a valid B-spline surface: {e}; entity not loaded"),
+                loc,
+            ));
+            return None;
+        }
+    };
+    let tol = analysis::tolerance(surface.control_points().as_slice().iter())
+        .max(file.global.resolution.unwrap_or(0.0));
+    for (dir, name) in [(0, "u"), (1, "v")] {
+        let geo_closed = analysis::surface_closed(&surface, dir, tol);
+        if closed[dir] != geo_closed {
+            diags.push(Diagnostic::warning(
+                "flag_mismatch",
+                format!(
+                    "PROP{} (closed in {name}) = {} but the surface's {name} boundaries {}",
+                    dir + 1,
+                    rec.closed[dir],
+                    if geo_closed { "coincide" } else { "are apart" }
+                ),
+                loc.clone(),
+            ));
+        }
+        if periodic[dir] && !analysis::surface_periodic(&surface, dir, tol) {
+            diags.push(Diagnostic::warning(
+                "flag_mismatch",
+                format!(
+                    "PROP{} (periodic in {name}) = 1 but the data does not have the periodic layout; read as written",
+                    dir + 4
+                ),
+                loc.clone(),
+            ));
+        }
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    match rec.range {
+        Some([a, b, c, d]) => {
+            meta.parameter_range = Some(ParameterRange {
+                u: (a, b),
+                v: Some((c, d)),
+            });
+            if !(a >= u0 && b <= u1 && a < b && c >= v0 && d <= v1 && c < d) {
+                diags.push(Diagnostic::warning(
+                    "param_range_outside",
+                    format!(
+                        "U(0), U(1), V(0), V(1) = {a}, {b}, {c}, {d} is not inside the knot domain [{u0}, {u1}] x [{v0}, {v1}]"
+                    ),
+                    loc.clone(),
+                ));
+            }
+        }
+        None => diags.push(Diagnostic::warning(
+            "missing_param_range",
+            format!("U(0)..V(1) absent: the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
+            loc,
+        )),
+    }
+    Some((Geometry::Surface(surface), meta))
+}

@@ -1,0 +1,285 @@
+//! [`Document`] -> IGES 5.3 text: 126/128 with PROP flags computed from the data
+//! (spec.md a.2, a.4, b.1, b.2; pitfalls.md A4, B11, D21).
+//!
+//! - PROP1 (126): planar when every pole lies in one plane (2-D curves: the xy plane);
+//!   the written normal is the document's `Meta::plane_normal` when the poles lie in that
+//!   plane, else the computed unit normal with `z >= 0`. Collinear poles: 0 (no unique plane).
+//! - PROP2: closed when the curve's ends (surface: the boundary curves) coincide.
+//! - PROP3: 1 when the weights are absent or all equal (the stored weights are written).
+//! - PROP4/PROP5: 1 only when the knots and poles have the periodic layout.
+//! - `V(0), V(1)` (`U(0)..V(1)`): the entity's declared parameter range when it lies in the
+//!   knot domain, else the domain.
+//! - DE status `00000000`, or `00000500` (use flag 05, 2-D parametric) for 2-D curves; form 0.
+//! - Global: units flag and name of the unit the numbers are in (poles are scaled once when
+//!   `ExportOptions::units` differs from the document's unit), resolution, maximum
+//!   coordinate, dates from `ExportOptions::timestamp` (deterministic when given).
+
+use nurbsx_parsers::iges::schema::{Curve126, Surface128};
+use nurbsx_parsers::iges::writer::{self, WriteEntity};
+use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
+
+use super::analysis;
+use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+
+/// Writes the document's curves and surfaces as an IGES 5.3 file.
+///
+/// Errors (a `Diagnostic` with code `iges.write` or `options.timestamp`) only for values
+/// that cannot be written (non-finite after unit scaling) or a malformed timestamp.
+pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    let unit = options.units.unwrap_or(document.units);
+    let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
+    let mut entities = Vec::with_capacity(document.entities.len());
+    let mut max_coord = 0.0f64;
+    for e in &document.entities {
+        let we = match &e.geometry {
+            Geometry::Curve(c) => curve_entity(c, &e.meta, factor),
+            Geometry::Surface(s) => surface_entity(s, &e.meta, factor),
+        };
+        max_coord = max_coord.max(max_abs(&we.1));
+        entities.push(we.0);
+    }
+    let date = iges_date(options.timestamp.as_deref())?;
+    let version = env!("CARGO_PKG_VERSION");
+    let global = Global {
+        param_delimiter: ',',
+        record_delimiter: ';',
+        product_id_sender: Some(options.file_name.clone()),
+        file_name: Some(options.file_name.clone()),
+        native_system_id: Some(format!("nurbsx {version}")),
+        preprocessor_version: Some(format!("nurbsx {version}")),
+        integer_bits: Some(32),
+        single_max_power: Some(38),
+        single_digits: Some(6),
+        double_max_power: Some(308),
+        double_digits: Some(15),
+        product_id_receiver: Some(options.file_name.clone()),
+        model_scale: Some(1.0),
+        units_flag: Some(unit.iges_flag()),
+        units_name: Some(unit.iges_name().to_owned()),
+        line_weight_gradations: Some(1),
+        max_line_width: Some(0.01),
+        date: Some(date.clone()),
+        // 1e-7 mm expressed in the file's unit: well below any modelling tolerance.
+        resolution: Some(1e-7 / unit.to_mm()),
+        max_coordinate: Some(max_coord),
+        author: None,
+        organization: None,
+        version_flag: Some(11),
+        drafting_standard: Some(0),
+        modified_date: Some(date),
+        application_protocol: None,
+    };
+    let start = format!(
+        "nurbsx {version}: exact NURBS exchange; {} B-spline entities (126/128)",
+        entities.len()
+    );
+    writer::write(&start, &global, &entities)
+        .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
+}
+
+fn max_abs(points: &[Point3]) -> f64 {
+    points
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |m, &x| m.max(x.abs()))
+}
+
+fn scaled(p: Point3, factor: Option<f64>) -> Point3 {
+    match factor {
+        Some(f) => [p[0] * f, p[1] * f, p[2] * f],
+        None => p,
+    }
+}
+
+fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
+    let label = meta
+        .name
+        .as_deref()
+        .unwrap_or("")
+        .chars()
+        .filter(|c| c.is_ascii_graphic())
+        .take(8)
+        .collect();
+    DirectoryEntry {
+        entity_type,
+        status: Status {
+            use_flag,
+            ..Status::default()
+        },
+        label,
+        ..DirectoryEntry::default()
+    }
+}
+
+/// PROP3 and the weights to write.
+fn weights_of(w: Option<&[f64]>, n: usize) -> (i64, Vec<f64>) {
+    match w {
+        None => (1, vec![1.0; n]),
+        Some(w) => {
+            let equal = w.iter().all(|&x| x == w[0]);
+            (i64::from(equal), w.to_vec())
+        }
+    }
+}
+
+fn within(range: (f64, f64), domain: (f64, f64)) -> bool {
+    range.0 >= domain.0 && range.1 <= domain.1 && range.0 < range.1
+}
+
+fn curve_entity(c: &NurbsCurve, meta: &Meta, factor: Option<f64>) -> (WriteEntity, Vec<Point3>) {
+    let points: Vec<Point3> = c
+        .control_points()
+        .iter()
+        .map(|&p| scaled(p, factor))
+        .collect();
+    let tol = analysis::tolerance(c.control_points().iter());
+    let (polynomial, weights) = weights_of(c.weights(), points.len());
+    let normal = if c.dimension() == 2 {
+        Some([0.0, 0.0, 1.0])
+    } else {
+        match meta.plane_normal {
+            Some(n) if analysis::on_plane(c.control_points(), n, tol) && is_unit(n) => Some(n),
+            _ => analysis::plane_normal(c.control_points(), tol),
+        }
+    };
+    let domain = c.domain();
+    let range = meta
+        .parameter_range
+        .map(|r| r.u)
+        .filter(|&r| within(r, domain))
+        .unwrap_or(domain);
+    let rec = Curve126 {
+        degree: c.degree(),
+        planar: i64::from(normal.is_some()),
+        closed: i64::from(analysis::curve_closed(c, tol)),
+        polynomial,
+        periodic: i64::from(analysis::curve_periodic(c, tol)),
+        knots: c.knots().to_vec(),
+        weights,
+        points,
+        v0: Some(range.0),
+        v1: Some(range.1),
+        normal: Some(normal.unwrap_or([0.0, 0.0, 0.0])),
+        extra: 0,
+    };
+    let use_flag = if c.dimension() == 2 { 5 } else { 0 };
+    let params = rec.to_params();
+    (
+        WriteEntity {
+            de: de(126, meta, use_flag),
+            params,
+        },
+        rec.points,
+    )
+}
+
+fn is_unit(n: Point3) -> bool {
+    ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() <= 1e-12
+}
+
+fn surface_entity(
+    s: &NurbsSurface,
+    meta: &Meta,
+    factor: Option<f64>,
+) -> (WriteEntity, Vec<Point3>) {
+    let net = s.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    // IGES lists the first (u) index fastest: j outer, i inner.
+    let mut points = Vec::with_capacity(nu * nv);
+    let mut weights = Vec::with_capacity(nu * nv);
+    for j in 0..nv {
+        for i in 0..nu {
+            points.push(scaled(*net.get(i, j), factor));
+            weights.push(s.weight(i, j));
+        }
+    }
+    let polynomial = match s.weights() {
+        None => 1,
+        Some(w) => {
+            let w = w.as_slice();
+            i64::from(w.iter().all(|&x| x == w[0]))
+        }
+    };
+    let tol = analysis::tolerance(net.as_slice().iter());
+    let (du, dv) = s.domain();
+    let (ru, rv) = match meta.parameter_range {
+        Some(r) => match r.v {
+            Some(v) if within(r.u, du) && within(v, dv) => (r.u, v),
+            _ => (du, dv),
+        },
+        None => (du, dv),
+    };
+    let rec = Surface128 {
+        degree: [s.degree_u(), s.degree_v()],
+        poles: [nu, nv],
+        closed: [
+            i64::from(analysis::surface_closed(s, 0, tol)),
+            i64::from(analysis::surface_closed(s, 1, tol)),
+        ],
+        polynomial,
+        periodic: [
+            i64::from(analysis::surface_periodic(s, 0, tol)),
+            i64::from(analysis::surface_periodic(s, 1, tol)),
+        ],
+        knots_u: s.knots_u().to_vec(),
+        knots_v: s.knots_v().to_vec(),
+        weights,
+        points,
+        range: Some([ru.0, ru.1, rv.0, rv.1]),
+        extra: 0,
+    };
+    let params = rec.to_params();
+    (
+        WriteEntity {
+            de: de(128, meta, 0),
+            params,
+        },
+        rec.points,
+    )
+}
+
+/// `YYYYMMDD.HHNNSS` from an ISO 8601 `YYYY-MM-DDTHH:MM:SS` time stamp, or the current UTC
+/// time.
+fn iges_date(timestamp: Option<&str>) -> Result<String, Diagnostic> {
+    let digits: String = match timestamp {
+        Some(t) => {
+            let d: String = t.chars().filter(char::is_ascii_digit).collect();
+            if d.len() < 14 {
+                return Err(Diagnostic::error(
+                    "options.timestamp",
+                    format!("time stamp {t:?} is not YYYY-MM-DDTHH:MM:SS"),
+                    Location::default(),
+                ));
+            }
+            d
+        }
+        None => now_digits(),
+    };
+    Ok(format!("{}.{}", &digits[..8], &digits[8..14]))
+}
+
+/// The current UTC time as `YYYYMMDDHHMMSS` (days-to-civil conversion, H. Hinnant's
+/// algorithm).
+fn now_digits() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let days = (secs / 86_400) as i64;
+    let rem = secs % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}{m:02}{d:02}{:02}{:02}{:02}",
+        rem / 3600,
+        (rem / 60) % 60,
+        rem % 60
+    )
+}
