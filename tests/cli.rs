@@ -463,7 +463,12 @@ fn info_json_has_the_documented_shape() {
     assert_eq!(e[1]["kind"], "surface");
     assert_eq!(e[1]["degree"], serde_json::json!([1, 2]));
     assert_eq!(e[1]["poles"], serde_json::json!([2, 3]));
-    assert_eq!(e[1]["layout"], serde_json::json!(["clamped", "clamped"]));
+    // A single clamped span in each direction: the classifier reports the most specific
+    // layout, "piecewise Bezier" (src/nurbs/layout.rs documents the precedence).
+    assert_eq!(
+        e[1]["layout"],
+        serde_json::json!(["piecewise Bezier", "piecewise Bezier"])
+    );
     assert_eq!(e[1]["rational"], true);
     assert_eq!(floats(&e[0]["domain"][0]), vec![0.0, 1.0]);
     assert_eq!(e[0]["source"]["entity"], "json");
@@ -497,8 +502,9 @@ fn info_text_lists_every_entity() {
     let cells: Vec<&str> = row.split_whitespace().collect();
     assert_eq!(
         &cells[..6],
-        ["1", "surface", "3D", "1x2", "2x3", "clamped/clamped"]
+        ["1", "surface", "3D", "1x2", "2x3", "piecewise"]
     );
+    assert!(row.contains("piecewise Bezier/piecewise Bezier"), "{row}");
 }
 
 // ---------------------------------------------------------------------------------------
