@@ -139,6 +139,19 @@ pub struct SchemaError {
     pub column: usize,
 }
 
+impl SchemaError {
+    /// The message without the line/column prefix: entity, attribute and what is wrong
+    /// (for callers that show the location separately).
+    pub fn detail(&self) -> String {
+        format!(
+            "{}{}: {}",
+            self.entity_type,
+            attribute_suffix(&self.attribute),
+            self.message
+        )
+    }
+}
+
 fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
     match a {
         Some((i, name)) => format!(" parameter {i} `{name}`"),
