@@ -339,7 +339,8 @@ impl<'a> Cursor<'a> {
                     }
                 }
                 let value = self.text.get(from..self.pos).unwrap_or_default();
-                if value.is_empty() || !value.as_bytes()[0].is_ascii_uppercase() {
+                if !value.as_bytes().first().is_some_and(u8::is_ascii_uppercase) {
+                    self.pos = from;
                     return Err(self.expected("an upper-case enumeration value"));
                 }
                 if self.peek() != Some(b'.') {
