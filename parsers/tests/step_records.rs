@@ -1,4 +1,6 @@
 //! Typed Part 42 / 41 / 43 records read by attribute name (pitfalls.md B.7, E.24).
+// Helpers outside #[test] functions may fail loudly too: they only run under tests.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use nurbsx_parsers::Limits;
 use nurbsx_parsers::step::schema::{
@@ -9,13 +11,19 @@ use nurbsx_parsers::step::{Instance, StepString, parse};
 
 fn instances(data: &str) -> Vec<Instance<'_>> {
     let text: &'static str = Box::leak(
-        format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n{data}\nENDSEC;END-ISO-10303-21;").into_boxed_str(),
+        format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n{data}\nENDSEC;END-ISO-10303-21;")
+            .into_boxed_str(),
     );
     let p = parse(text, &Limits::default()).unwrap();
     let bad: Vec<_> = p
         .errors
         .iter()
-        .filter(|e| !matches!(e.kind, nurbsx_parsers::step::ParseErrorKind::DanglingReference(_)))
+        .filter(|e| {
+            !matches!(
+                e.kind,
+                nurbsx_parsers::step::ParseErrorKind::DanglingReference(_)
+            )
+        })
         .collect();
     assert!(bad.is_empty(), "{bad:?}");
     p.exchange.instances().cloned().collect()
@@ -69,7 +77,10 @@ fn rational_partials_in_any_order() {
     let b = "#1=( RATIONAL_B_SPLINE_CURVE((1.,0.7071067811865476,1.)) CURVE() REPRESENTATION_ITEM('') B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() B_SPLINE_CURVE(2,(#2,#3,#4),.CIRCULAR_ARC.,.F.,.F.) BOUNDED_CURVE() );";
     let ra = BSplineCurve::from_instance(&instances(a)[0], at(1)).unwrap();
     let rb = BSplineCurve::from_instance(&instances(b)[0], at(1)).unwrap();
-    assert_eq!(ra.weights, Some(vec![1., std::f64::consts::FRAC_1_SQRT_2, 1.]));
+    assert_eq!(
+        ra.weights,
+        Some(vec![1., std::f64::consts::FRAC_1_SQRT_2, 1.])
+    );
     assert_eq!(ra.curve_form, "CIRCULAR_ARC");
     assert_eq!(
         (ra.degree, &ra.control_points, &ra.knots, &ra.weights),
@@ -89,7 +100,10 @@ fn implicit_subtypes_and_surfaces() {
     assert_eq!(r.weights, Some(vec![vec![1., 2.], vec![3., 4.]]));
     let s = "#1=B_SPLINE_SURFACE_WITH_KNOTS('',1,2,((#2,#3,#4),(#5,#6,#7)),.PLANE_SURF.,.F.,.T.,.F.,(2,2),(3,3),(0.,1.),(0.,2.),.UNSPECIFIED.);";
     let r = BSplineSurface::from_instance(&instances(s)[0], at(1)).unwrap();
-    assert_eq!((r.u_degree, r.v_degree, r.surface_form, r.v_closed), (1, 2, "PLANE_SURF", Logical::True));
+    assert_eq!(
+        (r.u_degree, r.v_degree, r.surface_form, r.v_closed),
+        (1, 2, "PLANE_SURF", Logical::True)
+    );
 }
 
 #[test]
@@ -114,10 +128,18 @@ fn schema_errors_name_entity_attribute_and_found_value() {
     assert_eq!(e.message, "element 2 : expected a reference, found 3");
     let c = "#9=B_SPLINE_CURVE('',2,(#2,#3,#4),.UNSPECIFIED.,.F.,.F.);";
     let e = BSplineCurve::from_instance(&instances(c)[0], at(9)).unwrap_err();
-    assert!(e.message.starts_with("a B_SPLINE_CURVE must also be one of"), "{}", e.message);
+    assert!(
+        e.message
+            .starts_with("a B_SPLINE_CURVE must also be one of"),
+        "{}",
+        e.message
+    );
     let c = "#9=(B_SPLINE_CURVE(2,(#2,#3,#4),.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.)) REPRESENTATION_ITEM(''));";
     let e = BSplineCurve::from_instance(&instances(c)[0], at(9)).unwrap_err();
-    assert_eq!(e.message, "partial entity B_SPLINE_CURVE_WITH_KNOTS expects 3 parameters, found 2");
+    assert_eq!(
+        e.message,
+        "partial entity B_SPLINE_CURVE_WITH_KNOTS expects 3 parameters, found 2"
+    );
 }
 
 #[test]
@@ -151,11 +173,22 @@ fn points_units_and_contexts() {
     else {
         panic!()
     };
-    assert_eq!((name.decode().unwrap().as_ref(), conversion_factor, length), ("INCH", 5, true));
+    assert_eq!(
+        (name.decode().unwrap().as_ref(), conversion_factor, length),
+        ("INCH", 5, true)
+    );
     let m = MeasureWithUnit::from_instance(&insts[4], at(5)).unwrap();
-    assert_eq!((m.value, m.measure_type, m.unit), (25.4, Some("LENGTH_MEASURE"), 2));
-    let c = RepresentationContext::from_instance(&insts[5], at(7)).unwrap().unwrap();
-    assert_eq!((c.dimension, c.units, c.uncertainty), (Some(3), vec![2, 9], vec![8]));
+    assert_eq!(
+        (m.value, m.measure_type, m.unit),
+        (25.4, Some("LENGTH_MEASURE"), 2)
+    );
+    let c = RepresentationContext::from_instance(&insts[5], at(7))
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        (c.dimension, c.units, c.uncertainty),
+        (Some(3), vec![2, 9], vec![8])
+    );
     let m = MeasureWithUnit::from_instance(&insts[6], at(8)).unwrap();
     assert_eq!(m.value, 1e-7);
 }

@@ -1,5 +1,7 @@
 //! Part 21 grammar corners: valid input -> exact syntax tree, invalid input -> exact error
 //! kind, line, column and #id (ISO 10303-21:2016 clauses 6-12; pitfalls.md E.23-27).
+// Helpers outside #[test] functions may fail loudly too: they only run under tests.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use nurbsx_parsers::Limits;
 use nurbsx_parsers::step::{
@@ -441,6 +443,7 @@ END-ISO-10303-21;
 ";
 
 #[test]
+#[allow(clippy::approx_constant)] // 6.28318530718 is OCCT's 12-digit 2*pi, quoted verbatim
 fn occt_excerpts_parse_exactly() {
     let p = parsed(OCCT);
     // Only dangling references (the excerpt leaves the points out).

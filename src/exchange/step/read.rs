@@ -504,7 +504,7 @@ impl<'a> Ctx<'_, 'a> {
                 ),
             ));
         }
-        let total = nu.checked_mul(nv).unwrap_or(usize::MAX);
+        let total = nu.saturating_mul(nv);
         if total > self.options.limits.max_poles {
             return Err(self.error(
                 "limit.poles",

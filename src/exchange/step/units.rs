@@ -167,9 +167,12 @@ pub(super) fn resolve_length(
     }
 }
 
+/// A unit problem: the context's id, its byte offset, and the message.
+pub(super) type UnitProblem = (u64, usize, String);
+
 /// The length units of the contexts that assign units, in file order:
 /// `(context id, unit)`, plus messages for units that could not be understood.
-pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<(u64, usize, String)>) {
+pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
     let mut found = Vec::new();
     let mut problems = Vec::new();
     for raw in &s.instances {
