@@ -332,6 +332,7 @@ fn implicit_knot_subtypes_equal_their_explicit_knots() {
     let cases = [
         // degree 3, 7 poles: piecewise Bezier of 2 segments.
         ("BEZIER_CURVE", 3, "(4,3,4),(0.,1.,2.)"),
+        ("BEZIER_CURVE", 6, "(7,7),(0.,1.)"),
         (
             "UNIFORM_CURVE",
             2,
@@ -383,7 +384,12 @@ fn implicit_knot_subtypes_equal_their_explicit_knots() {
                 },
             )
             .unwrap();
-            assert!(out.contains(sub), "{out}");
+            // Except the Bezier forms Open CASCADE drops or misreads (rational, or more
+            // than one span): those keep explicit knots.
+            let expect_subtype = sub != "BEZIER_CURVE" || (deg == 6 && !rational);
+            assert_eq!(out.contains(sub), expect_subtype, "{out}");
+            let back = read(&out, &opts()).unwrap();
+            assert_eq!(back.entities[0].geometry, a.entities[0].geometry);
         }
     }
     // A surface: quasi-uniform in both directions, rational, vs explicit.

@@ -17,7 +17,8 @@
 //! Knots are written exactly as held (unclamped and periodic data stays as is); `knot_spec`
 //! is computed from the knots ([`knot_form`]). With
 //! [`ExportOptions::use_implicit_knot_subtypes`], knots equal to those a BEZIER_/UNIFORM_/
-//! QUASI_UNIFORM_ subtype implies are written as that subtype.
+//! QUASI_UNIFORM_ subtype implies are written as that subtype, except where Open CASCADE
+//! would drop or misread it (rational or multi-span Bezier): those keep explicit knots.
 
 use nurbsx_parsers::step::{
     Body, Builder, DataSection, Exchange, Parameter, Record, write_exchange,
@@ -449,6 +450,16 @@ fn implicit_subtype(degree: usize, poles: usize, knots: &[f64]) -> Option<KnotFo
         .find(|&f| implicit_knots(f, degree, poles).is_ok_and(|k| k == knots))
 }
 
+/// Whether Open CASCADE translates this implicit-knot subtype (spec.md c.4): it drops
+/// rational Bezier entities and reads a Bezier as a single span, so those are written with
+/// explicit knots instead (always exact; verified with FreeCAD 0.20.2 / OCCT 7.6).
+fn occt_translates(form: KnotForm, rational: bool, dims: &[(usize, usize)]) -> bool {
+    match form {
+        KnotForm::Bezier => !rational && dims.iter().all(|&(d, n)| n == d + 1),
+        KnotForm::Uniform | KnotForm::QuasiUniform => true,
+    }
+}
+
 /// An enumeration value from metadata when it is one of `allowed`, else `UNSPECIFIED`.
 fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
     let upper = meta.map(|m| m.to_ascii_uppercase()).unwrap_or_default();
@@ -530,6 +541,7 @@ fn curve(
     ];
     let subtype = if options.use_implicit_knot_subtypes {
         implicit_subtype(c.degree(), c.num_poles(), c.knots())
+            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), c.num_poles())]))
     } else {
         None
     };
@@ -612,7 +624,12 @@ fn surface(
     let subtype = if options.use_implicit_knot_subtypes {
         let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
         let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
-        if su == sv { su } else { None }
+        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+        if su == sv {
+            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+        } else {
+            None
+        }
     } else {
         None
     };
