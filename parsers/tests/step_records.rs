@@ -192,3 +192,48 @@ fn points_units_and_contexts() {
     let m = MeasureWithUnit::from_instance(&insts[6], at(8)).unwrap();
     assert_eq!(m.value, 1e-7);
 }
+
+mod fast_point {
+    use super::*;
+    use nurbsx_parsers::real::write_real;
+    use nurbsx_parsers::step::scan;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The text fast path and the general record path give the same bits, and the fast
+        /// path declines (None) rather than guessing on shapes it does not handle.
+        #[test]
+        fn fast_path_equals_general_path(xs in prop::collection::vec(any::<f64>().prop_filter("finite", |x| x.is_finite()), 1..4), spaced in any::<bool>(), name in "[a-z' ]{0,5}") {
+            let mut coords = String::new();
+            for (i, x) in xs.iter().enumerate() {
+                if i > 0 { coords.push(','); if spaced { coords.push_str(" \n"); } }
+                write_real(&mut coords, *x).unwrap();
+            }
+            let name = name.replace('\'', "''");
+            let text = format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT( '{name}' ,({coords}) );\nENDSEC;END-ISO-10303-21;");
+            let s = scan(&text, &Limits::default()).unwrap();
+            let raw = s.get(1).unwrap();
+            let (fast, n) = CartesianPoint::coordinates_fast(raw).unwrap();
+            let slow = CartesianPoint::from_instance(&s.decode(raw).unwrap(), at(1)).unwrap();
+            prop_assert_eq!(n, xs.len());
+            for (f, g) in fast.iter().zip(&slow.coordinates) {
+                prop_assert_eq!(f.to_bits(), g.to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn fast_path_declines_other_shapes() {
+        for body in ["(0,1,2)", "(0.,1.,2.,3.)", "(0., /* c */ 1.)", "(1.e5)"] {
+            let text = format!(
+                "ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT('',{body});\nENDSEC;END-ISO-10303-21;"
+            );
+            let s = scan(&text, &Limits::default()).unwrap();
+            assert_eq!(
+                CartesianPoint::coordinates_fast(s.get(1).unwrap()),
+                None,
+                "{body}"
+            );
+        }
+    }
+}

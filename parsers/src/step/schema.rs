@@ -600,6 +600,74 @@ pub struct CartesianPoint<'a> {
 }
 
 impl<'a> CartesianPoint<'a> {
+    /// Fast path for the commonest instance of all: the coordinates of a simple
+    /// `CARTESIAN_POINT('name',(x,y[,z]))` read straight from the body text, without
+    /// building a syntax tree. Returns `None` for any other shape (comments, integers,
+    /// escapes in the name, errors...); callers then use [`CartesianPoint::from_instance`],
+    /// which handles and reports everything. Same values as the general path, bit for bit
+    /// (both use [`parse_step_real`](crate::real::parse_step_real)).
+    pub fn coordinates_fast(raw: &super::RawInstance<'_>) -> Option<([f64; 3], usize)> {
+        if raw.keyword != Some("CARTESIAN_POINT") {
+            return None;
+        }
+        let b = raw.body.as_bytes();
+        let mut i = "CARTESIAN_POINT".len();
+        let ws = |i: &mut usize| {
+            while matches!(b.get(*i), Some(b' ' | b'\t' | b'\r' | b'\n')) {
+                *i += 1;
+            }
+        };
+        let expect = |i: &mut usize, c: u8| {
+            ws(i);
+            if b.get(*i) == Some(&c) {
+                *i += 1;
+                Some(())
+            } else {
+                None
+            }
+        };
+        expect(&mut i, b'(')?;
+        expect(&mut i, b'\'')?;
+        loop {
+            let p = i + b.get(i..)?.iter().position(|&c| c == b'\'')?;
+            if b.get(p + 1) == Some(&b'\'') {
+                i = p + 2;
+            } else {
+                i = p + 1;
+                break;
+            }
+        }
+        expect(&mut i, b',')?;
+        expect(&mut i, b'(')?;
+        let mut out = [0.0; 3];
+        let mut n = 0;
+        loop {
+            ws(&mut i);
+            let start = i;
+            while b
+                .get(i)
+                .is_some_and(|c| c.is_ascii_digit() || matches!(c, b'.' | b'+' | b'-' | b'E'))
+            {
+                i += 1;
+            }
+            let token = raw.body.get(start..i)?;
+            *out.get_mut(n)? = crate::real::parse_step_real(token).ok()?;
+            n += 1;
+            ws(&mut i);
+            match b.get(i) {
+                Some(b',') => i += 1,
+                Some(b')') => {
+                    i += 1;
+                    break;
+                }
+                _ => return None,
+            }
+        }
+        expect(&mut i, b')')?;
+        ws(&mut i);
+        (i == b.len()).then_some((out, n))
+    }
+
     /// Reads a `CARTESIAN_POINT` (simple or complex).
     pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
         let a = Attributes::of(inst, at)?;

@@ -288,16 +288,25 @@ impl<'a> Ctx<'_, 'a> {
                     ),
                 ));
             };
-            let p = self
-                .s
-                .decode(praw)
-                .map_err(|e| parse_diagnostic(&e))
-                .and_then(|pinst| {
-                    let (line, column) = self.s.locate(praw.offset);
-                    CartesianPoint::from_instance(&pinst, At { id, line, column })
-                        .map_err(|e| self.point_error(i, id, &e.detail()))
-                })?;
-            let n = p.coordinates.len();
+            let (c, n) = match CartesianPoint::coordinates_fast(praw) {
+                Some(fast) => fast,
+                None => {
+                    let p = self
+                        .s
+                        .decode(praw)
+                        .map_err(|e| parse_diagnostic(&e))
+                        .and_then(|pinst| {
+                            let (line, column) = self.s.locate(praw.offset);
+                            CartesianPoint::from_instance(&pinst, At { id, line, column })
+                                .map_err(|e| self.point_error(i, id, &e.detail()))
+                        })?;
+                    let mut c = [0.0; 3];
+                    for (k, v) in p.coordinates.iter().take(3).enumerate() {
+                        c[k] = *v;
+                    }
+                    (c, p.coordinates.len())
+                }
+            };
             match *dim {
                 None if n == 2 || n == 3 => *dim = Some(n),
                 None => {
@@ -320,9 +329,7 @@ impl<'a> Ctx<'_, 'a> {
                 }
                 Some(_) => {}
             }
-            let c = &p.coordinates;
-            let get = |k: usize| c.get(k).copied().unwrap_or(0.0) * self.scale;
-            out.push([get(0), get(1), get(2)]);
+            out.push([c[0] * self.scale, c[1] * self.scale, c[2] * self.scale]);
         }
         Ok(out)
     }
