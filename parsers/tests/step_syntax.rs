@@ -581,3 +581,28 @@ mod roundtrip_props {
         ex.instances().map(|i| format!("{:?}", i)).collect()
     }
 }
+
+mod hostile {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(500))]
+        /// Any data section text: no panic, and every error is located inside the input.
+        #[test]
+        fn arbitrary_data_never_panics(data in "[#=(),;'\"./*$A-Z0-9E+\\- \n\\\\!a-z]{0,200}") {
+            let t = file(&data);
+            if let Ok(p) = parse(&t, &Limits::default()) {
+                for e in &p.errors {
+                    prop_assert!(e.offset <= t.len() && e.line >= 1 && e.column >= 1);
+                }
+                let _ = write_exchange(&p.exchange);
+            }
+            let s = scan(&t, &Limits::default());
+            if let Ok(s) = s {
+                let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();
+                let _ = s.find_cycles(ids);
+            }
+        }
+    }
+}
