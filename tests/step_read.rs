@@ -625,3 +625,13 @@ mod mutations {
         }
     }
 }
+
+#[test]
+fn empty_document_writes_a_valid_file() {
+    let d = Document::new(nurbsx::exchange::Format::Step, LengthUnit::Mm);
+    let t = write(&d, &ExportOptions::default()).unwrap();
+    assert!(!t.contains("GEOMETRIC_CURVE_SET"));
+    let back = read(&t, &opts()).unwrap();
+    assert!(back.entities.is_empty());
+    assert!(errors(&back).is_empty());
+}

@@ -220,27 +220,28 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             }
         }
     }
-    let (rep_keyword, set) = if surfaces.is_empty() {
-        let set = b.simple(
-            "GEOMETRIC_CURVE_SET",
-            vec![s(""), Parameter::refs(&curves3)],
-        );
-        ("GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION", set)
+    // GEOMETRIC_SET / GEOMETRIC_CURVE_SET need at least one element (SET [1:?]); a
+    // document without 3-D geometry gets a representation holding only its placement.
+    let mut items = vec![placement];
+    let rep_keyword = if surfaces.is_empty() {
+        if !curves3.is_empty() {
+            items.push(b.simple(
+                "GEOMETRIC_CURVE_SET",
+                vec![s(""), Parameter::refs(&curves3)],
+            ));
+        }
+        "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION"
     } else {
-        let mut items = curves3.clone();
-        items.extend(&surfaces);
-        let set = b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&items)]);
-        ("GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION", set)
+        let mut members = curves3.clone();
+        members.extend(&surfaces);
+        items.push(b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]));
+        "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION"
     };
     b.set(
         rep,
         Body::Simple(rec(
             rep_keyword,
-            vec![
-                s(""),
-                Parameter::refs(&[placement, set]),
-                Parameter::Reference(ctx3),
-            ],
+            vec![s(""), Parameter::refs(&items), Parameter::Reference(ctx3)],
         )),
     );
     if !curves2.is_empty() {
