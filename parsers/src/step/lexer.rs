@@ -186,28 +186,34 @@ impl<'a> Cursor<'a> {
     }
 
     /// `"(" [ parameter { "," parameter } ] ")"`, iteratively: the cursor is on the `(`.
+    ///
+    /// Values of all open lists share one stack; a closing `)` moves its list's values out
+    /// with `split_off`, so each list costs exactly one allocation of its final size.
     pub(crate) fn parameter_list(
         &mut self,
         limits: ParamLimits,
         count: &mut usize,
     ) -> LResult<Vec<Parameter<'a>>> {
-        #[derive(PartialEq)]
+        #[derive(Clone, Copy, PartialEq)]
         enum State {
             Start,
             AfterValue,
             AfterComma,
         }
+        #[derive(Clone, Copy)]
         struct Frame<'a> {
             typed: Option<(&'a str, usize)>,
-            items: Vec<Parameter<'a>>,
+            start: usize,
             state: State,
         }
         self.pos += 1;
-        let mut stack: Vec<Frame<'a>> = vec![Frame {
+        let mut values: Vec<Parameter<'a>> = Vec::with_capacity(16);
+        let mut stack: Vec<Frame<'a>> = Vec::with_capacity(4);
+        stack.push(Frame {
             typed: None,
-            items: Vec::new(),
+            start: 0,
             state: State::Start,
-        }];
+        });
         loop {
             self.skip_ws()?;
             let Some(c) = self.peek() else {
@@ -223,13 +229,13 @@ impl<'a> Cursor<'a> {
                         return Err(self.expected("a parameter after `,`"));
                     }
                     self.pos += 1;
-                    let Some(frame) = stack.pop() else {
-                        return Err(self.expected("a parameter"));
-                    };
+                    let frame = *top;
+                    stack.pop();
+                    let items = values.split_off(frame.start.min(values.len()));
                     let value = match frame.typed {
-                        None => Parameter::List(frame.items),
+                        None => Parameter::List(items),
                         Some((kw, at)) => {
-                            let mut items = frame.items;
+                            let mut items = items;
                             match (items.pop(), items.is_empty()) {
                                 (Some(v), true) => Parameter::Typed(kw, Box::new(v)),
                                 _ => return Err((ParseErrorKind::TypedArity(kw.to_owned()), at)),
@@ -244,7 +250,7 @@ impl<'a> Cursor<'a> {
                             };
                         }
                         Some(parent) => {
-                            parent.items.push(value);
+                            values.push(value);
                             parent.state = State::AfterValue;
                         }
                     }
@@ -275,7 +281,7 @@ impl<'a> Cursor<'a> {
                         self.pos += 1;
                         stack.push(Frame {
                             typed: None,
-                            items: Vec::new(),
+                            start: values.len(),
                             state: State::Start,
                         });
                     } else if opens {
@@ -285,13 +291,13 @@ impl<'a> Cursor<'a> {
                         self.expect_byte(b'(', "`(` after a typed parameter's keyword")?;
                         stack.push(Frame {
                             typed: Some((kw, at)),
-                            items: Vec::new(),
+                            start: values.len(),
                             state: State::Start,
                         });
                     } else {
-                        let v = self.scalar()?;
-                        top.items.push(v);
                         top.state = State::AfterValue;
+                        let v = self.scalar()?;
+                        values.push(v);
                     }
                 }
             }

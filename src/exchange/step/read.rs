@@ -9,6 +9,8 @@ use nurbsx_parsers::step::{
     Instance, ParseError, ParseErrorKind, RawInstance, Scanned, scan, schema_names,
 };
 
+use rayon::prelude::*;
+
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_units};
 use crate::exchange::{
@@ -36,38 +38,48 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     }
     let scale = file_units(&scanned, options, &mut doc);
 
-    for raw in &scanned.instances {
-        if !maybe_bspline(raw) {
-            continue;
-        }
+    // Each B-spline is independent once the file is scanned: decode them in parallel
+    // (rayon keeps the file order in `collect`), then append results in order.
+    let candidates: Vec<&RawInstance<'_>> = scanned
+        .instances
+        .iter()
+        .filter(|raw| maybe_bspline(raw))
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
-        if scanned.get(raw.id).map(|r| r.offset) != Some(raw.offset) {
-            continue;
-        }
-        let inst = match scanned.decode(raw) {
-            Ok(i) => i,
-            Err(e) => {
-                doc.diagnostics.push(parse_diagnostic(&e));
-                continue;
+        .filter(|raw| scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset))
+        .collect();
+    let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
+        .par_iter()
+        .map(|raw| {
+            let mut diags = Vec::new();
+            let inst = match scanned.decode(raw) {
+                Ok(i) => i,
+                Err(e) => return (None, vec![parse_diagnostic(&e)]),
+            };
+            let Some(kind) = bspline_kind(&inst.body) else {
+                return (None, diags);
+            };
+            let ctx = Ctx {
+                s: &scanned,
+                raw,
+                options,
+                scale,
+            };
+            let result = match kind {
+                BSplineKind::Curve => ctx.curve(&inst, &mut diags),
+                BSplineKind::Surface => ctx.surface(&inst, &mut diags),
+            };
+            match result {
+                Ok(e) => (Some(e), diags),
+                Err(d) => {
+                    diags.push(d);
+                    (None, diags)
+                }
             }
-        };
-        let Some(kind) = bspline_kind(&inst.body) else {
-            continue;
-        };
-        let ctx = Ctx {
-            s: &scanned,
-            raw,
-            options,
-            scale,
-        };
-        let result = match kind {
-            BSplineKind::Curve => ctx.curve(&inst, &mut doc.diagnostics),
-            BSplineKind::Surface => ctx.surface(&inst, &mut doc.diagnostics),
-        };
-        match result {
-            Ok(e) => doc.entities.push(e),
-            Err(d) => doc.diagnostics.push(d),
-        }
+        })
+        .collect();
+    for (entity, diags) in results {
+        doc.diagnostics.extend(diags);
+        doc.entities.extend(entity);
     }
     Ok(doc)
 }
