@@ -527,6 +527,18 @@ fn closed_flag_that_disagrees_is_a_warning_and_changes_nothing() {
     assert_eq!(w[0].location.entity.as_deref(), Some("#1"));
     assert_eq!(closed.entities[0].geometry, open.entities[0].geometry);
     assert_eq!(closed.entities[0].meta.closed_u, Some(true));
+    // `.F.` on a curve whose ends meet: information only.
+    let ring = file(&format!(
+        "#1=B_SPLINE_CURVE_WITH_KNOTS('',2,(#2,#3,#4,#2),.UNSPECIFIED.,.F.,.F.,(3,1,3),(0.,1.,2.),.UNSPECIFIED.);\n{pts}"
+    ));
+    let d = read(&ring, &opts()).unwrap();
+    let f: Vec<_> = d
+        .diagnostics
+        .iter()
+        .filter(|x| x.code == "flag_mismatch")
+        .collect();
+    assert_eq!(f.len(), 1);
+    assert_eq!(f[0].severity, Severity::Info);
 }
 
 #[test]

@@ -20,7 +20,7 @@
 //! | `points.invalid` | error | control points with mixed or unsupported dimensions |
 //! | `geometry.invalid` | error | the NURBS constructor refused the data |
 //! | `limit.degree`, `limit.poles` | error | above [`Limits`](nurbsx_parsers::Limits) |
-//! | `flag_mismatch` | warning | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
+//! | `flag_mismatch` | warning (info for `.F.` on closed geometry) | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
 //! | `units` | info | the file's length unit |
 //! | `units_converted` | info | coordinates scaled to the requested unit |
 //! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units |

@@ -476,8 +476,8 @@ impl<'a> Ctx<'_, 'a> {
             let gap = dist(curve.point_at_unchecked(a), curve.point_at_unchecked(b));
             let tol = closure_tolerance(curve.control_points());
             if flag != (gap <= tol) {
-                diags.push(Diagnostic::warning(
-                    "flag_mismatch",
+                diags.push(flag_mismatch(
+                    flag,
                     format!(
                         "closed_curve is {} but the curve's end points are {gap:e} apart (tolerance {tol:e}); flag kept as information, geometry unchanged",
                         logical_text(r.closed_curve)
@@ -592,8 +592,8 @@ impl<'a> Ctx<'_, 'a> {
                 gap = gap.max(dist(a, b));
             }
             if f != (gap <= tol) {
-                diags.push(Diagnostic::warning(
-                    "flag_mismatch",
+                diags.push(flag_mismatch(
+                    f,
                     format!(
                         "{name} is {} but opposite boundaries are up to {gap:e} apart (tolerance {tol:e}); flag kept as information, geometry unchanged",
                         logical_text(flag)
@@ -611,6 +611,18 @@ impl<'a> Ctx<'_, 'a> {
             },
             meta,
         })
+    }
+}
+
+/// A `flag_mismatch` diagnostic. A flag claiming closure the geometry does not have is a
+/// warning (readers that act on it, as Open CASCADE does for `closed_curve`, get it wrong);
+/// `.F.` on geometry that happens to close is common in real files (Open CASCADE 6.x wrote
+/// it for every closed edge curve) and harmless, so it is reported as information.
+fn flag_mismatch(flag: bool, message: String, location: Location) -> Diagnostic {
+    if flag {
+        Diagnostic::warning("flag_mismatch", message, location)
+    } else {
+        Diagnostic::info("flag_mismatch", message, location)
     }
 }
 
