@@ -1,5 +1,5 @@
 //! Throughput of the Part 21 layer on a synthetic file: 20 000 rational B-spline curves
-//! (complex instances, 8 poles each) and their 160 000 CARTESIAN_POINTs, ~30 MB.
+//! (complex instances, 8 poles each) and their 160 000 CARTESIAN_POINTs, ~21 MB.
 //!
 //! - `scan`: structure, instance boundaries and the #id index (no parameter decoding);
 //! - `parse`: scan + decode every instance + reference check (the eager tree);
