@@ -1,8 +1,8 @@
 //! # STEP records <-> NURBS model
 //!
-//! [`read`] turns every ISO 10303-42 B-spline curve and surface of an AP203/AP214/AP242
+//! [`read()`] turns every ISO 10303-42 B-spline curve and surface of an AP203/AP214/AP242
 //! file (any subtype, rational or not, simple or complex instances, 2-D pcurves included)
-//! into [`Entity`](super::Entity)s, with the file's length unit; [`write`] produces a file
+//! into [`Entity`](super::Entity)s, with the file's length unit; [`write()`] produces a file
 //! Open CASCADE / FreeCAD imports (spec.md c.5).
 //!
 //! Diagnostic codes emitted here:
