@@ -1,1 +1,29 @@
-//! Placeholder: the step format layer is being written.
+//! # ISO 10303-21 (STEP Part 21) exchange structures
+//!
+//! - [`scan`]: one pass over the file: header decoded, every entity instance located
+//!   (`#id`, keyword, body slice) with `memchr`, an `#id` index; parameters decoded lazily
+//!   with [`Scanned::decode`]. This is what a reader that needs a few entity types uses.
+//! - [`parse`]: scan + decode everything into an [`Exchange`] (the borrowed syntax tree),
+//!   with references checked.
+//! - [`schema`]: typed records for the ISO 10303-42 B-spline entities, `CARTESIAN_POINT`,
+//!   the unit entities and the representation context, read by attribute *name* from the
+//!   EXPRESS definitions (so simple and complex instances, in any partial order, read the
+//!   same).
+//! - [`writer`]: Part 21 text from a tree; [`Builder`] creates instances with fresh ids.
+//!
+//! Errors: [`ParseError`] (syntax/structure: line, column, `#id`), [`SchemaError`] (a
+//! record's attribute: `#id`, entity, attribute index and name, expected vs found).
+
+mod ast;
+mod error;
+mod lexer;
+mod scan;
+pub mod schema;
+mod string;
+pub mod writer;
+
+pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};
+pub use error::{LineIndex, ParseError, ParseErrorKind, SchemaError};
+pub use scan::{Parsed, RawInstance, Scanned, SectionInfo, for_each_reference, parse, scan};
+pub use string::{StepString, StringError, encode_string};
+pub use writer::{Builder, write_exchange};

@@ -1,0 +1,213 @@
+//! Located errors of the Part 21 layer: [`ParseError`] (syntax and structure) and
+//! [`SchemaError`] (a typed record's attribute does not match the EXPRESS definition).
+//!
+//! Every error carries a 1-based line and column (columns count bytes; Part 21 files are
+//! ASCII outside strings) and the `#id` of the instance when one is known.
+
+use std::sync::OnceLock;
+
+use crate::real::RealError;
+
+/// What went wrong while reading the exchange structure (ISO 10303-21 clauses 5-12).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParseErrorKind {
+    /// A token other than the one the grammar requires at this place.
+    #[error("expected {expected}, found {found}")]
+    Expected {
+        /// What the grammar requires here.
+        expected: &'static str,
+        /// A short rendering of what is there instead.
+        found: String,
+    },
+    /// A keyword with lower-case letters (ISO 10303-21 6.4: keywords are upper case).
+    #[error("keyword `{0}` is not upper case")]
+    LowercaseKeyword(String),
+    /// A string without its closing apostrophe.
+    #[error("unterminated string")]
+    UnterminatedString,
+    /// A `/*` comment without `*/`.
+    #[error("unterminated comment")]
+    UnterminatedComment,
+    /// A binary literal `"..."` that is not a hex digit string starting with 0-3.
+    #[error("invalid binary literal")]
+    InvalidBinary,
+    /// A REAL token that does not match the grammar (`1.52.3`, `1.e5`, `.5`).
+    #[error("invalid REAL `{0}`")]
+    InvalidReal(String),
+    /// A REAL token whose value overflows `f64` (`1.E400`).
+    #[error("REAL `{0}` is not finite")]
+    NonFiniteReal(String),
+    /// An INTEGER token outside the `i64` range.
+    #[error("INTEGER `{0}` is out of range")]
+    IntegerOverflow(String),
+    /// An entity instance name `#n` outside the `u64` range (or `#` without digits).
+    #[error("invalid instance name `#{0}`")]
+    InvalidId(String),
+    /// A typed parameter `KEYWORD(...)` with other than one parameter.
+    #[error("typed parameter `{0}` must hold exactly one parameter")]
+    TypedArity(String),
+    /// Lists nested deeper than [`Limits::max_nesting_depth`](crate::Limits).
+    #[error("parameter lists nested deeper than the limit of {0}")]
+    NestingTooDeep(usize),
+    /// More parameters in one instance than [`Limits::max_params_per_entity`](crate::Limits).
+    #[error("more than {0} parameters in one instance")]
+    TooManyParameters(usize),
+    /// More instances than [`Limits::max_entities`](crate::Limits).
+    #[error("more than {0} entity instances")]
+    TooManyInstances(usize),
+    /// Input larger than [`Limits::max_input_bytes`](crate::Limits).
+    #[error("input of {size} bytes exceeds the limit of {limit} bytes")]
+    InputTooLarge {
+        /// Input size.
+        size: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The same instance name defined twice.
+    #[error("instance #{id} is defined twice (first at line {first_line})")]
+    DuplicateId {
+        /// The id.
+        id: u64,
+        /// Line of the first definition.
+        first_line: usize,
+    },
+    /// A reference to an instance that is not defined.
+    #[error("reference to undefined instance #{0}")]
+    DanglingReference(u64),
+    /// A reference chain that returns to where it started.
+    #[error("reference cycle {}", render_cycle(.0))]
+    ReferenceCycle(Vec<u64>),
+    /// Input after `END-ISO-10303-21;`.
+    #[error("unexpected input after END-ISO-10303-21;")]
+    TrailingGarbage,
+    /// An edition-3 ANCHOR, REFERENCE or SIGNATURE section, skipped (its content is not
+    /// needed for geometry).
+    #[error("{0} section skipped")]
+    SkippedSection(&'static str),
+    /// A required part of the file structure is missing (`ISO-10303-21;`, `HEADER;`...).
+    #[error("missing {0}")]
+    Missing(&'static str),
+}
+
+fn render_cycle(ids: &[u64]) -> String {
+    ids.iter()
+        .map(|id| format!("#{id}"))
+        .collect::<Vec<_>>()
+        .join(" -> ")
+}
+
+/// A located Part 21 error.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("line {line}, column {column}{}: {kind}", entity_suffix(*.entity))]
+pub struct ParseError {
+    /// What went wrong.
+    pub kind: ParseErrorKind,
+    /// Byte offset in the input.
+    pub offset: usize,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column (in bytes).
+    pub column: usize,
+    /// The instance the error belongs to, when known.
+    pub entity: Option<u64>,
+}
+
+fn entity_suffix(entity: Option<u64>) -> String {
+    entity.map(|id| format!(" (#{id})")).unwrap_or_default()
+}
+
+/// Why a typed record could not be read from an instance (ISO 10303-42 attribute lists).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "line {line}, column {column} (#{entity}): {entity_type}{}: {message}",
+    attribute_suffix(.attribute)
+)]
+pub struct SchemaError {
+    /// The instance.
+    pub entity: u64,
+    /// The entity type (or the partial entity of a complex instance) being read.
+    pub entity_type: String,
+    /// The attribute: its 1-based position within the record as written (the partial record
+    /// for a complex instance), and its EXPRESS name.
+    pub attribute: Option<(usize, &'static str)>,
+    /// Expected vs found, or what else is wrong.
+    pub message: String,
+    /// 1-based line of the instance.
+    pub line: usize,
+    /// 1-based column of the instance.
+    pub column: usize,
+}
+
+impl SchemaError {
+    /// The message without the line/column prefix: entity, attribute and what is wrong
+    /// (for callers that show the location separately).
+    pub fn detail(&self) -> String {
+        format!(
+            "{}{}: {}",
+            self.entity_type,
+            attribute_suffix(&self.attribute),
+            self.message
+        )
+    }
+}
+
+fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
+    match a {
+        Some((i, name)) => format!(" parameter {i} `{name}`"),
+        None => String::new(),
+    }
+}
+
+/// Maps byte offsets to 1-based line and column numbers; the table of line starts is built
+/// on first use with one `memchr` pass (so files without errors pay nothing until a line
+/// number is asked for).
+#[derive(Debug, Default)]
+pub struct LineIndex {
+    starts: OnceLock<Vec<usize>>,
+}
+
+impl LineIndex {
+    /// `(line, column)` of `offset` in `text`, both 1-based.
+    pub fn locate(&self, text: &str, offset: usize) -> (usize, usize) {
+        let starts = self.starts.get_or_init(|| {
+            let mut v = Vec::with_capacity(text.len() / 64 + 1);
+            v.push(0);
+            v.extend(memchr::memchr_iter(b'\n', text.as_bytes()).map(|p| p + 1));
+            v
+        });
+        let line = match starts.binary_search(&offset) {
+            Ok(i) => i,
+            Err(i) => i.saturating_sub(1),
+        };
+        let start = starts.get(line).copied().unwrap_or(0);
+        (line + 1, offset.saturating_sub(start) + 1)
+    }
+
+    /// A located error at `offset`.
+    pub fn error(
+        &self,
+        text: &str,
+        kind: ParseErrorKind,
+        offset: usize,
+        entity: Option<u64>,
+    ) -> ParseError {
+        let (line, column) = self.locate(text, offset);
+        ParseError {
+            kind,
+            offset,
+            line,
+            column,
+            entity,
+        }
+    }
+}
+
+impl From<(RealError, String)> for ParseErrorKind {
+    fn from((e, token): (RealError, String)) -> Self {
+        match e {
+            RealError::Syntax => ParseErrorKind::InvalidReal(token),
+            RealError::NonFinite => ParseErrorKind::NonFiniteReal(token),
+        }
+    }
+}

@@ -1,0 +1,617 @@
+//! The file structure (ISO 10303-21 clauses 8-11) and the lazy instance index.
+//!
+//! [`scan`] makes one pass over the file: it parses the header, finds every entity
+//! instance's `#id`, keyword and body slice with `memchr` (string- and comment-aware), and
+//! builds an `#id -> instance` index. Parameters are decoded only when asked for
+//! ([`Scanned::decode`]), so a reader that needs the B-splines of a large file decodes only
+//! those and the points they reference. [`parse`] decodes everything into an [`Exchange`].
+//!
+//! Error recovery is per statement: a syntax error inside one instance yields a located
+//! error for that instance and scanning resumes after its terminating `;`. Only a broken
+//! file structure (no `ISO-10303-21;`, no `HEADER;`) is fatal.
+
+use std::collections::HashMap;
+
+use super::ast::{Body, DataSection, Exchange, Instance, Parameter, Record};
+use super::error::{LineIndex, ParseError, ParseErrorKind};
+use super::lexer::{Cursor, LexError, ParamLimits, statement_end};
+use crate::Limits;
+
+/// An entity instance found by [`scan`], not yet decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RawInstance<'a> {
+    /// The instance name `n` of `#n`.
+    pub id: u64,
+    /// Byte offset of the `#`.
+    pub offset: usize,
+    /// Byte offset where the body (after `=`) starts.
+    pub body_offset: usize,
+    /// The body text, from after `=` to before `;`.
+    pub body: &'a str,
+    /// The keyword of a simple instance; `None` for a complex instance `( ... )`.
+    pub keyword: Option<&'a str>,
+}
+
+/// A data section as found by [`scan`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SectionInfo<'a> {
+    /// The section's parameters (`DATA('name',('SCHEMA'));`), usually empty.
+    pub params: Vec<Parameter<'a>>,
+    /// The range of [`Scanned::instances`] in this section.
+    pub instances: std::ops::Range<usize>,
+}
+
+/// `#id -> position` in [`Scanned::instances`]: a direct table when ids are dense (the usual
+/// case, 1..n), a hash map otherwise.
+#[derive(Debug)]
+enum IdIndex {
+    Dense(Vec<u32>),
+    Sparse(HashMap<u64, u32>),
+}
+
+impl IdIndex {
+    const NONE: u32 = u32::MAX;
+
+    fn get(&self, id: u64) -> Option<usize> {
+        match self {
+            IdIndex::Dense(v) => {
+                let i = usize::try_from(id).ok()?;
+                match v.get(i) {
+                    Some(&p) if p != Self::NONE => usize::try_from(p).ok(),
+                    _ => None,
+                }
+            }
+            IdIndex::Sparse(m) => m.get(&id).and_then(|&p| usize::try_from(p).ok()),
+        }
+    }
+}
+
+/// A scanned exchange structure: the decoded header, every instance located but not
+/// decoded, the `#id` index, and the errors recovered from.
+#[derive(Debug)]
+pub struct Scanned<'a> {
+    /// The whole input.
+    pub text: &'a str,
+    /// The header entities.
+    pub header: Vec<Record<'a>>,
+    /// The data sections.
+    pub sections: Vec<SectionInfo<'a>>,
+    /// Every instance in file order (duplicates included; the index keeps the first).
+    pub instances: Vec<RawInstance<'a>>,
+    /// Errors recovered from while scanning (bad statements, duplicate ids, skipped
+    /// sections...).
+    pub errors: Vec<ParseError>,
+    index: IdIndex,
+    lines: LineIndex,
+    limits: ParamLimits,
+}
+
+/// A fully decoded file: the syntax tree and the errors recovered from.
+#[derive(Debug)]
+pub struct Parsed<'a> {
+    /// The syntax tree (instances that failed to parse are left out).
+    pub exchange: Exchange<'a>,
+    /// Located errors, in file order.
+    pub errors: Vec<ParseError>,
+}
+
+/// Parses a whole file: [`scan`], decode every instance, check that every reference is
+/// defined. Returns the tree and the located errors recovered from; `Err` only when the
+/// file structure is broken (no `ISO-10303-21;`/`HEADER;`, or a size limit).
+///
+/// ```
+/// # use nurbsx_parsers::{Limits, step};
+/// let text = "ISO-10303-21;HEADER;FILE_DESCRIPTION(('x'),'2;1');ENDSEC;DATA;\
+///             #1=CARTESIAN_POINT('',(0.,1.,2.));ENDSEC;END-ISO-10303-21;";
+/// let parsed = step::parse(text, &Limits::default()).unwrap();
+/// assert!(parsed.errors.is_empty());
+/// assert_eq!(parsed.exchange.instances().count(), 1);
+/// ```
+pub fn parse<'a>(text: &'a str, limits: &Limits) -> Result<Parsed<'a>, ParseError> {
+    let scanned = scan(text, limits)?;
+    let mut errors = scanned.errors.clone();
+    let mut data = Vec::with_capacity(scanned.sections.len());
+    for section in &scanned.sections {
+        let mut instances = Vec::with_capacity(section.instances.len());
+        for raw in scanned
+            .instances
+            .get(section.instances.clone())
+            .unwrap_or_default()
+        {
+            match scanned.decode(raw) {
+                Ok(inst) => {
+                    check_references(&scanned, raw, &inst, &mut errors);
+                    instances.push(inst);
+                }
+                Err(e) => errors.push(e),
+            }
+        }
+        data.push(DataSection {
+            params: section.params.clone(),
+            instances,
+        });
+    }
+    errors.sort_by_key(|e| e.offset);
+    Ok(Parsed {
+        exchange: Exchange {
+            header: scanned.header,
+            data,
+        },
+        errors,
+    })
+}
+
+/// Reports every reference in `inst` to an undefined instance.
+fn check_references(
+    s: &Scanned<'_>,
+    raw: &RawInstance<'_>,
+    inst: &Instance<'_>,
+    errors: &mut Vec<ParseError>,
+) {
+    for_each_reference(&inst.body, |id| {
+        if s.get(id).is_none() {
+            errors.push(s.error_at(
+                ParseErrorKind::DanglingReference(id),
+                raw.offset,
+                Some(raw.id),
+            ));
+        }
+    });
+}
+
+/// Calls `f` with every `#id` referenced anywhere in `body` (iteratively: no recursion).
+pub fn for_each_reference(body: &Body<'_>, mut f: impl FnMut(u64)) {
+    let mut stack: Vec<&Parameter<'_>> = Vec::new();
+    for r in body.records() {
+        stack.extend(r.params.iter().rev());
+        while let Some(p) = stack.pop() {
+            match p {
+                Parameter::Reference(id) => f(*id),
+                Parameter::List(l) => stack.extend(l.iter().rev()),
+                Parameter::Typed(_, inner) => stack.push(inner),
+                _ => {}
+            }
+        }
+    }
+}
+
+/// Scans the file structure and locates every instance (see the module documentation).
+pub fn scan<'a>(text: &'a str, limits: &Limits) -> Result<Scanned<'a>, ParseError> {
+    let lines = LineIndex::default();
+    if text.len() > limits.max_input_bytes {
+        return Err(lines.error(
+            text,
+            ParseErrorKind::InputTooLarge {
+                size: text.len(),
+                limit: limits.max_input_bytes,
+            },
+            0,
+            None,
+        ));
+    }
+    let plimits = ParamLimits {
+        max_depth: limits.max_nesting_depth.max(1),
+        max_params: limits.max_params_per_entity,
+    };
+    let mut s = Scanned {
+        text,
+        header: Vec::new(),
+        sections: Vec::new(),
+        instances: Vec::new(),
+        errors: Vec::new(),
+        index: IdIndex::Sparse(HashMap::new()),
+        lines,
+        limits: plimits,
+    };
+    let fatal = |s: &Scanned<'a>, (kind, at): LexError| s.error_at(kind, at, None);
+    let mut c = Cursor::new(text, 0, text.len());
+    if text.starts_with('\u{feff}') {
+        c.pos = 3;
+    }
+    c.skip_ws().map_err(|e| fatal(&s, e))?;
+    if !c.starts_with("ISO-10303-21") {
+        return Err(s.error_at(ParseErrorKind::Missing("ISO-10303-21;"), c.pos, None));
+    }
+    c.pos += "ISO-10303-21".len();
+    end_of_keyword_statement(&mut c).map_err(|e| fatal(&s, e))?;
+    c.skip_ws().map_err(|e| fatal(&s, e))?;
+    if !c.starts_with("HEADER") {
+        return Err(s.error_at(ParseErrorKind::Missing("HEADER;"), c.pos, None));
+    }
+    c.pos += "HEADER".len();
+    end_of_keyword_statement(&mut c).map_err(|e| fatal(&s, e))?;
+    s.scan_header(&mut c)?;
+
+    let mut ended = false;
+    loop {
+        c.skip_ws().map_err(|e| fatal(&s, e))?;
+        if c.peek().is_none() {
+            break;
+        }
+        if ended {
+            s.errors
+                .push(s.error_at(ParseErrorKind::TrailingGarbage, c.pos, None));
+            break;
+        }
+        if c.starts_with("END-ISO-10303-21") {
+            c.pos += "END-ISO-10303-21".len();
+            end_of_keyword_statement(&mut c).map_err(|e| fatal(&s, e))?;
+            ended = true;
+        } else if section_keyword(&c, "DATA") {
+            s.scan_data(&mut c, limits)?;
+        } else if let Some(name) = ["ANCHOR", "REFERENCE", "SIGNATURE"]
+            .into_iter()
+            .find(|k| section_keyword(&c, k))
+        {
+            let at = c.pos;
+            s.skip_section(&mut c)?;
+            s.errors
+                .push(s.error_at(ParseErrorKind::SkippedSection(name), at, None));
+        } else {
+            return Err(fatal(&s, c.expected("DATA; or END-ISO-10303-21;")));
+        }
+    }
+    if !ended {
+        s.errors.push(s.error_at(
+            ParseErrorKind::Missing("END-ISO-10303-21;"),
+            text.len(),
+            None,
+        ));
+    }
+    s.build_index(limits);
+    Ok(s)
+}
+
+/// Whether the cursor is at the keyword `kw` followed by a non-keyword character.
+fn section_keyword(c: &Cursor<'_>, kw: &str) -> bool {
+    c.starts_with(kw)
+        && !c
+            .text
+            .as_bytes()
+            .get(c.pos + kw.len())
+            .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_' || *b == b'-')
+}
+
+/// After a structure keyword: optional whitespace/comments, then `;`.
+fn end_of_keyword_statement(c: &mut Cursor<'_>) -> Result<(), LexError> {
+    c.skip_ws()?;
+    c.expect_byte(b';', "`;`")
+}
+
+impl<'a> Scanned<'a> {
+    /// A located error at a byte offset.
+    pub fn error_at(&self, kind: ParseErrorKind, offset: usize, entity: Option<u64>) -> ParseError {
+        self.lines.error(self.text, kind, offset, entity)
+    }
+
+    /// `(line, column)` (1-based) of a byte offset.
+    pub fn locate(&self, offset: usize) -> (usize, usize) {
+        self.lines.locate(self.text, offset)
+    }
+
+    /// The instance `#id` (the first one if the id is duplicated).
+    pub fn get(&self, id: u64) -> Option<&RawInstance<'a>> {
+        self.index.get(id).and_then(|i| self.instances.get(i))
+    }
+
+    /// Decodes an instance's parameters.
+    pub fn decode(&self, raw: &RawInstance<'a>) -> Result<Instance<'a>, ParseError> {
+        let end = raw.body_offset + raw.body.len();
+        let mut c = Cursor::new(self.text, raw.body_offset, end);
+        c.body(self.limits)
+            .map(|body| Instance { id: raw.id, body })
+            .map_err(|(kind, at)| self.error_at(kind, at, Some(raw.id)))
+    }
+
+    /// Decodes instance `#id`; `referrer` (the instance holding the reference) locates the
+    /// error when `#id` is undefined.
+    pub fn decode_id(
+        &self,
+        id: u64,
+        referrer: &RawInstance<'a>,
+    ) -> Result<Instance<'a>, ParseError> {
+        match self.get(id) {
+            Some(raw) => self.decode(raw),
+            None => Err(self.error_at(
+                ParseErrorKind::DanglingReference(id),
+                referrer.offset,
+                Some(referrer.id),
+            )),
+        }
+    }
+
+    /// Looks for reference cycles reachable from `roots`, decoding the instances on the way
+    /// (iterative depth-first search; each instance is visited once). Returns one located
+    /// error per cycle found, at the instance that closes it. Undecodable and undefined
+    /// instances are treated as leaves (they are reported elsewhere).
+    pub fn find_cycles(&self, roots: impl IntoIterator<Item = u64>) -> Vec<ParseError> {
+        const ON_PATH: u8 = 1;
+        const DONE: u8 = 2;
+        let mut state: HashMap<u64, u8> = HashMap::new();
+        let mut errors = Vec::new();
+        for root in roots {
+            if state.contains_key(&root) {
+                continue;
+            }
+            // (id, references of id, next reference to follow)
+            let mut stack: Vec<(u64, Vec<u64>, usize)> = Vec::new();
+            state.insert(root, ON_PATH);
+            stack.push((root, self.references_of(root), 0));
+            while let Some((id, refs, next)) = stack.last_mut() {
+                let id = *id;
+                let Some(&child) = refs.get(*next) else {
+                    state.insert(id, DONE);
+                    stack.pop();
+                    continue;
+                };
+                *next += 1;
+                match state.get(&child) {
+                    Some(&ON_PATH) => {
+                        let mut path: Vec<u64> = stack
+                            .iter()
+                            .map(|f| f.0)
+                            .skip_while(|&i| i != child)
+                            .collect();
+                        path.push(child);
+                        let offset = self.get(id).map_or(0, |r| r.offset);
+                        errors.push(self.error_at(
+                            ParseErrorKind::ReferenceCycle(path),
+                            offset,
+                            Some(id),
+                        ));
+                    }
+                    Some(_) => {}
+                    None => {
+                        state.insert(child, ON_PATH);
+                        let refs = self.references_of(child);
+                        stack.push((child, refs, 0));
+                    }
+                }
+            }
+        }
+        errors
+    }
+
+    /// The ids an instance references (empty if undefined or undecodable).
+    fn references_of(&self, id: u64) -> Vec<u64> {
+        let mut out = Vec::new();
+        if let Some(raw) = self.get(id) {
+            if let Ok(inst) = self.decode(raw) {
+                for_each_reference(&inst.body, |r| out.push(r));
+            }
+        }
+        out
+    }
+
+    /// Header: records up to `ENDSEC;`. A bad record is a recovered error.
+    fn scan_header(&mut self, c: &mut Cursor<'a>) -> Result<(), ParseError> {
+        loop {
+            c.skip_ws().map_err(|(k, at)| self.error_at(k, at, None))?;
+            if c.peek().is_none() {
+                return Err(self.error_at(
+                    ParseErrorKind::Missing("ENDSEC; closing HEADER"),
+                    c.pos,
+                    None,
+                ));
+            }
+            if section_keyword(c, "ENDSEC") {
+                c.pos += "ENDSEC".len();
+                return end_of_keyword_statement(c).map_err(|(k, at)| self.error_at(k, at, None));
+            }
+            let end = statement_end(self.text.as_bytes(), c.pos)
+                .map_err(|(k, at)| self.error_at(k, at, None))?;
+            let mut rc = Cursor::new(self.text, c.pos, end);
+            let mut count = 0;
+            let record = rc.record(self.limits, &mut count).and_then(|r| {
+                rc.skip_ws()?;
+                if rc.pos < end {
+                    Err(rc.expected("`;`"))
+                } else {
+                    Ok(r)
+                }
+            });
+            match record {
+                Ok(r) => self.header.push(r),
+                Err((k, at)) => self.errors.push(self.error_at(k, at, None)),
+            }
+            c.pos = end + 1;
+        }
+    }
+
+    /// Skips an ANCHOR/REFERENCE/SIGNATURE section up to its `ENDSEC;`.
+    fn skip_section(&mut self, c: &mut Cursor<'a>) -> Result<(), ParseError> {
+        loop {
+            let end = statement_end(self.text.as_bytes(), c.pos)
+                .map_err(|(k, at)| self.error_at(k, at, None))?;
+            let stmt = self.text.get(c.pos..end).unwrap_or_default().trim();
+            c.pos = end + 1;
+            if stmt == "ENDSEC" {
+                return Ok(());
+            }
+        }
+    }
+
+    /// `DATA [ ( params ) ] ;` then instances up to `ENDSEC;`.
+    fn scan_data(&mut self, c: &mut Cursor<'a>, limits: &Limits) -> Result<(), ParseError> {
+        let err = |s: &Scanned<'a>, (k, at): LexError| s.error_at(k, at, None);
+        c.pos += "DATA".len();
+        c.skip_ws().map_err(|e| err(self, e))?;
+        let mut params = Vec::new();
+        if c.peek() == Some(b'(') {
+            let mut count = 0;
+            params = c
+                .parameter_list(self.limits, &mut count)
+                .map_err(|e| err(self, e))?;
+        }
+        end_of_keyword_statement(c).map_err(|e| err(self, e))?;
+        let first = self.instances.len();
+        let bytes = self.text.as_bytes();
+        loop {
+            if let Err(e) = c.skip_ws() {
+                self.errors.push(err(self, e));
+                c.pos = c.end;
+            }
+            if c.peek().is_none() {
+                self.errors.push(self.error_at(
+                    ParseErrorKind::Missing("ENDSEC; closing DATA"),
+                    c.pos,
+                    None,
+                ));
+                break;
+            }
+            if section_keyword(c, "ENDSEC") {
+                c.pos += "ENDSEC".len();
+                end_of_keyword_statement(c).map_err(|e| err(self, e))?;
+                break;
+            }
+            let start = c.pos;
+            let end = match statement_end(bytes, start) {
+                Ok(e) => e,
+                Err(e) => {
+                    // An unterminated string or comment swallows the rest of the file.
+                    self.errors.push(err(self, e));
+                    c.pos = c.end;
+                    continue;
+                }
+            };
+            match instance_head(self.text, start, end) {
+                Ok((id, body_offset, keyword)) => {
+                    if self.instances.len() >= limits.max_entities {
+                        return Err(self.error_at(
+                            ParseErrorKind::TooManyInstances(limits.max_entities),
+                            start,
+                            Some(id),
+                        ));
+                    }
+                    self.instances.push(RawInstance {
+                        id,
+                        offset: start,
+                        body_offset,
+                        body: self.text.get(body_offset..end).unwrap_or_default(),
+                        keyword,
+                    });
+                }
+                Err((k, at, id)) => self.errors.push(self.error_at(k, at, id)),
+            }
+            c.pos = end + 1;
+        }
+        self.sections.push(SectionInfo {
+            params,
+            instances: first..self.instances.len(),
+        });
+        Ok(())
+    }
+
+    /// Builds the `#id` index; a duplicate id is a recovered error (the first one wins).
+    fn build_index(&mut self, _limits: &Limits) {
+        let n = self.instances.len();
+        let max = self.instances.iter().map(|r| r.id).max().unwrap_or(0);
+        let dense_ok = usize::try_from(max)
+            .ok()
+            .filter(|&m| m <= n.saturating_mul(4).saturating_add(1024));
+        let mut dups = Vec::new();
+        let index = match dense_ok {
+            Some(m) => {
+                let mut v = vec![IdIndex::NONE; m + 1];
+                for (pos, r) in self.instances.iter().enumerate() {
+                    let (Ok(slot), Ok(p)) = (usize::try_from(r.id), u32::try_from(pos)) else {
+                        continue;
+                    };
+                    if let Some(cell) = v.get_mut(slot) {
+                        if *cell == IdIndex::NONE {
+                            *cell = p;
+                        } else {
+                            dups.push((pos, *cell));
+                        }
+                    }
+                }
+                IdIndex::Dense(v)
+            }
+            None => {
+                let mut m = HashMap::with_capacity(n);
+                for (pos, r) in self.instances.iter().enumerate() {
+                    let Ok(p) = u32::try_from(pos) else { continue };
+                    match m.entry(r.id) {
+                        std::collections::hash_map::Entry::Vacant(e) => {
+                            e.insert(p);
+                        }
+                        std::collections::hash_map::Entry::Occupied(e) => {
+                            dups.push((pos, *e.get()))
+                        }
+                    }
+                }
+                IdIndex::Sparse(m)
+            }
+        };
+        self.index = index;
+        for (pos, first) in dups {
+            let (Some(r), Some(f)) = (
+                self.instances.get(pos),
+                usize::try_from(first)
+                    .ok()
+                    .and_then(|f| self.instances.get(f)),
+            ) else {
+                continue;
+            };
+            let first_line = self.locate(f.offset).0;
+            let e = self.error_at(
+                ParseErrorKind::DuplicateId {
+                    id: r.id,
+                    first_line,
+                },
+                r.offset,
+                Some(r.id),
+            );
+            self.errors.push(e);
+        }
+        self.errors.sort_by_key(|e| e.offset);
+    }
+}
+
+/// `#n = ` at the start of a statement: the id, the offset of the body, and the keyword of
+/// a simple instance (`None` for a complex one).
+#[allow(clippy::type_complexity)]
+fn instance_head(
+    text: &str,
+    start: usize,
+    end: usize,
+) -> Result<(u64, usize, Option<&str>), (ParseErrorKind, usize, Option<u64>)> {
+    let mut c = Cursor::new(text, start, end);
+    if c.peek() != Some(b'#') {
+        let (k, at) = c.expected("`#` starting an entity instance, or ENDSEC;");
+        return Err((k, at, None));
+    }
+    c.pos += 1;
+    let from = c.pos;
+    while c.peek().is_some_and(|b| b.is_ascii_digit()) {
+        c.pos += 1;
+    }
+    let digits = text.get(from..c.pos).unwrap_or_default();
+    let id = match digits.parse::<u64>() {
+        Ok(id) if !digits.is_empty() => id,
+        _ => {
+            let shown: String = text
+                .get(from..end)
+                .unwrap_or_default()
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric())
+                .take(30)
+                .collect();
+            return Err((ParseErrorKind::InvalidId(shown), start, None));
+        }
+    };
+    let wrap = |(k, at): LexError| (k, at, Some(id));
+    c.skip_ws().map_err(wrap)?;
+    c.expect_byte(b'=', "`=` after the instance name")
+        .map_err(wrap)?;
+    c.skip_ws().map_err(wrap)?;
+    let body_offset = c.pos;
+    let keyword = match c.peek() {
+        Some(b) if b.is_ascii_uppercase() || b == b'!' => {
+            let k = c.keyword().map_err(wrap)?;
+            Some(k)
+        }
+        _ => None,
+    };
+    Ok((id, body_offset, keyword))
+}

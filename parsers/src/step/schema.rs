@@ -1,0 +1,1077 @@
+//! Typed records for the ISO 10303-42 B-spline entities, `CARTESIAN_POINT`, the ISO
+//! 10303-41 unit entities and the ISO 10303-43 representation context.
+//!
+//! Attributes are read by **name**, from tables transcribed from the EXPRESS definitions
+//! (spec.md c.2): each entity data type lists only the attributes it declares itself
+//! ([`OWN_ATTRIBUTES`]); a simple instance carries the attributes of its whole supertype
+//! chain in order ([`SUPERTYPE_CHAINS`]: `name` from `REPRESENTATION_ITEM` first), a complex
+//! instance one partial record per entity data type, in any order. Both shapes go through
+//! [`Attributes`], so `B_SPLINE_CURVE_WITH_KNOTS('NONE',...)`, `...('',...)` and the
+//! external-mapping form `( BOUNDED_CURVE() B_SPLINE_CURVE(...) ... )` read identically.
+//!
+//! These records check what the schema's *types* require (an INTEGER degree, a list of
+//! references, a LOGICAL...). Geometric rules (knot counts, weights > 0) are the exchange
+//! layer's job, which turns records into NURBS.
+
+use super::ast::{Body, Instance, Parameter};
+use super::error::SchemaError;
+use super::string::StepString;
+
+/// Own (non-inherited) explicit attributes of the entity data types read here, in EXPRESS
+/// order (ISO 10303-41, -42, -43).
+pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
+    ("REPRESENTATION_ITEM", &["name"]),
+    ("GEOMETRIC_REPRESENTATION_ITEM", &[]),
+    ("POINT", &[]),
+    ("CARTESIAN_POINT", &["coordinates"]),
+    ("CURVE", &[]),
+    ("BOUNDED_CURVE", &[]),
+    (
+        "B_SPLINE_CURVE",
+        &[
+            "degree",
+            "control_points_list",
+            "curve_form",
+            "closed_curve",
+            "self_intersect",
+        ],
+    ),
+    (
+        "B_SPLINE_CURVE_WITH_KNOTS",
+        &["knot_multiplicities", "knots", "knot_spec"],
+    ),
+    ("BEZIER_CURVE", &[]),
+    ("UNIFORM_CURVE", &[]),
+    ("QUASI_UNIFORM_CURVE", &[]),
+    ("RATIONAL_B_SPLINE_CURVE", &["weights_data"]),
+    ("SURFACE", &[]),
+    ("BOUNDED_SURFACE", &[]),
+    (
+        "B_SPLINE_SURFACE",
+        &[
+            "u_degree",
+            "v_degree",
+            "control_points_list",
+            "surface_form",
+            "u_closed",
+            "v_closed",
+            "self_intersect",
+        ],
+    ),
+    (
+        "B_SPLINE_SURFACE_WITH_KNOTS",
+        &[
+            "u_multiplicities",
+            "v_multiplicities",
+            "u_knots",
+            "v_knots",
+            "knot_spec",
+        ],
+    ),
+    ("BEZIER_SURFACE", &[]),
+    ("UNIFORM_SURFACE", &[]),
+    ("QUASI_UNIFORM_SURFACE", &[]),
+    ("RATIONAL_B_SPLINE_SURFACE", &["weights_data"]),
+    ("NAMED_UNIT", &["dimensions"]),
+    ("SI_UNIT", &["prefix", "name"]),
+    ("LENGTH_UNIT", &[]),
+    ("PLANE_ANGLE_UNIT", &[]),
+    ("SOLID_ANGLE_UNIT", &[]),
+    ("CONVERSION_BASED_UNIT", &["name", "conversion_factor"]),
+    ("MEASURE_WITH_UNIT", &["value_component", "unit_component"]),
+    ("LENGTH_MEASURE_WITH_UNIT", &[]),
+    ("UNCERTAINTY_MEASURE_WITH_UNIT", &["name", "description"]),
+    (
+        "REPRESENTATION_CONTEXT",
+        &["context_identifier", "context_type"],
+    ),
+    (
+        "GEOMETRIC_REPRESENTATION_CONTEXT",
+        &["coordinate_space_dimension"],
+    ),
+    ("GLOBAL_UNIT_ASSIGNED_CONTEXT", &["units"]),
+    ("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT", &["uncertainty"]),
+];
+
+const CURVE_CHAIN: [&str; 5] = [
+    "REPRESENTATION_ITEM",
+    "GEOMETRIC_REPRESENTATION_ITEM",
+    "CURVE",
+    "BOUNDED_CURVE",
+    "B_SPLINE_CURVE",
+];
+const SURFACE_CHAIN: [&str; 5] = [
+    "REPRESENTATION_ITEM",
+    "GEOMETRIC_REPRESENTATION_ITEM",
+    "SURFACE",
+    "BOUNDED_SURFACE",
+    "B_SPLINE_SURFACE",
+];
+
+/// The supertype chain (root first) of each entity that can appear as a simple instance;
+/// a simple instance's parameters are the own attributes of each, in this order.
+pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
+    (
+        "CARTESIAN_POINT",
+        &[
+            "REPRESENTATION_ITEM",
+            "GEOMETRIC_REPRESENTATION_ITEM",
+            "POINT",
+            "CARTESIAN_POINT",
+        ],
+    ),
+    ("B_SPLINE_CURVE", &CURVE_CHAIN),
+    (
+        "B_SPLINE_CURVE_WITH_KNOTS",
+        &[
+            CURVE_CHAIN[0],
+            CURVE_CHAIN[1],
+            CURVE_CHAIN[2],
+            CURVE_CHAIN[3],
+            CURVE_CHAIN[4],
+            "B_SPLINE_CURVE_WITH_KNOTS",
+        ],
+    ),
+    (
+        "BEZIER_CURVE",
+        &[
+            CURVE_CHAIN[0],
+            CURVE_CHAIN[1],
+            CURVE_CHAIN[2],
+            CURVE_CHAIN[3],
+            CURVE_CHAIN[4],
+            "BEZIER_CURVE",
+        ],
+    ),
+    (
+        "UNIFORM_CURVE",
+        &[
+            CURVE_CHAIN[0],
+            CURVE_CHAIN[1],
+            CURVE_CHAIN[2],
+            CURVE_CHAIN[3],
+            CURVE_CHAIN[4],
+            "UNIFORM_CURVE",
+        ],
+    ),
+    (
+        "QUASI_UNIFORM_CURVE",
+        &[
+            CURVE_CHAIN[0],
+            CURVE_CHAIN[1],
+            CURVE_CHAIN[2],
+            CURVE_CHAIN[3],
+            CURVE_CHAIN[4],
+            "QUASI_UNIFORM_CURVE",
+        ],
+    ),
+    ("B_SPLINE_SURFACE", &SURFACE_CHAIN),
+    (
+        "B_SPLINE_SURFACE_WITH_KNOTS",
+        &[
+            SURFACE_CHAIN[0],
+            SURFACE_CHAIN[1],
+            SURFACE_CHAIN[2],
+            SURFACE_CHAIN[3],
+            SURFACE_CHAIN[4],
+            "B_SPLINE_SURFACE_WITH_KNOTS",
+        ],
+    ),
+    (
+        "BEZIER_SURFACE",
+        &[
+            SURFACE_CHAIN[0],
+            SURFACE_CHAIN[1],
+            SURFACE_CHAIN[2],
+            SURFACE_CHAIN[3],
+            SURFACE_CHAIN[4],
+            "BEZIER_SURFACE",
+        ],
+    ),
+    (
+        "UNIFORM_SURFACE",
+        &[
+            SURFACE_CHAIN[0],
+            SURFACE_CHAIN[1],
+            SURFACE_CHAIN[2],
+            SURFACE_CHAIN[3],
+            SURFACE_CHAIN[4],
+            "UNIFORM_SURFACE",
+        ],
+    ),
+    (
+        "QUASI_UNIFORM_SURFACE",
+        &[
+            SURFACE_CHAIN[0],
+            SURFACE_CHAIN[1],
+            SURFACE_CHAIN[2],
+            SURFACE_CHAIN[3],
+            SURFACE_CHAIN[4],
+            "QUASI_UNIFORM_SURFACE",
+        ],
+    ),
+    ("SI_UNIT", &["NAMED_UNIT", "SI_UNIT"]),
+    (
+        "CONVERSION_BASED_UNIT",
+        &["NAMED_UNIT", "CONVERSION_BASED_UNIT"],
+    ),
+    ("MEASURE_WITH_UNIT", &["MEASURE_WITH_UNIT"]),
+    (
+        "LENGTH_MEASURE_WITH_UNIT",
+        &["MEASURE_WITH_UNIT", "LENGTH_MEASURE_WITH_UNIT"],
+    ),
+    (
+        "UNCERTAINTY_MEASURE_WITH_UNIT",
+        &["MEASURE_WITH_UNIT", "UNCERTAINTY_MEASURE_WITH_UNIT"],
+    ),
+    ("REPRESENTATION_CONTEXT", &["REPRESENTATION_CONTEXT"]),
+    (
+        "GEOMETRIC_REPRESENTATION_CONTEXT",
+        &["REPRESENTATION_CONTEXT", "GEOMETRIC_REPRESENTATION_CONTEXT"],
+    ),
+];
+
+/// Short names (ISO 10303-21 clause 12.2.4 allows them) confirmed in Open CASCADE's
+/// readers (`NamedForComplex(long, short)` in RWStepGeom) and the spec (c.4).
+const SHORT_NAMES: &[(&str, &str)] = &[
+    ("CRTPNT", "CARTESIAN_POINT"),
+    ("BNDCRV", "BOUNDED_CURVE"),
+    ("BSPCR", "B_SPLINE_CURVE"),
+    ("BSCWK", "B_SPLINE_CURVE_WITH_KNOTS"),
+    ("BSSWK", "B_SPLINE_SURFACE_WITH_KNOTS"),
+    ("RBSC", "RATIONAL_B_SPLINE_CURVE"),
+    ("GMRPIT", "GEOMETRIC_REPRESENTATION_ITEM"),
+    ("RPRITM", "REPRESENTATION_ITEM"),
+];
+
+/// The long entity name for a keyword (short names mapped; anything else unchanged).
+pub fn canonical_name(keyword: &str) -> &str {
+    SHORT_NAMES
+        .iter()
+        .find(|(s, _)| *s == keyword)
+        .map_or(keyword, |(_, l)| l)
+}
+
+fn own_attributes(entity: &str) -> Option<&'static [&'static str]> {
+    OWN_ATTRIBUTES
+        .iter()
+        .find(|(e, _)| *e == entity)
+        .map(|(_, a)| *a)
+}
+
+/// Where an instance is, for error messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct At {
+    /// The instance id.
+    pub id: u64,
+    /// 1-based line of the instance.
+    pub line: usize,
+    /// 1-based column of the instance.
+    pub column: usize,
+}
+
+/// One attribute found in an instance.
+#[derive(Debug, Clone, Copy)]
+struct Slot<'i, 'a> {
+    name: &'static str,
+    entity: &'static str,
+    position: usize,
+    value: &'i Parameter<'a>,
+}
+
+/// The attributes of an instance, by EXPRESS name, whatever the instance's shape.
+#[derive(Debug)]
+pub struct Attributes<'i, 'a> {
+    at: At,
+    entity_type: String,
+    partials: Vec<&'static str>,
+    slots: Vec<Slot<'i, 'a>>,
+}
+
+impl<'i, 'a> Attributes<'i, 'a> {
+    /// Maps an instance's parameters to attribute names. A simple instance must be one of
+    /// [`SUPERTYPE_CHAINS`] with exactly the chain's attribute count; in a complex instance
+    /// each known partial must have its own attribute count, and unknown partials are
+    /// ignored (listed in [`Attributes::entity_type`]).
+    pub fn of(inst: &'i Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let mut partials = Vec::new();
+        let mut slots = Vec::new();
+        let err = |entity_type: &str, message: String| SchemaError {
+            entity: at.id,
+            entity_type: entity_type.to_owned(),
+            attribute: None,
+            message,
+            line: at.line,
+            column: at.column,
+        };
+        let entity_type;
+        match &inst.body {
+            Body::Simple(r) => {
+                let name = canonical_name(r.keyword);
+                entity_type = name.to_owned();
+                let Some((_, chain)) = SUPERTYPE_CHAINS.iter().find(|(e, _)| *e == name) else {
+                    return Err(err(name, "not an entity type this reader knows".to_owned()));
+                };
+                let mut position = 0;
+                for &entity in *chain {
+                    partials.push(entity);
+                    for &attr in own_attributes(entity).unwrap_or_default() {
+                        position += 1;
+                        if let Some(value) = r.params.get(position - 1) {
+                            slots.push(Slot {
+                                name: attr,
+                                entity,
+                                position,
+                                value,
+                            });
+                        }
+                    }
+                }
+                if position != r.params.len() {
+                    return Err(err(
+                        name,
+                        format!("expected {position} parameters, found {}", r.params.len()),
+                    ));
+                }
+            }
+            Body::Complex(records) => {
+                let names: Vec<&str> = records.iter().map(|r| canonical_name(r.keyword)).collect();
+                entity_type = format!("({})", names.join(","));
+                for r in records {
+                    let name = canonical_name(r.keyword);
+                    let Some((entity, attrs)) = OWN_ATTRIBUTES.iter().find(|(e, _)| *e == name)
+                    else {
+                        continue;
+                    };
+                    if attrs.len() != r.params.len() {
+                        return Err(err(
+                            entity,
+                            format!(
+                                "partial entity {entity} expects {} parameters, found {}",
+                                attrs.len(),
+                                r.params.len()
+                            ),
+                        ));
+                    }
+                    partials.push(*entity);
+                    for (i, (&attr, value)) in attrs.iter().zip(&r.params).enumerate() {
+                        slots.push(Slot {
+                            name: attr,
+                            entity,
+                            position: i + 1,
+                            value,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Attributes {
+            at,
+            entity_type,
+            partials,
+            slots,
+        })
+    }
+
+    /// The entity type as written: `B_SPLINE_CURVE_WITH_KNOTS`, or
+    /// `(BOUNDED_CURVE,B_SPLINE_CURVE,...)` for a complex instance.
+    pub fn entity_type(&self) -> &str {
+        &self.entity_type
+    }
+
+    /// Whether the instance is of (or contains the partial) entity data type `entity`.
+    pub fn has(&self, entity: &str) -> bool {
+        self.partials.contains(&entity)
+    }
+
+    /// A schema error about this instance (no particular attribute).
+    pub fn error(&self, message: impl Into<String>) -> SchemaError {
+        SchemaError {
+            entity: self.at.id,
+            entity_type: self.entity_type.clone(),
+            attribute: None,
+            message: message.into(),
+            line: self.at.line,
+            column: self.at.column,
+        }
+    }
+
+    fn slot(&self, entity: &str, name: &'static str) -> Result<Slot<'i, 'a>, SchemaError> {
+        self.slots
+            .iter()
+            .find(|s| s.entity == entity && s.name == name)
+            .copied()
+            .ok_or_else(|| self.error(format!("attribute `{name}` of {entity} is missing")))
+    }
+
+    fn slot_error(&self, s: &Slot<'i, 'a>, message: String) -> SchemaError {
+        SchemaError {
+            entity: self.at.id,
+            entity_type: s.entity.to_owned(),
+            attribute: Some((s.position, s.name)),
+            message,
+            line: self.at.line,
+            column: self.at.column,
+        }
+    }
+
+    /// The raw parameter of attribute `name` declared by `entity`.
+    pub fn param(
+        &self,
+        entity: &str,
+        name: &'static str,
+    ) -> Result<&'i Parameter<'a>, SchemaError> {
+        self.slot(entity, name).map(|s| s.value)
+    }
+
+    /// An INTEGER attribute.
+    pub fn integer(&self, entity: &str, name: &'static str) -> Result<i64, SchemaError> {
+        let s = self.slot(entity, name)?;
+        s.value.as_integer().ok_or_else(|| {
+            self.slot_error(
+                &s,
+                format!("expected an integer, found {}", s.value.kind_name()),
+            )
+        })
+    }
+
+    /// An enumeration attribute (value without dots).
+    pub fn enumeration(&self, entity: &str, name: &'static str) -> Result<&'a str, SchemaError> {
+        let s = self.slot(entity, name)?;
+        s.value.as_enumeration().ok_or_else(|| {
+            self.slot_error(
+                &s,
+                format!("expected an enumeration, found {}", s.value.kind_name()),
+            )
+        })
+    }
+
+    /// A LOGICAL attribute (`.T.`, `.F.`, `.U.`).
+    pub fn logical(&self, entity: &str, name: &'static str) -> Result<Logical, SchemaError> {
+        let s = self.slot(entity, name)?;
+        match s.value.as_enumeration() {
+            Some("T") => Ok(Logical::True),
+            Some("F") => Ok(Logical::False),
+            Some("U") => Ok(Logical::Unknown),
+            _ => Err(self.slot_error(
+                &s,
+                format!("expected .T., .F. or .U., found {}", render(s.value)),
+            )),
+        }
+    }
+
+    /// A STRING attribute.
+    pub fn string(&self, entity: &str, name: &'static str) -> Result<StepString<'a>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        s.value.as_string().cloned().ok_or_else(|| {
+            self.slot_error(
+                &s,
+                format!("expected a string, found {}", s.value.kind_name()),
+            )
+        })
+    }
+
+    /// A LIST OF REAL attribute (integers accepted as reals).
+    pub fn reals(&self, entity: &str, name: &'static str) -> Result<Vec<f64>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        self.list_of(&s, s.value, "a real", Parameter::as_real)
+    }
+
+    /// A LIST OF INTEGER attribute.
+    pub fn integers(&self, entity: &str, name: &'static str) -> Result<Vec<i64>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        self.list_of(&s, s.value, "an integer", Parameter::as_integer)
+    }
+
+    /// A LIST OF entity reference attribute.
+    pub fn references(&self, entity: &str, name: &'static str) -> Result<Vec<u64>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        self.list_of(&s, s.value, "a reference", Parameter::as_reference)
+    }
+
+    /// A LIST OF LIST OF entity reference attribute.
+    pub fn reference_grid(
+        &self,
+        entity: &str,
+        name: &'static str,
+    ) -> Result<Vec<Vec<u64>>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        self.grid_of(&s, "a reference", Parameter::as_reference)
+    }
+
+    /// A LIST OF LIST OF REAL attribute.
+    pub fn real_grid(
+        &self,
+        entity: &str,
+        name: &'static str,
+    ) -> Result<Vec<Vec<f64>>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        self.grid_of(&s, "a real", Parameter::as_real)
+    }
+
+    fn list_of<T>(
+        &self,
+        s: &Slot<'i, 'a>,
+        value: &Parameter<'a>,
+        what: &str,
+        f: impl Fn(&Parameter<'a>) -> Option<T>,
+    ) -> Result<Vec<T>, SchemaError> {
+        let Some(list) = value.as_list() else {
+            return Err(self.slot_error(s, format!("expected a list, found {}", value.kind_name())));
+        };
+        list.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                f(p).ok_or_else(|| {
+                    self.slot_error(
+                        s,
+                        format!("element {} : expected {what}, found {}", i + 1, render(p)),
+                    )
+                })
+            })
+            .collect()
+    }
+
+    fn grid_of<T>(
+        &self,
+        s: &Slot<'i, 'a>,
+        what: &str,
+        f: impl Fn(&Parameter<'a>) -> Option<T> + Copy,
+    ) -> Result<Vec<Vec<T>>, SchemaError> {
+        let Some(rows) = s.value.as_list() else {
+            return Err(self.slot_error(
+                s,
+                format!("expected a list of lists, found {}", s.value.kind_name()),
+            ));
+        };
+        rows.iter()
+            .enumerate()
+            .map(|(i, row)| {
+                self.list_of(s, row, what, f).map_err(|e| SchemaError {
+                    message: format!("row {}: {}", i + 1, e.message),
+                    ..e
+                })
+            })
+            .collect()
+    }
+}
+
+/// A short rendering of a parameter for messages.
+fn render(p: &Parameter<'_>) -> String {
+    match p {
+        Parameter::Integer(i) => i.to_string(),
+        Parameter::Real(r) => format!("{r:?}"),
+        Parameter::Enumeration(e) => format!(".{e}."),
+        Parameter::Reference(r) => format!("#{r}"),
+        Parameter::String(s) => format!("'{}'", s.raw),
+        other => other.kind_name().to_owned(),
+    }
+}
+
+/// EXPRESS LOGICAL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Logical {
+    /// `.T.`
+    True,
+    /// `.F.`
+    False,
+    /// `.U.`
+    Unknown,
+}
+
+impl Logical {
+    /// `Some(bool)` for `.T.`/`.F.`, `None` for `.U.`.
+    pub fn as_bool(self) -> Option<bool> {
+        match self {
+            Logical::True => Some(true),
+            Logical::False => Some(false),
+            Logical::Unknown => None,
+        }
+    }
+}
+
+/// `cartesian_point(name, coordinates: LIST [1:3] OF length_measure)` (ISO 10303-42).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianPoint<'a> {
+    /// `name` (absent only in a complex instance without REPRESENTATION_ITEM).
+    pub name: Option<StepString<'a>>,
+    /// 1 to 3 coordinates.
+    pub coordinates: Vec<f64>,
+}
+
+impl<'a> CartesianPoint<'a> {
+    /// Fast path for the commonest instance of all: the coordinates of a simple
+    /// `CARTESIAN_POINT('name',(x,y[,z]))` read straight from the body text, without
+    /// building a syntax tree. Returns `None` for any other shape (comments, integers,
+    /// escapes in the name, errors...); callers then use [`CartesianPoint::from_instance`],
+    /// which handles and reports everything. Same values as the general path, bit for bit
+    /// (both use [`parse_step_real`](crate::real::parse_step_real)).
+    pub fn coordinates_fast(raw: &super::RawInstance<'_>) -> Option<([f64; 3], usize)> {
+        if raw.keyword != Some("CARTESIAN_POINT") {
+            return None;
+        }
+        let b = raw.body.as_bytes();
+        let mut i = "CARTESIAN_POINT".len();
+        let ws = |i: &mut usize| {
+            while matches!(b.get(*i), Some(b' ' | b'\t' | b'\r' | b'\n')) {
+                *i += 1;
+            }
+        };
+        let expect = |i: &mut usize, c: u8| {
+            ws(i);
+            if b.get(*i) == Some(&c) {
+                *i += 1;
+                Some(())
+            } else {
+                None
+            }
+        };
+        expect(&mut i, b'(')?;
+        expect(&mut i, b'\'')?;
+        loop {
+            let p = i + b.get(i..)?.iter().position(|&c| c == b'\'')?;
+            if b.get(p + 1) == Some(&b'\'') {
+                i = p + 2;
+            } else {
+                i = p + 1;
+                break;
+            }
+        }
+        expect(&mut i, b',')?;
+        expect(&mut i, b'(')?;
+        let mut out = [0.0; 3];
+        let mut n = 0;
+        loop {
+            ws(&mut i);
+            let start = i;
+            while b
+                .get(i)
+                .is_some_and(|c| c.is_ascii_digit() || matches!(c, b'.' | b'+' | b'-' | b'E'))
+            {
+                i += 1;
+            }
+            let token = raw.body.get(start..i)?;
+            *out.get_mut(n)? = crate::real::parse_step_real(token).ok()?;
+            n += 1;
+            ws(&mut i);
+            match b.get(i) {
+                Some(b',') => i += 1,
+                Some(b')') => {
+                    i += 1;
+                    break;
+                }
+                _ => return None,
+            }
+        }
+        expect(&mut i, b')')?;
+        ws(&mut i);
+        (i == b.len()).then_some((out, n))
+    }
+
+    /// Reads a `CARTESIAN_POINT` (simple or complex).
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        if !a.has("CARTESIAN_POINT") {
+            return Err(a.error(format!(
+                "expected a CARTESIAN_POINT, found {}",
+                a.entity_type()
+            )));
+        }
+        let coordinates = a.reals("CARTESIAN_POINT", "coordinates")?;
+        if coordinates.is_empty() || coordinates.len() > 3 {
+            let s = a.slot("CARTESIAN_POINT", "coordinates")?;
+            return Err(a.slot_error(
+                &s,
+                format!("expected 1 to 3 coordinates, found {}", coordinates.len()),
+            ));
+        }
+        Ok(CartesianPoint {
+            name: a.string("REPRESENTATION_ITEM", "name").ok(),
+            coordinates,
+        })
+    }
+}
+
+/// How a B-spline's knots are given: explicitly (`*_WITH_KNOTS`) or implied by a subtype.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KnotSpec<'a> {
+    /// `b_spline_curve_with_knots` / `b_spline_surface_with_knots`: one
+    /// `(multiplicities, distinct knots)` pair per parametric direction, and `knot_spec`.
+    Explicit {
+        /// Per direction (1 for a curve, u then v for a surface): multiplicities.
+        multiplicities: Vec<Vec<i64>>,
+        /// Per direction: distinct knot values.
+        knots: Vec<Vec<f64>>,
+        /// `knot_spec` without dots (`UNSPECIFIED`, `PIECEWISE_BEZIER_KNOTS`...).
+        knot_spec: &'a str,
+    },
+    /// `bezier_curve` / `bezier_surface`: piecewise Bezier knots implied.
+    Bezier,
+    /// `uniform_curve` / `uniform_surface`: uniform knots implied.
+    Uniform,
+    /// `quasi_uniform_curve` / `quasi_uniform_surface`: clamped uniform knots implied.
+    QuasiUniform,
+}
+
+/// Which knot subtype partial the instance carries (exactly one is required, WR1 of
+/// `b_spline_curve`).
+fn knot_subtype(a: &Attributes<'_, '_>, kind: &str) -> Result<(&'static str, usize), SchemaError> {
+    let names: [(&'static str, usize); 4] = if kind == "CURVE" {
+        [
+            ("B_SPLINE_CURVE_WITH_KNOTS", 0),
+            ("BEZIER_CURVE", 1),
+            ("UNIFORM_CURVE", 2),
+            ("QUASI_UNIFORM_CURVE", 3),
+        ]
+    } else {
+        [
+            ("B_SPLINE_SURFACE_WITH_KNOTS", 0),
+            ("BEZIER_SURFACE", 1),
+            ("UNIFORM_SURFACE", 2),
+            ("QUASI_UNIFORM_SURFACE", 3),
+        ]
+    };
+    let found: Vec<_> = names.iter().filter(|(n, _)| a.has(n)).copied().collect();
+    match found.as_slice() {
+        [one] => Ok(*one),
+        [] => Err(a.error(format!(
+            "a B_SPLINE_{kind} must also be one of {} (none found)",
+            names.map(|n| n.0).join(", ")
+        ))),
+        _ => Err(a.error(format!(
+            "more than one knot subtype: {}",
+            found.iter().map(|f| f.0).collect::<Vec<_>>().join(", ")
+        ))),
+    }
+}
+
+/// A B-spline curve of any Part 42 subtype, rational or not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BSplineCurve<'a> {
+    /// `name` (from REPRESENTATION_ITEM; `None` if a complex instance lacks it).
+    pub name: Option<StepString<'a>>,
+    /// `degree`.
+    pub degree: i64,
+    /// `control_points_list`: references to CARTESIAN_POINTs.
+    pub control_points: Vec<u64>,
+    /// `curve_form` without dots.
+    pub curve_form: &'a str,
+    /// `closed_curve`.
+    pub closed_curve: Logical,
+    /// `self_intersect`.
+    pub self_intersect: Logical,
+    /// The knots, explicit or implied.
+    pub knots: KnotSpec<'a>,
+    /// `weights_data` of RATIONAL_B_SPLINE_CURVE.
+    pub weights: Option<Vec<f64>>,
+    /// The entity type as written (`B_SPLINE_CURVE_WITH_KNOTS` or `(A,B,...)`).
+    pub entity_type: String,
+}
+
+impl<'a> BSplineCurve<'a> {
+    /// Reads any B_SPLINE_CURVE instance (simple or complex, partials in any order).
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        if !a.has("B_SPLINE_CURVE") {
+            return Err(a.error(format!(
+                "expected a B_SPLINE_CURVE, found {}",
+                a.entity_type()
+            )));
+        }
+        const E: &str = "B_SPLINE_CURVE";
+        let knots = match knot_subtype(&a, "CURVE")? {
+            (_, 0) => KnotSpec::Explicit {
+                multiplicities: vec![
+                    a.integers("B_SPLINE_CURVE_WITH_KNOTS", "knot_multiplicities")?,
+                ],
+                knots: vec![a.reals("B_SPLINE_CURVE_WITH_KNOTS", "knots")?],
+                knot_spec: a.enumeration("B_SPLINE_CURVE_WITH_KNOTS", "knot_spec")?,
+            },
+            (_, 1) => KnotSpec::Bezier,
+            (_, 2) => KnotSpec::Uniform,
+            _ => KnotSpec::QuasiUniform,
+        };
+        let weights = if a.has("RATIONAL_B_SPLINE_CURVE") {
+            Some(a.reals("RATIONAL_B_SPLINE_CURVE", "weights_data")?)
+        } else {
+            None
+        };
+        Ok(BSplineCurve {
+            name: a.string("REPRESENTATION_ITEM", "name").ok(),
+            degree: a.integer(E, "degree")?,
+            control_points: a.references(E, "control_points_list")?,
+            curve_form: a.enumeration(E, "curve_form")?,
+            closed_curve: a.logical(E, "closed_curve")?,
+            self_intersect: a.logical(E, "self_intersect")?,
+            knots,
+            weights,
+            entity_type: a.entity_type().to_owned(),
+        })
+    }
+}
+
+/// A B-spline surface of any Part 42 subtype, rational or not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BSplineSurface<'a> {
+    /// `name` (from REPRESENTATION_ITEM).
+    pub name: Option<StepString<'a>>,
+    /// `u_degree`.
+    pub u_degree: i64,
+    /// `v_degree`.
+    pub v_degree: i64,
+    /// `control_points_list`: outer index u, inner index v.
+    pub control_points: Vec<Vec<u64>>,
+    /// `surface_form` without dots.
+    pub surface_form: &'a str,
+    /// `u_closed`.
+    pub u_closed: Logical,
+    /// `v_closed`.
+    pub v_closed: Logical,
+    /// `self_intersect`.
+    pub self_intersect: Logical,
+    /// The knots (u then v for the explicit form).
+    pub knots: KnotSpec<'a>,
+    /// `weights_data` of RATIONAL_B_SPLINE_SURFACE, same shape as the net.
+    pub weights: Option<Vec<Vec<f64>>>,
+    /// The entity type as written.
+    pub entity_type: String,
+}
+
+impl<'a> BSplineSurface<'a> {
+    /// Reads any B_SPLINE_SURFACE instance (simple or complex, partials in any order).
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        if !a.has("B_SPLINE_SURFACE") {
+            return Err(a.error(format!(
+                "expected a B_SPLINE_SURFACE, found {}",
+                a.entity_type()
+            )));
+        }
+        const E: &str = "B_SPLINE_SURFACE";
+        const K: &str = "B_SPLINE_SURFACE_WITH_KNOTS";
+        let knots = match knot_subtype(&a, "SURFACE")? {
+            (_, 0) => KnotSpec::Explicit {
+                multiplicities: vec![
+                    a.integers(K, "u_multiplicities")?,
+                    a.integers(K, "v_multiplicities")?,
+                ],
+                knots: vec![a.reals(K, "u_knots")?, a.reals(K, "v_knots")?],
+                knot_spec: a.enumeration(K, "knot_spec")?,
+            },
+            (_, 1) => KnotSpec::Bezier,
+            (_, 2) => KnotSpec::Uniform,
+            _ => KnotSpec::QuasiUniform,
+        };
+        let weights = if a.has("RATIONAL_B_SPLINE_SURFACE") {
+            Some(a.real_grid("RATIONAL_B_SPLINE_SURFACE", "weights_data")?)
+        } else {
+            None
+        };
+        Ok(BSplineSurface {
+            name: a.string("REPRESENTATION_ITEM", "name").ok(),
+            u_degree: a.integer(E, "u_degree")?,
+            v_degree: a.integer(E, "v_degree")?,
+            control_points: a.reference_grid(E, "control_points_list")?,
+            surface_form: a.enumeration(E, "surface_form")?,
+            u_closed: a.logical(E, "u_closed")?,
+            v_closed: a.logical(E, "v_closed")?,
+            self_intersect: a.logical(E, "self_intersect")?,
+            knots,
+            weights,
+            entity_type: a.entity_type().to_owned(),
+        })
+    }
+}
+
+/// Which B-spline entity an instance is, from its keyword(s) alone (no attribute checks):
+/// a cheap filter for readers that want only the B-splines of a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BSplineKind {
+    /// A B_SPLINE_CURVE (any subtype).
+    Curve,
+    /// A B_SPLINE_SURFACE (any subtype).
+    Surface,
+}
+
+/// Classifies an instance as a B-spline curve or surface by its entity names.
+pub fn bspline_kind(body: &Body<'_>) -> Option<BSplineKind> {
+    let mut kind = None;
+    for r in body.records() {
+        match canonical_name(r.keyword) {
+            "B_SPLINE_CURVE"
+            | "B_SPLINE_CURVE_WITH_KNOTS"
+            | "BEZIER_CURVE"
+            | "UNIFORM_CURVE"
+            | "QUASI_UNIFORM_CURVE" => kind = Some(BSplineKind::Curve),
+            "B_SPLINE_SURFACE"
+            | "B_SPLINE_SURFACE_WITH_KNOTS"
+            | "BEZIER_SURFACE"
+            | "UNIFORM_SURFACE"
+            | "QUASI_UNIFORM_SURFACE" => kind = Some(BSplineKind::Surface),
+            _ => {}
+        }
+    }
+    kind
+}
+
+/// A unit (ISO 10303-41): only what the reader needs to find the length unit.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unit<'a> {
+    /// `si_unit(prefix, name)`: prefix (`MILLI`...) or `None` for `$`, and the name
+    /// (`METRE`, `RADIAN`...). `length` is true for a LENGTH_UNIT or a `METRE`.
+    Si {
+        /// `prefix` without dots.
+        prefix: Option<&'a str>,
+        /// `name` without dots.
+        name: &'a str,
+        /// Whether this is a length unit.
+        length: bool,
+    },
+    /// `conversion_based_unit(name, conversion_factor)`.
+    ConversionBased {
+        /// `name` (`INCH`, `FOOT`...).
+        name: StepString<'a>,
+        /// The MEASURE_WITH_UNIT giving the factor.
+        conversion_factor: u64,
+        /// Whether it is a LENGTH_UNIT.
+        length: bool,
+    },
+    /// Any other named unit (`length` tells whether LENGTH_UNIT is among its partials).
+    Other {
+        /// The entity type as written.
+        entity_type: String,
+        /// Whether it is a LENGTH_UNIT.
+        length: bool,
+    },
+}
+
+impl<'a> Unit<'a> {
+    /// Reads a unit instance: `( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )`,
+    /// `SI_UNIT(*,.MILLI.,.METRE.)`, `( CONVERSION_BASED_UNIT('INCH',#5) LENGTH_UNIT()
+    /// NAMED_UNIT(#6) )`...
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        let length_partial = a.has("LENGTH_UNIT");
+        if a.has("SI_UNIT") {
+            let prefix = match a.param("SI_UNIT", "prefix")? {
+                Parameter::Null => None,
+                _ => Some(a.enumeration("SI_UNIT", "prefix")?),
+            };
+            let name = a.enumeration("SI_UNIT", "name")?;
+            Ok(Unit::Si {
+                prefix,
+                name,
+                length: length_partial || name == "METRE",
+            })
+        } else if a.has("CONVERSION_BASED_UNIT") {
+            let factor = a.param("CONVERSION_BASED_UNIT", "conversion_factor")?;
+            let Some(conversion_factor) = factor.as_reference() else {
+                return Err(a.error(format!(
+                    "conversion_factor: expected a reference, found {}",
+                    factor.kind_name()
+                )));
+            };
+            Ok(Unit::ConversionBased {
+                name: a.string("CONVERSION_BASED_UNIT", "name")?,
+                conversion_factor,
+                length: length_partial,
+            })
+        } else {
+            Ok(Unit::Other {
+                entity_type: a.entity_type().to_owned(),
+                length: length_partial,
+            })
+        }
+    }
+}
+
+/// `measure_with_unit(value_component, unit_component)` and its subtypes
+/// (`LENGTH_MEASURE_WITH_UNIT`, `UNCERTAINTY_MEASURE_WITH_UNIT`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasureWithUnit<'a> {
+    /// The value (a typed `LENGTH_MEASURE(25.4)` is unwrapped).
+    pub value: f64,
+    /// The measure's type keyword when typed (`LENGTH_MEASURE`).
+    pub measure_type: Option<&'a str>,
+    /// The unit instance.
+    pub unit: u64,
+}
+
+impl<'a> MeasureWithUnit<'a> {
+    /// Reads a MEASURE_WITH_UNIT (or subtype) instance.
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        if !a.has("MEASURE_WITH_UNIT") {
+            return Err(a.error(format!(
+                "expected a MEASURE_WITH_UNIT, found {}",
+                a.entity_type()
+            )));
+        }
+        let v = a.param("MEASURE_WITH_UNIT", "value_component")?;
+        let (value, measure_type) = match v {
+            Parameter::Typed(k, inner) => (inner.as_real(), Some(*k)),
+            other => (other.as_real(), None),
+        };
+        let Some(value) = value else {
+            return Err(a.error(format!(
+                "value_component: expected a real, found {}",
+                v.kind_name()
+            )));
+        };
+        let u = a.param("MEASURE_WITH_UNIT", "unit_component")?;
+        let Some(unit) = u.as_reference() else {
+            return Err(a.error(format!(
+                "unit_component: expected a reference, found {}",
+                u.kind_name()
+            )));
+        };
+        Ok(MeasureWithUnit {
+            value,
+            measure_type,
+            unit,
+        })
+    }
+}
+
+/// A representation context with its global units and uncertainty (ISO 10303-43:
+/// `( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#23))
+/// GLOBAL_UNIT_ASSIGNED_CONTEXT((#20,#21,#22)) REPRESENTATION_CONTEXT('',''))`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RepresentationContext {
+    /// `coordinate_space_dimension`, when a GEOMETRIC_REPRESENTATION_CONTEXT.
+    pub dimension: Option<i64>,
+    /// `units` of GLOBAL_UNIT_ASSIGNED_CONTEXT (empty when absent).
+    pub units: Vec<u64>,
+    /// `uncertainty` of GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT (empty when absent).
+    pub uncertainty: Vec<u64>,
+}
+
+impl RepresentationContext {
+    /// Reads a context instance; `None` if it has no unit or uncertainty assignment.
+    pub fn from_instance(inst: &Instance<'_>, at: At) -> Result<Option<Self>, SchemaError> {
+        let a = Attributes::of(inst, at)?;
+        if !a.has("GLOBAL_UNIT_ASSIGNED_CONTEXT") && !a.has("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT") {
+            return Ok(None);
+        }
+        Ok(Some(RepresentationContext {
+            dimension: if a.has("GEOMETRIC_REPRESENTATION_CONTEXT") {
+                Some(a.integer(
+                    "GEOMETRIC_REPRESENTATION_CONTEXT",
+                    "coordinate_space_dimension",
+                )?)
+            } else {
+                None
+            },
+            units: if a.has("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+                a.references("GLOBAL_UNIT_ASSIGNED_CONTEXT", "units")?
+            } else {
+                Vec::new()
+            },
+            uncertainty: if a.has("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT") {
+                a.references("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT", "uncertainty")?
+            } else {
+                Vec::new()
+            },
+        }))
+    }
+}

@@ -1,0 +1,35 @@
+//! # STEP records <-> NURBS model
+//!
+//! [`read()`] turns every ISO 10303-42 B-spline curve and surface of an AP203/AP214/AP242
+//! file (any subtype, rational or not, simple or complex instances, 2-D pcurves included)
+//! into [`Entity`](super::Entity)s, with the file's length unit; [`write()`] produces a file
+//! Open CASCADE / FreeCAD imports (spec.md c.5).
+//!
+//! Diagnostic codes emitted here:
+//!
+//! | code | severity | meaning |
+//! |---|---|---|
+//! | `step.syntax` | error | a statement or instance body does not parse (skipped) |
+//! | `step.structure` | error/warning | duplicate id, missing `END-ISO-10303-21;`, trailing input, skipped edition-3 section |
+//! | `step.schema` | error | a B-spline's attribute has the wrong type or count |
+//! | `step.reference` | error | a dangling control point reference, or a reference to a non-point |
+//! | `step.reference_cycle` | error | a reference cycle through a B-spline |
+//! | `knot_count_mismatch` | error | sum of multiplicities is not poles + degree + 1 |
+//! | `knots.invalid` | error | multiplicities not positive, lists of unequal length, implicit knots impossible |
+//! | `weights.invalid` | error | weight count differs from the poles, or a weight is not > 0 |
+//! | `points.invalid` | error | control points with mixed or unsupported dimensions |
+//! | `geometry.invalid` | error | the NURBS constructor refused the data |
+//! | `limit.degree`, `limit.poles` | error | above [`Limits`](nurbsx_parsers::Limits) |
+//! | `flag_mismatch` | warning (info for `.F.` on closed geometry) | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
+//! | `units` | info | the file's length unit |
+//! | `units_converted` | info | coordinates scaled to the requested unit |
+//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units |
+
+mod implicit;
+mod read;
+mod units;
+mod write;
+
+pub use implicit::{KnotForm, implicit_knots, knot_form};
+pub use read::read;
+pub use write::write;

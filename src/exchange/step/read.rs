@@ -1,0 +1,669 @@
+//! STEP file -> [`Document`]: every B-spline curve and surface, the length unit, and
+//! located diagnostics (module table in [`super`]).
+
+use nurbsx_parsers::step::schema::{
+    At, BSplineCurve, BSplineKind, BSplineSurface, CartesianPoint, KnotSpec, Logical, bspline_kind,
+    canonical_name,
+};
+use nurbsx_parsers::step::{
+    Instance, ParseError, ParseErrorKind, RawInstance, Scanned, scan, schema_names,
+};
+
+use rayon::prelude::*;
+
+use super::implicit::{KnotForm, implicit_knots};
+use super::units::{FileUnit, context_units};
+use crate::exchange::{
+    Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta, Source,
+};
+use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
+
+/// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42).
+///
+/// Per-entity problems give an error diagnostic and the entity is skipped; the rest of the
+/// file is ignored without comment. `Err` only when the file structure is broken (no
+/// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
+/// the points, units and contexts they need) are decoded, so syntax errors in other
+/// instances are not reported.
+pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
+    let scanned = scan(text, &options.limits).map_err(|e| parse_diagnostic(&e))?;
+    let mut doc = Document::new(Format::Step, LengthUnit::Mm);
+    let schemas: Vec<String> = schema_names(&scanned.header)
+        .iter()
+        .map(|s| s.decode_lossy().into_owned())
+        .collect();
+    doc.schema = (!schemas.is_empty()).then(|| schemas.join(", "));
+    for e in &scanned.errors {
+        doc.diagnostics.push(parse_diagnostic(e));
+    }
+    let scale = file_units(&scanned, options, &mut doc);
+
+    // Each B-spline is independent once the file is scanned: decode them in parallel
+    // (rayon keeps the file order in `collect`), then append results in order.
+    let candidates: Vec<&RawInstance<'_>> = scanned
+        .instances
+        .iter()
+        .filter(|raw| maybe_bspline(raw))
+        // A duplicated id was reported by the scanner; only the indexed (first) one is read.
+        .filter(|raw| scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset))
+        .collect();
+    let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
+        .par_iter()
+        .map(|raw| {
+            let mut diags = Vec::new();
+            let inst = match scanned.decode(raw) {
+                Ok(i) => i,
+                Err(e) => return (None, vec![parse_diagnostic(&e)]),
+            };
+            let Some(kind) = bspline_kind(&inst.body) else {
+                return (None, diags);
+            };
+            let ctx = Ctx {
+                s: &scanned,
+                raw,
+                options,
+                scale,
+            };
+            let result = match kind {
+                BSplineKind::Curve => ctx.curve(&inst, &mut diags),
+                BSplineKind::Surface => ctx.surface(&inst, &mut diags),
+            };
+            match result {
+                Ok(e) => (Some(e), diags),
+                Err(d) => {
+                    diags.push(d);
+                    (None, diags)
+                }
+            }
+        })
+        .collect();
+    for (entity, diags) in results {
+        doc.diagnostics.extend(diags);
+        doc.entities.extend(entity);
+    }
+    Ok(doc)
+}
+
+/// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
+/// substring search of their body.
+fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
+    match raw.keyword {
+        Some(k) => matches!(
+            canonical_name(k),
+            "B_SPLINE_CURVE_WITH_KNOTS"
+                | "BEZIER_CURVE"
+                | "UNIFORM_CURVE"
+                | "QUASI_UNIFORM_CURVE"
+                | "B_SPLINE_CURVE"
+                | "B_SPLINE_SURFACE_WITH_KNOTS"
+                | "BEZIER_SURFACE"
+                | "UNIFORM_SURFACE"
+                | "QUASI_UNIFORM_SURFACE"
+                | "B_SPLINE_SURFACE"
+        ),
+        None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK"]
+            .iter()
+            .any(|n| raw.body.contains(n)),
+    }
+}
+
+/// A parse error as a diagnostic.
+fn parse_diagnostic(e: &ParseError) -> Diagnostic {
+    let loc = Location {
+        line: Some(e.line),
+        column: Some(e.column),
+        entity: e.entity.map(|id| format!("#{id}")),
+        ..Location::default()
+    };
+    match &e.kind {
+        ParseErrorKind::SkippedSection(_) => {
+            Diagnostic::warning("step.structure", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::DuplicateId { .. }
+        | ParseErrorKind::TrailingGarbage
+        | ParseErrorKind::Missing(_) => {
+            Diagnostic::error("step.structure", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::ReferenceCycle(_) => {
+            Diagnostic::error("step.reference_cycle", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::DanglingReference(_) => {
+            Diagnostic::error("step.reference", e.kind.to_string(), loc)
+        }
+        _ => Diagnostic::error("step.syntax", e.kind.to_string(), loc),
+    }
+}
+
+/// Finds the file's length unit, records it in `doc`, and returns the factor to apply to
+/// coordinates (1 unless a conversion is needed).
+fn file_units(s: &Scanned<'_>, options: &ImportOptions, doc: &mut Document) -> f64 {
+    let (found, problems) = context_units(s);
+    let loc = |id: u64, offset: usize| {
+        let (line, column) = s.locate(offset);
+        Location {
+            line: Some(line),
+            column: Some(column),
+            entity: Some(format!("#{id}")),
+            ..Location::default()
+        }
+    };
+    for (id, offset, m) in &problems {
+        doc.diagnostics.push(Diagnostic::warning(
+            "units_unknown",
+            m.clone(),
+            loc(*id, *offset),
+        ));
+    }
+    let offset_of = |id: u64| s.get(id).map_or(0, |r| r.offset);
+    let chosen: Option<(u64, FileUnit)> = found.first().cloned();
+    let mut distinct: Vec<&(u64, FileUnit)> = Vec::new();
+    for f in &found {
+        if !distinct.iter().any(|d| d.1.mm == f.1.mm) {
+            distinct.push(f);
+        }
+    }
+    if distinct.len() > 1 {
+        let list = distinct
+            .iter()
+            .map(|(id, u)| format!("#{id}: {} ({} mm)", u.label, u.mm))
+            .collect::<Vec<_>>()
+            .join(", ");
+        if let Some((id, u)) = &chosen {
+            doc.diagnostics.push(Diagnostic::warning(
+                "units_ambiguous",
+                format!("representation contexts declare different length units ({list}); all coordinates are read in the first, {}", u.label),
+                loc(*id, offset_of(*id)),
+            ));
+        }
+    }
+    let mut scale = 1.0;
+    let (mut unit, label) = match &chosen {
+        None => {
+            doc.diagnostics.push(Diagnostic::warning(
+                "units_missing",
+                "no representation context assigns a length unit; millimetres assumed (as Open CASCADE)",
+                Location::default(),
+            ));
+            (LengthUnit::Mm, "MILLI METRE (assumed)".to_owned())
+        }
+        Some((id, fu)) => {
+            if let Some(n) = &fu.note {
+                doc.diagnostics.push(Diagnostic::warning(
+                    "units_unknown",
+                    n.clone(),
+                    loc(*id, offset_of(*id)),
+                ));
+            }
+            match fu.unit {
+                Some(u) => (u, fu.label.clone()),
+                None => {
+                    scale = fu.mm;
+                    doc.diagnostics.push(Diagnostic::info(
+                        "units_converted",
+                        format!(
+                            "file length unit {} ({} mm) has no named equivalent; coordinates converted to mm",
+                            fu.label, fu.mm
+                        ),
+                        loc(*id, offset_of(*id)),
+                    ));
+                    (LengthUnit::Mm, fu.label.clone())
+                }
+            }
+        }
+    };
+    match options.target_units {
+        Some(t) if t != unit => {
+            scale *= unit.to_mm() / t.to_mm();
+            doc.diagnostics.push(Diagnostic::info(
+                "units_converted",
+                format!(
+                    "coordinates converted from {} to {} (factor {})",
+                    unit.short_name(),
+                    t.short_name(),
+                    unit.to_mm() / t.to_mm()
+                ),
+                Location::default(),
+            ));
+            unit = t;
+        }
+        _ => doc.diagnostics.push(Diagnostic::info(
+            "units",
+            format!("length unit {} ({label})", unit.short_name()),
+            Location::default(),
+        )),
+    }
+    doc.units = unit;
+    scale
+}
+
+/// What reading one B-spline needs.
+struct Ctx<'s, 'a> {
+    s: &'s Scanned<'a>,
+    raw: &'s RawInstance<'a>,
+    options: &'s ImportOptions,
+    scale: f64,
+}
+
+impl<'a> Ctx<'_, 'a> {
+    fn location(&self) -> Location {
+        let (line, column) = self.s.locate(self.raw.offset);
+        Location {
+            line: Some(line),
+            column: Some(column),
+            entity: Some(format!("#{}", self.raw.id)),
+            ..Location::default()
+        }
+    }
+
+    fn at(&self) -> At {
+        let (line, column) = self.s.locate(self.raw.offset);
+        At {
+            id: self.raw.id,
+            line,
+            column,
+        }
+    }
+
+    fn error(&self, code: &str, message: impl Into<String>) -> Diagnostic {
+        Diagnostic::error(code, message, self.location())
+    }
+
+    fn degree(&self, d: i64, what: &str) -> Result<usize, Diagnostic> {
+        let max = self.options.limits.max_degree;
+        match usize::try_from(d) {
+            Ok(v) if v >= 1 && v <= max => Ok(v),
+            Ok(v) if v > max => Err(self.error(
+                "limit.degree",
+                format!("{what} {v} is above the limit of {max}"),
+            )),
+            _ => Err(self.error("geometry.invalid", format!("{what} {d} must be at least 1"))),
+        }
+    }
+
+    /// Resolves control point references to coordinates (scaled), checking one dimension.
+    fn points(&self, ids: &[u64], dim: &mut Option<usize>) -> Result<Vec<Point3>, Diagnostic> {
+        let max = self.options.limits.max_poles;
+        if ids.len() > max {
+            return Err(self.error(
+                "limit.poles",
+                format!("{} control points, above the limit of {max}", ids.len()),
+            ));
+        }
+        let mut out = Vec::with_capacity(ids.len());
+        for (i, &id) in ids.iter().enumerate() {
+            let Some(praw) = self.s.get(id) else {
+                return Err(self.error(
+                    "step.reference",
+                    format!(
+                        "control point {} references #{id}, which is not defined",
+                        i + 1
+                    ),
+                ));
+            };
+            let (c, n) = match CartesianPoint::coordinates_fast(praw) {
+                Some(fast) => fast,
+                None => {
+                    let p = self
+                        .s
+                        .decode(praw)
+                        .map_err(|e| parse_diagnostic(&e))
+                        .and_then(|pinst| {
+                            let (line, column) = self.s.locate(praw.offset);
+                            CartesianPoint::from_instance(&pinst, At { id, line, column })
+                                .map_err(|e| self.point_error(i, id, &e.detail()))
+                        })?;
+                    let mut c = [0.0; 3];
+                    for (k, v) in p.coordinates.iter().take(3).enumerate() {
+                        c[k] = *v;
+                    }
+                    (c, p.coordinates.len())
+                }
+            };
+            match *dim {
+                None if n == 2 || n == 3 => *dim = Some(n),
+                None => {
+                    return Err(self.error(
+                        "points.invalid",
+                        format!(
+                            "control point {} (#{id}) has {n} coordinate(s); 2 or 3 expected",
+                            i + 1
+                        ),
+                    ));
+                }
+                Some(d) if d != n => {
+                    return Err(self.error(
+                        "points.invalid",
+                        format!(
+                            "control point {} (#{id}) has {n} coordinates, the first has {d}",
+                            i + 1
+                        ),
+                    ));
+                }
+                Some(_) => {}
+            }
+            out.push([c[0] * self.scale, c[1] * self.scale, c[2] * self.scale]);
+        }
+        Ok(out)
+    }
+
+    /// A control point that is not a CARTESIAN_POINT: a reference cycle if one goes
+    /// through this B-spline, else a type error.
+    fn point_error(&self, index: usize, id: u64, detail: &str) -> Diagnostic {
+        if let Some(cycle) = self.s.find_cycles([self.raw.id]).into_iter().next() {
+            return Diagnostic::error(
+                "step.reference_cycle",
+                cycle.kind.to_string(),
+                self.location(),
+            );
+        }
+        self.error(
+            "step.reference",
+            format!(
+                "control point {} (#{id}) is not a usable CARTESIAN_POINT: {detail}",
+                index + 1
+            ),
+        )
+    }
+
+    /// Flat knots for one direction.
+    fn knots(
+        &self,
+        spec: &KnotSpec<'_>,
+        dir: usize,
+        degree: usize,
+        poles: usize,
+        what: &str,
+    ) -> Result<Vec<f64>, Diagnostic> {
+        let form = match spec {
+            KnotSpec::Explicit {
+                multiplicities,
+                knots,
+                ..
+            } => {
+                let (Some(m), Some(k)) = (multiplicities.get(dir), knots.get(dir)) else {
+                    return Err(self.error("knots.invalid", format!("{what}: no knots")));
+                };
+                if m.len() != k.len() {
+                    return Err(self.error(
+                        "knots.invalid",
+                        format!("{what}: {} multiplicities for {} knots", m.len(), k.len()),
+                    ));
+                }
+                let mut mults = Vec::with_capacity(m.len());
+                let mut sum: usize = 0;
+                for (i, &v) in m.iter().enumerate() {
+                    let mv = usize::try_from(v).ok().filter(|&x| x >= 1).ok_or_else(|| {
+                        self.error(
+                            "knots.invalid",
+                            format!("{what}: multiplicity {} is {v}; must be at least 1", i + 1),
+                        )
+                    })?;
+                    sum = sum.checked_add(mv).ok_or_else(|| {
+                        self.error(
+                            "knot_count_mismatch",
+                            format!("{what}: multiplicities overflow"),
+                        )
+                    })?;
+                    mults.push(mv);
+                }
+                let need = poles
+                    .checked_add(degree)
+                    .and_then(|x| x.checked_add(1))
+                    .unwrap_or(usize::MAX);
+                if sum != need {
+                    return Err(self.error(
+                        "knot_count_mismatch",
+                        format!(
+                            "{what}: multiplicities sum to {sum}, but {poles} control points of degree {degree} need {need}"
+                        ),
+                    ));
+                }
+                return crate::nurbs::knots::from_distinct(k, &mults).ok_or_else(|| {
+                    self.error("knots.invalid", format!("{what}: knot lists do not match"))
+                });
+            }
+            KnotSpec::Bezier => KnotForm::Bezier,
+            KnotSpec::Uniform => KnotForm::Uniform,
+            KnotSpec::QuasiUniform => KnotForm::QuasiUniform,
+        };
+        implicit_knots(form, degree, poles)
+            .map_err(|m| self.error("knots.invalid", format!("{what}: {m}")))
+    }
+
+    fn meta_common(
+        &self,
+        name: Option<&nurbsx_parsers::step::StepString<'_>>,
+        spec: &KnotSpec<'_>,
+    ) -> Meta {
+        Meta {
+            name: name
+                .map(|n| n.decode_lossy().into_owned())
+                .filter(|n| !n.is_empty()),
+            knot_spec: Some(match spec {
+                KnotSpec::Explicit { knot_spec, .. } => knot_spec.to_ascii_lowercase(),
+                KnotSpec::Bezier => "bezier".to_owned(),
+                KnotSpec::Uniform => "uniform".to_owned(),
+                KnotSpec::QuasiUniform => "quasi_uniform".to_owned(),
+            }),
+            ..Meta::default()
+        }
+    }
+
+    fn curve(
+        &self,
+        inst: &Instance<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Result<Entity, Diagnostic> {
+        let r = BSplineCurve::from_instance(inst, self.at())
+            .map_err(|e| self.error("step.schema", e.detail()))?;
+        let degree = self.degree(r.degree, "degree")?;
+        let mut dim = None;
+        let points = self.points(&r.control_points, &mut dim)?;
+        let knots = self.knots(&r.knots, 0, degree, points.len(), "knots")?;
+        if let Some(w) = &r.weights {
+            check_weights(w.iter().copied(), points.len())
+                .map_err(|m| self.error("weights.invalid", m))?;
+        }
+        let curve =
+            NurbsCurve::with_dimension(degree, knots, points, r.weights.clone(), dim.unwrap_or(3))
+                .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
+        let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
+        meta.form = Some(r.curve_form.to_ascii_lowercase());
+        meta.closed_u = r.closed_curve.as_bool();
+        meta.self_intersect = r.self_intersect.as_bool();
+        if let Some(flag) = r.closed_curve.as_bool() {
+            let (a, b) = curve.domain();
+            let gap = dist(curve.point_at_unchecked(a), curve.point_at_unchecked(b));
+            let tol = closure_tolerance(curve.control_points());
+            if flag != (gap <= tol) {
+                diags.push(flag_mismatch(
+                    flag,
+                    format!(
+                        "closed_curve is {} but the curve's end points are {gap:e} apart (tolerance {tol:e}); flag kept as information, geometry unchanged",
+                        logical_text(r.closed_curve)
+                    ),
+                    self.location(),
+                ));
+            }
+        }
+        Ok(Entity {
+            id: format!("#{}", self.raw.id),
+            geometry: Geometry::Curve(curve),
+            source: Source {
+                entity: r.entity_type,
+                line: Some(self.at().line),
+            },
+            meta,
+        })
+    }
+
+    fn surface(
+        &self,
+        inst: &Instance<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Result<Entity, Diagnostic> {
+        let r = BSplineSurface::from_instance(inst, self.at())
+            .map_err(|e| self.error("step.schema", e.detail()))?;
+        let du = self.degree(r.u_degree, "u_degree")?;
+        let dv = self.degree(r.v_degree, "v_degree")?;
+        let nu = r.control_points.len();
+        let nv = r.control_points.first().map_or(0, Vec::len);
+        if let Some((row, l)) = r
+            .control_points
+            .iter()
+            .enumerate()
+            .find(|(_, l)| l.len() != nv)
+        {
+            return Err(self.error(
+                "points.invalid",
+                format!(
+                    "control_points_list row {} has {} points, row 1 has {nv}",
+                    row + 1,
+                    l.len()
+                ),
+            ));
+        }
+        let total = nu.saturating_mul(nv);
+        if total > self.options.limits.max_poles {
+            return Err(self.error(
+                "limit.poles",
+                format!(
+                    "{nu} x {nv} control points, above the limit of {}",
+                    self.options.limits.max_poles
+                ),
+            ));
+        }
+        let flat: Vec<u64> = r.control_points.iter().flatten().copied().collect();
+        let mut dim = None;
+        let points = self.points(&flat, &mut dim)?;
+        let ku = self.knots(&r.knots, 0, du, nu, "u knots")?;
+        let kv = self.knots(&r.knots, 1, dv, nv, "v knots")?;
+        let weights = match &r.weights {
+            None => None,
+            Some(w) => {
+                if w.len() != nu || w.iter().any(|row| row.len() != nv) {
+                    return Err(self.error(
+                        "weights.invalid",
+                        format!(
+                            "weights_data has {} rows of lengths {:?}; the net is {nu} x {nv}",
+                            w.len(),
+                            w.iter().map(Vec::len).collect::<Vec<_>>()
+                        ),
+                    ));
+                }
+                let flat_w: Vec<f64> = w.iter().flatten().copied().collect();
+                check_weights(flat_w.iter().copied(), total)
+                    .map_err(|m| self.error("weights.invalid", m))?;
+                Grid::from_u_major(nu, nv, flat_w)
+            }
+        };
+        let net = Grid::from_u_major(nu, nv, points)
+            .ok_or_else(|| self.error("points.invalid", "control net shape"))?;
+        let surface = NurbsSurface::with_dimension(du, dv, ku, kv, net, weights, dim.unwrap_or(3))
+            .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
+        let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
+        meta.form = Some(r.surface_form.to_ascii_lowercase());
+        meta.closed_u = r.u_closed.as_bool();
+        meta.closed_v = r.v_closed.as_bool();
+        meta.self_intersect = r.self_intersect.as_bool();
+        let tol = closure_tolerance(surface.control_points().as_slice());
+        let ((u0, u1), (v0, v1)) = surface.domain();
+        for (flag, name, is_u) in [
+            (r.u_closed, "u_closed", true),
+            (r.v_closed, "v_closed", false),
+        ] {
+            let Some(f) = flag.as_bool() else { continue };
+            let mut gap: f64 = 0.0;
+            for k in 0..=8 {
+                let t = k as f64 / 8.0;
+                let (a, b) = if is_u {
+                    let v = v0 + (v1 - v0) * t;
+                    (
+                        surface.point_at_unchecked(u0, v),
+                        surface.point_at_unchecked(u1, v),
+                    )
+                } else {
+                    let u = u0 + (u1 - u0) * t;
+                    (
+                        surface.point_at_unchecked(u, v0),
+                        surface.point_at_unchecked(u, v1),
+                    )
+                };
+                gap = gap.max(dist(a, b));
+            }
+            if f != (gap <= tol) {
+                diags.push(flag_mismatch(
+                    f,
+                    format!(
+                        "{name} is {} but opposite boundaries are up to {gap:e} apart (tolerance {tol:e}); flag kept as information, geometry unchanged",
+                        logical_text(flag)
+                    ),
+                    self.location(),
+                ));
+            }
+        }
+        Ok(Entity {
+            id: format!("#{}", self.raw.id),
+            geometry: Geometry::Surface(surface),
+            source: Source {
+                entity: r.entity_type,
+                line: Some(self.at().line),
+            },
+            meta,
+        })
+    }
+}
+
+/// A `flag_mismatch` diagnostic. A flag claiming closure the geometry does not have is a
+/// warning (readers that act on it, as Open CASCADE does for `closed_curve`, get it wrong);
+/// `.F.` on geometry that happens to close is common in real files (Open CASCADE 6.x wrote
+/// it for every closed edge curve) and harmless, so it is reported as information.
+fn flag_mismatch(flag: bool, message: String, location: Location) -> Diagnostic {
+    if flag {
+        Diagnostic::warning("flag_mismatch", message, location)
+    } else {
+        Diagnostic::info("flag_mismatch", message, location)
+    }
+}
+
+fn logical_text(l: Logical) -> &'static str {
+    match l {
+        Logical::True => ".T.",
+        Logical::False => ".F.",
+        Logical::Unknown => ".U.",
+    }
+}
+
+/// Weight count and positivity (ISO 10303-42 rational_b_spline_curve WR1/WR2).
+fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<(), String> {
+    if w.len() != poles {
+        return Err(format!("{} weights for {poles} control points", w.len()));
+    }
+    for (i, v) in w.enumerate() {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(format!(
+                "weight {} is {v}; weights must be finite and > 0",
+                i + 1
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn dist(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Closure tolerance: 1e-9 of the control polygon's bounding-box diagonal (at least 1e-12),
+/// i.e. "equal up to rounding" at the geometry's own scale.
+fn closure_tolerance(points: &[Point3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (dist(lo, hi) * 1e-9).max(1e-12)
+}

@@ -1,0 +1,220 @@
+//! The length unit of a representation context (ISO 10303-41 units, spec.md c.5):
+//! `SI_UNIT(prefix, .METRE.)`, or a `CONVERSION_BASED_UNIT('INCH', #m)` whose
+//! `LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4), #mm)` defines it from another unit.
+
+use nurbsx_parsers::step::schema::{At, MeasureWithUnit, RepresentationContext, Unit};
+use nurbsx_parsers::step::{RawInstance, Scanned};
+
+use crate::exchange::LengthUnit;
+
+/// A length unit found in a file: its size in millimetres, and the [`LengthUnit`] it is
+/// when nurbsx has one of that size.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct FileUnit {
+    /// Millimetres per unit.
+    pub mm: f64,
+    /// The matching named unit, if any.
+    pub unit: Option<LengthUnit>,
+    /// How the file names it (`MILLI METRE`, `INCH`).
+    pub label: String,
+    /// A note when the name and the factor disagree.
+    pub note: Option<String>,
+}
+
+/// Millimetres per unit for an SI prefix on METRE (ISO 10303-41 `si_prefix`).
+fn si_prefix_mm(prefix: Option<&str>) -> Option<f64> {
+    Some(match prefix {
+        None => 1e3,
+        Some("EXA") => 1e21,
+        Some("PETA") => 1e18,
+        Some("TERA") => 1e15,
+        Some("GIGA") => 1e12,
+        Some("MEGA") => 1e9,
+        Some("KILO") => 1e6,
+        Some("HECTO") => 1e5,
+        Some("DECA") => 1e4,
+        Some("DECI") => 1e2,
+        Some("CENTI") => 1e1,
+        Some("MILLI") => 1.0,
+        Some("MICRO") => 1e-3,
+        Some("NANO") => 1e-6,
+        Some("PICO") => 1e-9,
+        Some("FEMTO") => 1e-12,
+        Some("ATTO") => 1e-15,
+        _ => return None,
+    })
+}
+
+/// The named unit whose size is `mm` (relative tolerance 1e-9).
+fn unit_of_size(mm: f64) -> Option<LengthUnit> {
+    use LengthUnit::*;
+    [Mm, Cm, M, Km, Um, In, Ft, Mi, Mil, Uin]
+        .into_iter()
+        .find(|u| (u.to_mm() - mm).abs() <= 1e-9 * mm.abs())
+}
+
+/// Resolves unit `#id`: `Ok(None)` when it is not a length unit; `Err` with a message when
+/// it cannot be understood (bad record, unknown prefix, cyclic or too deep definition).
+pub(super) fn resolve_length(
+    s: &Scanned<'_>,
+    id: u64,
+    referrer: &RawInstance<'_>,
+) -> Result<Option<FileUnit>, String> {
+    let mut factor = 1.0;
+    let mut names: Vec<String> = Vec::new();
+    let mut current = id;
+    let mut seen = Vec::new();
+    loop {
+        if seen.contains(&current) || seen.len() > 8 {
+            return Err(format!(
+                "unit definition #{id} is cyclic or nested too deep ({})",
+                seen.iter()
+                    .map(|i| format!("#{i}"))
+                    .collect::<Vec<_>>()
+                    .join(" -> ")
+            ));
+        }
+        seen.push(current);
+        let raw = s
+            .get(current)
+            .ok_or_else(|| format!("unit #{current} (from #{}) is not defined", referrer.id))?;
+        let inst = s.decode(raw).map_err(|e| e.to_string())?;
+        let (line, column) = s.locate(raw.offset);
+        let at = At {
+            id: current,
+            line,
+            column,
+        };
+        match Unit::from_instance(&inst, at).map_err(|e| e.to_string())? {
+            Unit::Si {
+                prefix,
+                name,
+                length,
+            } => {
+                if name != "METRE" && !length {
+                    return Ok(None);
+                }
+                let mm = si_prefix_mm(prefix).ok_or_else(|| {
+                    format!("unknown SI prefix .{}. on #{current}", prefix.unwrap_or(""))
+                })?;
+                let base_label = format!(
+                    "{}METRE",
+                    prefix.map(|p| format!("{p} ")).unwrap_or_default()
+                );
+                let total = factor * mm;
+                let label = names.first().cloned().unwrap_or(base_label);
+                let unit = unit_of_size(total);
+                let mut note = None;
+                if let Some(n) = names.first() {
+                    if let Some(named) = LengthUnit::parse_name(n) {
+                        if Some(named) != unit {
+                            note = Some(format!(
+                                "unit '{n}' is defined as {total} mm, not the {} mm its name means; the definition is used",
+                                named.to_mm()
+                            ));
+                        }
+                    }
+                }
+                return Ok(Some(FileUnit {
+                    mm: total,
+                    unit,
+                    label,
+                    note,
+                }));
+            }
+            Unit::ConversionBased {
+                name,
+                conversion_factor,
+                length,
+            } => {
+                let _ = length;
+                names.push(name.decode_lossy().into_owned());
+                let mraw = s.get(conversion_factor).ok_or_else(|| {
+                    format!("conversion factor #{conversion_factor} of #{current} is not defined")
+                })?;
+                let minst = s.decode(mraw).map_err(|e| e.to_string())?;
+                let (line, column) = s.locate(mraw.offset);
+                let m = MeasureWithUnit::from_instance(
+                    &minst,
+                    At {
+                        id: conversion_factor,
+                        line,
+                        column,
+                    },
+                )
+                .map_err(|e| e.to_string())?;
+                if !(m.value.is_finite() && m.value > 0.0) {
+                    return Err(format!(
+                        "conversion factor #{conversion_factor} is {} (must be > 0)",
+                        m.value
+                    ));
+                }
+                factor *= m.value;
+                current = m.unit;
+            }
+            Unit::Other {
+                length,
+                entity_type,
+            } => {
+                if length {
+                    return Err(format!(
+                        "length unit #{current} is an unsupported {entity_type}"
+                    ));
+                }
+                return Ok(None);
+            }
+        }
+    }
+}
+
+/// A unit problem: the context's id, its byte offset, and the message.
+pub(super) type UnitProblem = (u64, usize, String);
+
+/// The length units of the contexts that assign units, in file order:
+/// `(context id, unit)`, plus messages for units that could not be understood.
+pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
+    let mut found = Vec::new();
+    let mut problems = Vec::new();
+    for raw in &s.instances {
+        if raw.keyword.is_some() || !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+            continue;
+        }
+        let Ok(inst) = s.decode(raw) else { continue };
+        let (line, column) = s.locate(raw.offset);
+        let at = At {
+            id: raw.id,
+            line,
+            column,
+        };
+        let ctx = match RepresentationContext::from_instance(&inst, at) {
+            Ok(Some(c)) => c,
+            Ok(None) => continue,
+            Err(e) => {
+                problems.push((raw.id, raw.offset, e.to_string()));
+                continue;
+            }
+        };
+        let mut lengths = Vec::new();
+        for u in ctx.units {
+            match resolve_length(s, u, raw) {
+                Ok(Some(fu)) => lengths.push(fu),
+                Ok(None) => {}
+                Err(m) => problems.push((raw.id, raw.offset, m)),
+            }
+        }
+        match lengths.len() {
+            0 => problems.push((
+                raw.id,
+                raw.offset,
+                format!("context #{} assigns no length unit", raw.id),
+            )),
+            1 => found.extend(lengths.into_iter().map(|l| (raw.id, l))),
+            n => problems.push((
+                raw.id,
+                raw.offset,
+                format!("context #{} assigns {n} length units", raw.id),
+            )),
+        }
+    }
+    (found, problems)
+}

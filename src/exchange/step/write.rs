@@ -1,0 +1,693 @@
+//! [`Document`] -> STEP file that Open CASCADE / FreeCAD imports (spec.md c.4, c.5).
+//!
+//! Layout: the product chain Open CASCADE writes (APPLICATION_PROTOCOL_DEFINITION ...
+//! SHAPE_DEFINITION_REPRESENTATION), one representation context with the length unit and
+//! uncertainty, then
+//! - 3-D curves only: `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION` with a
+//!   `GEOMETRIC_CURVE_SET` listing the B-splines (each becomes an edge on import);
+//! - surfaces (and any 3-D curves with them):
+//!   `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` with a `GEOMETRIC_SET` (each
+//!   bounded surface becomes a face, each curve an edge);
+//! - 2-D curves (pcurves): a separate wireframe representation in a 2-D context, not
+//!   attached to the product (a 2-D curve has no place in a 3-D shape; nurbsx reads it back,
+//!   Open CASCADE ignores it).
+//!
+//! Polynomial B-splines are simple `B_SPLINE_CURVE_WITH_KNOTS` / `..._SURFACE_WITH_KNOTS`
+//! instances; rational ones the seven-partial complex instance in alphabetical order.
+//! Knots are written exactly as held (unclamped and periodic data stays as is); `knot_spec`
+//! is computed from the knots ([`knot_form`]). With
+//! [`ExportOptions::use_implicit_knot_subtypes`], knots equal to those a BEZIER_/UNIFORM_/
+//! QUASI_UNIFORM_ subtype implies are written as that subtype, except where Open CASCADE
+//! would drop or misread it (rational or multi-span Bezier): those keep explicit knots.
+
+use nurbsx_parsers::step::{
+    Body, Builder, DataSection, Exchange, Parameter, Record, write_exchange,
+};
+
+use super::implicit::{KnotForm, implicit_knots, knot_form};
+use crate::exchange::{
+    Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, StepSchema,
+};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+
+/// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
+struct Protocol {
+    file_schema: &'static str,
+    apd_name: &'static str,
+    apd_year: i64,
+    context: &'static str,
+}
+
+fn protocol(schema: StepSchema) -> Protocol {
+    match schema {
+        StepSchema::Ap214 => Protocol {
+            file_schema: "AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }",
+            apd_name: "automotive_design",
+            apd_year: 2000,
+            context: "core data for automotive mechanical design processes",
+        },
+        StepSchema::Ap203 => Protocol {
+            file_schema: "CONFIG_CONTROL_DESIGN",
+            apd_name: "config_control_design",
+            apd_year: 1994,
+            context: "configuration controlled 3D designs of mechanical parts and assemblies",
+        },
+        StepSchema::Ap242 => Protocol {
+            file_schema: "AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF { 1 0 10303 442 1 1 4 }",
+            apd_name: "ap242_managed_model_based_3d_engineering",
+            apd_year: 2013,
+            context: "Managed model based 3d engineering",
+        },
+    }
+}
+
+fn s(text: &str) -> Parameter<'static> {
+    Parameter::text(text)
+}
+
+fn rec(keyword: &'static str, params: Vec<Parameter<'static>>) -> Record<'static> {
+    Record { keyword, params }
+}
+
+/// Writes a document as a STEP file (module documentation above). Coordinates are scaled
+/// once when `options.units` differs from the document's unit; the file declares the unit
+/// its numbers are in. Fails on non-finite values (impossible for checked NURBS) only.
+pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    let unit = options.units.unwrap_or(document.units);
+    let scale = if unit == document.units {
+        1.0
+    } else {
+        document.units.to_mm() / unit.to_mm()
+    };
+    let proto = protocol(options.schema);
+    let mut b = Builder::new();
+    let apd = b.reserve();
+    let app = b.reserve();
+    let sdr = b.reserve();
+    let pds = b.reserve();
+    let pd = b.reserve();
+    let pdf = b.reserve();
+    let product = b.reserve();
+    let pc = b.reserve();
+    let pdc = b.reserve();
+    let rep = b.reserve();
+    b.set(
+        apd,
+        Body::Simple(rec(
+            "APPLICATION_PROTOCOL_DEFINITION",
+            vec![
+                s("international standard"),
+                s(proto.apd_name),
+                Parameter::Integer(proto.apd_year),
+                Parameter::Reference(app),
+            ],
+        )),
+    );
+    b.set(
+        app,
+        Body::Simple(rec("APPLICATION_CONTEXT", vec![s(proto.context)])),
+    );
+    b.set(
+        sdr,
+        Body::Simple(rec(
+            "SHAPE_DEFINITION_REPRESENTATION",
+            vec![Parameter::Reference(pds), Parameter::Reference(rep)],
+        )),
+    );
+    b.set(
+        pds,
+        Body::Simple(rec(
+            "PRODUCT_DEFINITION_SHAPE",
+            vec![s(""), s(""), Parameter::Reference(pd)],
+        )),
+    );
+    b.set(
+        pd,
+        Body::Simple(rec(
+            "PRODUCT_DEFINITION",
+            vec![
+                s("design"),
+                s(""),
+                Parameter::Reference(pdf),
+                Parameter::Reference(pdc),
+            ],
+        )),
+    );
+    let ap203 = options.schema == StepSchema::Ap203;
+    b.set(
+        pdf,
+        Body::Simple(if ap203 {
+            rec(
+                "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
+                vec![
+                    s(""),
+                    s(""),
+                    Parameter::Reference(product),
+                    Parameter::Enumeration("NOT_KNOWN"),
+                ],
+            )
+        } else {
+            rec(
+                "PRODUCT_DEFINITION_FORMATION",
+                vec![s(""), s(""), Parameter::Reference(product)],
+            )
+        }),
+    );
+    let name = if options.file_name.is_empty() {
+        "nurbsx"
+    } else {
+        options.file_name.as_str()
+    };
+    b.set(
+        product,
+        Body::Simple(rec(
+            "PRODUCT",
+            vec![s(name), s(name), s(""), Parameter::refs(&[pc])],
+        )),
+    );
+    b.set(
+        pc,
+        Body::Simple(rec(
+            if ap203 {
+                "MECHANICAL_CONTEXT"
+            } else {
+                "PRODUCT_CONTEXT"
+            },
+            vec![s(""), Parameter::Reference(app), s("mechanical")],
+        )),
+    );
+    b.set(
+        pdc,
+        Body::Simple(if ap203 {
+            rec(
+                "DESIGN_CONTEXT",
+                vec![s(""), Parameter::Reference(app), s("design")],
+            )
+        } else {
+            rec(
+                "PRODUCT_DEFINITION_CONTEXT",
+                vec![s("part definition"), Parameter::Reference(app), s("design")],
+            )
+        }),
+    );
+    b.simple(
+        "PRODUCT_RELATED_PRODUCT_CATEGORY",
+        vec![s("part"), Parameter::Null, Parameter::refs(&[product])],
+    );
+
+    let ctx3 = context(&mut b, unit, 3);
+    let placement = axis_placement(&mut b);
+
+    let mut curves3 = Vec::new();
+    let mut curves2 = Vec::new();
+    let mut surfaces = Vec::new();
+    for e in &document.entities {
+        let loc = Location::at_entity(e.id.clone());
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                let id = curve(&mut b, c, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                if c.dimension() == 2 {
+                    curves2.push(id);
+                } else {
+                    curves3.push(id);
+                }
+            }
+            Geometry::Surface(sf) => {
+                let id = surface(&mut b, sf, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                surfaces.push(id);
+            }
+        }
+    }
+    // GEOMETRIC_SET / GEOMETRIC_CURVE_SET need at least one element (SET [1:?]); a
+    // document without 3-D geometry gets a representation holding only its placement.
+    let mut items = vec![placement];
+    let rep_keyword = if surfaces.is_empty() {
+        if !curves3.is_empty() {
+            items.push(b.simple(
+                "GEOMETRIC_CURVE_SET",
+                vec![s(""), Parameter::refs(&curves3)],
+            ));
+        }
+        "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION"
+    } else {
+        let mut members = curves3.clone();
+        members.extend(&surfaces);
+        items.push(b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]));
+        "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION"
+    };
+    b.set(
+        rep,
+        Body::Simple(rec(
+            rep_keyword,
+            vec![s(""), Parameter::refs(&items), Parameter::Reference(ctx3)],
+        )),
+    );
+    if !curves2.is_empty() {
+        let ctx2 = context(&mut b, unit, 2);
+        let set = b.simple(
+            "GEOMETRIC_CURVE_SET",
+            vec![s(""), Parameter::refs(&curves2)],
+        );
+        b.simple(
+            "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION",
+            vec![
+                s("2D curves"),
+                Parameter::refs(&[set]),
+                Parameter::Reference(ctx2),
+            ],
+        );
+    }
+
+    let timestamp = options.timestamp.clone().unwrap_or_else(now_iso8601);
+    let header = vec![
+        rec(
+            "FILE_DESCRIPTION",
+            vec![Parameter::List(vec![s("nurbsx model")]), s("2;1")],
+        ),
+        rec(
+            "FILE_NAME",
+            vec![
+                s(name),
+                s(&timestamp),
+                Parameter::List(vec![s("")]),
+                Parameter::List(vec![s("")]),
+                s(concat!("nurbsx ", env!("CARGO_PKG_VERSION"))),
+                s("nurbsx"),
+                s(""),
+            ],
+        ),
+        rec(
+            "FILE_SCHEMA",
+            vec![Parameter::List(vec![s(proto.file_schema)])],
+        ),
+    ];
+    let exchange = Exchange {
+        header,
+        data: vec![DataSection {
+            params: Vec::new(),
+            instances: b.into_instances(),
+        }],
+    };
+    write_exchange(&exchange)
+        .map_err(|e| Diagnostic::error("step.write", e.to_string(), Location::default()))
+}
+
+/// The representation context with length, angle and solid-angle units and a 1e-7
+/// uncertainty (in the length unit), as Open CASCADE writes it.
+fn context(b: &mut Builder, unit: LengthUnit, dimension: i64) -> u64 {
+    let length = length_unit(b, unit);
+    let angle = b.complex(vec![
+        rec("NAMED_UNIT", vec![Parameter::Derived]),
+        rec("PLANE_ANGLE_UNIT", vec![]),
+        rec(
+            "SI_UNIT",
+            vec![Parameter::Null, Parameter::Enumeration("RADIAN")],
+        ),
+    ]);
+    let solid = b.complex(vec![
+        rec("NAMED_UNIT", vec![Parameter::Derived]),
+        rec(
+            "SI_UNIT",
+            vec![Parameter::Null, Parameter::Enumeration("STERADIAN")],
+        ),
+        rec("SOLID_ANGLE_UNIT", vec![]),
+    ]);
+    let unc = b.simple(
+        "UNCERTAINTY_MEASURE_WITH_UNIT",
+        vec![
+            Parameter::Typed("LENGTH_MEASURE", Box::new(Parameter::Real(1e-7))),
+            Parameter::Reference(length),
+            s("distance_accuracy_value"),
+            s("confusion accuracy"),
+        ],
+    );
+    b.complex(vec![
+        rec(
+            "GEOMETRIC_REPRESENTATION_CONTEXT",
+            vec![Parameter::Integer(dimension)],
+        ),
+        rec(
+            "GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT",
+            vec![Parameter::refs(&[unc])],
+        ),
+        rec(
+            "GLOBAL_UNIT_ASSIGNED_CONTEXT",
+            vec![Parameter::refs(&[length, angle, solid])],
+        ),
+        rec(
+            "REPRESENTATION_CONTEXT",
+            vec![
+                s("Context #1"),
+                s(if dimension == 2 {
+                    "2D Context with UNIT and UNCERTAINTY"
+                } else {
+                    "3D Context with UNIT and UNCERTAINTY"
+                }),
+            ],
+        ),
+    ])
+}
+
+/// `( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(prefix,.METRE.) )`, or for inch-based units the
+/// conversion-based form Open CASCADE writes (`CONVERSION_BASED_UNIT('INCH',#m)` with
+/// `#m = LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#mm)`).
+fn length_unit(b: &mut Builder, unit: LengthUnit) -> u64 {
+    let si = |b: &mut Builder, prefix: Option<&'static str>| {
+        b.complex(vec![
+            rec("LENGTH_UNIT", vec![]),
+            rec("NAMED_UNIT", vec![Parameter::Derived]),
+            rec(
+                "SI_UNIT",
+                vec![
+                    prefix.map_or(Parameter::Null, Parameter::Enumeration),
+                    Parameter::Enumeration("METRE"),
+                ],
+            ),
+        ])
+    };
+    let conversion = |b: &mut Builder, name: &str, mm: f64| {
+        let base = si(b, Some("MILLI"));
+        let factor = b.simple(
+            "LENGTH_MEASURE_WITH_UNIT",
+            vec![
+                Parameter::Typed("LENGTH_MEASURE", Box::new(Parameter::Real(mm))),
+                Parameter::Reference(base),
+            ],
+        );
+        let dims = b.simple(
+            "DIMENSIONAL_EXPONENTS",
+            vec![
+                Parameter::Real(1.0),
+                Parameter::Real(0.0),
+                Parameter::Real(0.0),
+                Parameter::Real(0.0),
+                Parameter::Real(0.0),
+                Parameter::Real(0.0),
+                Parameter::Real(0.0),
+            ],
+        );
+        b.complex(vec![
+            rec(
+                "CONVERSION_BASED_UNIT",
+                vec![s(name), Parameter::Reference(factor)],
+            ),
+            rec("LENGTH_UNIT", vec![]),
+            rec("NAMED_UNIT", vec![Parameter::Reference(dims)]),
+        ])
+    };
+    match unit {
+        LengthUnit::Mm => si(b, Some("MILLI")),
+        LengthUnit::Cm => si(b, Some("CENTI")),
+        LengthUnit::M => si(b, None),
+        LengthUnit::Km => si(b, Some("KILO")),
+        LengthUnit::Um => si(b, Some("MICRO")),
+        LengthUnit::In => conversion(b, "INCH", 25.4),
+        LengthUnit::Ft => conversion(b, "FOOT", 304.8),
+        LengthUnit::Mi => conversion(b, "MILE", 1_609_344.0),
+        LengthUnit::Mil => conversion(b, "MIL", 0.0254),
+        LengthUnit::Uin => conversion(b, "MICROINCH", 0.0000254),
+    }
+}
+
+fn axis_placement(b: &mut Builder) -> u64 {
+    let origin = b.simple(
+        "CARTESIAN_POINT",
+        vec![s(""), Parameter::reals(&[0.0, 0.0, 0.0])],
+    );
+    let z = b.simple("DIRECTION", vec![s(""), Parameter::reals(&[0.0, 0.0, 1.0])]);
+    let x = b.simple("DIRECTION", vec![s(""), Parameter::reals(&[1.0, 0.0, 0.0])]);
+    b.simple(
+        "AXIS2_PLACEMENT_3D",
+        vec![
+            s(""),
+            Parameter::Reference(origin),
+            Parameter::Reference(z),
+            Parameter::Reference(x),
+        ],
+    )
+}
+
+fn point(b: &mut Builder, p: Point3, dim: usize, scale: f64) -> u64 {
+    let c: Vec<f64> = p.iter().take(dim).map(|x| x * scale).collect();
+    b.simple("CARTESIAN_POINT", vec![s(""), Parameter::reals(&c)])
+}
+
+/// Distinct knots and multiplicities as STEP parameters.
+fn knot_lists(knots: &[f64]) -> (Parameter<'static>, Parameter<'static>) {
+    let (values, mults) = crate::nurbs::knots::to_distinct(knots);
+    let mults: Vec<i64> = mults
+        .iter()
+        .map(|&m| i64::try_from(m).unwrap_or(i64::MAX))
+        .collect();
+    (Parameter::integers(&mults), Parameter::reals(&values))
+}
+
+/// The implicit-knot subtype whose knots are exactly `knots`, if any.
+fn implicit_subtype(degree: usize, poles: usize, knots: &[f64]) -> Option<KnotForm> {
+    [KnotForm::Bezier, KnotForm::QuasiUniform, KnotForm::Uniform]
+        .into_iter()
+        .find(|&f| implicit_knots(f, degree, poles).is_ok_and(|k| k == knots))
+}
+
+/// Whether Open CASCADE translates this implicit-knot subtype (spec.md c.4): it drops
+/// rational Bezier entities and reads a Bezier as a single span, so those are written with
+/// explicit knots instead (always exact; verified with FreeCAD 0.20.2 / OCCT 7.6).
+fn occt_translates(form: KnotForm, rational: bool, dims: &[(usize, usize)]) -> bool {
+    match form {
+        KnotForm::Bezier => !rational && dims.iter().all(|&(d, n)| n == d + 1),
+        KnotForm::Uniform | KnotForm::QuasiUniform => true,
+    }
+}
+
+/// An enumeration value from metadata when it is one of `allowed`, else `UNSPECIFIED`.
+fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
+    let upper = meta.map(|m| m.to_ascii_uppercase()).unwrap_or_default();
+    Parameter::Enumeration(
+        allowed
+            .iter()
+            .find(|a| **a == upper)
+            .copied()
+            .unwrap_or("UNSPECIFIED"),
+    )
+}
+
+const CURVE_FORMS: &[&str] = &[
+    "POLYLINE_FORM",
+    "CIRCULAR_ARC",
+    "ELLIPTIC_ARC",
+    "PARABOLIC_ARC",
+    "HYPERBOLIC_ARC",
+    "UNSPECIFIED",
+];
+const SURFACE_FORMS: &[&str] = &[
+    "PLANE_SURF",
+    "CYLINDRICAL_SURF",
+    "CONICAL_SURF",
+    "SPHERICAL_SURF",
+    "TOROIDAL_SURF",
+    "SURF_OF_REVOLUTION",
+    "RULED_SURF",
+    "GENERALISED_CONE",
+    "QUADRIC_SURF",
+    "SURF_OF_LINEAR_EXTRUSION",
+    "UNSPECIFIED",
+];
+
+fn gap(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn tolerance(points: &[Point3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (gap(lo, hi) * 1e-9).max(1e-12)
+}
+
+fn name_of(e: &Entity) -> Parameter<'static> {
+    s(e.meta.name.as_deref().unwrap_or(""))
+}
+
+/// Writes one curve; returns its id.
+fn curve(
+    b: &mut Builder,
+    c: &NurbsCurve,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<u64, String> {
+    let dim = c.dimension();
+    let pts: Vec<u64> = c
+        .control_points()
+        .iter()
+        .map(|&p| point(b, p, dim, scale))
+        .collect();
+    let degree = i64::try_from(c.degree()).map_err(|_| "degree out of range".to_owned())?;
+    let (d0, d1) = c.domain();
+    let closed =
+        gap(c.point_at_unchecked(d0), c.point_at_unchecked(d1)) <= tolerance(c.control_points());
+    let bspline = vec![
+        Parameter::Integer(degree),
+        Parameter::refs(&pts),
+        form_of(e.meta.form.as_ref(), CURVE_FORMS),
+        Parameter::logical(closed),
+        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
+    ];
+    let subtype = if options.use_implicit_knot_subtypes {
+        implicit_subtype(c.degree(), c.num_poles(), c.knots())
+            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), c.num_poles())]))
+    } else {
+        None
+    };
+    let (mults, knots) = knot_lists(c.knots());
+    let spec = Parameter::Enumeration(knot_form(c.degree(), c.knots()));
+    let (sub_keyword, sub_params) = match subtype {
+        Some(KnotForm::Bezier) => ("BEZIER_CURVE", vec![]),
+        Some(KnotForm::Uniform) => ("UNIFORM_CURVE", vec![]),
+        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_CURVE", vec![]),
+        None => ("B_SPLINE_CURVE_WITH_KNOTS", vec![mults, knots, spec]),
+    };
+    Ok(match c.weights() {
+        None => {
+            let mut params = vec![name_of(e)];
+            params.extend(bspline);
+            params.extend(sub_params);
+            b.simple(sub_keyword, params)
+        }
+        Some(w) => b.complex(vec![
+            rec("BOUNDED_CURVE", vec![]),
+            rec("B_SPLINE_CURVE", bspline),
+            rec(sub_keyword, sub_params),
+            rec("CURVE", vec![]),
+            rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
+            rec("RATIONAL_B_SPLINE_CURVE", vec![Parameter::reals(w)]),
+            rec("REPRESENTATION_ITEM", vec![name_of(e)]),
+        ]),
+    })
+}
+
+/// Writes one surface; returns its id.
+fn surface(
+    b: &mut Builder,
+    sf: &NurbsSurface,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<u64, String> {
+    let dim = sf.dimension();
+    let net = sf.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    let rows: Vec<Parameter<'static>> = (0..nu)
+        .map(|i| {
+            let ids: Vec<u64> = net
+                .row(i)
+                .iter()
+                .map(|&p| point(b, p, dim, scale))
+                .collect();
+            Parameter::refs(&ids)
+        })
+        .collect();
+    let du = i64::try_from(sf.degree_u()).map_err(|_| "degree out of range".to_owned())?;
+    let dv = i64::try_from(sf.degree_v()).map_err(|_| "degree out of range".to_owned())?;
+    let tol = tolerance(net.as_slice());
+    let ((u0, u1), (v0, v1)) = sf.domain();
+    let mut gap_u: f64 = 0.0;
+    let mut gap_v: f64 = 0.0;
+    for k in 0..=8 {
+        let t = k as f64 / 8.0;
+        let v = v0 + (v1 - v0) * t;
+        let u = u0 + (u1 - u0) * t;
+        gap_u = gap_u.max(gap(
+            sf.point_at_unchecked(u0, v),
+            sf.point_at_unchecked(u1, v),
+        ));
+        gap_v = gap_v.max(gap(
+            sf.point_at_unchecked(u, v0),
+            sf.point_at_unchecked(u, v1),
+        ));
+    }
+    let bspline = vec![
+        Parameter::Integer(du),
+        Parameter::Integer(dv),
+        Parameter::List(rows),
+        form_of(e.meta.form.as_ref(), SURFACE_FORMS),
+        Parameter::logical(gap_u <= tol),
+        Parameter::logical(gap_v <= tol),
+        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
+    ];
+    let subtype = if options.use_implicit_knot_subtypes {
+        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
+        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
+        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+        if su == sv {
+            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+        } else {
+            None
+        }
+    } else {
+        None
+    };
+    let (mu, ku) = knot_lists(sf.knots_u());
+    let (mv, kv) = knot_lists(sf.knots_v());
+    let fu = knot_form(sf.degree_u(), sf.knots_u());
+    let fv = knot_form(sf.degree_v(), sf.knots_v());
+    let spec = Parameter::Enumeration(if fu == fv { fu } else { "UNSPECIFIED" });
+    let (sub_keyword, sub_params) = match subtype {
+        Some(KnotForm::Bezier) => ("BEZIER_SURFACE", vec![]),
+        Some(KnotForm::Uniform) => ("UNIFORM_SURFACE", vec![]),
+        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_SURFACE", vec![]),
+        None => ("B_SPLINE_SURFACE_WITH_KNOTS", vec![mu, mv, ku, kv, spec]),
+    };
+    Ok(match sf.weights() {
+        None => {
+            let mut params = vec![name_of(e)];
+            params.extend(bspline);
+            params.extend(sub_params);
+            b.simple(sub_keyword, params)
+        }
+        Some(w) => {
+            let wrows: Vec<Parameter<'static>> =
+                (0..nu).map(|i| Parameter::reals(w.row(i))).collect();
+            b.complex(vec![
+                rec("BOUNDED_SURFACE", vec![]),
+                rec("B_SPLINE_SURFACE", bspline),
+                rec(sub_keyword, sub_params),
+                rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
+                rec("RATIONAL_B_SPLINE_SURFACE", vec![Parameter::List(wrows)]),
+                rec("REPRESENTATION_ITEM", vec![name_of(e)]),
+                rec("SURFACE", vec![]),
+            ])
+        }
+    })
+}
+
+/// The current UTC time as `YYYY-MM-DDTHH:MM:SS` (civil-from-days, H. Hinnant's algorithm).
+fn now_iso8601() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let days = i64::try_from(secs / 86_400).unwrap_or(0);
+    let rem = secs % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}",
+        rem / 3600,
+        (rem % 3600) / 60,
+        rem % 60
+    )
+}
