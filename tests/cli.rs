@@ -1,7 +1,6 @@
 //! End-to-end tests of the `nurbsx` binary: outputs and exit codes.
 //!
 //! Tests that need the STEP/IGES readers and writers or the geometric operations (being
-//! integrated from other branches) are `#[ignore = "needs exchange integration"]`; run
 //! them with `cargo test --test cli -- --include-ignored` once merged.
 
 // Helpers outside #[test] functions panic on purpose: a failed helper is a failed test.
@@ -825,7 +824,6 @@ const TWO_PI: f64 = 6.28318530718;
 const IGES_PERIOD: f64 = 6.283185307;
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn info_names_step_and_iges_entities_with_their_source() {
     let o = nurbsx([
         "info",
@@ -854,7 +852,6 @@ fn info_names_step_and_iges_entities_with_their_source() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn evaluate_step_and_iges_circles_at_radius_7_5() {
     // The IGES file writes the period with 10 digits (6.283185307): stay inside both domains.
     let params: Vec<f64> = (0..=12)
@@ -886,7 +883,6 @@ fn evaluate_step_and_iges_circles_at_radius_7_5() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn convert_step_to_iges_verifies_and_keeps_the_geometry() {
     let dir = temp_dir("convert");
     let out = dir.join("circle.igs");
@@ -948,7 +944,6 @@ fn convert_step_to_iges_verifies_and_keeps_the_geometry() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn batch_converts_good_files_and_reports_the_bad_one() {
     let dir = temp_dir("batch-full");
     let input = dir.join("in");
@@ -997,7 +992,6 @@ fn batch_converts_good_files_and_reports_the_bad_one() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn shape_preserving_operations_keep_the_circle() {
     let dir = temp_dir("ops");
     let circle = data("circle.json");
@@ -1029,7 +1023,6 @@ fn shape_preserving_operations_keep_the_circle() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn tessellate_puts_obj_vertices_on_the_circle() {
     let dir = temp_dir("tess");
     let out = dir.join("circle.obj");
@@ -1056,7 +1049,6 @@ fn tessellate_puts_obj_vertices_on_the_circle() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn evaluate_derivatives_and_curvature_of_the_circle() {
     let o = nurbsx([
         "evaluate",
@@ -1163,7 +1155,6 @@ fn validate_searches_folders_for_exchange_files() {
 }
 
 #[test]
-#[ignore = "needs exchange integration"]
 fn the_freecad_samples_validate() {
     let o = nurbsx(["validate", data("").to_str().unwrap()]);
     assert_exit(&o, 0);

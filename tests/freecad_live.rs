@@ -23,7 +23,6 @@ fn find_freecadcmd() -> Option<PathBuf> {
 }
 
 #[test]
-#[ignore = "needs the nurbsx CLI and writers; enabled at integration"]
 fn freecad_reimports_every_conversion() {
     let Some(freecadcmd) = find_freecadcmd() else {
         if env::var("NURBSX_REQUIRE_FREECAD").as_deref() == Ok("1") {

@@ -39,7 +39,12 @@ pub fn write_as(
     options: &ExportOptions,
 ) -> Result<String, PipelineError> {
     match kind.format() {
-        Some(format) => write(doc, format, options),
+        Some(format) => {
+            // 2-D curves have no place in IGES model space (see `drop_unwritable`).
+            let mut doc = doc.clone();
+            super::drop_unwritable(&mut doc, format);
+            write(&doc, format, options)
+        }
         None => write_model_json(doc),
     }
 }

@@ -18,7 +18,7 @@ pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,
-    apply, convert, evaluate, info, select, tessellate, validate, write,
+    apply, convert, drop_unwritable, evaluate, info, select, tessellate, validate, write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,

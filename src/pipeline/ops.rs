@@ -163,6 +163,36 @@ pub fn write(
     exchange::write(doc, format, options).map_err(PipelineError::from_exchange)
 }
 
+/// Removes what a format cannot represent, with a warning per entity.
+///
+/// IGES has no parameter-space context outside a 142/508 (which nurbsx does not write): a
+/// loose 2-D curve (a STEP pcurve, an IGES B(t) curve) would be read by every receiver as
+/// a model-space curve in the plane z = 0, i.e. as stray geometry. So 2-D curves are not
+/// written to IGES (warning `pcurve_not_written`). STEP keeps them, in a separate 2-D
+/// representation that nurbsx reads back and CAD systems ignore.
+pub fn drop_unwritable(doc: &mut Document, format: Format) {
+    if format != Format::Iges {
+        return;
+    }
+    let mut kept = Vec::with_capacity(doc.entities.len());
+    for e in std::mem::take(&mut doc.entities) {
+        if e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)) {
+            doc.diagnostics.push(Diagnostic::warning(
+                "pcurve_not_written",
+                format!(
+                    "{} is a 2-D parameter-space curve; IGES output has no place for it outside a \
+                     trimmed surface, so it is not written",
+                    e.id
+                ),
+                Location::at_entity(e.id.clone()),
+            ));
+        } else {
+            kept.push(e);
+        }
+    }
+    doc.entities = kept;
+}
+
 /// Reads, optionally clamps or unclamps, writes, and optionally verifies by re-reading.
 pub fn convert(
     bytes: &[u8],
@@ -197,6 +227,8 @@ pub fn convert(
             direction: Direction::Both,
         }),
     };
+    let entities_in = document.entities.len();
+    drop_unwritable(&mut document, format);
     let original = op.is_some().then(|| document.clone());
     if let Some(op) = op {
         apply(&mut document, op, None, settings)?;
@@ -228,7 +260,7 @@ pub fn convert(
     let report = ConvertReport {
         input_format: kind.name().to_owned(),
         output_format: format_name(format).to_owned(),
-        entities_in: document.entities.len(),
+        entities_in,
         entities_out: document.entities.len(),
         units: units_info(out_units),
         diagnostics,
@@ -448,12 +480,20 @@ pub fn validate(
     }
 }
 
-/// Evaluates one entity at the requested parameters.
+/// Evaluates one entity at the requested parameters: points, derivatives up to
+/// `request.derivatives` (curves: `derivatives[k-1]` is the k-th derivative; surfaces: an
+/// object keyed `"u"`, `"v"`, `"uu"`, `"uv"`, `"vv"`, ...), normals (surfaces: the unit normal,
+/// with the limit normal at degenerate points; curves: the Frenet principal normal, absent
+/// where the curvature is 0) and curvature (curves: curvature, torsion, osculating circle;
+/// surfaces: Gaussian, mean and principal curvatures with directions). A point where a
+/// differential quantity does not exist gets `{"error": ...}` for it; the point itself and
+/// the other results are still returned.
 pub fn evaluate(
     doc: &Document,
     request: &EvalRequest,
     settings: &Settings,
 ) -> Result<EvalReport, PipelineError> {
+    use serde_json::{Map, Value, json};
     if request.params.len() > settings.max_eval_points {
         return Err(PipelineError::new(
             ErrorKind::Limit,
@@ -466,56 +506,124 @@ pub fn evaluate(
             Location::default(),
         ));
     }
-    let entity = select(doc, request.entity.as_deref())?;
-    if request.derivatives > 0 || request.normals || request.curvature {
+    if request.derivatives > crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER {
         return Err(PipelineError::usage(
-            "evaluate.pending",
-            "derivatives, normals and curvature are being integrated",
+            "evaluate.order",
+            format!(
+                "derivative order {} is above the supported {}",
+                request.derivatives,
+                crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER
+            ),
         ));
     }
+    let entity = select(doc, request.entity.as_deref())?;
+    let dim = entity.geometry.dimension();
+    let coords = |p: Point3| -> Value { json!(p[..dim]) };
+    let failure = |e: crate::nurbs::GeometryError| json!({ "error": e.to_string() });
+    let at_error = |e: crate::nurbs::GeometryError| {
+        PipelineError::new(
+            ErrorKind::Usage,
+            "evaluate.domain",
+            e.to_string(),
+            Location::at_entity(entity.id.clone()),
+        )
+    };
     let mut results = Vec::with_capacity(request.params.len());
     for at in &request.params {
-        let point = match (&entity.geometry, at.as_slice()) {
-            (Geometry::Curve(c), &[u]) => c.point_at(u).map(|p| p[..c.dimension()].to_vec()),
+        let result = match (&entity.geometry, at.as_slice()) {
+            (Geometry::Curve(c), &[u]) => {
+                let ders = c.derivatives(u, request.derivatives).map_err(at_error)?;
+                let derivatives = (request.derivatives > 0)
+                    .then(|| Value::Array(ders[1..].iter().map(|&d| coords(d)).collect()));
+                let normal = if request.normals {
+                    c.frenet_frame(u).ok().and_then(|f| f.normal)
+                } else {
+                    None
+                };
+                let curvature = request.curvature.then(|| match c.curvature(u) {
+                    Err(e) => failure(e),
+                    Ok(k) => {
+                        let circle = c.osculating_circle(u).ok().flatten();
+                        json!({
+                            "curvature": k.curvature,
+                            "signed_curvature": k.signed_curvature,
+                            "torsion": k.torsion,
+                            "osculating_circle": circle.map(|o| json!({
+                                "center": coords(o.center),
+                                "radius": o.radius,
+                                "normal": o.normal,
+                            })),
+                        })
+                    }
+                });
+                EvalResult {
+                    at: at.clone(),
+                    point: ders[0][..dim].to_vec(),
+                    derivatives,
+                    normal,
+                    curvature,
+                }
+            }
             (Geometry::Surface(s), &[u, v]) => {
-                s.point_at(u, v).map(|p| p[..s.dimension()].to_vec())
+                let skl = s.derivatives(u, v, request.derivatives).map_err(at_error)?;
+                let derivatives = (request.derivatives > 0).then(|| {
+                    let mut map = Map::new();
+                    for order in 1..=request.derivatives {
+                        for k in (0..=order).rev() {
+                            let l = order - k;
+                            let key = format!("{}{}", "u".repeat(k), "v".repeat(l));
+                            map.insert(key, coords(skl[k][l]));
+                        }
+                    }
+                    Value::Object(map)
+                });
+                let normal = if request.normals {
+                    Some(s.normal(u, v).map_err(|e| {
+                        PipelineError::new(
+                            ErrorKind::Geometry,
+                            "evaluate.normal",
+                            format!("no normal at ({u}, {v}): {e}"),
+                            Location::at_entity(entity.id.clone()),
+                        )
+                    })?)
+                } else {
+                    None
+                };
+                let curvature = request.curvature.then(|| match s.curvature(u, v) {
+                    Err(e) => failure(e),
+                    Ok(k) => json!({
+                        "gaussian": k.gaussian,
+                        "mean": k.mean,
+                        "k1": k.k1,
+                        "k2": k.k2,
+                        "dir1": k.dir1,
+                        "dir2": k.dir2,
+                        "umbilic": k.umbilic,
+                    }),
+                });
+                EvalResult {
+                    at: at.clone(),
+                    point: skl[0][0][..dim].to_vec(),
+                    derivatives,
+                    normal,
+                    curvature,
+                }
             }
             (g, _) => {
+                let curve = matches!(g, Geometry::Curve(_));
                 return Err(PipelineError::usage(
                     "evaluate.arity",
                     format!(
                         "{} {} takes {} parameter(s) per point, got {:?}",
-                        if matches!(g, Geometry::Curve(_)) {
-                            "curve"
-                        } else {
-                            "surface"
-                        },
+                        if curve { "curve" } else { "surface" },
                         entity.id,
-                        if matches!(g, Geometry::Curve(_)) {
-                            1
-                        } else {
-                            2
-                        },
+                        if curve { 1 } else { 2 },
                         at
                     ),
                 ));
             }
-        }
-        .map_err(|e| {
-            PipelineError::new(
-                ErrorKind::Usage,
-                "evaluate.domain",
-                e.to_string(),
-                Location::at_entity(entity.id.clone()),
-            )
-        })?;
-        results.push(EvalResult {
-            at: at.clone(),
-            point,
-            derivatives: None,
-            normal: None,
-            curvature: None,
-        });
+        };
+        results.push(result);
     }
     Ok(EvalReport {
         entity: entity.id.clone(),

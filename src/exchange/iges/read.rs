@@ -1,7 +1,7 @@
 //! IGES file -> [`Document`]: entities 126 and 128 with their flags checked, 124 chains
 //! applied, units reported or converted (spec.md a.2, b.1-b.4; pitfalls.md A4, B11, D20-22).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use nurbsx_parsers::iges::schema::{Curve126, Surface128};
 use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
@@ -58,6 +58,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         Some(file_unit.to_mm() / units.to_mm())
     };
     let users = users(&file);
+    let parametric = parameter_space_curves(&file);
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
     let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();
@@ -70,7 +71,14 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             }
         };
         let result = match entry.entity_type {
-            126 => read_curve(&file, entry, options, factor, &mut diags),
+            126 => read_curve(
+                &file,
+                entry,
+                parametric.contains(&entry.pointer),
+                options,
+                factor,
+                &mut diags,
+            ),
             128 => read_surface(&file, entry, options, factor, &mut diags),
             124 => continue,
             t => {
@@ -271,6 +279,70 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
     map
 }
 
+/// The DE pointers of the 126 curves that live in a surface's parameter space: the B(t)
+/// curve of a 142 Curve on a Parametric Surface (parameter 3, BPTR; IGES 5.3 section 4.22),
+/// directly or as members of a 102 Composite Curve, and the parameter-space curves of a 508
+/// Loop (per edge: TYPE, EDGE, NDX, OF, K, then K pairs ISOP, CURV; section 4.152).
+fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
+    let mut out = BTreeSet::new();
+    let add = |ptr: i64, out: &mut BTreeSet<usize>| {
+        let Some(target) = file.entry(ptr) else {
+            return;
+        };
+        match target.entity_type {
+            126 => {
+                out.insert(target.pointer);
+            }
+            102 => {
+                let Ok(p) = file.parameters(target) else {
+                    return;
+                };
+                let n = p.int(1, "N").unwrap_or(0).clamp(0, p.len() as i64) as usize;
+                for k in 0..n {
+                    if let Some(member) = p.int(2 + k, "pointer").ok().and_then(|m| file.entry(m))
+                        && member.entity_type == 126
+                    {
+                        out.insert(member.pointer);
+                    }
+                }
+            }
+            _ => {}
+        }
+    };
+    for entry in file.entries.iter().flatten() {
+        let Ok(p) = (match entry.entity_type {
+            142 | 508 => file.parameters(entry),
+            _ => continue,
+        }) else {
+            continue;
+        };
+        if entry.entity_type == 142 {
+            if let Ok(bptr) = p.int(3, "BPTR") {
+                add(bptr, &mut out);
+            }
+            continue;
+        }
+        let edges = p.int(1, "N").unwrap_or(0).clamp(0, p.len() as i64) as usize;
+        let mut i = 2;
+        for _ in 0..edges {
+            let Ok(k) = p.int(i + 4, "K") else {
+                break;
+            };
+            let k = k.clamp(0, p.len() as i64) as usize;
+            for j in 0..k {
+                if let Ok(curve) = p.int(i + 6 + 2 * j, "CURV") {
+                    add(curve, &mut out);
+                }
+            }
+            i += 5 + 2 * k;
+            if i > p.len() {
+                break;
+            }
+        }
+    }
+    out
+}
+
 fn global_location() -> Location {
     Location {
         section: Some('G'),
@@ -455,6 +527,7 @@ fn name_of(entry: &DirectoryEntry) -> Option<String> {
 fn read_curve(
     file: &IgesFile<'_>,
     entry: &DirectoryEntry,
+    parametric: bool,
     options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
@@ -491,12 +564,15 @@ fn read_curve(
         .map(|&p| apply_all(&ts, p, factor))
         .collect();
     let weights = weights_policy(polynomial, rec.weights, entry, diags);
-    // IGES 2-D parametric curves (use flag 05, e.g. the B(t) of a 142) stay 2-D.
-    let dimension = if entry.status.use_flag == 5 && points.iter().all(|p| p[2] == 0.0) {
-        2
-    } else {
-        3
-    };
+    // IGES 2-D parametric curves stay 2-D: use flag 05, or the role of a parameter-space
+    // curve (the B(t) of a 142, a 508 loop pcurve) whatever the flag says (Open CASCADE
+    // does not always set 05).
+    let dimension =
+        if (parametric || entry.status.use_flag == 5) && points.iter().all(|p| p[2] == 0.0) {
+            2
+        } else {
+            3
+        };
     let curve = match NurbsCurve::with_dimension(rec.degree, rec.knots, points, weights, dimension)
     {
         Ok(c) => c,
