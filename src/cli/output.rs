@@ -51,8 +51,11 @@ fn location_extra(loc: &Location) -> String {
         parts.push(format!("entity {e}"));
     }
     if let (Some(sec), Some(seq)) = (loc.section, loc.sequence) {
+        // A directory entry's own location (`D5`) is already named by the entity.
+        let same = loc.entity.as_deref() == Some(format!("{sec}{seq}").as_str());
         match (loc.line, loc.column) {
             (None, Some(c)) => parts.push(format!("{sec}{seq} col {c}")),
+            _ if same => {}
             _ => parts.push(format!("{sec}{seq}")),
         }
     }

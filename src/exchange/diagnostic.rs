@@ -67,7 +67,10 @@ impl std::fmt::Display for Location {
             extra.push(e.clone());
         }
         if let (Some(s), Some(n)) = (self.section, self.sequence) {
+            // An IGES directory entry names itself `D5` both ways: say it once.
+            let same = self.entity.as_deref() == Some(format!("{s}{n}").as_str());
             match self.column {
+                _ if same && self.column.is_none() => {}
                 Some(c) if self.line.is_none() => extra.push(format!("{s}{n} col {c}")),
                 _ => extra.push(format!("{s}{n}")),
             }

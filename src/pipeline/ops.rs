@@ -174,21 +174,26 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
     if format != Format::Iges {
         return;
     }
-    let mut kept = Vec::with_capacity(doc.entities.len());
-    for e in std::mem::take(&mut doc.entities) {
-        if e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)) {
-            doc.diagnostics.push(Diagnostic::warning(
-                "pcurve_not_written",
-                format!(
-                    "{} is a 2-D parameter-space curve; IGES output has no place for it outside a \
-                     trimmed surface, so it is not written",
-                    e.id
-                ),
-                Location::at_entity(e.id.clone()),
-            ));
-        } else {
-            kept.push(e);
-        }
+    let (dropped, kept): (Vec<Entity>, Vec<Entity>) = std::mem::take(&mut doc.entities)
+        .into_iter()
+        .partition(|e| e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)));
+    if let Some(first) = dropped.first() {
+        let ids: Vec<&str> = dropped.iter().take(8).map(|e| e.id.as_str()).collect();
+        doc.diagnostics.push(Diagnostic::warning(
+            "pcurve_not_written",
+            format!(
+                "{} 2-D parameter-space curve(s) not written ({}{}): IGES output has no place for \
+                 them outside a trimmed surface",
+                dropped.len(),
+                ids.join(", "),
+                if dropped.len() > ids.len() {
+                    ", ..."
+                } else {
+                    ""
+                }
+            ),
+            Location::at_entity(first.id.clone()),
+        ));
     }
     doc.entities = kept;
 }
