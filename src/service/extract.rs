@@ -80,9 +80,7 @@ pub fn kind_of_content_type(headers: &HeaderMap) -> Result<Option<InputKind>, Ap
         .trim()
         .to_ascii_lowercase();
     match essence.as_str() {
-        "model/step" | "application/step" | "application/p21" => {
-            Ok(Some(InputKind::Step))
-        }
+        "model/step" | "application/step" | "application/p21" => Ok(Some(InputKind::Step)),
         "model/iges" | "application/iges" => Ok(Some(InputKind::Iges)),
         "application/json" => Ok(Some(InputKind::Json)),
         "application/octet-stream" | "text/plain" | "" => Ok(None),

@@ -178,13 +178,31 @@ mod tests {
         }
         let text = m.render(0, 0);
         // 0 ms and the two 3 ms fall at or below 5 ms; 40 ms below 50 ms; 100 s only +Inf.
-        assert!(text.contains("_bucket{route=\"/r\",le=\"0.001\"} 1\n"), "{text}");
-        assert!(text.contains("_bucket{route=\"/r\",le=\"0.005\"} 3\n"), "{text}");
-        assert!(text.contains("_bucket{route=\"/r\",le=\"0.05\"} 4\n"), "{text}");
-        assert!(text.contains("_bucket{route=\"/r\",le=\"30\"} 4\n"), "{text}");
-        assert!(text.contains("_bucket{route=\"/r\",le=\"+Inf\"} 5\n"), "{text}");
+        assert!(
+            text.contains("_bucket{route=\"/r\",le=\"0.001\"} 1\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("_bucket{route=\"/r\",le=\"0.005\"} 3\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("_bucket{route=\"/r\",le=\"0.05\"} 4\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("_bucket{route=\"/r\",le=\"30\"} 4\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("_bucket{route=\"/r\",le=\"+Inf\"} 5\n"),
+            "{text}"
+        );
         assert!(text.contains("_count{route=\"/r\"} 5\n"), "{text}");
-        assert!(text.contains("nurbsx_http_requests_in_flight 0\n"), "{text}");
+        assert!(
+            text.contains("nurbsx_http_requests_in_flight 0\n"),
+            "{text}"
+        );
         assert!(text.contains("status=\"200\"} 5\n"), "{text}");
     }
 

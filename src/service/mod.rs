@@ -200,12 +200,9 @@ async fn record(State(state): State<Arc<AppState>>, req: Request, next: Next) ->
     let start = Instant::now();
     state.metrics.start();
     let response = next.run(req).await;
-    state.metrics.finish(
-        &route,
-        &method,
-        response.status().as_u16(),
-        start.elapsed(),
-    );
+    state
+        .metrics
+        .finish(&route, &method, response.status().as_u16(), start.elapsed());
     response
 }
 

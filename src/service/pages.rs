@@ -57,7 +57,10 @@ pub async fn metrics(State(state): State<Arc<AppState>>) -> Response {
         .metrics
         .render(state.gate.busy(), state.gate.admitted());
     (
-        [(header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")],
+        [(
+            header::CONTENT_TYPE,
+            "text/plain; version=0.0.4; charset=utf-8",
+        )],
         text,
     )
         .into_response()
@@ -78,11 +81,7 @@ pub fn openapi_text() -> &'static str {
 #[utoipa::path(get, path = "/openapi.json", tag = "operations",
     responses((status = 200, description = "OpenAPI 3.1 document", content_type = "application/json", body = Object)))]
 pub async fn openapi_json() -> Response {
-    (
-        [(header::CONTENT_TYPE, "application/json")],
-        openapi_text(),
-    )
-        .into_response()
+    ([(header::CONTENT_TYPE, "application/json")], openapi_text()).into_response()
 }
 
 /// An HTML page listing the endpoints with curl examples.

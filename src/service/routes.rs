@@ -17,13 +17,10 @@ use super::api::{
 use super::error::ApiError;
 use super::extract::{ApiJson, ApiQuery, FileBody};
 use super::openapi::{
-    ConvertJsonReply, EvalReportDoc, FileErrors, GeometryReply, InfoReportDoc,
-    ValidationReportDoc,
+    ConvertJsonReply, EvalReportDoc, FileErrors, GeometryReply, InfoReportDoc, ValidationReportDoc,
 };
 use crate::exchange::{ExportOptions, Format};
-use crate::pipeline::{
-    self, ConvertReport, ConvertRequest, EvalRequest, Loaded, Operation,
-};
+use crate::pipeline::{self, ConvertReport, ConvertRequest, EvalRequest, Loaded, Operation};
 
 /// The media type of a written file.
 fn media_type(format: Format) -> &'static str {
@@ -232,12 +229,18 @@ async fn operate(
     let rendered = state
         .gate
         .run(move || {
-            let Loaded { kind, mut document } = pipeline::load(&input.bytes, input.hint, &settings)?;
+            let Loaded { kind, mut document } =
+                pipeline::load(&input.bytes, input.hint, &settings)?;
             pipeline::apply(&mut document, op, entity.as_deref(), &settings)?;
             match kind.format() {
                 Some(format) => {
                     let text = pipeline::write(&document, format, &ExportOptions::default())?;
-                    Ok(Ok((format, text, document.entities.len(), document.diagnostics.len())))
+                    Ok(Ok((
+                        format,
+                        text,
+                        document.entities.len(),
+                        document.diagnostics.len(),
+                    )))
                 }
                 None => Ok(Err(document)),
             }
@@ -382,4 +385,3 @@ pub async fn tessellate(
     };
     Ok(([(header::CONTENT_TYPE, media)], text).into_response())
 }
-
