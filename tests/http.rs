@@ -867,3 +867,312 @@ async fn serves_over_loopback_and_shuts_down_gracefully() {
         "listener closed"
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Files and operations: enabled once the STEP/IGES layers and the operations are merged.
+
+/// A hand-written STEP file with one parabolic arc: P(u) = (1-u)² P0 + 2u(1-u) P1 + u² P2.
+const STEP_ARC: &str = "ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION(('nurbsx http test'),'2;1');
+FILE_NAME('arc.step','2024-01-01T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));
+ENDSEC;
+DATA;
+#1=CARTESIAN_POINT('',(0.,0.,0.));
+#2=CARTESIAN_POINT('',(1.,2.,0.));
+#3=CARTESIAN_POINT('',(3.,2.,1.));
+#4=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);
+ENDSEC;
+END-ISO-10303-21;
+";
+
+/// The arc of [`STEP_ARC`] by its Bernstein form.
+fn arc_bernstein(u: f64) -> [f64; 3] {
+    // P0 is the origin, so its Bernstein term adds nothing.
+    let (b1, b2) = (2.0 * u * (1.0 - u), u * u);
+    [b1 + 3.0 * b2, 2.0 * b1 + 2.0 * b2, b2]
+}
+
+fn close(a: &Value, want: &[f64], tol: f64) -> bool {
+    let a: Vec<f64> = serde_json::from_value(a.clone()).unwrap();
+    a.len() == want.len() && a.iter().zip(want).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+/// POSTs and expects 200; returns headers and body.
+async fn ok(app: Router, req: Request<Body>) -> (HeaderMap, Bytes) {
+    let (status, headers, body) = send(app, req).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    (headers, body)
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn info_validate_and_evaluate_read_a_step_file() {
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), STEP_ARC)).await;
+    let v = json_of(&body);
+    assert_eq!(v["format"], "step");
+    assert_eq!(v["entities"][0]["id"], "#4");
+    assert_eq!(v["entities"][0]["degree"], json!([2]));
+    let (_, body) = ok(app(), post_raw("/v1/validate", None, STEP_ARC)).await;
+    let v = json_of(&body);
+    assert_eq!(v["valid"], true, "{v}");
+    assert_eq!(v["entities"], 1);
+    let params = [0.0, 0.3, 0.5, 1.0];
+    let req = json!({
+        "file": STEP_ARC, "format": "step", "entity": "#4",
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    let v = json_of(&body);
+    assert_eq!(v["entity"], "#4");
+    for (r, u) in v["results"].as_array().unwrap().iter().zip(params) {
+        assert!(close(&r["point"], &arc_bernstein(u), 1e-14), "{r}");
+    }
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn convert_json_to_step_to_iges_keeps_the_geometry_exactly() {
+    let app = app();
+    let (headers, step) = ok(
+        app.clone(),
+        post_raw(
+            "/v1/convert?to=step&schema=ap242",
+            Some("application/json"),
+            circle().to_string(),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    assert_eq!(headers["x-nurbsx-entities"], "1");
+    assert!(headers.contains_key("x-nurbsx-diagnostics"));
+    assert!(step.starts_with(b"ISO-10303-21;"));
+    // STEP -> IGES with verification, JSON reply.
+    let mut req = post_raw("/v1/convert?to=iges&verify=true", Some("model/step"), step);
+    req.headers_mut()
+        .insert(header::ACCEPT, "application/json".parse().unwrap());
+    let (headers, body) = ok(app.clone(), req).await;
+    assert_eq!(headers[header::CONTENT_TYPE], "application/json");
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("ConvertJsonReply"), &openapi().await, "$").unwrap();
+    assert_eq!(v["report"]["input_format"], "step");
+    assert_eq!(v["report"]["output_format"], "iges");
+    assert_eq!(v["report"]["entities_out"], 1);
+    assert!(
+        v["report"]["verify"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|d| d["ok"] == true)
+    );
+    let iges = v["file"].as_str().unwrap().to_owned();
+    // The IGES text describes the same circle, bit for bit.
+    let (_, body) = ok(app.clone(), post_raw("/v1/info", None, iges)).await;
+    let info = json_of(&body);
+    assert_eq!(info["format"], "iges");
+    let g = &info["entities"][0]["geometry"];
+    for key in ["knots", "weights", "control_points"] {
+        let got: Value = g[key].clone();
+        let want: Value = circle()[key].clone();
+        let f = |v: &Value| -> Vec<f64> {
+            let mut out = Vec::new();
+            let mut stack = vec![v.clone()];
+            while let Some(x) = stack.pop() {
+                match x {
+                    Value::Array(a) => stack.extend(a.into_iter().rev()),
+                    n => out.push(n.as_f64().unwrap()),
+                }
+            }
+            out
+        };
+        assert_eq!(f(&got), f(&want), "{key}");
+    }
+    // Metrics counted the converted entities (one per conversion).
+    let (_, body) = ok(app, get("/metrics")).await;
+    let text = String::from_utf8(body.to_vec()).unwrap();
+    assert!(
+        text.contains("nurbsx_entities_converted_total 2\n"),
+        "{text}"
+    );
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn convert_to_inches_scales_the_poles() {
+    let (_, iges) = ok(
+        app(),
+        post_raw("/v1/convert?to=iges&units=in", Some("model/step"), STEP_ARC),
+    )
+    .await;
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/iges"), iges)).await;
+    let v = json_of(&body);
+    assert_eq!(v["units"]["name"], "in");
+    let p = &v["entities"][0]["geometry"]["control_points"][1];
+    assert!(close(p, &[1.0 / 25.4, 2.0 / 25.4, 0.0], 1e-15), "{p}");
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn degree_elevation_keeps_the_shape_for_json_and_files() {
+    let (_, body) = ok(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "geometry": circle(), "by": 1 }),
+        ),
+    )
+    .await;
+    let v = json_of(&body);
+    assert_eq!(v["geometry"]["degree"], 3);
+    let params: Vec<f64> = (0..=32).map(|i| f64::from(i) / 32.0).collect();
+    let req = json!({
+        "geometry": v["geometry"],
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    for (r, &u) in json_of(&body)["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&params)
+    {
+        let want = circle_bernstein(u);
+        assert!(
+            close(&r["point"], &[want[0], want[1], 0.0], 1e-12),
+            "u={u}: {r}"
+        );
+    }
+    // A file in gives a file in the same format out.
+    let (headers, step) = ok(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "file": STEP_ARC, "by": 2, "entity": "#4" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), step)).await;
+    assert_eq!(json_of(&body)["entities"][0]["degree"], json!([4]));
+    // Too much elevation is a limit (the pipeline's Settings::max_elevate_by).
+    let (status, _, body) = send(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "geometry": circle(), "by": 1000 }),
+        ),
+    )
+    .await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    let code = json_of(&body)["error"]["code"].clone();
+    assert!(code.as_str().unwrap().starts_with("limit"), "{code}");
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn unclamp_then_clamp_keeps_the_shape() {
+    let (_, body) = ok(
+        app(),
+        post_json("/v1/unclamp", &json!({ "geometry": circle() })),
+    )
+    .await;
+    let unclamped = json_of(&body)["geometry"].clone();
+    let knots: Vec<f64> = serde_json::from_value(unclamped["knots"].clone()).unwrap();
+    assert!(knots[0] < knots[2], "unclamped: {knots:?}");
+    let (_, body) = ok(
+        app(),
+        post_json(
+            "/v1/clamp",
+            &json!({ "geometry": unclamped, "direction": "both" }),
+        ),
+    )
+    .await;
+    let clamped = json_of(&body)["geometry"].clone();
+    let knots: Vec<f64> = serde_json::from_value(clamped["knots"].clone()).unwrap();
+    assert!(knots[0] == knots[2], "clamped: {knots:?}");
+    for g in [&unclamped, &clamped] {
+        let req = json!({ "geometry": g, "params": [[0.1], [0.6], [0.95]] });
+        let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+        for (r, u) in json_of(&body)["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip([0.1, 0.6, 0.95])
+        {
+            let want = circle_bernstein(u);
+            assert!(close(&r["point"], &[want[0], want[1], 0.0], 1e-12), "{r}");
+        }
+    }
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn tessellation_stays_within_the_chord_tolerance() {
+    let tol = 1e-3;
+    let (headers, body) = ok(
+        app(),
+        post_json(
+            "/v1/tessellate",
+            &json!({ "geometry": circle(), "tolerance": tol, "format": "obj" }),
+        ),
+    )
+    .await;
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("text/plain")
+    );
+    let text = String::from_utf8(body.to_vec()).unwrap();
+    let v: Vec<[f64; 3]> = text
+        .lines()
+        .filter(|l| l.starts_with("v "))
+        .map(|l| {
+            let c: Vec<f64> = l[2..]
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    assert!(v.len() >= 8, "{text}");
+    for w in v.windows(2) {
+        // Vertices on the circle; chord midpoints within the tolerance of it.
+        assert!((w[0][0].hypot(w[0][1]) - 1.0).abs() < 1e-12);
+        let mid = [(w[0][0] + w[1][0]) / 2.0, (w[0][1] + w[1][1]) / 2.0];
+        assert!(1.0 - mid[0].hypot(mid[1]) <= tol * (1.0 + 1e-9), "{w:?}");
+    }
+    let (headers, body) = ok(
+        app(),
+        post_json(
+            "/v1/tessellate",
+            &json!({ "geometry": circle(), "tolerance": tol, "format": "svg" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "image/svg+xml");
+    assert!(String::from_utf8_lossy(&body).contains("<svg"));
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn first_derivatives_match_central_differences() {
+    let params = [0.1, 0.4, 0.7];
+    let req = json!({
+        "geometry": circle(), "derivatives": 1,
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    let v = json_of(&body);
+    let h = 1e-6;
+    for (r, u) in v["results"].as_array().unwrap().iter().zip(params) {
+        let (a, b) = (circle_bernstein(u + h), circle_bernstein(u - h));
+        let fd = [(a[0] - b[0]) / (2.0 * h), (a[1] - b[1]) / (2.0 * h), 0.0];
+        let d1 = &r["derivatives"][0];
+        assert!(
+            close(d1, &fd, 1e-6 * (1.0 + fd[0].hypot(fd[1]))),
+            "{d1} vs {fd:?}"
+        );
+    }
+}
