@@ -507,6 +507,9 @@ async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
     assert!(!gate.ready());
     drop(held);
     assert!(gate.ready());
+    let closing = Gate::new(1);
+    closing.begin_shutdown();
+    assert!(!closing.ready() && closing.shutting_down());
     // A slot held by blocked work: the next request waits QUEUE_WAIT, then 503.
     let (release, wait) = std::sync::mpsc::channel::<()>();
     let g = gate.clone();
@@ -824,25 +827,46 @@ async fn serves_over_loopback_and_shuts_down_gracefully() {
         let _ = stopped.await;
     }));
     let body = json!({ "geometry": circle(), "params": [[0.125]] }).to_string();
-    let request = format!(
+    let head = format!(
         "POST /v1/evaluate HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
-         Content-Length: {}\r\nX-Request-Id: loop-1\r\nConnection: close\r\n\r\n{body}",
+         Content-Length: {}\r\nX-Request-Id: loop-1\r\nConnection: close\r\n\r\n",
         body.len()
     );
-    // A plain blocking socket, as any client would use, off the test's async threads.
-    let reply = tokio::task::spawn_blocking(move || {
+    // A plain blocking socket, as any client would use, off the test's async threads. The
+    // request is sent in two parts with the shutdown signal in between: a graceful
+    // shutdown lets it finish.
+    let (half_sent, wait_half) = std::sync::mpsc::channel::<()>();
+    let (go_on, wait_go) = std::sync::mpsc::channel::<()>();
+    let client = tokio::task::spawn_blocking(move || {
         use std::io::{Read, Write};
         let mut stream = std::net::TcpStream::connect(addr).unwrap();
         stream
             .set_read_timeout(Some(Duration::from_secs(10)))
             .unwrap();
-        stream.write_all(request.as_bytes()).unwrap();
+        let (first, second) = body.split_at(body.len() / 2);
+        stream.write_all(head.as_bytes()).unwrap();
+        stream.write_all(first.as_bytes()).unwrap();
+        stream.flush().unwrap();
+        half_sent.send(()).unwrap();
+        wait_go.recv().unwrap();
+        stream.write_all(second.as_bytes()).unwrap();
         let mut reply = String::new();
         stream.read_to_string(&mut reply).unwrap();
         reply
-    })
-    .await
-    .unwrap();
+    });
+    tokio::task::spawn_blocking(move || wait_half.recv().unwrap())
+        .await
+        .unwrap();
+    // Let the server read the head, then ask it to stop while the body is incomplete.
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    stop.send(()).unwrap();
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    assert!(
+        !server.is_finished(),
+        "the server waits for the request in flight"
+    );
+    go_on.send(()).unwrap();
+    let reply = client.await.unwrap();
     assert!(reply.starts_with("HTTP/1.1 200 OK\r\n"), "{reply}");
     assert!(
         reply
@@ -856,7 +880,6 @@ async fn serves_over_loopback_and_shuts_down_gracefully() {
     let want = circle_bernstein(0.125);
     assert!((p[0].as_f64().unwrap() - want[0]).abs() < 1e-12, "{v}");
     assert!((p[1].as_f64().unwrap() - want[1]).abs() < 1e-12, "{v}");
-    stop.send(()).unwrap();
     tokio::time::timeout(Duration::from_secs(10), server)
         .await
         .expect("graceful shutdown completes")

@@ -84,6 +84,11 @@ impl Gate {
         self.shutting_down.store(true, Ordering::Release);
     }
 
+    /// Whether shutdown has begun.
+    pub fn shutting_down(&self) -> bool {
+        self.shutting_down.load(Ordering::Acquire)
+    }
+
     /// Requests admitted now (computing or queued).
     pub fn admitted(&self) -> usize {
         self.admitted.load(Ordering::Acquire)

@@ -35,10 +35,11 @@ use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use tower::ServiceBuilder;
+use tower_http::catch_panic::CatchPanicLayer;
 use tower_http::request_id::{
     MakeRequestId, PropagateRequestIdLayer, RequestId, SetRequestIdLayer,
 };
-use tower_http::trace::TraceLayer;
+use tower_http::trace::{DefaultOnFailure, TraceLayer};
 
 use crate::pipeline::Settings;
 use error::ApiError;
@@ -127,8 +128,15 @@ fn build(config: ServeConfig) -> (Router, Arc<AppState>) {
         .layer(
             ServiceBuilder::new()
                 .layer(SetRequestIdLayer::x_request_id(MakeId::default()))
-                .layer(TraceLayer::new_for_http().make_span_with(span_for))
-                .layer(PropagateRequestIdLayer::x_request_id()),
+                .layer(
+                    TraceLayer::new_for_http()
+                        .make_span_with(span_for)
+                        // 503s are load shedding, not faults; 500s are logged as errors
+                        // where they are made.
+                        .on_failure(DefaultOnFailure::new().level(tracing::Level::WARN)),
+                )
+                .layer(PropagateRequestIdLayer::x_request_id())
+                .layer(CatchPanicLayer::custom(panic_reply)),
         )
         .with_state(state.clone());
     (router, state)
@@ -170,7 +178,7 @@ impl MakeRequestId for MakeId {
 async fn admit(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
     match state.gate.admit() {
         Ok(_admission) => next.run(req).await,
-        Err(e) => e.into_response(),
+        Err(e) => close_after(e.into_response()),
     }
 }
 
@@ -178,16 +186,29 @@ async fn admit(State(state): State<Arc<AppState>>, req: Request, next: Next) -> 
 async fn time_limit(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
     match tokio::time::timeout(state.request_timeout, next.run(req)).await {
         Ok(response) => response,
-        Err(_elapsed) => ApiError::new(
-            StatusCode::SERVICE_UNAVAILABLE,
-            "timeout",
-            format!(
-                "the request took longer than the server's limit of {} ms",
-                state.request_timeout.as_millis()
-            ),
-        )
-        .into_response(),
+        Err(_elapsed) => close_after(
+            ApiError::new(
+                StatusCode::SERVICE_UNAVAILABLE,
+                "timeout",
+                format!(
+                    "the request took longer than the server's limit of {} ms",
+                    state.request_timeout.as_millis()
+                ),
+            )
+            .into_response(),
+        ),
     }
+}
+
+/// Marks a reply sent before the request body was read as the connection's last, so a
+/// keep-alive client reconnects instead of writing the rest of its body into a closed
+/// socket.
+fn close_after(mut response: Response) -> Response {
+    response.headers_mut().insert(
+        axum::http::header::CONNECTION,
+        HeaderValue::from_static("close"),
+    );
+    response
 }
 
 /// Request counts, latency and the in-flight gauge, by matched route.
@@ -204,6 +225,18 @@ async fn record(State(state): State<Arc<AppState>>, req: Request, next: Next) ->
         .metrics
         .finish(&route, &method, response.status().as_u16(), start.elapsed());
     response
+}
+
+/// A panic on the async side (a bug: handlers only extract and render) becomes the same
+/// generic JSON 500 as a panic in pipeline work; the payload goes to the log only.
+fn panic_reply(payload: Box<dyn std::any::Any + Send + 'static>) -> Response {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "non-string panic payload".to_owned());
+    tracing::error!(panic = %what, "request handler panicked");
+    ApiError::internal().into_response()
 }
 
 async fn not_found() -> ApiError {

@@ -34,10 +34,10 @@ pub async fn readyz(State(state): State<Arc<AppState>>) -> Response {
         })
         .into_response();
     }
-    let status = if state.gate.admitted() > 0 || state.max_concurrency == 0 {
-        "saturated"
-    } else {
+    let status = if state.gate.shutting_down() {
         "shutting down"
+    } else {
+        "saturated"
     };
     (
         StatusCode::SERVICE_UNAVAILABLE,
