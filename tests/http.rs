@@ -350,6 +350,20 @@ async fn malformed_requests_are_400_json() {
             "convert.no_target",
         ),
         (post_raw("/v1/info", None, ""), "request.empty"),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "format": "step", "params": [[0.5]] }),
+            ),
+            "request.input",
+        ),
+        (
+            post_json(
+                "/v1/degree-elevate",
+                &json!({ "geometry": circle(), "by": 1, "direction": "w" }),
+            ),
+            "request.invalid",
+        ),
     ];
     for (req, code) in cases {
         let what = format!("{} {}", req.method(), req.uri());
@@ -628,6 +642,25 @@ async fn info_describes_model_json() {
     assert_eq!(got, sent);
     let doc = openapi().await;
     conforms(&v, &schema_ref("InfoReport"), &doc, "$").unwrap();
+}
+
+#[tokio::test]
+async fn content_type_parameters_do_not_change_the_format() {
+    for ct in [
+        "application/json; charset=utf-8",
+        "Application/JSON",
+        "text/plain",
+    ] {
+        let (status, _, body) =
+            send(app(), post_raw("/v1/info", Some(ct), circle().to_string())).await;
+        assert_eq!(
+            status,
+            StatusCode::OK,
+            "{ct}: {}",
+            String::from_utf8_lossy(&body)
+        );
+        assert_eq!(json_of(&body)["format"], "json", "{ct}");
+    }
 }
 
 #[tokio::test]

@@ -122,7 +122,7 @@ impl Input {
 #[serde(deny_unknown_fields)]
 pub struct EvaluateRequest {
     /// Model JSON: a curve or surface object, an array of them, or `{"geometry": ...}`.
-    #[schema(value_type = Option<crate::service::openapi::GeometryDoc>)]
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<serde_json::Value>,
     /// A STEP or IGES file's text (instead of `geometry`).
     pub file: Option<String>,
@@ -148,7 +148,7 @@ pub struct EvaluateRequest {
 #[serde(deny_unknown_fields)]
 pub struct ElevateRequest {
     /// Model JSON (the reply is model JSON).
-    #[schema(value_type = Option<crate::service::openapi::GeometryDoc>)]
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<serde_json::Value>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
@@ -168,7 +168,7 @@ pub struct ElevateRequest {
 #[serde(deny_unknown_fields)]
 pub struct KnotEndsRequest {
     /// Model JSON (the reply is model JSON).
-    #[schema(value_type = Option<crate::service::openapi::GeometryDoc>)]
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<serde_json::Value>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
@@ -206,7 +206,7 @@ impl From<MeshFormatName> for MeshFormat {
 #[serde(deny_unknown_fields)]
 pub struct TessellateRequest {
     /// Model JSON.
-    #[schema(value_type = Option<crate::service::openapi::GeometryDoc>)]
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<serde_json::Value>,
     /// A STEP or IGES file's text (format sniffed).
     pub file: Option<String>,

@@ -41,7 +41,7 @@ use super::error::{ErrorBody, ErrorDetail};
     components(schemas(
         ErrorBody, ErrorDetail, EvaluateRequest, ElevateRequest, KnotEndsRequest,
         TessellateRequest, FileFormat, DirectionName, MeshFormatName, SchemaName, ClampName,
-        GeometryDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
+        GeometryDoc, GeometryInputDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
         ConvertReportDoc, EntityDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
         GeometryReply, Health,
@@ -89,6 +89,19 @@ pub enum GeometryDoc {
     Curve(CurveDoc),
     /// A surface.
     Surface(SurfaceDoc),
+}
+
+/// The `geometry` of a request: one curve or surface, or an array of them (selected by
+/// `entity`, the index as a string).
+#[derive(Serialize, ToSchema)]
+#[serde(untagged)]
+#[schema(as = GeometryInput)]
+#[allow(dead_code)]
+pub enum GeometryInputDoc {
+    /// One geometry.
+    One(GeometryDoc),
+    /// Several; ids are their indices.
+    Many(Vec<GeometryDoc>),
 }
 
 /// A NURBS curve: `n` control points of 2 or 3 coordinates, `n + degree + 1` knots,
@@ -327,8 +340,8 @@ pub struct EvalResultDoc {
 /// when the request sent an array.
 #[derive(Serialize, ToSchema)]
 pub struct GeometryReply {
-    /// The new geometry.
-    pub geometry: GeometryDoc,
+    /// The new geometry (an array when the request sent one).
+    pub geometry: GeometryInputDoc,
 }
 
 /// `GET /healthz` and `GET /readyz`.

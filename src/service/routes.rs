@@ -67,7 +67,7 @@ struct ConvertJson {
         content(
             (String = "model/step"),
             (String = "model/iges"),
-            (super::openapi::GeometryDoc = "application/json"),
+            (super::openapi::GeometryInputDoc = "application/json"),
             (String = "application/octet-stream")
         )
     ),
