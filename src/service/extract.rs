@@ -61,7 +61,8 @@ pub struct FileBody {
     /// The bytes, exactly as sent.
     pub bytes: Bytes,
     /// From the Content-Type: `model/step`, `model/iges`, `application/json`; `None` for
-    /// `application/octet-stream`, `text/plain` or no Content-Type (the content decides).
+    /// `application/octet-stream`, `text/plain`, `application/x-www-form-urlencoded`
+    /// (curl's default) or no Content-Type (the content decides).
     pub hint: Option<InputKind>,
 }
 
@@ -83,7 +84,11 @@ pub fn kind_of_content_type(headers: &HeaderMap) -> Result<Option<InputKind>, Ap
         "model/step" | "application/step" | "application/p21" => Ok(Some(InputKind::Step)),
         "model/iges" | "application/iges" => Ok(Some(InputKind::Iges)),
         "application/json" => Ok(Some(InputKind::Json)),
-        "application/octet-stream" | "text/plain" | "" => Ok(None),
+        // curl's `--data-binary` sends application/x-www-form-urlencoded unless told
+        // otherwise; no form can carry a CAD file, so the content decides, as for bytes.
+        "application/octet-stream" | "text/plain" | "application/x-www-form-urlencoded" | "" => {
+            Ok(None)
+        }
         _ => Err(ApiError::new(
             axum::http::StatusCode::UNSUPPORTED_MEDIA_TYPE,
             "request.content_type",

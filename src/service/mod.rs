@@ -316,8 +316,16 @@ pub fn serve(config: ServeConfig) -> std::io::Result<()> {
         .enable_all()
         .thread_name("nurbsx-http")
         .build()?;
-    runtime.block_on(async move {
+    let result = runtime.block_on(async move {
         let listener = tokio::net::TcpListener::bind(config.addr).await?;
         serve_on(listener, config, shutdown_signal()).await
-    })
+    });
+    // Every request has been answered by now; a computation that outlived its request
+    // (time limit) may still run on a blocking thread. Give it a moment, then exit anyway.
+    runtime.shutdown_timeout(SHUTDOWN_GRACE);
+    result
 }
+
+/// How long `serve` waits, after the last reply, for computations that outlived their
+/// requests before exiting.
+pub const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
