@@ -851,6 +851,23 @@ async fn request_ids_are_echoed_or_generated() {
 // ---------------------------------------------------------------------------------------
 // A real socket
 
+/// A GET over a plain socket; the whole reply as text.
+fn raw_get(addr: std::net::SocketAddr, path: &str) -> String {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(addr).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    write!(
+        stream,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply).unwrap();
+    reply
+}
+
 #[tokio::test]
 async fn serves_over_loopback_and_shuts_down_gracefully() {
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
@@ -890,8 +907,19 @@ async fn serves_over_loopback_and_shuts_down_gracefully() {
     tokio::task::spawn_blocking(move || wait_half.recv().unwrap())
         .await
         .unwrap();
-    // Let the server read the head, then ask it to stop while the body is incomplete.
-    tokio::time::sleep(Duration::from_millis(100)).await;
+    // Wait until the server is handling the request (the metrics scrape itself is one
+    // request in flight, ours the other), then ask it to stop while the body is incomplete.
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let metrics = tokio::task::spawn_blocking(move || raw_get(addr, "/metrics"))
+            .await
+            .unwrap();
+        if metrics.contains("\nnurbsx_http_requests_in_flight 2\n") {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "{metrics}");
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
     stop.send(()).unwrap();
     tokio::time::sleep(Duration::from_millis(100)).await;
     assert!(
