@@ -1,0 +1,327 @@
+//! The request bodies and query strings of the `/v1` endpoints, and how they turn into
+//! pipeline inputs. Geometry travels as an opaque JSON value and is judged by the pipeline
+//! (`pipeline::load`), so invalid geometry is a 422 from the same checks the CLI runs.
+
+use serde::Deserialize;
+use utoipa::{IntoParams, ToSchema};
+
+use super::error::ApiError;
+use crate::exchange::{LengthUnit, StepSchema};
+use crate::pipeline::{ClampPolicy, Direction, InputKind, MeshFormat};
+
+/// The relative tolerance `verify=true` uses: 1e-9 of the entity's control-box size, far
+/// below any modelling tolerance and far above `f64` round-off of the written digits.
+pub const DEFAULT_VERIFY_TOLERANCE: f64 = 1e-9;
+
+/// An exchange file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum FileFormat {
+    /// STEP (ISO 10303-21).
+    Step,
+    /// IGES 5.3.
+    Iges,
+}
+
+impl FileFormat {
+    /// The pipeline's input kind.
+    pub fn kind(self) -> InputKind {
+        match self {
+            FileFormat::Step => InputKind::Step,
+            FileFormat::Iges => InputKind::Iges,
+        }
+    }
+
+    /// The exchange format.
+    pub fn format(self) -> crate::exchange::Format {
+        match self {
+            FileFormat::Step => crate::exchange::Format::Step,
+            FileFormat::Iges => crate::exchange::Format::Iges,
+        }
+    }
+}
+
+/// A surface direction for an operation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DirectionName {
+    /// Along u.
+    U,
+    /// Along v.
+    V,
+    /// Both directions (curves: the only one).
+    #[default]
+    Both,
+}
+
+impl From<DirectionName> for Direction {
+    fn from(d: DirectionName) -> Self {
+        match d {
+            DirectionName::U => Direction::U,
+            DirectionName::V => Direction::V,
+            DirectionName::Both => Direction::Both,
+        }
+    }
+}
+
+/// Where the geometry of a JSON request comes from: model JSON or a file's text.
+pub struct Input {
+    /// The bytes for `pipeline::load`.
+    pub bytes: Vec<u8>,
+    /// The kind declared (`Json` for `geometry`, the `format` field for `file`).
+    pub hint: Option<InputKind>,
+    /// Whether the model JSON was an array (the reply keeps the shape).
+    pub json_array: bool,
+}
+
+impl Input {
+    /// Exactly one of `geometry` and `file` must be given; `format` only with `file`.
+    pub fn from_fields(
+        geometry: Option<serde_json::Value>,
+        file: Option<String>,
+        format: Option<FileFormat>,
+    ) -> Result<Self, ApiError> {
+        match (geometry, file) {
+            (Some(g), None) => {
+                if format.is_some() {
+                    return Err(ApiError::bad_request(
+                        "request.input",
+                        "\"format\" names the format of \"file\"; model JSON in \"geometry\" needs none",
+                    ));
+                }
+                let json_array = g.is_array();
+                let bytes = serde_json::to_vec(&g).map_err(|e| {
+                    ApiError::bad_request("request.invalid", format!("geometry: {e}"))
+                })?;
+                Ok(Input {
+                    bytes,
+                    hint: Some(InputKind::Json),
+                    json_array,
+                })
+            }
+            (None, Some(text)) => Ok(Input {
+                bytes: text.into_bytes(),
+                hint: format.map(FileFormat::kind),
+                json_array: false,
+            }),
+            (Some(_), Some(_)) => Err(ApiError::bad_request(
+                "request.input",
+                "give either \"geometry\" (model JSON) or \"file\" (STEP/IGES text), not both",
+            )),
+            (None, None) => Err(ApiError::bad_request(
+                "request.input",
+                "missing input: give \"geometry\" (model JSON) or \"file\" (STEP/IGES text)",
+            )),
+        }
+    }
+}
+
+/// `POST /v1/evaluate`: points (and, once integrated, derivatives, normals, curvature) of
+/// one curve or surface.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EvaluateRequest {
+    /// Model JSON: a curve or surface object, an array of them, or `{"geometry": ...}`.
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<serde_json::Value>,
+    /// A STEP or IGES file's text (instead of `geometry`).
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+    /// Entity id (`#17`, `D5`, or the index for model JSON); default: the first entity.
+    pub entity: Option<String>,
+    /// `[[u], ...]` for a curve, `[[u, v], ...]` for a surface.
+    pub params: Vec<Vec<f64>>,
+    /// Highest derivative order (0: points only).
+    #[serde(default)]
+    pub derivatives: usize,
+    /// Surface unit normals.
+    #[serde(default)]
+    pub normals: bool,
+    /// Curvature (curves: curvature, torsion; surfaces: Gaussian, mean, principal).
+    #[serde(default)]
+    pub curvature: bool,
+}
+
+/// `POST /v1/degree-elevate`.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ElevateRequest {
+    /// Model JSON (the reply is model JSON).
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<serde_json::Value>,
+    /// A STEP or IGES file's text (the reply is a file in the same format).
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+    /// Elevate only this entity (default: all).
+    pub entity: Option<String>,
+    /// How many degrees to add (NURBS Book A5.9/A5.10).
+    pub by: usize,
+    /// Surface direction(s); default `both`.
+    #[serde(default)]
+    pub direction: DirectionName,
+}
+
+/// `POST /v1/clamp` and `POST /v1/unclamp`.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct KnotEndsRequest {
+    /// Model JSON (the reply is model JSON).
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<serde_json::Value>,
+    /// A STEP or IGES file's text (the reply is a file in the same format).
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+    /// Only this entity (default: all).
+    pub entity: Option<String>,
+    /// Surface direction(s); default `both`.
+    #[serde(default)]
+    pub direction: DirectionName,
+}
+
+/// A tessellation output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum MeshFormatName {
+    /// Wavefront OBJ (polylines and triangles), `text/plain`.
+    #[default]
+    Obj,
+    /// SVG of curves projected on XY, `image/svg+xml`.
+    Svg,
+}
+
+impl From<MeshFormatName> for MeshFormat {
+    fn from(m: MeshFormatName) -> Self {
+        match m {
+            MeshFormatName::Obj => MeshFormat::Obj,
+            MeshFormatName::Svg => MeshFormat::Svg,
+        }
+    }
+}
+
+/// `POST /v1/tessellate`.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TessellateRequest {
+    /// Model JSON.
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<serde_json::Value>,
+    /// A STEP or IGES file's text (format sniffed).
+    pub file: Option<String>,
+    /// Only this entity (default: all).
+    pub entity: Option<String>,
+    /// Chord tolerance, in the geometry's unit.
+    pub tolerance: f64,
+    /// Output format; default `obj`.
+    #[serde(default)]
+    pub format: MeshFormatName,
+}
+
+/// A STEP application protocol.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum SchemaName {
+    /// AP203 CONFIG_CONTROL_DESIGN.
+    Ap203,
+    /// AP214 AUTOMOTIVE_DESIGN (the default).
+    Ap214,
+    /// AP242 managed model-based 3D engineering.
+    Ap242,
+}
+
+impl From<SchemaName> for StepSchema {
+    fn from(s: SchemaName) -> Self {
+        match s {
+            SchemaName::Ap203 => StepSchema::Ap203,
+            SchemaName::Ap214 => StepSchema::Ap214,
+            SchemaName::Ap242 => StepSchema::Ap242,
+        }
+    }
+}
+
+/// What to do with knot-vector ends while converting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ClampName {
+    /// Keep the knots exactly as read.
+    #[default]
+    Keep,
+    /// Clamp every entity.
+    Clamp,
+    /// Unclamp every entity.
+    Unclamp,
+}
+
+impl From<ClampName> for ClampPolicy {
+    fn from(c: ClampName) -> Self {
+        match c {
+            ClampName::Keep => ClampPolicy::Keep,
+            ClampName::Clamp => ClampPolicy::Clamp,
+            ClampName::Unclamp => ClampPolicy::Unclamp,
+        }
+    }
+}
+
+/// The query string of `POST /v1/convert`.
+#[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct ConvertQuery {
+    /// Output format (required for model JSON input; default: the input's format).
+    pub to: Option<FileFormat>,
+    /// STEP schema to write (default ap214).
+    pub schema: Option<SchemaName>,
+    /// Unit to write in: mm, cm, m, km, um, in, ft, mi, mil, uin (default: the input's).
+    pub units: Option<String>,
+    /// Knot-end policy (default keep).
+    pub clamp: Option<ClampName>,
+    /// `true` (relative tolerance 1e-9) or a relative tolerance: re-read the output and
+    /// compare every entity by sampling; a deviation above it is a 422.
+    pub verify: Option<String>,
+}
+
+impl ConvertQuery {
+    /// The output unit, parsed.
+    pub fn units(&self) -> Result<Option<LengthUnit>, ApiError> {
+        self.units
+            .as_deref()
+            .map(|name| {
+                LengthUnit::parse_name(name).ok_or_else(|| {
+                    ApiError::bad_request(
+                        "request.units",
+                        format!(
+                            "unknown unit {name:?}: use mm, cm, m, km, um, in, ft, mi, mil or uin"
+                        ),
+                    )
+                })
+            })
+            .transpose()
+    }
+
+    /// The verification tolerance, parsed (`false` and absent: no verification).
+    pub fn verify(&self) -> Result<Option<f64>, ApiError> {
+        match self.verify.as_deref() {
+            None | Some("false") => Ok(None),
+            Some("true") | Some("") => Ok(Some(DEFAULT_VERIFY_TOLERANCE)),
+            Some(text) => match text.parse::<f64>() {
+                Ok(t) if t.is_finite() && t > 0.0 => Ok(Some(t)),
+                _ => Err(ApiError::bad_request(
+                    "request.verify",
+                    format!("verify must be true, false or a positive tolerance, got {text:?}"),
+                )),
+            },
+        }
+    }
+}
+
+/// The query string of `POST /v1/validate`.
+#[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct ValidateQuery {
+    /// Warnings fail validation too.
+    #[serde(default)]
+    pub strict: bool,
+}

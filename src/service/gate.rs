@@ -1,0 +1,147 @@
+//! Bounded CPU work: admission, a short queue, and `spawn_blocking`.
+//!
+//! Policy (documented in README "HTTP service"):
+//! - at most `max_concurrency` requests compute at once (a semaphore of that many permits);
+//! - up to [`QUEUE_FACTOR`] × `max_concurrency` more are admitted and wait for a permit,
+//!   each at most [`QUEUE_WAIT`];
+//! - a request beyond that, or one that waited [`QUEUE_WAIT`] without a permit, gets 503
+//!   `overloaded` with `Retry-After: 1` at once, before its body is read (so queued bodies
+//!   bound memory to about (1 + QUEUE_FACTOR) × max_concurrency × max_body_bytes);
+//! - the permit moves into the blocking task, so a request that timed out keeps its slot
+//!   until its computation really ends (CPU work cannot be cancelled), and the count of
+//!   busy slots never lies.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+use tokio::sync::Semaphore;
+
+use super::error::ApiError;
+
+/// How many requests may wait per computing slot.
+pub const QUEUE_FACTOR: usize = 4;
+
+/// The longest a request waits for a computing slot before 503.
+pub const QUEUE_WAIT: Duration = Duration::from_secs(2);
+
+/// The admission counter and the computing-slot semaphore.
+#[derive(Debug)]
+pub struct Gate {
+    permits: Arc<Semaphore>,
+    slots: usize,
+    admitted: AtomicUsize,
+    max_admitted: usize,
+    shutting_down: AtomicBool,
+}
+
+/// Holds one admission; dropping it frees the place.
+#[derive(Debug)]
+pub struct Admission<'g> {
+    gate: &'g Gate,
+}
+
+impl Drop for Admission<'_> {
+    fn drop(&mut self) {
+        self.gate.admitted.fetch_sub(1, Ordering::AcqRel);
+    }
+}
+
+impl Gate {
+    /// A gate with `slots` computing slots (0 refuses all work: useful in tests).
+    pub fn new(slots: usize) -> Self {
+        Gate {
+            permits: Arc::new(Semaphore::new(slots.min(Semaphore::MAX_PERMITS))),
+            slots,
+            admitted: AtomicUsize::new(0),
+            max_admitted: slots.saturating_mul(1 + QUEUE_FACTOR),
+            shutting_down: AtomicBool::new(false),
+        }
+    }
+
+    /// Admits a request, or refuses with 503 when computing and queue places are all taken.
+    pub fn admit(&self) -> Result<Admission<'_>, ApiError> {
+        let before = self.admitted.fetch_add(1, Ordering::AcqRel);
+        let admission = Admission { gate: self };
+        if before >= self.max_admitted {
+            return Err(ApiError::overloaded(format!(
+                "all {} computing slots and {} queue places are taken; retry shortly",
+                self.slots,
+                self.max_admitted.saturating_sub(self.slots)
+            )));
+        }
+        Ok(admission)
+    }
+
+    /// Whether a new request would be admitted and the server is not shutting down.
+    pub fn ready(&self) -> bool {
+        !self.shutting_down.load(Ordering::Acquire)
+            && self.admitted.load(Ordering::Acquire) < self.max_admitted
+    }
+
+    /// Marks the server as shutting down (`/readyz` then answers 503).
+    pub fn begin_shutdown(&self) {
+        self.shutting_down.store(true, Ordering::Release);
+    }
+
+    /// Whether shutdown has begun.
+    pub fn shutting_down(&self) -> bool {
+        self.shutting_down.load(Ordering::Acquire)
+    }
+
+    /// Requests admitted now (computing or queued).
+    pub fn admitted(&self) -> usize {
+        self.admitted.load(Ordering::Acquire)
+    }
+
+    /// Computing slots in use now.
+    pub fn busy(&self) -> usize {
+        self.slots
+            .saturating_sub(self.permits.available_permits().min(self.slots))
+    }
+
+    /// Runs CPU-bound `work` on the blocking pool once a slot is free (waiting at most
+    /// [`QUEUE_WAIT`]). A panic in `work` becomes a logged 500 with a generic message.
+    pub async fn run<T, F>(&self, work: F) -> Result<T, ApiError>
+    where
+        F: FnOnce() -> Result<T, ApiError> + Send + 'static,
+        T: Send + 'static,
+    {
+        let permit = match tokio::time::timeout(QUEUE_WAIT, self.permits.clone().acquire_owned())
+            .await
+        {
+            Ok(Ok(permit)) => permit,
+            Ok(Err(_closed)) => return Err(ApiError::overloaded("the server is shutting down")),
+            Err(_elapsed) => {
+                return Err(ApiError::overloaded(format!(
+                    "all {} computing slots stayed busy for {} ms; retry shortly",
+                    self.slots,
+                    QUEUE_WAIT.as_millis()
+                )));
+            }
+        };
+        let span = tracing::Span::current();
+        let handle = tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            let _entered = span.enter();
+            work()
+        });
+        match handle.await {
+            Ok(result) => result,
+            Err(e) if e.is_panic() => {
+                let payload = e.into_panic();
+                let what = payload
+                    .downcast_ref::<&str>()
+                    .map(|s| (*s).to_owned())
+                    .or_else(|| payload.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "non-string panic payload".to_owned());
+                tracing::error!(panic = %what, "request computation panicked");
+                Err(ApiError::internal())
+            }
+            Err(e) => {
+                tracing::error!(error = %e, "request computation was cancelled");
+                Err(ApiError::internal())
+            }
+        }
+    }
+}

@@ -1,0 +1,1262 @@
+//! The HTTP service driven in-process (`tower::ServiceExt::oneshot` on `service::app`) for
+//! every endpoint and error status, plus one request over a real loopback socket.
+//!
+//! Geometry answers are checked against independent computations (the Bernstein form of a
+//! rational quadratic arc, bilinear interpolation), never against captured output. Tests
+//! that need the STEP/IGES readers and writers or the geometric operations are ignored
+//! with the reason "needs exchange integration" until those branches are merged.
+
+// Test helpers outside #[test] functions fail loudly on purpose.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::pin::Pin;
+use std::task::{Context, Poll};
+use std::time::Duration;
+
+use axum::Router;
+use axum::body::{Body, Bytes, HttpBody};
+use axum::http::{HeaderMap, Method, Request, StatusCode, header};
+use http_body_util::BodyExt;
+use serde_json::{Value, json};
+use tower::ServiceExt;
+
+use nurbsx::service::{self, ServeConfig};
+
+const W: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+fn config() -> ServeConfig {
+    ServeConfig {
+        max_concurrency: 2,
+        ..ServeConfig::default()
+    }
+}
+
+fn app() -> Router {
+    service::app(config())
+}
+
+/// The unit circle as 4 rational quadratic arcs (9 poles, weights 1, √2/2, ...).
+fn circle() -> Value {
+    json!({
+        "degree": 2,
+        "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
+        "control_points": [[1,0,0],[1,1,0],[0,1,0],[-1,1,0],[-1,0,0],[-1,-1,0],[0,-1,0],[1,-1,0],[1,0,0]],
+        "weights": [1, W, 1, W, 1, W, 1, W, 1]
+    })
+}
+
+/// The circle point at `u` by the Bernstein form of the arc holding `u`, independent of
+/// the knot-vector evaluation the service uses.
+fn circle_bernstein(u: f64) -> [f64; 2] {
+    let p = [
+        [1.0, 0.0],
+        [1.0, 1.0],
+        [0.0, 1.0],
+        [-1.0, 1.0],
+        [-1.0, 0.0],
+        [-1.0, -1.0],
+        [0.0, -1.0],
+        [1.0, -1.0],
+        [1.0, 0.0],
+    ];
+    let k = ((u * 4.0).floor() as usize).min(3);
+    let t = u * 4.0 - k as f64;
+    let (a, b, c) = (p[2 * k], p[2 * k + 1], p[2 * k + 2]);
+    let (b0, b1, b2) = ((1.0 - t).powi(2), 2.0 * t * (1.0 - t) * W, t * t);
+    let d = b0 + b1 + b2;
+    [
+        (b0 * a[0] + b1 * b[0] + b2 * c[0]) / d,
+        (b0 * a[1] + b1 * b[1] + b2 * c[1]) / d,
+    ]
+}
+
+/// A bilinear patch: S(u, v) = (2u, 3v, 1 + u v) on [0,1]².
+fn bilinear() -> Value {
+    json!({
+        "degree_u": 1, "degree_v": 1,
+        "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
+        "control_points": [[[0,0,1],[0,3,1]], [[2,0,1],[2,3,2]]]
+    })
+}
+
+async fn send(app: Router, req: Request<Body>) -> (StatusCode, HeaderMap, Bytes) {
+    let response = app.oneshot(req).await.expect("router is infallible");
+    let status = response.status();
+    let headers = response.headers().clone();
+    let body = response
+        .into_body()
+        .collect()
+        .await
+        .expect("body reads")
+        .to_bytes();
+    (status, headers, body)
+}
+
+fn post_json(path: &str, body: &Value) -> Request<Body> {
+    Request::builder()
+        .method(Method::POST)
+        .uri(path)
+        .header(header::CONTENT_TYPE, "application/json")
+        .body(Body::from(body.to_string()))
+        .unwrap()
+}
+
+fn post_raw(path: &str, content_type: Option<&str>, body: impl Into<Body>) -> Request<Body> {
+    let mut b = Request::builder().method(Method::POST).uri(path);
+    if let Some(ct) = content_type {
+        b = b.header(header::CONTENT_TYPE, ct);
+    }
+    b.body(body.into()).unwrap()
+}
+
+fn get(path: &str) -> Request<Body> {
+    Request::builder().uri(path).body(Body::empty()).unwrap()
+}
+
+fn json_of(body: &Bytes) -> Value {
+    serde_json::from_slice(body)
+        .unwrap_or_else(|e| panic!("not JSON ({e}): {}", String::from_utf8_lossy(body)))
+}
+
+/// Asserts a JSON error reply with this status and code; returns the error object.
+async fn expect_error(app: Router, req: Request<Body>, status: StatusCode, code: &str) -> Value {
+    let (got, headers, body) = send(app, req).await;
+    let v = json_of(&body);
+    assert_eq!(got, status, "{v}");
+    assert_eq!(
+        headers.get(header::CONTENT_TYPE).unwrap(),
+        "application/json",
+        "{v}"
+    );
+    let e = &v["error"];
+    assert_eq!(e["code"], code, "{v}");
+    assert!(e["message"].as_str().is_some_and(|m| !m.is_empty()), "{v}");
+    assert!(e.get("location").is_some(), "{v}");
+    e.clone()
+}
+
+async fn openapi() -> Value {
+    let (status, _, body) = send(app(), get("/openapi.json")).await;
+    assert_eq!(status, StatusCode::OK);
+    json_of(&body)
+}
+
+/// Checks `value` against an OpenAPI schema structurally: every object key is a declared
+/// property, every required property is present, arrays and `oneOf` recurse. This is what
+/// keeps the documentation mirrors honest about the real reply types.
+fn conforms(value: &Value, schema: &Value, doc: &Value, path: &str) -> Result<(), String> {
+    if let Some(r) = schema.get("$ref").and_then(Value::as_str) {
+        let name = r.trim_start_matches("#/components/schemas/");
+        let target = &doc["components"]["schemas"][name];
+        assert!(!target.is_null(), "dangling $ref {r}");
+        return conforms(value, target, doc, path);
+    }
+    for key in ["oneOf", "anyOf"] {
+        if let Some(options) = schema.get(key).and_then(Value::as_array) {
+            if value.is_null() && options.iter().any(|o| o["type"] == "null") {
+                return Ok(());
+            }
+            let errors: Vec<String> = options
+                .iter()
+                .filter(|o| o["type"] != "null")
+                .filter_map(|o| conforms(value, o, doc, path).err())
+                .collect();
+            return if errors.len() < options.iter().filter(|o| o["type"] != "null").count() {
+                Ok(())
+            } else {
+                Err(format!("{path}: matches no {key} branch: {errors:?}"))
+            };
+        }
+    }
+    match value {
+        Value::Object(map) => {
+            if let Some(props) = schema.get("properties").and_then(Value::as_object) {
+                for (k, v) in map {
+                    let s = props
+                        .get(k)
+                        .ok_or_else(|| format!("{path}: key {k:?} is not in the schema"))?;
+                    conforms(v, s, doc, &format!("{path}.{k}"))?;
+                }
+                for r in schema["required"].as_array().into_iter().flatten() {
+                    let r = r.as_str().unwrap();
+                    if !map.contains_key(r) {
+                        return Err(format!("{path}: required {r:?} missing"));
+                    }
+                }
+            }
+            Ok(())
+        }
+        Value::Array(items) => {
+            if let Some(s) = schema.get("items") {
+                for (i, v) in items.iter().enumerate() {
+                    conforms(v, s, doc, &format!("{path}[{i}]"))?;
+                }
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+fn schema_ref(name: &str) -> Value {
+    json!({ "$ref": format!("#/components/schemas/{name}") })
+}
+
+// ---------------------------------------------------------------------------------------
+// /v1/evaluate on model JSON (works now)
+
+#[tokio::test]
+async fn evaluate_circle_matches_the_bernstein_form_and_the_schema() {
+    let params: Vec<f64> = (0..=40).map(|i| f64::from(i) / 40.0).collect();
+    let body = json!({
+        "geometry": circle(),
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (status, headers, bytes) = send(app(), post_json("/v1/evaluate", &body)).await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    assert_eq!(headers[header::CONTENT_TYPE], "application/json");
+    assert_eq!(v["entity"], "0");
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), params.len());
+    for (r, &u) in results.iter().zip(&params) {
+        assert_eq!(r["at"], json!([u]));
+        let p: Vec<f64> = serde_json::from_value(r["point"].clone()).unwrap();
+        assert_eq!(p.len(), 3, "a 3-D curve gives 3 coordinates");
+        let want = circle_bernstein(u);
+        assert!(
+            (p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12 && p[2] == 0.0,
+            "u = {u}: {p:?} vs {want:?}"
+        );
+        assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-12, "on the unit circle");
+    }
+    let doc = openapi().await;
+    conforms(&v, &schema_ref("EvalReport"), &doc, "$").unwrap();
+}
+
+#[tokio::test]
+async fn evaluate_surface_matches_bilinear_interpolation() {
+    let at = [[0.0, 0.0], [0.25, 0.5], [1.0, 1.0], [0.8, 0.1]];
+    let body = json!({ "geometry": bilinear(), "params": at });
+    let (status, _, bytes) = send(app(), post_json("/v1/evaluate", &body)).await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    for (r, [u, v_]) in v["results"].as_array().unwrap().iter().zip(at) {
+        let p: Vec<f64> = serde_json::from_value(r["point"].clone()).unwrap();
+        let want = [2.0 * u, 3.0 * v_, 1.0 + u * v_];
+        for k in 0..3 {
+            assert!((p[k] - want[k]).abs() < 1e-14, "{p:?} vs {want:?}");
+        }
+    }
+}
+
+#[tokio::test]
+async fn evaluate_selects_an_entity_of_an_array() {
+    let body = json!({
+        "geometry": [circle(), bilinear()],
+        "entity": "1",
+        "params": [[0.5, 0.5]]
+    });
+    let (status, _, bytes) = send(app(), post_json("/v1/evaluate", &body)).await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    assert_eq!(v["entity"], "1");
+    assert_eq!(v["results"][0]["point"], json!([1.0, 1.5, 1.25]));
+}
+
+// ---------------------------------------------------------------------------------------
+// Error statuses
+
+#[tokio::test]
+async fn malformed_requests_are_400_json() {
+    let cases: Vec<(Request<Body>, &str)> = vec![
+        (
+            post_raw("/v1/evaluate", Some("application/json"), "{\"geometry\": "),
+            "request.json_syntax",
+        ),
+        (
+            post_json("/v1/evaluate", &json!({ "geometry": circle() })),
+            "request.invalid",
+        ),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "params": [[0.5]], "derivative": 1 }),
+            ),
+            "request.invalid",
+        ),
+        (
+            post_json("/v1/evaluate", &json!({ "params": [[0.5]] })),
+            "request.input",
+        ),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "file": "x", "params": [[0.5]] }),
+            ),
+            "request.input",
+        ),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "params": [[1.5]] }),
+            ),
+            "evaluate.domain",
+        ),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "params": [[0.5, 0.5]] }),
+            ),
+            "evaluate.arity",
+        ),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "entity": "7", "params": [[0.5]] }),
+            ),
+            "entity.not_found",
+        ),
+        (
+            post_raw(
+                "/v1/convert?to=dxf",
+                Some("application/json"),
+                circle().to_string(),
+            ),
+            "request.query",
+        ),
+        (
+            post_raw(
+                "/v1/convert?to=step&units=parsec",
+                Some("application/json"),
+                circle().to_string(),
+            ),
+            "request.units",
+        ),
+        (
+            post_raw(
+                "/v1/convert?to=step&verify=-1",
+                Some("application/json"),
+                circle().to_string(),
+            ),
+            "request.verify",
+        ),
+        (
+            post_raw(
+                "/v1/convert",
+                Some("application/json"),
+                circle().to_string(),
+            ),
+            "convert.no_target",
+        ),
+        (post_raw("/v1/info", None, ""), "request.empty"),
+        (
+            post_json(
+                "/v1/evaluate",
+                &json!({ "geometry": circle(), "format": "step", "params": [[0.5]] }),
+            ),
+            "request.input",
+        ),
+        (
+            post_json(
+                "/v1/degree-elevate",
+                &json!({ "geometry": circle(), "by": 1, "direction": "w" }),
+            ),
+            "request.invalid",
+        ),
+    ];
+    for (req, code) in cases {
+        let what = format!("{} {}", req.method(), req.uri());
+        let e = expect_error(app(), req, StatusCode::BAD_REQUEST, code).await;
+        assert!(!e.to_string().is_empty(), "{what}");
+    }
+}
+
+#[tokio::test]
+async fn invalid_geometry_is_422_with_its_location() {
+    // 3 poles of degree 2 need 6 knots, not 5.
+    let bad =
+        json!({ "degree": 2, "knots": [0, 0, 0, 1, 1], "control_points": [[0,0],[1,1],[2,0]] });
+    let e = expect_error(
+        app(),
+        post_json(
+            "/v1/evaluate",
+            &json!({ "geometry": bad, "params": [[0.5]] }),
+        ),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry.invalid",
+    )
+    .await;
+    assert_eq!(e["location"]["entity"], "0", "{e}");
+    assert!(e["message"].as_str().unwrap().contains("knot"), "{e}");
+    // Zero weight: refused by the checked constructor.
+    let mut zero = circle();
+    zero["weights"][1] = json!(0.0);
+    expect_error(
+        app(),
+        post_raw("/v1/info", Some("application/json"), zero.to_string()),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry.invalid",
+    )
+    .await;
+    // A body declared STEP that is not STEP.
+    expect_error(
+        app(),
+        post_raw("/v1/info", Some("model/step"), "hello"),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "format.mismatch",
+    )
+    .await;
+    // Broken JSON sent as a file to /v1/info: the pipeline's JSON syntax error, located.
+    let e = expect_error(
+        app(),
+        post_raw("/v1/info", Some("application/json"), "{\n \"degree\": ,"),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "json.syntax",
+    )
+    .await;
+    assert_eq!(e["location"]["line"], 2, "{e}");
+}
+
+#[tokio::test]
+async fn unknown_formats_and_content_types_are_415() {
+    expect_error(
+        app(),
+        post_raw("/v1/info", Some("application/octet-stream"), "hello, world"),
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "format.unknown",
+    )
+    .await;
+    expect_error(
+        app(),
+        post_raw("/v1/convert?to=step", Some("image/png"), "\u{89}PNG"),
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "request.content_type",
+    )
+    .await;
+    // A JSON endpoint without a JSON Content-Type.
+    expect_error(
+        app(),
+        post_raw(
+            "/v1/evaluate",
+            Some("text/plain"),
+            json!({ "geometry": circle(), "params": [[0]] }).to_string(),
+        ),
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "request.content_type",
+    )
+    .await;
+}
+
+#[tokio::test]
+async fn bodies_and_work_over_the_limits_are_413() {
+    let small = service::app(ServeConfig {
+        max_body_bytes: 1024,
+        ..config()
+    });
+    let big = json!({ "geometry": circle(), "params": vec![[0.5]; 400] });
+    assert!(big.to_string().len() > 1024);
+    expect_error(
+        small.clone(),
+        post_json("/v1/evaluate", &big),
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "limit.body_bytes",
+    )
+    .await;
+    expect_error(
+        small,
+        post_raw("/v1/validate", None, vec![b'x'; 4096]),
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "limit.body_bytes",
+    )
+    .await;
+    // A pipeline limit: evaluation points.
+    let mut cfg = config();
+    cfg.settings.max_eval_points = 10;
+    expect_error(
+        service::app(cfg),
+        post_json(
+            "/v1/evaluate",
+            &json!({ "geometry": circle(), "params": vec![[0.5]; 11] }),
+        ),
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "limit.eval_points",
+    )
+    .await;
+}
+
+#[tokio::test]
+async fn no_computing_slot_is_503_and_not_ready() {
+    let closed = service::app(ServeConfig {
+        max_concurrency: 0,
+        ..config()
+    });
+    let (status, headers, body) = send(
+        closed.clone(),
+        post_json(
+            "/v1/evaluate",
+            &json!({ "geometry": circle(), "params": [[0]] }),
+        ),
+    )
+    .await;
+    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
+    assert_eq!(headers[header::RETRY_AFTER], "1");
+    assert_eq!(json_of(&body)["error"]["code"], "overloaded");
+    let (status, _, body) = send(closed.clone(), get("/readyz")).await;
+    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
+    assert_eq!(json_of(&body)["status"], "saturated");
+    // Liveness does not depend on capacity.
+    assert_eq!(send(closed, get("/healthz")).await.0, StatusCode::OK);
+}
+
+#[tokio::test]
+async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
+    use nurbsx::service::gate::{Gate, QUEUE_FACTOR, QUEUE_WAIT};
+    use std::sync::Arc;
+    let gate = Arc::new(Gate::new(1));
+    // Admission: 1 computing + QUEUE_FACTOR waiting, then refused.
+    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit().unwrap()).collect();
+    let refused = gate.admit().unwrap_err();
+    assert_eq!(refused.status, StatusCode::SERVICE_UNAVAILABLE);
+    assert!(!gate.ready());
+    drop(held);
+    assert!(gate.ready());
+    let closing = Gate::new(1);
+    closing.begin_shutdown();
+    assert!(!closing.ready() && closing.shutting_down());
+    // A slot held by blocked work: the next request waits QUEUE_WAIT, then 503.
+    let (release, wait) = std::sync::mpsc::channel::<()>();
+    let g = gate.clone();
+    let first = tokio::spawn(async move {
+        g.run(move || {
+            let _ = wait.recv();
+            Ok(1)
+        })
+        .await
+    });
+    while gate.busy() == 0 {
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    let start = std::time::Instant::now();
+    let second = gate.run(|| Ok(2)).await.unwrap_err();
+    assert!(start.elapsed() >= QUEUE_WAIT);
+    assert_eq!(second.status, StatusCode::SERVICE_UNAVAILABLE);
+    assert_eq!(second.code, "overloaded");
+    release.send(()).unwrap();
+    assert_eq!(first.await.unwrap().unwrap(), 1);
+    // The slot is free again.
+    assert_eq!(gate.run(|| Ok(3)).await.unwrap(), 3);
+}
+
+#[tokio::test]
+async fn a_panic_in_work_is_a_generic_500() {
+    let gate = nurbsx::service::gate::Gate::new(1);
+    let e = gate
+        .run(|| -> Result<(), _> { panic!("secret detail") })
+        .await
+        .unwrap_err();
+    assert_eq!(e.status, StatusCode::INTERNAL_SERVER_ERROR);
+    assert_eq!(e.code, "internal");
+    assert!(!e.message.contains("secret"));
+    // The slot came back.
+    assert_eq!(gate.run(|| Ok(5)).await.unwrap(), 5);
+}
+
+/// A request body that never delivers a byte.
+struct Stalled;
+
+impl HttpBody for Stalled {
+    type Data = Bytes;
+    type Error = std::io::Error;
+    fn poll_frame(
+        self: Pin<&mut Self>,
+        _cx: &mut Context<'_>,
+    ) -> Poll<Option<Result<http_body::Frame<Bytes>, std::io::Error>>> {
+        Poll::Pending
+    }
+}
+
+#[tokio::test]
+async fn a_request_over_the_time_limit_is_503_timeout() {
+    let quick = service::app(ServeConfig {
+        request_timeout: Duration::from_millis(100),
+        ..config()
+    });
+    let req = Request::builder()
+        .method(Method::POST)
+        .uri("/v1/validate")
+        .header(header::CONTENT_TYPE, "model/step")
+        .body(Body::new(Stalled))
+        .unwrap();
+    expect_error(quick, req, StatusCode::SERVICE_UNAVAILABLE, "timeout").await;
+}
+
+#[tokio::test]
+async fn unknown_routes_and_methods_are_json_errors() {
+    expect_error(
+        app(),
+        get("/v2/nothing"),
+        StatusCode::NOT_FOUND,
+        "not_found",
+    )
+    .await;
+    expect_error(
+        app(),
+        get("/v1/evaluate"),
+        StatusCode::METHOD_NOT_ALLOWED,
+        "method_not_allowed",
+    )
+    .await;
+}
+
+// ---------------------------------------------------------------------------------------
+// /v1/info and /v1/validate on model JSON (works now)
+
+#[tokio::test]
+async fn info_describes_model_json() {
+    let (status, _, bytes) = send(
+        app(),
+        post_raw(
+            "/v1/info",
+            Some("application/json"),
+            json!([circle(), bilinear()]).to_string(),
+        ),
+    )
+    .await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    assert_eq!(v["format"], "json");
+    let e = v["entities"].as_array().unwrap();
+    assert_eq!(e.len(), 2);
+    assert_eq!(e[0]["kind"], "curve");
+    assert_eq!(e[0]["degree"], json!([2]));
+    assert_eq!(e[0]["poles"], json!([9]));
+    assert_eq!(e[0]["rational"], true);
+    assert_eq!(e[0]["domain"], json!([[0.0, 1.0]]));
+    assert_eq!(e[1]["kind"], "surface");
+    assert_eq!(e[1]["poles"], json!([2, 2]));
+    assert_eq!(e[1]["rational"], false);
+    // The exact geometry comes back unchanged (poles and weights bit for bit).
+    let got: Vec<f64> = serde_json::from_value(e[0]["geometry"]["weights"].clone()).unwrap();
+    let sent: Vec<f64> = serde_json::from_value(circle()["weights"].clone()).unwrap();
+    assert_eq!(got, sent);
+    let doc = openapi().await;
+    conforms(&v, &schema_ref("InfoReport"), &doc, "$").unwrap();
+}
+
+#[tokio::test]
+async fn content_type_parameters_do_not_change_the_format() {
+    for ct in [
+        "application/json; charset=utf-8",
+        "Application/JSON",
+        "text/plain",
+    ] {
+        let (status, _, body) =
+            send(app(), post_raw("/v1/info", Some(ct), circle().to_string())).await;
+        assert_eq!(
+            status,
+            StatusCode::OK,
+            "{ct}: {}",
+            String::from_utf8_lossy(&body)
+        );
+        assert_eq!(json_of(&body)["format"], "json", "{ct}");
+    }
+}
+
+#[tokio::test]
+async fn validate_reports_instead_of_failing() {
+    let (status, _, bytes) = send(
+        app(),
+        post_raw("/v1/validate?strict=true", None, circle().to_string()),
+    )
+    .await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    assert_eq!(v["valid"], true);
+    assert_eq!(v["entities"], 1);
+    let doc = openapi().await;
+    conforms(&v, &schema_ref("ValidationReport"), &doc, "$").unwrap();
+    let (status, _, bytes) = send(app(), post_raw("/v1/validate", None, "garbage")).await;
+    let v = json_of(&bytes);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    assert_eq!(v["valid"], false);
+    assert_eq!(v["errors"], 1);
+    assert_eq!(v["diagnostics"][0]["code"], "format.unknown");
+    conforms(&v, &schema_ref("ValidationReport"), &doc, "$").unwrap();
+}
+
+// ---------------------------------------------------------------------------------------
+// Operations endpoints
+
+#[tokio::test]
+async fn health_readiness_and_landing_page() {
+    let (status, _, body) = send(app(), get("/healthz")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(json_of(&body)["status"], "ok");
+    let (status, _, body) = send(app(), get("/readyz")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(json_of(&body)["status"], "ready");
+    let (status, headers, body) = send(app(), get("/")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("text/html")
+    );
+    let html = String::from_utf8(body.to_vec()).unwrap();
+    for path in ROUTES.iter().filter(|(_, p)| p.starts_with("/v1")) {
+        assert!(html.contains(path.1), "landing page lacks {}", path.1);
+    }
+}
+
+/// Every route the router serves, with its method.
+const ROUTES: [(&str, &str); 13] = [
+    ("post", "/v1/convert"),
+    ("post", "/v1/validate"),
+    ("post", "/v1/info"),
+    ("post", "/v1/evaluate"),
+    ("post", "/v1/degree-elevate"),
+    ("post", "/v1/clamp"),
+    ("post", "/v1/unclamp"),
+    ("post", "/v1/tessellate"),
+    ("get", "/healthz"),
+    ("get", "/readyz"),
+    ("get", "/metrics"),
+    ("get", "/openapi.json"),
+    ("get", "/"),
+];
+
+#[tokio::test]
+async fn openapi_documents_every_route_and_error() {
+    let doc = openapi().await;
+    assert!(doc["openapi"].as_str().unwrap().starts_with("3."));
+    let paths = doc["paths"].as_object().unwrap();
+    assert_eq!(paths.len(), ROUTES.len(), "{:?}", paths.keys());
+    for (method, path) in ROUTES {
+        let op = &doc["paths"][path][method];
+        assert!(op.is_object(), "{method} {path} is not documented");
+        // And the router really serves it (not 404/405).
+        let req = Request::builder()
+            .method(method.to_uppercase().as_str())
+            .uri(path)
+            .header(header::CONTENT_TYPE, "application/json")
+            .body(Body::from("{}"))
+            .unwrap();
+        let (status, _, _) = send(app(), req).await;
+        assert!(
+            status != StatusCode::NOT_FOUND && status != StatusCode::METHOD_NOT_ALLOWED,
+            "{method} {path}: {status}"
+        );
+        if path.starts_with("/v1") {
+            assert!(op["requestBody"].is_object(), "{path} has no request body");
+            for code in ["200", "400", "413", "415", "422", "503"] {
+                assert!(op["responses"][code].is_object(), "{path} lacks {code}");
+            }
+            let err = &op["responses"]["422"]["content"]["application/json"]["schema"];
+            assert_eq!(err["$ref"], "#/components/schemas/ErrorBody", "{path}");
+        }
+    }
+    for s in [
+        "ErrorBody",
+        "EvaluateRequest",
+        "ElevateRequest",
+        "TessellateRequest",
+        "Geometry",
+        "EvalReport",
+        "InfoReport",
+        "ValidationReport",
+        "ConvertReport",
+    ] {
+        assert!(doc["components"]["schemas"][s].is_object(), "schema {s}");
+    }
+    // Error replies conform to the error schema.
+    let (_, _, body) = send(app(), get("/nope")).await;
+    conforms(&json_of(&body), &schema_ref("ErrorBody"), &doc, "$").unwrap();
+}
+
+#[tokio::test]
+async fn metrics_count_requests_by_route_and_status() {
+    let app = app();
+    let ok = json!({ "geometry": circle(), "params": [[0.1]] });
+    let bad = json!({ "geometry": circle(), "params": [[2.0]] });
+    for body in [&ok, &ok, &bad] {
+        send(app.clone(), post_json("/v1/evaluate", body)).await;
+    }
+    let (status, headers, body) = send(app.clone(), get("/metrics")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("text/plain; version=0.0.4")
+    );
+    let text = String::from_utf8(body.to_vec()).unwrap();
+    let line = |prefix: &str| {
+        text.lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no {prefix} in\n{text}"))
+            .to_owned()
+    };
+    assert!(
+        line("nurbsx_http_requests_total{route=\"/v1/evaluate\",method=\"POST\",status=\"200\"}")
+            .ends_with(" 2")
+    );
+    assert!(
+        line("nurbsx_http_requests_total{route=\"/v1/evaluate\",method=\"POST\",status=\"400\"}")
+            .ends_with(" 1")
+    );
+    assert!(
+        line("nurbsx_http_request_duration_seconds_count{route=\"/v1/evaluate\"}").ends_with(" 3")
+    );
+    assert!(
+        line("nurbsx_http_request_duration_seconds_bucket{route=\"/v1/evaluate\",le=\"+Inf\"}")
+            .ends_with(" 3")
+    );
+    // The scrape itself is in flight while it renders.
+    assert_eq!(
+        line("nurbsx_http_requests_in_flight "),
+        "nurbsx_http_requests_in_flight 1"
+    );
+    assert_eq!(
+        line("nurbsx_entities_converted_total "),
+        "nurbsx_entities_converted_total 0"
+    );
+    // Every sample line is `name{labels} value` or `name value` with a numeric value.
+    for l in text.lines().filter(|l| !l.starts_with('#')) {
+        let value = l.rsplit(' ').next().unwrap();
+        assert!(value.parse::<f64>().is_ok(), "bad sample line {l:?}");
+    }
+}
+
+#[tokio::test]
+async fn request_ids_are_echoed_or_generated() {
+    let mut req = get("/healthz");
+    req.headers_mut()
+        .insert("x-request-id", "abc-123".parse().unwrap());
+    let (_, headers, _) = send(app(), req).await;
+    assert_eq!(headers["x-request-id"], "abc-123");
+    let (_, h1, _) = send(app(), get("/healthz")).await;
+    let (_, h2, _) = send(app(), get("/healthz")).await;
+    let (a, b) = (&h1["x-request-id"], &h2["x-request-id"]);
+    assert!(!a.is_empty() && !b.is_empty());
+    // Different router instances restart the counter only if the process restarts; within
+    // one router ids differ.
+    let one = app();
+    let (_, h3, _) = send(one.clone(), get("/healthz")).await;
+    let (_, h4, _) = send(one, get("/healthz")).await;
+    assert_ne!(h3["x-request-id"], h4["x-request-id"]);
+}
+
+// ---------------------------------------------------------------------------------------
+// A real socket
+
+/// A GET over a plain socket; the whole reply as text.
+fn raw_get(addr: std::net::SocketAddr, path: &str) -> String {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(addr).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    write!(
+        stream,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply).unwrap();
+    reply
+}
+
+#[tokio::test]
+async fn serves_over_loopback_and_shuts_down_gracefully() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(service::serve_on(listener, config(), async move {
+        let _ = stopped.await;
+    }));
+    let body = json!({ "geometry": circle(), "params": [[0.125]] }).to_string();
+    let head = format!(
+        "POST /v1/evaluate HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nX-Request-Id: loop-1\r\nConnection: close\r\n\r\n",
+        body.len()
+    );
+    // A plain blocking socket, as any client would use, off the test's async threads. The
+    // request is sent in two parts with the shutdown signal in between: a graceful
+    // shutdown lets it finish.
+    let (half_sent, wait_half) = std::sync::mpsc::channel::<()>();
+    let (go_on, wait_go) = std::sync::mpsc::channel::<()>();
+    let client = tokio::task::spawn_blocking(move || {
+        use std::io::{Read, Write};
+        let mut stream = std::net::TcpStream::connect(addr).unwrap();
+        stream
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
+        let (first, second) = body.split_at(body.len() / 2);
+        stream.write_all(head.as_bytes()).unwrap();
+        stream.write_all(first.as_bytes()).unwrap();
+        stream.flush().unwrap();
+        half_sent.send(()).unwrap();
+        wait_go.recv().unwrap();
+        stream.write_all(second.as_bytes()).unwrap();
+        let mut reply = String::new();
+        stream.read_to_string(&mut reply).unwrap();
+        reply
+    });
+    tokio::task::spawn_blocking(move || wait_half.recv().unwrap())
+        .await
+        .unwrap();
+    // Wait until the server is handling the request (the metrics scrape itself is one
+    // request in flight, ours the other), then ask it to stop while the body is incomplete.
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let metrics = tokio::task::spawn_blocking(move || raw_get(addr, "/metrics"))
+            .await
+            .unwrap();
+        if metrics.contains("\nnurbsx_http_requests_in_flight 2\n") {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "{metrics}");
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    stop.send(()).unwrap();
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    assert!(
+        !server.is_finished(),
+        "the server waits for the request in flight"
+    );
+    go_on.send(()).unwrap();
+    let reply = client.await.unwrap();
+    assert!(reply.starts_with("HTTP/1.1 200 OK\r\n"), "{reply}");
+    assert!(
+        reply
+            .to_ascii_lowercase()
+            .contains("x-request-id: loop-1\r\n"),
+        "{reply}"
+    );
+    let json_text = &reply[reply.find("\r\n\r\n").unwrap() + 4..];
+    let v: Value = serde_json::from_str(json_text).unwrap();
+    let p = &v["results"][0]["point"];
+    let want = circle_bernstein(0.125);
+    assert!((p[0].as_f64().unwrap() - want[0]).abs() < 1e-12, "{v}");
+    assert!((p[1].as_f64().unwrap() - want[1]).abs() < 1e-12, "{v}");
+    tokio::time::timeout(Duration::from_secs(10), server)
+        .await
+        .expect("graceful shutdown completes")
+        .unwrap()
+        .unwrap();
+    assert!(
+        tokio::net::TcpStream::connect(addr).await.is_err(),
+        "listener closed"
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// Files and operations: enabled once the STEP/IGES layers and the operations are merged.
+
+/// A hand-written STEP file with one parabolic arc: P(u) = (1-u)² P0 + 2u(1-u) P1 + u² P2.
+const STEP_ARC: &str = "ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION(('nurbsx http test'),'2;1');
+FILE_NAME('arc.step','2024-01-01T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));
+ENDSEC;
+DATA;
+#1=CARTESIAN_POINT('',(0.,0.,0.));
+#2=CARTESIAN_POINT('',(1.,2.,0.));
+#3=CARTESIAN_POINT('',(3.,2.,1.));
+#4=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);
+ENDSEC;
+END-ISO-10303-21;
+";
+
+/// The arc of [`STEP_ARC`] by its Bernstein form.
+fn arc_bernstein(u: f64) -> [f64; 3] {
+    // P0 is the origin, so its Bernstein term adds nothing.
+    let (b1, b2) = (2.0 * u * (1.0 - u), u * u);
+    [b1 + 3.0 * b2, 2.0 * b1 + 2.0 * b2, b2]
+}
+
+fn close(a: &Value, want: &[f64], tol: f64) -> bool {
+    let a: Vec<f64> = serde_json::from_value(a.clone()).unwrap();
+    a.len() == want.len() && a.iter().zip(want).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+/// POSTs and expects 200; returns headers and body.
+async fn ok(app: Router, req: Request<Body>) -> (HeaderMap, Bytes) {
+    let (status, headers, body) = send(app, req).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    (headers, body)
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn info_validate_and_evaluate_read_a_step_file() {
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), STEP_ARC)).await;
+    let v = json_of(&body);
+    assert_eq!(v["format"], "step");
+    assert_eq!(v["entities"][0]["id"], "#4");
+    assert_eq!(v["entities"][0]["degree"], json!([2]));
+    let (_, body) = ok(app(), post_raw("/v1/validate", None, STEP_ARC)).await;
+    let v = json_of(&body);
+    assert_eq!(v["valid"], true, "{v}");
+    assert_eq!(v["entities"], 1);
+    let params = [0.0, 0.3, 0.5, 1.0];
+    let req = json!({
+        "file": STEP_ARC, "format": "step", "entity": "#4",
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    let v = json_of(&body);
+    assert_eq!(v["entity"], "#4");
+    for (r, u) in v["results"].as_array().unwrap().iter().zip(params) {
+        assert!(close(&r["point"], &arc_bernstein(u), 1e-14), "{r}");
+    }
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn convert_json_to_step_to_iges_keeps_the_geometry_exactly() {
+    let app = app();
+    let (headers, step) = ok(
+        app.clone(),
+        post_raw(
+            "/v1/convert?to=step&schema=ap242",
+            Some("application/json"),
+            circle().to_string(),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    assert_eq!(headers["x-nurbsx-entities"], "1");
+    assert!(headers.contains_key("x-nurbsx-diagnostics"));
+    assert!(step.starts_with(b"ISO-10303-21;"));
+    // STEP -> IGES with verification, JSON reply.
+    let mut req = post_raw("/v1/convert?to=iges&verify=true", Some("model/step"), step);
+    req.headers_mut()
+        .insert(header::ACCEPT, "application/json".parse().unwrap());
+    let (headers, body) = ok(app.clone(), req).await;
+    assert_eq!(headers[header::CONTENT_TYPE], "application/json");
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("ConvertJsonReply"), &openapi().await, "$").unwrap();
+    assert_eq!(v["report"]["input_format"], "step");
+    assert_eq!(v["report"]["output_format"], "iges");
+    assert_eq!(v["report"]["entities_out"], 1);
+    assert!(
+        v["report"]["verify"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|d| d["ok"] == true)
+    );
+    let iges = v["file"].as_str().unwrap().to_owned();
+    // The IGES text describes the same circle, bit for bit.
+    let (_, body) = ok(app.clone(), post_raw("/v1/info", None, iges)).await;
+    let info = json_of(&body);
+    assert_eq!(info["format"], "iges");
+    let g = &info["entities"][0]["geometry"];
+    for key in ["knots", "weights", "control_points"] {
+        let got: Value = g[key].clone();
+        let want: Value = circle()[key].clone();
+        let f = |v: &Value| -> Vec<f64> {
+            let mut out = Vec::new();
+            let mut stack = vec![v.clone()];
+            while let Some(x) = stack.pop() {
+                match x {
+                    Value::Array(a) => stack.extend(a.into_iter().rev()),
+                    n => out.push(n.as_f64().unwrap()),
+                }
+            }
+            out
+        };
+        assert_eq!(f(&got), f(&want), "{key}");
+    }
+    // Metrics counted the converted entities (one per conversion).
+    let (_, body) = ok(app, get("/metrics")).await;
+    let text = String::from_utf8(body.to_vec()).unwrap();
+    assert!(
+        text.contains("nurbsx_entities_converted_total 2\n"),
+        "{text}"
+    );
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn convert_to_inches_scales_the_poles() {
+    let (_, iges) = ok(
+        app(),
+        post_raw("/v1/convert?to=iges&units=in", Some("model/step"), STEP_ARC),
+    )
+    .await;
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/iges"), iges)).await;
+    let v = json_of(&body);
+    assert_eq!(v["units"]["name"], "in");
+    let p = &v["entities"][0]["geometry"]["control_points"][1];
+    assert!(close(p, &[1.0 / 25.4, 2.0 / 25.4, 0.0], 1e-15), "{p}");
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn degree_elevation_keeps_the_shape_for_json_and_files() {
+    let (_, body) = ok(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "geometry": circle(), "by": 1 }),
+        ),
+    )
+    .await;
+    let v = json_of(&body);
+    assert_eq!(v["geometry"]["degree"], 3);
+    let params: Vec<f64> = (0..=32).map(|i| f64::from(i) / 32.0).collect();
+    let req = json!({
+        "geometry": v["geometry"],
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    for (r, &u) in json_of(&body)["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&params)
+    {
+        let want = circle_bernstein(u);
+        assert!(
+            close(&r["point"], &[want[0], want[1], 0.0], 1e-12),
+            "u={u}: {r}"
+        );
+    }
+    // A file in gives a file in the same format out.
+    let (headers, step) = ok(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "file": STEP_ARC, "by": 2, "entity": "#4" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), step)).await;
+    assert_eq!(json_of(&body)["entities"][0]["degree"], json!([4]));
+    // Too much elevation is a limit (the pipeline's Settings::max_elevate_by).
+    let (status, _, body) = send(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "geometry": circle(), "by": 1000 }),
+        ),
+    )
+    .await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    let code = json_of(&body)["error"]["code"].clone();
+    assert!(code.as_str().unwrap().starts_with("limit"), "{code}");
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn unclamp_then_clamp_keeps_the_shape() {
+    let (_, body) = ok(
+        app(),
+        post_json("/v1/unclamp", &json!({ "geometry": circle() })),
+    )
+    .await;
+    let unclamped = json_of(&body)["geometry"].clone();
+    let knots: Vec<f64> = serde_json::from_value(unclamped["knots"].clone()).unwrap();
+    assert!(knots[0] < knots[2], "unclamped: {knots:?}");
+    let (_, body) = ok(
+        app(),
+        post_json(
+            "/v1/clamp",
+            &json!({ "geometry": unclamped, "direction": "both" }),
+        ),
+    )
+    .await;
+    let clamped = json_of(&body)["geometry"].clone();
+    let knots: Vec<f64> = serde_json::from_value(clamped["knots"].clone()).unwrap();
+    assert!(knots[0] == knots[2], "clamped: {knots:?}");
+    for g in [&unclamped, &clamped] {
+        let req = json!({ "geometry": g, "params": [[0.1], [0.6], [0.95]] });
+        let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+        for (r, u) in json_of(&body)["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip([0.1, 0.6, 0.95])
+        {
+            let want = circle_bernstein(u);
+            assert!(close(&r["point"], &[want[0], want[1], 0.0], 1e-12), "{r}");
+        }
+    }
+}
+
+#[tokio::test]
+#[ignore = "needs exchange integration"]
+async fn tessellation_stays_within_the_chord_tolerance() {
+    let tol = 1e-3;
+    let (headers, body) = ok(
+        app(),
+        post_json(
+            "/v1/tessellate",
+            &json!({ "geometry": circle(), "tolerance": tol, "format": "obj" }),
+        ),
+    )
+    .await;
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("text/plain")
+    );
+    let text = String::from_utf8(body.to_vec()).unwrap();
+    let v: Vec<[f64; 3]> = text
+        .lines()
+        .filter(|l| l.starts_with("v "))
+        .map(|l| {
+            let c: Vec<f64> = l[2..]
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    assert!(v.len() >= 8, "{text}");
+    for w in v.windows(2) {
+        // Vertices on the circle; chord midpoints within the tolerance of it.
+        assert!((w[0][0].hypot(w[0][1]) - 1.0).abs() < 1e-12);
+        let mid = [(w[0][0] + w[1][0]) / 2.0, (w[0][1] + w[1][1]) / 2.0];
+        assert!(1.0 - mid[0].hypot(mid[1]) <= tol * (1.0 + 1e-9), "{w:?}");
+    }
+    let (headers, body) = ok(
+        app(),
+        post_json(
+            "/v1/tessellate",
+            &json!({ "geometry": circle(), "tolerance": tol, "format": "svg" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "image/svg+xml");
+    assert!(String::from_utf8_lossy(&body).contains("<svg"));
+}
+
+#[tokio::test]
+#[ignore = "needs derivatives in pipeline::evaluate (still evaluate.pending on main)"]
+async fn first_derivatives_match_central_differences() {
+    let params = [0.1, 0.4, 0.7];
+    let req = json!({
+        "geometry": circle(), "derivatives": 1,
+        "params": params.iter().map(|u| [u]).collect::<Vec<_>>()
+    });
+    let (_, body) = ok(app(), post_json("/v1/evaluate", &req)).await;
+    let v = json_of(&body);
+    let h = 1e-6;
+    for (r, u) in v["results"].as_array().unwrap().iter().zip(params) {
+        let (a, b) = (circle_bernstein(u + h), circle_bernstein(u - h));
+        let fd = [(a[0] - b[0]) / (2.0 * h), (a[1] - b[1]) / (2.0 * h), 0.0];
+        let d1 = &r["derivatives"][0];
+        assert!(
+            close(d1, &fd, 1e-6 * (1.0 + fd[0].hypot(fd[1]))),
+            "{d1} vs {fd:?}"
+        );
+    }
+}
