@@ -2,9 +2,8 @@
 //! every endpoint and error status, plus one request over a real loopback socket.
 //!
 //! Geometry answers are checked against independent computations (the Bernstein form of a
-//! rational quadratic arc, bilinear interpolation), never against captured output. Tests
-//! that need the STEP/IGES readers and writers or the geometric operations are ignored
-//! with the reason "needs exchange integration" until those branches are merged.
+//! rational quadratic arc, bilinear interpolation, central differences), never against
+//! captured output.
 
 // Test helpers outside #[test] functions fail loudly on purpose.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -991,7 +990,6 @@ async fn ok(app: Router, req: Request<Body>) -> (HeaderMap, Bytes) {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn info_validate_and_evaluate_read_a_step_file() {
     let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), STEP_ARC)).await;
     let v = json_of(&body);
@@ -1016,7 +1014,6 @@ async fn info_validate_and_evaluate_read_a_step_file() {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn convert_json_to_step_to_iges_keeps_the_geometry_exactly() {
     let app = app();
     let (headers, step) = ok(
@@ -1082,7 +1079,6 @@ async fn convert_json_to_step_to_iges_keeps_the_geometry_exactly() {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn convert_to_inches_scales_the_poles() {
     let (_, iges) = ok(
         app(),
@@ -1097,7 +1093,6 @@ async fn convert_to_inches_scales_the_poles() {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn degree_elevation_keeps_the_shape_for_json_and_files() {
     let (_, body) = ok(
         app(),
@@ -1154,7 +1149,6 @@ async fn degree_elevation_keeps_the_shape_for_json_and_files() {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn unclamp_then_clamp_keeps_the_shape() {
     let (_, body) = ok(
         app(),
@@ -1191,7 +1185,6 @@ async fn unclamp_then_clamp_keeps_the_shape() {
 }
 
 #[tokio::test]
-#[ignore = "needs exchange integration"]
 async fn tessellation_stays_within_the_chord_tolerance() {
     let tol = 1e-3;
     let (headers, body) = ok(
@@ -1240,7 +1233,6 @@ async fn tessellation_stays_within_the_chord_tolerance() {
 }
 
 #[tokio::test]
-#[ignore = "needs derivatives in pipeline::evaluate (still evaluate.pending on main)"]
 async fn first_derivatives_match_central_differences() {
     let params = [0.1, 0.4, 0.7];
     let req = json!({
