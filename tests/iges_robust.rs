@@ -4,6 +4,7 @@
 // Test helpers outside #[test] functions may unwrap and panic too.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+#[path = "../parsers/tests/iges_support/mod.rs"]
 mod iges_util;
 
 use iges_util::{Builder, De};

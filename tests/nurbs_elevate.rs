@@ -5,45 +5,12 @@
 
 mod common;
 
-use common::{Ends, arb_curve, arb_surface, bbox_diagonal, dist};
+use common::{
+    Ends, arb_curve, arb_surface, bbox_diagonal, curve_deviation, dist, params, surface_deviation,
+};
 use nurbsx::nurbs::knots::{multiplicity, runs};
 use nurbsx::nurbs::{GeometryError, NurbsCurve, NurbsSurface};
 use proptest::prelude::*;
-
-/// `common::params` clamped to `[a, b]`: `a + (b - a) * 1.0` can round past `b`
-/// (reported to the lead; the shared helper is not ours to edit).
-fn params(a: f64, b: f64, knots: &[f64], samples: usize) -> Vec<f64> {
-    common::params(a, b, knots, samples)
-        .into_iter()
-        .map(|t| t.clamp(a, b))
-        .collect()
-}
-
-/// `common::curve_deviation` with clamped parameters.
-fn curve_deviation(a: &NurbsCurve, b: &NurbsCurve, samples: usize) -> f64 {
-    let (s, e) = a.domain();
-    assert_eq!(a.domain(), b.domain(), "domains differ");
-    let size = bbox_diagonal(a.control_points()).max(f64::MIN_POSITIVE);
-    params(s, e, a.knots(), samples)
-        .into_iter()
-        .map(|t| dist(a.point_at(t).unwrap(), b.point_at(t).unwrap()))
-        .fold(0.0, f64::max)
-        / size
-}
-
-/// `common::surface_deviation` with clamped parameters.
-fn surface_deviation(a: &NurbsSurface, b: &NurbsSurface, n: usize) -> f64 {
-    let ((u0, u1), (v0, v1)) = a.domain();
-    assert_eq!(a.domain(), b.domain(), "domains differ");
-    let size = bbox_diagonal(a.control_points().as_slice()).max(f64::MIN_POSITIVE);
-    let mut worst: f64 = 0.0;
-    for &u in &params(u0, u1, a.knots_u(), n) {
-        for &v in &params(v0, v1, a.knots_v(), n) {
-            worst = worst.max(dist(a.point_at(u, v).unwrap(), b.point_at(u, v).unwrap()));
-        }
-    }
-    worst / size
-}
 
 /// The same control net without weights.
 fn polynomial(s: &NurbsSurface) -> NurbsSurface {

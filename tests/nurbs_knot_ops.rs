@@ -6,7 +6,9 @@
 
 mod common;
 
-use common::{Ends, arb_curve, arb_surface, bbox_diagonal, dist};
+use common::{
+    Ends, arb_curve, arb_surface, bbox_diagonal, curve_deviation, dist, params, surface_deviation,
+};
 use nurbsx::nurbs::{GeometryError, NurbsCurve, NurbsSurface};
 use proptest::prelude::*;
 
@@ -16,42 +18,6 @@ const REL: f64 = 1e-12;
 // `point_at` fail with OutOfDomain (reported to the lead); these local copies clamp the
 // samples into the domain and are otherwise identical to `common::{params,
 // curve_deviation, surface_deviation}`.
-
-/// `samples` parameters over `[a, b]` (both ends exact) plus every knot inside.
-fn params(a: f64, b: f64, knots: &[f64], samples: usize) -> Vec<f64> {
-    let mut t: Vec<f64> = (0..samples)
-        .map(|i| (a + (b - a) * i as f64 / (samples - 1) as f64).clamp(a, b))
-        .collect();
-    t.extend(knots.iter().copied().filter(|&k| k >= a && k <= b));
-    t
-}
-
-/// Largest distance over >= `samples` parameters, relative to `a`'s control-polygon size;
-/// panics if the domains differ.
-fn curve_deviation(a: &NurbsCurve, b: &NurbsCurve, samples: usize) -> f64 {
-    let (s, e) = a.domain();
-    assert_eq!(a.domain(), b.domain(), "domains differ");
-    let size = bbox_diagonal(a.control_points()).max(f64::MIN_POSITIVE);
-    params(s, e, a.knots(), samples)
-        .into_iter()
-        .map(|t| dist(a.point_at(t).unwrap(), b.point_at(t).unwrap()))
-        .fold(0.0, f64::max)
-        / size
-}
-
-/// Largest distance over an `n x n` grid plus knot lines, relative to `a`'s net size.
-fn surface_deviation(a: &NurbsSurface, b: &NurbsSurface, n: usize) -> f64 {
-    let ((u0, u1), (v0, v1)) = a.domain();
-    assert_eq!(a.domain(), b.domain(), "domains differ");
-    let size = bbox_diagonal(a.control_points().as_slice()).max(f64::MIN_POSITIVE);
-    let mut worst: f64 = 0.0;
-    for &u in &params(u0, u1, a.knots_u(), n) {
-        for &v in &params(v0, v1, a.knots_v(), n) {
-            worst = worst.max(dist(a.point_at(u, v).unwrap(), b.point_at(u, v).unwrap()));
-        }
-    }
-    worst / size
-}
 
 /// A parameter strictly inside the domain of `c`, at fraction `f` in (0, 1).
 fn inside(c: &NurbsCurve, f: f64) -> f64 {
