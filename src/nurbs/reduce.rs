@@ -20,7 +20,7 @@
 //! bound is `R |E_xyz|`.
 
 use super::bernstein::bernstein_max;
-use super::elevate::clamp_flat;
+use super::elevate::{clamp_flat, elevate_flat};
 use super::knots::{multiplicity, runs};
 use super::{GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
@@ -205,7 +205,12 @@ fn reduce_flat(
 /// it commutes with every step; it makes the rational bound independent of the origin).
 struct Frame {
     centre: Point3,
+    /// Divisor of the centred coordinates (the radius, or 1 when it is 0).
     scale: f64,
+    /// The control polygon's radius about `centre`. When it is 0 every centred coordinate is
+    /// exactly 0, every linear step keeps it 0, and the reduced curve is exactly the same
+    /// point: the Euclidean bound is then exactly 0, whatever rounding the weights saw.
+    radius: f64,
 }
 
 impl Frame {
@@ -226,6 +231,7 @@ impl Frame {
         Frame {
             centre,
             scale: if radius > 0.0 { radius } else { 1.0 },
+            radius,
         }
     }
 
@@ -244,12 +250,14 @@ impl Frame {
 
     /// The Euclidean bound from the homogeneous one (module notes).
     fn bound(&self, e: f64, rational: bool, wmin: f64) -> f64 {
-        if !rational {
-            self.scale * e
+        if self.radius == 0.0 {
+            0.0
+        } else if !rational {
+            self.radius * e
         } else if e >= wmin {
             f64::INFINITY
         } else {
-            self.scale * std::f64::consts::SQRT_2 * e / (wmin - e)
+            self.radius * std::f64::consts::SQRT_2 * e / (wmin - e)
         }
     }
 
@@ -269,6 +277,53 @@ impl Frame {
 }
 
 /// Argument checks shared by curves and surfaces.
+/// One step of iterative refinement, and an a-posteriori bound.
+///
+/// Reduction is a linear map evaluated in floating point; on ill-conditioned knot spacing
+/// (a short span next to a long one) knot removal amplifies rounding, so even a curve that
+/// was exactly elevated comes back with poles off by ~1e-12 of its size. Re-elevating the
+/// result (A5.9, exact up to rounding) gives the residual on the input's clamped knots;
+/// reducing that residual and adding it corrects the poles (classic iterative refinement).
+///
+/// The a-posteriori bound: the input and the re-elevated result are degree-`p` B-splines on
+/// the same knots, so their difference is a B-spline whose poles are the pole differences,
+/// and the basis functions are non-negative and sum to 1: `|dA(u)| <= max_i |dP_i|` (convex
+/// hull property, NURBS Book P2.4). The smaller of this and the a-priori bound `e` is a
+/// valid bound. When the knot vectors differ (they should not), the input is returned as is.
+fn refine(
+    p: usize,
+    knots: &[f64],
+    flat: &[f64],
+    rk: &[f64],
+    red: Vec<f64>,
+    e: f64,
+    norm: &Norm<'_>,
+) -> (Vec<f64>, f64) {
+    const DIM: usize = 4;
+    let (ck, cflat) = clamp_flat(p, knots, flat, DIM);
+    let residual_bound = |red: &[f64]| -> Option<(Vec<f64>, f64)> {
+        let (ek, eflat) = elevate_flat(p - 1, rk, red, DIM, 1);
+        if ek != ck || eflat.len() != cflat.len() {
+            return None;
+        }
+        let diff: Vec<f64> = cflat.iter().zip(&eflat).map(|(a, b)| a - b).collect();
+        let worst = diff.chunks(DIM).map(norm).fold(0.0, f64::max);
+        Some((diff, worst))
+    };
+    let Some((diff, before)) = residual_bound(&red) else {
+        return (red, e);
+    };
+    let (dk, dred, _) = reduce_flat(p, &ck, &diff, DIM, norm);
+    if dk != rk || dred.len() != red.len() {
+        return (red, e.min(before));
+    }
+    let corrected: Vec<f64> = red.iter().zip(&dred).map(|(a, b)| a + b).collect();
+    match residual_bound(&corrected) {
+        Some((_, after)) if after <= before => (corrected, e.min(after)),
+        _ => (red, e.min(before)),
+    }
+}
+
 fn check_reduction(p: usize, tolerance: f64) -> Result<(), GeometryError> {
     if p < 2 {
         return Err(GeometryError::InvalidArgument(format!(
@@ -319,6 +374,7 @@ impl NurbsCurve {
         let frame = Frame::of(self.control_points());
         let flat = frame.lift(self.control_points(), |i| self.weight(i));
         let (rk, red, e) = reduce_flat(p, self.knots(), &flat, 4, norm);
+        let (red, e) = refine(p, self.knots(), &flat, rk.as_slice(), red, e, norm);
         let wmin = self
             .weights()
             .map_or(1.0, |w| w.iter().copied().fold(f64::INFINITY, f64::min));
