@@ -56,6 +56,7 @@ impl NurbsCurve {
     ) -> Result<Self, GeometryError> {
         knots::validate(degree, points.len(), &knots)?;
         check_points(&points, dimension)?;
+        let points = canonical_z(points, dimension);
         if let Some(w) = &weights {
             check_weights(w, points.len())?;
         }
@@ -194,6 +195,16 @@ impl NurbsCurve {
                 [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
             }
         }
+    }
+}
+
+/// 2-D geometry has no z: store it as +0.0 (a file may carry `-0.`), so that equal 2-D
+/// data is equal bit for bit whatever format it came from.
+fn canonical_z(points: Vec<Point3>, dimension: usize) -> Vec<Point3> {
+    if dimension == 2 {
+        points.into_iter().map(|[x, y, _]| [x, y, 0.0]).collect()
+    } else {
+        points
     }
 }
 

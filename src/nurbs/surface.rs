@@ -50,6 +50,11 @@ impl NurbsSurface {
         knots::validate(degree_u, points.nu(), &knots_u)?;
         knots::validate(degree_v, points.nv(), &knots_v)?;
         check_points(points.as_slice(), dimension)?;
+        let points = if dimension == 2 {
+            points.map(|&[x, y, _]| [x, y, 0.0])
+        } else {
+            points
+        };
         if let Some(w) = &weights {
             if w.nu() != points.nu() || w.nv() != points.nv() {
                 return Err(GeometryError::WeightCount {
