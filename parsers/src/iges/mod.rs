@@ -272,7 +272,23 @@ impl<'a> IgesFile<'a> {
         let mut tokens = Vec::with_capacity((p.data.len() / 8).min(max));
         self.tokenizer
             .tokenize(&p.data, 0, &mut tokens, max)
-            .map_err(|e| p.locate(e.offset, e.kind))?;
+            .map_err(|e| match (&e.kind, self.parameters.get(end)) {
+                // The entity's lines end where the back-pointer changes; when its data then
+                // lacks the record delimiter, the likely cause is a wrong back-pointer on
+                // the next line: name that line rather than the last one read.
+                (ErrorKind::Unterminated(_), Some(next)) => ParseError::new(
+                    ErrorKind::BackPointer {
+                        found: field(next.data, 65, 72).to_owned(),
+                        expected: de,
+                    },
+                    'P',
+                    next.sequence,
+                )
+                .at_column(66)
+                .at_line(next.line)
+                .of_entity(de),
+                _ => p.locate(e.offset, e.kind),
+            })?;
         p.tokens = tokens;
         let ty = p.int(0, "entity type")?;
         if ty != entry.entity_type {
