@@ -305,6 +305,57 @@ fn cli_max_degree_flag() {
     );
 }
 
+/// Pipeline settings: evaluation points, elevation amount, result degree, mesh vertices.
+#[test]
+fn pipeline_limits() {
+    use nurbsx::pipeline::{self, Direction, EvalRequest, MeshFormat, Operation, Settings};
+    let doc = read_doc(&sample("curve_deg3_clamped.step"));
+    let settings = Settings {
+        max_eval_points: 3,
+        max_elevate_by: 2,
+        max_degree: 5,
+        max_mesh_vertices: 10,
+        ..Settings::default()
+    };
+    let req = EvalRequest {
+        params: vec![vec![0.0]; 4],
+        ..EvalRequest::default()
+    };
+    let e = pipeline::evaluate(&doc, &req, &settings).unwrap_err();
+    assert_eq!(e.diagnostic.code, "limit.eval_points");
+    let ok = EvalRequest {
+        params: vec![vec![0.0]; 3],
+        ..EvalRequest::default()
+    };
+    // At the limit it is not refused for the count (the value itself may be out of range).
+    if let Err(e) = pipeline::evaluate(&doc, &ok, &settings) {
+        assert_ne!(e.diagnostic.code, "limit.eval_points");
+    }
+
+    let mut d = doc.clone();
+    let by3 = Operation::Elevate {
+        by: 3,
+        direction: Direction::Both,
+    };
+    let e = pipeline::apply(&mut d, by3, None, &settings).unwrap_err();
+    assert_eq!(e.diagnostic.code, "limit.elevate_by");
+    // degree 3 + 2 = 5 is allowed; a second +1 (6) is above max_degree.
+    let by2 = Operation::Elevate {
+        by: 2,
+        direction: Direction::Both,
+    };
+    pipeline::apply(&mut d, by2, None, &settings).unwrap();
+    let by1 = Operation::Elevate {
+        by: 1,
+        direction: Direction::Both,
+    };
+    let e = pipeline::apply(&mut d, by1, None, &settings).unwrap_err();
+    assert_eq!(e.diagnostic.code, "limit.degree");
+
+    let e = pipeline::tessellate(&doc, None, 1e-4, MeshFormat::Obj, &settings).unwrap_err();
+    assert_eq!(e.diagnostic.code, "limit.mesh_vertices");
+}
+
 // ------------------------------------------------------------------ recovery
 
 /// One broken B-spline among several: the others load, the broken one gives a located
