@@ -146,6 +146,14 @@ def step_cases():
     # The cycle is reported on the B-spline whose control point enters it.
     ent("step_circular_reference", d, 17, "step.reference_cycle")
 
+    # A reference cycle through 5000 instances (found iteratively, reported shortened).
+    chain = "".join(f"#{i} = CARTESIAN_POINT('',(#{i + 1},0.,0.));\n" for i in range(100000, 105000))
+    chain += "#105000 = CARTESIAN_POINT('',(#18,0.,0.));\n"
+    d = sub_in(c2, 18, b"CARTESIAN_POINT('',(0.43132997103,-1.850600446128,1.174976336145)\n  )",
+               b"CARTESIAN_POINT('',(#100000,0.,0.))")
+    d = d.replace(b"ENDSEC;\nEND-ISO", chain.encode() + b"ENDSEC;\nEND-ISO")
+    ent("step_long_reference_cycle", d, 17, "step.reference_cycle")
+
     # --- syntax
     d = c2.replace(b"#17 = B_SPLINE_CURVE_WITH_KNOTS(", b"#17 = b_spline_curve_with_knots(")
     line, col = inst_loc(d, 17)
