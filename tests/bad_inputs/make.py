@@ -237,6 +237,18 @@ def iges_cases():
         setp(recs, pidx(recs, 1), new)
         return recs
 
+    # 128 surface (surf_poles4x3.igs: the 128 is D3, its data starts on P2) with hostile
+    # K1/K2/M1: refused from the header, before any allocation.
+    srf = records(read("surf_poles4x3.igs"))
+    for name, new in (("k1k2_overflow", "128,2147483647,2147483647,3,2,"),
+                      ("k2_negative", "128,3,-2,3,2,"),
+                      ("m1_huge", "128,3,2,2147483647,2,")):
+        recs = list(srf)
+        i = pidx(recs, 2)
+        assert recs[i].startswith("128,3,2,3,2,")
+        setp(recs, i, (new + recs[i][len("128,3,2,3,2,"):64]).rstrip()[:64])
+        emit(f"iges_surface_{name}", ".igs", join(recs), code="iges.entity", section="P", sequence=2, entity="D3")
+
     emit("iges_empty", ".igs", b"", code="format", line=1)
     emit("iges_binary_garbage", ".igs", bytes((i * 197 + 3) % 256 for i in range(8192)), code="format", line=1)
     emit("iges_utf16", ".igs", c2.decode("latin-1").encode("utf-16"), code="format", line=1)
