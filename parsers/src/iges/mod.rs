@@ -184,6 +184,15 @@ impl<'a> IgesFile<'a> {
         self.tokenizer
     }
 
+    /// Whether parameter line `r`'s back-pointer names a directory entry of this file (an
+    /// odd DE pointer within the D section), i.e. plausibly starts another entity's data.
+    fn starts_entity(&self, r: &Record<'_>) -> bool {
+        field(r.data, 65, 72)
+            .trim()
+            .parse::<usize>()
+            .is_ok_and(|bp| bp % 2 == 1 && bp / 2 < self.entries.len())
+    }
+
     /// Tokenizes the Parameter Data of one entity.
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
@@ -274,19 +283,22 @@ impl<'a> IgesFile<'a> {
             .tokenize(&p.data, 0, &mut tokens, max)
             .map_err(|e| match (&e.kind, self.parameters.get(end)) {
                 // The entity's lines end where the back-pointer changes; when its data then
-                // lacks the record delimiter, the likely cause is a wrong back-pointer on
-                // the next line: name that line rather than the last one read.
-                (ErrorKind::Unterminated(_), Some(next)) => ParseError::new(
-                    ErrorKind::BackPointer {
-                        found: field(next.data, 65, 72).to_owned(),
-                        expected: de,
-                    },
-                    'P',
-                    next.sequence,
-                )
-                .at_column(66)
-                .at_line(next.line)
-                .of_entity(de),
+                // lacks the record delimiter and the next line does not start another
+                // entity's data, the likely cause is a wrong back-pointer on that line:
+                // name it rather than the last line read.
+                (ErrorKind::Unterminated(_), Some(next)) if !self.starts_entity(next) => {
+                    ParseError::new(
+                        ErrorKind::BackPointer {
+                            found: field(next.data, 65, 72).to_owned(),
+                            expected: de,
+                        },
+                        'P',
+                        next.sequence,
+                    )
+                    .at_column(66)
+                    .at_line(next.line)
+                    .of_entity(de)
+                }
                 _ => p.locate(e.offset, e.kind),
             })?;
         p.tokens = tokens;
