@@ -509,3 +509,24 @@ fn fuzz_regressions_replay() {
     }
     assert!(n >= 1, "no regression inputs in {}", folder.display());
 }
+
+/// Regression (roundtrip fuzz target): a document without entities written as IGES has
+/// empty D and P sections and must read back (as an empty model), not as a truncated file.
+#[test]
+fn empty_model_round_trips_through_iges() {
+    let bad =
+        std::fs::read(dir("fuzz_regressions").join("roundtrip-empty_model_iges.igs")).unwrap();
+    let doc = read_doc(&bad);
+    assert!(doc.entities.is_empty());
+    for format in [exchange::Format::Step, exchange::Format::Iges] {
+        let text = exchange::write(&doc, format, &Default::default()).unwrap();
+        let back = exchange::read(text.as_bytes(), &ImportOptions::default())
+            .unwrap_or_else(|e| panic!("{format:?}: {e}\n{text}"));
+        assert!(back.entities.is_empty());
+    }
+    // Still an error when the file is cut before its D section (no Terminate record).
+    let text = String::from_utf8(sample("curve_deg2_clamped.igs")).unwrap();
+    let cut: String = text.lines().take(5).map(|l| format!("{l}\n")).collect();
+    let e = exchange::read(cut.as_bytes(), &ImportOptions::default()).unwrap_err();
+    assert_eq!(e.code, "iges.syntax");
+}
