@@ -184,6 +184,15 @@ impl<'a> IgesFile<'a> {
         self.tokenizer
     }
 
+    /// Whether parameter line `r`'s back-pointer names a directory entry of this file (an
+    /// odd DE pointer within the D section), i.e. plausibly starts another entity's data.
+    fn starts_entity(&self, r: &Record<'_>) -> bool {
+        field(r.data, 65, 72)
+            .trim()
+            .parse::<usize>()
+            .is_ok_and(|bp| bp % 2 == 1 && bp / 2 < self.entries.len())
+    }
+
     /// Tokenizes the Parameter Data of one entity.
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
@@ -272,7 +281,26 @@ impl<'a> IgesFile<'a> {
         let mut tokens = Vec::with_capacity((p.data.len() / 8).min(max));
         self.tokenizer
             .tokenize(&p.data, 0, &mut tokens, max)
-            .map_err(|e| p.locate(e.offset, e.kind))?;
+            .map_err(|e| match (&e.kind, self.parameters.get(end)) {
+                // The entity's lines end where the back-pointer changes; when its data then
+                // lacks the record delimiter and the next line does not start another
+                // entity's data, the likely cause is a wrong back-pointer on that line:
+                // name it rather than the last line read.
+                (ErrorKind::Unterminated(_), Some(next)) if !self.starts_entity(next) => {
+                    ParseError::new(
+                        ErrorKind::BackPointer {
+                            found: field(next.data, 65, 72).to_owned(),
+                            expected: de,
+                        },
+                        'P',
+                        next.sequence,
+                    )
+                    .at_column(66)
+                    .at_line(next.line)
+                    .of_entity(de)
+                }
+                _ => p.locate(e.offset, e.kind),
+            })?;
         p.tokens = tokens;
         let ty = p.int(0, "entity type")?;
         if ty != entry.entity_type {

@@ -91,10 +91,20 @@ pub enum ParseErrorKind {
 }
 
 fn render_cycle(ids: &[u64]) -> String {
-    ids.iter()
-        .map(|id| format!("#{id}"))
-        .collect::<Vec<_>>()
-        .join(" -> ")
+    // A hostile file can make a cycle of millions of instances: show its ends only, so
+    // the message stays readable and small.
+    const SHOWN: usize = 8;
+    let names = |s: &[u64]| s.iter().map(|id| format!("#{id}")).collect::<Vec<_>>();
+    if ids.len() <= 2 * SHOWN {
+        return names(ids).join(" -> ");
+    }
+    let (head, tail) = (&ids[..SHOWN], &ids[ids.len() - SHOWN..]);
+    format!(
+        "{} -> ... ({} more) -> {}",
+        names(head).join(" -> "),
+        ids.len() - 2 * SHOWN,
+        names(tail).join(" -> ")
+    )
 }
 
 /// A located Part 21 error.
@@ -209,5 +219,21 @@ impl From<(RealError, String)> for ParseErrorKind {
             RealError::Syntax => ParseErrorKind::InvalidReal(token),
             RealError::NonFinite => ParseErrorKind::NonFiniteReal(token),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_cycles_are_shortened() {
+        assert_eq!(render_cycle(&[1, 2, 1]), "#1 -> #2 -> #1");
+        let ids: Vec<u64> = (1..=100_000).chain([1]).collect();
+        let s = render_cycle(&ids);
+        assert!(s.starts_with("#1 -> #2 -> "), "{s}");
+        assert!(s.contains("(99985 more)"), "{s}");
+        assert!(s.ends_with("#99999 -> #100000 -> #1"), "{s}");
+        assert!(s.len() < 200);
     }
 }

@@ -467,9 +467,14 @@ impl<'a> Scanned<'a> {
             let start = c.pos;
             let end = match statement_end(bytes, start) {
                 Ok(e) => e,
-                Err(e) => {
+                Err((k, at)) => {
                     // An unterminated string or comment swallows the rest of the file.
-                    self.errors.push(err(self, e));
+                    // Name the instance it started in (a truncated file's last one).
+                    let id = match instance_head(self.text, start, self.text.len()) {
+                        Ok((id, _, _)) => Some(id),
+                        Err((_, _, id)) => id,
+                    };
+                    self.errors.push(self.error_at(k, at, id));
                     c.pos = c.end;
                     continue;
                 }

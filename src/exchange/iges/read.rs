@@ -364,7 +364,7 @@ fn entity_location(e: &DirectoryEntry) -> Location {
 
 fn parse_diag(code: &str, e: &ParseError) -> Diagnostic {
     Diagnostic::error(
-        code,
+        limit_code(e).unwrap_or(code),
         e.kind.to_string(),
         Location {
             line: e.line,
@@ -374,6 +374,19 @@ fn parse_diag(code: &str, e: &ParseError) -> Diagnostic {
             sequence: (e.sequence != 0).then_some(e.sequence),
         },
     )
+}
+
+/// The `limit.*` code of a parser limit error (the same codes the STEP reader uses), so a
+/// caller can tell "too big for this configuration" from "malformed". The parser's
+/// `ErrorKind::Limit` carries only a message; the parameter-count limit is the only one
+/// whose message mentions parameters (iges/params.rs), the others count entries/records.
+fn limit_code(e: &ParseError) -> Option<&'static str> {
+    match &e.kind {
+        iges::ErrorKind::Limit(m) if m.contains("parameter") => Some("limit.params_per_entity"),
+        iges::ErrorKind::Limit(m) if m.contains("bytes") => Some("limit.input_bytes"),
+        iges::ErrorKind::Limit(_) => Some("limit.entities"),
+        _ => None,
+    }
 }
 
 fn warning_diag(w: &ParseWarning) -> Diagnostic {

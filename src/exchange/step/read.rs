@@ -88,6 +88,9 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// substring search of their body.
 fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
     match raw.keyword {
+        // A keyword with lower-case letters is a syntax error (ISO 10303-21 6.4); decoding
+        // it reports that, where skipping it would silently drop a `b_spline_curve...`.
+        Some(k) if k.bytes().any(|b| b.is_ascii_lowercase()) => true,
         Some(k) => matches!(
             canonical_name(k),
             "B_SPLINE_CURVE_WITH_KNOTS"
@@ -101,7 +104,10 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
                 | "QUASI_UNIFORM_SURFACE"
                 | "B_SPLINE_SURFACE"
         ),
-        None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK"]
+        // A simple instance whose keyword starts lower-case has no keyword here (the
+        // scanner only takes upper-case ones); decode it so the syntax error is reported.
+        None if raw.body.starts_with(|c: char| c.is_ascii_lowercase()) => true,
+        None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK", "b_spline_"]
             .iter()
             .any(|n| raw.body.contains(n)),
     }
@@ -129,6 +135,20 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
         }
         ParseErrorKind::DanglingReference(_) => {
             Diagnostic::error("step.reference", e.kind.to_string(), loc)
+        }
+        // Resource limits get the `limit.*` codes the pipeline and IGES reader use, so a
+        // caller can tell "too big for this configuration" from "malformed".
+        ParseErrorKind::NestingTooDeep(_) => {
+            Diagnostic::error("limit.nesting_depth", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::TooManyParameters(_) => {
+            Diagnostic::error("limit.params_per_entity", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::TooManyInstances(_) => {
+            Diagnostic::error("limit.entities", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::InputTooLarge { .. } => {
+            Diagnostic::error("limit.input_bytes", e.kind.to_string(), loc)
         }
         _ => Diagnostic::error("step.syntax", e.kind.to_string(), loc),
     }

@@ -1,0 +1,348 @@
+#!/usr/bin/env python3
+"""Derive malformed STEP and IGES files from samples/freecad, deterministically.
+
+Run from the repository root: `python3 tests/bad_inputs/make.py`. For every case it writes
+`<name>.step|.igs` (the bad input) and `<name>.expect` (what `nurbsx validate --format json`
+must report): `code:` a prefix of the error diagnostic's code, then the location fields the
+error must carry: STEP `line`, `column`, `entity` (#id); IGES `section`, `sequence`,
+`entity` (D<n>). Locations are computed here from the position of the mutation, never
+copied from the tool's output. tests/robustness.rs replays every case.
+"""
+import os
+import re
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+SAMPLES = os.path.join(ROOT, "samples", "freecad")
+
+
+def read(name):
+    with open(os.path.join(SAMPLES, name), "rb") as f:
+        return f.read()
+
+
+def clear():
+    for n in os.listdir(HERE):
+        if n.endswith((".step", ".igs", ".expect", ".bin")):
+            os.remove(os.path.join(HERE, n))
+
+
+def emit(name, ext, data, **expect):
+    if isinstance(data, str):
+        data = data.encode("latin-1")
+    with open(os.path.join(HERE, name + ext), "wb") as f:
+        f.write(data)
+    with open(os.path.join(HERE, name + ".expect"), "w") as f:
+        for k in ("code", "line", "column", "entity", "section", "sequence"):
+            if k in expect:
+                f.write(f"{k}: {expect[k]}\n")
+
+
+def line_col(data, offset):
+    """1-based line and column of a byte offset."""
+    line = data.count(b"\n", 0, offset) + 1
+    col = offset - (data.rfind(b"\n", 0, offset) + 1) + 1
+    return line, col
+
+
+def inst_loc(data, eid):
+    """Line/column of the start of instance `#eid =`."""
+    m = re.search(rb"(?m)^#%d\s*=" % eid, data)
+    assert m, eid
+    return line_col(data, m.start())
+
+
+def sub_in(data, eid, old, new, count=1):
+    """Replace `old` by `new` inside the text of instance #eid (up to its `;`)."""
+    m = re.search(rb"(?m)^#%d\s*=" % eid, data)
+    end = data.index(b";", m.start())
+    body = data[m.start():end]
+    assert old in body, (eid, old, body)
+    return data[:m.start()] + body.replace(old, new, count) + data[end:]
+
+
+# ---------------------------------------------------------------- STEP
+def step_cases():
+    c2 = read("curve_deg2_clamped.step")  # #17 B_SPLINE_CURVE_WITH_KNOTS, poles #18..#24
+    rat = read("curve_circle_nurbs.step")  # #17 complex rational curve
+    srf = read("surf_poles4x3.step")       # #32 B_SPLINE_SURFACE_WITH_KNOTS
+
+    def ent(name, data, eid, code):
+        line, col = inst_loc(data, eid)
+        emit(name, ".step", data, code=code, line=line, column=col, entity=f"#{eid}")
+
+    # --- whole-file damage
+    # Not recognisable as STEP at all: refused before parsing, at line 1.
+    emit("step_empty", ".step", b"", code="format", line=1)
+    emit("step_binary_garbage", ".step", bytes((i * 131 + 7) % 256 for i in range(4096)), code="format", line=1)
+    emit("step_utf16", ".step", c2.decode("latin-1").encode("utf-16"), code="format", line=1)
+    # Truncation at several offsets inside DATA: the instance cut short is unterminated.
+    data_at = c2.index(b"DATA;")
+    for frac in (10, 35, 60, 85, 99):
+        cut = data_at + (len(c2) - data_at) * frac // 100
+        t = c2[:cut]
+        # The error is at the first token after the last complete statement: the cut
+        # instance (`#n = ...` without its `;`), or the cut `ENDSEC`.
+        at = t.rindex(b";") + 1
+        while t[at:at + 1].isspace():
+            at += 1
+        line, col = line_col(t, at)
+        m = re.match(rb"#(\d+)", t[at:])
+        extra = {"entity": f"#{int(m.group(1))}"} if m else {}
+        emit(f"step_truncated_{frac}pct", ".step", t, code="step.syntax",
+             line=line, column=col, **extra)
+    t = c2[: c2.index(b"ENDSEC;", data_at)]
+    emit("step_truncated_no_endsec", ".step", t, code="step.structure", line=t.count(b"\n") + 1, column=1)
+    t = c2[: c2.index(b"DATA;")]
+    emit("step_no_data_section", ".step", t, code="step.structure", line=t.count(b"\n") + 1, column=1)
+    h = c2[: c2.index(b"HEADER;")] + c2[c2.index(b"DATA;"):]
+    emit("step_no_header", ".step", h, code="step.structure", line=2, column=1)
+    # NUL byte in the middle of a point
+    d = sub_in(c2, 19, b"10.265", b"10.\x00265")
+    line, col = line_col(d, d.index(b"\x00"))
+    emit("step_nul_byte", ".step", d, code="step.syntax", line=line, column=col, entity="#19")
+
+    # --- B-spline semantics (entity-level errors)
+    ent("step_knot_mult_sum_mismatch", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,2,1,2)"), 17, "knot_count_mismatch")
+    ent("step_mult_count_mismatch", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,2,4)"), 17, "knots")
+    ent("step_knots_decreasing", sub_in(c2, 17, b"0.466963,1.070586", b"1.070586,0.466963"), 17, "geometry")
+    def at(name, data, needle, eid, code, delta=0):
+        line, col = line_col(data, data.index(needle) + delta)
+        emit(name, ".step", data, code=code, line=line, column=col, entity=f"#{eid}")
+
+    at("step_knot_overflow", sub_in(c2, 17, b"-0.672195", b"1.E400"), b"1.E400", 17, "step.syntax")
+    ent("step_zero_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,0,3,3)"), 17, "knots")
+    ent("step_negative_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,-2,5,3)"), 17, "knots")
+    ent("step_degree_zero", sub_in(c2, 17, b"('',2,", b"('',0,"), 17, "geometry")
+    ent("step_degree_negative", sub_in(c2, 17, b"('',2,", b"('',-2,"), 17, "geometry")
+    ent("step_degree_too_high", sub_in(c2, 17, b"('',2,", b"('',26,"), 17, "limit.degree")
+    ent("step_degree_huge", sub_in(c2, 17, b"('',2,", b"('',2147483647,"), 17, "limit.degree")
+    ent("step_degree_real", sub_in(c2, 17, b"('',2,", b"('',2.5,"), 17, "step.schema")
+    ent("step_too_few_poles", sub_in(c2, 17, b"#18,#19,#20,", b""), 17, "knot_count_mismatch")
+    ent("step_weight_zero", sub_in(rat, 17, b"RATIONAL_B_SPLINE_CURVE((3.,", b"RATIONAL_B_SPLINE_CURVE((0.,"), 17, "weights")
+    ent("step_weight_negative", sub_in(rat, 17, b"RATIONAL_B_SPLINE_CURVE((3.,", b"RATIONAL_B_SPLINE_CURVE((-3.,"), 17, "weights")
+    at("step_weight_overflow", sub_in(rat, 17, b"RATIONAL_B_SPLINE_CURVE((3.,", b"RATIONAL_B_SPLINE_CURVE((1.E400,"), b"1.E400", 17, "step.syntax")
+    ent("step_weight_count", sub_in(rat, 17, b"RATIONAL_B_SPLINE_CURVE((3.,", b"RATIONAL_B_SPLINE_CURVE(("), 17, "weights")
+    ent("step_weight_string", sub_in(rat, 17, b"RATIONAL_B_SPLINE_CURVE((3.,", b"RATIONAL_B_SPLINE_CURVE(('w',"), 17, "step.schema")
+    at("step_point_overflow", sub_in(c2, 19, b"10.265009748379", b"1.E400"), b"1.E400", 19, "step.syntax")
+    ent("step_point_2d", sub_in(c2, 19, b",0.301182608529\n    )", b")"), 17, "points")
+    # Wrong entity type behind a reference: reported on the B-spline that cannot load.
+    ent("step_pole_is_direction", sub_in(c2, 17, b"#18,#19", b"#13,#19"), 17, "step.reference")
+    ent("step_pole_dangling", sub_in(c2, 17, b"#18,#19", b"#9999,#19"), 17, "step.reference")
+    ent("step_pole_self_reference", sub_in(c2, 17, b"#18,#19", b"#17,#19"), 17, "step.reference_cycle")
+    at("step_pole_oversized_id", sub_in(c2, 17, b"#18,#19", b"#99999999999999999999999,#19"), b"#999", 17, "step.syntax")
+    ent("step_pole_is_unset", sub_in(c2, 17, b"#18,#19", b"$,#19"), 17, "step.schema")
+    ent("step_knots_not_a_list", sub_in(c2, 17, b"(3,1,2,1,3)", b"3"), 17, "step.schema")
+    ent("step_missing_attribute", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.,", b".UNSPECIFIED.,.F.,"), 17, "step.schema")
+    ent("step_bad_enum", sub_in(c2, 17, b".F.,.F.,(3", b".MAYBE.,.F.,(3"), 17, "step.schema")
+    # surface: row lengths disagree
+    ent("step_surface_ragged_grid", sub_in(srf, 32, b",(#39,#40,#41)", b",(#39,#40)"), 32, "points")
+    ent("step_surface_u_knots_wrong", sub_in(srf, 32, b"(4,4),(3,3)", b"(4,3),(3,3)"), 32, "knot_count_mismatch")
+    # circular reference: a point that is its own poles... make #18 a complex of refs
+    d = sub_in(c2, 18, b"CARTESIAN_POINT('',(0.43132997103,-1.850600446128,1.174976336145)\n  )",
+               b"CARTESIAN_POINT('',(#25,0.,0.))")
+    d = sub_in(d, 25, b"CARTESIAN_POINT('',(0.43132997103,-1.850600446128,1.174976336145)\n  )",
+               b"CARTESIAN_POINT('',(#18,0.,0.))")
+    # The cycle is reported on the B-spline whose control point enters it.
+    ent("step_circular_reference", d, 17, "step.reference_cycle")
+
+    # A reference cycle through 5000 instances (found iteratively, reported shortened).
+    chain = "".join(f"#{i} = CARTESIAN_POINT('',(#{i + 1},0.,0.));\n" for i in range(100000, 105000))
+    chain += "#105000 = CARTESIAN_POINT('',(#18,0.,0.));\n"
+    d = sub_in(c2, 18, b"CARTESIAN_POINT('',(0.43132997103,-1.850600446128,1.174976336145)\n  )",
+               b"CARTESIAN_POINT('',(#100000,0.,0.))")
+    d = d.replace(b"ENDSEC;\nEND-ISO", chain.encode() + b"ENDSEC;\nEND-ISO")
+    ent("step_long_reference_cycle", d, 17, "step.reference_cycle")
+
+    # --- syntax
+    d = c2.replace(b"#17 = B_SPLINE_CURVE_WITH_KNOTS(", b"#17 = b_spline_curve_with_knots(")
+    line, col = inst_loc(d, 17)
+    emit("step_lowercase_keyword", ".step", d, code="step.syntax", line=line, column=col + 6, entity="#17")
+    nest = b"(" * 100000 + b")" * 100000
+    d = sub_in(c2, 19, b"(10.265009748379", nest + b",(10.265009748379")
+    line, col = inst_loc(d, 19)
+    # `CARTESIAN_POINT(` is depth 1, nest[0] depth 2: nest[63] opens the 65th level.
+    line, col = line_col(d, d.index(nest) + 63)
+    emit("step_nested_parens_100k", ".step", d, code="limit.nesting_depth", line=line, column=col, entity="#19")
+    d = c2.replace(b"#19 = CARTESIAN", b"#99999999999999999999 = CARTESIAN")
+    line, col = inst_loc(d, 99999999999999999999) if False else line_col(d, d.index(b"#99999999999999999999 ="))
+    emit("step_oversized_instance_id", ".step", d, code="step.syntax", line=line, column=col)
+    d = c2.replace(b"#19 = CARTESIAN", b"#20 = CARTESIAN")
+    # The second definition is the error; the first one wins.
+    line, col = line_col(d, d.rindex(b"#20 = CARTESIAN"))
+    emit("step_duplicate_id", ".step", d, code="step.structure", line=line, column=col, entity="#20")
+    d = c2[: c2.index(b"'Open CASCADE STEP translator 7.6 3',") + 10]
+    line, col = line_col(d, d.index(b"'Open CASC", d.index(b"#7 =")))
+    emit("step_unterminated_string", ".step", d, code="step.syntax", line=line, column=col, entity="#7")
+    d = sub_in(c2, 19, b"10.265009748379", b"10.26.5")
+    line, col = line_col(d, d.index(b"10.26.5"))
+    emit("step_bad_real", ".step", d, code="step.syntax", line=line, column=col, entity="#19")
+    d = sub_in(c2, 19, b"(10.265009748379", b"(10.265009748379))")
+    at("step_unbalanced_parens", d, b",-7.308443936789", 19, "step.syntax")
+    d = c2.replace(b"#19 = CARTESIAN_POINT('',(", b"#19 = CARTESIAN_POINT('',(/* open comment ")
+    d = d[: d.index(b"ENDSEC;", d.index(b"DATA;"))]
+    at("step_unterminated_comment", d, b"/* open", 19, "step.syntax")
+    d = sub_in(c2, 20, b"20.47863277037", b"\"0F\"")
+    ent("step_binary_where_real", d, 17, "step.reference")
+
+
+
+# ---------------------------------------------------------------- IGES
+def records(data):
+    return data.decode("latin-1").splitlines()
+
+
+def join(recs):
+    return ("\n".join(recs) + "\n").encode("latin-1")
+
+
+def setp(recs, idx, text):
+    """Replace columns 1-64 of a P record (keeping the DE back pointer and sequence)."""
+    r = recs[idx]
+    recs[idx] = f"{text:<64}" + r[64:]
+
+
+def pidx(recs, n):
+    """Index of P record with sequence number n."""
+    for i, r in enumerate(recs):
+        if r[72:73] == "P" and int(r[73:80]) == n:
+            return i
+    raise KeyError(n)
+
+
+def didx(recs, n):
+    for i, r in enumerate(recs):
+        if r[72:73] == "D" and int(r[73:80]) == n:
+            return i
+    raise KeyError(n)
+
+
+def setfield(recs, i, field, value):
+    """Set 8-column field `field` (1-based) of record i."""
+    r = recs[i]
+    a = (field - 1) * 8
+    recs[i] = r[:a] + f"{value:>8}"[:8] + r[a + 8:]
+
+
+def iges_cases():
+    c2 = read("curve_deg2_clamped.igs")  # one 126 at D1, P1..P8
+    base = records(c2)
+    p1 = base[pidx(base, 1)][:64].rstrip()   # "126,6,2,0,0,1,0,-1.25,-1.25,-1.25,-0.672195,0.466963,0.466963,"
+
+    def ent(name, recs, seq, code, section="P", de=1):
+        emit(name, ".igs", join(recs), code=code, section=section, sequence=seq, entity=f"D{de}")
+
+    def p1_with(new):
+        recs = list(base)
+        setp(recs, pidx(recs, 1), new)
+        return recs
+
+    # 128 surface (surf_poles4x3.igs: the 128 is D3, its data starts on P2) with hostile
+    # K1/K2/M1: refused from the header, before any allocation.
+    srf = records(read("surf_poles4x3.igs"))
+    for name, new in (("k1k2_overflow", "128,2147483647,2147483647,3,2,"),
+                      ("k2_negative", "128,3,-2,3,2,"),
+                      ("m1_huge", "128,3,2,2147483647,2,")):
+        recs = list(srf)
+        i = pidx(recs, 2)
+        assert recs[i].startswith("128,3,2,3,2,")
+        setp(recs, i, (new + recs[i][len("128,3,2,3,2,"):64]).rstrip()[:64])
+        emit(f"iges_surface_{name}", ".igs", join(recs), code="iges.entity", section="P", sequence=2, entity="D3")
+
+    emit("iges_empty", ".igs", b"", code="format", line=1)
+    emit("iges_binary_garbage", ".igs", bytes((i * 197 + 3) % 256 for i in range(8192)), code="format", line=1)
+    emit("iges_utf16", ".igs", c2.decode("latin-1").encode("utf-16"), code="format", line=1)
+    emit("iges_nul_bytes", ".igs", c2.replace(b"1.070586,2.325594", b"1.070586\x00\x00325594"), code="iges", section="P", sequence=2, entity="D1")
+    # truncations: whole records cut off and a record cut in half
+    for keep in (3, 6, 9, 14):
+        t = join(base[:keep])
+        # The error names the first section that is missing entirely.
+        present = {r[72:73] for r in base[:keep]}
+        missing = next(s for s in "GDPT" if s not in present)
+        emit(f"iges_truncated_{keep}_records", ".igs", t, code="iges.syntax", section=missing)
+    t = join(base)[: len(join(base[:9])) + 30]
+    # The cut record has no columns 73-80: its section is inferred, its number unknown.
+    emit("iges_truncated_mid_record", ".igs", t, code="iges.syntax", line=10, column=73, section="P")
+    # missing sections
+    emit("iges_missing_global", ".igs", join([r for r in base if r[72:73] != "G"]), code="iges.syntax", section="G")
+    emit("iges_missing_directory", ".igs", join([r for r in base if r[72:73] != "D"]), code="iges.syntax", section="D")
+    emit("iges_missing_terminate", ".igs", join([r for r in base if r[72:73] != "T"]), code="iges.syntax", section="T")
+    # B-spline semantics: K=6, M=2 in P1
+    # K/M inconsistent with the data: the values shift, the knot vector read is invalid;
+    # geometric errors are located at the entity's directory entry.
+    ent("iges_k_inconsistent", p1_with(p1.replace("126,6,2,", "126,7,2,", 1)), 1, "geometry", section="D")
+    ent("iges_m_inconsistent", p1_with(p1.replace("126,6,2,", "126,6,3,", 1)), 1, "geometry", section="D")
+    # A huge K is refused before any allocation: the record ends (P8) long before the
+    # 10^10 values it declares.
+    ent("iges_k_huge", p1_with(p1.replace("126,6,2,0,0,1,0,-1.25,-1.25,", "126,2147483647,2,0,0,1,0,", 1)), 8, "iges.entity")
+    ent("iges_k_negative", p1_with(p1.replace("126,6,2,", "126,-3,2,", 1)), 1, "iges")
+    ent("iges_m_too_high", p1_with(p1.replace("126,6,2,", "126,6,26,", 1)), 1, "iges.entity")
+    ent("iges_m_zero", p1_with(p1.replace("126,6,2,", "126,6,0,", 1)), 1, "iges")
+    ent("iges_k_real", p1_with(p1.replace("126,6,2,", "126,6.5,2,", 1)), 1, "iges")
+    ent("iges_knots_decreasing", p1_with(p1.replace("-0.672195,0.466963", "0.466963,-0.672195", 1)), 1, "geometry", section="D")
+    ent("iges_knot_overflow", p1_with(p1.replace("-0.672195", "1.D400", 1)), 1, "iges")
+    # Weights of a rational curve (PROP3 = 0): curve_deg2_rational_clamped.igs
+    rat = records(read("curve_deg2_rational_clamped.igs"))
+    for name, w in (("zero", "0."), ("negative", "-0.5")):
+        recs = list(rat)
+        i = pidx(recs, 2)
+        text = recs[i][:64]
+        # P2 holds the last 4 of the 10 knots, then the first weights
+        vals = text.rstrip().rstrip(",").split(",")
+        vals[4] = w
+        setp(recs, i, ",".join(vals) + ",")
+        ent(f"iges_weight_{name}", recs, 1, "geometry", section="D")
+    recs = list(base)
+    setp(recs, pidx(recs, 2), "1.070586,2.325594,2.325594,2.325594,1.,1.E400,1.,1.,1.,1.,1.,")
+    ent("iges_weight_overflow", recs, 2, "iges")
+    recs = list(base)
+    setp(recs, pidx(recs, 2), "1.070586,2.325594,2.325594,2.325594,1.,NaN,1.,1.,1.,1.,1.,")
+    ent("iges_weight_nan", recs, 2, "iges")
+    recs = list(base)
+    setp(recs, pidx(recs, 3), "1HX,-1.850600446,1.174976336,10.265009748,-7.308443937,")
+    ent("iges_string_where_real", recs, 3, "iges")
+    recs = list(base)
+    setp(recs, pidx(recs, 3), "9HX,-1.850600446,1.174976336,10.265009748,-7.308443937,")
+    ent("iges_hollerith_too_long", recs, 3, "iges")
+    # Hollerith in the Global section with a wrong length (31H... -> 45H...)
+    recs = list(base)
+    recs[1] = recs[1].replace("31HOpen", "45HOpen", 1)
+    emit("iges_global_hollerith_length", ".igs", join(recs), code="iges.syntax", section="G", sequence=1)
+    recs = list(base)
+    recs[1] = recs[1].replace("31HOpen", "0HOpen", 1)
+    emit("iges_global_hollerith_zero", ".igs", join(recs), code="iges.syntax", section="G", sequence=1)
+    # bad DE and parameter pointers
+    recs = list(base)
+    setfield(recs, didx(recs, 1), 2, 99)
+    ent("iges_de_param_pointer_past_end", recs, 1, "iges", section="D")
+    recs = list(base)
+    setfield(recs, didx(recs, 1), 2, 0)
+    ent("iges_de_param_pointer_zero", recs, 1, "iges", section="D")
+    recs = list(base)
+    setfield(recs, didx(recs, 1), 2, -5)
+    ent("iges_de_param_pointer_negative", recs, 1, "iges", section="D")
+    recs = list(base)
+    setfield(recs, didx(recs, 1), 2, "abc")
+    ent("iges_de_pointer_not_a_number", recs, 1, "iges", section="D")
+    recs = list(base)
+    r = recs[pidx(recs, 4)]
+    recs[pidx(recs, 4)] = r[:65] + "      9" + r[72:]
+    ent("iges_p_back_pointer_wrong", recs, 4, "iges.entity")
+    recs = list(base)
+    recs[didx(recs, 1)] = recs[didx(recs, 1)][:72] + "X0000001"
+    emit("iges_bad_section_letter", ".igs", join(recs), code="iges.syntax", section="X", sequence=1)
+    recs = list(base)
+    recs[didx(recs, 1)] = recs[didx(recs, 1)][:60]
+    emit("iges_short_record", ".igs", join(recs), code="iges.syntax", line=6, column=73)
+    # Global delimiters: parameter and record delimiter the same character
+    recs = list(base)
+    recs[1] = "1H;,1H;," + recs[1][2:66] + recs[1][72:]
+    emit("iges_same_delimiters", ".igs", join(recs), code="iges.syntax", section="G", sequence=1)
+
+
+if __name__ == "__main__":
+    clear()
+    step_cases()
+    iges_cases()
+    n = len([x for x in os.listdir(HERE) if x.endswith(".expect")])
+    print(f"{n} cases")

@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Derive valid but unusual STEP and IGES files from samples/freecad, deterministically.
+
+Run from the repository root: `python3 tests/odd_inputs/make.py`. Every `<name>.step|.igs`
+must validate (exit 0); `<name>.expect` holds `entities: N`, the number of B-spline curves
+and surfaces it must read. tests/robustness.rs (odd_inputs_read) replays them.
+"""
+import os
+import re
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SAMPLES = os.path.join(os.path.dirname(os.path.dirname(HERE)), "samples", "freecad")
+
+
+def read(name):
+    with open(os.path.join(SAMPLES, name), "rb") as f:
+        return f.read().decode("latin-1")
+
+
+def emit(name, ext, text, entities, same_as=None):
+    """`same_as`: the sample this is a pure re-encoding of; its geometry must be identical."""
+    data = text.encode("latin-1") if isinstance(text, str) else text
+    with open(os.path.join(HERE, name + ext), "wb") as f:
+        f.write(data)
+    with open(os.path.join(HERE, name + ".expect"), "w") as f:
+        f.write(f"entities: {entities}\n")
+        if same_as:
+            f.write(f"same_as: {same_as}\n")
+
+
+def outside_strings(text, fn):
+    """Apply fn to each stretch of text outside '...' strings (Part 21 quoting)."""
+    out, i, n = [], 0, len(text)
+    while i < n:
+        j = text.find("'", i)
+        if j < 0:
+            out.append(fn(text[i:]))
+            break
+        out.append(fn(text[i:j]))
+        k = j + 1
+        while True:
+            k = text.index("'", k)
+            if text[k + 1:k + 2] == "'":
+                k += 2
+                continue
+            break
+        out.append(text[j:k + 1])
+        i = k + 1
+    return "".join(out)
+
+
+def replace_instance(text, eid, new):
+    m = re.search(r"(?m)^#%d\s*=" % eid, text)
+    end = text.index(";", m.start())
+    return text[:m.start()] + new + text[end:]
+
+
+def step_cases():
+    c2 = read("curve_deg2_clamped.step")  # #17 curve with poles #18..#24
+    srf = read("surf_poles4x3.step")      # #32 surface with poles #33..#44
+    emit("step_crlf", ".step", c2.replace("\n", "\r\n"), 1, "curve_deg2_clamped.step")
+    emit("step_comments_everywhere", ".step",
+         outside_strings(c2, lambda s: s.replace(",", "/* , */,/**/").replace("(", "(/* ( */")
+                         .replace(";", "/*;*/;")), 1, "curve_deg2_clamped.step")
+    # Every string escape of ISO 10303-21 7.3.3 in the curve's name.
+    name = r"'it''s \\ \S\a \PE\\S\b \X\E9 \X2\00E9263A\X0\ \X4\0001F600\X0\ end'"
+    emit("step_string_escapes", ".step", c2.replace("B_SPLINE_CURVE_WITH_KNOTS('',", f"B_SPLINE_CURVE_WITH_KNOTS({name},", 1), 1, "curve_deg2_clamped.step")
+    # A string broken over lines (the line ends are not part of the string).
+    emit("step_multiline_string", ".step", c2.replace(
+        "#8 = PRODUCT_CONTEXT('',", "#8 = PRODUCT_CONTEXT('a string\nover\r\nthree lines',", 1), 1, "curve_deg2_clamped.step")
+    # Two DATA sections, with references from the second into the first.
+    cut = c2.index("#17 =")
+    emit("step_two_data_sections", ".step", c2[:cut] + "ENDSEC;\nDATA;\n" + c2[cut:], 1, "curve_deg2_clamped.step")
+    # Lower-case letters only inside strings and in the header's schema string.
+    emit("step_whitespace_everywhere", ".step", outside_strings(
+        c2, lambda s: s.replace(",", " ,\t").replace("=", " \t = ")), 1, "curve_deg2_clamped.step")
+
+    pts = "(#18,#19,#20,#21,#22,#23,#24)"
+    subtypes = {
+        "bezier": f"BEZIER_CURVE('',6,{pts},.UNSPECIFIED.,.F.,.F.)",
+        "uniform": f"UNIFORM_CURVE('',2,{pts},.UNSPECIFIED.,.F.,.F.)",
+        "quasi_uniform": f"QUASI_UNIFORM_CURVE('',3,{pts},.UNSPECIFIED.,.F.,.F.)",
+    }
+    for kind, inst in subtypes.items():
+        emit(f"step_{kind}_curve", ".step", replace_instance(c2, 17, "#17 = " + inst), 1)
+        # Rational: the complex instance with RATIONAL_B_SPLINE_CURVE.
+        deg = re.search(r"\('',(\d+),", inst).group(1)
+        up = kind.upper() + "_CURVE"
+        cplx = (f"#17 = ( BOUNDED_CURVE() B_SPLINE_CURVE({deg},{pts},.UNSPECIFIED.,.F.,.F.) "
+                f"{up}() CURVE() GEOMETRIC_REPRESENTATION_ITEM() "
+                f"RATIONAL_B_SPLINE_CURVE((1.,2.,0.5,1.,3.,1.,1.)) REPRESENTATION_ITEM('') )")
+        emit(f"step_{kind}_curve_rational", ".step", replace_instance(c2, 17, cplx), 1)
+
+    grid = "((#33,#34,#35),(#36,#37,#38),(#39,#40,#41),(#42,#43,#44))"
+    ssub = {
+        "bezier": f"BEZIER_SURFACE('',3,2,{grid},.UNSPECIFIED.,.F.,.F.,.F.)",
+        "uniform": f"UNIFORM_SURFACE('',2,1,{grid},.UNSPECIFIED.,.F.,.F.,.F.)",
+        "quasi_uniform": f"QUASI_UNIFORM_SURFACE('',2,2,{grid},.UNSPECIFIED.,.F.,.F.,.F.)",
+    }
+    for kind, inst in ssub.items():
+        # The sample also holds 4 boundary p-curves: 5 B-splines in all.
+        emit(f"step_{kind}_surface", ".step", replace_instance(srf, 32, "#32 = " + inst), 5)
+        du, dv = re.search(r"\('',(\d+),(\d+),", inst).groups()
+        up = kind.upper() + "_SURFACE"
+        cplx = (f"#32 = ( BOUNDED_SURFACE() B_SPLINE_SURFACE({du},{dv},{grid},.UNSPECIFIED.,.F.,.F.,.F.) "
+                f"{up}() GEOMETRIC_REPRESENTATION_ITEM() "
+                f"RATIONAL_B_SPLINE_SURFACE(((1.,2.,1.),(1.,0.5,1.),(2.,1.,1.),(1.,1.,3.))) "
+                f"REPRESENTATION_ITEM('') SURFACE() )")
+        emit(f"step_{kind}_surface_rational", ".step", replace_instance(srf, 32, cplx), 5)
+
+
+def iges_records(text):
+    return text.splitlines()
+
+
+def reflow(data, letter, delim):
+    """Global data -> 72-column records, breaking only after a parameter delimiter."""
+    out, line = [], ""
+    for tok in re.split(f"(?<={re.escape(delim)})", data):
+        if len(line) + len(tok) > 72:
+            out.append(line)
+            line = ""
+        line += tok
+    out.append(line)
+    return [f"{l:<72}{letter}{i + 1:>7}" for i, l in enumerate(out)]
+
+
+def with_counts(recs):
+    counts = {c: sum(1 for r in recs if r[72] == c) for c in "SGDP"}
+    body = [r for r in recs if r[72] != "T"]
+    t = f"S{counts['S']:>7}G{counts['G']:>7}D{counts['D']:>7}P{counts['P']:>7}"
+    return body + [f"{t:<72}T{1:>7}"]
+
+
+def iges_cases():
+    c2 = read("curve_deg2_clamped.igs")
+    emit("iges_crlf", ".igs", c2.replace("\n", "\r\n"), 1, "curve_deg2_clamped.igs")
+    recs = iges_records(c2)
+    # Custom delimiters: '/' between parameters, '#' ends a record.
+    g = "".join(r[:72] for r in recs if r[72] == "G").rstrip()
+    assert g.startswith(",,")
+    g = "1H/,1H#," + g[2:]
+    # Holleriths here hold no ',' or ';': every remaining one is a delimiter.
+    head, rest = g[:8], g[8:]
+    g = "1H//1H#/" + rest.replace(",", "/").replace(";", "#")
+    del head
+    out = [r for r in recs if r[72] == "S"] + reflow(g, "G", "/")
+    out += [r for r in recs if r[72] == "D"]
+    out += [r[:64].replace(",", "/").replace(";", "#") + r[64:] for r in recs if r[72] == "P"]
+    emit("iges_custom_delimiters", ".igs", "\n".join(with_counts(out)) + "\n", 1, "curve_deg2_clamped.igs")
+    # Comments after the record delimiter (IGES 5.3 2.2.4.4: text after it is ignored).
+    recs = iges_records(c2)
+    last = max(i for i, r in enumerate(recs) if r[72] == "P")
+    data = recs[last][:64].rstrip()
+    recs[last] = f"{data + ' comment: ignored, 1,2,3;':<64}" + recs[last][64:]
+    emit("iges_comment_after_terminator", ".igs", "\n".join(recs) + "\n", 1, "curve_deg2_clamped.igs")
+    # A surface, a rational curve and the trimmed face, untouched but with CRLF and
+    # trailing blanks removed (short lines).
+    for name, n in (("surf_poles4x3.igs", 5), ("curve_deg2_rational_clamped.igs", 1)):
+        t = read(name)
+        emit("iges_short_lines_" + name[:-4], ".igs", "\n".join(r.rstrip() if r[72:73] != "P" else r for r in t.splitlines()) + "\n", n, name)
+
+
+if __name__ == "__main__":
+    for n in os.listdir(HERE):
+        if n.endswith((".step", ".igs", ".expect")):
+            os.remove(os.path.join(HERE, n))
+    step_cases()
+    iges_cases()
+    print(len([x for x in os.listdir(HERE) if x.endswith(".expect")]), "cases")
