@@ -7,8 +7,6 @@
 //! order of their keywords, byte-wise, as clause 12.2.5 requires (`BOUNDED_CURVE` before
 //! `B_SPLINE_CURVE` because `O` < `_`). The output is pure ASCII when every string is.
 
-use std::fmt::Write as _;
-
 use super::ast::{Body, Exchange, Instance, Parameter, Record};
 use super::string::StepString;
 use crate::real::{NonFiniteReal, write_real};
@@ -49,7 +47,9 @@ pub fn write_exchange(exchange: &Exchange<'_>) -> Result<String, NonFiniteReal> 
 
 /// Writes `#id = body;` and a newline; complex partials sorted alphabetically.
 pub fn write_instance(out: &mut String, inst: &Instance<'_>) -> Result<(), NonFiniteReal> {
-    let _ = write!(out, "#{} = ", inst.id);
+    out.push('#');
+    push_u64(out, inst.id);
+    out.push_str(" = ");
     match &inst.body {
         Body::Simple(r) => write_record(out, r)?,
         Body::Complex(rs) => {
@@ -65,6 +65,24 @@ pub fn write_instance(out: &mut String, inst: &Instance<'_>) -> Result<(), NonFi
     }
     out.push_str(";\n");
     Ok(())
+}
+
+/// Appends the decimal digits of `v` (as `{v}`, without the formatting machinery: ids and
+/// integers are a large share of a STEP file's tokens).
+fn push_u64(out: &mut String, mut v: u64) {
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    loop {
+        digits[19 - n] = b'0' + (v % 10) as u8;
+        n += 1;
+        v /= 10;
+        if v == 0 || n == 20 {
+            break;
+        }
+    }
+    for &d in &digits[20 - n..] {
+        out.push(char::from(d));
+    }
 }
 
 /// Writes `KEYWORD(params)`.
@@ -96,7 +114,10 @@ pub fn write_params(out: &mut String, params: &[Parameter<'_>]) -> Result<(), No
             Item::Text(t) => out.push_str(t),
             Item::Param(p) => match p {
                 Parameter::Integer(i) => {
-                    let _ = write!(out, "{i}");
+                    if *i < 0 {
+                        out.push('-');
+                    }
+                    push_u64(out, i.unsigned_abs());
                 }
                 Parameter::Real(x) => write_real(out, *x)?,
                 Parameter::String(s) => {
@@ -115,7 +136,8 @@ pub fn write_params(out: &mut String, params: &[Parameter<'_>]) -> Result<(), No
                     out.push('"');
                 }
                 Parameter::Reference(id) => {
-                    let _ = write!(out, "#{id}");
+                    out.push('#');
+                    push_u64(out, *id);
                 }
                 Parameter::Null => out.push('$'),
                 Parameter::Derived => out.push('*'),
@@ -208,5 +230,25 @@ impl Builder {
     pub fn into_instances(mut self) -> Vec<Instance<'static>> {
         self.instances.sort_by_key(|i| i.id);
         self.instances
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn push_u64_matches_std_formatting() {
+        let mut vals: Vec<u64> = (0..2000).collect();
+        for k in 0..20 {
+            let p = 10u64.pow(k);
+            vals.extend([p - 1, p, p + 1]);
+        }
+        vals.push(u64::MAX);
+        for v in vals {
+            let mut s = String::new();
+            push_u64(&mut s, v);
+            assert_eq!(s, v.to_string());
+        }
     }
 }
