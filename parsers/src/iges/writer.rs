@@ -96,27 +96,35 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
     for (k, l) in g_lines.iter().enumerate() {
         record(&mut out, l, 'G', k + 1);
     }
-    // P first (into a buffer), to know the pointers and line counts.
+    // P first (into a buffer), to know the pointers and line counts. Tokens of an entity
+    // go into one reused text buffer (no allocation per parameter or per line).
     let mut p_out = String::with_capacity(entities.len() * 1024);
     let mut p_seq = 0usize;
     let mut placements = Vec::with_capacity(entities.len());
-    let mut buf: Vec<(String, bool)> = Vec::new();
+    let mut toks = Tokens::default();
+    let mut line = String::with_capacity(P_DATA_COLUMNS + 1);
     for (index, e) in entities.iter().enumerate() {
-        buf.clear();
+        toks.clear();
         for p in &e.params {
-            buf.push(param_token(p).map_err(|value| WriteError::NonFinite {
+            toks.push_param(p).map_err(|value| WriteError::NonFinite {
                 entity: index,
                 value,
-            })?);
+            })?;
         }
-        let lines = pack(&buf, P_DATA_COLUMNS, pd, rd);
         let de = pointer_of(index);
         let first = p_seq + 1;
-        for l in &lines {
+        pack_into(&toks, P_DATA_COLUMNS, pd, rd, &mut line, |l| {
             p_seq += 1;
-            let _ = writeln!(p_out, "{l:<64} {de:>7}P{p_seq:07}");
-        }
-        placements.push((first, lines.len()));
+            // `{l:<64} {de:>7}P{p_seq:07}` without the formatting machinery.
+            p_out.push_str(l);
+            pad(&mut p_out, b' ', P_DATA_COLUMNS.saturating_sub(l.len()));
+            p_out.push(' ');
+            push_uint(&mut p_out, de, 7, b' ');
+            p_out.push('P');
+            push_uint(&mut p_out, p_seq, 7, b'0');
+            p_out.push('\n');
+        });
+        placements.push((first, p_seq + 1 - first));
     }
     // D
     for (index, (e, &(first, count))) in entities.iter().zip(&placements).enumerate() {
@@ -254,17 +262,118 @@ fn global_tokens(g: &Global) -> Result<Vec<(String, bool)>, WriteError> {
     ])
 }
 
+/// The parameter tokens of one entity: their text in one buffer, and for each token its
+/// byte range and whether it is a Hollerith string (which may be split).
+#[derive(Default)]
+struct Tokens {
+    text: String,
+    spans: Vec<(usize, usize, bool)>,
+}
+
+impl Tokens {
+    fn clear(&mut self) {
+        self.text.clear();
+        self.spans.clear();
+    }
+
+    /// Appends a parameter's text (as [`param_token`] would produce it).
+    fn push_param(&mut self, p: &Param) -> Result<(), f64> {
+        let start = self.text.len();
+        let holl = match p {
+            Param::Empty => false,
+            Param::Int(i) => {
+                push_int(&mut self.text, *i);
+                false
+            }
+            Param::Real(x) => {
+                write_real(&mut self.text, *x).map_err(|e| e.0)?;
+                false
+            }
+            Param::Text(_) => {
+                let (t, holl) = param_token(p)?;
+                self.text.push_str(&t);
+                holl
+            }
+        };
+        self.spans.push((start, self.text.len(), holl));
+        Ok(())
+    }
+
+    fn push_token(&mut self, t: &str, holl: bool) {
+        let start = self.text.len();
+        self.text.push_str(t);
+        self.spans.push((start, self.text.len(), holl));
+    }
+}
+
+/// Appends `n` copies of the ASCII byte `c`.
+fn pad(out: &mut String, c: u8, n: usize) {
+    out.extend(std::iter::repeat_n(char::from(c), n));
+}
+
+/// Appends `v` right-justified in `width` columns, padded with `fill` (as `{v:>w}` or
+/// `{v:0w}`; wider values are written in full).
+fn push_uint(out: &mut String, mut v: usize, width: usize, fill: u8) {
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    loop {
+        digits[19 - n] = b'0' + (v % 10) as u8;
+        n += 1;
+        v /= 10;
+        if v == 0 || n == 20 {
+            break;
+        }
+    }
+    pad(out, fill, width.saturating_sub(n));
+    for &d in &digits[20 - n..] {
+        out.push(char::from(d));
+    }
+}
+
+/// Appends a signed integer as `{i}` does.
+fn push_int(out: &mut String, i: i64) {
+    if i < 0 {
+        out.push('-');
+    }
+    let Ok(v) = usize::try_from(i.unsigned_abs()) else {
+        let _ = write!(out, "{}", i.unsigned_abs());
+        return;
+    };
+    push_uint(out, v, 0, b' ');
+}
+
 /// Packs tokens into lines of at most `width` columns, each token followed by the
 /// parameter delimiter (the last by the record delimiter). Only Hollerith tokens are split:
 /// they fill their line to exactly `width` columns and continue on the next.
 fn pack(tokens: &[(String, bool)], width: usize, pd: char, rd: char) -> Vec<String> {
+    let mut toks = Tokens::default();
+    for (t, holl) in tokens {
+        toks.push_token(t, *holl);
+    }
     let mut lines = Vec::new();
-    let mut cur = String::with_capacity(width);
-    for (k, (t, holl)) in tokens.iter().enumerate() {
-        let d = if k + 1 == tokens.len() { rd } else { pd };
+    let mut cur = String::with_capacity(width + 1);
+    pack_into(&toks, width, pd, rd, &mut cur, |l| lines.push(l.to_owned()));
+    lines
+}
+
+/// [`pack`] over a [`Tokens`] buffer, giving each line to `emit`; `cur` is scratch space.
+fn pack_into(
+    tokens: &Tokens,
+    width: usize,
+    pd: char,
+    rd: char,
+    cur: &mut String,
+    mut emit: impl FnMut(&str),
+) {
+    cur.clear();
+    let n = tokens.spans.len();
+    for (k, &(a, b, holl)) in tokens.spans.iter().enumerate() {
+        let t = tokens.text.get(a..b).unwrap_or_default();
+        let d = if k + 1 == n { rd } else { pd };
         let need = t.len() + 1;
         if cur.len() + need > width && !cur.is_empty() && (!holl || need <= width) {
-            lines.push(std::mem::take(&mut cur));
+            emit(cur);
+            cur.clear();
         }
         if cur.len() + need <= width {
             cur.push_str(t);
@@ -272,31 +381,57 @@ fn pack(tokens: &[(String, bool)], width: usize, pd: char, rd: char) -> Vec<Stri
             continue;
         }
         // A Hollerith string longer than what is left: fill lines exactly.
-        let mut rest = t.as_str();
+        let mut rest = t;
         while cur.len() + rest.len() > width {
             let take = width - cur.len();
-            cur.push_str(&rest[..take]);
-            rest = &rest[take..];
-            lines.push(std::mem::take(&mut cur));
+            // Hollerith text is ASCII (filtered in `param_token`), so any byte is a boundary.
+            let (head, tail) = rest.split_at(take.min(rest.len()));
+            cur.push_str(head);
+            rest = tail;
+            emit(cur);
+            cur.clear();
         }
         cur.push_str(rest);
         if cur.len() + 1 > width {
-            lines.push(std::mem::take(&mut cur));
+            emit(cur);
+            cur.clear();
         }
         cur.push(d);
     }
-    if tokens.is_empty() {
+    if n == 0 {
         cur.push(rd);
     }
     if !cur.is_empty() {
-        lines.push(cur);
+        emit(cur);
+        cur.clear();
     }
-    lines
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn integer_fields_match_std_formatting() {
+        let mut vals: Vec<i64> = (-1000..1000).collect();
+        for k in 0..19 {
+            let p = 10i64.pow(k);
+            vals.extend([p - 1, p, p + 1, -p, 1 - p]);
+        }
+        vals.extend([i64::MAX, i64::MIN, i64::MIN + 1]);
+        for v in vals {
+            let mut s = String::new();
+            push_int(&mut s, v);
+            assert_eq!(s, format!("{v}"));
+            if let Ok(u) = usize::try_from(v) {
+                let (mut a, mut b) = (String::new(), String::new());
+                push_uint(&mut a, u, 7, b' ');
+                push_uint(&mut b, u, 7, b'0');
+                assert_eq!(a, format!("{u:>7}"));
+                assert_eq!(b, format!("{u:07}"));
+            }
+        }
+    }
 
     #[test]
     fn pack_never_splits_plain_tokens() {

@@ -7,8 +7,6 @@
 //! order of their keywords, byte-wise, as clause 12.2.5 requires (`BOUNDED_CURVE` before
 //! `B_SPLINE_CURVE` because `O` < `_`). The output is pure ASCII when every string is.
 
-use std::fmt::Write as _;
-
 use super::ast::{Body, Exchange, Instance, Parameter, Record};
 use super::string::StepString;
 use crate::real::{NonFiniteReal, write_real};
@@ -26,6 +24,8 @@ use crate::real::{NonFiniteReal, write_real};
 /// ```
 pub fn write_exchange(exchange: &Exchange<'_>) -> Result<String, NonFiniteReal> {
     let mut out = String::with_capacity(4096);
+    // One explicit stack for every parameter list of the file (no allocation per record).
+    let mut stack = Vec::new();
     out.push_str("ISO-10303-21;\nHEADER;\n");
     for r in &exchange.header {
         write_record(&mut out, r)?;
@@ -39,7 +39,7 @@ pub fn write_exchange(exchange: &Exchange<'_>) -> Result<String, NonFiniteReal> 
         }
         out.push_str(";\n");
         for inst in &section.instances {
-            write_instance(&mut out, inst)?;
+            write_instance_with(&mut out, inst, &mut stack)?;
         }
         out.push_str("ENDSEC;\n");
     }
@@ -49,15 +49,30 @@ pub fn write_exchange(exchange: &Exchange<'_>) -> Result<String, NonFiniteReal> 
 
 /// Writes `#id = body;` and a newline; complex partials sorted alphabetically.
 pub fn write_instance(out: &mut String, inst: &Instance<'_>) -> Result<(), NonFiniteReal> {
-    let _ = write!(out, "#{} = ", inst.id);
+    write_instance_with(out, inst, &mut Vec::new())
+}
+
+/// [`write_instance`] with a caller-provided (reused) parameter stack.
+fn write_instance_with<'p, 'a>(
+    out: &mut String,
+    inst: &'p Instance<'a>,
+    stack: &mut Vec<Item<'p, 'a>>,
+) -> Result<(), NonFiniteReal> {
+    out.push('#');
+    push_u64(out, inst.id);
+    out.push_str(" = ");
     match &inst.body {
-        Body::Simple(r) => write_record(out, r)?,
+        Body::Simple(r) => {
+            out.push_str(r.keyword);
+            write_params_with(out, &r.params, stack)?;
+        }
         Body::Complex(rs) => {
             let mut sorted: Vec<&Record<'_>> = rs.iter().collect();
             sorted.sort_by(|a, b| a.keyword.as_bytes().cmp(b.keyword.as_bytes()));
             out.push_str("( ");
             for r in sorted {
-                write_record(out, r)?;
+                out.push_str(r.keyword);
+                write_params_with(out, &r.params, stack)?;
                 out.push(' ');
             }
             out.push(')');
@@ -65,6 +80,24 @@ pub fn write_instance(out: &mut String, inst: &Instance<'_>) -> Result<(), NonFi
     }
     out.push_str(";\n");
     Ok(())
+}
+
+/// Appends the decimal digits of `v` (as `{v}`, without the formatting machinery: ids and
+/// integers are a large share of a STEP file's tokens).
+fn push_u64(out: &mut String, mut v: u64) {
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    loop {
+        digits[19 - n] = b'0' + (v % 10) as u8;
+        n += 1;
+        v /= 10;
+        if v == 0 || n == 20 {
+            break;
+        }
+    }
+    for &d in &digits[20 - n..] {
+        out.push(char::from(d));
+    }
 }
 
 /// Writes `KEYWORD(params)`.
@@ -75,28 +108,44 @@ pub fn write_record(out: &mut String, r: &Record<'_>) -> Result<(), NonFiniteRea
 
 /// Writes `(p1,p2,...)` without recursion (an explicit stack of what remains to print).
 pub fn write_params(out: &mut String, params: &[Parameter<'_>]) -> Result<(), NonFiniteReal> {
-    enum Item<'p, 'a> {
-        Param(&'p Parameter<'a>),
-        Text(&'static str),
-    }
-    let mut stack: Vec<Item<'_, '_>> = Vec::new();
-    push_list(&mut stack, params);
-    fn push_list<'p, 'a>(stack: &mut Vec<Item<'p, 'a>>, list: &'p [Parameter<'a>]) {
-        stack.push(Item::Text(")"));
-        for (i, p) in list.iter().enumerate().rev() {
-            stack.push(Item::Param(p));
-            if i > 0 {
-                stack.push(Item::Text(","));
-            }
+    write_params_with(out, params, &mut Vec::new())
+}
+
+/// What remains to print in [`write_params`]: a parameter or fixed punctuation.
+enum Item<'p, 'a> {
+    Param(&'p Parameter<'a>),
+    Text(&'static str),
+}
+
+/// Pushes a list's items (in reverse, so they pop in order) with its parentheses and commas.
+fn push_list<'p, 'a>(stack: &mut Vec<Item<'p, 'a>>, list: &'p [Parameter<'a>]) {
+    stack.push(Item::Text(")"));
+    for (i, p) in list.iter().enumerate().rev() {
+        stack.push(Item::Param(p));
+        if i > 0 {
+            stack.push(Item::Text(","));
         }
-        stack.push(Item::Text("("));
     }
+    stack.push(Item::Text("("));
+}
+
+/// [`write_params`] with a caller-provided (reused) stack; leaves it empty on success.
+fn write_params_with<'p, 'a>(
+    out: &mut String,
+    params: &'p [Parameter<'a>],
+    stack: &mut Vec<Item<'p, 'a>>,
+) -> Result<(), NonFiniteReal> {
+    stack.clear();
+    push_list(stack, params);
     while let Some(item) = stack.pop() {
         match item {
             Item::Text(t) => out.push_str(t),
             Item::Param(p) => match p {
                 Parameter::Integer(i) => {
-                    let _ = write!(out, "{i}");
+                    if *i < 0 {
+                        out.push('-');
+                    }
+                    push_u64(out, i.unsigned_abs());
                 }
                 Parameter::Real(x) => write_real(out, *x)?,
                 Parameter::String(s) => {
@@ -115,7 +164,8 @@ pub fn write_params(out: &mut String, params: &[Parameter<'_>]) -> Result<(), No
                     out.push('"');
                 }
                 Parameter::Reference(id) => {
-                    let _ = write!(out, "#{id}");
+                    out.push('#');
+                    push_u64(out, *id);
                 }
                 Parameter::Null => out.push('$'),
                 Parameter::Derived => out.push('*'),
@@ -125,7 +175,7 @@ pub fn write_params(out: &mut String, params: &[Parameter<'_>]) -> Result<(), No
                     stack.push(Item::Text(")"));
                     stack.push(Item::Param(inner));
                 }
-                Parameter::List(l) => push_list(&mut stack, l),
+                Parameter::List(l) => push_list(stack, l),
             },
         }
     }
@@ -208,5 +258,25 @@ impl Builder {
     pub fn into_instances(mut self) -> Vec<Instance<'static>> {
         self.instances.sort_by_key(|i| i.id);
         self.instances
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn push_u64_matches_std_formatting() {
+        let mut vals: Vec<u64> = (0..2000).collect();
+        for k in 0..20 {
+            let p = 10u64.pow(k);
+            vals.extend([p - 1, p, p + 1]);
+        }
+        vals.push(u64::MAX);
+        for v in vals {
+            let mut s = String::new();
+            push_u64(&mut s, v);
+            assert_eq!(s, v.to_string());
+        }
     }
 }
