@@ -113,7 +113,10 @@ fn has_short_exact_decimal(x: f64) -> bool {
     }
     let tz = m.trailing_zeros();
     m >>= tz;
-    e += tz as i32;
+    // trailing_zeros of a non-zero u64 is at most 63.
+    #[allow(clippy::cast_possible_wrap)]
+    let tz = tz as i32;
+    e += tz;
     if e < 0 {
         let Ok(k) = u32::try_from(-e) else {
             return false;

@@ -1,6 +1,13 @@
 //! Column-exact IGES fixtures: slot arithmetic with sentinels, Global section forms,
 //! comments, exponents, and located errors. Files are built by `iges_support`, which
 //! formats every record by hand (not with the crate's writer).
+// Test fixtures cast small literal counts and indexes; the cast lints guard input-derived
+// numbers in the library itself.
+#![allow(
+    clippy::cast_possible_wrap,
+    clippy::cast_possible_truncation,
+    clippy::cast_sign_loss
+)]
 // Test helpers outside #[test] functions may unwrap and panic too.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 

@@ -133,6 +133,8 @@ impl DirectoryEntry {
             parse_int(t).ok_or_else(|| {
                 ParseError::new(
                     ErrorKind::BadField {
+                        // k < 9: the fields of one 80-column record.
+                        #[allow(clippy::cast_possible_truncation)]
                         field: base + k as u8,
                         name: names[k],
                         text: text.to_owned(),

@@ -288,6 +288,8 @@ impl Global {
                     None => {
                         // Some writers put a real where an integer is expected (`2.`).
                         match parse_iges_real(text) {
+                            // A whole number below 1e15 converts to i64 exactly.
+                            #[allow(clippy::cast_possible_truncation)]
                             Ok(r) if r.fract() == 0.0 && r.abs() < 1e15 => Val::Int(r as i64),
                             _ => bad(
                                 index,

@@ -109,8 +109,8 @@ impl Tokenizer {
             if c == self.param || c == self.record {
                 out.push(Token {
                     kind: TokenKind::Empty,
-                    start: i as u32,
-                    end: i as u32,
+                    start: off(i),
+                    end: off(i),
                 });
                 i += 1;
                 if c == self.record {
@@ -159,8 +159,8 @@ impl Tokenizer {
                 (
                     Token {
                         kind: TokenKind::Hollerith,
-                        start: content as u32,
-                        end: (content + n) as u32,
+                        start: off(content),
+                        end: off(content + n),
                     },
                     content + n,
                 )
@@ -175,8 +175,8 @@ impl Tokenizer {
                 (
                     Token {
                         kind: TokenKind::Plain,
-                        start: start as u32,
-                        end: e as u32,
+                        start: off(start),
+                        end: off(e),
                     },
                     k,
                 )
@@ -229,6 +229,14 @@ pub fn parse_int(s: &str) -> Option<i64> {
         v = v * 10 + i64::from(d - b'0');
     }
     Some(if neg { -v } else { v })
+}
+
+/// A byte offset as stored in a [`Token`]. The tokenizer refuses records of 4 GiB or more
+/// before it starts (`u32::try_from(b.len())` above), so every offset fits in `u32`.
+#[inline]
+#[allow(clippy::cast_possible_truncation)]
+fn off(i: usize) -> u32 {
+    i as u32
 }
 
 #[cfg(test)]

@@ -129,6 +129,8 @@ pub fn split<'a>(
                 .at_line(line_no)
                 .at_column(73));
         };
+        // idx < ORDER.len() = 5.
+        #[allow(clippy::cast_possible_truncation)]
         let idx = idx as u8;
         if idx < current {
             return Err(ParseError::new(

@@ -133,7 +133,7 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
         let mut l1 = String::with_capacity(80);
         for v in [
             de.entity_type,
-            first as i64,
+            to_i64(first),
             de.structure,
             de.line_font,
             de.level,
@@ -150,7 +150,7 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
             de.entity_type,
             de.line_weight,
             de.color,
-            count as i64,
+            to_i64(count),
             de.form,
         ] {
             field8(&mut l2, v)?;
@@ -178,6 +178,12 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
 
 fn record(out: &mut String, data: &str, letter: char, seq: usize) {
     let _ = writeln!(out, "{data:<72}{letter}{seq:07}");
+}
+
+/// A count or pointer as an IGES integer; lengths of in-memory data are far below
+/// `i64::MAX`, and a value that did not fit would fail the 8-column width check anyway.
+fn to_i64(n: usize) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
 }
 
 fn field8(out: &mut String, v: i64) -> Result<(), WriteError> {
@@ -317,7 +323,10 @@ fn push_uint(out: &mut String, mut v: usize, width: usize, fill: u8) {
     let mut digits = [0u8; 20];
     let mut n = 0;
     loop {
-        digits[19 - n] = b'0' + (v % 10) as u8;
+        // v % 10 < 10 fits in u8.
+        #[allow(clippy::cast_possible_truncation)]
+        let digit = (v % 10) as u8;
+        digits[19 - n] = b'0' + digit;
         n += 1;
         v /= 10;
         if v == 0 || n == 20 {

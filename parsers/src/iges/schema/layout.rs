@@ -195,7 +195,7 @@ mod tests {
     fn curve_matches_spec_formulas() {
         for (k, m) in [(1, 1), (3, 3), (6, 2), (10, 5)] {
             let l = CurveLayout::new(k, m).unwrap();
-            let (k, m) = (k as usize, m as usize);
+            let (k, m) = (usize::try_from(k).unwrap(), usize::try_from(m).unwrap());
             let n = 1 + k - m;
             let a = n + 2 * m;
             assert_eq!(l.knots, 7);
@@ -213,7 +213,7 @@ mod tests {
     fn surface_matches_spec_formulas() {
         for (k1, k2, m1, m2) in [(3, 2, 2, 1), (1, 1, 1, 1), (5, 7, 3, 2)] {
             let l = SurfaceLayout::new(k1, k2, m1, m2).unwrap();
-            let (k1, k2, m1, m2) = (k1 as usize, k2 as usize, m1 as usize, m2 as usize);
+            let [k1, k2, m1, m2] = [k1, k2, m1, m2].map(|x| usize::try_from(x).unwrap());
             assert_eq!(l.full, 21 + 5 * k1 + 5 * k2 + 4 * k1 * k2 + m1 + m2);
             assert_eq!(l.knots_v, 10 + k1 + m1 + 2);
             assert_eq!(l.weights, l.knots_v + k2 + m2 + 2);

@@ -183,8 +183,8 @@ impl Curve126 {
         let k = self.points.len().saturating_sub(1);
         let mut v = Vec::with_capacity(12 + self.knots.len() + 4 * self.points.len());
         v.push(Param::Int(126));
-        v.push(Param::Int(k as i64));
-        v.push(Param::Int(self.degree as i64));
+        v.push(Param::Int(to_i64(k)));
+        v.push(Param::Int(to_i64(self.degree)));
         for f in [self.planar, self.closed, self.polynomial, self.periodic] {
             v.push(Param::Int(f));
         }
@@ -265,10 +265,10 @@ impl Surface128 {
             16 + self.knots_u.len() + self.knots_v.len() + 4 * self.points.len(),
         );
         v.push(Param::Int(128));
-        v.push(Param::Int(self.poles[0] as i64 - 1));
-        v.push(Param::Int(self.poles[1] as i64 - 1));
-        v.push(Param::Int(self.degree[0] as i64));
-        v.push(Param::Int(self.degree[1] as i64));
+        v.push(Param::Int(to_i64(self.poles[0]) - 1));
+        v.push(Param::Int(to_i64(self.poles[1]) - 1));
+        v.push(Param::Int(to_i64(self.degree[0])));
+        v.push(Param::Int(to_i64(self.degree[1])));
         for f in [
             self.closed[0],
             self.closed[1],
@@ -333,4 +333,9 @@ impl Transform124 {
         }
         v
     }
+}
+
+/// A count as an IGES integer (counts of in-memory data are far below `i64::MAX`).
+fn to_i64(n: usize) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
 }
