@@ -14,7 +14,7 @@
 //!
 //! This crate has no geometry in it: records follow the standards' attribute lists one to
 //! one and check only what the syntax requires. Turning records into NURBS (knot
-//! multiplicities, weights, units, transforms) is the job of `nurbsx::exchange`.
+//! multiplicities, weights, units, transforms) belongs to the consumer of this crate (in nurbsx, its exchange layer); this crate depends on no geometry code.
 //!
 //! Every error carries a location: STEP errors a line, column and `#id`; IGES errors a
 //! section letter, sequence number, column and DE pointer.

@@ -4,7 +4,7 @@
 //! its delimiters ([`global`]), Directory Entries ([`directory`]), the free-format
 //! parameter tokenizer ([`params`]), typed records for entities 124, 126 and 128
 //! ([`schema`], with all parameter-slot arithmetic in [`schema::layout`]) and the writer
-//! ([`writer`]). No geometry: turning records into NURBS is `nurbsx::exchange::iges`.
+//! ([`writer`]). No geometry: turning records into NURBS is left to the consumer of these records.
 //!
 //! ```
 //! # use nurbsx_parsers::iges;
