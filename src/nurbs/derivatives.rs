@@ -366,20 +366,10 @@ impl NurbsSurface {
         let net = self.control_points();
         let su = find_span(p, net.nu(), self.knots_u(), u);
         let sv = find_span(q, net.nv(), self.knots_v(), v);
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        let mut mag: f64 = 0.0;
-        for i in su - p..=su {
-            for j in sv - q..=sv {
-                let pt = net.get(i, j);
-                for c in 0..3 {
-                    lo[c] = lo[c].min(pt[c]);
-                    hi[c] = hi[c].max(pt[c]);
-                    mag = mag.max(pt[c].abs());
-                }
-            }
-        }
-        let size = norm([hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]]);
+        let local = (su - p..=su).flat_map(|i| net.row(i)[sv - q..=sv].iter());
+        let (lo, hi) = super::bounding_box(local.clone());
+        let mag = local.flatten().fold(0.0_f64, |m, c| m.max(c.abs()));
+        let size = super::distance(lo, hi);
         (1e-10 * size + 1e-14 * mag, size)
     }
 }

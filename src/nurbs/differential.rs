@@ -76,17 +76,9 @@ impl NurbsCurve {
         let p = self.degree();
         let span = find_span(p, self.num_poles(), self.knots(), u);
         let pts = &self.control_points()[span - p..=span];
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        let mut mag: f64 = 0.0;
-        for q in pts {
-            for c in 0..3 {
-                lo[c] = lo[c].min(q[c]);
-                hi[c] = hi[c].max(q[c]);
-                mag = mag.max(q[c].abs());
-            }
-        }
-        let size = norm([hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]]);
+        let (lo, hi) = super::bounding_box(pts);
+        let mag = pts.iter().flatten().fold(0.0_f64, |m, c| m.max(c.abs()));
+        let size = super::distance(lo, hi);
         let (a, b) = self.domain();
         (1e-10 * size + 1e-14 * mag) / (b - a)
     }

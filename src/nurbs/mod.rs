@@ -94,6 +94,35 @@ impl Geometry {
     }
 }
 
+/// Euclidean distance between two points.
+#[inline]
+pub fn distance(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The axis-aligned bounding box `(lo, hi)` of some points (`(+inf, -inf)` when empty).
+pub fn bounding_box<'a>(points: impl IntoIterator<Item = &'a Point3>) -> (Point3, Point3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// The diagonal of the bounding box of some points: the "model size" that relative
+/// tolerances refer to (0 for a single point or no points).
+pub fn bounding_box_diagonal(points: &[Point3]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let (lo, hi) = bounding_box(points);
+    distance(lo, hi)
+}
+
 /// Lifts a Euclidean point with weight `w` to `(w x, w y, w z, w)`.
 #[inline]
 pub fn to_homogeneous(p: Point3, w: f64) -> Hpoint {

@@ -215,14 +215,7 @@ struct Frame {
 
 impl Frame {
     fn of(points: &[Point3]) -> Frame {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for q in points {
-            for k in 0..3 {
-                lo[k] = lo[k].min(q[k]);
-                hi[k] = hi[k].max(q[k]);
-            }
-        }
+        let (lo, hi) = super::bounding_box(points);
         let centre: Point3 = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
         let radius = points
             .iter()

@@ -4,7 +4,7 @@
 use crate::exchange::{
     self, Diagnostic, Document, Entity, ExportOptions, Format, LengthUnit, Location,
 };
-use crate::nurbs::{Geometry, Point3};
+use crate::nurbs::{Geometry, Point3, bounding_box_diagonal, distance};
 
 use super::reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
@@ -356,7 +356,7 @@ fn sampled_deviation(a: &Geometry, b: &Geometry, scale: f64) -> (f64, f64) {
                 let pb = b.point_at_unchecked(lerp(b.domain(), f));
                 worst = worst.max(distance(pa, pb));
             }
-            (worst, box_size(b.control_points()))
+            (worst, bounding_box_diagonal(b.control_points()))
         }
         (Geometry::Surface(a), Geometry::Surface(b)) => {
             let mut worst: f64 = 0.0;
@@ -369,26 +369,10 @@ fn sampled_deviation(a: &Geometry, b: &Geometry, scale: f64) -> (f64, f64) {
                     worst = worst.max(distance(pa, pb));
                 }
             }
-            (worst, box_size(b.control_points().as_slice()))
+            (worst, bounding_box_diagonal(b.control_points().as_slice()))
         }
         _ => (f64::INFINITY, 1.0),
     }
-}
-
-fn distance(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-fn box_size(points: &[Point3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    distance(lo, hi)
 }
 
 fn format_name(f: Format) -> &'static str {
@@ -464,7 +448,7 @@ fn entity_info(e: &Entity) -> EntityInfo {
 /// polygon's size, far below any modelling tolerance and far above the rounding of poles
 /// written with 12+ significant digits.
 fn layout_tolerance(points: &[Point3]) -> f64 {
-    1e-10 * box_size(points).max(f64::MIN_POSITIVE)
+    1e-10 * bounding_box_diagonal(points).max(f64::MIN_POSITIVE)
 }
 
 /// Validates input: parse and geometry diagnostics; a file that cannot be read at all is

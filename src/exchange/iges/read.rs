@@ -537,6 +537,24 @@ fn name_of(entry: &DirectoryEntry) -> Option<String> {
     (!entry.label.is_empty()).then(|| entry.label.clone())
 }
 
+/// Tokenizes one entity's parameters and decodes its typed record, passing the tokenizer's
+/// warnings on; a failure becomes an `iges.entity` error diagnostic and `None`, so the
+/// other entities still load.
+fn decode<T>(
+    file: &IgesFile<'_>,
+    entry: &DirectoryEntry,
+    diags: &mut Vec<Diagnostic>,
+    from_params: impl FnOnce(&iges::Parameters<'_>) -> Result<T, ParseError>,
+) -> Option<T> {
+    let decoded = file.parameters(entry).and_then(|p| {
+        diags.extend(p.warnings.iter().map(warning_diag));
+        from_params(&p)
+    });
+    decoded
+        .map_err(|e| diags.push(parse_diag("iges.entity", &e)))
+        .ok()
+}
+
 fn read_curve(
     file: &IgesFile<'_>,
     entry: &DirectoryEntry,
@@ -545,16 +563,7 @@ fn read_curve(
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = match file.parameters(entry).and_then(|p| {
-        diags.extend(p.warnings.iter().map(warning_diag));
-        Curve126::from_params(&p)
-    }) {
-        Ok(r) => r,
-        Err(e) => {
-            diags.push(parse_diag("iges.entity", &e));
-            return None;
-        }
-    };
+    let rec = decode(file, entry, diags, Curve126::from_params)?;
     if !check_limits(entry, &[rec.degree], rec.points.len(), options, diags) {
         return None;
     }
@@ -678,16 +687,7 @@ fn read_surface(
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = match file.parameters(entry).and_then(|p| {
-        diags.extend(p.warnings.iter().map(warning_diag));
-        Surface128::from_params(&p)
-    }) {
-        Ok(r) => r,
-        Err(e) => {
-            diags.push(parse_diag("iges.entity", &e));
-            return None;
-        }
-    };
+    let rec = decode(file, entry, diags, Surface128::from_params)?;
     if !check_limits(entry, &rec.degree, rec.points.len(), options, diags) {
         return None;
     }

@@ -33,3 +33,11 @@ mod write;
 pub use implicit::{KnotForm, implicit_knots, knot_form};
 pub use read::read;
 pub use write::write;
+
+/// Closure tolerance shared by the reader (checking `closed_curve`/`u_closed` against the
+/// data) and the writer (computing them), so the two always agree: 1e-9 of the control
+/// polygon's bounding-box diagonal, at least 1e-12 ("equal up to rounding" at the
+/// geometry's own scale).
+fn closure_tolerance(points: &[crate::nurbs::Point3]) -> f64 {
+    (crate::nurbs::bounding_box_diagonal(points) * 1e-9).max(1e-12)
+}

@@ -11,12 +11,13 @@ use nurbsx_parsers::step::{
 
 use rayon::prelude::*;
 
+use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_units};
 use crate::exchange::{
     Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta, Source,
 };
-use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
+use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 
 /// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42).
 ///
@@ -493,7 +494,7 @@ impl<'a> Ctx<'_, 'a> {
         meta.self_intersect = r.self_intersect.as_bool();
         if let Some(flag) = r.closed_curve.as_bool() {
             let (a, b) = curve.domain();
-            let gap = dist(curve.point_at_unchecked(a), curve.point_at_unchecked(b));
+            let gap = distance(curve.point_at_unchecked(a), curve.point_at_unchecked(b));
             let tol = closure_tolerance(curve.control_points());
             if flag != (gap <= tol) {
                 diags.push(flag_mismatch(
@@ -609,7 +610,7 @@ impl<'a> Ctx<'_, 'a> {
                         surface.point_at_unchecked(u, v1),
                     )
                 };
-                gap = gap.max(dist(a, b));
+                gap = gap.max(distance(a, b));
             }
             if f != (gap <= tol) {
                 diags.push(flag_mismatch(
@@ -668,22 +669,4 @@ fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<
         }
     }
     Ok(())
-}
-
-fn dist(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-/// Closure tolerance: 1e-9 of the control polygon's bounding-box diagonal (at least 1e-12),
-/// i.e. "equal up to rounding" at the geometry's own scale.
-fn closure_tolerance(points: &[Point3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (dist(lo, hi) * 1e-9).max(1e-12)
 }

@@ -24,11 +24,12 @@ use nurbsx_parsers::step::{
     Body, Builder, DataSection, Exchange, Parameter, Record, write_exchange,
 };
 
+use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
 use crate::exchange::{
     Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, StepSchema,
 };
-use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3, distance};
 
 /// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
 struct Protocol {
@@ -495,22 +496,6 @@ const SURFACE_FORMS: &[&str] = &[
     "UNSPECIFIED",
 ];
 
-fn gap(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-fn tolerance(points: &[Point3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (gap(lo, hi) * 1e-9).max(1e-12)
-}
-
 fn name_of(e: &Entity) -> Parameter<'static> {
     s(e.meta.name.as_deref().unwrap_or(""))
 }
@@ -531,8 +516,8 @@ fn curve(
         .collect();
     let degree = i64::try_from(c.degree()).map_err(|_| "degree out of range".to_owned())?;
     let (d0, d1) = c.domain();
-    let closed =
-        gap(c.point_at_unchecked(d0), c.point_at_unchecked(d1)) <= tolerance(c.control_points());
+    let closed = distance(c.point_at_unchecked(d0), c.point_at_unchecked(d1))
+        <= closure_tolerance(c.control_points());
     let bspline = vec![
         Parameter::Integer(degree),
         Parameter::refs(&pts),
@@ -596,7 +581,7 @@ fn surface(
         .collect();
     let du = i64::try_from(sf.degree_u()).map_err(|_| "degree out of range".to_owned())?;
     let dv = i64::try_from(sf.degree_v()).map_err(|_| "degree out of range".to_owned())?;
-    let tol = tolerance(net.as_slice());
+    let tol = closure_tolerance(net.as_slice());
     let ((u0, u1), (v0, v1)) = sf.domain();
     let mut gap_u: f64 = 0.0;
     let mut gap_v: f64 = 0.0;
@@ -604,11 +589,11 @@ fn surface(
         let t = k as f64 / 8.0;
         let v = v0 + (v1 - v0) * t;
         let u = u0 + (u1 - u0) * t;
-        gap_u = gap_u.max(gap(
+        gap_u = gap_u.max(distance(
             sf.point_at_unchecked(u0, v),
             sf.point_at_unchecked(u1, v),
         ));
-        gap_v = gap_v.max(gap(
+        gap_v = gap_v.max(distance(
             sf.point_at_unchecked(u, v0),
             sf.point_at_unchecked(u, v1),
         ));
