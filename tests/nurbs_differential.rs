@@ -12,28 +12,11 @@
 
 mod common;
 
-use common::{Ends, arb_surface};
+use common::{Ends, arb_surface, cross, dot, norm, sub};
 use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface, Point3};
 use proptest::prelude::*;
 
 const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn norm(a: Point3) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
 
 const SQUARE: [(f64, f64, f64); 9] = [
     (1., 0., 1.),

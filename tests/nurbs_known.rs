@@ -7,35 +7,10 @@
 
 mod common;
 
-use std::f64::consts::FRAC_1_SQRT_2;
-
-use common::dist;
+use common::{circle9, dist};
 use nurbsx::nurbs::bernstein::{all_bernstein, bernstein, bernstein_max, binomial};
 use nurbsx::nurbs::{NurbsCurve, Point3};
 use proptest::prelude::*;
-
-/// The 9-pole circle of radius r (square control polygon, seed 000 figure 2-80).
-fn circle9(r: f64) -> NurbsCurve {
-    let w = FRAC_1_SQRT_2;
-    let sq = [
-        [1., 0.],
-        [1., 1.],
-        [0., 1.],
-        [-1., 1.],
-        [-1., 0.],
-        [-1., -1.],
-        [0., -1.],
-        [1., -1.],
-        [1., 0.],
-    ];
-    NurbsCurve::new(
-        2,
-        vec![0., 0., 0., 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1., 1., 1.],
-        sq.iter().map(|q| [r * q[0], r * q[1], 0.]).collect(),
-        Some(vec![1., w, 1., w, 1., w, 1., w, 1.]),
-    )
-    .unwrap()
-}
 
 /// The 7-pole circle of radius r (equilateral triangle, three 120-degree arcs with middle
 /// weights cos 60 = 1/2).

@@ -9,7 +9,7 @@ mod common;
 use std::collections::HashMap;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
-use common::{Ends, arb_curve, arb_surface, bbox_diagonal, dist};
+use common::{Ends, arb_curve, arb_surface, bbox_diagonal, circle9, dist};
 use nurbsx::nurbs::tessellate::{
     Mesh, Polyline, mesh_to_obj, point_segment_distance, polylines_to_obj, polylines_to_svg,
 };
@@ -47,29 +47,6 @@ fn check_polyline(c: &NurbsCurve, pl: &Polyline) -> Result<(), TestCaseError> {
         }
     }
     Ok(())
-}
-
-/// The 9-pole quadratic NURBS circle of radius r around the origin (seed 000 section 2-23).
-fn circle9(r: f64) -> NurbsCurve {
-    let w = FRAC_1_SQRT_2;
-    let sq = [
-        [1., 0.],
-        [1., 1.],
-        [0., 1.],
-        [-1., 1.],
-        [-1., 0.],
-        [-1., -1.],
-        [0., -1.],
-        [1., -1.],
-        [1., 0.],
-    ];
-    NurbsCurve::new(
-        2,
-        vec![0., 0., 0., 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1., 1., 1.],
-        sq.iter().map(|q| [r * q[0], r * q[1], 0.]).collect(),
-        Some(vec![1., w, 1., w, 1., w, 1., w, 1.]),
-    )
-    .unwrap()
 }
 
 /// A full sphere of radius r: the 5-pole semicircle meridian revolved by the 9-pole circle

@@ -174,3 +174,51 @@ pub fn surface_deviation(a: &NurbsSurface, b: &NurbsSurface, n: usize) -> f64 {
     }
     worst / size
 }
+
+/// `a - b`.
+pub fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Euclidean length.
+pub fn norm(a: Point3) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Dot product.
+pub fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Cross product.
+pub fn cross(a: Point3, b: Point3) -> Point3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The 9-pole quadratic NURBS circle of radius r around the origin in the xy plane (square
+/// control polygon, weights 1 and sqrt(2)/2; seed 000 figure 2-80, section 2-23).
+pub fn circle9(r: f64) -> NurbsCurve {
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let sq = [
+        [1., 0.],
+        [1., 1.],
+        [0., 1.],
+        [-1., 1.],
+        [-1., 0.],
+        [-1., -1.],
+        [0., -1.],
+        [1., -1.],
+        [1., 0.],
+    ];
+    NurbsCurve::new(
+        2,
+        vec![0., 0., 0., 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1., 1., 1.],
+        sq.iter().map(|q| [r * q[0], r * q[1], 0.]).collect(),
+        Some(vec![1., w, 1., w, 1., w, 1., w, 1.]),
+    )
+    .unwrap()
+}
