@@ -122,15 +122,7 @@ pub fn dist(a: Point3, b: Point3) -> f64 {
 /// Diagonal of the axis-aligned box around some points (the "model size" tolerances are
 /// relative to).
 pub fn bbox_diagonal(points: &[Point3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    dist(lo, hi)
+    nurbsx::nurbs::bounding_box_diagonal(points)
 }
 
 /// `samples` parameters spread over `[a, b]`: both ends, every knot inside, and evenly
