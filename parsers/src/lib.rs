@@ -19,6 +19,7 @@
 //! Every error carries a location: STEP errors a line, column and `#id`; IGES errors a
 //! section letter, sequence number, column and DE pointer.
 
+mod decimal;
 pub mod iges;
 pub mod limits;
 pub mod real;

@@ -23,6 +23,8 @@
 
 use std::fmt::Write as _;
 
+use crate::decimal::Decimal;
+
 /// Why a token is not an acceptable REAL.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum RealError {
@@ -188,41 +190,59 @@ pub fn format_real(x: f64) -> Result<String, NonFiniteReal> {
 /// ```
 pub fn parse_step_real(token: &str) -> Result<f64, RealError> {
     let b = token.as_bytes();
-    let mut i = 0;
-    if matches!(b.first(), Some(b'+' | b'-')) {
-        i += 1;
-    }
-    let digits_start = i;
-    while i < b.len() && b[i].is_ascii_digit() {
-        i += 1;
-    }
-    if i == digits_start || b.get(i) != Some(&b'.') {
+    let (d, end) = lex_step(b, 0)?;
+    if end != b.len() {
         return Err(RealError::Syntax);
     }
-    i += 1;
-    while i < b.len() && b[i].is_ascii_digit() {
-        i += 1;
-    }
-    if i < b.len() {
-        if b[i] != b'E' {
-            return Err(RealError::Syntax);
-        }
-        i += 1;
-        if matches!(b.get(i), Some(b'+' | b'-')) {
+    convert(d, b, None)
+}
+
+/// Reads the STEP REAL that starts at `b[start]` and returns it with the offset just past
+/// it, in one pass over the bytes (the lexer of [`parse_step_real`] without the "whole
+/// token" check; the caller decides what may follow). Same values as [`parse_step_real`],
+/// bit for bit.
+///
+/// ```
+/// # use nurbsx_parsers::real::step_real_at;
+/// assert_eq!(step_real_at(b"(1.5,-2.E3)", 1), Ok((1.5, 4)));
+/// assert_eq!(step_real_at(b"(1.5,-2.E3)", 5), Ok((-2000.0, 10)));
+/// ```
+#[inline]
+pub fn step_real_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
+    let (d, end) = lex_step(b, start)?;
+    let token = b.get(start..end).ok_or(RealError::Syntax)?;
+    Ok((convert(d, token, None)?, end))
+}
+
+/// The STEP REAL grammar, read once: `[SIGN] DIGIT {DIGIT} "." {DIGIT} ["E" [SIGN] DIGIT
+/// {DIGIT}]` starting at `start`. Returns the digits and the offset after the token.
+#[inline]
+fn lex_step(b: &[u8], start: usize) -> Result<(Decimal, usize), RealError> {
+    let mut d = Decimal::default();
+    let mut i = start;
+    match b.get(i) {
+        Some(b'-') => {
+            d.negative = true;
             i += 1;
         }
-        let exp_start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == exp_start || i != b.len() {
-            return Err(RealError::Syntax);
-        }
+        Some(b'+') => i += 1,
+        _ => {}
     }
-    if let Some(v) = clinger_fast_path(b) {
-        return Ok(v);
+    let mut acc = Digits::default();
+    let int_start = i;
+    i = acc.run(b, i);
+    if i == int_start || b.get(i) != Some(&b'.') {
+        return Err(RealError::Syntax);
     }
-    finish(token)
+    let frac_start = i + 1;
+    i = acc.run(b, frac_start);
+    let frac_digits = i - frac_start;
+    let mut exp: i64 = 0;
+    if b.get(i) == Some(&b'E') {
+        (exp, i) = lex_exponent(b, i + 1)?;
+    }
+    acc.finish(&mut d, b, frac_digits, exp);
+    Ok((d, i))
 }
 
 /// Parses an IGES 5.3 real (section 2.2.2.3): optional sign, digits with a decimal point
@@ -238,143 +258,215 @@ pub fn parse_step_real(token: &str) -> Result<f64, RealError> {
 /// ```
 pub fn parse_iges_real(token: &str) -> Result<f64, RealError> {
     let b = token.as_bytes();
+    let mut d = Decimal::default();
     let mut i = 0;
-    if matches!(b.first(), Some(b'+' | b'-')) {
-        i += 1;
-    }
-    let int_start = i;
-    while i < b.len() && b[i].is_ascii_digit() {
-        i += 1;
-    }
-    let mut n_digits = i - int_start;
-    if b.get(i) == Some(&b'.') {
-        i += 1;
-        let frac_start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
+    match b.first() {
+        Some(b'-') => {
+            d.negative = true;
             i += 1;
         }
-        n_digits += i - frac_start;
+        Some(b'+') => i += 1,
+        _ => {}
+    }
+    let mut acc = Digits::default();
+    let int_start = i;
+    i = acc.run(b, i);
+    let mut n_digits = i - int_start;
+    let mut frac_digits = 0;
+    if b.get(i) == Some(&b'.') {
+        let frac_start = i + 1;
+        i = acc.run(b, frac_start);
+        frac_digits = i - frac_start;
+        n_digits += frac_digits;
     }
     if n_digits == 0 {
         return Err(RealError::Syntax);
     }
+    let mut exp: i64 = 0;
     let mut exp_letter = None;
-    if i < b.len() {
-        if !matches!(b[i], b'E' | b'e' | b'D' | b'd') {
+    if let Some(&c) = b.get(i) {
+        if !matches!(c, b'E' | b'e' | b'D' | b'd') {
             return Err(RealError::Syntax);
         }
         exp_letter = Some(i);
-        i += 1;
-        if matches!(b.get(i), Some(b'+' | b'-')) {
-            i += 1;
-        }
-        let exp_start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == exp_start || i != b.len() {
+        (exp, i) = lex_exponent(b, i + 1)?;
+        if i != b.len() {
             return Err(RealError::Syntax);
         }
     }
-    if let Some(v) = clinger_fast_path(b) {
-        return Ok(v);
-    }
-    match exp_letter {
-        Some(pos) if matches!(b[pos], b'D' | b'd') => {
-            // Rust's float parser knows only `e`/`E`: rewrite the Fortran exponent letter.
-            let mut buf = [0u8; 64];
-            if b.len() <= buf.len() {
-                buf[..b.len()].copy_from_slice(b);
-                buf[pos] = b'E';
-                let s = std::str::from_utf8(&buf[..b.len()]).map_err(|_| RealError::Syntax)?;
-                finish(s)
-            } else {
-                let mut owned = token.to_owned().into_bytes();
-                owned[pos] = b'E';
-                let s = String::from_utf8(owned).map_err(|_| RealError::Syntax)?;
-                finish(&s)
-            }
-        }
-        _ => finish(token),
-    }
+    acc.finish(&mut d, b, frac_digits, exp);
+    convert(d, b, exp_letter)
 }
 
-/// Exact powers of ten representable in an `f64` (10^0 ..= 10^22).
-const POW10: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
-];
+/// Digits accumulated over the integer and fraction parts of a literal.
+#[derive(Default)]
+struct Digits {
+    /// The value of the digits read, modulo 2^64 (exact while at most 19 of them are
+    /// significant).
+    mantissa: u64,
+    /// Digits read, leading zeros included.
+    count: usize,
+    /// Where the first run started (to recount without leading zeros when `count > 19`).
+    first: Option<usize>,
+}
 
-/// Clinger's fast path (W. D. Clinger, "How to read floating point numbers accurately",
-/// PLDI 1990): when the decimal significand `m` is at most 2^53 and the decimal exponent
-/// `e` is within +-22, both `m` and `10^|e|` are exact `f64`s, so one IEEE multiplication
-/// or division gives the correctly rounded result, bit-identical to std's parser. Returns
-/// `None` otherwise (the caller uses std). `b` must already match the REAL grammar
-/// (`[sign] digits [. digits] [E|e|D|d [sign] digits]`).
-fn clinger_fast_path(b: &[u8]) -> Option<f64> {
-    let mut i = 0;
-    let negative = b.first() == Some(&b'-');
-    if matches!(b.first(), Some(b'+' | b'-')) {
-        i += 1;
-    }
-    let mut m: u64 = 0;
-    let mut frac_digits: i32 = 0;
-    let mut in_frac = false;
-    while let Some(&c) = b.get(i) {
-        match c {
-            b'0'..=b'9' => {
-                // More than 2^53 (or 19 digits) leaves the fast path.
-                m = m.checked_mul(10)?.checked_add(u64::from(c - b'0'))?;
-                if m > 1 << 53 {
-                    return None;
-                }
-                if in_frac {
-                    frac_digits += 1;
-                }
-            }
-            b'.' => in_frac = true,
-            _ => break,
+impl Digits {
+    /// Reads a run of decimal digits from `i`; returns the offset after it. Eight digits
+    /// at a time where the input allows (the multiply-shift "SWAR" conversion of Lemire
+    /// 2021, section 4, also used by std): an 8-digit chunk costs three multiplications
+    /// instead of a dependent multiply-add per digit.
+    #[inline(always)]
+    fn run(&mut self, b: &[u8], mut i: usize) -> usize {
+        if self.first.is_none() {
+            self.first = Some(i);
         }
-        i += 1;
-    }
-    let mut exp: i32 = 0;
-    if i < b.len() {
-        i += 1; // the exponent letter
-        let exp_negative = b.get(i) == Some(&b'-');
-        if matches!(b.get(i), Some(b'+' | b'-')) {
+        let start = i;
+        while let Some(chunk) = b.get(i..i + 8) {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(chunk);
+            let v = u64::from_le_bytes(word);
+            if !all_eight_digits(v) {
+                break;
+            }
+            self.mantissa = self
+                .mantissa
+                .wrapping_mul(100_000_000)
+                .wrapping_add(eight_digits(v));
+            i += 8;
+        }
+        while let Some(&c) = b.get(i) {
+            let digit = c.wrapping_sub(b'0');
+            if digit > 9 {
+                break;
+            }
+            self.mantissa = self
+                .mantissa
+                .wrapping_mul(10)
+                .wrapping_add(u64::from(digit));
             i += 1;
         }
-        for &c in b.get(i..)? {
-            exp = exp
-                .checked_mul(10)?
-                .checked_add(i32::from(c.wrapping_sub(b'0')))?;
-            if exp > 1000 {
-                return None;
-            }
-        }
-        if exp_negative {
-            exp = -exp;
-        }
+        self.count += i - start;
+        i
     }
-    let e = exp - frac_digits;
-    let mf = m as f64; // exact: m <= 2^53
-    let v = if e >= 0 {
-        mf * *POW10.get(usize::try_from(e).ok()?)?
-    } else {
-        mf / *POW10.get(usize::try_from(-e).ok()?)?
-    };
-    Some(if negative { -v } else { v })
+
+    /// Stores mantissa and exponent (`exp - frac_digits`, saturated) in `d`. `b` is the
+    /// literal's text, for counting significant digits when there are many.
+    #[inline(always)]
+    fn finish(self, d: &mut Decimal, b: &[u8], frac_digits: usize, exp: i64) {
+        d.mantissa = self.mantissa;
+        // More than 19 digits: exact only if leading zeros bring it down to 19.
+        d.truncated = self.count > 19 && self.significant(b) > 19;
+        let frac = i64::try_from(frac_digits).unwrap_or(i64::MAX);
+        // Far outside +-400 the value is 0 or infinite whatever the digits; the
+        // saturation keeps the arithmetic in range without changing that outcome.
+        let e = exp.saturating_sub(frac).clamp(-100_000, 100_000);
+        d.exponent = i32::try_from(e).unwrap_or(0);
+    }
+
+    /// Digits from the first non-zero one (the point skipped), for the rare long literal.
+    #[cold]
+    fn significant(&self, b: &[u8]) -> usize {
+        let from = self.first.unwrap_or(0);
+        let digits = b
+            .get(from..)
+            .unwrap_or_default()
+            .iter()
+            .take_while(|c| c.is_ascii_digit() || **c == b'.')
+            .filter(|c| c.is_ascii_digit());
+        let mut n = 0;
+        let mut seen = false;
+        for &c in digits {
+            seen |= c != b'0';
+            n += usize::from(seen);
+        }
+        n
+    }
 }
 
-/// Converts a token already checked against a grammar with the correctly rounded std
-/// parser, and refuses overflow to infinity.
-fn finish(token: &str) -> Result<f64, RealError> {
-    let v: f64 = token.parse().map_err(|_| RealError::Syntax)?;
+/// Whether the eight bytes of `v` (little-endian) are all ASCII digits.
+#[inline(always)]
+fn all_eight_digits(v: u64) -> bool {
+    let a = v.wrapping_add(0x4646_4646_4646_4646);
+    let b = v.wrapping_sub(0x3030_3030_3030_3030);
+    (a | b) & 0x8080_8080_8080_8080 == 0
+}
+
+/// The value of eight ASCII digits (first digit in the lowest byte), by three
+/// multiply-shift steps that combine pairs, then quads.
+#[inline(always)]
+fn eight_digits(v: u64) -> u64 {
+    const MASK: u64 = 0x0000_00FF_0000_00FF;
+    const MUL1: u64 = 0x000F_4240_0000_0064; // 100 + (1000000 << 32)
+    const MUL2: u64 = 0x0000_2710_0000_0001; // 1 + (10000 << 32)
+    let v = v.wrapping_sub(0x3030_3030_3030_3030);
+    let v = v.wrapping_mul(10).wrapping_add(v >> 8);
+    let hi = (v & MASK).wrapping_mul(MUL1);
+    let lo = ((v >> 16) & MASK).wrapping_mul(MUL2);
+    hi.wrapping_add(lo) >> 32
+}
+
+/// `[SIGN] DIGIT {DIGIT}` after an exponent letter; the value saturates (a huge exponent is
+/// still huge) and the offset after the digits is returned.
+#[inline(always)]
+fn lex_exponent(b: &[u8], mut i: usize) -> Result<(i64, usize), RealError> {
+    let negative = match b.get(i) {
+        Some(b'-') => {
+            i += 1;
+            true
+        }
+        Some(b'+') => {
+            i += 1;
+            false
+        }
+        _ => false,
+    };
+    let start = i;
+    let mut exp: i64 = 0;
+    while let Some(&c) = b.get(i) {
+        let digit = c.wrapping_sub(b'0');
+        if digit > 9 {
+            break;
+        }
+        exp = (exp * 10 + i64::from(digit)).min(1 << 40);
+        i += 1;
+    }
+    if i == start {
+        return Err(RealError::Syntax);
+    }
+    Ok((if negative { -exp } else { exp }, i))
+}
+
+/// The value of a lexed literal: the fast paths of [`Decimal::to_f64`], else std's parser
+/// on the token text (`D` exponent rewritten to `E`, the only letter std knows). Refuses
+/// overflow to infinity.
+#[inline]
+fn convert(d: Decimal, token: &[u8], d_exponent_at: Option<usize>) -> Result<f64, RealError> {
+    let v = match d.to_f64() {
+        Some(v) => v,
+        None => slow_parse(token, d_exponent_at)?,
+    };
     if v.is_finite() {
         Ok(v)
     } else {
         Err(RealError::NonFinite)
     }
+}
+
+/// std's correctly rounded parser, for the cases the fast paths leave (more than 19
+/// significant digits, undecided Eisel-Lemire rounding). `token` already matched a grammar.
+#[cold]
+fn slow_parse(token: &[u8], exp_letter: Option<usize>) -> Result<f64, RealError> {
+    let mut owned;
+    let mut text = token;
+    if let Some(pos) = exp_letter.filter(|&p| matches!(token.get(p), Some(b'D' | b'd'))) {
+        owned = token.to_vec();
+        if let Some(c) = owned.get_mut(pos) {
+            *c = b'E';
+        }
+        text = &owned;
+    }
+    let s = std::str::from_utf8(text).map_err(|_| RealError::Syntax)?;
+    s.parse().map_err(|_| RealError::Syntax)
 }
 
 #[cfg(test)]
@@ -517,6 +609,39 @@ mod tests {
                 Ok(v) if v.is_finite() => prop_assert_eq!(parse_iges_real(&s).map(f64::to_bits), Ok(v.to_bits())),
                 _ => prop_assert!(parse_iges_real(&s).is_err()),
             }
+        }
+
+        /// The Eisel-Lemire domain: 15 to 19 significant digits at every decimal exponent
+        /// where a 64-bit significand gives a finite non-zero double, and a little beyond.
+        #[test]
+        fn long_significands_agree_with_std(m in 100_000_000_000_000u64..=u64::MAX, e in -360i32..330, neg in any::<bool>()) {
+            let digits = m.to_string();
+            let (int, frac) = digits.split_at(1);
+            let s = format!("{}{int}.{frac}E{e}", if neg { "-" } else { "" });
+            let std: f64 = s.parse().unwrap();
+            let iges = s.replace('E', "D");
+            if std.is_finite() {
+                prop_assert_eq!(parse_step_real(&s).map(f64::to_bits), Ok(std.to_bits()), "{}", s);
+                prop_assert_eq!(parse_iges_real(&iges).map(f64::to_bits), Ok(std.to_bits()), "{}", iges);
+            } else {
+                prop_assert_eq!(parse_step_real(&s), Err(RealError::NonFinite));
+            }
+        }
+
+        /// Every double's shortest text (positional and scientific) with leading and
+        /// trailing zeros added reads back as that double.
+        #[test]
+        fn padded_shortest_forms_read_back(bits in any::<u64>(), lead in 0usize..25, trail in 0usize..25) {
+            let x = f64::from_bits(bits);
+            prop_assume!(x.is_finite());
+            let sci = format!("{:E}", x.abs());
+            let (mant, exp) = sci.split_once('E').unwrap();
+            let mant = if mant.contains('.') { mant.to_owned() } else { format!("{mant}.") };
+            let sign = if x.is_sign_negative() { "-" } else { "" };
+            let s = format!("{sign}{}{mant}{}E{exp}", "0".repeat(lead), "0".repeat(trail));
+            prop_assert_eq!(parse_step_real(&s).map(f64::to_bits), Ok(bits), "{}", s);
+            let (_, end) = step_real_at(format!("({s},").as_bytes(), 1).unwrap();
+            prop_assert_eq!(end, s.len() + 1);
         }
 
         #[test]

@@ -430,7 +430,7 @@ impl<'f> Parameters<'f> {
         match self.tokens.get(i) {
             Some(t) if t.kind == TokenKind::Empty => Ok(0.0),
             Some(t) if t.kind == TokenKind::Plain => {
-                fast_real(t.text(&self.data)).map_err(|_| self.bad(i, name, "a real"))
+                parse_iges_real(t.text(&self.data)).map_err(|_| self.bad(i, name, "a real"))
             }
             _ => Err(self.bad(i, name, "a real")),
         }
@@ -466,40 +466,5 @@ impl<'f> Parameters<'f> {
             out.push(self.real(i, name)?);
         }
         Ok(())
-    }
-}
-
-/// [`parse_iges_real`] with a fast path: a token made only of digits, signs, `.` and `E`/`e`
-/// goes straight to the standard parser, which accepts exactly the same tokens from that
-/// alphabet (`1.`, `.5`, `1E5`, `-2.5e-7`) and rejects the same malformed ones; `D`
-/// exponents and anything else take the full grammar check.
-#[inline]
-fn fast_real(token: &str) -> Result<f64, crate::real::RealError> {
-    let b = token.as_bytes();
-    if !b.is_empty()
-        && b.iter()
-            .all(|&c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'+' | b'E' | b'e'))
-    {
-        return match token.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(_) => Err(crate::real::RealError::NonFinite),
-            Err(_) => Err(crate::real::RealError::Syntax),
-        };
-    }
-    parse_iges_real(token)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(20_000))]
-        /// The fast path agrees with the full IGES grammar on every token of its alphabet.
-        #[test]
-        fn fast_real_agrees_with_grammar(s in "[0-9.+eE-]{0,12}") {
-            prop_assert_eq!(fast_real(&s), parse_iges_real(&s), "{:?}", s);
-        }
     }
 }

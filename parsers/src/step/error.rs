@@ -169,29 +169,43 @@ fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
     }
 }
 
-/// Maps byte offsets to 1-based line and column numbers; the table of line starts is built
-/// on first use with one `memchr` pass (so files without errors pay nothing until a line
-/// number is asked for).
+/// Maps byte offsets to 1-based line and column numbers. The table is built on first use
+/// with one `memchr` pass (so files without errors pay nothing until a line number is
+/// asked for) and keeps only every [`LineIndex::STRIDE`]-th line start: a 100 MB file has
+/// about a million lines, and a full table (8 MB) would be a visible share of the reader's
+/// peak memory. A lookup counts the at most `STRIDE - 1` newlines after the nearest stored
+/// start.
 #[derive(Debug, Default)]
 pub struct LineIndex {
+    /// `starts[k]` = byte offset where line `k * STRIDE` (0-based) starts.
     starts: OnceLock<Vec<usize>>,
 }
 
 impl LineIndex {
+    /// Lines between two stored line starts.
+    const STRIDE: usize = 64;
+
     /// `(line, column)` of `offset` in `text`, both 1-based.
     pub fn locate(&self, text: &str, offset: usize) -> (usize, usize) {
+        let bytes = text.as_bytes();
         let starts = self.starts.get_or_init(|| {
-            let mut v = Vec::with_capacity(text.len() / 64 + 1);
+            let mut v = Vec::with_capacity(text.len() / (64 * Self::STRIDE) + 1);
             v.push(0);
-            v.extend(memchr::memchr_iter(b'\n', text.as_bytes()).map(|p| p + 1));
+            v.extend(
+                memchr::memchr_iter(b'\n', bytes)
+                    .enumerate()
+                    .filter(|(n, _)| (n + 1) % Self::STRIDE == 0)
+                    .map(|(_, p)| p + 1),
+            );
             v
         });
-        let line = match starts.binary_search(&offset) {
-            Ok(i) => i,
-            Err(i) => i.saturating_sub(1),
-        };
-        let start = starts.get(line).copied().unwrap_or(0);
-        (line + 1, offset.saturating_sub(start) + 1)
+        let offset = offset.min(bytes.len());
+        let block = starts.partition_point(|&s| s <= offset).saturating_sub(1);
+        let from = starts.get(block).copied().unwrap_or(0);
+        let hay = bytes.get(from..offset).unwrap_or_default();
+        let newlines = memchr::memchr_iter(b'\n', hay).count();
+        let line_start = memchr::memrchr(b'\n', hay).map_or(from, |p| from + p + 1);
+        (block * Self::STRIDE + newlines + 1, offset - line_start + 1)
     }
 
     /// A located error at `offset`.
@@ -225,6 +239,27 @@ impl From<(RealError, String)> for ParseErrorKind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sparse_line_index_agrees_with_counting() {
+        // Lines of varying length, CRLF and empty lines, across several index strides.
+        let mut text = String::new();
+        for i in 0..1000 {
+            text.push_str(&"x".repeat(i % 7));
+            text.push_str(if i % 3 == 0 { "\r\n" } else { "\n" });
+        }
+        let index = LineIndex::default();
+        for offset in (0..=text.len()).step_by(3).chain([text.len()]) {
+            let before = &text[..offset];
+            let line = before.matches('\n').count() + 1;
+            let column = offset - before.rfind('\n').map_or(0, |p| p + 1) + 1;
+            assert_eq!(
+                index.locate(&text, offset),
+                (line, column),
+                "offset {offset}"
+            );
+        }
+    }
 
     #[test]
     fn long_cycles_are_shortened() {

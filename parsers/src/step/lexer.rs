@@ -59,7 +59,19 @@ impl<'a> Cursor<'a> {
     }
 
     /// Skips whitespace and `/* ... */` comments (clause 6.5: allowed between any tokens).
+    #[inline]
     pub(crate) fn skip_ws(&mut self) -> LResult<()> {
+        // Most calls find a token character right away: answer without entering the loop.
+        match self.peek() {
+            Some(c) if c > b' ' && c != b'/' => return Ok(()),
+            None => return Ok(()),
+            _ => {}
+        }
+        self.skip_ws_slow()
+    }
+
+    /// [`Cursor::skip_ws`] once whitespace or a `/` was seen.
+    fn skip_ws_slow(&mut self) -> LResult<()> {
         loop {
             match self.peek() {
                 Some(b' ' | b'\t' | b'\r' | b'\n' | b'\x0c') => self.pos += 1,
@@ -127,16 +139,20 @@ impl<'a> Cursor<'a> {
             }
         }
         let mut lower = false;
-        while let Some(c) = self.peek() {
-            if c.is_ascii_uppercase() || c.is_ascii_digit() || c == b'_' {
-                self.pos += 1;
-            } else if c.is_ascii_lowercase() {
-                lower = true;
-                self.pos += 1;
-            } else {
-                break;
+        let b = self.bytes();
+        let mut i = self.pos;
+        while i < self.end {
+            let Some(&c) = b.get(i) else { break };
+            match KEYWORD_CLASS[usize::from(c)] {
+                KW_OK => i += 1,
+                KW_LOWER => {
+                    lower = true;
+                    i += 1;
+                }
+                _ => break,
             }
         }
+        self.pos = i;
         let kw = self.text.get(start..self.pos).unwrap_or_default();
         if lower {
             return Err((ParseErrorKind::LowercaseKeyword(kw.to_owned()), start));
@@ -358,9 +374,9 @@ impl<'a> Cursor<'a> {
             Some(b'#') => {
                 self.pos += 1;
                 let id = self.digits();
-                match id.parse::<u64>() {
-                    Ok(v) if !id.is_empty() => Ok(Parameter::Reference(v)),
-                    _ => Err((ParseErrorKind::InvalidId(id.to_owned()), start)),
+                match decimal_u64(id.as_bytes()) {
+                    Some(v) => Ok(Parameter::Reference(v)),
+                    None => Err((ParseErrorKind::InvalidId(id.to_owned()), start)),
                 }
             }
             Some(b'$') => {
@@ -390,11 +406,17 @@ impl<'a> Cursor<'a> {
     /// included), so `1.52.3` and `1.e5` are one bad token, not a number and garbage.
     fn number(&mut self) -> LResult<Parameter<'a>> {
         let start = self.pos;
+        // Fast path, one pass: a well-formed REAL followed by a delimiter. Anything else
+        // (integers, malformed tokens) takes the token-then-check path below, which gives
+        // the same values and the errors.
+        if let Ok((v, end)) = crate::real::step_real_at(self.bytes(), start) {
+            if end <= self.end && !self.bytes().get(end).is_some_and(|&c| is_number_char(c)) {
+                self.pos = end;
+                return Ok(Parameter::Real(v));
+            }
+        }
         self.pos += 1;
-        while self
-            .peek()
-            .is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'+' | b'-' | b'_'))
-        {
+        while self.peek().is_some_and(is_number_char) {
             self.pos += 1;
         }
         let token = self.text.get(start..self.pos).unwrap_or_default();
@@ -413,12 +435,83 @@ impl<'a> Cursor<'a> {
                     start,
                 ));
             }
+            let magnitude = decimal_u64(digits.as_bytes()).and_then(|m| i64::try_from(m).ok());
+            if let Some(m) = magnitude {
+                return Ok(Parameter::Integer(if token.starts_with('-') {
+                    -m
+                } else {
+                    m
+                }));
+            }
+            // i64::MIN and overflow: std decides and reports.
             token
                 .parse::<i64>()
                 .map(Parameter::Integer)
                 .map_err(|_| (ParseErrorKind::IntegerOverflow(token.to_owned()), start))
         }
     }
+}
+
+/// [`KEYWORD_CLASS`] values: not a keyword character, an upper-case letter / digit / `_`,
+/// a lower-case letter (an error, reported by the caller).
+const KW_NO: u8 = 0;
+const KW_OK: u8 = 1;
+const KW_LOWER: u8 = 2;
+
+/// Character classes for keyword scanning, one table lookup per byte.
+static KEYWORD_CLASS: [u8; 256] = {
+    let mut t = [KW_NO; 256];
+    let mut c = 0;
+    while c < 256 {
+        // c < 256: the cast is exact.
+        #[allow(clippy::cast_possible_truncation)]
+        let b = c as u8;
+        t[c] = if b.is_ascii_uppercase() || b.is_ascii_digit() || b == b'_' {
+            KW_OK
+        } else if b.is_ascii_lowercase() {
+            KW_LOWER
+        } else {
+            KW_NO
+        };
+        c += 1;
+    }
+    t
+};
+
+/// Whether `c` can be part of a number token (the lexer takes the maximal run of these as
+/// one token, so `1.52.3` and `1.e5` are one bad token, not a number and garbage).
+#[inline]
+pub(crate) fn is_number_char(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || matches!(c, b'.' | b'+' | b'-' | b'_')
+}
+
+/// The value of a non-empty run of ASCII digits, `None` if empty, not all digits, or above
+/// `u64::MAX`. Inline arithmetic: ids and integers are the most frequent tokens.
+#[inline]
+pub(crate) fn decimal_u64(digits: &[u8]) -> Option<u64> {
+    if digits.is_empty() {
+        return None;
+    }
+    let mut v: u64 = 0;
+    if digits.len() <= 19 {
+        // At most 19 digits cannot overflow a u64.
+        for &c in digits {
+            let d = c.wrapping_sub(b'0');
+            if d > 9 {
+                return None;
+            }
+            v = v * 10 + u64::from(d);
+        }
+        return Some(v);
+    }
+    for &c in digits {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            return None;
+        }
+        v = v.checked_mul(10)?.checked_add(u64::from(d))?;
+    }
+    Some(v)
 }
 
 /// The index of the apostrophe closing the string that opens at `b[start]` (doubled

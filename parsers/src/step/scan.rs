@@ -18,18 +18,36 @@ use super::lexer::{Cursor, LexError, ParamLimits, statement_end};
 use crate::Limits;
 
 /// An entity instance found by [`scan`], not yet decoded.
+///
+/// Kept small (40 bytes): a large file has one per statement, alive for the whole read, so
+/// its size is a direct share of the reader's peak memory (issue: peak <= 2x file size).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawInstance<'a> {
     /// The instance name `n` of `#n`.
     pub id: u64,
     /// Byte offset of the `#`.
     pub offset: usize,
-    /// Byte offset where the body (after `=`) starts.
-    pub body_offset: usize,
     /// The body text, from after `=` to before `;`.
     pub body: &'a str,
+    /// `body`'s offset minus `offset` (`#12 = ` is 6).
+    head_len: u32,
+    /// Length of the keyword at the start of `body`; 0 for a complex instance `( ... )`.
+    keyword_len: u32,
+}
+
+impl<'a> RawInstance<'a> {
+    /// Byte offset where the body (after `=`) starts.
+    pub fn body_offset(&self) -> usize {
+        self.offset + self.head_len as usize
+    }
+
     /// The keyword of a simple instance; `None` for a complex instance `( ... )`.
-    pub keyword: Option<&'a str>,
+    pub fn keyword(&self) -> Option<&'a str> {
+        match self.keyword_len {
+            0 => None,
+            n => self.body.get(..n as usize),
+        }
+    }
 }
 
 /// A data section as found by [`scan`].
@@ -296,8 +314,8 @@ impl<'a> Scanned<'a> {
 
     /// Decodes an instance's parameters.
     pub fn decode(&self, raw: &RawInstance<'a>) -> Result<Instance<'a>, ParseError> {
-        let end = raw.body_offset + raw.body.len();
-        let mut c = Cursor::new(self.text, raw.body_offset, end);
+        let end = raw.body_offset() + raw.body.len();
+        let mut c = Cursor::new(self.text, raw.body_offset(), end);
         c.body(self.limits)
             .map(|body| Instance { id: raw.id, body })
             .map_err(|(kind, at)| self.error_at(kind, at, Some(raw.id)))
@@ -446,6 +464,7 @@ impl<'a> Scanned<'a> {
         end_of_keyword_statement(c).map_err(|e| err(self, e))?;
         let first = self.instances.len();
         let bytes = self.text.as_bytes();
+        self.reserve_instances(bytes, c.pos, limits);
         loop {
             if let Err(e) = c.skip_ws() {
                 self.errors.push(err(self, e));
@@ -488,12 +507,26 @@ impl<'a> Scanned<'a> {
                             Some(id),
                         ));
                     }
+                    // `#id =` heads and keywords longer than 4 GiB cannot be represented;
+                    // they are reported instead of truncated.
+                    let (Ok(head_len), Ok(keyword_len)) = (
+                        u32::try_from(body_offset - start),
+                        u32::try_from(keyword.map_or(0, str::len)),
+                    ) else {
+                        self.errors.push(self.error_at(
+                            ParseErrorKind::InvalidId("(statement head too long)".to_owned()),
+                            start,
+                            Some(id),
+                        ));
+                        c.pos = end + 1;
+                        continue;
+                    };
                     self.instances.push(RawInstance {
                         id,
                         offset: start,
-                        body_offset,
                         body: self.text.get(body_offset..end).unwrap_or_default(),
-                        keyword,
+                        head_len,
+                        keyword_len,
                     });
                 }
                 Err((k, at, id)) => self.errors.push(self.error_at(k, at, id)),
@@ -505,6 +538,26 @@ impl<'a> Scanned<'a> {
             instances: first..self.instances.len(),
         });
         Ok(())
+    }
+
+    /// Reserves room for the instances of a DATA section starting at `from`, estimated
+    /// from the statements in its first 256 KiB (plus a margin), so the vector is not
+    /// re-grown and copied while scanning a large file. Capacity that is never used is
+    /// never touched, so an over-estimate costs address space, not memory; the estimate
+    /// is capped by the entity limit and a failed reservation is ignored.
+    fn reserve_instances(&mut self, bytes: &[u8], from: usize, limits: &Limits) {
+        const SAMPLE: usize = 256 * 1024;
+        let rest = bytes.len().saturating_sub(from);
+        if rest <= SAMPLE {
+            return;
+        }
+        let sample = bytes.get(from..from + SAMPLE).unwrap_or_default();
+        let statements = memchr::memchr_iter(b';', sample).count().max(1);
+        let estimate = (rest / SAMPLE + 1)
+            .saturating_mul(statements)
+            .saturating_add(statements / 8)
+            .min(limits.max_entities);
+        let _ = self.instances.try_reserve(estimate);
     }
 
     /// Builds the `#id` index; a duplicate id is a recovered error (the first one wins).
@@ -592,9 +645,9 @@ fn instance_head(
         c.pos += 1;
     }
     let digits = text.get(from..c.pos).unwrap_or_default();
-    let id = match digits.parse::<u64>() {
-        Ok(id) if !digits.is_empty() => id,
-        _ => {
+    let id = match super::lexer::decimal_u64(digits.as_bytes()) {
+        Some(id) => id,
+        None => {
             let shown: String = text
                 .get(from..end)
                 .unwrap_or_default()

@@ -607,7 +607,7 @@ impl<'a> CartesianPoint<'a> {
     /// which handles and reports everything. Same values as the general path, bit for bit
     /// (both use [`parse_step_real`](crate::real::parse_step_real)).
     pub fn coordinates_fast(raw: &super::RawInstance<'_>) -> Option<([f64; 3], usize)> {
-        if raw.keyword != Some("CARTESIAN_POINT") {
+        if raw.keyword() != Some("CARTESIAN_POINT") {
             return None;
         }
         let b = raw.body.as_bytes();
@@ -643,15 +643,16 @@ impl<'a> CartesianPoint<'a> {
         let mut n = 0;
         loop {
             ws(&mut i);
-            let start = i;
-            while b
-                .get(i)
-                .is_some_and(|c| c.is_ascii_digit() || matches!(c, b'.' | b'+' | b'-' | b'E'))
-            {
-                i += 1;
+            let (value, end) = crate::real::step_real_at(b, i).ok()?;
+            // The general lexer takes the maximal run of number characters as one token:
+            // `1.5E3X` or `1.5.2` must fail here too, not read as `1.5E3`, `1.5`.
+            if b.get(end).is_some_and(|c| {
+                c.is_ascii_alphanumeric() || matches!(c, b'.' | b'+' | b'-' | b'_')
+            }) {
+                return None;
             }
-            let token = raw.body.get(start..i)?;
-            *out.get_mut(n)? = crate::real::parse_step_real(token).ok()?;
+            i = end;
+            *out.get_mut(n)? = value;
             n += 1;
             ws(&mut i);
             match b.get(i) {

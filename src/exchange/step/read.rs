@@ -88,7 +88,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
 /// substring search of their body.
 fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
-    match raw.keyword {
+    match raw.keyword() {
         // A keyword with lower-case letters is a syntax error (ISO 10303-21 6.4); decoding
         // it reports that, where skipping it would silently drop a `b_spline_curve...`.
         Some(k) if k.bytes().any(|b| b.is_ascii_lowercase()) => true,

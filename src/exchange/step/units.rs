@@ -176,7 +176,7 @@ pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitP
     let mut found = Vec::new();
     let mut problems = Vec::new();
     for raw in &s.instances {
-        if raw.keyword.is_some() || !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+        if raw.keyword().is_some() || !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
