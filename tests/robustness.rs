@@ -171,13 +171,14 @@ fn read_doc(bytes: &[u8]) -> exchange::Document {
 
 // ------------------------------------------------------------------ limits
 
+fn sample_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("samples/freecad")
+        .join(name)
+}
+
 fn sample(name: &str) -> Vec<u8> {
-    std::fs::read(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples/freecad")
-            .join(name),
-    )
-    .unwrap()
+    std::fs::read(sample_path(name)).unwrap()
 }
 
 /// Reads `bytes` with `limits`; returns every error code (file-level or per entity).
@@ -529,4 +530,121 @@ fn empty_model_round_trips_through_iges() {
     let cut: String = text.lines().take(5).map(|l| format!("{l}\n")).collect();
     let e = exchange::read(cut.as_bytes(), &ImportOptions::default()).unwrap_err();
     assert_eq!(e.code, "iges.syntax");
+}
+
+/// Every limit is a CLI flag and an environment variable (issue 8), and each reaches the
+/// check it names: over the limit gives its `limit.*` code and exit 1, the same run with
+/// the default passes. Flag and variable are both tried; a flag wins over the variable.
+#[test]
+fn every_limit_is_a_flag_and_an_environment_variable() {
+    let surface = sample_path("surf_bicubic.step");
+    let surface = surface.to_str().unwrap();
+    let out_dir = std::env::temp_dir().join(format!("nurbsx-limits-{}", std::process::id()));
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let out = |name: &str| out_dir.join(name).to_string_lossy().into_owned();
+    let (elevated, mesh) = (out("e.step"), out("m.obj"));
+    // (flag, env var, tight value, code, command after the global options)
+    let cases: Vec<(&str, &str, &str, &str, Vec<&str>)> = vec![
+        (
+            "--max-input-bytes",
+            "NURBSX_MAX_INPUT_BYTES",
+            "100",
+            "limit.input_bytes",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-entities",
+            "NURBSX_MAX_ENTITIES",
+            "3",
+            "limit.entities",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-nesting-depth",
+            "NURBSX_MAX_NESTING_DEPTH",
+            "1",
+            "limit.nesting_depth",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-params",
+            "NURBSX_MAX_PARAMS",
+            "5",
+            "limit.params_per_entity",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-poles",
+            "NURBSX_MAX_POLES",
+            "3",
+            "limit.poles",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-degree",
+            "NURBSX_MAX_DEGREE",
+            "2",
+            "limit.degree",
+            vec!["validate", surface],
+        ),
+        (
+            "--max-eval-points",
+            "NURBSX_MAX_EVAL_POINTS",
+            "2",
+            "limit.eval_points",
+            vec![
+                "evaluate", surface, "--entity", "#34", "--at", "0.1,0.1", "--at", "0.2,0.2",
+                "--at", "0.3,0.3",
+            ],
+        ),
+        (
+            "--max-elevate-by",
+            "NURBSX_MAX_ELEVATE_BY",
+            "1",
+            "limit.elevate_by",
+            vec!["elevate", surface, "--by", "2", "-o", &elevated],
+        ),
+        (
+            "--max-mesh-vertices",
+            "NURBSX_MAX_MESH_VERTICES",
+            "10",
+            "limit.mesh_vertices",
+            vec!["tessellate", surface, "--tolerance", "0.001", "-o", &mesh],
+        ),
+    ];
+    let run = |global: &[&str], env: Option<(&str, &str)>, cmd: &[&str]| {
+        let mut c = Command::new(BIN);
+        c.args(global).args(cmd);
+        for (_, var, ..) in &cases {
+            c.env_remove(var);
+        }
+        if let Some((k, v)) = env {
+            c.env(k, v);
+        }
+        let o = c.output().unwrap();
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        (o.status.code(), text)
+    };
+    for (flag, var, tight, code, cmd) in &cases {
+        let (status, text) = run(&[], None, cmd);
+        assert_eq!(status, Some(0), "{cmd:?} passes with the defaults:\n{text}");
+        assert!(!text.contains(code), "{cmd:?} with defaults:\n{text}");
+        let (status, text) = run(&[flag, tight], None, cmd);
+        assert_eq!(status, Some(1), "{flag} {tight}:\n{text}");
+        assert!(text.contains(code), "{flag} {tight} gives {code}:\n{text}");
+        let (status, text) = run(&[], Some((var, tight)), cmd);
+        assert_eq!(status, Some(1), "{var}={tight}:\n{text}");
+        assert!(text.contains(code), "{var}={tight} gives {code}:\n{text}");
+        // The flag wins over the variable.
+        let (status, text) = run(&[flag, "1000000000"], Some((var, tight)), cmd);
+        assert_eq!(status, Some(0), "{flag} overrides {var}:\n{text}");
+    }
+    // Zero is refused as a usage error: a limit of 0 would refuse everything.
+    let (status, text) = run(&["--max-poles", "0"], None, &["validate", surface]);
+    assert_eq!(status, Some(2), "{text}");
+    let _ = std::fs::remove_dir_all(&out_dir);
 }

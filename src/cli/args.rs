@@ -32,6 +32,10 @@ Exit codes:
      or (batch) any file failed
   2  usage error (bad flag or value) or I/O error (missing file, unwritable output)
 
+Limits: every --max-* option can also be set by an environment variable
+(--max-poles = NURBSX_MAX_POLES, ...; a flag wins). Exceeding a limit is an error with a
+`limit.*` code, reported before the work or memory it would cost.
+
 Logging: -v / -q, or RUST_LOG (e.g. RUST_LOG=nurbsx=debug); logs go to stderr.";
 
 /// `nurbsx`: exact NURBS exchange between IGES 5.3 and STEP.
@@ -70,11 +74,48 @@ pub struct GlobalArgs {
     pub log_format: LogFormat,
     /// Highest B-spline degree accepted when reading and produced by operations
     /// (default 25, as Open CASCADE).
-    #[arg(long, value_name = "N", global = true, help_heading = "Global options")]
+    #[arg(
+        long,
+        env = "NURBSX_MAX_DEGREE",
+        value_name = "N",
+        global = true,
+        help_heading = "Limits"
+    )]
     pub max_degree: Option<usize>,
     /// Largest input file accepted, e.g. 512MiB (default 2GiB).
-    #[arg(long, value_name = "SIZE", value_parser = parse_bytes, global = true, help_heading = "Global options")]
+    #[arg(long, env = "NURBSX_MAX_INPUT_BYTES", value_name = "SIZE", value_parser = parse_bytes, global = true, help_heading = "Limits")]
     pub max_input_bytes: Option<usize>,
+    /// Most STEP entity instances / IGES directory entries in one file (default 50000000).
+    #[arg(long, env = "NURBSX_MAX_ENTITIES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_entities: Option<usize>,
+    /// Deepest nesting of parenthesised STEP lists (default 64; real files nest 3-4 deep).
+    #[arg(long, env = "NURBSX_MAX_NESTING_DEPTH", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_nesting_depth: Option<usize>,
+    /// Most parameters in one STEP instance or IGES entity, list elements included
+    /// (default 50000000).
+    #[arg(long, env = "NURBSX_MAX_PARAMS", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_params: Option<usize>,
+    /// Most control points in one curve or surface (default 25000000).
+    #[arg(long, env = "NURBSX_MAX_POLES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_poles: Option<usize>,
+    /// Most parameters evaluated in one `evaluate` call or HTTP request (default 10000000).
+    #[arg(long, env = "NURBSX_MAX_EVAL_POINTS", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_eval_points: Option<usize>,
+    /// Largest degree elevation in one `elevate` call or request (default 20).
+    #[arg(long, env = "NURBSX_MAX_ELEVATE_BY", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_elevate_by: Option<usize>,
+    /// Most vertices one tessellation may produce (default 20000000).
+    #[arg(long, env = "NURBSX_MAX_MESH_VERTICES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    pub max_mesh_vertices: Option<usize>,
+}
+
+/// A limit value: a whole number of at least 1 (a limit of 0 would refuse everything).
+fn positive(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("must be at least 1".to_owned()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(format!("not a whole number: {e}")),
+    }
 }
 
 /// How log lines are written.

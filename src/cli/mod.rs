@@ -197,6 +197,26 @@ fn settings_from(g: &GlobalArgs) -> Settings {
     if let Some(b) = g.max_input_bytes {
         s.import.limits.max_input_bytes = b;
     }
+    let limits = &mut s.import.limits;
+    for (flag, field) in [
+        (g.max_entities, &mut limits.max_entities),
+        (g.max_nesting_depth, &mut limits.max_nesting_depth),
+        (g.max_params, &mut limits.max_params_per_entity),
+        (g.max_poles, &mut limits.max_poles),
+    ] {
+        if let Some(v) = flag {
+            *field = v;
+        }
+    }
+    for (flag, field) in [
+        (g.max_eval_points, &mut s.max_eval_points),
+        (g.max_elevate_by, &mut s.max_elevate_by),
+        (g.max_mesh_vertices, &mut s.max_mesh_vertices),
+    ] {
+        if let Some(v) = flag {
+            *field = v;
+        }
+    }
     s
 }
 
