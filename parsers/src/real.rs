@@ -334,6 +334,20 @@ impl Digits {
                 .wrapping_add(eight_digits(v));
             i += 8;
         }
+        // Then four at a time (the typical 13-17 digit coordinate leaves 5-7 after the
+        // eights), then singles.
+        if let Some(chunk) = b.get(i..i + 4) {
+            let mut word = [0u8; 4];
+            word.copy_from_slice(chunk);
+            let v = u32::from_le_bytes(word);
+            if all_four_digits(v) {
+                self.mantissa = self
+                    .mantissa
+                    .wrapping_mul(10_000)
+                    .wrapping_add(u64::from(four_digits(v)));
+                i += 4;
+            }
+        }
         while let Some(&c) = b.get(i) {
             let digit = c.wrapping_sub(b'0');
             if digit > 9 {
@@ -389,6 +403,23 @@ fn all_eight_digits(v: u64) -> bool {
     let a = v.wrapping_add(0x4646_4646_4646_4646);
     let b = v.wrapping_sub(0x3030_3030_3030_3030);
     (a | b) & 0x8080_8080_8080_8080 == 0
+}
+
+/// Whether the four bytes of `v` (little-endian) are all ASCII digits.
+#[inline(always)]
+fn all_four_digits(v: u32) -> bool {
+    let a = v.wrapping_add(0x4646_4646);
+    let b = v.wrapping_sub(0x3030_3030);
+    (a | b) & 0x8080_8080 == 0
+}
+
+/// The value of four ASCII digits (first digit in the lowest byte): pairs, then the two
+/// pairs combined as `100 * first + second` in bits 16..32.
+#[inline(always)]
+fn four_digits(v: u32) -> u32 {
+    let v = v.wrapping_sub(0x3030_3030);
+    let v = v.wrapping_mul(10).wrapping_add(v >> 8);
+    ((v & 0x00FF_00FF).wrapping_mul(0x0064_0001) >> 16) & 0xFFFF
 }
 
 /// The value of eight ASCII digits (first digit in the lowest byte), by three
@@ -626,6 +657,29 @@ mod tests {
             } else {
                 prop_assert_eq!(parse_step_real(&s), Err(RealError::NonFinite));
             }
+        }
+
+        /// The SWAR digit kernels against the digits' plain value.
+        #[test]
+        fn swar_digit_kernels(n in 0u64..100_000_000) {
+            let eight = format!("{n:08}");
+            let v = u64::from_le_bytes(eight.as_bytes().try_into().unwrap());
+            prop_assert!(all_eight_digits(v));
+            prop_assert_eq!(eight_digits(v), n);
+            let four = format!("{:04}", n % 10_000);
+            let w = u32::from_le_bytes(four.as_bytes().try_into().unwrap());
+            prop_assert!(all_four_digits(w));
+            prop_assert_eq!(u64::from(four_digits(w)), n % 10_000);
+        }
+
+        /// One non-digit byte anywhere, of any value, is seen.
+        #[test]
+        fn swar_digit_checks_see_every_non_digit(n in 0u64..100_000_000, at in 0usize..8, c in any::<u8>()) {
+            prop_assume!(!c.is_ascii_digit());
+            let mut eight = format!("{n:08}").into_bytes();
+            eight[at] = c;
+            prop_assert!(!all_eight_digits(u64::from_le_bytes(eight[..].try_into().unwrap())));
+            prop_assert!(!all_four_digits(u32::from_le_bytes(eight[at / 4 * 4..at / 4 * 4 + 4].try_into().unwrap())));
         }
 
         /// Every double's shortest text (positional and scientific) with leading and
