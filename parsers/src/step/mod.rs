@@ -24,6 +24,8 @@ pub mod writer;
 
 pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};
 pub use error::{LineIndex, ParseError, ParseErrorKind, SchemaError};
-pub use scan::{Parsed, RawInstance, Scanned, SectionInfo, for_each_reference, parse, scan};
+pub use scan::{
+    Parsed, RawInstance, Scanned, SectionInfo, for_each_reference, parse, scan, scan_parallel,
+};
 pub use string::{StepString, StringError, encode_string};
 pub use writer::{Builder, write_exchange};

@@ -195,6 +195,33 @@ pub fn for_each_reference(body: &Body<'_>, mut f: impl FnMut(u64)) {
 
 /// Scans the file structure and locates every instance (see the module documentation).
 pub fn scan<'a>(text: &'a str, limits: &Limits) -> Result<Scanned<'a>, ParseError> {
+    scan_impl(text, limits, 1, PARALLEL_MIN_BYTES)
+}
+
+/// [`scan`] using up to `threads` threads for large DATA sections: the section is cut into
+/// `threads` pieces at likely statement starts (`;` then `#`), the pieces are scanned at
+/// the same time, and each piece is kept only if the scan of the piece before it ended
+/// exactly where it starts (a cut inside a string or comment is detected that way and the
+/// rest is scanned sequentially). The result is identical to [`scan`]'s, instances and
+/// errors in file order.
+pub fn scan_parallel<'a>(
+    text: &'a str,
+    limits: &Limits,
+    threads: usize,
+) -> Result<Scanned<'a>, ParseError> {
+    scan_impl(text, limits, threads, PARALLEL_MIN_BYTES)
+}
+
+/// Below this many bytes a DATA section is scanned by one thread (a thread start costs
+/// more than scanning a few megabytes is worth splitting).
+const PARALLEL_MIN_BYTES: usize = 4 << 20;
+
+fn scan_impl<'a>(
+    text: &'a str,
+    limits: &Limits,
+    threads: usize,
+    parallel_min_bytes: usize,
+) -> Result<Scanned<'a>, ParseError> {
     let lines = LineIndex::default();
     if text.len() > limits.max_input_bytes {
         return Err(lines.error(
@@ -256,7 +283,7 @@ pub fn scan<'a>(text: &'a str, limits: &Limits) -> Result<Scanned<'a>, ParseErro
             end_of_keyword_statement(&mut c).map_err(|e| fatal(&s, e))?;
             ended = true;
         } else if section_keyword(&c, "DATA") {
-            s.scan_data(&mut c, limits)?;
+            s.scan_data(&mut c, limits, threads, parallel_min_bytes)?;
         } else if let Some(name) = ["ANCHOR", "REFERENCE", "SIGNATURE"]
             .into_iter()
             .find(|k| section_keyword(&c, k))
@@ -278,6 +305,169 @@ pub fn scan<'a>(text: &'a str, limits: &Limits) -> Result<Scanned<'a>, ParseErro
     }
     s.build_index(limits);
     Ok(s)
+}
+
+/// How a run of statements ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum RunEnd {
+    /// At the first statement boundary at or after the requested stop (the offset just
+    /// after that statement's `;`).
+    Stop(usize),
+    /// At `ENDSEC;` (the offset after its `;`).
+    EndSec(usize),
+    /// At the end of the input (the section is not closed, or an unterminated string or
+    /// comment swallowed the rest).
+    #[default]
+    Eof,
+}
+
+/// The statements of one piece of a DATA section, as [`scan_statements`] found them.
+#[derive(Debug, Default)]
+struct Run<'a> {
+    /// Where the piece started.
+    from: usize,
+    instances: Vec<RawInstance<'a>>,
+    errors: Vec<ParseError>,
+    end: RunEnd,
+    /// An error that ends the scan of the file (bad `ENDSEC`, entity limit).
+    fatal: Option<ParseError>,
+}
+
+/// Scans entity instances from `from` until `ENDSEC;`, the end of input, or the first
+/// statement boundary at or after `stop` (ISO 10303-21 clause 10: `#id = body;`). Errors
+/// are recovered from per statement: scanning resumes after the statement's `;`.
+fn scan_statements<'a>(
+    text: &'a str,
+    lines: &LineIndex,
+    from: usize,
+    stop: usize,
+    limits: &Limits,
+) -> Run<'a> {
+    let bytes = text.as_bytes();
+    let mut run = Run {
+        from,
+        ..Run::default()
+    };
+    let error = |k, at, id| lines.error(text, k, at, id);
+    let mut c = Cursor::new(text, from, text.len());
+    loop {
+        if c.pos >= stop {
+            run.end = RunEnd::Stop(c.pos);
+            return run;
+        }
+        if let Err((k, at)) = c.skip_ws() {
+            run.errors.push(error(k, at, None));
+            c.pos = c.end;
+        }
+        if c.peek().is_none() {
+            run.errors.push(error(
+                ParseErrorKind::Missing("ENDSEC; closing DATA"),
+                c.pos,
+                None,
+            ));
+            run.end = RunEnd::Eof;
+            return run;
+        }
+        if section_keyword(&c, "ENDSEC") {
+            c.pos += "ENDSEC".len();
+            if let Err((k, at)) = end_of_keyword_statement(&mut c) {
+                run.fatal = Some(error(k, at, None));
+            }
+            run.end = RunEnd::EndSec(c.pos);
+            return run;
+        }
+        let start = c.pos;
+        let end = match statement_end(bytes, start) {
+            Ok(e) => e,
+            Err((k, at)) => {
+                // An unterminated string or comment swallows the rest of the file.
+                // Name the instance it started in (a truncated file's last one).
+                let id = match instance_head(text, start, text.len()) {
+                    Ok((id, _, _)) => Some(id),
+                    Err((_, _, id)) => id,
+                };
+                run.errors.push(error(k, at, id));
+                c.pos = c.end;
+                continue;
+            }
+        };
+        match instance_head(text, start, end) {
+            Ok((id, body_offset, keyword)) => {
+                if run.instances.len() >= limits.max_entities {
+                    run.fatal = Some(error(
+                        ParseErrorKind::TooManyInstances(limits.max_entities),
+                        start,
+                        Some(id),
+                    ));
+                    run.end = RunEnd::Eof;
+                    return run;
+                }
+                // `#id =` heads and keywords longer than 4 GiB cannot be represented;
+                // they are reported instead of truncated.
+                match (
+                    u32::try_from(body_offset - start),
+                    u32::try_from(keyword.map_or(0, str::len)),
+                ) {
+                    (Ok(head_len), Ok(keyword_len)) => run.instances.push(RawInstance {
+                        id,
+                        offset: start,
+                        body: text.get(body_offset..end).unwrap_or_default(),
+                        head_len,
+                        keyword_len,
+                    }),
+                    _ => run.errors.push(error(
+                        ParseErrorKind::InvalidId("(statement head too long)".to_owned()),
+                        start,
+                        Some(id),
+                    )),
+                }
+            }
+            Err((k, at, id)) => run.errors.push(error(k, at, id)),
+        }
+        c.pos = end + 1;
+    }
+}
+
+/// Up to `pieces - 1` offsets that split `bytes[from..]` into pieces of about equal size,
+/// each just after a `;` that is followed (after blanks) by `#`: where a statement most
+/// likely starts. "Likely" because the `;` may be inside a string or comment; the caller
+/// checks each cut against the sequential scan.
+fn cut_points(bytes: &[u8], from: usize, pieces: usize) -> Vec<usize> {
+    let len = bytes.len().saturating_sub(from);
+    let mut cuts = Vec::new();
+    let mut last = from;
+    for k in 1..pieces {
+        let target = (from + len / pieces * k).max(last);
+        let mut at = target;
+        let cut = loop {
+            let Some(p) = bytes
+                .get(at..)
+                .and_then(|hay| memchr::memchr(b';', hay))
+                .map(|p| at + p)
+            else {
+                break None;
+            };
+            let next = bytes
+                .get(p + 1..)
+                .unwrap_or_default()
+                .iter()
+                .position(|b| !matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
+                .map(|q| p + 1 + q);
+            match next {
+                Some(q) if bytes.get(q) == Some(&b'#') => break Some(p + 1),
+                _ => at = p + 1,
+            }
+        };
+        match cut {
+            Some(c) if c > last => {
+                cuts.push(c);
+                last = c;
+            }
+            Some(_) => {}
+            None => break,
+        }
+    }
+    cuts
 }
 
 /// Whether the cursor is at the keyword `kw` followed by a non-keyword character.
@@ -449,8 +639,14 @@ impl<'a> Scanned<'a> {
         }
     }
 
-    /// `DATA [ ( params ) ] ;` then instances up to `ENDSEC;`.
-    fn scan_data(&mut self, c: &mut Cursor<'a>, limits: &Limits) -> Result<(), ParseError> {
+    /// A DATA section (ISO 10303-21 clause 10), from `DATA` to `ENDSEC;`.
+    fn scan_data(
+        &mut self,
+        c: &mut Cursor<'a>,
+        limits: &Limits,
+        threads: usize,
+        parallel_min_bytes: usize,
+    ) -> Result<(), ParseError> {
         let err = |s: &Scanned<'a>, (k, at): LexError| s.error_at(k, at, None);
         c.pos += "DATA".len();
         c.skip_ws().map_err(|e| err(self, e))?;
@@ -465,73 +661,74 @@ impl<'a> Scanned<'a> {
         let first = self.instances.len();
         let bytes = self.text.as_bytes();
         self.reserve_instances(bytes, c.pos, limits);
-        loop {
-            if let Err(e) = c.skip_ws() {
-                self.errors.push(err(self, e));
-                c.pos = c.end;
-            }
-            if c.peek().is_none() {
-                self.errors.push(self.error_at(
-                    ParseErrorKind::Missing("ENDSEC; closing DATA"),
-                    c.pos,
-                    None,
-                ));
-                break;
-            }
-            if section_keyword(c, "ENDSEC") {
-                c.pos += "ENDSEC".len();
-                end_of_keyword_statement(c).map_err(|e| err(self, e))?;
-                break;
-            }
-            let start = c.pos;
-            let end = match statement_end(bytes, start) {
-                Ok(e) => e,
-                Err((k, at)) => {
-                    // An unterminated string or comment swallows the rest of the file.
-                    // Name the instance it started in (a truncated file's last one).
-                    let id = match instance_head(self.text, start, self.text.len()) {
-                        Ok((id, _, _)) => Some(id),
-                        Err((_, _, id)) => id,
-                    };
-                    self.errors.push(self.error_at(k, at, id));
-                    c.pos = c.end;
-                    continue;
-                }
-            };
-            match instance_head(self.text, start, end) {
-                Ok((id, body_offset, keyword)) => {
-                    if self.instances.len() >= limits.max_entities {
-                        return Err(self.error_at(
-                            ParseErrorKind::TooManyInstances(limits.max_entities),
-                            start,
-                            Some(id),
-                        ));
+        let cuts = if threads > 1 && bytes.len() - c.pos >= parallel_min_bytes {
+            cut_points(bytes, c.pos, threads)
+        } else {
+            Vec::new()
+        };
+        let text = self.text;
+        let lines = &self.lines;
+        let mut runs: Vec<Run<'a>> = if cuts.is_empty() {
+            vec![scan_statements(text, lines, c.pos, usize::MAX, limits)]
+        } else {
+            // Piece k runs from cuts[k-1] (or the section start) to cuts[k] (or the end).
+            let starts: Vec<usize> = std::iter::once(c.pos).chain(cuts.iter().copied()).collect();
+            let stops: Vec<usize> = cuts.iter().copied().chain([usize::MAX]).collect();
+            std::thread::scope(|scope| {
+                let handles: Vec<_> = starts
+                    .iter()
+                    .zip(&stops)
+                    .skip(1)
+                    .map(|(&from, &stop)| {
+                        scope.spawn(move || scan_statements(text, lines, from, stop, limits))
+                    })
+                    .collect();
+                let mut runs = vec![scan_statements(text, lines, c.pos, stops[0], limits)];
+                for h in handles {
+                    // A piece whose thread failed is dropped; the sequential
+                    // continuation below covers its bytes.
+                    match h.join() {
+                        Ok(r) => runs.push(r),
+                        Err(_) => break,
                     }
-                    // `#id =` heads and keywords longer than 4 GiB cannot be represented;
-                    // they are reported instead of truncated.
-                    let (Ok(head_len), Ok(keyword_len)) = (
-                        u32::try_from(body_offset - start),
-                        u32::try_from(keyword.map_or(0, str::len)),
-                    ) else {
-                        self.errors.push(self.error_at(
-                            ParseErrorKind::InvalidId("(statement head too long)".to_owned()),
-                            start,
-                            Some(id),
-                        ));
-                        c.pos = end + 1;
-                        continue;
-                    };
-                    self.instances.push(RawInstance {
-                        id,
-                        offset: start,
-                        body: self.text.get(body_offset..end).unwrap_or_default(),
-                        head_len,
-                        keyword_len,
-                    });
                 }
-                Err((k, at, id)) => self.errors.push(self.error_at(k, at, id)),
+                runs
+            })
+        };
+        // Keep the pieces that continue exactly where the previous one stopped.
+        let mut expected = c.pos;
+        let mut k = 0;
+        let end = loop {
+            let run = match runs.get_mut(k) {
+                Some(run) if run.from == expected => std::mem::take(run),
+                // No valid piece continues here: finish the section sequentially.
+                _ => scan_statements(text, lines, expected, usize::MAX, limits),
+            };
+            k += 1;
+            if self.instances.len() + run.instances.len() > limits.max_entities {
+                let over = run
+                    .instances
+                    .get(limits.max_entities - self.instances.len())
+                    .copied();
+                return Err(self.error_at(
+                    ParseErrorKind::TooManyInstances(limits.max_entities),
+                    over.map_or(run.from, |r| r.offset),
+                    over.map(|r| r.id),
+                ));
             }
-            c.pos = end + 1;
+            self.instances.extend(run.instances);
+            self.errors.extend(run.errors);
+            if let Some(fatal) = run.fatal {
+                return Err(fatal);
+            }
+            match run.end {
+                RunEnd::Stop(p) => expected = p,
+                other => break other,
+            }
+        };
+        match end {
+            RunEnd::EndSec(after) => c.pos = after,
+            _ => c.pos = c.end,
         }
         self.sections.push(SectionInfo {
             params,
@@ -672,4 +869,100 @@ fn instance_head(
         _ => None,
     };
     Ok((id, body_offset, keyword))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Everything a scan produces, for comparing two scans.
+    fn summary(s: &Scanned<'_>) -> String {
+        format!(
+            "{:?}\n{:?}\n{:?}",
+            s.instances,
+            s.errors,
+            s.sections
+                .iter()
+                .map(|x| x.instances.clone())
+                .collect::<Vec<_>>()
+        )
+    }
+
+    fn agree(text: &str, limits: &Limits) {
+        let one = scan(text, limits);
+        for threads in [2, 3, 4, 7] {
+            let many = scan_impl(text, limits, threads, 0);
+            match (&one, &many) {
+                (Ok(a), Ok(b)) => assert_eq!(summary(a), summary(b), "{threads} threads"),
+                (Err(a), Err(b)) => assert_eq!(a, b, "{threads} threads"),
+                _ => panic!("{threads} threads: {one:?} vs {many:?}"),
+            }
+        }
+    }
+
+    fn file(data: &str) -> String {
+        format!(
+            "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nENDSEC;\n{data}END-ISO-10303-21;\n"
+        )
+    }
+
+    #[test]
+    fn parallel_scan_equals_sequential_on_tricky_files() {
+        let points: String = (1..200)
+            .map(|i| format!("#{i} = CARTESIAN_POINT('p;\n#{i}',({i}.,0.,0.));\n"))
+            .collect();
+        let cases = [
+            // Strings and comments containing `;` + `#`, where a cut may land.
+            file(&format!("DATA;\n{points}ENDSEC;\n")),
+            file(&format!(
+                "DATA;\n{points}/* ;\n#5 = X(); */ #900 = A('');\nENDSEC;\n"
+            )),
+            // Two DATA sections, an error statement in the middle, an unterminated string.
+            file(&format!(
+                "DATA;\n{points}#x = BAD;\n{points}ENDSEC;\nDATA;\n{points}ENDSEC;\n"
+            )),
+            file(&format!("DATA;\n{points}#1000 = A('unterminated);\n")),
+            file(&format!("DATA;\n{points}")),
+            file(&format!("DATA;\n{points}ENDSEC x\n")),
+            file("DATA;\nENDSEC;\n"),
+        ];
+        for text in &cases {
+            agree(text, &Limits::default());
+            // The entity limit crossed in the middle and near the end.
+            for max in [1, 57, 150, 198, 199, 200, 1000] {
+                let limits = Limits {
+                    max_entities: max,
+                    ..Limits::default()
+                };
+                agree(text, &limits);
+            }
+        }
+    }
+
+    #[test]
+    fn parallel_scan_equals_sequential_on_the_samples() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/freecad");
+        let mut n = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "step") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                agree(&text, &Limits::default());
+                n += 1;
+            }
+        }
+        assert!(n > 40, "{n} samples");
+    }
+
+    #[test]
+    fn cut_points_land_after_a_semicolon_before_a_hash() {
+        let text = b"DATA;\n#1=A();\n#2=B('x;y');  \n #3=C();\nENDSEC;";
+        for pieces in 2..6 {
+            for c in cut_points(text, 6, pieces) {
+                assert_eq!(text[c - 1], b';');
+                let next = text[c..].iter().find(|b| !b.is_ascii_whitespace());
+                assert_eq!(next, Some(&b'#'));
+            }
+        }
+    }
 }

@@ -6,7 +6,7 @@ use nurbsx_parsers::step::schema::{
     canonical_name,
 };
 use nurbsx_parsers::step::{
-    Instance, ParseError, ParseErrorKind, RawInstance, Scanned, scan, schema_names,
+    Instance, ParseError, ParseErrorKind, RawInstance, Scanned, scan_parallel, schema_names,
 };
 
 use rayon::prelude::*;
@@ -27,7 +27,10 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
-    let scanned = scan(text, &options.limits).map_err(|e| parse_diagnostic(&e))?;
+    // The scan splits large DATA sections over the same threads that decode the B-splines
+    // below (identical result to a one-thread scan; see `scan_parallel`).
+    let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
+        .map_err(|e| parse_diagnostic(&e))?;
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     let schemas: Vec<String> = schema_names(&scanned.header)
         .iter()
