@@ -244,8 +244,22 @@ const SHORT_NAMES: &[(&str, &str)] = &[
     ("RPRITM", "REPRESENTATION_ITEM"),
 ];
 
+// `canonical_name` relies on every short name having at most 6 characters.
+const _: () = {
+    let mut i = 0;
+    while i < SHORT_NAMES.len() {
+        assert!(SHORT_NAMES[i].0.len() <= 6);
+        i += 1;
+    }
+};
+
 /// The long entity name for a keyword (short names mapped; anything else unchanged).
 pub fn canonical_name(keyword: &str) -> &str {
+    // Short names have at most 6 characters (ISO 10303-21 annex; the list above); every
+    // instance of a large file goes through here, so skip the table for long keywords.
+    if keyword.len() > 6 {
+        return keyword;
+    }
     SHORT_NAMES
         .iter()
         .find(|(s, _)| *s == keyword)
