@@ -217,10 +217,7 @@ impl<'a> IgesFile<'a> {
                 })
             })?;
         let start = first - 1;
-        let owner = |r: &Record<'_>| -> bool {
-            let f = field(r.data, 65, 72).trim();
-            f.parse::<usize>().ok() == Some(de)
-        };
+        let owner = |r: &Record<'_>| -> bool { back_pointer(field(r.data, 65, 72)) == Some(de) };
         let Some(r0) = self.parameters.get(start) else {
             return Err(err(ErrorKind::BadPointer {
                 what: "parameter data",
@@ -466,5 +463,48 @@ impl<'f> Parameters<'f> {
             out.push(self.real(i, name)?);
         }
         Ok(())
+    }
+}
+
+/// The DE back-pointer of a P record (columns 66-72): `field.trim().parse::<usize>()`,
+/// answered from the bytes when the field is blanks and digits (every line of a large file
+/// goes through here; the general form handles `+`, other whitespace and errors).
+fn back_pointer(field: &str) -> Option<usize> {
+    let digits = field.trim_matches(' ');
+    if !digits.is_empty() && digits.len() <= 18 && digits.bytes().all(|c| c.is_ascii_digit()) {
+        return Some(
+            digits
+                .bytes()
+                .fold(0usize, |v, c| v * 10 + usize::from(c - b'0')),
+        );
+    }
+    field.trim().parse::<usize>().ok()
+}
+
+#[cfg(test)]
+mod back_pointer_tests {
+    #[test]
+    fn back_pointer_is_trim_then_parse() {
+        for f in [
+            "      1",
+            "1234567",
+            "   12  ",
+            "",
+            "       ",
+            "  +12  ",
+            " 1 2   ",
+            "\t12",
+            "12\u{a0}",
+            "  -1   ",
+            "0000007",
+            "abc",
+            "99999999999999999999",
+        ] {
+            assert_eq!(
+                super::back_pointer(f),
+                f.trim().parse::<usize>().ok(),
+                "{f:?}"
+            );
+        }
     }
 }
