@@ -65,6 +65,15 @@ impl<'a> Cursor<'a> {
         match self.peek() {
             Some(c) if c > b' ' && c != b'/' => return Ok(()),
             None => return Ok(()),
+            // One blank before a token (`#1 = A(...)`): step over it without the loop.
+            Some(b' ') => {
+                if let Some(&c) = self.bytes().get(self.pos + 1) {
+                    if c > b' ' && c != b'/' && self.pos + 1 < self.end {
+                        self.pos += 1;
+                        return Ok(());
+                    }
+                }
+            }
             _ => {}
         }
         self.skip_ws_slow()

@@ -533,17 +533,21 @@ impl<'i, 'a> Attributes<'i, 'a> {
         let Some(list) = value.as_list() else {
             return Err(self.slot_error(s, format!("expected a list, found {}", value.kind_name())));
         };
-        list.iter()
-            .enumerate()
-            .map(|(i, p)| {
-                f(p).ok_or_else(|| {
-                    self.slot_error(
+        // Sized once: collecting into `Result<Vec<_>>` cannot use the length and re-grows
+        // the vector element by element (a visible cost on files with large nets).
+        let mut out = Vec::with_capacity(list.len());
+        for (i, p) in list.iter().enumerate() {
+            match f(p) {
+                Some(v) => out.push(v),
+                None => {
+                    return Err(self.slot_error(
                         s,
                         format!("element {} : expected {what}, found {}", i + 1, render(p)),
-                    )
-                })
-            })
-            .collect()
+                    ));
+                }
+            }
+        }
+        Ok(out)
     }
 
     fn grid_of<T>(

@@ -92,9 +92,11 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// substring search of their body.
 fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
     match raw.keyword() {
-        // A keyword with lower-case letters is a syntax error (ISO 10303-21 6.4); decoding
-        // it reports that, where skipping it would silently drop a `b_spline_curve...`.
-        Some(k) if k.bytes().any(|b| b.is_ascii_lowercase()) => true,
+        // (A keyword with lower-case letters is a syntax error, ISO 10303-21 6.4, that the
+        // scanner itself reports: such a statement never becomes a `RawInstance`.)
+        // Every name below starts with B, U or Q: most instances (points, directions,
+        // topology) are rejected by their first letter.
+        Some(k) if !matches!(k.as_bytes().first(), Some(b'B' | b'U' | b'Q')) => false,
         Some(k) => matches!(
             canonical_name(k),
             "B_SPLINE_CURVE_WITH_KNOTS"

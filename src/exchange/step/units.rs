@@ -175,8 +175,11 @@ pub(super) type UnitProblem = (u64, usize, String);
 pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
     let mut found = Vec::new();
     let mut problems = Vec::new();
+    // A SIMD substring search: rational B-splines are complex instances too, and their
+    // long bodies are searched in full.
+    let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
     for raw in &s.instances {
-        if raw.keyword().is_some() || !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+        if raw.keyword().is_some() || finder.find(raw.body.as_bytes()).is_none() {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
