@@ -24,6 +24,7 @@
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
 use super::basis::{basis_funs_ders1_in, basis_funs_in};
+use super::kernels::{SpanIndex, basis};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
@@ -59,6 +60,23 @@ fn reserve<T>(out: &mut Vec<T>, n: usize) -> Result<(), GeometryError> {
     })
 }
 
+/// The length of the leading run of `xs` inside `[a, b)` (`[a, b]` when `CLOSED`); NaN is
+/// outside. Tests eight values at a time without branching (the common case is a long run
+/// of sorted parameters), then finds the end in the last block.
+#[inline(always)]
+fn run_len<const CLOSED: bool>(xs: &[f64], a: f64, b: f64) -> usize {
+    let inside = |x: f64| (x >= a) & if CLOSED { x <= b } else { x < b };
+    let mut n = 0;
+    for block in xs.chunks_exact(8) {
+        if !block.iter().fold(true, |all, &x| all & inside(x)) {
+            break;
+        }
+        n += 8;
+    }
+    let tail = xs.get(n..).unwrap_or(&[]);
+    n + tail.iter().position(|&x| !inside(x)).unwrap_or(tail.len())
+}
+
 /// Packs Euclidean poles and weights as `[x, y, z, w]` (`w = 1` when polynomial).
 fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
     points
@@ -68,7 +86,13 @@ fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
         .collect()
 }
 
-/// Calls `$e` with the const scratch size `N` and the degree as a literal for degrees 1-3
+/// Whether the scratch size `N` comes from one of [`by_degree!`]'s exact arms, where the
+/// degree is `N - 1`, a compile-time constant.
+const fn exact(n: usize) -> bool {
+    n <= 6
+}
+
+/// Calls `$e` with the const scratch size `N` and the degree as a literal for degrees 1-5
 /// (so the kernels are fully unrolled), else with the tier's size and the runtime degree.
 macro_rules! by_degree {
     ($p:expr, |$n:ident, $deg:ident| $e:expr) => {
@@ -86,6 +110,16 @@ macro_rules! by_degree {
             3 => {
                 const $n: usize = 4;
                 let $deg = 3;
+                $e
+            }
+            4 => {
+                const $n: usize = 5;
+                let $deg = 4;
+                $e
+            }
+            5 => {
+                const $n: usize = 6;
+                let $deg = 5;
                 $e
             }
             d if d < 8 => {
@@ -107,13 +141,19 @@ macro_rules! by_degree {
 pub struct CurveEvaluator<'a> {
     curve: &'a NurbsCurve,
     poles: Vec<[f64; 4]>,
+    spans: SpanIndex,
 }
 
 impl<'a> CurveEvaluator<'a> {
     /// Packs the curve's poles once.
     pub fn new(curve: &'a NurbsCurve) -> Self {
         let poles = pack(curve.control_points(), |i| curve.weight(i));
-        CurveEvaluator { curve, poles }
+        let spans = SpanIndex::new(curve.degree(), poles.len(), curve.knots());
+        CurveEvaluator {
+            curve,
+            poles,
+            spans,
+        }
     }
 
     /// The curve evaluated.
@@ -124,7 +164,7 @@ impl<'a> CurveEvaluator<'a> {
     /// The point at `u` (A3.1 / A4.1), bit-identical to [`NurbsCurve::point_at`].
     pub fn point(&self, u: f64) -> Result<Point3, GeometryError> {
         check_range(u, self.curve.domain())?;
-        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        let span = self.spans.find(self.curve.knots(), u);
         Ok(by_degree!(self.curve.degree(), |N, p| self
             .point_in_span::<N>(p, u, span)))
     }
@@ -133,7 +173,7 @@ impl<'a> CurveEvaluator<'a> {
     /// [`NurbsCurve::point_at`], `C'` follows A3.2 + A4.2 with `d = 1`.
     pub fn point_and_derivative(&self, u: f64) -> Result<[Point3; 2], GeometryError> {
         check_range(u, self.curve.domain())?;
-        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        let span = self.spans.find(self.curve.knots(), u);
         Ok(by_degree!(self.curve.degree(), |N, p| self
             .point_and_derivative_in_span::<N>(p, u, span)))
     }
@@ -179,49 +219,75 @@ impl<'a> CurveEvaluator<'a> {
         us: &[f64],
         out: &mut Vec<Point3>,
     ) -> Result<(), GeometryError> {
-        by_degree!(self.curve.degree(), |N, p| self
-            .bezier_impl::<N>(p, us, out))
+        if self.curve.is_rational() {
+            by_degree!(self.curve.degree(), |N, p| self
+                .bezier_impl::<N, true>(p, us, out))
+        } else {
+            by_degree!(self.curve.degree(), |N, p| self
+                .bezier_impl::<N, false>(p, us, out))
+        }
     }
 
+    /// The Bezier-form loop: one span at a time, the Bezier poles computed once for the run of
+    /// parameters that fall in it, then a tight loop over that run (no span test, no capacity
+    /// check per point: the run is known before the points are written).
     #[inline(always)]
-    fn bezier_impl<const N: usize>(
+    fn bezier_impl<const N: usize, const RATIONAL: bool>(
         &self,
         p: usize,
         us: &[f64],
         out: &mut Vec<Point3>,
     ) -> Result<(), GeometryError> {
-        let p = if N <= 4 { N - 1 } else { p };
+        let p = if exact(N) { N - 1 } else { p };
         out.clear();
         reserve(out, us.len())?;
-        let (knots, n) = (self.curve.knots(), self.poles.len());
+        let knots = self.curve.knots();
         let dom = self.curve.domain();
-        let rational = self.curve.is_rational();
-        let mut span = usize::MAX;
+        let end_span = self.spans.end_span();
         let mut q = [[0.0; 4]; N];
-        let (mut a, mut inv) = (0.0, 0.0);
-        for &u in us {
+        let mut rest = us;
+        while let Some(&u) = rest.first() {
             check_range(u, dom)?;
-            let s = span_from_hint(p, n, knots, u, if span == usize::MAX { p } else { span });
-            if s != span {
-                span = s;
-                a = knots[s];
-                inv = 1.0 / (knots[s + 1] - a);
-                self.bezier_poles(p, s, &mut q);
-            }
-            let t = (u - a) * inv;
-            let t1 = 1.0 - t;
-            let b = bernstein::<N>(p, t, t1);
-            let mut c = [0.0; 4];
-            for (bk, qk) in b.iter().zip(&q[..=p]) {
-                for i in 0..4 {
-                    c[i] += bk * qk[i];
-                }
-            }
-            out.push(if rational {
-                [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+            let s = self.spans.find(knots, u);
+            let (a, b) = (knots[s], knots[s + 1]);
+            let inv = 1.0 / (b - a);
+            self.bezier_poles(p, s, &mut q);
+            // The run of parameters in this span: [a, b), closed at the domain end, whose
+            // end A2.1 assigns to the last non-empty span. NaN ends the run (then fails the
+            // range check above); `max(1)` guarantees progress whatever the input.
+            let run = if s == end_span {
+                run_len::<true>(rest, a, b)
             } else {
-                [c[0], c[1], c[2]]
-            });
+                run_len::<false>(rest, a, b)
+            }
+            .max(1);
+            let (now, later) = rest.split_at(run);
+            rest = later;
+            let q = &q;
+            out.extend(now.iter().map(move |&x| {
+                // The closure's body is compiled on its own (inside `fold`): restate the
+                // degree as the constant it is so that every loop unrolls.
+                let p = if exact(N) { N - 1 } else { p };
+                let t = (x - a) * inv;
+                let bs = bernstein::<N>(p, t, 1.0 - t);
+                if RATIONAL {
+                    let mut c = [0.0; 4];
+                    for (bk, qk) in bs.iter().zip(&q[..=p]) {
+                        for i in 0..4 {
+                            c[i] += bk * qk[i];
+                        }
+                    }
+                    [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+                } else {
+                    let mut c = [0.0; 3];
+                    for (bk, qk) in bs.iter().zip(&q[..=p]) {
+                        for i in 0..3 {
+                            c[i] += bk * qk[i];
+                        }
+                    }
+                    c
+                }
+            }));
         }
         Ok(())
     }
@@ -277,7 +343,7 @@ impl<'a> CurveEvaluator<'a> {
             span = if SORTED {
                 span_from_hint(p, n, knots, u, span)
             } else {
-                find_span(p, n, knots, u)
+                self.spans.find(knots, u)
             };
             if D1 {
                 push(out, self.point_and_derivative_in_span::<N>(p, u, span));
@@ -291,10 +357,15 @@ impl<'a> CurveEvaluator<'a> {
     /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.
     #[inline(always)]
     fn point_in_span<const N: usize>(&self, p: usize, u: f64, span: usize) -> Point3 {
-        // N <= 4 only comes from by_degree!'s exact arms: a compile-time degree.
-        let p = if N <= 4 { N - 1 } else { p };
-        let mut nb = [0.0; N];
-        basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
+        // exact(N) only for by_degree!'s exact arms: a compile-time degree.
+        let p = if exact(N) { N - 1 } else { p };
+        let nb: [f64; N] = if exact(N) {
+            basis::<N>(span, u, self.curve.knots())
+        } else {
+            let mut nb = [0.0; N];
+            basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
+            nb
+        };
         let poles = &self.poles[span - p..=span];
         if self.curve.is_rational() {
             let mut c = [0.0; 4];
@@ -324,7 +395,7 @@ impl<'a> CurveEvaluator<'a> {
         u: f64,
         span: usize,
     ) -> [Point3; 2] {
-        let p = if N <= 4 { N - 1 } else { p };
+        let p = if exact(N) { N - 1 } else { p };
         let mut n0 = [0.0; N];
         let mut n1 = [0.0; N];
         basis_funs_ders1_in::<N>(span, u, p, self.curve.knots(), &mut n0, &mut n1);
@@ -434,6 +505,8 @@ pub struct SurfaceEvaluator<'a> {
     poles: Vec<[f64; 4]>,
     nu: usize,
     nv: usize,
+    spans_u: SpanIndex,
+    spans_v: SpanIndex,
 }
 
 /// The scratch for one grid evaluation: spans and basis values per parameter.
@@ -511,6 +584,8 @@ impl<'a> SurfaceEvaluator<'a> {
             poles,
             nu,
             nv,
+            spans_u: SpanIndex::new(surface.degree_u(), nu, surface.knots_u()),
+            spans_v: SpanIndex::new(surface.degree_v(), nv, surface.knots_v()),
         }
     }
 
@@ -524,7 +599,8 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, false, { N <= 4 }>(d, d, u, v)[0])
+            by_degree!(p, |N, d| self.kernel::<N, false, { exact(N) }>(d, d, u, v)
+                [0])
         } else {
             by_degree!(p.max(q), |N, _d| self.kernel::<N, false, false>(p, q, u, v)
                 [0])
@@ -537,7 +613,7 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, true, { N <= 4 }>(d, d, u, v))
+            by_degree!(p, |N, d| self.kernel::<N, true, { exact(N) }>(d, d, u, v))
         } else {
             by_degree!(p.max(q), |N, _d| self.kernel::<N, true, false>(p, q, u, v))
         })
@@ -547,7 +623,7 @@ impl<'a> SurfaceEvaluator<'a> {
     pub fn points(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, false, { N <= 4 }, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, false, { exact(N) }, _>(
                 d,
                 d,
                 uvs,
@@ -573,7 +649,7 @@ impl<'a> SurfaceEvaluator<'a> {
     ) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, true, { N <= 4 }, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, true, { exact(N) }, _>(
                 d,
                 d,
                 uvs,
@@ -624,8 +700,8 @@ impl<'a> SurfaceEvaluator<'a> {
     ) -> [Point3; 3] {
         let (p, q) = if EXACT { (N - 1, N - 1) } else { (p, q) };
         let s = self.surface;
-        let su = find_span(p, self.nu, s.knots_u(), u);
-        let sv = find_span(q, self.nv, s.knots_v(), v);
+        let su = self.spans_u.find(s.knots_u(), u);
+        let sv = self.spans_v.find(s.knots_v(), v);
         let mut bu = [0.0; N];
         let mut bv = [0.0; N];
         let mut du = [0.0; N];
@@ -633,6 +709,9 @@ impl<'a> SurfaceEvaluator<'a> {
         if D1 {
             basis_funs_ders1_in::<N>(su, u, p, s.knots_u(), &mut bu, &mut du);
             basis_funs_ders1_in::<N>(sv, v, q, s.knots_v(), &mut bv, &mut dv);
+        } else if EXACT {
+            bu = basis::<N>(su, u, s.knots_u());
+            bv = basis::<N>(sv, v, s.knots_v());
         } else {
             basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
             basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);
