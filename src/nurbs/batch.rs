@@ -24,7 +24,7 @@
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
 use super::basis::{basis_funs_ders1_in, basis_funs_in};
-use super::kernels::{SpanIndex, basis};
+use super::kernels::{SpanIndex, basis, basis_pair};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
@@ -679,12 +679,71 @@ impl<'a> SurfaceEvaluator<'a> {
         out.clear();
         reserve(out, uvs.len())?;
         let ((u0, u1), (v0, v1)) = self.surface.domain();
-        for &[u, v] in uvs {
+        let check = |[u, v]: [f64; 2]| {
             check_range(u, (u0, u1))?;
-            check_range(v, (v0, v1))?;
+            check_range(v, (v0, v1))
+        };
+        let mut rest = uvs;
+        if EXACT && !D1 {
+            // Two points per step: their computations are independent, and interleaved they
+            // keep the core busy where one point's chain of dependent divisions would not.
+            let mut pairs = uvs.chunks_exact(2);
+            for pair in &mut pairs {
+                let (a, b) = (pair[0], pair[1]);
+                check(a)?;
+                if let Err(e) = check(b) {
+                    out.push(finish(self.kernel::<N, D1, EXACT>(p, q, a[0], a[1])));
+                    return Err(e);
+                }
+                let [x, y] = self.point_pair::<N>(a, b);
+                out.push(finish([x, [0.0; 3], [0.0; 3]]));
+                out.push(finish([y, [0.0; 3], [0.0; 3]]));
+            }
+            rest = pairs.remainder();
+        }
+        for &[u, v] in rest {
+            check([u, v])?;
             out.push(finish(self.kernel::<N, D1, EXACT>(p, q, u, v)));
         }
         Ok(())
+    }
+
+    /// Two points of a surface of degrees `N - 1` in both directions, computed side by side
+    /// (the basis functions of both as the lanes of [`basis_pair`]); each bit-identical to
+    /// `NurbsSurface::point_at` (the same operations as [`kernel`](Self::kernel)).
+    #[inline(always)]
+    fn point_pair<const N: usize>(&self, [ua, va]: [f64; 2], [ub, vb]: [f64; 2]) -> [Point3; 2] {
+        let p = N - 1;
+        let s = self.surface;
+        let (ku, kv) = (s.knots_u(), s.knots_v());
+        let (sua, sub) = (self.spans_u.find(ku, ua), self.spans_u.find(ku, ub));
+        let (sva, svb) = (self.spans_v.find(kv, va), self.spans_v.find(kv, vb));
+        let (bua, bub) = basis_pair::<N>(sua, ua, ku, sub, ub, ku);
+        let (bva, bvb) = basis_pair::<N>(sva, va, kv, svb, vb, kv);
+        let mut acc = [[0.0; 4]; 2];
+        for k in 0..N {
+            let sa = (sua - p + k) * self.nv + sva - p;
+            let sb = (sub - p + k) * self.nv + svb - p;
+            let (ra, rb) = (&self.poles[sa..sa + N], &self.poles[sb..sb + N]);
+            let mut ta = [0.0; 4];
+            let mut tb = [0.0; 4];
+            for l in 0..N {
+                let (pa, pb) = (ra[l], rb[l]);
+                let fa = bva[l] * pa[3];
+                let fb = bvb[l] * pb[3];
+                for c in 0..3 {
+                    ta[c] += fa * pa[c];
+                    tb[c] += fb * pb[c];
+                }
+                ta[3] += fa;
+                tb[3] += fb;
+            }
+            for c in 0..4 {
+                acc[0][c] += bua[k] * ta[c];
+                acc[1][c] += bub[k] * tb[c];
+            }
+        }
+        acc.map(|a| [a[0] / a[3], a[1] / a[3], a[2] / a[3]])
     }
 
     /// The point (same operations, in the same order, as
@@ -710,8 +769,7 @@ impl<'a> SurfaceEvaluator<'a> {
             basis_funs_ders1_in::<N>(su, u, p, s.knots_u(), &mut bu, &mut du);
             basis_funs_ders1_in::<N>(sv, v, q, s.knots_v(), &mut bv, &mut dv);
         } else if EXACT {
-            bu = basis::<N>(su, u, s.knots_u());
-            bv = basis::<N>(sv, v, s.knots_v());
+            (bu, bv) = basis_pair::<N>(su, u, s.knots_u(), sv, v, s.knots_v());
         } else {
             basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
             basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);
