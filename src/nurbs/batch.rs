@@ -4,9 +4,14 @@
 //! What makes it fast, compared with calling [`NurbsCurve::point_at`] in a loop:
 //! - the poles are packed once per call (or once per [`CurveEvaluator`] /
 //!   [`SurfaceEvaluator`]) as `[x, y, z, w]`, contiguous in memory;
-//! - the kernels are monomorphised per degree: degrees 1-3 (equal in u and v for surfaces)
-//!   with the degree as a constant, so every loop unrolls; others with scratch arrays of
-//!   the tier's size (`p < 8`, else [`MAX_DEGREE`]) chosen once per call;
+//! - the kernels are monomorphised per degree: degrees 1-5 (equal in u and v for surfaces)
+//!   with the degree as a constant, so every loop unrolls and A2.2's scratch arrays become
+//!   registers (`kernels::basis`); others with scratch arrays of the tier's size (`p < 8`,
+//!   else [`MAX_DEGREE`]) chosen once per call;
+//! - the knot span comes from a per-evaluator lookup (`kernels::SpanIndex`: equal buckets
+//!   over the domain and a short scan) instead of A2.1's binary search, with the same result;
+//! - surfaces of equal degree 1-5 evaluate random points two at a time, the A2.2 recurrences
+//!   of both as the lanes of packed operations (`kernels::basis_pair`);
 //! - first derivatives of the basis come from the last level of A2.2 at no extra division
 //!   ([`basis_funs_ders1`](super::basis::basis_funs_ders1));
 //! - sorted parameters reuse the previous knot span (incremental span search instead of
@@ -15,7 +20,8 @@
 //!   v-contraction `T_i(v) = sum_l N_l(v) w_ij P_ij` once per (row, v): a grid point then
 //!   costs `p + 1` four-component multiply-adds.
 //!
-//! **Exactness:** every point equals the single-point [`NurbsCurve::point_at`] /
+//! **Exactness:** every point (except [`CurveEvaluator::points_sorted_bezier`], which is
+//! within rounding) equals the single-point [`NurbsCurve::point_at`] /
 //! [`NurbsSurface::point_at`] bit for bit: the kernels perform the same floating-point
 //! operations in the same order (A2.2 basis functions, `f = N w`, `t += f P`, division by the
 //! weight last). The tests check it.
@@ -206,14 +212,19 @@ impl<'a> CurveEvaluator<'a> {
     /// changes, its Bezier poles are computed once (blossoms `b(a^(p-i), b^i)` by de Boor's
     /// algorithm on the homogeneous poles, NURBS Book 5.2 / seed 000 blossoming), then each
     /// point is a Bernstein combination (A1.3 AllBernstein) at `t = (u - a) / (b - a)`: no
-    /// division per point for polynomial curves, one for rational ones. The fastest path for
-    /// sampling grids.
+    /// division per point for polynomial curves, one for rational ones. The parameters of a
+    /// span are found as one run (block-wise range test) and evaluated in a tight loop. The
+    /// fastest path for sampling grids (about 7x [`points_sorted`](Self::points_sorted) for a
+    /// cubic).
     ///
     /// Not bit-identical to [`NurbsCurve::point_at`]: both round differently, and the
     /// difference is of the order of the rounding of either: relative to the size of the
     /// span's homogeneous poles over the weight at `u`, at most `(p + 1) 2.5e-16` in the
     /// tests (`1e-15` for cubics; observed `<= 4.5e-16` for `p <= 3`), polynomial and
-    /// rational. Unsorted input is correct, only slower.
+    /// rational; within `1e-14` of the model size (control-point bounding-box diagonal) for
+    /// degrees 1..=9, clamped or not (`tests/nurbs_batch_kernels.rs`). A parameter exactly at
+    /// an interior knot belongs to the span A2.1 gives (the one starting there). Unsorted
+    /// input is correct, only slower.
     pub fn points_sorted_bezier(
         &self,
         us: &[f64],
