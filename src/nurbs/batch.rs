@@ -518,6 +518,10 @@ pub struct SurfaceEvaluator<'a> {
     nv: usize,
     spans_u: SpanIndex,
     spans_v: SpanIndex,
+    /// The poles as `[x, y, z, 1]` and their weights apart: `t += f [x, y, z, 1]` is
+    /// `t[0..3] += f P, t[3] += f` exactly (`f * 1 = f`), as one 4-wide operation.
+    unit: Vec<[f64; 4]>,
+    weights: Vec<f64>,
 }
 
 /// The scratch for one grid evaluation: spans and basis values per parameter.
@@ -592,11 +596,13 @@ impl<'a> SurfaceEvaluator<'a> {
         };
         SurfaceEvaluator {
             surface,
-            poles,
             nu,
             nv,
             spans_u: SpanIndex::new(surface.degree_u(), nu, surface.knots_u()),
             spans_v: SpanIndex::new(surface.degree_v(), nv, surface.knots_v()),
+            unit: poles.iter().map(|q| [q[0], q[1], q[2], 1.0]).collect(),
+            weights: poles.iter().map(|q| q[3]).collect(),
+            poles,
         }
     }
 
@@ -735,19 +741,17 @@ impl<'a> SurfaceEvaluator<'a> {
         for k in 0..N {
             let sa = (sua - p + k) * self.nv + sva - p;
             let sb = (sub - p + k) * self.nv + svb - p;
-            let (ra, rb) = (&self.poles[sa..sa + N], &self.poles[sb..sb + N]);
+            let (ra, rb) = (&self.unit[sa..sa + N], &self.unit[sb..sb + N]);
+            let (wa, wb) = (&self.weights[sa..sa + N], &self.weights[sb..sb + N]);
             let mut ta = [0.0; 4];
             let mut tb = [0.0; 4];
             for l in 0..N {
-                let (pa, pb) = (ra[l], rb[l]);
-                let fa = bva[l] * pa[3];
-                let fb = bvb[l] * pb[3];
-                for c in 0..3 {
-                    ta[c] += fa * pa[c];
-                    tb[c] += fb * pb[c];
+                let fa = bva[l] * wa[l];
+                let fb = bvb[l] * wb[l];
+                for c in 0..4 {
+                    ta[c] += fa * ra[l][c];
+                    tb[c] += fb * rb[l][c];
                 }
-                ta[3] += fa;
-                tb[3] += fb;
             }
             for c in 0..4 {
                 acc[0][c] += bua[k] * ta[c];
