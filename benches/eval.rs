@@ -9,13 +9,17 @@
 //! a shared, overloaded build machine where wall time mostly measures waiting for a core. Set
 //! `NURBSX_BENCH_WALL=1` to measure wall time instead (the right clock on an idle machine;
 //! both agree there). Other processes still pollute caches, so a loaded machine reads low.
+//! The kernel updates that counter at scheduler ticks, so every group samples *flat* (the
+//! same, large, number of iterations per sample): criterion's default linear sampling starts
+//! with one-iteration samples (about a millisecond for the fast rows), shorter than a tick,
+//! which read as zero time.
 //!
 //! Reference (peers.md): Open CASCADE evaluates the rational surface point at 4.1 Mpts/s at
 //! random parameters and 18.1 Mpts/s on a grid.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
-use criterion::{BenchmarkId, Criterion, Throughput, black_box};
+use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, black_box};
 use nurbsx::nurbs::batch::{CurveEvaluator, SurfaceEvaluator};
 use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface};
 
@@ -120,6 +124,7 @@ fn bench_surface<M: Measurement>(c: &mut Criterion<M>) {
     let side = (N as f64).sqrt() as usize; // 316 x 316 = 99 856 points
     let grid: Vec<f64> = (0..side).map(|i| i as f64 / (side - 1) as f64).collect();
     let mut g = c.benchmark_group("surface_rational_bicubic_20x20");
+    g.sampling_mode(SamplingMode::Flat);
     g.throughput(Throughput::Elements(N as u64));
     let mut out = Vec::with_capacity(N);
     g.bench_function("point_at/random", |b| {
@@ -176,6 +181,7 @@ fn bench_curve<M: Measurement>(c: &mut Criterion<M>) {
             "curve_cubic_20"
         };
         let mut g = c.benchmark_group(name);
+        g.sampling_mode(SamplingMode::Flat);
         g.throughput(Throughput::Elements(N as u64));
         let mut out = Vec::with_capacity(N);
         let mut outd = Vec::with_capacity(N);

@@ -4,9 +4,14 @@
 //! What makes it fast, compared with calling [`NurbsCurve::point_at`] in a loop:
 //! - the poles are packed once per call (or once per [`CurveEvaluator`] /
 //!   [`SurfaceEvaluator`]) as `[x, y, z, w]`, contiguous in memory;
-//! - the kernels are monomorphised per degree: degrees 1-3 (equal in u and v for surfaces)
-//!   with the degree as a constant, so every loop unrolls; others with scratch arrays of
-//!   the tier's size (`p < 8`, else [`MAX_DEGREE`]) chosen once per call;
+//! - the kernels are monomorphised per degree: degrees 1-5 (equal in u and v for surfaces)
+//!   with the degree as a constant, so every loop unrolls and A2.2's scratch arrays become
+//!   registers (`kernels::basis`); others with scratch arrays of the tier's size (`p < 8`,
+//!   else [`MAX_DEGREE`]) chosen once per call;
+//! - the knot span comes from a per-evaluator lookup (`kernels::SpanIndex`: equal buckets
+//!   over the domain and a short scan) instead of A2.1's binary search, with the same result;
+//! - surfaces of equal degree 1-5 evaluate random points two at a time, the A2.2 recurrences
+//!   of both as the lanes of packed operations (`kernels::basis_pair`);
 //! - first derivatives of the basis come from the last level of A2.2 at no extra division
 //!   ([`basis_funs_ders1`](super::basis::basis_funs_ders1));
 //! - sorted parameters reuse the previous knot span (incremental span search instead of
@@ -15,7 +20,8 @@
 //!   v-contraction `T_i(v) = sum_l N_l(v) w_ij P_ij` once per (row, v): a grid point then
 //!   costs `p + 1` four-component multiply-adds.
 //!
-//! **Exactness:** every point equals the single-point [`NurbsCurve::point_at`] /
+//! **Exactness:** every point (except [`CurveEvaluator::points_sorted_bezier`], which is
+//! within rounding) equals the single-point [`NurbsCurve::point_at`] /
 //! [`NurbsSurface::point_at`] bit for bit: the kernels perform the same floating-point
 //! operations in the same order (A2.2 basis functions, `f = N w`, `t += f P`, division by the
 //! weight last). The tests check it.
@@ -24,6 +30,7 @@
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
 use super::basis::{basis_funs_ders1_in, basis_funs_in};
+use super::kernels::{SpanIndex, basis, basis_pair};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
@@ -59,6 +66,23 @@ fn reserve<T>(out: &mut Vec<T>, n: usize) -> Result<(), GeometryError> {
     })
 }
 
+/// The length of the leading run of `xs` inside `[a, b)` (`[a, b]` when `CLOSED`); NaN is
+/// outside. Tests eight values at a time without branching (the common case is a long run
+/// of sorted parameters), then finds the end in the last block.
+#[inline(always)]
+fn run_len<const CLOSED: bool>(xs: &[f64], a: f64, b: f64) -> usize {
+    let inside = |x: f64| (x >= a) & if CLOSED { x <= b } else { x < b };
+    let mut n = 0;
+    for block in xs.chunks_exact(8) {
+        if !block.iter().fold(true, |all, &x| all & inside(x)) {
+            break;
+        }
+        n += 8;
+    }
+    let tail = xs.get(n..).unwrap_or(&[]);
+    n + tail.iter().position(|&x| !inside(x)).unwrap_or(tail.len())
+}
+
 /// Packs Euclidean poles and weights as `[x, y, z, w]` (`w = 1` when polynomial).
 fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
     points
@@ -68,7 +92,13 @@ fn pack(points: &[Point3], weight: impl Fn(usize) -> f64) -> Vec<[f64; 4]> {
         .collect()
 }
 
-/// Calls `$e` with the const scratch size `N` and the degree as a literal for degrees 1-3
+/// Whether the scratch size `N` comes from one of [`by_degree!`]'s exact arms, where the
+/// degree is `N - 1`, a compile-time constant.
+const fn exact(n: usize) -> bool {
+    n <= 6
+}
+
+/// Calls `$e` with the const scratch size `N` and the degree as a literal for degrees 1-5
 /// (so the kernels are fully unrolled), else with the tier's size and the runtime degree.
 macro_rules! by_degree {
     ($p:expr, |$n:ident, $deg:ident| $e:expr) => {
@@ -86,6 +116,16 @@ macro_rules! by_degree {
             3 => {
                 const $n: usize = 4;
                 let $deg = 3;
+                $e
+            }
+            4 => {
+                const $n: usize = 5;
+                let $deg = 4;
+                $e
+            }
+            5 => {
+                const $n: usize = 6;
+                let $deg = 5;
                 $e
             }
             d if d < 8 => {
@@ -107,13 +147,19 @@ macro_rules! by_degree {
 pub struct CurveEvaluator<'a> {
     curve: &'a NurbsCurve,
     poles: Vec<[f64; 4]>,
+    spans: SpanIndex,
 }
 
 impl<'a> CurveEvaluator<'a> {
     /// Packs the curve's poles once.
     pub fn new(curve: &'a NurbsCurve) -> Self {
         let poles = pack(curve.control_points(), |i| curve.weight(i));
-        CurveEvaluator { curve, poles }
+        let spans = SpanIndex::new(curve.degree(), poles.len(), curve.knots());
+        CurveEvaluator {
+            curve,
+            poles,
+            spans,
+        }
     }
 
     /// The curve evaluated.
@@ -124,7 +170,7 @@ impl<'a> CurveEvaluator<'a> {
     /// The point at `u` (A3.1 / A4.1), bit-identical to [`NurbsCurve::point_at`].
     pub fn point(&self, u: f64) -> Result<Point3, GeometryError> {
         check_range(u, self.curve.domain())?;
-        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        let span = self.spans.find(self.curve.knots(), u);
         Ok(by_degree!(self.curve.degree(), |N, p| self
             .point_in_span::<N>(p, u, span)))
     }
@@ -133,7 +179,7 @@ impl<'a> CurveEvaluator<'a> {
     /// [`NurbsCurve::point_at`], `C'` follows A3.2 + A4.2 with `d = 1`.
     pub fn point_and_derivative(&self, u: f64) -> Result<[Point3; 2], GeometryError> {
         check_range(u, self.curve.domain())?;
-        let span = find_span(self.curve.degree(), self.poles.len(), self.curve.knots(), u);
+        let span = self.spans.find(self.curve.knots(), u);
         Ok(by_degree!(self.curve.degree(), |N, p| self
             .point_and_derivative_in_span::<N>(p, u, span)))
     }
@@ -166,62 +212,93 @@ impl<'a> CurveEvaluator<'a> {
     /// changes, its Bezier poles are computed once (blossoms `b(a^(p-i), b^i)` by de Boor's
     /// algorithm on the homogeneous poles, NURBS Book 5.2 / seed 000 blossoming), then each
     /// point is a Bernstein combination (A1.3 AllBernstein) at `t = (u - a) / (b - a)`: no
-    /// division per point for polynomial curves, one for rational ones. The fastest path for
-    /// sampling grids.
+    /// division per point for polynomial curves, one for rational ones. The parameters of a
+    /// span are found as one run (block-wise range test) and evaluated in a tight loop. The
+    /// fastest path for sampling grids (about 7x [`points_sorted`](Self::points_sorted) for a
+    /// cubic).
     ///
     /// Not bit-identical to [`NurbsCurve::point_at`]: both round differently, and the
     /// difference is of the order of the rounding of either: relative to the size of the
     /// span's homogeneous poles over the weight at `u`, at most `(p + 1) 2.5e-16` in the
     /// tests (`1e-15` for cubics; observed `<= 4.5e-16` for `p <= 3`), polynomial and
-    /// rational. Unsorted input is correct, only slower.
+    /// rational; within `1e-14` of the model size (control-point bounding-box diagonal) for
+    /// degrees 1..=9, clamped or not (`tests/nurbs_batch_kernels.rs`). A parameter exactly at
+    /// an interior knot belongs to the span A2.1 gives (the one starting there). Unsorted
+    /// input is correct, only slower.
     pub fn points_sorted_bezier(
         &self,
         us: &[f64],
         out: &mut Vec<Point3>,
     ) -> Result<(), GeometryError> {
-        by_degree!(self.curve.degree(), |N, p| self
-            .bezier_impl::<N>(p, us, out))
+        if self.curve.is_rational() {
+            by_degree!(self.curve.degree(), |N, p| self
+                .bezier_impl::<N, true>(p, us, out))
+        } else {
+            by_degree!(self.curve.degree(), |N, p| self
+                .bezier_impl::<N, false>(p, us, out))
+        }
     }
 
+    /// The Bezier-form loop: one span at a time, the Bezier poles computed once for the run of
+    /// parameters that fall in it, then a tight loop over that run (no span test, no capacity
+    /// check per point: the run is known before the points are written).
     #[inline(always)]
-    fn bezier_impl<const N: usize>(
+    fn bezier_impl<const N: usize, const RATIONAL: bool>(
         &self,
         p: usize,
         us: &[f64],
         out: &mut Vec<Point3>,
     ) -> Result<(), GeometryError> {
-        let p = if N <= 4 { N - 1 } else { p };
+        let p = if exact(N) { N - 1 } else { p };
         out.clear();
         reserve(out, us.len())?;
-        let (knots, n) = (self.curve.knots(), self.poles.len());
+        let knots = self.curve.knots();
         let dom = self.curve.domain();
-        let rational = self.curve.is_rational();
-        let mut span = usize::MAX;
+        let end_span = self.spans.end_span();
         let mut q = [[0.0; 4]; N];
-        let (mut a, mut inv) = (0.0, 0.0);
-        for &u in us {
+        let mut rest = us;
+        while let Some(&u) = rest.first() {
             check_range(u, dom)?;
-            let s = span_from_hint(p, n, knots, u, if span == usize::MAX { p } else { span });
-            if s != span {
-                span = s;
-                a = knots[s];
-                inv = 1.0 / (knots[s + 1] - a);
-                self.bezier_poles(p, s, &mut q);
-            }
-            let t = (u - a) * inv;
-            let t1 = 1.0 - t;
-            let b = bernstein::<N>(p, t, t1);
-            let mut c = [0.0; 4];
-            for (bk, qk) in b.iter().zip(&q[..=p]) {
-                for i in 0..4 {
-                    c[i] += bk * qk[i];
-                }
-            }
-            out.push(if rational {
-                [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+            let s = self.spans.find(knots, u);
+            let (a, b) = (knots[s], knots[s + 1]);
+            let inv = 1.0 / (b - a);
+            self.bezier_poles(p, s, &mut q);
+            // The run of parameters in this span: [a, b), closed at the domain end, whose
+            // end A2.1 assigns to the last non-empty span. NaN ends the run (then fails the
+            // range check above); `max(1)` guarantees progress whatever the input.
+            let run = if s == end_span {
+                run_len::<true>(rest, a, b)
             } else {
-                [c[0], c[1], c[2]]
-            });
+                run_len::<false>(rest, a, b)
+            }
+            .max(1);
+            let (now, later) = rest.split_at(run);
+            rest = later;
+            let q = &q;
+            out.extend(now.iter().map(move |&x| {
+                // The closure's body is compiled on its own (inside `fold`): restate the
+                // degree as the constant it is so that every loop unrolls.
+                let p = if exact(N) { N - 1 } else { p };
+                let t = (x - a) * inv;
+                let bs = bernstein::<N>(p, t, 1.0 - t);
+                if RATIONAL {
+                    let mut c = [0.0; 4];
+                    for (bk, qk) in bs.iter().zip(&q[..=p]) {
+                        for i in 0..4 {
+                            c[i] += bk * qk[i];
+                        }
+                    }
+                    [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+                } else {
+                    let mut c = [0.0; 3];
+                    for (bk, qk) in bs.iter().zip(&q[..=p]) {
+                        for i in 0..3 {
+                            c[i] += bk * qk[i];
+                        }
+                    }
+                    c
+                }
+            }));
         }
         Ok(())
     }
@@ -277,7 +354,7 @@ impl<'a> CurveEvaluator<'a> {
             span = if SORTED {
                 span_from_hint(p, n, knots, u, span)
             } else {
-                find_span(p, n, knots, u)
+                self.spans.find(knots, u)
             };
             if D1 {
                 push(out, self.point_and_derivative_in_span::<N>(p, u, span));
@@ -291,10 +368,15 @@ impl<'a> CurveEvaluator<'a> {
     /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.
     #[inline(always)]
     fn point_in_span<const N: usize>(&self, p: usize, u: f64, span: usize) -> Point3 {
-        // N <= 4 only comes from by_degree!'s exact arms: a compile-time degree.
-        let p = if N <= 4 { N - 1 } else { p };
-        let mut nb = [0.0; N];
-        basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
+        // exact(N) only for by_degree!'s exact arms: a compile-time degree.
+        let p = if exact(N) { N - 1 } else { p };
+        let nb: [f64; N] = if exact(N) {
+            basis::<N>(span, u, self.curve.knots())
+        } else {
+            let mut nb = [0.0; N];
+            basis_funs_in::<N>(span, u, p, self.curve.knots(), &mut nb);
+            nb
+        };
         let poles = &self.poles[span - p..=span];
         if self.curve.is_rational() {
             let mut c = [0.0; 4];
@@ -324,7 +406,7 @@ impl<'a> CurveEvaluator<'a> {
         u: f64,
         span: usize,
     ) -> [Point3; 2] {
-        let p = if N <= 4 { N - 1 } else { p };
+        let p = if exact(N) { N - 1 } else { p };
         let mut n0 = [0.0; N];
         let mut n1 = [0.0; N];
         basis_funs_ders1_in::<N>(span, u, p, self.curve.knots(), &mut n0, &mut n1);
@@ -434,6 +516,12 @@ pub struct SurfaceEvaluator<'a> {
     poles: Vec<[f64; 4]>,
     nu: usize,
     nv: usize,
+    spans_u: SpanIndex,
+    spans_v: SpanIndex,
+    /// The poles as `[x, y, z, 1]` and their weights apart: `t += f [x, y, z, 1]` is
+    /// `t[0..3] += f P, t[3] += f` exactly (`f * 1 = f`), as one 4-wide operation.
+    unit: Vec<[f64; 4]>,
+    weights: Vec<f64>,
 }
 
 /// The scratch for one grid evaluation: spans and basis values per parameter.
@@ -508,9 +596,13 @@ impl<'a> SurfaceEvaluator<'a> {
         };
         SurfaceEvaluator {
             surface,
-            poles,
             nu,
             nv,
+            spans_u: SpanIndex::new(surface.degree_u(), nu, surface.knots_u()),
+            spans_v: SpanIndex::new(surface.degree_v(), nv, surface.knots_v()),
+            unit: poles.iter().map(|q| [q[0], q[1], q[2], 1.0]).collect(),
+            weights: poles.iter().map(|q| q[3]).collect(),
+            poles,
         }
     }
 
@@ -524,7 +616,8 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, false, { N <= 4 }>(d, d, u, v)[0])
+            by_degree!(p, |N, d| self.kernel::<N, false, { exact(N) }>(d, d, u, v)
+                [0])
         } else {
             by_degree!(p.max(q), |N, _d| self.kernel::<N, false, false>(p, q, u, v)
                 [0])
@@ -537,7 +630,7 @@ impl<'a> SurfaceEvaluator<'a> {
         self.surface.check_parameter(u, v)?;
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         Ok(if p == q {
-            by_degree!(p, |N, d| self.kernel::<N, true, { N <= 4 }>(d, d, u, v))
+            by_degree!(p, |N, d| self.kernel::<N, true, { exact(N) }>(d, d, u, v))
         } else {
             by_degree!(p.max(q), |N, _d| self.kernel::<N, true, false>(p, q, u, v))
         })
@@ -547,7 +640,7 @@ impl<'a> SurfaceEvaluator<'a> {
     pub fn points(&self, uvs: &[[f64; 2]], out: &mut Vec<Point3>) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, false, { N <= 4 }, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, false, { exact(N) }, _>(
                 d,
                 d,
                 uvs,
@@ -573,7 +666,7 @@ impl<'a> SurfaceEvaluator<'a> {
     ) -> Result<(), GeometryError> {
         let (p, q) = (self.surface.degree_u(), self.surface.degree_v());
         if p == q {
-            by_degree!(p, |N, d| self.points_impl::<N, true, { N <= 4 }, _>(
+            by_degree!(p, |N, d| self.points_impl::<N, true, { exact(N) }, _>(
                 d,
                 d,
                 uvs,
@@ -603,12 +696,69 @@ impl<'a> SurfaceEvaluator<'a> {
         out.clear();
         reserve(out, uvs.len())?;
         let ((u0, u1), (v0, v1)) = self.surface.domain();
-        for &[u, v] in uvs {
+        let check = |[u, v]: [f64; 2]| {
             check_range(u, (u0, u1))?;
-            check_range(v, (v0, v1))?;
+            check_range(v, (v0, v1))
+        };
+        let mut rest = uvs;
+        if EXACT && !D1 {
+            // Two points per step: their computations are independent, and interleaved they
+            // keep the core busy where one point's chain of dependent divisions would not.
+            let mut pairs = uvs.chunks_exact(2);
+            for pair in &mut pairs {
+                let (a, b) = (pair[0], pair[1]);
+                check(a)?;
+                if let Err(e) = check(b) {
+                    out.push(finish(self.kernel::<N, D1, EXACT>(p, q, a[0], a[1])));
+                    return Err(e);
+                }
+                let [x, y] = self.point_pair::<N>(a, b);
+                out.push(finish([x, [0.0; 3], [0.0; 3]]));
+                out.push(finish([y, [0.0; 3], [0.0; 3]]));
+            }
+            rest = pairs.remainder();
+        }
+        for &[u, v] in rest {
+            check([u, v])?;
             out.push(finish(self.kernel::<N, D1, EXACT>(p, q, u, v)));
         }
         Ok(())
+    }
+
+    /// Two points of a surface of degrees `N - 1` in both directions, computed side by side
+    /// (the basis functions of both as the lanes of [`basis_pair`]); each bit-identical to
+    /// `NurbsSurface::point_at` (the same operations as [`kernel`](Self::kernel)).
+    #[inline(always)]
+    fn point_pair<const N: usize>(&self, [ua, va]: [f64; 2], [ub, vb]: [f64; 2]) -> [Point3; 2] {
+        let p = N - 1;
+        let s = self.surface;
+        let (ku, kv) = (s.knots_u(), s.knots_v());
+        let (sua, sub) = (self.spans_u.find(ku, ua), self.spans_u.find(ku, ub));
+        let (sva, svb) = (self.spans_v.find(kv, va), self.spans_v.find(kv, vb));
+        let (bua, bub) = basis_pair::<N>(sua, ua, ku, sub, ub, ku);
+        let (bva, bvb) = basis_pair::<N>(sva, va, kv, svb, vb, kv);
+        let mut acc = [[0.0; 4]; 2];
+        for k in 0..N {
+            let sa = (sua - p + k) * self.nv + sva - p;
+            let sb = (sub - p + k) * self.nv + svb - p;
+            let (ra, rb) = (&self.unit[sa..sa + N], &self.unit[sb..sb + N]);
+            let (wa, wb) = (&self.weights[sa..sa + N], &self.weights[sb..sb + N]);
+            let mut ta = [0.0; 4];
+            let mut tb = [0.0; 4];
+            for l in 0..N {
+                let fa = bva[l] * wa[l];
+                let fb = bvb[l] * wb[l];
+                for c in 0..4 {
+                    ta[c] += fa * ra[l][c];
+                    tb[c] += fb * rb[l][c];
+                }
+            }
+            for c in 0..4 {
+                acc[0][c] += bua[k] * ta[c];
+                acc[1][c] += bub[k] * tb[c];
+            }
+        }
+        acc.map(|a| [a[0] / a[3], a[1] / a[3], a[2] / a[3]])
     }
 
     /// The point (same operations, in the same order, as
@@ -624,8 +774,8 @@ impl<'a> SurfaceEvaluator<'a> {
     ) -> [Point3; 3] {
         let (p, q) = if EXACT { (N - 1, N - 1) } else { (p, q) };
         let s = self.surface;
-        let su = find_span(p, self.nu, s.knots_u(), u);
-        let sv = find_span(q, self.nv, s.knots_v(), v);
+        let su = self.spans_u.find(s.knots_u(), u);
+        let sv = self.spans_v.find(s.knots_v(), v);
         let mut bu = [0.0; N];
         let mut bv = [0.0; N];
         let mut du = [0.0; N];
@@ -633,6 +783,8 @@ impl<'a> SurfaceEvaluator<'a> {
         if D1 {
             basis_funs_ders1_in::<N>(su, u, p, s.knots_u(), &mut bu, &mut du);
             basis_funs_ders1_in::<N>(sv, v, q, s.knots_v(), &mut bv, &mut dv);
+        } else if EXACT {
+            (bu, bv) = basis_pair::<N>(su, u, s.knots_u(), sv, v, s.knots_v());
         } else {
             basis_funs_in::<N>(su, u, p, s.knots_u(), &mut bu);
             basis_funs_in::<N>(sv, v, q, s.knots_v(), &mut bv);

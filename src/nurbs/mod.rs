@@ -19,7 +19,8 @@
 //! - [`basis`]: basis functions and their derivatives (A2.2, A2.3).
 //! - [`curve`], [`surface`], [`grid`]: the types.
 //! - [`derivatives`], [`differential`], [`batch`]: derivatives of any order (A3.2, A3.6, A4.2,
-//!   A4.4), normals, curvature and torsion, batch evaluation.
+//!   A4.4), normals, curvature and torsion, batch evaluation (its span lookup and
+//!   register-resident A2.2 live in the private `kernels`).
 //! - [`insert`], [`remove`], [`bezier`], [`split`], [`clamp`], [`layout`], [`periodic`]:
 //!   knot insertion and refinement (A5.1, A5.3, A5.4), removal (A5.8), Bezier decomposition
 //!   (A5.6), split and join, clamping and unclamping (A12.1), knot-vector classification,
@@ -41,6 +42,7 @@ pub mod elevate;
 mod error;
 pub mod grid;
 pub mod insert;
+mod kernels;
 pub mod knots;
 pub mod layout;
 pub mod periodic;
