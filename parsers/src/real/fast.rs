@@ -14,10 +14,7 @@
 //! The tests compare every path with the std reference over random bits, ties, short
 //! decimals and the layout thresholds.
 
-use super::{NonFiniteReal, has_short_exact_decimal, write_real};
-
-/// 2^53: below it every integer is exactly representable and has a unique shortest form.
-const TWO_POW_53: f64 = 9_007_199_254_740_992.0;
+use super::{NonFiniteReal, write_real};
 
 /// Appends `x` exactly as [`write_real`] does (same bytes for every finite `f64`; the same
 /// error for NaN and infinities), faster for integers and short binary fractions.
@@ -35,28 +32,95 @@ pub fn write_real_fast(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     if !x.is_finite() {
         return Err(NonFiniteReal(x));
     }
-    let ax = x.abs();
-    if ax < TWO_POW_53 && x.trunc() == x {
-        if x.is_sign_negative() {
-            out.push('-');
+    match classify(x) {
+        Kind::Integer(v) => {
+            if x.is_sign_negative() {
+                out.push('-');
+            }
+            push_digits(out, v);
+            out.push('.');
+            Ok(())
         }
-        // Exact: an integer below 2^53 converts to u64 without loss.
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-        push_digits(out, ax as u64);
-        out.push('.');
-        return Ok(());
+        Kind::ShortFraction(v, k) => {
+            write_short_fraction(out, x.is_sign_negative(), v, k);
+            Ok(())
+        }
+        // Ties between two shortest candidates are possible: the reference path.
+        Kind::MayTie => write_real(out, x),
+        Kind::Other => write_ryu(out, x),
     }
-    if let Some((v, k)) = short_fraction(x) {
-        write_short_fraction(out, x.is_sign_negative(), v, k);
-        return Ok(());
+}
+
+/// How [`write_real_fast`] formats a finite value.
+enum Kind {
+    /// `|x| = v < 2^53`, an integer (zero included).
+    Integer(u64),
+    /// `|x| = v / 10^k` exactly, not an integer, `v` odd with at most 15 digits.
+    ShortFraction(u64, u32),
+    /// The exact decimal value is short enough for a tie between two shortest candidates
+    /// (the reference's `has_short_exact_decimal` rule), and in neither case above.
+    MayTie,
+    /// Everything else: Ryu's shortest digits are the reference digits.
+    Other,
+}
+
+/// Sorts a finite `x` into a [`Kind`] from its bits: `|x| = m 2^e` with `m` odd.
+fn classify(x: f64) -> Kind {
+    let bits = x.to_bits();
+    let biased = (bits >> 52) & 0x7ff;
+    let frac = bits & ((1u64 << 52) - 1);
+    let (m, e) = if biased == 0 {
+        (frac, -1074i64)
+    } else {
+        // biased <= 2047 always fits.
+        #[allow(clippy::cast_possible_wrap)]
+        let e = biased as i64 - 1075;
+        (frac | (1u64 << 52), e)
+    };
+    if m == 0 {
+        return Kind::Integer(0);
     }
-    if has_short_exact_decimal(x) {
-        // Ties are possible: the reference path (rare: 16-18 digit exact decimals).
-        return write_real(out, x);
+    let tz = m.trailing_zeros();
+    let m = m >> tz;
+    let e = e + i64::from(tz);
+    if e >= 0 {
+        // An integer m 2^e; below 2^53 it is written directly.
+        if e < 53 && m < (1u64 << (53 - e)) {
+            return Kind::Integer(m << e);
+        }
+        // The reference's integer rule: 5^e divides m.
+        let divisible = u32::try_from(e)
+            .ok()
+            .and_then(|k| 5u64.checked_pow(k))
+            .is_some_and(|p| m % p == 0);
+        return if divisible { Kind::MayTie } else { Kind::Other };
     }
+    // A fraction m / 2^k = m 5^k / 10^k with k = -e; m 5^k is odd.
+    let k = e.unsigned_abs();
+    if k > 25 {
+        // m >= 1 and 5^26 > 10^18: more than 18 digits, no tie possible.
+        return Kind::Other;
+    }
+    // k <= 25: 5^k < 2^59 and m < 2^53, so the product fits a u128.
+    let k = u32::try_from(k).unwrap_or(25);
+    let v = u128::from(m) * u128::from(5u64.pow(k));
+    if v < 1_000_000_000_000_000 {
+        // Below 10^15: fits a u64.
+        #[allow(clippy::cast_possible_truncation)]
+        return Kind::ShortFraction(v as u64, k);
+    }
+    if v < 1_000_000_000_000_000_000 {
+        Kind::MayTie
+    } else {
+        Kind::Other
+    }
+}
+
+/// The Ryu path of [`write_real`], for values without possible ties.
+fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     let mut buf = ryu::Buffer::new();
     let t = buf.format_finite(x);
-    let positional = (1e-5..1e16).contains(&ax);
+    let positional = (1e-5..1e16).contains(&x.abs());
     match t.find('e') {
         None if positional => {
             out.push_str(t.strip_suffix(".0").map_or(t, |m| &t[..m.len() + 1]));
@@ -74,30 +138,6 @@ pub fn write_real_fast(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
         }
         _ => write_real(out, x),
     }
-}
-
-/// For a non-integer `x = v / 10^k` exactly, with `v` odd and below 10^15: `(v, k)`.
-fn short_fraction(x: f64) -> Option<(u64, u32)> {
-    let bits = x.to_bits();
-    let biased = (bits >> 52) & 0x7ff;
-    if biased == 0 {
-        return None; // zero or subnormal: not a short fraction (and handled elsewhere)
-    }
-    let m = (bits & ((1u64 << 52) - 1)) | (1u64 << 52);
-    let tz = m.trailing_zeros();
-    let m = m >> tz;
-    // x = m 2^e with m odd; e = biased - 1075 + tz. A non-integer has e < 0.
-    let e = i64::try_from(biased).ok()? - 1075 + i64::from(tz);
-    if e >= 0 {
-        return None;
-    }
-    let k = u32::try_from(-e).ok()?;
-    if k > 21 {
-        return None; // 5^22 > 10^15: v would have more than 15 digits
-    }
-    // m 2^-k = m 5^k / 10^k; m 5^k is odd (both factors are).
-    let v = 5u64.checked_pow(k)?.checked_mul(m)?;
-    (v < 1_000_000_000_000_000).then_some((v, k))
 }
 
 /// Writes `±v / 10^k` (v odd, at most 15 digits, not an integer) in [`write_real`]'s layout.
@@ -165,7 +205,29 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// 2^53.
+    const TWO_POW_53: f64 = 9_007_199_254_740_992.0;
+
+    /// `classify` agrees with the reference's tie test on which values may tie.
+    fn check_kind(x: f64) {
+        let may_tie = matches!(
+            classify(x),
+            Kind::MayTie | Kind::Integer(_) | Kind::ShortFraction(..)
+        );
+        let reference = super::super::has_short_exact_decimal(x);
+        // Integers below 2^53 and short fractions are direct paths; every other value the
+        // reference calls short must take the reference path.
+        if reference {
+            assert!(may_tie, "{x:e}");
+        } else {
+            assert!(!matches!(classify(x), Kind::MayTie), "{x:e}");
+        }
+    }
+
     fn check(x: f64) {
+        if x.is_finite() {
+            check_kind(x);
+        }
         let (mut fast, mut reference) = (String::new(), String::new());
         let a = write_real_fast(&mut fast, x);
         let b = write_real_std(&mut reference, x);
