@@ -31,7 +31,7 @@ use super::implicit::{KnotForm, implicit_knots, knot_form};
 use crate::exchange::{
     Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, StepSchema,
 };
-use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3, distance};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
 
 /// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
 struct Protocol {
@@ -389,8 +389,8 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         // A real is at most 24 bytes; typical ones about 18. An estimate: the string grows
         // if it is short.
         size = size
-            .saturating_add(poles.saturating_mul(96))
-            .saturating_add(reals.saturating_mul(22))
+            .saturating_add(poles.saturating_mul(112))
+            .saturating_add(reals.saturating_mul(24))
             .saturating_add(400);
     }
     f.b.reserve_many(next - first);
@@ -967,7 +967,7 @@ fn axis_placement(b: &mut Builder) -> u64 {
 }
 
 #[cfg(test)]
-fn point(b: &mut Builder, p: Point3, dim: usize, scale: f64) -> u64 {
+fn point(b: &mut Builder, p: crate::nurbs::Point3, dim: usize, scale: f64) -> u64 {
     let c: Vec<f64> = p.iter().take(dim).map(|x| x * scale).collect();
     b.simple("CARTESIAN_POINT", vec![s(""), Parameter::reals(&c)])
 }
@@ -1229,7 +1229,7 @@ fn now_iso8601() -> String {
 mod equivalence_tests {
     use super::*;
     use crate::exchange::{Format, ImportOptions, Meta, Source};
-    use crate::nurbs::Grid;
+    use crate::nurbs::{Grid, Point3};
     use proptest::prelude::*;
 
     fn options_variants() -> Vec<ExportOptions> {
@@ -1443,6 +1443,48 @@ mod equivalence_tests {
         for options in options_variants() {
             assert_same(&doc, &options, "empty document");
         }
+    }
+
+    /// The generator reaches every case the equivalence test is meant to cover.
+    #[test]
+    fn generated_documents_cover_the_cases() {
+        let (mut curves2, mut rational_curves, mut curves, mut rational_surfaces, mut surfaces) =
+            (0, 0, 0, 0, 0);
+        let mut odd = [false; 5];
+        for seed in 0..300 {
+            for e in random_document(seed).entities {
+                let points: Vec<Point3> = match &e.geometry {
+                    Geometry::Curve(c) => {
+                        curves += 1;
+                        curves2 += usize::from(c.dimension() == 2);
+                        rational_curves += usize::from(c.is_rational());
+                        c.control_points().to_vec()
+                    }
+                    Geometry::Surface(s) => {
+                        surfaces += 1;
+                        rational_surfaces += usize::from(s.is_rational());
+                        s.control_points().as_slice().to_vec()
+                    }
+                };
+                for x in points.iter().flatten() {
+                    odd[0] |= *x == 0.0 && x.is_sign_negative();
+                    odd[1] |= *x == 1e-300;
+                    odd[2] |= x.abs() == 1e300;
+                    odd[3] |= x.is_subnormal();
+                    odd[4] |= *x == 0.5 || *x == -0.25;
+                }
+            }
+        }
+        for (what, n) in [
+            ("2-D curves", curves2),
+            ("rational curves", rational_curves),
+            ("polynomial curves", curves - rational_curves),
+            ("rational surfaces", rational_surfaces),
+            ("polynomial surfaces", surfaces - rational_surfaces),
+        ] {
+            assert!(n >= 20, "only {n} {what}");
+        }
+        assert_eq!(odd, [true; 5]);
     }
 
     proptest! {
