@@ -284,12 +284,37 @@ impl ParamWriter<'_> {
         self.seq += 1;
         let used = self.cur();
         pad(self.out, b' ', P_DATA_COLUMNS.saturating_sub(used));
-        self.out.push(' ');
-        push_uint(self.out, self.de, 7, b' ');
-        self.out.push('P');
-        push_uint(self.out, self.seq, 7, b'0');
-        self.out.push('\n');
+        if self.de < 10_000_000 && self.seq < 10_000_000 {
+            // ` {de:>7}P{seq:07}\n` in one piece: columns 65-80.
+            let mut tail = *b"        P0000000\n";
+            fill_digits(&mut tail[1..8], self.de);
+            fill_digits(&mut tail[9..16], self.seq);
+            // Only ASCII was written.
+            self.out
+                .push_str(std::str::from_utf8(&tail).unwrap_or_default());
+        } else {
+            self.out.push(' ');
+            push_uint(self.out, self.de, 7, b' ');
+            self.out.push('P');
+            push_uint(self.out, self.seq, 7, b'0');
+            self.out.push('\n');
+        }
         self.line_start = self.out.len();
+    }
+}
+
+/// Writes the digits of `v` right-aligned into `field` (which keeps its fill where no digit
+/// goes); `v` must fit.
+fn fill_digits(field: &mut [u8], mut v: usize) {
+    for slot in field.iter_mut().rev() {
+        // v % 10 < 10 fits in u8.
+        #[allow(clippy::cast_possible_truncation)]
+        let digit = (v % 10) as u8;
+        *slot = b'0' + digit;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
     }
 }
 
@@ -539,9 +564,25 @@ impl Tokens {
     }
 }
 
-/// Appends `n` copies of the ASCII byte `c`.
+/// Appends `n` copies of the ASCII byte `c` (spaces and zeros from a constant: padding is
+/// a fifth of every P record).
 fn pad(out: &mut String, c: u8, n: usize) {
-    out.extend(std::iter::repeat_n(char::from(c), n));
+    const SPACES: &str = "                                                                ";
+    const ZEROS: &str = "0000000000000000000000000000000000000000000000000000000000000000";
+    let run = match c {
+        b' ' => SPACES,
+        b'0' => ZEROS,
+        _ => {
+            out.extend(std::iter::repeat_n(char::from(c), n));
+            return;
+        }
+    };
+    let mut n = n;
+    while n > 0 {
+        let k = n.min(run.len());
+        out.push_str(run.get(..k).unwrap_or_default());
+        n -= k;
+    }
 }
 
 /// Appends `v` right-justified in `width` columns, padded with `fill` (as `{v:>w}` or

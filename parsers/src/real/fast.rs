@@ -121,7 +121,8 @@ fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     let mut buf = ryu::Buffer::new();
     let t = buf.format_finite(x);
     let positional = (1e-5..1e16).contains(&x.abs());
-    match t.find('e') {
+    // Byte scans: the token is short, a memchr call costs more than it saves.
+    match t.bytes().position(|b| b == b'e') {
         None if positional => {
             out.push_str(t.strip_suffix(".0").map_or(t, |m| &t[..m.len() + 1]));
             Ok(())
@@ -129,7 +130,7 @@ fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
         Some(e) if !positional => {
             let (mantissa, exponent) = (&t[..e], &t[e + 1..]);
             out.push_str(mantissa);
-            if !mantissa.contains('.') {
+            if !mantissa.bytes().any(|b| b == b'.') {
                 out.push('.');
             }
             out.push('E');
