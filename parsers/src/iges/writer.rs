@@ -182,6 +182,7 @@ impl ParamWriter<'_> {
     }
 
     /// An integer (or pointer, or logical).
+    #[inline]
     pub fn int(&mut self, i: i64) {
         let start = self.out.len();
         push_int(self.out, i);
@@ -189,6 +190,7 @@ impl ParamWriter<'_> {
     }
 
     /// A real, as [`crate::real::write_real`] writes it.
+    #[inline]
     pub fn real(&mut self, x: f64) -> Result<(), NonFiniteReal> {
         let start = self.out.len();
         write_real_fast(self.out, x)?;
@@ -223,6 +225,7 @@ impl ParamWriter<'_> {
 
     /// A plain token just appended at `start`: keep it on this line when it fits with its
     /// delimiter, else re-place it by the general rules.
+    #[inline]
     fn place(&mut self, start: usize) {
         let len = self.out.len() - start;
         if start - self.line_start + len < P_DATA_COLUMNS {

@@ -121,6 +121,19 @@ fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     let mut buf = ryu::Buffer::new();
     let t = buf.format_finite(x);
     let positional = (1e-5..1e16).contains(&x.abs());
+    if (1e-4..9e15).contains(&x.abs()) {
+        // Ryu writes decimal exponents -5 < kk <= 16 positionally; the shortest digits of a
+        // value in this range (with margins for their rounding) have such an exponent, so
+        // there is no 'e' to look for, only an integer's ".0" to drop.
+        match t.strip_suffix(".0") {
+            Some(head) => {
+                out.push_str(head);
+                out.push('.');
+            }
+            None => out.push_str(t),
+        }
+        return Ok(());
+    }
     // Byte scans: the token is short, a memchr call costs more than it saves.
     match t.bytes().position(|b| b == b'e') {
         None if positional => {
