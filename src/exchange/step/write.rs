@@ -497,13 +497,11 @@ mod fast {
     /// `(#first,#first+1,...)` for `n` ids.
     fn push_id_range(out: &mut String, first: u64, n: usize) {
         out.push('(');
-        let mut id = first;
-        for k in 0..n {
+        for (k, id) in (first..).take(n).enumerate() {
             if k > 0 {
                 out.push(',');
             }
             push_id(out, id);
-            id += 1;
         }
         out.push(')');
     }
