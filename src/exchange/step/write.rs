@@ -485,8 +485,10 @@ mod fast {
                 break;
             }
         }
-        // Only ASCII digits were written.
-        out.push_str(std::str::from_utf8(&digits[i..]).unwrap_or_default());
+        // Pushed one by one: cheaper than validating and copying a few bytes.
+        for &d in &digits[i..] {
+            out.push(char::from(d));
+        }
     }
 
     fn push_id(out: &mut String, id: u64) {
