@@ -710,3 +710,7 @@ mod tests {
         }
     }
 }
+
+// The writers' fast formatter (same output as `write_real`), kept in its own file.
+mod fast;
+pub use fast::write_real_fast;

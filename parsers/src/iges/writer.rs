@@ -19,7 +19,7 @@ use super::P_DATA_COLUMNS;
 use super::directory::DirectoryEntry;
 use super::error::WriteError;
 use super::global::Global;
-use crate::real::write_real;
+use crate::real::{NonFiniteReal, write_real, write_real_fast};
 
 /// One parameter to write.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,49 +53,14 @@ pub fn pointer_of(index: usize) -> usize {
 }
 
 /// Writes a complete IGES file.
+///
+/// The straightforward path: every parameter as a [`Param`], tokens packed into lines.
+/// [`write_with`] writes the same bytes without the parameter lists.
 pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<String, WriteError> {
-    let pd = global.param_delimiter;
-    let rd = global.record_delimiter;
-    if pd == rd
-        || !pd.is_ascii_graphic()
-        || !rd.is_ascii_graphic()
-        || pd.is_ascii_alphanumeric()
-        || rd.is_ascii_alphanumeric()
-        || matches!(pd, '.' | '+' | '-' | ' ')
-        || matches!(rd, '.' | '+' | '-')
-    {
-        return Err(WriteError::Field(format!(
-            "delimiters {pd:?} and {rd:?} cannot be written"
-        )));
-    }
+    let (pd, rd) = delimiters(global)?;
     let mut out = String::with_capacity(4096 + entities.len() * 1024);
-    // S
-    let mut s_count = 0;
-    for line in start.lines() {
-        let mut rest: String = line
-            .chars()
-            .filter(|c| c.is_ascii() && !c.is_ascii_control())
-            .collect();
-        loop {
-            let take = rest.len().min(72);
-            let chunk: String = rest.drain(..take).collect();
-            s_count += 1;
-            record(&mut out, &chunk, 'S', s_count);
-            if rest.is_empty() {
-                break;
-            }
-        }
-    }
-    if s_count == 0 {
-        s_count = 1;
-        record(&mut out, "", 'S', 1);
-    }
-    // G
-    let g = global_tokens(global)?;
-    let g_lines = pack(&g, 72, pd, rd);
-    for (k, l) in g_lines.iter().enumerate() {
-        record(&mut out, l, 'G', k + 1);
-    }
+    let s_count = write_start(&mut out, start);
+    let g_count = write_global(&mut out, global)?;
     // P first (into a buffer), to know the pointers and line counts. Tokens of an entity
     // go into one reused text buffer (no allocation per parameter or per line).
     let mut p_out = String::with_capacity(entities.len() * 1024);
@@ -126,9 +91,297 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
         });
         placements.push((first, p_seq + 1 - first));
     }
-    // D
-    for (index, (e, &(first, count))) in entities.iter().zip(&placements).enumerate() {
-        let de = &e.de;
+    write_directory(&mut out, entities.iter().map(|e| &e.de), &placements)?;
+    out.push_str(&p_out);
+    write_terminate(&mut out, s_count, g_count, 2 * entities.len(), p_seq);
+    Ok(out)
+}
+
+/// Writes a complete IGES file whose parameter data `params` writes straight into the
+/// P section: `params(i, w)` gives entity `i`'s parameters (entity type first) to `w`;
+/// `des` are the entities' Directory Entries (as [`WriteEntity::de`]). `p_bytes` is an
+/// estimate of the P section's size (the output is allocated once when it is not low).
+///
+/// The output is byte-identical to [`write`] given the same parameters (tested): the same
+/// packing rules (section 2.2.4.4: a parameter never split across records except a
+/// Hollerith string), but each token is formatted in place and lines are closed with
+/// column arithmetic, with no parameter list, token buffer or second copy of the P section.
+pub fn write_with<F>(
+    start: &str,
+    global: &Global,
+    des: &[DirectoryEntry],
+    p_bytes: usize,
+    mut params: F,
+) -> Result<String, WriteError>
+where
+    F: FnMut(usize, &mut ParamWriter<'_>) -> Result<(), NonFiniteReal>,
+{
+    let (pd, rd) = delimiters(global)?;
+    // Each DE record is 81 bytes while the sequence number fits 7 digits.
+    let d_len = des.len().saturating_mul(2 * 81);
+    let mut out = String::with_capacity(8192_usize.saturating_add(d_len).saturating_add(p_bytes));
+    let s_count = write_start(&mut out, start);
+    let g_count = write_global(&mut out, global)?;
+    // Room for the D section, written once the P pointers are known.
+    let d_start = out.len();
+    pad(&mut out, b' ', d_len);
+    let mut placements = Vec::with_capacity(des.len());
+    let mut w = ParamWriter {
+        line_start: out.len(),
+        out: &mut out,
+        de: 0,
+        seq: 0,
+        pd,
+        rd,
+        tokens: 0,
+        scratch: String::new(),
+    };
+    for index in 0..des.len() {
+        w.de = pointer_of(index);
+        w.tokens = 0;
+        let first = w.seq + 1;
+        params(index, &mut w).map_err(|e| WriteError::NonFinite {
+            entity: index,
+            value: e.0,
+        })?;
+        w.end_entity();
+        placements.push((first, w.seq + 1 - first));
+    }
+    let p_seq = w.seq;
+    let mut d = String::with_capacity(d_len);
+    write_directory(&mut d, des.iter(), &placements)?;
+    // Same length (the usual case): an in-place copy; otherwise the tail moves.
+    out.replace_range(d_start..d_start + d_len, &d);
+    write_terminate(&mut out, s_count, g_count, 2 * des.len(), p_seq);
+    Ok(out)
+}
+
+/// Writes one entity's parameters straight into the P section (see [`write_with`]).
+#[derive(Debug)]
+pub struct ParamWriter<'a> {
+    out: &'a mut String,
+    /// Where the current line's data begins in `out`.
+    line_start: usize,
+    /// The entity's DE pointer (columns 66-72).
+    de: usize,
+    /// The last P sequence number written.
+    seq: usize,
+    pd: char,
+    rd: char,
+    /// Parameters written for the current entity.
+    tokens: usize,
+    /// A token moved to the next line.
+    scratch: String,
+}
+
+impl ParamWriter<'_> {
+    /// An empty parameter (the default value).
+    pub fn empty(&mut self) {
+        let start = self.out.len();
+        self.place(start);
+    }
+
+    /// An integer (or pointer, or logical).
+    #[inline]
+    pub fn int(&mut self, i: i64) {
+        let start = self.out.len();
+        push_int(self.out, i);
+        self.place(start);
+    }
+
+    /// A real, as [`crate::real::write_real`] writes it.
+    #[inline]
+    pub fn real(&mut self, x: f64) -> Result<(), NonFiniteReal> {
+        let start = self.out.len();
+        write_real_fast(self.out, x)?;
+        self.place(start);
+        Ok(())
+    }
+
+    /// A string, written as a Hollerith constant `nH...` (non-ASCII and control characters
+    /// dropped, as [`write`] does).
+    pub fn text(&mut self, t: &str) {
+        let Ok((token, holl)) = param_token(&Param::Text(t.to_owned())) else {
+            return; // unreachable: only reals can fail
+        };
+        self.push_general(&token, holl);
+    }
+
+    /// Any [`Param`].
+    pub fn param(&mut self, p: &Param) -> Result<(), NonFiniteReal> {
+        match p {
+            Param::Empty => self.empty(),
+            Param::Int(i) => self.int(*i),
+            Param::Real(x) => self.real(*x)?,
+            Param::Text(t) => self.text(t),
+        }
+        Ok(())
+    }
+
+    /// Columns used on the current line.
+    fn cur(&self) -> usize {
+        self.out.len() - self.line_start
+    }
+
+    /// A plain token just appended at `start`: keep it on this line when it fits with its
+    /// delimiter, else re-place it by the general rules.
+    #[inline]
+    fn place(&mut self, start: usize) {
+        let len = self.out.len() - start;
+        if start - self.line_start + len < P_DATA_COLUMNS {
+            self.out.push(self.pd);
+            self.tokens += 1;
+            return;
+        }
+        let mut token = std::mem::take(&mut self.scratch);
+        token.clear();
+        token.push_str(self.out.get(start..).unwrap_or_default());
+        self.out.truncate(start);
+        self.push_general(&token, false);
+        self.scratch = token;
+    }
+
+    /// [`pack_into`]'s rules for one token, written in place.
+    fn push_general(&mut self, t: &str, holl: bool) {
+        let width = P_DATA_COLUMNS;
+        let need = t.len() + 1;
+        if self.cur() + need > width && self.cur() != 0 && (!holl || need <= width) {
+            self.finish_line();
+        }
+        self.tokens += 1;
+        if self.cur() + need <= width {
+            self.out.push_str(t);
+            self.out.push(self.pd);
+            return;
+        }
+        // A Hollerith string longer than what is left: fill lines exactly.
+        let mut rest = t;
+        while self.cur() + rest.len() > width {
+            let take = width.saturating_sub(self.cur());
+            // Hollerith text is ASCII (filtered in `param_token`), so any byte is a boundary.
+            let (head, tail) = rest
+                .split_at_checked(take.min(rest.len()))
+                .unwrap_or((rest, ""));
+            self.out.push_str(head);
+            rest = tail;
+            self.finish_line();
+        }
+        self.out.push_str(rest);
+        if self.cur() + 1 > width {
+            self.finish_line();
+        }
+        self.out.push(self.pd);
+    }
+
+    /// Ends the entity: the last delimiter becomes the record delimiter; closes the line.
+    fn end_entity(&mut self) {
+        if self.tokens > 0 && self.out.len() > self.line_start {
+            self.out.pop();
+        }
+        self.out.push(self.rd);
+        self.finish_line();
+    }
+
+    /// Pads the line to 64 columns and adds the DE pointer and the sequence number.
+    fn finish_line(&mut self) {
+        self.seq += 1;
+        let used = self.cur();
+        pad(self.out, b' ', P_DATA_COLUMNS.saturating_sub(used));
+        if self.de < 10_000_000 && self.seq < 10_000_000 {
+            // ` {de:>7}P{seq:07}\n` in one piece: columns 65-80.
+            let mut tail = *b"        P0000000\n";
+            fill_digits(&mut tail[1..8], self.de);
+            fill_digits(&mut tail[9..16], self.seq);
+            // Only ASCII was written; one validated copy is cheaper than 17 pushes here.
+            self.out
+                .push_str(std::str::from_utf8(&tail).unwrap_or_default());
+        } else {
+            self.out.push(' ');
+            push_uint(self.out, self.de, 7, b' ');
+            self.out.push('P');
+            push_uint(self.out, self.seq, 7, b'0');
+            self.out.push('\n');
+        }
+        self.line_start = self.out.len();
+    }
+}
+
+/// Writes the digits of `v` right-aligned into `field` (which keeps its fill where no digit
+/// goes); `v` must fit.
+fn fill_digits(field: &mut [u8], mut v: usize) {
+    for slot in field.iter_mut().rev() {
+        // v % 10 < 10 fits in u8.
+        #[allow(clippy::cast_possible_truncation)]
+        let digit = (v % 10) as u8;
+        *slot = b'0' + digit;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+}
+
+/// The parameter and record delimiters, when they can be written.
+fn delimiters(global: &Global) -> Result<(char, char), WriteError> {
+    let pd = global.param_delimiter;
+    let rd = global.record_delimiter;
+    if pd == rd
+        || !pd.is_ascii_graphic()
+        || !rd.is_ascii_graphic()
+        || pd.is_ascii_alphanumeric()
+        || rd.is_ascii_alphanumeric()
+        || matches!(pd, '.' | '+' | '-' | ' ')
+        || matches!(rd, '.' | '+' | '-')
+    {
+        return Err(WriteError::Field(format!(
+            "delimiters {pd:?} and {rd:?} cannot be written"
+        )));
+    }
+    Ok((pd, rd))
+}
+
+/// The S section; returns its record count.
+fn write_start(out: &mut String, start: &str) -> usize {
+    let mut s_count = 0;
+    for line in start.lines() {
+        let mut rest: String = line
+            .chars()
+            .filter(|c| c.is_ascii() && !c.is_ascii_control())
+            .collect();
+        loop {
+            let take = rest.len().min(72);
+            let chunk: String = rest.drain(..take).collect();
+            s_count += 1;
+            record(out, &chunk, 'S', s_count);
+            if rest.is_empty() {
+                break;
+            }
+        }
+    }
+    if s_count == 0 {
+        s_count = 1;
+        record(out, "", 'S', 1);
+    }
+    s_count
+}
+
+/// The G section; returns its record count.
+fn write_global(out: &mut String, global: &Global) -> Result<usize, WriteError> {
+    let g = global_tokens(global)?;
+    let g_lines = pack(&g, 72, global.param_delimiter, global.record_delimiter);
+    for (k, l) in g_lines.iter().enumerate() {
+        record(out, l, 'G', k + 1);
+    }
+    Ok(g_lines.len())
+}
+
+/// The D section: two records per entity, with the P pointer and line count of each.
+fn write_directory<'d>(
+    out: &mut String,
+    des: impl Iterator<Item = &'d DirectoryEntry>,
+    placements: &[(usize, usize)],
+) -> Result<(), WriteError> {
+    for (index, (de, &(first, count))) in des.zip(placements).enumerate() {
         let seq = pointer_of(index);
         let mut l1 = String::with_capacity(80);
         for v in [
@@ -144,7 +397,7 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
             field8(&mut l1, v)?;
         }
         l1.push_str(&de.status.to_digits());
-        record(&mut out, &l1, 'D', seq);
+        record(out, &l1, 'D', seq);
         let mut l2 = String::with_capacity(80);
         for v in [
             de.entity_type,
@@ -167,13 +420,15 @@ pub fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<S
             .collect();
         let _ = write!(l2, "{label:>8}");
         field8(&mut l2, de.subscript)?;
-        record(&mut out, &l2, 'D', seq + 1);
+        record(out, &l2, 'D', seq + 1);
     }
-    out.push_str(&p_out);
-    let d_count = 2 * entities.len();
-    let t = format!("S{s_count:7}G{:7}D{d_count:7}P{p_seq:7}", g_lines.len());
-    record(&mut out, &t, 'T', 1);
-    Ok(out)
+    Ok(())
+}
+
+/// The T record.
+fn write_terminate(out: &mut String, s: usize, g: usize, d: usize, p: usize) {
+    let t = format!("S{s:7}G{g:7}D{d:7}P{p:7}");
+    record(out, &t, 'T', 1);
 }
 
 fn record(out: &mut String, data: &str, letter: char, seq: usize) {
@@ -312,9 +567,25 @@ impl Tokens {
     }
 }
 
-/// Appends `n` copies of the ASCII byte `c`.
+/// Appends `n` copies of the ASCII byte `c` (spaces and zeros from a constant: padding is
+/// a fifth of every P record).
 fn pad(out: &mut String, c: u8, n: usize) {
-    out.extend(std::iter::repeat_n(char::from(c), n));
+    const SPACES: &str = "                                                                ";
+    const ZEROS: &str = "0000000000000000000000000000000000000000000000000000000000000000";
+    let run = match c {
+        b' ' => SPACES,
+        b'0' => ZEROS,
+        _ => {
+            out.extend(std::iter::repeat_n(char::from(c), n));
+            return;
+        }
+    };
+    let mut n = n;
+    while n > 0 {
+        let k = n.min(run.len());
+        out.push_str(run.get(..k).unwrap_or_default());
+        n -= k;
+    }
 }
 
 /// Appends `v` right-justified in `width` columns, padded with `fill` (as `{v:>w}` or
@@ -462,5 +733,97 @@ mod tests {
         let lines = pack(&toks, 64, ',', ';');
         assert_eq!(lines[0].len(), 64);
         assert_eq!(lines.concat(), format!("1,{long};"));
+    }
+
+    fn param_strategy() -> impl proptest::strategy::Strategy<Value = Param> {
+        use proptest::prelude::*;
+        prop_oneof![
+            Just(Param::Empty),
+            any::<i64>().prop_map(Param::Int),
+            (-1000i64..1000).prop_map(Param::Int),
+            any::<u64>()
+                .prop_map(f64::from_bits)
+                .prop_filter("finite", |x| x.is_finite())
+                .prop_map(Param::Real),
+            (-4000i32..4000).prop_map(|k| Param::Real(f64::from(k) / 8.0)),
+            prop::sample::select(vec![0.0, -0.0, 1e-300, 1e300, 5e-324, 2.2e-310, f64::MAX])
+                .prop_map(Param::Real),
+            "[ -~]{0,150}".prop_map(Param::Text),
+            "\\PC{0,80}".prop_map(Param::Text),
+        ]
+    }
+
+    fn global_for(pd: char, rd: char) -> Global {
+        Global {
+            param_delimiter: pd,
+            record_delimiter: rd,
+            file_name: Some("x.igs".to_owned()),
+            max_coordinate: Some(12.5),
+            ..Global::default()
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(500))]
+        /// [`write_with`] writes the bytes [`write`] writes, for any parameters (long
+        /// Hollerith strings, empty entities, odd reals) and delimiters.
+        #[test]
+        fn write_with_equals_write(
+            lists in proptest::collection::vec(proptest::collection::vec(param_strategy(), 0..40), 0..6),
+            delims in proptest::sample::select(vec![(',', ';'), ('/', '!'), (';', ',')]),
+            start in "\\PC{0,200}",
+        ) {
+            let global = global_for(delims.0, delims.1);
+            let entities: Vec<WriteEntity> = lists
+                .iter()
+                .enumerate()
+                .map(|(k, params)| WriteEntity {
+                    de: DirectoryEntry {
+                        entity_type: 126,
+                        label: format!("L{k}"),
+                        ..DirectoryEntry::default()
+                    },
+                    params: params.clone(),
+                })
+                .collect();
+            let des: Vec<DirectoryEntry> = entities.iter().map(|e| e.de.clone()).collect();
+            let reference = write(&start, &global, &entities);
+            let fast = write_with(&start, &global, &des, 0, |i, w| {
+                for p in &lists[i] {
+                    w.param(p)?;
+                }
+                Ok(())
+            });
+            proptest::prop_assert_eq!(reference, fast);
+        }
+    }
+
+    #[test]
+    fn write_with_reports_the_same_non_finite_value() {
+        let global = global_for(',', ';');
+        let params = vec![
+            Param::Int(126),
+            Param::Real(1.0),
+            Param::Real(f64::INFINITY),
+        ];
+        let entities = vec![
+            WriteEntity {
+                de: DirectoryEntry::default(),
+                params: vec![Param::Int(1)],
+            },
+            WriteEntity {
+                de: DirectoryEntry::default(),
+                params: params.clone(),
+            },
+        ];
+        let des = vec![DirectoryEntry::default(); 2];
+        let fast = write_with("s", &global, &des, 0, |i, w| {
+            for p in &entities[i].params {
+                w.param(p)?;
+            }
+            Ok(())
+        });
+        assert_eq!(fast, write("s", &global, &entities));
+        assert!(fast.is_err());
     }
 }

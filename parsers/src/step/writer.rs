@@ -234,6 +234,19 @@ impl Builder {
         id
     }
 
+    /// The id the next [`Builder::reserve`] returns.
+    pub fn next_id(&self) -> u64 {
+        self.next
+    }
+
+    /// Reserves `n` consecutive ids for instances the caller writes itself (outside the
+    /// builder, e.g. straight to text) and returns the first.
+    pub fn reserve_many(&mut self, n: u64) -> u64 {
+        let id = self.next;
+        self.next = self.next.saturating_add(n);
+        id
+    }
+
     /// Gives the body of a reserved id.
     pub fn set(&mut self, id: u64, body: Body<'static>) {
         self.instances.push(Instance { id, body });

@@ -14,9 +14,13 @@
 //!   `ExportOptions::units` differs from the document's unit), resolution, maximum
 //!   coordinate, dates from `ExportOptions::timestamp` (deterministic when given).
 
+#[cfg(test)]
 use nurbsx_parsers::iges::schema::{Curve126, Surface128};
-use nurbsx_parsers::iges::writer::{self, WriteEntity};
+#[cfg(test)]
+use nurbsx_parsers::iges::writer::WriteEntity;
+use nurbsx_parsers::iges::writer::{self, ParamWriter};
 use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
+use nurbsx_parsers::real::NonFiniteReal;
 
 use super::analysis;
 use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
@@ -26,7 +30,64 @@ use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 ///
 /// Errors (a `Diagnostic` with code `iges.write` or `options.timestamp`) only for values
 /// that cannot be written (non-finite after unit scaling) or a malformed timestamp.
+///
+/// Parameters go straight from the model into the P section ([`writer::write_with`]), with
+/// no per-entity parameter list; the text is byte-identical to the straightforward path
+/// (`write_reference`, tests below).
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    let unit = options.units.unwrap_or(document.units);
+    let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
+    let mut des = Vec::with_capacity(document.entities.len());
+    let mut plans = Vec::with_capacity(document.entities.len());
+    let mut max_coord = 0.0f64;
+    let mut reals = 0usize;
+    for e in &document.entities {
+        let plan = match &e.geometry {
+            Geometry::Curve(c) => {
+                let use_flag = if c.dimension() == 2 { 5 } else { 0 };
+                des.push(de(126, &e.meta, use_flag));
+                max_coord = c
+                    .control_points()
+                    .iter()
+                    .fold(max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
+                reals += c.knots().len() + 4 * c.num_poles() + 5;
+                Plan::Curve(curve_plan(c, &e.meta))
+            }
+            Geometry::Surface(s) => {
+                des.push(de(128, &e.meta, 0));
+                let net = s.control_points().as_slice();
+                max_coord = net
+                    .iter()
+                    .fold(max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
+                reals += s.knots_u().len() + s.knots_v().len() + 4 * net.len() + 4;
+                Plan::Surface(surface_plan(s, &e.meta))
+            }
+        };
+        plans.push(plan);
+    }
+    let (start, global) = header(options, unit, max_coord, document.entities.len())?;
+    // About 20 bytes a real with its delimiter, 64 of each 81 columns holding data.
+    let p_bytes = reals.saturating_mul(28) + document.entities.len() * 100;
+    writer::write_with(&start, &global, &des, p_bytes, |index, w| {
+        let (Some(e), Some(plan)) = (document.entities.get(index), plans.get(index)) else {
+            return Ok(());
+        };
+        match (&e.geometry, plan) {
+            (Geometry::Curve(c), Plan::Curve(p)) => curve_params(w, c, p, factor),
+            (Geometry::Surface(s), Plan::Surface(p)) => surface_params(w, s, p, factor),
+            _ => Ok(()), // unreachable: plans are made from the same entities
+        }
+    })
+    .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
+}
+
+/// The straightforward writer: each entity as a [`Curve126`] / [`Surface128`] record and its
+/// parameter list, written by [`writer::write`]. [`write`] must produce exactly its bytes.
+#[cfg(test)]
+pub(crate) fn write_reference(
+    document: &Document,
+    options: &ExportOptions,
+) -> Result<String, Diagnostic> {
     let unit = options.units.unwrap_or(document.units);
     let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
     let mut entities = Vec::with_capacity(document.entities.len());
@@ -39,6 +100,18 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         max_coord = max_coord.max(max_abs(&we.1));
         entities.push(we.0);
     }
+    let (start, global) = header(options, unit, max_coord, entities.len())?;
+    writer::write(&start, &global, &entities)
+        .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
+}
+
+/// The Start section text and the Global section of a file of `count` entities.
+fn header(
+    options: &ExportOptions,
+    unit: crate::exchange::LengthUnit,
+    max_coord: f64,
+    count: usize,
+) -> Result<(String, Global), Diagnostic> {
     let date = iges_date(options.timestamp.as_deref())?;
     let version = env!("CARGO_PKG_VERSION");
     let global = Global {
@@ -70,14 +143,190 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         modified_date: Some(date),
         application_protocol: None,
     };
-    let start = format!(
-        "nurbsx {version}: exact NURBS exchange; {} B-spline entities (126/128)",
-        entities.len()
-    );
-    writer::write(&start, &global, &entities)
-        .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
+    let start =
+        format!("nurbsx {version}: exact NURBS exchange; {count} B-spline entities (126/128)");
+    Ok((start, global))
 }
 
+/// What [`write`] computes about an entity before writing (the flags need the whole entity).
+enum Plan {
+    Curve(CurvePlan),
+    Surface(SurfacePlan),
+}
+
+/// The 126 flags, parameter range and normal (module documentation).
+struct CurvePlan {
+    planar: i64,
+    closed: i64,
+    polynomial: i64,
+    periodic: i64,
+    range: (f64, f64),
+    normal: Point3,
+}
+
+/// The 128 flags and parameter range (module documentation).
+struct SurfacePlan {
+    closed: [i64; 2],
+    polynomial: i64,
+    periodic: [i64; 2],
+    range: [f64; 4],
+}
+
+fn curve_plan(c: &NurbsCurve, meta: &Meta) -> CurvePlan {
+    let tol = analysis::tolerance(c.control_points().iter());
+    let normal = if c.dimension() == 2 {
+        Some([0.0, 0.0, 1.0])
+    } else {
+        match meta.plane_normal {
+            Some(n) if analysis::on_plane(c.control_points(), n, tol) && is_unit(n) => Some(n),
+            _ => analysis::plane_normal(c.control_points(), tol),
+        }
+    };
+    let domain = c.domain();
+    let range = meta
+        .parameter_range
+        .map(|r| r.u)
+        .filter(|&r| within(r, domain))
+        .unwrap_or(domain);
+    CurvePlan {
+        planar: i64::from(normal.is_some()),
+        closed: i64::from(analysis::curve_closed(c, tol)),
+        polynomial: c.weights().map_or(1, |w| i64::from(all_equal(w))),
+        periodic: i64::from(analysis::curve_periodic(c, tol)),
+        range,
+        normal: normal.unwrap_or([0.0, 0.0, 0.0]),
+    }
+}
+
+fn surface_plan(s: &NurbsSurface, meta: &Meta) -> SurfacePlan {
+    let net = s.control_points();
+    let tol = analysis::tolerance(net.as_slice().iter());
+    let (du, dv) = s.domain();
+    let (ru, rv) = match meta.parameter_range {
+        Some(r) => match r.v {
+            Some(v) if within(r.u, du) && within(v, dv) => (r.u, v),
+            _ => (du, dv),
+        },
+        None => (du, dv),
+    };
+    SurfacePlan {
+        closed: [
+            i64::from(analysis::surface_closed(s, 0, tol)),
+            i64::from(analysis::surface_closed(s, 1, tol)),
+        ],
+        polynomial: s
+            .weights()
+            .map_or(1, |w| i64::from(all_equal(w.as_slice()))),
+        periodic: [
+            i64::from(analysis::surface_periodic(s, 0, tol)),
+            i64::from(analysis::surface_periodic(s, 1, tol)),
+        ],
+        range: [ru.0, ru.1, rv.0, rv.1],
+    }
+}
+
+fn all_equal(w: &[f64]) -> bool {
+    w.first().is_none_or(|&w0| w.iter().all(|&x| x == w0))
+}
+
+/// A count as an IGES integer (counts of in-memory data are far below `i64::MAX`).
+fn count(n: usize) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
+}
+
+/// The 126 parameters (IGES 5.3 section 4.23) in [`Curve126`]'s order.
+fn curve_params(
+    w: &mut ParamWriter<'_>,
+    c: &NurbsCurve,
+    p: &CurvePlan,
+    factor: Option<f64>,
+) -> Result<(), NonFiniteReal> {
+    let n = c.num_poles();
+    w.int(126);
+    w.int(count(n.saturating_sub(1)));
+    w.int(count(c.degree()));
+    for f in [p.planar, p.closed, p.polynomial, p.periodic] {
+        w.int(f);
+    }
+    for &k in c.knots() {
+        w.real(k)?;
+    }
+    match c.weights() {
+        Some(ws) => {
+            for &x in ws {
+                w.real(x)?;
+            }
+        }
+        None => {
+            for _ in 0..n {
+                w.real(1.0)?;
+            }
+        }
+    }
+    for &q in c.control_points() {
+        for x in scaled(q, factor) {
+            w.real(x)?;
+        }
+    }
+    w.real(p.range.0)?;
+    w.real(p.range.1)?;
+    for x in p.normal {
+        w.real(x)?;
+    }
+    Ok(())
+}
+
+/// The 128 parameters (IGES 5.3 section 4.24) in [`Surface128`]'s order: the first (u)
+/// index fastest.
+fn surface_params(
+    w: &mut ParamWriter<'_>,
+    s: &NurbsSurface,
+    p: &SurfacePlan,
+    factor: Option<f64>,
+) -> Result<(), NonFiniteReal> {
+    let net = s.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    w.int(128);
+    w.int(count(nu) - 1);
+    w.int(count(nv) - 1);
+    w.int(count(s.degree_u()));
+    w.int(count(s.degree_v()));
+    for f in [
+        p.closed[0],
+        p.closed[1],
+        p.polynomial,
+        p.periodic[0],
+        p.periodic[1],
+    ] {
+        w.int(f);
+    }
+    for &k in s.knots_u().iter().chain(s.knots_v()) {
+        w.real(k)?;
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            w.real(s.weight(i, j))?;
+        }
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            for x in scaled(*net.get(i, j), factor) {
+                w.real(x)?;
+            }
+        }
+    }
+    for x in p.range {
+        w.real(x)?;
+    }
+    Ok(())
+}
+
+/// `m` and the largest coordinate magnitude of `p`.
+fn max_abs_point(m: f64, p: Point3) -> f64 {
+    p.iter().fold(m, |m, &x| m.max(x.abs()))
+}
+
+#[cfg(test)]
 fn max_abs(points: &[Point3]) -> f64 {
     points
         .iter()
@@ -113,6 +362,7 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
 }
 
 /// PROP3 and the weights to write.
+#[cfg(test)]
 fn weights_of(w: Option<&[f64]>, n: usize) -> (i64, Vec<f64>) {
     match w {
         None => (1, vec![1.0; n]),
@@ -127,6 +377,7 @@ fn within(range: (f64, f64), domain: (f64, f64)) -> bool {
     range.0 >= domain.0 && range.1 <= domain.1 && range.0 < range.1
 }
 
+#[cfg(test)]
 fn curve_entity(c: &NurbsCurve, meta: &Meta, factor: Option<f64>) -> (WriteEntity, Vec<Point3>) {
     let points: Vec<Point3> = c
         .control_points()
@@ -178,6 +429,7 @@ fn is_unit(n: Point3) -> bool {
     ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() <= 1e-12
 }
 
+#[cfg(test)]
 fn surface_entity(
     s: &NurbsSurface,
     meta: &Meta,
@@ -282,4 +534,299 @@ fn now_digits() -> String {
         (rem / 60) % 60,
         rem % 60
     )
+}
+
+/// The fast writer against the straightforward one: byte-identical text for every sample
+/// file and for random documents (rational and polynomial curves and surfaces, 2-D curves,
+/// planar and skew curves, names, and odd values: -0.0, 1e-300, 1e300, subnormals,
+/// integers, short binary fractions), with and without unit scaling.
+#[cfg(test)]
+mod equivalence_tests {
+    use super::*;
+    use crate::exchange::{Entity, Format, ImportOptions, LengthUnit, Source};
+    use crate::nurbs::Grid;
+    use proptest::prelude::*;
+
+    fn options_variants() -> Vec<ExportOptions> {
+        [
+            (None, "sample"),
+            (Some(LengthUnit::In), ""),
+            (
+                Some(LengthUnit::M),
+                "a long file name that needs more than one line of the global section, 72 columns",
+            ),
+        ]
+        .into_iter()
+        .map(|(units, name)| ExportOptions {
+            units,
+            timestamp: Some("2026-01-01T00:00:00".to_owned()),
+            file_name: name.to_owned(),
+            ..ExportOptions::default()
+        })
+        .collect()
+    }
+
+    fn assert_same(doc: &Document, options: &ExportOptions, what: &str) {
+        match (write(doc, options), write_reference(doc, options)) {
+            (Ok(a), Ok(b)) => {
+                if a != b {
+                    let at = a
+                        .bytes()
+                        .zip(b.bytes())
+                        .position(|(x, y)| x != y)
+                        .unwrap_or(a.len().min(b.len()));
+                    let from = at.saturating_sub(160);
+                    panic!(
+                        "{what}: outputs differ at byte {at}:\nfast: {:?}\nref:  {:?}",
+                        &a[from..(at + 80).min(a.len())],
+                        &b[from..(at + 80).min(b.len())]
+                    );
+                }
+            }
+            (Err(a), Err(b)) => assert_eq!(a.message, b.message, "{what}"),
+            (a, b) => panic!("{what}: fast {:?} vs reference {:?}", a.err(), b.err()),
+        }
+    }
+
+    #[test]
+    fn equals_reference_on_every_sample() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+        let mut paths: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("step" | "igs")))
+            .collect();
+        paths.sort();
+        assert!(paths.len() >= 100, "only {} samples found", paths.len());
+        for path in paths {
+            let bytes = std::fs::read(&path).unwrap();
+            let doc = crate::exchange::read(&bytes, &ImportOptions::default()).unwrap();
+            assert!(!doc.entities.is_empty(), "{}", path.display());
+            for options in options_variants() {
+                assert_same(&doc, &options, &path.display().to_string());
+            }
+        }
+    }
+
+    #[test]
+    fn empty_document_equals_reference() {
+        let doc = Document::new(Format::Iges, LengthUnit::Mm);
+        for options in options_variants() {
+            assert_same(&doc, &options, "empty document");
+        }
+    }
+
+    /// A small deterministic PRNG for the generated documents (proptest draws the seed).
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 11
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n as u64) as usize
+        }
+        fn unit(&mut self) -> f64 {
+            self.next() as f64 / (1u64 << 53) as f64
+        }
+        /// A coordinate: full precision mostly, odd values often.
+        fn coord(&mut self) -> f64 {
+            const ODD: [f64; 14] = [
+                0.0,
+                -0.0,
+                1e-300,
+                -1e300,
+                1e300,
+                5e-324,
+                2.2250738585072e-310,
+                0.5,
+                -0.25,
+                1e16,
+                1e-5,
+                9.5367431640625e-7,
+                123_456_789.0,
+                -3.0,
+            ];
+            match self.below(4) {
+                0 => ODD[self.below(ODD.len())],
+                1 => (self.unit() * 2000.0 - 1000.0).round() / 8.0,
+                _ => self.unit() * 400.0 - 200.0,
+            }
+        }
+    }
+
+    fn knots(rng: &mut Rng, p: usize, n: usize) -> Vec<f64> {
+        let m = n + p + 1;
+        let scale = [1.0, 1e-300, 1e300, 7.3, 0.1][rng.below(5)];
+        match rng.below(4) {
+            // uniform (UNIFORM_ subtype when the scale is 1)
+            0 => (0..m).map(|i| i as f64 * scale).collect(),
+            // clamped with integer interior (QUASI_UNIFORM_, or BEZIER_ when n = p + 1)
+            1 => {
+                let spans = n - p;
+                let mut k = vec![0.0; p + 1];
+                k.extend((1..spans).map(|i| i as f64 * scale));
+                k.extend(std::iter::repeat_n(spans as f64 * scale, p + 1));
+                k
+            }
+            // clamped, random interior
+            _ => {
+                let mut inner: Vec<f64> = (1..n - p).map(|_| rng.unit() * scale).collect();
+                inner.sort_by(f64::total_cmp);
+                let mut k = vec![0.0; p + 1];
+                k.extend(inner);
+                k.extend(std::iter::repeat_n(scale, p + 1));
+                k
+            }
+        }
+    }
+
+    fn weights(rng: &mut Rng, n: usize) -> Option<Vec<f64>> {
+        match rng.below(3) {
+            0 => None,
+            1 => Some(vec![[1.0, 0.5, 2.0][rng.below(3)]; n]),
+            _ => Some((0..n).map(|_| 0.25 + rng.unit() * 4.0).collect()),
+        }
+    }
+
+    fn meta(rng: &mut Rng) -> Meta {
+        Meta {
+            name: [
+                None,
+                Some(""),
+                Some("edge 1"),
+                Some("it's"),
+                Some("\u{fc}ber"),
+            ][rng.below(5)]
+            .map(str::to_owned),
+            form: [
+                None,
+                Some("circular_arc"),
+                Some("PLANE_SURF"),
+                Some("bogus"),
+            ][rng.below(4)]
+            .map(str::to_owned),
+            self_intersect: [None, Some(false), Some(true)][rng.below(3)],
+            plane_normal: [
+                None,
+                Some([0.0, 0.0, 1.0]),
+                Some([0.0, 0.0, -1.0]),
+                Some([0.6, 0.8, 0.0]),
+            ][rng.below(4)],
+            parameter_range: [
+                None,
+                Some(crate::exchange::ParameterRange {
+                    u: (0.0, 0.5),
+                    v: Some((0.25, 0.75)),
+                }),
+                Some(crate::exchange::ParameterRange {
+                    u: (0.1, 0.2),
+                    v: None,
+                }),
+                Some(crate::exchange::ParameterRange {
+                    u: (-1.0, 1e300),
+                    v: Some((0.0, 1.0)),
+                }),
+            ][rng.below(4)],
+            ..Meta::default()
+        }
+    }
+
+    fn random_document(seed: u64) -> Document {
+        let mut rng = Rng(seed);
+        let mut doc = Document::new(Format::Iges, LengthUnit::Mm);
+        let count = 1 + rng.below(5);
+        for i in 0..count {
+            let geometry = if rng.below(3) == 0 {
+                let (pu, pv) = (1 + rng.below(3), 1 + rng.below(3));
+                let (nu, nv) = (pu + 1 + rng.below(4), pv + 1 + rng.below(4));
+                let (ku, kv) = (knots(&mut rng, pu, nu), knots(&mut rng, pv, nv));
+                let pts = Grid::from_fn(nu, nv, |_, _| [rng.coord(), rng.coord(), rng.coord()]);
+                let w =
+                    weights(&mut rng, nu * nv).map(|w| Grid::from_fn(nu, nv, |i, j| w[i * nv + j]));
+                NurbsSurface::new(pu, pv, ku, kv, pts, w)
+                    .ok()
+                    .map(Geometry::Surface)
+            } else {
+                let p = 1 + rng.below(4);
+                let n = p + 1 + rng.below(6);
+                let k = knots(&mut rng, p, n);
+                let dim = 2 + rng.below(2);
+                let pts = (0..n)
+                    .map(|_| {
+                        let z = if dim == 2 { 0.0 } else { rng.coord() };
+                        [rng.coord(), rng.coord(), z]
+                    })
+                    .collect();
+                let w = weights(&mut rng, n);
+                NurbsCurve::with_dimension(p, k, pts, w, dim)
+                    .ok()
+                    .map(Geometry::Curve)
+            };
+            let Some(geometry) = geometry else { continue };
+            doc.entities.push(Entity {
+                id: format!("E{i}"),
+                geometry,
+                source: Source::default(),
+                meta: meta(&mut rng),
+            });
+        }
+        doc
+    }
+
+    /// The generator reaches every case the equivalence test is meant to cover.
+    #[test]
+    fn generated_documents_cover_the_cases() {
+        let (mut curves2, mut rational_curves, mut curves, mut rational_surfaces, mut surfaces) =
+            (0, 0, 0, 0, 0);
+        let mut odd = [false; 5];
+        for seed in 0..300 {
+            for e in random_document(seed).entities {
+                let points: Vec<Point3> = match &e.geometry {
+                    Geometry::Curve(c) => {
+                        curves += 1;
+                        curves2 += usize::from(c.dimension() == 2);
+                        rational_curves += usize::from(c.is_rational());
+                        c.control_points().to_vec()
+                    }
+                    Geometry::Surface(s) => {
+                        surfaces += 1;
+                        rational_surfaces += usize::from(s.is_rational());
+                        s.control_points().as_slice().to_vec()
+                    }
+                };
+                for x in points.iter().flatten() {
+                    odd[0] |= *x == 0.0 && x.is_sign_negative();
+                    odd[1] |= *x == 1e-300;
+                    odd[2] |= x.abs() == 1e300;
+                    odd[3] |= x.is_subnormal();
+                    odd[4] |= *x == 0.5 || *x == -0.25;
+                }
+            }
+        }
+        for (what, n) in [
+            ("2-D curves", curves2),
+            ("rational curves", rational_curves),
+            ("polynomial curves", curves - rational_curves),
+            ("rational surfaces", rational_surfaces),
+            ("polynomial surfaces", surfaces - rational_surfaces),
+        ] {
+            assert!(n >= 20, "only {n} {what}");
+        }
+        assert_eq!(odd, [true; 5]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        #[test]
+        fn equals_reference_on_random_documents(seed in any::<u64>(), variant in 0usize..3) {
+            let doc = random_document(seed);
+            let options = &options_variants()[variant];
+            assert_same(&doc, options, &format!("seed {seed}"));
+        }
+    }
 }

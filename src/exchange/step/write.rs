@@ -20,16 +20,18 @@
 //! QUASI_UNIFORM_ subtype implies are written as that subtype, except where Open CASCADE
 //! would drop or misread it (rational or multi-span Bezier): those keep explicit knots.
 
-use nurbsx_parsers::step::{
-    Body, Builder, DataSection, Exchange, Parameter, Record, write_exchange,
-};
+use nurbsx_parsers::real::NonFiniteReal;
+use nurbsx_parsers::step::writer::{write_instance, write_record};
+use nurbsx_parsers::step::{Body, Builder, Parameter, Record};
+#[cfg(test)]
+use nurbsx_parsers::step::{DataSection, Exchange, write_exchange};
 
 use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
 use crate::exchange::{
     Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, StepSchema,
 };
-use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3, distance};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
 
 /// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
 struct Protocol {
@@ -69,11 +71,20 @@ fn s(text: &str) -> Parameter<'static> {
 fn rec(keyword: &'static str, params: Vec<Parameter<'static>>) -> Record<'static> {
     Record { keyword, params }
 }
+/// Everything before the geometry: the product chain, the 3-D context and the placement.
+struct Frame {
+    b: Builder,
+    unit: LengthUnit,
+    scale: f64,
+    proto: Protocol,
+    name: String,
+    rep: u64,
+    ctx3: u64,
+    placement: u64,
+}
 
-/// Writes a document as a STEP file (module documentation above). Coordinates are scaled
-/// once when `options.units` differs from the document's unit; the file declares the unit
-/// its numbers are in. Fails on non-finite values (impossible for checked NURBS) only.
-pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+/// The instances every file starts with (ids `#1`.. in the order Open CASCADE writes them).
+fn frame(document: &Document, options: &ExportOptions) -> Frame {
     let unit = options.units.unwrap_or(document.units);
     let scale = if unit == document.units {
         1.0
@@ -198,43 +209,47 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
 
     let ctx3 = context(&mut b, unit, 3);
     let placement = axis_placement(&mut b);
-
-    let mut curves3 = Vec::new();
-    let mut curves2 = Vec::new();
-    let mut surfaces = Vec::new();
-    for e in &document.entities {
-        let loc = Location::at_entity(e.id.clone());
-        match &e.geometry {
-            Geometry::Curve(c) => {
-                let id = curve(&mut b, c, e, scale, options)
-                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
-                if c.dimension() == 2 {
-                    curves2.push(id);
-                } else {
-                    curves3.push(id);
-                }
-            }
-            Geometry::Surface(sf) => {
-                let id = surface(&mut b, sf, e, scale, options)
-                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
-                surfaces.push(id);
-            }
-        }
+    Frame {
+        b,
+        unit,
+        scale,
+        proto,
+        name: name.to_owned(),
+        rep,
+        ctx3,
+        placement,
     }
+}
+
+/// The instances after the geometry (the shape representation's sets, the 2-D curves'
+/// representation) and the header records.
+fn finish(
+    f: &mut Frame,
+    options: &ExportOptions,
+    curves3: &[u64],
+    curves2: &[u64],
+    surfaces: &[u64],
+) -> Vec<Record<'static>> {
+    let (b, unit, proto, name, rep, ctx3, placement) = (
+        &mut f.b,
+        f.unit,
+        &f.proto,
+        f.name.as_str(),
+        f.rep,
+        f.ctx3,
+        f.placement,
+    );
     // GEOMETRIC_SET / GEOMETRIC_CURVE_SET need at least one element (SET [1:?]); a
     // document without 3-D geometry gets a representation holding only its placement.
     let mut items = vec![placement];
     let rep_keyword = if surfaces.is_empty() {
         if !curves3.is_empty() {
-            items.push(b.simple(
-                "GEOMETRIC_CURVE_SET",
-                vec![s(""), Parameter::refs(&curves3)],
-            ));
+            items.push(b.simple("GEOMETRIC_CURVE_SET", vec![s(""), Parameter::refs(curves3)]));
         }
         "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION"
     } else {
-        let mut members = curves3.clone();
-        members.extend(&surfaces);
+        let mut members = curves3.to_vec();
+        members.extend(surfaces);
         items.push(b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]));
         "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION"
     };
@@ -246,11 +261,8 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         )),
     );
     if !curves2.is_empty() {
-        let ctx2 = context(&mut b, unit, 2);
-        let set = b.simple(
-            "GEOMETRIC_CURVE_SET",
-            vec![s(""), Parameter::refs(&curves2)],
-        );
+        let ctx2 = context(b, unit, 2);
+        let set = b.simple("GEOMETRIC_CURVE_SET", vec![s(""), Parameter::refs(curves2)]);
         b.simple(
             "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION",
             vec![
@@ -262,7 +274,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     }
 
     let timestamp = options.timestamp.clone().unwrap_or_else(now_iso8601);
-    let header = vec![
+    vec![
         rec(
             "FILE_DESCRIPTION",
             vec![Parameter::List(vec![s("nurbsx model")]), s("2;1")],
@@ -283,7 +295,43 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             "FILE_SCHEMA",
             vec![Parameter::List(vec![s(proto.file_schema)])],
         ),
-    ];
+    ]
+}
+
+/// The straightforward writer: every instance as a [`Parameter`] tree in a [`Builder`],
+/// formatted by [`write_exchange`]. [`write`] must produce exactly its bytes (tested).
+#[cfg(test)]
+pub(crate) fn write_reference(
+    document: &Document,
+    options: &ExportOptions,
+) -> Result<String, Diagnostic> {
+    let mut f = frame(document, options);
+    let scale = f.scale;
+    let b = &mut f.b;
+    let mut curves3 = Vec::new();
+    let mut curves2 = Vec::new();
+    let mut surfaces = Vec::new();
+    for e in &document.entities {
+        let loc = Location::at_entity(e.id.clone());
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                let id = curve(b, c, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                if c.dimension() == 2 {
+                    curves2.push(id);
+                } else {
+                    curves3.push(id);
+                }
+            }
+            Geometry::Surface(sf) => {
+                let id = surface(b, sf, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                surfaces.push(id);
+            }
+        }
+    }
+    let header = finish(&mut f, options, &curves3, &curves2, &surfaces);
+    let b = std::mem::take(&mut f.b);
     let exchange = Exchange {
         header,
         data: vec![DataSection {
@@ -293,6 +341,494 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     };
     write_exchange(&exchange)
         .map_err(|e| Diagnostic::error("step.write", e.to_string(), Location::default()))
+}
+
+/// Writes a document as a STEP file (module documentation above). Coordinates are scaled
+/// once when `options.units` differs from the document's unit; the file declares the unit
+/// its numbers are in. Fails on non-finite values (impossible for checked NURBS) only.
+///
+/// The geometry (poles and B-spline instances, nearly all of a file) is formatted straight
+/// from the model into one pre-sized string, with no parameter tree; the few other instances
+/// go through [`Builder`] and [`write_instance`]. The text is byte-identical to the
+/// straightforward path (`write_reference`, tests below) and ids are assigned in the same
+/// order: each entity's poles, then the entity.
+pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    let mut f = frame(document, options);
+    let first = f.b.next_id();
+    let mut next = first;
+    let mut size = 16_384usize;
+    let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
+    let range_error = |e: &Entity| {
+        Diagnostic::error(
+            "step.write",
+            "degree out of range",
+            Location::at_entity(e.id.clone()),
+        )
+    };
+    for e in &document.entities {
+        // Ids as the reference path creates them: the poles, then the entity.
+        let (poles, reals) = match &e.geometry {
+            Geometry::Curve(c) => {
+                i64::try_from(c.degree()).map_err(|_| range_error(e))?;
+                (c.num_poles(), c.knots().len() + c.num_poles())
+            }
+            Geometry::Surface(sf) => {
+                i64::try_from(sf.degree_u()).map_err(|_| range_error(e))?;
+                i64::try_from(sf.degree_v()).map_err(|_| range_error(e))?;
+                let n = sf.control_points().as_slice().len();
+                (n, sf.knots_u().len() + sf.knots_v().len() + n)
+            }
+        };
+        let id = next.saturating_add(u64::try_from(poles).unwrap_or(u64::MAX));
+        next = id.saturating_add(1);
+        match &e.geometry {
+            Geometry::Curve(c) if c.dimension() == 2 => curves2.push(id),
+            Geometry::Curve(_) => curves3.push(id),
+            Geometry::Surface(_) => surfaces.push(id),
+        }
+        // A real is at most 24 bytes; typical ones about 18. An estimate: the string grows
+        // if it is short.
+        size = size
+            .saturating_add(poles.saturating_mul(112))
+            .saturating_add(reals.saturating_mul(24))
+            .saturating_add(400);
+    }
+    f.b.reserve_many(next - first);
+    let header = finish(&mut f, options, &curves3, &curves2, &surfaces);
+    let instances = std::mem::take(&mut f.b).into_instances();
+    let scale = f.scale;
+    let real_error =
+        |e: NonFiniteReal| Diagnostic::error("step.write", e.to_string(), Location::default());
+
+    let mut out = String::with_capacity(size);
+    out.push_str("ISO-10303-21;\nHEADER;\n");
+    for r in &header {
+        write_record(&mut out, r).map_err(real_error)?;
+        out.push_str(";\n");
+    }
+    out.push_str("ENDSEC;\nDATA;\n");
+    let split = instances.partition_point(|i| i.id < first);
+    let (before, after) = instances.split_at(split);
+    for inst in before {
+        write_instance(&mut out, inst).map_err(real_error)?;
+    }
+    let mut id = first;
+    for e in &document.entities {
+        match &e.geometry {
+            Geometry::Curve(c) => fast::curve(&mut out, &mut id, c, e, scale, options),
+            Geometry::Surface(sf) => fast::surface(&mut out, &mut id, sf, e, scale, options),
+        }
+        .map_err(real_error)?;
+    }
+    for inst in after {
+        write_instance(&mut out, inst).map_err(real_error)?;
+    }
+    out.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+    Ok(out)
+}
+
+/// Whether a curve's ends coincide (the `closed_curve` flag).
+fn curve_closed(c: &NurbsCurve) -> bool {
+    let (d0, d1) = c.domain();
+    distance(c.point_at_unchecked(d0), c.point_at_unchecked(d1))
+        <= closure_tolerance(c.control_points())
+}
+
+/// Whether a surface's opposite boundaries coincide (`u_closed`, `v_closed`), sampled at
+/// nine parameters along each boundary.
+fn surface_closed(sf: &NurbsSurface) -> (bool, bool) {
+    let tol = closure_tolerance(sf.control_points().as_slice());
+    let ((u0, u1), (v0, v1)) = sf.domain();
+    let mut gap_u: f64 = 0.0;
+    let mut gap_v: f64 = 0.0;
+    for k in 0..=8 {
+        let t = f64::from(k) / 8.0;
+        let v = v0 + (v1 - v0) * t;
+        let u = u0 + (u1 - u0) * t;
+        gap_u = gap_u.max(distance(
+            sf.point_at_unchecked(u0, v),
+            sf.point_at_unchecked(u1, v),
+        ));
+        gap_v = gap_v.max(distance(
+            sf.point_at_unchecked(u, v0),
+            sf.point_at_unchecked(u, v1),
+        ));
+    }
+    (gap_u <= tol, gap_v <= tol)
+}
+
+/// The B-spline instances written as text, straight from the model (used by [`write`]).
+mod fast {
+    use nurbsx_parsers::real::{NonFiniteReal, write_real_fast};
+    use nurbsx_parsers::step::StepString;
+
+    use super::{
+        CURVE_FORMS, KnotForm, SURFACE_FORMS, curve_closed, form_name, implicit_subtype, knot_form,
+        occt_translates, surface_closed,
+    };
+    use crate::exchange::{Entity, ExportOptions};
+    use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+    type Result = std::result::Result<(), NonFiniteReal>;
+
+    /// Appends the decimal digits of `v` (no formatting machinery: ids are a large share of
+    /// a STEP file's tokens).
+    fn push_u64(out: &mut String, mut v: u64) {
+        let mut digits = [b'0'; 20];
+        let mut i = digits.len();
+        while i > 0 {
+            i -= 1;
+            // v % 10 < 10.
+            digits[i] = b'0' + (v % 10) as u8;
+            v /= 10;
+            if v == 0 {
+                break;
+            }
+        }
+        // Pushed one by one: cheaper than validating and copying a few bytes.
+        for &d in &digits[i..] {
+            out.push(char::from(d));
+        }
+    }
+
+    fn push_id(out: &mut String, id: u64) {
+        out.push('#');
+        push_u64(out, id);
+    }
+
+    /// `(#first,#first+1,...)` for `n` ids.
+    fn push_id_range(out: &mut String, first: u64, n: usize) {
+        out.push('(');
+        for (k, id) in (first..).take(n).enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            push_id(out, id);
+        }
+        out.push(')');
+    }
+
+    fn push_reals(out: &mut String, values: &[f64]) -> Result {
+        out.push('(');
+        for (k, &x) in values.iter().enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            write_real_fast(out, x)?;
+        }
+        out.push(')');
+        Ok(())
+    }
+
+    fn push_counts(out: &mut String, values: &[usize]) {
+        out.push('(');
+        for (k, &m) in values.iter().enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            push_u64(out, u64::try_from(m).unwrap_or(u64::MAX));
+        }
+        out.push(')');
+    }
+
+    fn push_enum(out: &mut String, e: &str) {
+        out.push('.');
+        out.push_str(e);
+        out.push('.');
+    }
+
+    fn push_logical(out: &mut String, v: bool) {
+        out.push_str(if v { ".T." } else { ".F." });
+    }
+
+    fn push_name(out: &mut String, e: &Entity) {
+        out.push('\'');
+        out.push_str(&StepString::from_text(e.meta.name.as_deref().unwrap_or("")).raw);
+        out.push('\'');
+    }
+
+    /// `#id = CARTESIAN_POINT('',(x,y[,z]));` with the first `dim` coordinates, scaled.
+    fn point(out: &mut String, id: u64, p: &Point3, dim: usize, scale: f64) -> Result {
+        push_id(out, id);
+        out.push_str(" = CARTESIAN_POINT('',(");
+        for (k, x) in p.iter().take(dim).enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            write_real_fast(out, x * scale)?;
+        }
+        out.push_str("));\n");
+        Ok(())
+    }
+
+    /// One partial record of a complex instance: which parameters it holds.
+    #[derive(Clone, Copy)]
+    enum Part {
+        Empty,
+        BSpline,
+        Knots,
+        Weights,
+        Name,
+    }
+
+    /// `#id = ( A(...) B(...) );` with the partials in byte-wise keyword order (ISO
+    /// 10303-21 clause 12.2.5), each part's parameters written by `params`.
+    fn complex(
+        out: &mut String,
+        id: u64,
+        parts: &mut [(&'static str, Part)],
+        mut params: impl FnMut(&mut String, Part) -> Result,
+    ) -> Result {
+        parts.sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
+        push_id(out, id);
+        out.push_str(" = ( ");
+        for &(keyword, part) in parts.iter() {
+            out.push_str(keyword);
+            out.push('(');
+            params(out, part)?;
+            out.push_str(") ");
+        }
+        out.push_str(");\n");
+        Ok(())
+    }
+
+    /// A curve's poles and its B-spline instance; `id` is the next free id.
+    pub(super) fn curve(
+        out: &mut String,
+        id: &mut u64,
+        c: &NurbsCurve,
+        e: &Entity,
+        scale: f64,
+        options: &ExportOptions,
+    ) -> Result {
+        let dim = c.dimension();
+        let first = *id;
+        for p in c.control_points() {
+            point(out, *id, p, dim, scale)?;
+            *id += 1;
+        }
+        let cid = *id;
+        *id += 1;
+        let closed = curve_closed(c);
+        let form = form_name(e.meta.form.as_ref(), CURVE_FORMS);
+        let self_intersect = e.meta.self_intersect.unwrap_or(false);
+        let n = c.num_poles();
+        let bspline = |out: &mut String| {
+            push_u64(out, u64::try_from(c.degree()).unwrap_or(u64::MAX));
+            out.push(',');
+            push_id_range(out, first, n);
+            out.push(',');
+            push_enum(out, form);
+            out.push(',');
+            push_logical(out, closed);
+            out.push(',');
+            push_logical(out, self_intersect);
+        };
+        let subtype = if options.use_implicit_knot_subtypes {
+            implicit_subtype(c.degree(), n, c.knots())
+                .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), n)]))
+        } else {
+            None
+        };
+        let sub_keyword = match subtype {
+            Some(KnotForm::Bezier) => "BEZIER_CURVE",
+            Some(KnotForm::Uniform) => "UNIFORM_CURVE",
+            Some(KnotForm::QuasiUniform) => "QUASI_UNIFORM_CURVE",
+            None => "B_SPLINE_CURVE_WITH_KNOTS",
+        };
+        let knots = |out: &mut String| -> Result {
+            if subtype.is_none() {
+                let (values, mults) = crate::nurbs::knots::to_distinct(c.knots());
+                push_counts(out, &mults);
+                out.push(',');
+                push_reals(out, &values)?;
+                out.push(',');
+                push_enum(out, knot_form(c.degree(), c.knots()));
+            }
+            Ok(())
+        };
+        match c.weights() {
+            None => {
+                push_id(out, cid);
+                out.push_str(" = ");
+                out.push_str(sub_keyword);
+                out.push('(');
+                push_name(out, e);
+                out.push(',');
+                bspline(out);
+                if subtype.is_none() {
+                    out.push(',');
+                    knots(out)?;
+                }
+                out.push_str(");\n");
+                Ok(())
+            }
+            Some(w) => complex(
+                out,
+                cid,
+                &mut [
+                    ("BOUNDED_CURVE", Part::Empty),
+                    ("B_SPLINE_CURVE", Part::BSpline),
+                    (sub_keyword, Part::Knots),
+                    ("CURVE", Part::Empty),
+                    ("GEOMETRIC_REPRESENTATION_ITEM", Part::Empty),
+                    ("RATIONAL_B_SPLINE_CURVE", Part::Weights),
+                    ("REPRESENTATION_ITEM", Part::Name),
+                ],
+                |out, part| match part {
+                    Part::Empty => Ok(()),
+                    Part::BSpline => {
+                        bspline(out);
+                        Ok(())
+                    }
+                    Part::Knots => knots(out),
+                    Part::Weights => push_reals(out, w),
+                    Part::Name => {
+                        push_name(out, e);
+                        Ok(())
+                    }
+                },
+            ),
+        }
+    }
+
+    /// A surface's poles (row by row) and its B-spline instance; `id` is the next free id.
+    pub(super) fn surface(
+        out: &mut String,
+        id: &mut u64,
+        sf: &NurbsSurface,
+        e: &Entity,
+        scale: f64,
+        options: &ExportOptions,
+    ) -> Result {
+        let dim = sf.dimension();
+        let net = sf.control_points();
+        let (nu, nv) = (net.nu(), net.nv());
+        let first = *id;
+        for i in 0..nu {
+            for p in net.row(i) {
+                point(out, *id, p, dim, scale)?;
+                *id += 1;
+            }
+        }
+        let sid = *id;
+        *id += 1;
+        let (closed_u, closed_v) = surface_closed(sf);
+        let form = form_name(e.meta.form.as_ref(), SURFACE_FORMS);
+        let self_intersect = e.meta.self_intersect.unwrap_or(false);
+        let bspline = |out: &mut String| {
+            push_u64(out, u64::try_from(sf.degree_u()).unwrap_or(u64::MAX));
+            out.push(',');
+            push_u64(out, u64::try_from(sf.degree_v()).unwrap_or(u64::MAX));
+            out.push_str(",(");
+            let mut row_first = first;
+            for i in 0..nu {
+                if i > 0 {
+                    out.push(',');
+                }
+                let len = net.row(i).len();
+                push_id_range(out, row_first, len);
+                row_first += u64::try_from(len).unwrap_or(u64::MAX);
+            }
+            out.push_str("),");
+            push_enum(out, form);
+            out.push(',');
+            push_logical(out, closed_u);
+            out.push(',');
+            push_logical(out, closed_v);
+            out.push(',');
+            push_logical(out, self_intersect);
+        };
+        let subtype = if options.use_implicit_knot_subtypes {
+            let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
+            let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
+            let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+            if su == sv {
+                su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+            } else {
+                None
+            }
+        } else {
+            None
+        };
+        let sub_keyword = match subtype {
+            Some(KnotForm::Bezier) => "BEZIER_SURFACE",
+            Some(KnotForm::Uniform) => "UNIFORM_SURFACE",
+            Some(KnotForm::QuasiUniform) => "QUASI_UNIFORM_SURFACE",
+            None => "B_SPLINE_SURFACE_WITH_KNOTS",
+        };
+        let knots = |out: &mut String| -> Result {
+            if subtype.is_none() {
+                let (ku, mu) = crate::nurbs::knots::to_distinct(sf.knots_u());
+                let (kv, mv) = crate::nurbs::knots::to_distinct(sf.knots_v());
+                push_counts(out, &mu);
+                out.push(',');
+                push_counts(out, &mv);
+                out.push(',');
+                push_reals(out, &ku)?;
+                out.push(',');
+                push_reals(out, &kv)?;
+                out.push(',');
+                let fu = knot_form(sf.degree_u(), sf.knots_u());
+                let fv = knot_form(sf.degree_v(), sf.knots_v());
+                push_enum(out, if fu == fv { fu } else { "UNSPECIFIED" });
+            }
+            Ok(())
+        };
+        match sf.weights() {
+            None => {
+                push_id(out, sid);
+                out.push_str(" = ");
+                out.push_str(sub_keyword);
+                out.push('(');
+                push_name(out, e);
+                out.push(',');
+                bspline(out);
+                if subtype.is_none() {
+                    out.push(',');
+                    knots(out)?;
+                }
+                out.push_str(");\n");
+                Ok(())
+            }
+            Some(w) => complex(
+                out,
+                sid,
+                &mut [
+                    ("BOUNDED_SURFACE", Part::Empty),
+                    ("B_SPLINE_SURFACE", Part::BSpline),
+                    (sub_keyword, Part::Knots),
+                    ("GEOMETRIC_REPRESENTATION_ITEM", Part::Empty),
+                    ("RATIONAL_B_SPLINE_SURFACE", Part::Weights),
+                    ("REPRESENTATION_ITEM", Part::Name),
+                    ("SURFACE", Part::Empty),
+                ],
+                |out, part| match part {
+                    Part::Empty => Ok(()),
+                    Part::BSpline => {
+                        bspline(out);
+                        Ok(())
+                    }
+                    Part::Knots => knots(out),
+                    Part::Weights => {
+                        out.push('(');
+                        for i in 0..nu {
+                            if i > 0 {
+                                out.push(',');
+                            }
+                            push_reals(out, w.row(i))?;
+                        }
+                        out.push(')');
+                        Ok(())
+                    }
+                    Part::Name => {
+                        push_name(out, e);
+                        Ok(())
+                    }
+                },
+            ),
+        }
+    }
 }
 
 /// The representation context with length, angle and solid-angle units and a 1e-7
@@ -430,12 +966,14 @@ fn axis_placement(b: &mut Builder) -> u64 {
     )
 }
 
-fn point(b: &mut Builder, p: Point3, dim: usize, scale: f64) -> u64 {
+#[cfg(test)]
+fn point(b: &mut Builder, p: crate::nurbs::Point3, dim: usize, scale: f64) -> u64 {
     let c: Vec<f64> = p.iter().take(dim).map(|x| x * scale).collect();
     b.simple("CARTESIAN_POINT", vec![s(""), Parameter::reals(&c)])
 }
 
 /// Distinct knots and multiplicities as STEP parameters.
+#[cfg(test)]
 fn knot_lists(knots: &[f64]) -> (Parameter<'static>, Parameter<'static>) {
     let (values, mults) = crate::nurbs::knots::to_distinct(knots);
     let mults: Vec<i64> = mults
@@ -463,15 +1001,18 @@ fn occt_translates(form: KnotForm, rational: bool, dims: &[(usize, usize)]) -> b
 }
 
 /// An enumeration value from metadata when it is one of `allowed`, else `UNSPECIFIED`.
-fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
+fn form_name(meta: Option<&String>, allowed: &[&'static str]) -> &'static str {
     let upper = meta.map(|m| m.to_ascii_uppercase()).unwrap_or_default();
-    Parameter::Enumeration(
-        allowed
-            .iter()
-            .find(|a| **a == upper)
-            .copied()
-            .unwrap_or("UNSPECIFIED"),
-    )
+    allowed
+        .iter()
+        .find(|a| **a == upper)
+        .copied()
+        .unwrap_or("UNSPECIFIED")
+}
+
+#[cfg(test)]
+fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
+    Parameter::Enumeration(form_name(meta, allowed))
 }
 
 const CURVE_FORMS: &[&str] = &[
@@ -496,11 +1037,13 @@ const SURFACE_FORMS: &[&str] = &[
     "UNSPECIFIED",
 ];
 
+#[cfg(test)]
 fn name_of(e: &Entity) -> Parameter<'static> {
     s(e.meta.name.as_deref().unwrap_or(""))
 }
 
 /// Writes one curve; returns its id.
+#[cfg(test)]
 fn curve(
     b: &mut Builder,
     c: &NurbsCurve,
@@ -559,6 +1102,7 @@ fn curve(
 }
 
 /// Writes one surface; returns its id.
+#[cfg(test)]
 fn surface(
     b: &mut Builder,
     sf: &NurbsSurface,
@@ -675,4 +1219,281 @@ fn now_iso8601() -> String {
         (rem % 3600) / 60,
         rem % 60
     )
+}
+
+/// The fast writer against the straightforward one: byte-identical text for every sample
+/// file and for random documents (rational and polynomial curves and surfaces, 2-D curves,
+/// implicit-knot subtypes, names needing escapes, and odd values: -0.0, 1e-300, 1e300,
+/// subnormals, integers, short binary fractions).
+#[cfg(test)]
+mod equivalence_tests {
+    use super::*;
+    use crate::exchange::{Format, ImportOptions, Meta, Source};
+    use crate::nurbs::{Grid, Point3};
+    use proptest::prelude::*;
+
+    fn options_variants() -> Vec<ExportOptions> {
+        let mut v = Vec::new();
+        for (schema, units, implicit, name) in [
+            (StepSchema::Ap214, None, false, "sample"),
+            (StepSchema::Ap203, Some(LengthUnit::In), true, ""),
+            (StepSchema::Ap242, Some(LengthUnit::M), true, "it's"),
+        ] {
+            v.push(ExportOptions {
+                schema,
+                units,
+                use_implicit_knot_subtypes: implicit,
+                timestamp: Some("2026-01-01T00:00:00".to_owned()),
+                file_name: name.to_owned(),
+            });
+        }
+        v
+    }
+
+    fn assert_same(doc: &Document, options: &ExportOptions, what: &str) {
+        let fast = write(doc, options);
+        let reference = write_reference(doc, options);
+        match (fast, reference) {
+            (Ok(a), Ok(b)) => {
+                if a != b {
+                    let at = a
+                        .bytes()
+                        .zip(b.bytes())
+                        .position(|(x, y)| x != y)
+                        .unwrap_or(a.len().min(b.len()));
+                    let from = at.saturating_sub(80);
+                    panic!(
+                        "{what}: outputs differ at byte {at}:\nfast: {:?}\nref:  {:?}",
+                        &a[from..(at + 80).min(a.len())],
+                        &b[from..(at + 80).min(b.len())]
+                    );
+                }
+            }
+            (Err(a), Err(b)) => assert_eq!(a.message, b.message, "{what}"),
+            (a, b) => panic!("{what}: fast {:?} vs reference {:?}", a.err(), b.err()),
+        }
+    }
+
+    #[test]
+    fn equals_reference_on_every_sample() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+        let mut count = 0;
+        let mut paths: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("step" | "igs")))
+            .collect();
+        paths.sort();
+        for path in paths {
+            let bytes = std::fs::read(&path).unwrap();
+            let doc = crate::exchange::read(&bytes, &ImportOptions::default()).unwrap();
+            assert!(!doc.entities.is_empty(), "{}", path.display());
+            for options in options_variants() {
+                assert_same(&doc, &options, &path.display().to_string());
+            }
+            count += 1;
+        }
+        assert!(count >= 100, "only {count} samples found");
+    }
+
+    /// A small deterministic PRNG for the generated documents (proptest draws the seed).
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 11
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n as u64) as usize
+        }
+        fn unit(&mut self) -> f64 {
+            self.next() as f64 / (1u64 << 53) as f64
+        }
+        /// A coordinate: full precision mostly, odd values often.
+        fn coord(&mut self) -> f64 {
+            const ODD: [f64; 14] = [
+                0.0,
+                -0.0,
+                1e-300,
+                -1e300,
+                1e300,
+                5e-324,
+                2.2250738585072e-310,
+                0.5,
+                -0.25,
+                1e16,
+                1e-5,
+                9.5367431640625e-7,
+                123_456_789.0,
+                -3.0,
+            ];
+            match self.below(4) {
+                0 => ODD[self.below(ODD.len())],
+                1 => (self.unit() * 2000.0 - 1000.0).round() / 8.0,
+                _ => self.unit() * 400.0 - 200.0,
+            }
+        }
+    }
+
+    fn knots(rng: &mut Rng, p: usize, n: usize) -> Vec<f64> {
+        let m = n + p + 1;
+        let scale = [1.0, 1e-300, 1e300, 7.3, 0.1][rng.below(5)];
+        match rng.below(4) {
+            // uniform (UNIFORM_ subtype when the scale is 1)
+            0 => (0..m).map(|i| i as f64 * scale).collect(),
+            // clamped with integer interior (QUASI_UNIFORM_, or BEZIER_ when n = p + 1)
+            1 => {
+                let spans = n - p;
+                let mut k = vec![0.0; p + 1];
+                k.extend((1..spans).map(|i| i as f64 * scale));
+                k.extend(std::iter::repeat_n(spans as f64 * scale, p + 1));
+                k
+            }
+            // clamped, random interior
+            _ => {
+                let mut inner: Vec<f64> = (1..n - p).map(|_| rng.unit() * scale).collect();
+                inner.sort_by(f64::total_cmp);
+                let mut k = vec![0.0; p + 1];
+                k.extend(inner);
+                k.extend(std::iter::repeat_n(scale, p + 1));
+                k
+            }
+        }
+    }
+
+    fn weights(rng: &mut Rng, n: usize) -> Option<Vec<f64>> {
+        match rng.below(3) {
+            0 => None,
+            1 => Some(vec![[1.0, 0.5, 2.0][rng.below(3)]; n]),
+            _ => Some((0..n).map(|_| 0.25 + rng.unit() * 4.0).collect()),
+        }
+    }
+
+    fn meta(rng: &mut Rng) -> Meta {
+        Meta {
+            name: [
+                None,
+                Some(""),
+                Some("edge 1"),
+                Some("it's"),
+                Some("\u{fc}ber"),
+            ][rng.below(5)]
+            .map(str::to_owned),
+            form: [
+                None,
+                Some("circular_arc"),
+                Some("PLANE_SURF"),
+                Some("bogus"),
+            ][rng.below(4)]
+            .map(str::to_owned),
+            self_intersect: [None, Some(false), Some(true)][rng.below(3)],
+            ..Meta::default()
+        }
+    }
+
+    pub(super) fn random_document(seed: u64) -> Document {
+        let mut rng = Rng(seed);
+        let mut doc = Document::new(Format::Step, LengthUnit::Mm);
+        let count = 1 + rng.below(5);
+        for i in 0..count {
+            let geometry = if rng.below(3) == 0 {
+                let (pu, pv) = (1 + rng.below(3), 1 + rng.below(3));
+                let (nu, nv) = (pu + 1 + rng.below(4), pv + 1 + rng.below(4));
+                let (ku, kv) = (knots(&mut rng, pu, nu), knots(&mut rng, pv, nv));
+                let pts = Grid::from_fn(nu, nv, |_, _| [rng.coord(), rng.coord(), rng.coord()]);
+                let w =
+                    weights(&mut rng, nu * nv).map(|w| Grid::from_fn(nu, nv, |i, j| w[i * nv + j]));
+                NurbsSurface::new(pu, pv, ku, kv, pts, w)
+                    .ok()
+                    .map(Geometry::Surface)
+            } else {
+                let p = 1 + rng.below(4);
+                let n = p + 1 + rng.below(6);
+                let k = knots(&mut rng, p, n);
+                let dim = 2 + rng.below(2);
+                let pts = (0..n)
+                    .map(|_| {
+                        let z = if dim == 2 { 0.0 } else { rng.coord() };
+                        [rng.coord(), rng.coord(), z]
+                    })
+                    .collect();
+                let w = weights(&mut rng, n);
+                NurbsCurve::with_dimension(p, k, pts, w, dim)
+                    .ok()
+                    .map(Geometry::Curve)
+            };
+            let Some(geometry) = geometry else { continue };
+            doc.entities.push(Entity {
+                id: format!("E{i}"),
+                geometry,
+                source: Source::default(),
+                meta: meta(&mut rng),
+            });
+        }
+        doc
+    }
+
+    #[test]
+    fn empty_document_equals_reference() {
+        let doc = Document::new(Format::Step, LengthUnit::Mm);
+        for options in options_variants() {
+            assert_same(&doc, &options, "empty document");
+        }
+    }
+
+    /// The generator reaches every case the equivalence test is meant to cover.
+    #[test]
+    fn generated_documents_cover_the_cases() {
+        let (mut curves2, mut rational_curves, mut curves, mut rational_surfaces, mut surfaces) =
+            (0, 0, 0, 0, 0);
+        let mut odd = [false; 5];
+        for seed in 0..300 {
+            for e in random_document(seed).entities {
+                let points: Vec<Point3> = match &e.geometry {
+                    Geometry::Curve(c) => {
+                        curves += 1;
+                        curves2 += usize::from(c.dimension() == 2);
+                        rational_curves += usize::from(c.is_rational());
+                        c.control_points().to_vec()
+                    }
+                    Geometry::Surface(s) => {
+                        surfaces += 1;
+                        rational_surfaces += usize::from(s.is_rational());
+                        s.control_points().as_slice().to_vec()
+                    }
+                };
+                for x in points.iter().flatten() {
+                    odd[0] |= *x == 0.0 && x.is_sign_negative();
+                    odd[1] |= *x == 1e-300;
+                    odd[2] |= x.abs() == 1e300;
+                    odd[3] |= x.is_subnormal();
+                    odd[4] |= *x == 0.5 || *x == -0.25;
+                }
+            }
+        }
+        for (what, n) in [
+            ("2-D curves", curves2),
+            ("rational curves", rational_curves),
+            ("polynomial curves", curves - rational_curves),
+            ("rational surfaces", rational_surfaces),
+            ("polynomial surfaces", surfaces - rational_surfaces),
+        ] {
+            assert!(n >= 20, "only {n} {what}");
+        }
+        assert_eq!(odd, [true; 5]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        #[test]
+        fn equals_reference_on_random_documents(seed in any::<u64>(), variant in 0usize..3) {
+            let doc = random_document(seed);
+            let options = &options_variants()[variant];
+            assert_same(&doc, options, &format!("seed {seed}"));
+        }
+    }
 }
