@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use nurbsx_parsers::iges::schema::{Curve126, Surface128};
 use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
+use rayon::prelude::*;
 
 use super::analysis;
 use super::chain::{self, ChainError};
@@ -61,80 +62,34 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let parametric = parameter_space_curves(&file);
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
-    let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();
-    for entry in &file.entries {
-        let entry = match entry {
-            Ok(e) => e,
-            Err(e) => {
-                diags.push(parse_diag("iges.entity", e));
-                continue;
-            }
-        };
-        let result = match entry.entity_type {
-            126 => read_curve(
+    // Entities decode independently once the file is split and the users are known:
+    // decode them on the rayon threads (`collect` keeps file order), then append the
+    // results and their diagnostics in that order, as a sequential loop would.
+    let results: Vec<(Outcome, Vec<Diagnostic>)> = file
+        .entries
+        .par_iter()
+        .map(|entry| {
+            let mut diags = Vec::new();
+            let outcome = read_entry(
                 &file,
                 entry,
-                parametric.contains(&entry.pointer),
+                &users,
+                &parametric,
                 options,
                 factor,
                 &mut diags,
-            ),
-            128 => read_surface(&file, entry, options, factor, &mut diags),
-            124 => continue,
-            t => {
-                *skipped.entry(t).or_default() += 1;
-                continue;
-            }
-        };
-        let Some((geometry, mut meta)) = result else {
-            continue;
-        };
-        if let Some(list) = users.get(&entry.pointer) {
-            let mut trim = Vec::new();
-            let mut topo = Vec::new();
-            for &(de, ty) in list {
-                meta.used_by.push(format!("D{de}"));
-                if matches!(ty, 141..=144) {
-                    trim.push(format!("D{de} ({ty})"));
-                } else {
-                    topo.push(format!("D{de} ({ty})"));
-                }
-            }
-            if !trim.is_empty() {
-                diags.push(Diagnostic::info(
-                    "trim_ignored",
-                    format!(
-                        "used by {}; the trim is not applied, the untrimmed {} is returned",
-                        trim.join(", "),
-                        if entry.entity_type == 126 {
-                            "curve"
-                        } else {
-                            "surface"
-                        }
-                    ),
-                    entity_location(entry),
-                ));
-            }
-            if !topo.is_empty() {
-                diags.push(Diagnostic::info(
-                    "topology_ignored",
-                    format!(
-                        "used by {}; that topology (composite curve, B-rep edge or face) is not converted",
-                        topo.join(", ")
-                    ),
-                    entity_location(entry),
-                ));
-            }
+            );
+            (outcome, diags)
+        })
+        .collect();
+    let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();
+    for (outcome, entry_diags) in results {
+        diags.extend(entry_diags);
+        match outcome {
+            Outcome::Entity(e) => doc.entities.push(*e),
+            Outcome::Skipped(t) => *skipped.entry(t).or_default() += 1,
+            Outcome::Nothing => {}
         }
-        doc.entities.push(Entity {
-            id: format!("D{}", entry.pointer),
-            geometry,
-            source: Source {
-                entity: entry.entity_type.to_string(),
-                line: Some(entry.line),
-            },
-            meta,
-        });
     }
     if !skipped.is_empty() {
         let list: Vec<String> = skipped.iter().map(|(t, n)| format!("{n} x {t}")).collect();
@@ -149,6 +104,98 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     }
     doc.diagnostics = diags;
     Ok(doc)
+}
+
+/// What one directory entry gave.
+enum Outcome {
+    /// A curve or surface.
+    Entity(Box<Entity>),
+    /// An entity type that is not converted (counted in `entities_skipped`).
+    Skipped(i64),
+    /// Nothing (a 124 transform, or an entity that failed with a diagnostic).
+    Nothing,
+}
+
+/// Reads one directory entry (126, 128; others are counted or ignored), pushing its
+/// diagnostics in the order the sequential reader reported them.
+fn read_entry(
+    file: &IgesFile<'_>,
+    entry: &Result<DirectoryEntry, ParseError>,
+    users: &BTreeMap<usize, Vec<(usize, i64)>>,
+    parametric: &BTreeSet<usize>,
+    options: &ImportOptions,
+    factor: Option<f64>,
+    diags: &mut Vec<Diagnostic>,
+) -> Outcome {
+    let entry = match entry {
+        Ok(e) => e,
+        Err(e) => {
+            diags.push(parse_diag("iges.entity", e));
+            return Outcome::Nothing;
+        }
+    };
+    let result = match entry.entity_type {
+        126 => read_curve(
+            file,
+            entry,
+            parametric.contains(&entry.pointer),
+            options,
+            factor,
+            diags,
+        ),
+        128 => read_surface(file, entry, options, factor, diags),
+        124 => return Outcome::Nothing,
+        t => return Outcome::Skipped(t),
+    };
+    let Some((geometry, mut meta)) = result else {
+        return Outcome::Nothing;
+    };
+    if let Some(list) = users.get(&entry.pointer) {
+        let mut trim = Vec::new();
+        let mut topo = Vec::new();
+        for &(de, ty) in list {
+            meta.used_by.push(format!("D{de}"));
+            if matches!(ty, 141..=144) {
+                trim.push(format!("D{de} ({ty})"));
+            } else {
+                topo.push(format!("D{de} ({ty})"));
+            }
+        }
+        if !trim.is_empty() {
+            diags.push(Diagnostic::info(
+                "trim_ignored",
+                format!(
+                    "used by {}; the trim is not applied, the untrimmed {} is returned",
+                    trim.join(", "),
+                    if entry.entity_type == 126 {
+                        "curve"
+                    } else {
+                        "surface"
+                    }
+                ),
+                entity_location(entry),
+            ));
+        }
+        if !topo.is_empty() {
+            diags.push(Diagnostic::info(
+                "topology_ignored",
+                format!(
+                    "used by {}; that topology (composite curve, B-rep edge or face) is not converted",
+                    topo.join(", ")
+                ),
+                entity_location(entry),
+            ));
+        }
+    }
+    Outcome::Entity(Box::new(Entity {
+        id: format!("D{}", entry.pointer),
+        geometry,
+        source: Source {
+            entity: entry.entity_type.to_string(),
+            line: Some(entry.line),
+        },
+        meta,
+    }))
 }
 
 /// The unit of the file (flag wins over name); a model-space scale other than 1 is reported.
