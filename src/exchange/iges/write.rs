@@ -5,7 +5,11 @@
 //!   the written normal is the document's `Meta::plane_normal` when the poles lie in that
 //!   plane, else the computed unit normal with `z >= 0`. Collinear poles: 0 (no unique plane).
 //! - PROP2: closed when the curve's ends (surface: the boundary curves) coincide.
-//! - PROP3: 1 when the weights are absent or all equal (the stored weights are written).
+//! - PROP3: 1 (polynomial, weights written as 1.0) when the model has no weights, 0 when it
+//!   has weights, even all equal: the model's rational flag is what the source file said, and
+//!   keeping it makes IGES read -> write -> read bit-identical (an all-equal-weights rational
+//!   curve written as PROP3 = 1 would read back without weights). pitfalls.md 11: PROP3 = 1
+//!   only when the weights are equal, which this satisfies.
 //! - PROP4/PROP5: 1 only when the knots and poles have the periodic layout.
 //! - `V(0), V(1)` (`U(0)..V(1)`): the entity's declared parameter range when it lies in the
 //!   knot domain, else the domain.
@@ -191,7 +195,7 @@ fn curve_plan(c: &NurbsCurve, meta: &Meta) -> CurvePlan {
     CurvePlan {
         planar: i64::from(normal.is_some()),
         closed: i64::from(analysis::curve_closed(c, tol)),
-        polynomial: c.weights().map_or(1, |w| i64::from(all_equal(w))),
+        polynomial: i64::from(c.weights().is_none()),
         periodic: i64::from(analysis::curve_periodic(c, tol)),
         range,
         normal: normal.unwrap_or([0.0, 0.0, 0.0]),
@@ -214,19 +218,13 @@ fn surface_plan(s: &NurbsSurface, meta: &Meta) -> SurfacePlan {
             i64::from(analysis::surface_closed(s, 0, tol)),
             i64::from(analysis::surface_closed(s, 1, tol)),
         ],
-        polynomial: s
-            .weights()
-            .map_or(1, |w| i64::from(all_equal(w.as_slice()))),
+        polynomial: i64::from(s.weights().is_none()),
         periodic: [
             i64::from(analysis::surface_periodic(s, 0, tol)),
             i64::from(analysis::surface_periodic(s, 1, tol)),
         ],
         range: [ru.0, ru.1, rv.0, rv.1],
     }
-}
-
-fn all_equal(w: &[f64]) -> bool {
-    w.first().is_none_or(|&w0| w.iter().all(|&x| x == w0))
 }
 
 /// A count as an IGES integer (counts of in-memory data are far below `i64::MAX`).
@@ -366,10 +364,7 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
 fn weights_of(w: Option<&[f64]>, n: usize) -> (i64, Vec<f64>) {
     match w {
         None => (1, vec![1.0; n]),
-        Some(w) => {
-            let equal = w.iter().all(|&x| x == w[0]);
-            (i64::from(equal), w.to_vec())
-        }
+        Some(w) => (0, w.to_vec()),
     }
 }
 
@@ -446,13 +441,7 @@ fn surface_entity(
             weights.push(s.weight(i, j));
         }
     }
-    let polynomial = match s.weights() {
-        None => 1,
-        Some(w) => {
-            let w = w.as_slice();
-            i64::from(w.iter().all(|&x| x == w[0]))
-        }
-    };
+    let polynomial = i64::from(s.weights().is_none());
     let tol = analysis::tolerance(net.as_slice().iter());
     let (du, dv) = s.domain();
     let (ru, rv) = match meta.parameter_range {
