@@ -19,6 +19,8 @@ mod document;
 pub mod iges;
 mod options;
 pub mod step;
+#[cfg(test)]
+pub(crate) mod test_documents;
 mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
