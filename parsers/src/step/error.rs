@@ -169,43 +169,56 @@ fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
     }
 }
 
-/// Maps byte offsets to 1-based line and column numbers. The table is built on first use
-/// with one `memchr` pass (so files without errors pay nothing until a line number is
-/// asked for) and keeps only every [`LineIndex::STRIDE`]-th line start: a 100 MB file has
-/// about a million lines, and a full table (8 MB) would be a visible share of the reader's
-/// peak memory. A lookup counts the at most `STRIDE - 1` newlines after the nearest stored
-/// start.
+/// Maps byte offsets to 1-based line and column numbers.
+///
+/// The table is built on first use (files without errors and callers that never ask for a
+/// line pay nothing) and is indexed by *byte blocks*, not lines: for every
+/// [`LineIndex::BLOCK`]-byte block it stores the number of newlines before the block and
+/// where the line containing the block's first byte starts. Building it is one SIMD count
+/// per block (no per-newline work, which is what dominated a per-line table on a
+/// 100 MB file with a million lines), it takes 16 bytes per 4 KiB of input (0.4 % of the
+/// file), and a lookup counts newlines in at most one block.
 #[derive(Debug, Default)]
 pub struct LineIndex {
-    /// `starts[k]` = byte offset where line `k * STRIDE` (0-based) starts.
-    starts: OnceLock<Vec<usize>>,
+    /// `blocks[k]` = (newlines in `text[..k * BLOCK]`, start of the line containing byte
+    /// `k * BLOCK`).
+    blocks: OnceLock<Vec<(usize, usize)>>,
 }
 
 impl LineIndex {
-    /// Lines between two stored line starts.
-    const STRIDE: usize = 64;
+    /// Bytes per block.
+    const BLOCK: usize = 4096;
 
     /// `(line, column)` of `offset` in `text`, both 1-based.
     pub fn locate(&self, text: &str, offset: usize) -> (usize, usize) {
         let bytes = text.as_bytes();
-        let starts = self.starts.get_or_init(|| {
-            let mut v = Vec::with_capacity(text.len() / (64 * Self::STRIDE) + 1);
-            v.push(0);
-            v.extend(
-                memchr::memchr_iter(b'\n', bytes)
-                    .enumerate()
-                    .filter(|(n, _)| (n + 1) % Self::STRIDE == 0)
-                    .map(|(_, p)| p + 1),
-            );
+        let blocks = self.blocks.get_or_init(|| {
+            let mut v = Vec::with_capacity(bytes.len() / Self::BLOCK + 1);
+            let (mut newlines, mut line_start) = (0, 0);
+            for (k, chunk) in bytes.chunks(Self::BLOCK).enumerate() {
+                v.push((newlines, line_start));
+                newlines += memchr::memchr_iter(b'\n', chunk).count();
+                if let Some(p) = memchr::memrchr(b'\n', chunk) {
+                    line_start = k * Self::BLOCK + p + 1;
+                }
+            }
             v
         });
         let offset = offset.min(bytes.len());
-        let block = starts.partition_point(|&s| s <= offset).saturating_sub(1);
-        let from = starts.get(block).copied().unwrap_or(0);
+        let k = offset / Self::BLOCK;
+        // `offset == len` on a block boundary falls just past the table: use the last block.
+        let (k, (before, block_line_start)) = match blocks.get(k) {
+            Some(&b) => (k, b),
+            None => match blocks.len().checked_sub(1) {
+                Some(last) => (last, blocks.get(last).copied().unwrap_or((0, 0))),
+                None => (0, (0, 0)),
+            },
+        };
+        let from = k * Self::BLOCK;
         let hay = bytes.get(from..offset).unwrap_or_default();
         let newlines = memchr::memchr_iter(b'\n', hay).count();
-        let line_start = memchr::memrchr(b'\n', hay).map_or(from, |p| from + p + 1);
-        (block * Self::STRIDE + newlines + 1, offset - line_start + 1)
+        let line_start = memchr::memrchr(b'\n', hay).map_or(block_line_start, |p| from + p + 1);
+        (before + newlines + 1, offset - line_start + 1)
     }
 
     /// A located error at `offset`.
@@ -241,15 +254,25 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sparse_line_index_agrees_with_counting() {
-        // Lines of varying length, CRLF and empty lines, across several index strides.
+    fn block_line_index_agrees_with_counting() {
+        // Lines of varying length, CRLF and empty lines, across several index blocks; then
+        // lines longer than a block (a line start several blocks back), and a text whose
+        // length is an exact multiple of the block.
         let mut text = String::new();
-        for i in 0..1000 {
+        for i in 0..3000 {
             text.push_str(&"x".repeat(i % 7));
             text.push_str(if i % 3 == 0 { "\r\n" } else { "\n" });
         }
+        text.push_str(&"y".repeat(3 * LineIndex::BLOCK + 17));
+        text.push('\n');
+        text.push_str(&"z".repeat(LineIndex::BLOCK * 8 - text.len() % LineIndex::BLOCK));
+        assert_eq!(text.len() % LineIndex::BLOCK, 0);
         let index = LineIndex::default();
-        for offset in (0..=text.len()).step_by(3).chain([text.len()]) {
+        for offset in (0..=text.len())
+            .step_by(3)
+            .chain([text.len(), text.len() + 5])
+        {
+            let offset = offset.min(text.len());
             let before = &text[..offset];
             let line = before.matches('\n').count() + 1;
             let column = offset - before.rfind('\n').map_or(0, |p| p + 1) + 1;

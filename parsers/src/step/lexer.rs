@@ -149,7 +149,9 @@ impl<'a> Cursor<'a> {
         }
         let mut lower = false;
         let b = self.bytes();
-        let mut i = self.pos;
+        // Upper-case runs eight bytes at a time; the loop below then only sees the byte
+        // that stopped the run (and the rest of a keyword with lower-case letters).
+        let mut i = super::swar::keyword_run(b, self.pos, self.end);
         while i < self.end {
             let Some(&c) = b.get(i) else { break };
             match KEYWORD_CLASS[usize::from(c)] {
@@ -580,8 +582,13 @@ pub(crate) fn decimal_u64(digits: &[u8]) -> Option<u64> {
 pub(crate) fn string_end(b: &[u8], start: usize, end: usize) -> LResult<usize> {
     let mut i = start + 1;
     loop {
-        let hay = b.get(i..end).unwrap_or_default();
-        match memchr::memchr(b'\'', hay) {
+        // The empty string `''` (most names in real files) needs no search.
+        let found = if i < end && b.get(i) == Some(&b'\'') {
+            Some(0)
+        } else {
+            memchr::memchr(b'\'', b.get(i..end).unwrap_or_default())
+        };
+        match found {
             None => return Err((ParseErrorKind::UnterminatedString, start)),
             Some(p) => {
                 let q = i + p;

@@ -20,6 +20,7 @@ mod lexer;
 mod scan;
 pub mod schema;
 mod string;
+mod swar;
 pub mod writer;
 
 pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};

@@ -826,7 +826,69 @@ impl<'a> Scanned<'a> {
 /// `#n = ` at the start of a statement: the id, the offset of the body, and the keyword of
 /// a simple instance (`None` for a complex one).
 #[allow(clippy::type_complexity)]
+#[inline]
 fn instance_head(
+    text: &str,
+    start: usize,
+    end: usize,
+) -> Result<(u64, usize, Option<&str>), (ParseErrorKind, usize, Option<u64>)> {
+    match quick_head(text.as_bytes(), start, end) {
+        Some((id, body, keyword_end)) => {
+            Ok((id, body, keyword_end.and_then(|e| text.get(body..e))))
+        }
+        None => instance_head_general(text, start, end),
+    }
+}
+
+/// The head as nearly every file writes it, `#123=KEYWORD(`, `#123 = KEYWORD(` or
+/// `#123 = (` (complex), read without the general lexer: the id (at most 19 digits), the
+/// body offset and the end of the keyword (`None` for a complex instance). `None` for any
+/// other shape (more blanks, comments, lower case, `!` keywords, errors...), which
+/// [`instance_head_general`] then reads; where this answers, it answers the same (tested).
+#[inline(always)]
+fn quick_head(b: &[u8], start: usize, end: usize) -> Option<(u64, usize, Option<usize>)> {
+    let end = end.min(b.len());
+    let at = |i: usize| if i < end { b.get(i).copied() } else { None };
+    if at(start) != Some(b'#') {
+        return None;
+    }
+    let digits = start + 1;
+    let mut i = digits;
+    let mut id: u64 = 0;
+    // 19 digits cannot overflow a u64; a longer id goes to the general path.
+    while i - digits < 19 {
+        match at(i) {
+            Some(c @ b'0'..=b'9') => id = id * 10 + u64::from(c - b'0'),
+            _ => break,
+        }
+        i += 1;
+    }
+    if i == digits || at(i).is_some_and(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    i += usize::from(at(i) == Some(b' '));
+    if at(i) != Some(b'=') {
+        return None;
+    }
+    i += 1;
+    i += usize::from(at(i) == Some(b' '));
+    match at(i) {
+        Some(b'(') => Some((id, i, None)),
+        Some(c) if c.is_ascii_uppercase() => {
+            let e = super::swar::keyword_run(b, i, end);
+            // A lower-case letter continuing the keyword is an error the general path
+            // reports.
+            (!at(e).is_some_and(|c| c.is_ascii_lowercase())).then_some((id, i, Some(e)))
+        }
+        _ => None,
+    }
+}
+
+/// [`instance_head`] for any input, through the general lexer (blanks and comments
+/// anywhere, located errors).
+#[allow(clippy::type_complexity)]
+#[cold]
+fn instance_head_general(
     text: &str,
     start: usize,
     end: usize,
@@ -874,6 +936,60 @@ fn instance_head(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        /// Where the quick head reader answers, the general one answers the same.
+        #[test]
+        fn quick_head_agrees_with_the_general_reader(
+            parts in proptest::collection::vec(proptest::prop_oneof![
+                proptest::prelude::Just("#".to_owned()),
+                proptest::prelude::Just(" ".to_owned()),
+                proptest::prelude::Just("=".to_owned()),
+                proptest::prelude::Just("(".to_owned()),
+                proptest::prelude::Just("/* c */".to_owned()),
+                proptest::prelude::Just("\n".to_owned()),
+                "[0-9]{1,22}",
+                "[A-Z_][A-Z0-9_]{0,20}",
+                "[a-zA-Z_!][a-zA-Z0-9_]{0,12}",
+            ], 1..8),
+            cut in 0usize..64,
+        ) {
+            let text: String = ["#".to_owned()].into_iter().chain(parts).collect();
+            let end = cut.min(text.len());
+            if let Some((id, body, kw_end)) = quick_head(text.as_bytes(), 0, end) {
+                let general = instance_head_general(&text, 0, end);
+                proptest::prop_assert_eq!(
+                    general,
+                    Ok((id, body, kw_end.and_then(|e| text.get(body..e))))
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn quick_head_reads_the_usual_shapes() {
+        for (text, expected) in [
+            ("#12=A(", Some((12, 4, Some(5)))),
+            ("#12 = CARTESIAN_POINT(", Some((12, 6, Some(21)))),
+            ("#7 = ( A() B() )", Some((7, 5, None))),
+            (
+                "#1234567890123456789 = A(",
+                Some((1234567890123456789, 23, Some(24))),
+            ),
+            ("#12345678901234567890 = A(", None),
+            ("#12  = A(", None),
+            ("#12 = Ab(", None),
+            ("#12 = !A(", None),
+            ("#12 /**/ = A(", None),
+            ("# 12 = A(", None),
+        ] {
+            assert_eq!(
+                quick_head(text.as_bytes(), 0, text.len()),
+                expected,
+                "{text}"
+            );
+        }
+    }
 
     /// Everything a scan produces, for comparing two scans.
     fn summary(s: &Scanned<'_>) -> String {
