@@ -91,12 +91,17 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
 /// substring search of their body.
 fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
+    // Every name below starts with B, U or Q: most instances (points, directions, topology)
+    // are rejected by their first letter, which the scanner kept (no read of the text).
+    if raw
+        .keyword_initial()
+        .is_some_and(|c| !matches!(c, b'B' | b'U' | b'Q'))
+    {
+        return false;
+    }
     match raw.keyword() {
         // (A keyword with lower-case letters is a syntax error, ISO 10303-21 6.4, that the
         // scanner itself reports: such a statement never becomes a `RawInstance`.)
-        // Every name below starts with B, U or Q: most instances (points, directions,
-        // topology) are rejected by their first letter.
-        Some(k) if !matches!(k.as_bytes().first(), Some(b'B' | b'U' | b'Q')) => false,
         Some(k) => matches!(
             canonical_name(k),
             "B_SPLINE_CURVE_WITH_KNOTS"

@@ -179,7 +179,9 @@ pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitP
     // long bodies are searched in full.
     let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
     for raw in &s.instances {
-        if raw.keyword().is_some() || finder.find(raw.body.as_bytes()).is_none() {
+        // Simple instances are skipped by the scanner's record of their keyword, without
+        // reading the text.
+        if raw.keyword_initial().is_some() || finder.find(raw.body.as_bytes()).is_none() {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
