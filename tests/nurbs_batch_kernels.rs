@@ -83,8 +83,8 @@ fn arb_surface_equal_degrees(max: usize) -> impl Strategy<Value = NurbsSurface> 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(160))]
 
-    /// `points` (span lookup + register A2.2), `points_sorted` and `point` equal `point_at`
-    /// bit for bit, in random and sorted order.
+    /// `points` (span lookup + register A2.2), `points_sorted` (with its four-parameter
+    /// lane kernel) and `point` equal `point_at` bit for bit, in random and sorted order.
     #[test]
     fn curve_kernels_equal_point_at_bit_for_bit(
         c in arb_curve(9, true, Ends::Any), seed in any::<u64>(), rational in any::<bool>()
@@ -107,6 +107,15 @@ proptest! {
         ev.points_sorted(&sorted, &mut out).unwrap();
         for (&u, &p) in sorted.iter().zip(&out) {
             prop_assert_eq!(bits(p), bits(c.point_at(u).unwrap()), "sorted u = {}", u);
+        }
+        // `points_sorted` on unsorted input (its four-at-a-time path must notice), and on
+        // runs that straddle knots: every third parameter repeated, in descending order.
+        let mut mixed = us.clone();
+        mixed.extend(sorted.iter().rev().step_by(3));
+        ev.points_sorted(&mixed, &mut out).unwrap();
+        prop_assert_eq!(out.len(), mixed.len());
+        for (&u, &p) in mixed.iter().zip(&out) {
+            prop_assert_eq!(bits(p), bits(c.point_at(u).unwrap()), "unsorted u = {}", u);
         }
     }
 

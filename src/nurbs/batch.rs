@@ -30,7 +30,7 @@
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
 use super::basis::{basis_funs_ders1_in, basis_funs_in};
-use super::kernels::{SpanIndex, basis, basis_pair};
+use super::kernels::{SpanIndex, basis, basis_lanes, basis_pair};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
@@ -141,6 +141,9 @@ macro_rules! by_degree {
         }
     };
 }
+
+/// Parameters evaluated together by the sorted curve path's lane kernel.
+const LANES: usize = 4;
 
 /// A curve prepared for repeated evaluation: packed poles, reusable across calls.
 #[derive(Debug, Clone)]
@@ -349,7 +352,25 @@ impl<'a> CurveEvaluator<'a> {
         let (knots, n) = (self.curve.knots(), self.poles.len());
         let dom = self.curve.domain();
         let mut span = p;
-        for &u in us {
+        let mut rest = us;
+        while let Some((&u, tail)) = rest.split_first() {
+            // Sorted points only (no derivative, compile-time degree): four parameters of
+            // one knot span at a time through the lane kernel, bit-identical to one at a
+            // time. Where four do not share a span (a knot between them), one parameter
+            // goes the single way and the next four are tried.
+            if SORTED && !D1 && exact(N) {
+                if let Some((&four, after)) = rest.split_first_chunk::<LANES>() {
+                    if let Some(s) = self.common_span(p, four, span) {
+                        span = s;
+                        for q in self.points_in_span_lanes::<N>(four, s) {
+                            push(out, [q, [0.0; 3]]);
+                        }
+                        rest = after;
+                        continue;
+                    }
+                }
+            }
+            rest = tail;
             check_range(u, dom)?;
             span = if SORTED {
                 span_from_hint(p, n, knots, u, span)
@@ -363,6 +384,61 @@ impl<'a> CurveEvaluator<'a> {
             }
         }
         Ok(())
+    }
+
+    /// The knot span shared by `us` (hint: the previous span), if they are all inside the
+    /// domain, ascending, and in one span. A2.1's span is non-decreasing in `u`, so equal
+    /// spans at both ends of an ascending run mean one span for all of it.
+    #[inline(always)]
+    fn common_span(&self, p: usize, us: [f64; LANES], hint: usize) -> Option<usize> {
+        let dom = self.curve.domain();
+        let ascending = us.windows(2).all(|w| w[0] <= w[1]);
+        let inside = us.iter().all(|&u| u >= dom.0 && u <= dom.1);
+        if !(ascending && inside) {
+            return None;
+        }
+        let (knots, n) = (self.curve.knots(), self.poles.len());
+        let first = span_from_hint(p, n, knots, us[0], hint);
+        let last = span_from_hint(p, n, knots, us[LANES - 1], first);
+        (first == last).then_some(first)
+    }
+
+    /// [`Self::point_in_span`] for [`LANES`] parameters of one span (`N - 1` a compile-time
+    /// degree): the same operations in the same order in every lane.
+    #[inline(always)]
+    fn points_in_span_lanes<const N: usize>(
+        &self,
+        us: [f64; LANES],
+        span: usize,
+    ) -> [Point3; LANES] {
+        let p = N - 1;
+        let nb = basis_lanes::<N, LANES>(span, us, self.curve.knots());
+        let poles = &self.poles[span - p..=span];
+        let mut out = [[0.0; 3]; LANES];
+        if self.curve.is_rational() {
+            let mut c = [[0.0; 4]; LANES];
+            for (nj, q) in nb.iter().zip(poles) {
+                for l in 0..LANES {
+                    let f = nj[l] * q[3];
+                    c[l][0] += f * q[0];
+                    c[l][1] += f * q[1];
+                    c[l][2] += f * q[2];
+                    c[l][3] += f;
+                }
+            }
+            for l in 0..LANES {
+                out[l] = [c[l][0] / c[l][3], c[l][1] / c[l][3], c[l][2] / c[l][3]];
+            }
+        } else {
+            for (nj, q) in nb.iter().zip(poles) {
+                for l in 0..LANES {
+                    out[l][0] += nj[l] * q[0];
+                    out[l][1] += nj[l] * q[1];
+                    out[l][2] += nj[l] * q[2];
+                }
+            }
+        }
+        out
     }
 
     /// Same operations, in the same order, as `NurbsCurve::point_at_unchecked`.

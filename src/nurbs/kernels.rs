@@ -140,6 +140,47 @@ pub(crate) fn basis<const N: usize>(span: usize, u: f64, knots: &[f64]) -> [f64;
     out
 }
 
+/// [`basis`] for `L` parameters in the same knot span at once: the A2.2 recurrence runs
+/// with every operation applied lane by lane, which the compiler turns into packed SIMD.
+/// Each lane performs exactly [`basis`]'s operations in the same order (no fused
+/// multiply-add: Rust does not contract), so every lane is bit-identical to [`basis`].
+/// Returns `out[k][lane]`.
+#[inline(always)]
+pub(crate) fn basis_lanes<const N: usize, const L: usize>(
+    span: usize,
+    us: [f64; L],
+    knots: &[f64],
+) -> [[f64; L]; N] {
+    let p = N - 1;
+    let mut out = [[0.0; L]; N];
+    out[0] = [1.0; L];
+    if p == 0 {
+        return out;
+    }
+    let k = &knots[span + 1 - p..span + p + 1];
+    let mut left = [[0.0; L]; N];
+    let mut right = [[0.0; L]; N];
+    for j in 1..N {
+        for l in 0..L {
+            left[j][l] = us[l] - k[p - j];
+            right[j][l] = k[p - 1 + j] - us[l];
+        }
+    }
+    for j in 1..N {
+        let mut saved = [0.0; L];
+        for r in 0..j {
+            let (rr, ll) = (right[r + 1], left[j - r]);
+            for l in 0..L {
+                let temp = out[r][l] / (rr[l] + ll[l]);
+                out[r][l] = saved[l] + rr[l] * temp;
+                saved[l] = ll[l] * temp;
+            }
+        }
+        out[j] = saved;
+    }
+    out
+}
+
 /// [`basis`] for two parameters at once (`u` in span `su` of `ku`, `v` in span `sv` of `kv`,
 /// both of degree `N - 1`): the two A2.2 recurrences run side by side as the two lanes of
 /// each operation, which the compiler turns into packed SIMD (half the divisions of two
