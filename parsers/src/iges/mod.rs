@@ -29,6 +29,7 @@
 //! parameters give a located error for that entity only ([`IgesFile::parameters`] is
 //! called per entity), the others still parse.
 
+pub mod direct;
 pub mod directory;
 pub mod error;
 pub mod global;
@@ -37,6 +38,7 @@ pub mod records;
 pub mod schema;
 pub mod writer;
 
+pub use direct::{Decoded, Scratch};
 pub use directory::{DirectoryEntry, Status};
 pub use error::{ErrorKind, ParseError, ParseWarning, WriteError};
 pub use global::Global;
@@ -193,13 +195,16 @@ impl<'a> IgesFile<'a> {
             .is_ok_and(|bp| bp % 2 == 1 && bp / 2 < self.entries.len())
     }
 
-    /// Tokenizes the Parameter Data of one entity.
+    /// The Parameter Data records of one entity and the `param_line_count` warning if any
+    /// (the first half of [`IgesFile::parameters`], shared with the direct decoders).
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
-    /// 66-72) names this entity; a count different from DE field 14 is a
-    /// `param_line_count` warning in [`Parameters::warnings`]. The record must start with
-    /// the entity type and end with the record delimiter; text after it is a comment.
-    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters<'_>, ParseError> {
+    /// 66-72) names this entity. Returns the records, the index just past them in the P
+    /// section and the warnings.
+    fn entity_records(
+        &self,
+        entry: &DirectoryEntry,
+    ) -> Result<(&[Record<'a>], usize, Vec<ParseWarning>), ParseError> {
         let de = entry.pointer;
         let err = |kind| {
             ParseError::new(kind, 'D', de)
@@ -257,14 +262,20 @@ impl<'a> IgesFile<'a> {
                 line: Some(entry.line + 1),
             });
         }
+        Ok((records, end, warnings))
+    }
+
+    /// Tokenizes the Parameter Data of one entity.
+    ///
+    /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
+    /// 66-72) names this entity; a count different from DE field 14 is a
+    /// `param_line_count` warning in [`Parameters::warnings`]. The record must start with
+    /// the entity type and end with the record delimiter; text after it is a comment.
+    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters<'_>, ParseError> {
+        let de = entry.pointer;
+        let (records, end, warnings) = self.entity_records(entry)?;
         let mut data = String::with_capacity(records.len() * P_DATA_COLUMNS);
-        for r in records {
-            let d = field(r.data, 0, P_DATA_COLUMNS);
-            data.push_str(d);
-            for _ in d.len()..P_DATA_COLUMNS {
-                data.push(' ');
-            }
-        }
+        join_data(records, &mut data);
         let mut p = Parameters {
             de,
             entity_type: entry.entity_type,
@@ -466,10 +477,41 @@ impl<'f> Parameters<'f> {
     }
 }
 
+/// Appends the data columns 1-64 of `records` to `data`, each padded with blanks to 64
+/// columns: the text the parameter tokenizer reads (free format continues across records).
+fn join_data(records: &[Record<'_>], data: &mut String) {
+    for r in records {
+        let d = field(r.data, 0, P_DATA_COLUMNS);
+        data.push_str(d);
+        for _ in d.len()..P_DATA_COLUMNS {
+            data.push(' ');
+        }
+    }
+}
+
 /// The DE back-pointer of a P record (columns 66-72): `field.trim().parse::<usize>()`,
 /// answered from the bytes when the field is blanks and digits (every line of a large file
 /// goes through here; the general form handles `+`, other whitespace and errors).
 fn back_pointer(field: &str) -> Option<usize> {
+    // The right-justified form every writer uses (blanks, then 1 to 18 digits to the end of
+    // the field) in one pass; anything else takes the general form below.
+    let b = field.as_bytes();
+    let first = b.iter().position(|&c| c != b' ').unwrap_or(b.len());
+    if let Some(digits) = b.get(first..)
+        && !digits.is_empty()
+        && digits.len() <= 18
+    {
+        let mut v = 0usize;
+        let mut all = true;
+        for &c in digits {
+            let d = c.wrapping_sub(b'0');
+            all &= d <= 9;
+            v = v.wrapping_mul(10).wrapping_add(usize::from(d));
+        }
+        if all {
+            return Some(v);
+        }
+    }
     let digits = field.trim_matches(' ');
     if !digits.is_empty() && digits.len() <= 18 && digits.bytes().all(|c| c.is_ascii_digit()) {
         return Some(
