@@ -222,7 +222,21 @@ impl<'a> IgesFile<'a> {
                 })
             })?;
         let start = first - 1;
-        let owner = |r: &Record<'_>| -> bool { back_pointer(field(r.data, 65, 72)) == Some(de) };
+        // Most lines carry the pointer right-justified in columns 66-72, exactly as
+        // `format!("{de:>7}")` writes it: compare the bytes first (that text parses to `de`),
+        // then parse whatever else is there.
+        let digits = de.to_string();
+        let expected = 7usize.checked_sub(digits.len()).map(|blanks| {
+            let mut e = [b' '; 7];
+            for (slot, &c) in e.iter_mut().skip(blanks).zip(digits.as_bytes()) {
+                *slot = c;
+            }
+            e
+        });
+        let owner = |r: &Record<'_>| -> bool {
+            let f = field(r.data, 65, 72);
+            expected.is_some_and(|e| f.as_bytes() == e) || back_pointer(f) == Some(de)
+        };
         let Some(r0) = self.parameters.get(start) else {
             return Err(err(ErrorKind::BadPointer {
                 what: "parameter data",

@@ -10,8 +10,10 @@ use crate::exchange::test_documents::random_document;
 use crate::exchange::{ExportOptions, Format, ImportOptions, LengthUnit};
 
 fn option_variants() -> Vec<ImportOptions> {
-    let mut converted = ImportOptions::default();
-    converted.target_units = Some(LengthUnit::In);
+    let converted = ImportOptions {
+        target_units: Some(LengthUnit::In),
+        ..ImportOptions::default()
+    };
     let mut small = ImportOptions::default();
     small.limits.max_params_per_entity = 40;
     small.limits.max_poles = 6;
