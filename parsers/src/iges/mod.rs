@@ -225,18 +225,8 @@ impl<'a> IgesFile<'a> {
         // Most lines carry the pointer right-justified in columns 66-72, exactly as
         // `format!("{de:>7}")` writes it: compare the bytes first (that text parses to `de`),
         // then parse whatever else is there.
-        let digits = de.to_string();
-        let expected = 7usize.checked_sub(digits.len()).map(|blanks| {
-            let mut e = [b' '; 7];
-            for (slot, &c) in e.iter_mut().skip(blanks).zip(digits.as_bytes()) {
-                *slot = c;
-            }
-            e
-        });
-        let owner = |r: &Record<'_>| -> bool {
-            let f = field(r.data, 65, 72);
-            expected.is_some_and(|e| f.as_bytes() == e) || back_pointer(f) == Some(de)
-        };
+        let expected = right_justified(de);
+        let owner = |r: &Record<'_>| -> bool { names(field(r.data, 65, 72), de, expected) };
         let Some(r0) = self.parameters.get(start) else {
             return Err(err(ErrorKind::BadPointer {
                 what: "parameter data",
@@ -503,6 +493,25 @@ fn join_data(records: &[Record<'_>], data: &mut String) {
     }
 }
 
+/// `n` as a P record writes it in columns 66-72 (right-justified, blank-filled), if it fits.
+fn right_justified(n: usize) -> Option<[u8; 7]> {
+    let digits = n.to_string();
+    7usize.checked_sub(digits.len()).map(|blanks| {
+        let mut e = [b' '; 7];
+        for (slot, &c) in e.iter_mut().skip(blanks).zip(digits.as_bytes()) {
+            *slot = c;
+        }
+        e
+    })
+}
+
+/// Whether a back-pointer field names entity `de`: `back_pointer(field) == Some(de)`, with
+/// the common spelling (`expected`, from [`right_justified`]) compared as bytes first.
+#[inline]
+fn names(field: &str, de: usize, expected: Option<[u8; 7]>) -> bool {
+    expected.is_some_and(|e| field.as_bytes() == e) || back_pointer(field) == Some(de)
+}
+
 /// The DE back-pointer of a P record (columns 66-72): `field.trim().parse::<usize>()`,
 /// answered from the bytes when the field is blanks and digits (every line of a large file
 /// goes through here; the general form handles `+`, other whitespace and errors).
@@ -539,6 +548,21 @@ fn back_pointer(field: &str) -> Option<usize> {
 
 #[cfg(test)]
 mod back_pointer_tests {
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The byte comparison never changes the answer of the parse.
+        #[test]
+        fn names_is_back_pointer(de in prop_oneof![0usize..100, 0usize..100_000_000], field in "[0-9 +]{0,8}|[0-9]{7}") {
+            let expected = super::right_justified(de);
+            let want = super::back_pointer(&field) == Some(de);
+            prop_assert_eq!(super::names(&field, de, expected), want);
+            let own = format!("{de:>7}");
+            prop_assert_eq!(super::names(&own, de, expected), super::back_pointer(&own) == Some(de));
+            prop_assert_eq!(super::names(&own, de, expected), true);
+        }
+    }
+
     #[test]
     fn back_pointer_is_trim_then_parse() {
         for f in [
