@@ -714,3 +714,7 @@ mod tests {
 // The writers' fast formatter (same output as `write_real`), kept in its own file.
 mod fast;
 pub use fast::write_real_fast;
+
+// The IGES real read in place from a record's bytes (one pass, no token slice).
+mod iges;
+pub use iges::iges_real_at;

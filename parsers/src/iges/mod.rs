@@ -29,6 +29,7 @@
 //! parameters give a located error for that entity only ([`IgesFile::parameters`] is
 //! called per entity), the others still parse.
 
+pub mod direct;
 pub mod directory;
 pub mod error;
 pub mod global;
@@ -37,6 +38,7 @@ pub mod records;
 pub mod schema;
 pub mod writer;
 
+pub use direct::{Decoded, Scratch};
 pub use directory::{DirectoryEntry, Status};
 pub use error::{ErrorKind, ParseError, ParseWarning, WriteError};
 pub use global::Global;
@@ -193,13 +195,16 @@ impl<'a> IgesFile<'a> {
             .is_ok_and(|bp| bp % 2 == 1 && bp / 2 < self.entries.len())
     }
 
-    /// Tokenizes the Parameter Data of one entity.
+    /// The Parameter Data records of one entity and the `param_line_count` warning if any
+    /// (the first half of [`IgesFile::parameters`], shared with the direct decoders).
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
-    /// 66-72) names this entity; a count different from DE field 14 is a
-    /// `param_line_count` warning in [`Parameters::warnings`]. The record must start with
-    /// the entity type and end with the record delimiter; text after it is a comment.
-    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters<'_>, ParseError> {
+    /// 66-72) names this entity. Returns the records, the index just past them in the P
+    /// section and the warnings.
+    fn entity_records(
+        &self,
+        entry: &DirectoryEntry,
+    ) -> Result<(&[Record<'a>], usize, Vec<ParseWarning>), ParseError> {
         let de = entry.pointer;
         let err = |kind| {
             ParseError::new(kind, 'D', de)
@@ -217,7 +222,11 @@ impl<'a> IgesFile<'a> {
                 })
             })?;
         let start = first - 1;
-        let owner = |r: &Record<'_>| -> bool { back_pointer(field(r.data, 65, 72)) == Some(de) };
+        // Most lines carry the pointer right-justified in columns 66-72, exactly as
+        // `format!("{de:>7}")` writes it: compare the bytes first (that text parses to `de`),
+        // then parse whatever else is there.
+        let expected = right_justified(de);
+        let owner = |r: &Record<'_>| -> bool { names(field(r.data, 65, 72), de, expected) };
         let Some(r0) = self.parameters.get(start) else {
             return Err(err(ErrorKind::BadPointer {
                 what: "parameter data",
@@ -257,14 +266,20 @@ impl<'a> IgesFile<'a> {
                 line: Some(entry.line + 1),
             });
         }
+        Ok((records, end, warnings))
+    }
+
+    /// Tokenizes the Parameter Data of one entity.
+    ///
+    /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
+    /// 66-72) names this entity; a count different from DE field 14 is a
+    /// `param_line_count` warning in [`Parameters::warnings`]. The record must start with
+    /// the entity type and end with the record delimiter; text after it is a comment.
+    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters<'_>, ParseError> {
+        let de = entry.pointer;
+        let (records, end, warnings) = self.entity_records(entry)?;
         let mut data = String::with_capacity(records.len() * P_DATA_COLUMNS);
-        for r in records {
-            let d = field(r.data, 0, P_DATA_COLUMNS);
-            data.push_str(d);
-            for _ in d.len()..P_DATA_COLUMNS {
-                data.push(' ');
-            }
-        }
+        join_data(records, &mut data);
         let mut p = Parameters {
             de,
             entity_type: entry.entity_type,
@@ -466,10 +481,60 @@ impl<'f> Parameters<'f> {
     }
 }
 
+/// Appends the data columns 1-64 of `records` to `data`, each padded with blanks to 64
+/// columns: the text the parameter tokenizer reads (free format continues across records).
+fn join_data(records: &[Record<'_>], data: &mut String) {
+    for r in records {
+        let d = field(r.data, 0, P_DATA_COLUMNS);
+        data.push_str(d);
+        for _ in d.len()..P_DATA_COLUMNS {
+            data.push(' ');
+        }
+    }
+}
+
+/// `n` as a P record writes it in columns 66-72 (right-justified, blank-filled), if it fits.
+fn right_justified(n: usize) -> Option<[u8; 7]> {
+    let digits = n.to_string();
+    7usize.checked_sub(digits.len()).map(|blanks| {
+        let mut e = [b' '; 7];
+        for (slot, &c) in e.iter_mut().skip(blanks).zip(digits.as_bytes()) {
+            *slot = c;
+        }
+        e
+    })
+}
+
+/// Whether a back-pointer field names entity `de`: `back_pointer(field) == Some(de)`, with
+/// the common spelling (`expected`, from [`right_justified`]) compared as bytes first.
+#[inline]
+fn names(field: &str, de: usize, expected: Option<[u8; 7]>) -> bool {
+    expected.is_some_and(|e| field.as_bytes() == e) || back_pointer(field) == Some(de)
+}
+
 /// The DE back-pointer of a P record (columns 66-72): `field.trim().parse::<usize>()`,
 /// answered from the bytes when the field is blanks and digits (every line of a large file
 /// goes through here; the general form handles `+`, other whitespace and errors).
 fn back_pointer(field: &str) -> Option<usize> {
+    // The right-justified form every writer uses (blanks, then 1 to 18 digits to the end of
+    // the field) in one pass; anything else takes the general form below.
+    let b = field.as_bytes();
+    let first = b.iter().position(|&c| c != b' ').unwrap_or(b.len());
+    if let Some(digits) = b.get(first..)
+        && !digits.is_empty()
+        && digits.len() <= 18
+    {
+        let mut v = 0usize;
+        let mut all = true;
+        for &c in digits {
+            let d = c.wrapping_sub(b'0');
+            all &= d <= 9;
+            v = v.wrapping_mul(10).wrapping_add(usize::from(d));
+        }
+        if all {
+            return Some(v);
+        }
+    }
     let digits = field.trim_matches(' ');
     if !digits.is_empty() && digits.len() <= 18 && digits.bytes().all(|c| c.is_ascii_digit()) {
         return Some(
@@ -483,6 +548,21 @@ fn back_pointer(field: &str) -> Option<usize> {
 
 #[cfg(test)]
 mod back_pointer_tests {
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The byte comparison never changes the answer of the parse.
+        #[test]
+        fn names_is_back_pointer(de in prop_oneof![0usize..100, 0usize..100_000_000], field in "[0-9 +]{0,8}|[0-9]{7}") {
+            let expected = super::right_justified(de);
+            let want = super::back_pointer(&field) == Some(de);
+            prop_assert_eq!(super::names(&field, de, expected), want);
+            let own = format!("{de:>7}");
+            prop_assert_eq!(super::names(&own, de, expected), super::back_pointer(&own) == Some(de));
+            prop_assert_eq!(super::names(&own, de, expected), true);
+        }
+    }
+
     #[test]
     fn back_pointer_is_trim_then_parse() {
         for f in [

@@ -3,8 +3,9 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+#[cfg(test)]
 use nurbsx_parsers::iges::schema::{Curve126, Surface128};
-use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
+use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning, Scratch};
 use rayon::prelude::*;
 
 use super::analysis;
@@ -28,6 +29,24 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 /// parser's warnings (`crlf`, `short_line`, `sequence`, `terminate_count`,
 /// `param_line_count`, `delimiter_form`, `global_field`, `missing_start`...).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
+    read_with(text, options, Path::Direct)
+}
+
+/// How 126/128 parameters become typed records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Path {
+    /// [`IgesFile::decode_curve126`] / [`IgesFile::decode_surface128`]: one pass over the
+    /// bytes, falling back to the general path on anything unusual; poles transposed by a
+    /// strided copy.
+    Direct,
+    /// The general path (tokens, then `from_params`; poles placed by `Grid::from_fn`): the
+    /// reference the direct path is tested against.
+    #[cfg(test)]
+    General,
+}
+
+/// [`read`] by the given decoding path (both give the same document, bit for bit).
+fn read_with(text: &str, options: &ImportOptions, path: Path) -> Result<Document, Diagnostic> {
     let file =
         iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
@@ -68,11 +87,11 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let results: Vec<(Outcome, Vec<Diagnostic>)> = file
         .entries
         .par_iter()
-        .map(|entry| {
+        .map_init(Scratch::default, |scratch, entry| {
             let mut diags = Vec::new();
             let outcome = read_entry(
                 &file,
-                entry,
+                (entry, path, scratch),
                 &users,
                 &parametric,
                 options,
@@ -120,7 +139,7 @@ enum Outcome {
 /// diagnostics in the order the sequential reader reported them.
 fn read_entry(
     file: &IgesFile<'_>,
-    entry: &Result<DirectoryEntry, ParseError>,
+    (entry, path, scratch): (&Result<DirectoryEntry, ParseError>, Path, &mut Scratch),
     users: &BTreeMap<usize, Vec<(usize, i64)>>,
     parametric: &BTreeSet<usize>,
     options: &ImportOptions,
@@ -137,13 +156,13 @@ fn read_entry(
     let result = match entry.entity_type {
         126 => read_curve(
             file,
-            entry,
+            (entry, path, scratch),
             parametric.contains(&entry.pointer),
             options,
             factor,
             diags,
         ),
-        128 => read_surface(file, entry, options, factor, diags),
+        128 => read_surface(file, (entry, path, scratch), options, factor, diags),
         124 => return Outcome::Nothing,
         t => return Outcome::Skipped(t),
     };
@@ -584,9 +603,45 @@ fn name_of(entry: &DirectoryEntry) -> Option<String> {
     (!entry.label.is_empty()).then(|| entry.label.clone())
 }
 
+/// The `nu x nv` grid (u-major) of `f` applied to IGES 128 data listed first index
+/// fastest (`src[j * nu + i]` is cell `(i, j)`), by strided reads: the same cells as
+/// `Grid::from_fn(nu, nv, |i, j| f(src[j * nu + i]))` without per-cell index arithmetic and
+/// bounds checks. `None` when `src` does not hold `nu * nv` values.
+fn transposed<T: Copy, U>(src: &[T], nu: usize, nv: usize, f: impl Fn(T) -> U) -> Option<Grid<U>> {
+    if nu.checked_mul(nv) != Some(src.len()) {
+        return None;
+    }
+    let mut data = Vec::with_capacity(src.len());
+    if nu > 0 {
+        for i in 0..nu {
+            data.extend(src.iter().skip(i).step_by(nu).map(|&x| f(x)));
+        }
+    }
+    Grid::from_u_major(nu, nv, data)
+}
+
+/// Weights of an IGES 128 (first index fastest) as a u-major grid; only reached when the
+/// count does not match, which the record's layout rules out.
+fn from_file_order(w: &[f64], nu: usize, nv: usize) -> Grid<f64> {
+    Grid::from_fn(nu, nv, |i, j| {
+        w.get(j * nu + i).copied().unwrap_or(f64::NAN)
+    })
+}
+
+/// Passes the decoded entity's warnings on and returns its record; a failure becomes an
+/// `iges.entity` error diagnostic and `None` (the same diagnostics, in the same order, as
+/// [`decode`]).
+fn decoded<T>(d: iges::Decoded<T>, diags: &mut Vec<Diagnostic>) -> Option<T> {
+    diags.extend(d.warnings.iter().map(warning_diag));
+    d.record
+        .map_err(|e| diags.push(parse_diag("iges.entity", &e)))
+        .ok()
+}
+
 /// Tokenizes one entity's parameters and decodes its typed record, passing the tokenizer's
 /// warnings on; a failure becomes an `iges.entity` error diagnostic and `None`, so the
-/// other entities still load.
+/// other entities still load. (The general path, kept as the reference of the tests.)
+#[cfg(test)]
 fn decode<T>(
     file: &IgesFile<'_>,
     entry: &DirectoryEntry,
@@ -604,13 +659,17 @@ fn decode<T>(
 
 fn read_curve(
     file: &IgesFile<'_>,
-    entry: &DirectoryEntry,
+    (entry, path, scratch): (&DirectoryEntry, Path, &mut Scratch),
     parametric: bool,
     options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = decode(file, entry, diags, Curve126::from_params)?;
+    let rec = match path {
+        Path::Direct => decoded(file.decode_curve126(entry, scratch), diags)?,
+        #[cfg(test)]
+        Path::General => decode(file, entry, diags, Curve126::from_params)?,
+    };
     if !check_limits(entry, &[rec.degree], rec.points.len(), options, diags) {
         return None;
     }
@@ -729,12 +788,16 @@ fn read_curve(
 
 fn read_surface(
     file: &IgesFile<'_>,
-    entry: &DirectoryEntry,
+    (entry, path, scratch): (&DirectoryEntry, Path, &mut Scratch),
     options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = decode(file, entry, diags, Surface128::from_params)?;
+    let rec = match path {
+        Path::Direct => decoded(file.decode_surface128(entry, scratch), diags)?,
+        #[cfg(test)]
+        Path::General => decode(file, entry, diags, Surface128::from_params)?,
+    };
     if !check_limits(entry, &rec.degree, rec.points.len(), options, diags) {
         return None;
     }
@@ -760,11 +823,25 @@ fn read_surface(
     let ts = transforms(file, entry, options, &mut meta, diags)?;
     let [nu, nv] = rec.poles;
     // IGES lists the first (u) index fastest; Grid is u-major: transpose explicitly.
-    let points = Grid::from_fn(nu, nv, |i, j| {
-        apply_all(&ts, rec.points[rec.index(i, j)], factor)
-    });
-    let weights = weights_policy(polynomial, rec.weights.clone(), entry, diags)
-        .map(|_| Grid::from_fn(nu, nv, |i, j| rec.weights[rec.index(i, j)]));
+    let (points, weights) = match (
+        path,
+        transposed(&rec.points, nu, nv, |p| apply_all(&ts, p, factor)),
+    ) {
+        (Path::Direct, Some(points)) => {
+            let weights = weights_policy(polynomial, rec.weights, entry, diags).map(|w| {
+                transposed(&w, nu, nv, |x| x).unwrap_or_else(|| from_file_order(&w, nu, nv))
+            });
+            (points, weights)
+        }
+        _ => {
+            let points = Grid::from_fn(nu, nv, |i, j| {
+                apply_all(&ts, rec.points[rec.index(i, j)], factor)
+            });
+            let weights = weights_policy(polynomial, rec.weights.clone(), entry, diags)
+                .map(|_| Grid::from_fn(nu, nv, |i, j| rec.weights[rec.index(i, j)]));
+            (points, weights)
+        }
+    };
     let surface = match NurbsSurface::new(
         rec.degree[0],
         rec.degree[1],
@@ -835,3 +912,6 @@ fn read_surface(
     }
     Some((Geometry::Surface(surface), meta))
 }
+
+#[cfg(test)]
+mod equivalence_tests;
