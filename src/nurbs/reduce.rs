@@ -354,7 +354,8 @@ impl NurbsCurve {
     ///
     /// Every interior knot's multiplicity drops by one (continuity is kept); the result is
     /// clamped, on the same domain, rational iff the input is. A curve obtained by degree
-    /// elevation comes back exactly (bound at rounding level).
+    /// elevation comes back exactly (bound at rounding level, which grows with the ratio of
+    /// the domain length to the shortest knot span: knot removal divides by it).
     ///
     /// Errors: degree 1 or a negative/NaN tolerance ([`GeometryError::InvalidArgument`]);
     /// bound above `tolerance`, or not finite (a reduced weight could reach 0), or a reduced
