@@ -1017,6 +1017,29 @@ mod tests {
     }
 
     #[test]
+    fn keywords_over_16_mib_are_reported_not_truncated() {
+        let long = "A".repeat(MAX_KEYWORD_LEN as usize + 1);
+        let text = file(&format!("DATA;\n#1 = {long}(1);\n#2 = B(2);\nENDSEC;\n"));
+        let s = scan(&text, &Limits::default()).unwrap();
+        let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();
+        assert_eq!(ids, [2]);
+        assert!(
+            s.errors
+                .iter()
+                .any(|e| e.entity == Some(1) && matches!(e.kind, ParseErrorKind::InvalidId(_))),
+            "{:?}",
+            s.errors
+        );
+        // One byte shorter is kept, with its keyword.
+        let ok = &long[1..];
+        let text = file(&format!("DATA;\n#1 = {ok}(1);\nENDSEC;\n"));
+        let s = scan(&text, &Limits::default()).unwrap();
+        assert_eq!(s.instances.len(), 1);
+        assert_eq!(s.instances[0].keyword().map(str::len), Some(ok.len()));
+        assert_eq!(s.instances[0].keyword_initial(), Some(b'A'));
+    }
+
+    #[test]
     fn quick_head_reads_the_usual_shapes() {
         for (text, expected) in [
             ("#12=A(", Some((12, 4, Some(5)))),
