@@ -258,9 +258,24 @@ fn lex_step(b: &[u8], start: usize) -> Result<(Decimal, usize), RealError> {
 /// ```
 pub fn parse_iges_real(token: &str) -> Result<f64, RealError> {
     let b = token.as_bytes();
+    let (d, exp_letter, end) = lex_iges(b, 0)?;
+    if end != b.len() {
+        return Err(RealError::Syntax);
+    }
+    convert(d, b, exp_letter)
+}
+
+/// The IGES REAL grammar (section 2.2.2.3), read once from `start`: optional sign, digits
+/// with an optional decimal point and at least one digit, an optional `E`/`e`/`D`/`d`
+/// exponent with at least one digit. Returns the digits, the offset of the exponent letter
+/// relative to `start` (for [`convert`]'s `D` handling) and the offset after the literal;
+/// what follows is the caller's business. Shared by [`parse_iges_real`] (whole token) and
+/// [`iges_real_at`] (inside a record).
+#[inline]
+fn lex_iges(b: &[u8], start: usize) -> Result<(Decimal, Option<usize>, usize), RealError> {
     let mut d = Decimal::default();
-    let mut i = 0;
-    match b.first() {
+    let mut i = start;
+    match b.get(i) {
         Some(b'-') => {
             d.negative = true;
             i += 1;
@@ -284,18 +299,16 @@ pub fn parse_iges_real(token: &str) -> Result<f64, RealError> {
     }
     let mut exp: i64 = 0;
     let mut exp_letter = None;
-    if let Some(&c) = b.get(i) {
-        if !matches!(c, b'E' | b'e' | b'D' | b'd') {
-            return Err(RealError::Syntax);
-        }
-        exp_letter = Some(i);
+    if let Some(&c) = b.get(i)
+        && matches!(c, b'E' | b'e' | b'D' | b'd')
+    {
+        exp_letter = Some(i - start);
         (exp, i) = lex_exponent(b, i + 1)?;
-        if i != b.len() {
-            return Err(RealError::Syntax);
-        }
     }
-    acc.finish(&mut d, b, frac_digits, exp);
-    convert(d, b, exp_letter)
+    // Only the literal's own bytes: a long literal's significant digits are recounted
+    // from the text.
+    acc.finish(&mut d, b.get(..i).unwrap_or_default(), frac_digits, exp);
+    Ok((d, exp_letter, i))
 }
 
 /// Digits accumulated over the integer and fraction parts of a literal.

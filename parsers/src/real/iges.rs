@@ -4,8 +4,7 @@
 //! of first cutting them into tokens and then parsing each token (IGES 5.3 section 2.2.2.3).
 
 use super::{
-    Digits, RealError, all_eight_digits, all_four_digits, convert, eight_digits, four_digits,
-    lex_exponent,
+    RealError, all_eight_digits, all_four_digits, convert, eight_digits, four_digits, lex_iges,
 };
 use crate::decimal::Decimal;
 
@@ -126,47 +125,13 @@ fn plain_decimal_at(b: &[u8], start: usize) -> Option<(f64, usize)> {
     Some((d.to_f64()?, i))
 }
 
-/// Every form of the IGES grammar (the lexer of [`parse_iges_real`](super::parse_iges_real)
-/// without its whole-token check).
+/// Every form of the IGES grammar ([`lex_iges`], the lexer of
+/// [`parse_iges_real`](super::parse_iges_real) without its whole-token check).
 #[inline(never)]
 fn general_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
-    let mut d = Decimal::default();
-    let mut i = start;
-    match b.get(i) {
-        Some(b'-') => {
-            d.negative = true;
-            i += 1;
-        }
-        Some(b'+') => i += 1,
-        _ => {}
-    }
-    let mut acc = Digits::default();
-    let int_start = i;
-    i = acc.run(b, i);
-    let mut n_digits = i - int_start;
-    let mut frac_digits = 0;
-    if b.get(i) == Some(&b'.') {
-        let frac_start = i + 1;
-        i = acc.run(b, frac_start);
-        frac_digits = i - frac_start;
-        n_digits += frac_digits;
-    }
-    if n_digits == 0 {
-        return Err(RealError::Syntax);
-    }
-    let mut exp: i64 = 0;
-    let mut exp_letter = None;
-    if let Some(&c) = b.get(i)
-        && matches!(c, b'E' | b'e' | b'D' | b'd')
-    {
-        exp_letter = Some(i - start);
-        (exp, i) = lex_exponent(b, i + 1)?;
-    }
-    // The literal is `b[start..i]`: count its digits only (a long literal's significant
-    // digits are recounted from the text).
-    let token = b.get(start..i).ok_or(RealError::Syntax)?;
-    acc.finish(&mut d, b.get(..i).unwrap_or_default(), frac_digits, exp);
-    Ok((convert(d, token, exp_letter)?, i))
+    let (d, exp_letter, end) = lex_iges(b, start)?;
+    let token = b.get(start..end).ok_or(RealError::Syntax)?;
+    Ok((convert(d, token, exp_letter)?, end))
 }
 
 #[cfg(test)]
