@@ -46,13 +46,7 @@ impl<'a> IgesFile<'a> {
         entry: &DirectoryEntry,
         scratch: &mut Scratch,
     ) -> Decoded<Curve126> {
-        if let Some((warnings, record)) = self.direct(entry, scratch, read_curve) {
-            return Decoded {
-                warnings,
-                record: Ok(record),
-            };
-        }
-        self.general(entry, Curve126::from_params)
+        self.decode(entry, scratch, read_curve, Curve126::from_params)
     }
 
     /// Decodes a 128 entity: the same result as
@@ -63,13 +57,24 @@ impl<'a> IgesFile<'a> {
         entry: &DirectoryEntry,
         scratch: &mut Scratch,
     ) -> Decoded<Surface128> {
-        if let Some((warnings, record)) = self.direct(entry, scratch, read_surface) {
-            return Decoded {
+        self.decode(entry, scratch, read_surface, Surface128::from_params)
+    }
+
+    /// The one-pass reader where it applies, else the general path.
+    fn decode<T>(
+        &self,
+        entry: &DirectoryEntry,
+        scratch: &mut Scratch,
+        read: impl FnOnce(&mut Reader<'_>) -> Option<T>,
+        from_params: impl FnOnce(&super::Parameters<'_>) -> Result<T, ParseError>,
+    ) -> Decoded<T> {
+        match self.direct(entry, scratch, read) {
+            Some((warnings, record)) => Decoded {
                 warnings,
                 record: Ok(record),
-            };
+            },
+            None => self.general(entry, from_params),
         }
-        self.general(entry, Surface128::from_params)
     }
 
     /// The general path: tokens, then the typed decoder.
