@@ -212,7 +212,10 @@ fn apply(v: &mut Vec<String>, d: &Damage) -> bool {
     match d {
         Damage::None => true,
         Damage::Truncate(f, keep_end) => {
-            v.truncate(*f * v.len() / 1000);
+            // The type number stays: an entity with no parameter data at all has no P
+            // lines, which breaks the file's structure (a file-level error that
+            // tests/robustness.rs covers), not the entity's decoding tested here.
+            v.truncate((*f * v.len() / 1000).max(1));
             *keep_end
         }
         Damage::Replace(f, t) => {
