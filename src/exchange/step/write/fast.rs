@@ -132,6 +132,33 @@ fn complex(
 }
 
 /// A curve's poles and its B-spline instance; `id` is the next free id.
+/// A polynomial B-spline as a simple instance: `#id = KEYWORD('name',<B-spline attributes>
+/// [,<knot attributes>]);` (the knot attributes only for `..._WITH_KNOTS`; the implicit
+/// subtypes have none).
+fn simple(
+    out: &mut String,
+    id: u64,
+    keyword: &str,
+    e: &Entity,
+    with_knots: bool,
+    bspline: impl FnOnce(&mut String),
+    knots: impl FnOnce(&mut String) -> Result,
+) -> Result {
+    push_id(out, id);
+    out.push_str(" = ");
+    out.push_str(keyword);
+    out.push('(');
+    push_name(out, e);
+    out.push(',');
+    bspline(out);
+    if with_knots {
+        out.push(',');
+        knots(out)?;
+    }
+    out.push_str(");\n");
+    Ok(())
+}
+
 pub(super) fn curve(
     out: &mut String,
     id: &mut u64,
@@ -187,21 +214,7 @@ pub(super) fn curve(
         Ok(())
     };
     match c.weights() {
-        None => {
-            push_id(out, cid);
-            out.push_str(" = ");
-            out.push_str(sub_keyword);
-            out.push('(');
-            push_name(out, e);
-            out.push(',');
-            bspline(out);
-            if subtype.is_none() {
-                out.push(',');
-                knots(out)?;
-            }
-            out.push_str(");\n");
-            Ok(())
-        }
+        None => simple(out, cid, sub_keyword, e, subtype.is_none(), bspline, knots),
         Some(w) => complex(
             out,
             cid,
@@ -315,21 +328,7 @@ pub(super) fn surface(
         Ok(())
     };
     match sf.weights() {
-        None => {
-            push_id(out, sid);
-            out.push_str(" = ");
-            out.push_str(sub_keyword);
-            out.push('(');
-            push_name(out, e);
-            out.push(',');
-            bspline(out);
-            if subtype.is_none() {
-                out.push(',');
-                knots(out)?;
-            }
-            out.push_str(");\n");
-            Ok(())
-        }
+        None => simple(out, sid, sub_keyword, e, subtype.is_none(), bspline, knots),
         Some(w) => complex(
             out,
             sid,
