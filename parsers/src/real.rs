@@ -209,6 +209,16 @@ pub fn parse_step_real(token: &str) -> Result<f64, RealError> {
 /// ```
 #[inline]
 pub fn step_real_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
+    // A STEP REAL needs a digit before the point (ISO 10303-21 6.3.3).
+    if let Some(r) = plain::plain_decimal_at(b, start, 1) {
+        return Ok(r);
+    }
+    step_real_general_at(b, start)
+}
+
+/// [`step_real_at`] by the general lexer alone (every form; the quick path's reference).
+#[inline(never)]
+fn step_real_general_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
     let (d, end) = lex_step(b, start)?;
     let token = b.get(start..end).ok_or(RealError::Syntax)?;
     Ok((convert(d, token, None)?, end))
@@ -439,10 +449,15 @@ fn four_digits(v: u32) -> u32 {
 /// multiply-shift steps that combine pairs, then quads.
 #[inline(always)]
 fn eight_digits(v: u64) -> u64 {
+    eight_digit_values(v.wrapping_sub(0x3030_3030_3030_3030))
+}
+
+/// [`eight_digits`] of bytes that already hold digit values 0..=9 (not ASCII).
+#[inline(always)]
+fn eight_digit_values(v: u64) -> u64 {
     const MASK: u64 = 0x0000_00FF_0000_00FF;
     const MUL1: u64 = 0x000F_4240_0000_0064; // 100 + (1000000 << 32)
     const MUL2: u64 = 0x0000_2710_0000_0001; // 1 + (10000 << 32)
-    let v = v.wrapping_sub(0x3030_3030_3030_3030);
     let v = v.wrapping_mul(10).wrapping_add(v >> 8);
     let hi = (v & MASK).wrapping_mul(MUL1);
     let lo = ((v >> 16) & MASK).wrapping_mul(MUL2);
@@ -711,6 +726,28 @@ mod tests {
             prop_assert_eq!(end, s.len() + 1);
         }
 
+        /// The word-at-a-time quick path and the general lexer give the same value and end
+        /// wherever the quick path answers, whatever follows the literal.
+        #[test]
+        fn step_quick_path_equals_general(
+            text in "[+-]?[0-9]{0,21}\\.?[0-9]{0,21}(E[+-]?[0-9]{1,3})?",
+            rest in "[0-9.,)Ee +-]{0,3}",
+        ) {
+            let buf = format!("({text}{rest}");
+            if let Some((v, end)) = plain::plain_decimal_at(buf.as_bytes(), 1, 1) {
+                prop_assert_eq!(
+                    step_real_general_at(buf.as_bytes(), 1).map(|(x, e)| (x.to_bits(), e)),
+                    Ok((v.to_bits(), end)),
+                    "{:?}", buf
+                );
+            }
+            prop_assert_eq!(
+                step_real_at(buf.as_bytes(), 1).map(|(x, e)| (x.to_bits(), e)),
+                step_real_general_at(buf.as_bytes(), 1).map(|(x, e)| (x.to_bits(), e)),
+                "{:?}", buf
+            );
+        }
+
         #[test]
         fn agrees_with_std(s in "[+-]?[0-9]{1,20}\\.[0-9]{0,20}(E[+-]?[0-9]{1,3})?") {
             let ours = parse_step_real(&s);
@@ -727,6 +764,9 @@ mod tests {
 // The writers' fast formatter (same output as `write_real`), kept in its own file.
 mod fast;
 pub use fast::write_real_fast;
+
+// The coordinate shape read a word at a time, in front of both general lexers.
+mod plain;
 
 // The IGES real read in place from a record's bytes (one pass, no token slice).
 mod iges;
