@@ -767,6 +767,7 @@ pub use fast::write_real_fast;
 
 // The coordinate shape read a word at a time, in front of both general lexers.
 mod plain;
+pub(crate) use plain::digit_word;
 
 // The IGES real read in place from a record's bytes (one pass, no token slice).
 mod iges;

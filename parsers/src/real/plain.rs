@@ -56,7 +56,7 @@ fn load(b: &[u8], i: usize) -> u64 {
 /// (bytes >= 0x80). Borrows and carries only travel upwards, so every byte below the lowest
 /// flag is a digit and the lowest flag is exact; bytes above it are ignored.
 #[inline(always)]
-pub(super) fn digit_word(b: &[u8], i: usize) -> (u64, usize) {
+pub(crate) fn digit_word(b: &[u8], i: usize) -> (u64, usize) {
     let v = load(b, i);
     let digits = v.wrapping_sub(0x3030_3030_3030_3030);
     let non_digit = (v.wrapping_add(0x4646_4646_4646_4646) | digits) & 0x8080_8080_8080_8080;

@@ -19,6 +19,7 @@ mod error;
 mod lexer;
 mod scan;
 pub mod schema;
+mod specials;
 mod string;
 mod swar;
 pub mod writer;

@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use super::ast::{Body, DataSection, Exchange, Instance, Parameter, Record};
 use super::error::{LineIndex, ParseError, ParseErrorKind};
 use super::lexer::{Cursor, LexError, ParamLimits, statement_end};
+use super::specials::{Specials, statement_end_in};
 use crate::Limits;
 
 /// An entity instance found by [`scan`], not yet decoded.
@@ -371,6 +372,8 @@ fn scan_statements<'a>(
         .try_reserve(estimate_statements(bytes, from, stop, limits));
     let error = |k, at, id| lines.error(text, k, at, id);
     let mut c = Cursor::new(text, from, text.len());
+    // One special-byte cursor for the whole run: statements share its 64-byte masks.
+    let mut specials = Specials::new(bytes);
     loop {
         if c.pos >= stop {
             run.end = RunEnd::Stop(c.pos);
@@ -398,7 +401,7 @@ fn scan_statements<'a>(
             return run;
         }
         let start = c.pos;
-        let end = match statement_end(bytes, start) {
+        let end = match statement_end_in(&mut specials, start) {
             Ok(e) => e,
             Err((k, at)) => {
                 // An unterminated string or comment swallows the rest of the file.
@@ -881,10 +884,14 @@ fn quick_head(b: &[u8], start: usize, end: usize) -> Option<(u64, usize, Option<
         return None;
     }
     let digits = start + 1;
-    let mut i = digits;
-    let mut id: u64 = 0;
+    // Up to eight digits in one word (most ids), then one at a time.
+    let (mut id, n) = crate::real::digit_word(b, digits);
+    let mut i = digits + n;
+    if i > end {
+        return None;
+    }
     // 19 digits cannot overflow a u64; a longer id goes to the general path.
-    while i - digits < 19 {
+    while n == 8 && i - digits < 19 {
         match at(i) {
             Some(c @ b'0'..=b'9') => id = id * 10 + u64::from(c - b'0'),
             _ => break,
@@ -1049,6 +1056,8 @@ mod tests {
                 "#1234567890123456789 = A(",
                 Some((1234567890123456789, 23, Some(24))),
             ),
+            ("#12345678 = A(", Some((12345678, 12, Some(13)))),
+            ("#123456789=A(", Some((123456789, 11, Some(12)))),
             ("#12345678901234567890 = A(", None),
             ("#12  = A(", None),
             ("#12 = Ab(", None),
