@@ -80,8 +80,9 @@ fn block_mask(b: &[u8], at: usize) -> u64 {
         let hit = v.cmp_eq(u8x16::splat(b';'))
             | v.cmp_eq(u8x16::splat(b'\''))
             | v.cmp_eq(u8x16::splat(b'/'));
-        // `move_mask` gives one bit per lane in the low 16 bits.
-        #[allow(clippy::cast_sign_loss)]
+        // `move_mask` gives one bit per lane in the low 16 bits (0..=0xFFFF, never
+        // negative), so the narrowing is exact.
+        #[allow(clippy::cast_sign_loss, clippy::cast_possible_truncation)]
         let bits = u64::from(hit.move_mask() as u16);
         mask |= bits << (16 * k);
     }
