@@ -3,10 +3,7 @@
 //! can convert the P-section parameters of a 126/128 entity straight from the bytes instead
 //! of first cutting them into tokens and then parsing each token (IGES 5.3 section 2.2.2.3).
 
-use super::{
-    RealError, all_eight_digits, all_four_digits, convert, eight_digits, four_digits, lex_iges,
-};
-use crate::decimal::Decimal;
+use super::{RealError, convert, lex_iges};
 
 /// Reads the longest IGES real that starts at `b[start]` (optional sign, digits with an
 /// optional decimal point and at least one digit, an optional `E`/`e`/`D`/`d` exponent with at
@@ -33,96 +30,12 @@ pub fn iges_real_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
 }
 
 /// The common shape of a coordinate, `[SIGN] {DIGIT} "." {DIGIT}` with 1 to 19 digits and
-/// no exponent letter after it, read with fewer branches than [`general_at`]; `None` for
-/// anything else (or when the value needs std's parser), which [`general_at`] then reads.
-///
-/// Same value and end as [`general_at`]: on this shape `general_at` accumulates the same
-/// digits (exact in a `u64`: fewer than 20), sets `truncated = false` (at most 19 digits),
-/// exponent `-(fraction digits)` and converts with [`Decimal::to_f64`]; so does this. The
-/// value is finite (below 10^19), so the overflow check cannot fire.
+/// no exponent letter after it (IGES allows an empty integer part, `.5`), read a word at a
+/// time by the quick path both formats share; `None` for anything else, which
+/// [`general_at`] then reads. Where it answers, it answers as `general_at` (tested below).
 #[inline(always)]
 fn plain_decimal_at(b: &[u8], start: usize) -> Option<(f64, usize)> {
-    let mut i = start;
-    let negative = match b.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
-    let int_start = i;
-    let mut m: u64 = 0;
-    // Integer digits: few in coordinates, one at a time (bounded: more than 19 is not this
-    // shape).
-    while let Some(&c) = b.get(i) {
-        let digit = c.wrapping_sub(b'0');
-        if digit > 9 {
-            break;
-        }
-        m = m.wrapping_mul(10).wrapping_add(u64::from(digit));
-        i += 1;
-        if i - int_start > 19 {
-            return None;
-        }
-    }
-    let int_digits = i - int_start;
-    if b.get(i) != Some(&b'.') {
-        return None;
-    }
-    i += 1;
-    let frac_start = i;
-    // Fraction digits: eight at a time (twice covers a 16-digit fraction), then four, then
-    // singles; more than 19 digits in all is left to the general reader.
-    for _ in 0..2 {
-        let Some(chunk) = b.get(i..i + 8) else { break };
-        let mut word = [0u8; 8];
-        word.copy_from_slice(chunk);
-        let v = u64::from_le_bytes(word);
-        if !all_eight_digits(v) {
-            break;
-        }
-        m = m.wrapping_mul(100_000_000).wrapping_add(eight_digits(v));
-        i += 8;
-    }
-    if let Some(chunk) = b.get(i..i + 4) {
-        let mut word = [0u8; 4];
-        word.copy_from_slice(chunk);
-        let v = u32::from_le_bytes(word);
-        if all_four_digits(v) {
-            m = m
-                .wrapping_mul(10_000)
-                .wrapping_add(u64::from(four_digits(v)));
-            i += 4;
-        }
-    }
-    while let Some(&c) = b.get(i) {
-        let digit = c.wrapping_sub(b'0');
-        if digit > 9 {
-            break;
-        }
-        m = m.wrapping_mul(10).wrapping_add(u64::from(digit));
-        i += 1;
-        if i - frac_start > 19 {
-            return None;
-        }
-    }
-    let frac_digits = i - frac_start;
-    let digits = int_digits + frac_digits;
-    if digits == 0 || digits > 19 || matches!(b.get(i), Some(b'E' | b'e' | b'D' | b'd')) {
-        return None;
-    }
-    let d = Decimal {
-        negative,
-        mantissa: m,
-        // frac_digits <= 19.
-        exponent: -i32::try_from(frac_digits).ok()?,
-        truncated: false,
-    };
-    Some((d.to_f64()?, i))
+    super::plain::plain_decimal_at(b, start, 0)
 }
 
 /// Every form of the IGES grammar ([`lex_iges`], the lexer of
