@@ -64,7 +64,10 @@ impl Decimal {
     /// The correctly rounded `f64`, or `None` when only the slow path can decide (the
     /// caller then parses the text with std). Infinity is returned for overflow; callers
     /// reject it.
-    #[inline]
+    ///
+    /// Inlined into the number readers (the Clinger branch is a few instructions; a call
+    /// passing the `Decimal` through memory cost more); Eisel-Lemire stays a call.
+    #[inline(always)]
     pub fn to_f64(self) -> Option<f64> {
         if self.truncated {
             return None;
@@ -89,6 +92,7 @@ impl Decimal {
 /// 128-bit product cannot decide the rounding (rare; the slow path decides). Follows
 /// Lemire (2021), algorithm 1, with the ties-to-even rule of section 7 and the subnormal
 /// handling of section 8 (as in `core::num::dec2flt::lemire`).
+#[inline(never)]
 fn eisel_lemire(q: i32, w: u64) -> Option<f64> {
     if q < SMALLEST_POWER_OF_TEN {
         return Some(0.0);
