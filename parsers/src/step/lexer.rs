@@ -65,8 +65,9 @@ impl<'a> Cursor<'a> {
         match self.peek() {
             Some(c) if c > b' ' && c != b'/' => return Ok(()),
             None => return Ok(()),
-            // One blank before a token (`#1 = A(...)`): step over it without the loop.
-            Some(b' ') => {
+            // One blank before a token (`#1 = A(...)`), or the line break between two
+            // statements: step over it without the loop.
+            Some(b' ' | b'\n') => {
                 if let Some(&c) = self.bytes().get(self.pos + 1) {
                     if c > b' ' && c != b'/' && self.pos + 1 < self.end {
                         self.pos += 1;
