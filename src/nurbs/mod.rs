@@ -108,8 +108,16 @@ pub fn bounding_box<'a>(points: impl IntoIterator<Item = &'a Point3>) -> (Point3
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {
         for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
+            // Plain comparisons, not `f64::min`/`max`: the same result (a NaN coordinate
+            // compares false and is skipped, as `min` skips it; `lo`/`hi` are never NaN)
+            // in one `minsd`/`maxsd` instead of a NaN-checking sequence. Readers compute
+            // this for every B-spline's closure check.
+            if p[k] < lo[k] {
+                lo[k] = p[k];
+            }
+            if p[k] > hi[k] {
+                hi[k] = p[k];
+            }
         }
     }
     (lo, hi)
@@ -160,4 +168,37 @@ pub(crate) fn split_homogeneous(
         .collect();
     let weights = rational.then(|| h.iter().map(|q| q[3]).collect());
     (points, weights)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The comparison form equals a fold with `f64::min`/`max` (the reference), NaN
+        /// coordinates included (both skip them).
+        #[test]
+        fn bounding_box_is_the_min_max_fold(
+            pts in proptest::collection::vec(
+                proptest::array::uniform3(prop_oneof![-1e6..1e6f64, Just(f64::NAN), Just(-0.0), Just(0.0)]),
+                0..20,
+            ),
+        ) {
+            let (lo, hi) = bounding_box(&pts);
+            let mut rlo = [f64::INFINITY; 3];
+            let mut rhi = [f64::NEG_INFINITY; 3];
+            for p in &pts {
+                for k in 0..3 {
+                    rlo[k] = rlo[k].min(p[k]);
+                    rhi[k] = rhi[k].max(p[k]);
+                }
+            }
+            for k in 0..3 {
+                // Equal as numbers (the sign of a zero bound is not specified by `min`).
+                prop_assert!(lo[k] == rlo[k], "{:?} {:?}", lo, rlo);
+                prop_assert!(hi[k] == rhi[k], "{:?} {:?}", hi, rhi);
+            }
+        }
+    }
 }
