@@ -910,7 +910,13 @@ fn quick_head(b: &[u8], start: usize, end: usize) -> Option<(u64, usize, Option<
     match at(i) {
         Some(b'(') => Some((id, i, None)),
         Some(c) if c.is_ascii_uppercase() => {
-            let e = super::swar::keyword_run(b, i, end);
+            // The commonest keyword by far (most statements of a B-spline file are control
+            // points) is recognised by one 16-byte comparison instead of the run scan.
+            let e = if i + 16 <= end && b.get(i..i + 16) == Some(b"CARTESIAN_POINT(") {
+                i + 15
+            } else {
+                super::swar::keyword_run(b, i, end)
+            };
             // A lower-case letter continuing the keyword is an error the general path
             // reports.
             (!at(e).is_some_and(|c| c.is_ascii_lowercase())).then_some((id, i, Some(e)))
@@ -985,6 +991,7 @@ mod tests {
                 proptest::prelude::Just("\n".to_owned()),
                 "[0-9]{1,22}",
                 "[A-Z_][A-Z0-9_]{0,20}",
+                proptest::prelude::Just("CARTESIAN_POINT".to_owned()),
                 "[a-zA-Z_!][a-zA-Z0-9_]{0,12}",
             ], 1..8),
             cut in 0usize..64,
@@ -1051,6 +1058,9 @@ mod tests {
         for (text, expected) in [
             ("#12=A(", Some((12, 4, Some(5)))),
             ("#12 = CARTESIAN_POINT(", Some((12, 6, Some(21)))),
+            ("#12 = CARTESIAN_POINTS(", Some((12, 6, Some(22)))),
+            ("#12 = CARTESIAN_POINT (", Some((12, 6, Some(21)))),
+            ("#12 = CARTESIAN_POINTx(", None),
             ("#7 = ( A() B() )", Some((7, 5, None))),
             (
                 "#1234567890123456789 = A(",
