@@ -107,6 +107,10 @@ pub(crate) fn statement_end_in(sp: &mut Specials<'_>, from: usize) -> LResult<us
         };
         match b.get(q) {
             Some(b';') => return Ok(q),
+            // The empty string `''` (most names in real files) needs no search.
+            Some(b'\'') if b.get(q + 1) == Some(&b'\'') && b.get(q + 2) != Some(&b'\'') => {
+                i = q + 2;
+            }
             Some(b'\'') => i = string_end_in(sp, q)? + 1,
             _ => {
                 if b.get(q + 1) == Some(&b'*') {
