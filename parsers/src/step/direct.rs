@@ -140,6 +140,10 @@ impl<'a> Reader<'a> {
     /// Skips the whitespace the general lexer skips (comments are not taken here).
     #[inline(always)]
     fn ws(&mut self) {
+        // Most calls find a token right away (compact text between list elements).
+        if self.b.get(self.i).is_some_and(|&c| c > b' ') {
+            return;
+        }
         while let Some(&c) = self.b.get(self.i) {
             if matches!(c, b' ' | b'\t' | b'\r' | b'\n' | b'\x0c') {
                 self.i += 1;
@@ -260,11 +264,11 @@ impl<'a> Reader<'a> {
             return None;
         }
         let (v, end) = step_real_at(self.b, self.i).ok()?;
-        // `1.5E3X` and `1.5.2` are one bad token for the general lexer, not a number and
-        // then something.
-        if self.b.get(end).is_some_and(|&c| is_number_char(c)) {
-            return None;
-        }
+        // The general lexer takes the maximal run of number characters as one token
+        // (`1.5E3X` and `1.5.2` are one bad token, not a number and then something). Its
+        // check (`is_number_char` after the real) is not repeated here because the only
+        // caller, `list`, accepts nothing after an element but whitespace, `,` or `)`, none
+        // of which is a number character: such a token is declined there.
         self.i = end;
         Some(v)
     }
@@ -276,48 +280,54 @@ impl<'a> Reader<'a> {
             return None;
         }
         let start = self.i + 1;
+        // Ids of up to 7 digits (files under ten million instances) in one word; longer
+        // runs byte by byte, checked (`decimal_u64`).
+        if let Some((v, n)) = short_digit_run(self.b, start) {
+            self.i = start + n;
+            return Some(v);
+        }
         let mut e = start;
-        let mut v: u64 = 0;
-        while let Some(&c) = self.b.get(e) {
-            let d = c.wrapping_sub(b'0');
-            if d > 9 {
-                break;
-            }
-            v = v.wrapping_mul(10).wrapping_add(u64::from(d));
+        while self.b.get(e).is_some_and(u8::is_ascii_digit) {
             e += 1;
         }
-        // Up to 19 digits cannot overflow; longer ones are checked (`decimal_u64`).
-        let v = match e - start {
-            0 => return None,
-            1..=19 => v,
-            _ => decimal_u64(self.b.get(start..e)?)?,
-        };
+        let v = decimal_u64(self.b.get(start..e)?)?;
         self.i = e;
         Some(v)
     }
 
     /// Opens a list parameter: whitespace, `(`, counted as one parameter at nesting `depth`
     /// (1 for a record's parameter, as the general lexer's stack length). Returns the
-    /// number of elements to reserve.
+    /// number of elements to reserve: `hint` (the length of a list that should have the
+    /// same, such as the multiplicities for the knots) or else the commas counted up to the
+    /// next `)`. Only a capacity: a longer list grows.
     #[inline]
-    fn open_list(&mut self, depth: usize) -> Option<usize> {
+    fn open_list(&mut self, depth: usize, hint: Option<usize>) -> Option<usize> {
         self.byte(b'(')?;
         self.param()?;
         if depth >= self.max_depth {
             return None;
         }
         // Elements are scalars here, so a well-formed list ends at the next `)`.
-        let rest = self.b.get(self.i..)?;
-        let len = memchr::memchr(b')', rest).unwrap_or(0);
-        let commas = rest.get(..len)?.iter().filter(|&&c| c == b',').count();
+        let n = match hint {
+            Some(n) => n,
+            None => commas_before_close(self.b, self.i) + 1,
+        };
         let remaining = self.max_params.saturating_sub(self.count);
-        Some((commas + 1).min(remaining).min(MAX_RESERVE))
+        Some(n.min(remaining).min(MAX_RESERVE))
     }
 
     /// A list of scalars read by `token`, opened at nesting `depth`.
     #[inline(always)]
-    fn list<T>(&mut self, depth: usize, token: fn(&mut Self) -> Option<T>) -> Option<Vec<T>> {
-        let reserve = self.open_list(depth)?;
+    fn list<T>(
+        &mut self,
+        depth: usize,
+        token: fn(&mut Self) -> Option<T>,
+        hint: Option<usize>,
+    ) -> Option<Vec<T>> {
+        let reserve = self.open_list(depth, hint)?;
+        // Elements allowed before the general lexer's parameter limit (`open_list` checked
+        // that `count <= max_params`).
+        let budget = self.max_params - self.count;
         let mut out = Vec::with_capacity(reserve);
         self.ws();
         if self.b.get(self.i) == Some(&b')') {
@@ -326,13 +336,21 @@ impl<'a> Reader<'a> {
         }
         loop {
             self.ws();
-            self.param()?;
+            if out.len() >= budget {
+                return None;
+            }
             out.push(token(self)?);
-            self.ws();
-            match self.b.get(self.i) {
+            // Compact text (`#1,#2,...`) has the delimiter right after the token.
+            let mut c = self.b.get(self.i);
+            if !matches!(c, Some(b',' | b')')) {
+                self.ws();
+                c = self.b.get(self.i);
+            }
+            match c {
                 Some(b',') => self.i += 1,
                 Some(b')') => {
                     self.i += 1;
+                    self.count += out.len();
                     return Some(out);
                 }
                 _ => return None,
@@ -340,28 +358,38 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// A list of lists of scalars (a surface's poles or weights).
-    fn grid<T>(&mut self, token: fn(&mut Self) -> Option<T>) -> Option<Vec<Vec<T>>> {
+    /// A list of lists of scalars (a surface's poles or weights). `shape`: the expected
+    /// rows and row length (the weights have the poles' shape); without it the first row's
+    /// length is the capacity hint for the others.
+    fn grid<T>(
+        &mut self,
+        token: fn(&mut Self) -> Option<T>,
+        shape: Option<(usize, usize)>,
+    ) -> Option<Vec<Vec<T>>> {
         self.byte(b'(')?;
         self.param()?;
         if 1 >= self.max_depth {
             return None;
         }
-        let mut rows = Vec::new();
+        let (rows_hint, mut row_hint) = match shape {
+            Some((r, n)) => (r, Some(n)),
+            None => (8, None),
+        };
+        let mut rows = Vec::with_capacity(rows_hint.min(MAX_RESERVE));
         self.ws();
         if self.b.get(self.i) == Some(&b')') {
             self.i += 1;
             return Some(rows);
         }
         loop {
-            rows.push(self.list(2, token)?);
+            let row = self.list(2, token, row_hint)?;
+            row_hint = Some(row.len());
+            rows.push(row);
             self.ws();
             match self.b.get(self.i) {
                 Some(b',') => self.i += 1,
                 Some(b')') => {
                     self.i += 1;
-                    // The general lexer's outer vector has exactly its length.
-                    rows.shrink_to_fit();
                     return Some(rows);
                 }
                 _ => return None,
@@ -373,7 +401,7 @@ impl<'a> Reader<'a> {
     fn curve_attrs(&mut self) -> Option<CurveAttrs<'a>> {
         let degree = self.integer()?;
         self.byte(b',')?;
-        let control_points = self.list(1, Self::reference_token)?;
+        let control_points = self.list(1, Self::reference_token, None)?;
         self.byte(b',')?;
         let form = self.enumeration()?;
         self.byte(b',')?;
@@ -395,7 +423,7 @@ impl<'a> Reader<'a> {
         self.byte(b',')?;
         let v_degree = self.integer()?;
         self.byte(b',')?;
-        let control_points = self.grid(Self::reference_token)?;
+        let control_points = self.grid(Self::reference_token, None)?;
         self.byte(b',')?;
         let form = self.enumeration()?;
         self.byte(b',')?;
@@ -417,9 +445,9 @@ impl<'a> Reader<'a> {
 
     /// `B_SPLINE_CURVE_WITH_KNOTS`'s own attributes.
     fn curve_knots(&mut self) -> Option<KnotSpec<'a>> {
-        let m = self.list(1, Self::integer_token)?;
+        let m = self.list(1, Self::integer_token, None)?;
         self.byte(b',')?;
-        let k = self.list(1, Self::real_token)?;
+        let k = self.list(1, Self::real_token, Some(m.len()))?;
         self.byte(b',')?;
         let knot_spec = self.enumeration()?;
         Some(KnotSpec::Explicit {
@@ -431,13 +459,13 @@ impl<'a> Reader<'a> {
 
     /// `B_SPLINE_SURFACE_WITH_KNOTS`'s own attributes.
     fn surface_knots(&mut self) -> Option<KnotSpec<'a>> {
-        let mu = self.list(1, Self::integer_token)?;
+        let mu = self.list(1, Self::integer_token, None)?;
         self.byte(b',')?;
-        let mv = self.list(1, Self::integer_token)?;
+        let mv = self.list(1, Self::integer_token, None)?;
         self.byte(b',')?;
-        let ku = self.list(1, Self::real_token)?;
+        let ku = self.list(1, Self::real_token, Some(mu.len()))?;
         self.byte(b',')?;
-        let kv = self.list(1, Self::real_token)?;
+        let kv = self.list(1, Self::real_token, Some(mv.len()))?;
         self.byte(b',')?;
         let knot_spec = self.enumeration()?;
         Some(KnotSpec::Explicit {
@@ -575,7 +603,13 @@ impl<'a> Reader<'a> {
                 P_REPRESENTATION_ITEM => name = Some(self.string()?),
                 P_B_SPLINE_CURVE => curve = Some(self.curve_attrs()?),
                 P_CURVE_WITH_KNOTS => knots = Some(self.curve_knots()?),
-                P_RATIONAL_CURVE => curve_weights = Some(self.list(1, Self::real_token)?),
+                P_RATIONAL_CURVE => {
+                    // One weight per pole (when B_SPLINE_CURVE came first, as usual).
+                    let hint = curve
+                        .as_ref()
+                        .map(|c: &CurveAttrs<'a>| c.control_points.len());
+                    curve_weights = Some(self.list(1, Self::real_token, hint)?);
+                }
                 P_B_SPLINE_SURFACE => {
                     if self.max_depth < 3 {
                         return None;
@@ -587,7 +621,11 @@ impl<'a> Reader<'a> {
                     if self.max_depth < 3 {
                         return None;
                     }
-                    surface_weights = Some(self.grid(Self::real_token)?);
+                    let shape = surface.as_ref().map(|s: &SurfaceAttrs<'a>| {
+                        let rows = &s.control_points;
+                        (rows.len(), rows.first().map_or(0, Vec::len))
+                    });
+                    surface_weights = Some(self.grid(Self::real_token, shape)?);
                 }
                 // The attribute-less partials.
                 _ => {}
@@ -613,6 +651,81 @@ impl<'a> Reader<'a> {
             Family::Open => None,
         }
     }
+}
+
+/// The number of commas in `b[from..]` before the first `)` (or the end), eight bytes at a
+/// time: a list's element count, to size its vector once.
+fn commas_before_close(b: &[u8], from: usize) -> usize {
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    // 0x80 in each zero byte of `x` and nothing else (no borrow between bytes, so exact).
+    let zero_bytes = |x: u64| !(((x & LOW7) + LOW7) | x | LOW7);
+    let rest = b.get(from..).unwrap_or_default();
+    let mut n = 0;
+    let mut chunks = rest.chunks_exact(8);
+    for c in &mut chunks {
+        let Ok(word) = <[u8; 8]>::try_from(c) else {
+            break;
+        };
+        let x = u64::from_le_bytes(word);
+        let comma = zero_bytes(x ^ (ONES * u64::from(b',')));
+        let close = zero_bytes(x ^ (ONES * u64::from(b')')));
+        if close != 0 {
+            // Bytes before the first `)` (little-endian: lower bytes come first).
+            let before = (close & close.wrapping_neg()) - 1;
+            return n + bytes_flagged(comma & before);
+        }
+        n += bytes_flagged(comma);
+    }
+    for &c in chunks.remainder() {
+        match c {
+            b')' => return n,
+            b',' => n += 1,
+            _ => {}
+        }
+    }
+    n
+}
+
+/// The digit run at `b[i..]` if it has 1 to 7 digits followed by a non-digit, all within
+/// one eight-byte word: `(value, digit count)`. `None` otherwise (no digit, eight or more,
+/// or fewer than eight bytes left), for the byte loop to decide.
+///
+/// One SWAR step: byte `j` is flagged as a non-digit when `c - '0'` borrows or `c + 0x46`
+/// carries into bit 7 (or bit 7 is set already); borrows and carries travel upwards only,
+/// so the lowest flag is exact. The digits are then moved to the top bytes (zeros below)
+/// and combined by multiply-shift (pairs, quads, then the eight-digit sum).
+#[inline(always)]
+fn short_digit_run(b: &[u8], i: usize) -> Option<(u64, usize)> {
+    let chunk = b.get(i..i.checked_add(8)?)?;
+    let mut w = [0u8; 8];
+    w.copy_from_slice(chunk);
+    let v = u64::from_le_bytes(w);
+    let digits = v.wrapping_sub(0x3030_3030_3030_3030);
+    let non_digit = (v.wrapping_add(0x4646_4646_4646_4646) | digits) & 0x8080_8080_8080_8080;
+    // The lowest flag is in byte n; n is 8 when all eight are digits (trailing_zeros 64).
+    let n = (non_digit.trailing_zeros() / 8) as usize;
+    if n == 0 || n == 8 {
+        return None;
+    }
+    let x = digits << (8 * (8 - n));
+    const MASK: u64 = 0x0000_00FF_0000_00FF;
+    const MUL1: u64 = 0x000F_4240_0000_0064; // 100 + (1000000 << 32)
+    const MUL2: u64 = 0x0000_2710_0000_0001; // 1 + (10000 << 32)
+    let x = x.wrapping_mul(10).wrapping_add(x >> 8);
+    let hi = (x & MASK).wrapping_mul(MUL1);
+    let lo = ((x >> 16) & MASK).wrapping_mul(MUL2);
+    Some((hi.wrapping_add(lo) >> 32, n))
+}
+
+/// How many bytes of a [`commas_before_close`] mask have their 0x80 flag: the flags moved
+/// to bit 0 of each byte are summed into the top byte by one multiplication (at most 8, so
+/// no carry; cheaper than `count_ones` without a POPCNT instruction in the baseline target).
+#[inline(always)]
+fn bytes_flagged(mask: u64) -> usize {
+    let sum = ((mask >> 7).wrapping_mul(0x0101_0101_0101_0101)) >> 56;
+    // At most 8.
+    sum as usize
 }
 
 fn curve_record<'a>(
@@ -872,6 +985,41 @@ mod tests {
         assert!(one(SURFACE, &at(1000, 2)).is_none());
         assert!(one(RSURFACE, &at(1000, 2)).is_none());
         assert!(one(RCURVE, &at(1000, 2)).is_some());
+    }
+
+    proptest! {
+        /// The word-at-a-time comma count equals a byte loop.
+        #[test]
+        fn comma_count_matches_a_byte_loop(
+            text in prop::collection::vec(prop::sample::select(b",)#1 (".to_vec()), 0..40),
+            from in 0usize..40,
+        ) {
+            let mut expect = 0;
+            for &c in text.get(from..).unwrap_or_default() {
+                if c == b')' {
+                    break;
+                }
+                expect += usize::from(c == b',');
+            }
+            prop_assert_eq!(commas_before_close(&text, from), expect);
+        }
+    }
+
+    proptest! {
+        /// The one-word digit run equals the byte loop and `decimal_u64`.
+        #[test]
+        fn short_digit_run_matches_a_byte_loop(
+            text in prop::collection::vec(prop_oneof![
+                4 => (b'0'..=b'9'), 1 => prop::sample::select(b",)/:#A \xff".to_vec())
+            ], 0..14),
+            from in 0usize..14,
+        ) {
+            let rest = text.get(from..).unwrap_or_default();
+            let n = rest.iter().take_while(|c| c.is_ascii_digit()).count();
+            let expect = (n >= 1 && n <= 7 && rest.len() >= 8)
+                .then(|| (decimal_u64(&rest[..n]).unwrap(), n));
+            prop_assert_eq!(short_digit_run(&text, from), expect);
+        }
     }
 
     #[test]
