@@ -1010,13 +1010,13 @@ mod tests {
         #[test]
         fn short_digit_run_matches_a_byte_loop(
             text in prop::collection::vec(prop_oneof![
-                4 => (b'0'..=b'9'), 1 => prop::sample::select(b",)/:#A \xff".to_vec())
+                4 => b'0'..=b'9', 1 => prop::sample::select(b",)/:#A \xff".to_vec())
             ], 0..14),
             from in 0usize..14,
         ) {
             let rest = text.get(from..).unwrap_or_default();
             let n = rest.iter().take_while(|c| c.is_ascii_digit()).count();
-            let expect = (n >= 1 && n <= 7 && rest.len() >= 8)
+            let expect = ((1..=7).contains(&n) && rest.len() >= 8)
                 .then(|| (decimal_u64(&rest[..n]).unwrap(), n));
             prop_assert_eq!(short_digit_run(&text, from), expect);
         }
