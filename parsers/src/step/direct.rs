@@ -1,7 +1,7 @@
-//! Direct decoding of B-spline curve and surface instances (ISO 10303-42 4.4.3.20 ff.
-//! `b_spline_curve_with_knots`, 4.4.4.18 ff. `b_spline_surface_with_knots`, their rational
-//! complex forms) from the instance body text, in one pass, into the typed records
-//! [`BSplineCurve`] and [`BSplineSurface`].
+//! Direct decoding of B-spline curve and surface instances (ISO 10303-42
+//! `b_spline_curve_with_knots` and `b_spline_surface_with_knots`, attribute order as in
+//! spec.md c.2; their rational complex forms, c.4) from the instance body text, in one
+//! pass, into the typed records [`BSplineCurve`] and [`BSplineSurface`].
 //!
 //! The general path ([`Scanned::decode`](super::Scanned::decode) then
 //! [`BSplineCurve::from_instance`]) builds a [`Parameter`](super::Parameter) tree, one
@@ -10,8 +10,8 @@
 //! allocates a tree node per value. The reader here follows the fixed attribute order of the
 //! shapes Open CASCADE, FreeCAD and our writer emit (ISO 10303-21 clause 12.2 syntax):
 //!
-//! - the simple instances `B_SPLINE_CURVE_WITH_KNOTS('name',deg,(#..),.F.,.F.,.F.,(m..),
-//!   (k..),.SPEC.)` and `B_SPLINE_SURFACE_WITH_KNOTS('name',du,dv,((#..),..),.FORM.,.F.,
+//! - the simple instances `B_SPLINE_CURVE_WITH_KNOTS('name',deg,(#..),.FORM.,.F.,.F.,
+//!   (m..),(k..),.SPEC.)` and `B_SPLINE_SURFACE_WITH_KNOTS('name',du,dv,((#..),..),.FORM.,.F.,
 //!   .F.,.F.,(mu..),(mv..),(ku..),(kv..),.SPEC.)`;
 //! - the complex instances `( BOUNDED_CURVE() B_SPLINE_CURVE(..) B_SPLINE_CURVE_WITH_KNOTS
 //!   (..) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE((w..))
@@ -22,8 +22,9 @@
 //!
 //! Exactness: the reader only ever *succeeds* where it is sure to give what the general path
 //! gives, field for field (including `entity_type`, built as `Attributes::of` does). Reals
-//! go through [`step_real_at`] followed by the general lexer's maximal-token check, so the
-//! bits are the same. Anything else (another partial, a repeated partial, `$`, `*`, typed
+//! go through [`step_real_at`], as in the general lexer's number fast path, so the bits are
+//! the same; every token must be followed by whitespace, `,` or `)`, which also rejects
+//! what the general lexer reads as one malformed number token (`1.5E3X`, `1.5.2`). Anything else (another partial, a repeated partial, `$`, `*`, typed
 //! parameters, an INTEGER where a REAL is expected or the reverse, a comment, an
 //! overflowing integer, a parameter count or nesting depth beyond [`Limits`]) gives `None`,
 //! and the caller takes the general path, which decodes it or reports the located error.
@@ -40,9 +41,9 @@ use crate::real::step_real_at;
 /// A B-spline record read by [`bspline_direct`].
 #[derive(Debug, Clone, PartialEq)]
 pub enum DirectBSpline<'a> {
-    /// A `B_SPLINE_CURVE` (ISO 10303-42 4.4.3.19) with explicit knots.
+    /// A `B_SPLINE_CURVE` with explicit knots (`B_SPLINE_CURVE_WITH_KNOTS`, spec.md c.2).
     Curve(BSplineCurve<'a>),
-    /// A `B_SPLINE_SURFACE` (ISO 10303-42 4.4.4.17) with explicit knots.
+    /// A `B_SPLINE_SURFACE` with explicit knots (`B_SPLINE_SURFACE_WITH_KNOTS`, spec.md c.2).
     Surface(BSplineSurface<'a>),
 }
 
@@ -1101,6 +1102,31 @@ mod tests {
         }
         out.extend([CURVE, SURFACE, RCURVE, RSURFACE].map(str::to_owned));
         out
+    }
+
+    #[test]
+    fn whitespace_between_all_tokens_is_still_read_directly() {
+        // Every blank the general lexer skips, after every `(`, `,` and `)` and before every
+        // `,` and `)` of every sample B-spline: still read here, still equal.
+        let blanks = [" ", "\t", "\r\n", "\n", "\x0c", "  \t "];
+        for (k, stmt) in sample_statements().iter().enumerate() {
+            let Some(eq) = stmt.find('=') else { continue };
+            let (head, body) = stmt.split_at(eq + 1);
+            let body = body.strip_suffix(';').unwrap_or(body);
+            let blank = blanks[k % blanks.len()];
+            let mut spaced = String::new();
+            for c in body.chars() {
+                if matches!(c, ',' | ')') {
+                    spaced.push_str(blank);
+                }
+                spaced.push(c);
+                if matches!(c, '(' | ',' | ')') {
+                    spaced.push_str(blank);
+                }
+            }
+            let data = format!("{head}{blank}{spaced}{blank};");
+            assert!(answers(&data), "{data}");
+        }
     }
 
     #[derive(Debug, Clone)]
