@@ -69,37 +69,27 @@ fn read_with(text: &str, options: &ImportOptions, direct: bool) -> Result<Docume
                 scale,
             };
             // The shapes Open CASCADE and our writer emit are read straight from the text;
-            // `None` (anything else, or anything irregular) takes the general path below,
-            // which gives the same record or reports the error.
-            let direct = if direct {
-                bspline_direct(raw, &options.limits)
-            } else {
-                None
-            };
-            let result = match direct {
-                Some(DirectBSpline::Curve(r)) => Some(ctx.curve_record(r, &mut diags)),
-                Some(DirectBSpline::Surface(r)) => Some(ctx.surface_record(r, &mut diags)),
-                None => None,
-            };
-            if let Some(result) = result {
-                return match result {
-                    Ok(e) => (Some(e), diags),
-                    Err(d) => {
-                        diags.push(d);
-                        (None, diags)
+            // `None` (anything else, or anything irregular) takes the general path, which
+            // gives the same record or reports the error.
+            let result = match direct
+                .then(|| bspline_direct(raw, &options.limits))
+                .flatten()
+            {
+                Some(DirectBSpline::Curve(r)) => ctx.curve_record(r, &mut diags),
+                Some(DirectBSpline::Surface(r)) => ctx.surface_record(r, &mut diags),
+                None => {
+                    let inst = match scanned.decode(raw) {
+                        Ok(i) => i,
+                        Err(e) => return (None, vec![parse_diagnostic(&e)]),
+                    };
+                    let Some(kind) = bspline_kind(&inst.body) else {
+                        return (None, diags);
+                    };
+                    match kind {
+                        BSplineKind::Curve => ctx.curve(&inst, &mut diags),
+                        BSplineKind::Surface => ctx.surface(&inst, &mut diags),
                     }
-                };
-            }
-            let inst = match scanned.decode(raw) {
-                Ok(i) => i,
-                Err(e) => return (None, vec![parse_diagnostic(&e)]),
-            };
-            let Some(kind) = bspline_kind(&inst.body) else {
-                return (None, diags);
-            };
-            let result = match kind {
-                BSplineKind::Curve => ctx.curve(&inst, &mut diags),
-                BSplineKind::Surface => ctx.surface(&inst, &mut diags),
+                }
             };
             match result {
                 Ok(e) => (Some(e), diags),
