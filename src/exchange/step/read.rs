@@ -1,6 +1,7 @@
 //! STEP file -> [`Document`]: every B-spline curve and surface, the length unit, and
 //! located diagnostics (module table in [`super`]).
 
+use nurbsx_parsers::step::direct::{DirectBSpline, bspline_direct};
 use nurbsx_parsers::step::schema::{
     At, BSplineCurve, BSplineKind, BSplineSurface, CartesianPoint, KnotSpec, Logical, bspline_kind,
     canonical_name,
@@ -27,6 +28,12 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
+    read_with(text, options, true)
+}
+
+/// [`read`], with the direct B-spline decoder ([`bspline_direct`]) tried first or not (the
+/// tests compare both: the result must not depend on it).
+fn read_with(text: &str, options: &ImportOptions, direct: bool) -> Result<Document, Diagnostic> {
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
@@ -55,22 +62,34 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         .par_iter()
         .map(|raw| {
             let mut diags = Vec::new();
-            let inst = match scanned.decode(raw) {
-                Ok(i) => i,
-                Err(e) => return (None, vec![parse_diagnostic(&e)]),
-            };
-            let Some(kind) = bspline_kind(&inst.body) else {
-                return (None, diags);
-            };
             let ctx = Ctx {
                 s: &scanned,
                 raw,
                 options,
                 scale,
             };
-            let result = match kind {
-                BSplineKind::Curve => ctx.curve(&inst, &mut diags),
-                BSplineKind::Surface => ctx.surface(&inst, &mut diags),
+            // The shapes Open CASCADE and our writer emit are read straight from the text;
+            // `None` (anything else, or anything irregular) takes the general path, which
+            // gives the same record or reports the error.
+            let result = match direct
+                .then(|| bspline_direct(raw, &options.limits))
+                .flatten()
+            {
+                Some(DirectBSpline::Curve(r)) => ctx.curve_record(r, &mut diags),
+                Some(DirectBSpline::Surface(r)) => ctx.surface_record(r, &mut diags),
+                None => {
+                    let inst = match scanned.decode(raw) {
+                        Ok(i) => i,
+                        Err(e) => return (None, vec![parse_diagnostic(&e)]),
+                    };
+                    let Some(kind) = bspline_kind(&inst.body) else {
+                        return (None, diags);
+                    };
+                    match kind {
+                        BSplineKind::Curve => ctx.curve(&inst, &mut diags),
+                        BSplineKind::Surface => ctx.surface(&inst, &mut diags),
+                    }
+                }
             };
             match result {
                 Ok(e) => (Some(e), diags),
@@ -487,6 +506,15 @@ impl<'a> Ctx<'_, 'a> {
     ) -> Result<Entity, Diagnostic> {
         let r = BSplineCurve::from_instance(inst, self.at())
             .map_err(|e| self.error("step.schema", e.detail()))?;
+        self.curve_record(r, diags)
+    }
+
+    /// A curve entity from its typed record (read by either path).
+    fn curve_record(
+        &self,
+        r: BSplineCurve<'_>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Result<Entity, Diagnostic> {
         let degree = self.degree(r.degree, "degree")?;
         let mut dim = None;
         let points = self.points(&r.control_points, &mut dim)?;
@@ -535,6 +563,15 @@ impl<'a> Ctx<'_, 'a> {
     ) -> Result<Entity, Diagnostic> {
         let r = BSplineSurface::from_instance(inst, self.at())
             .map_err(|e| self.error("step.schema", e.detail()))?;
+        self.surface_record(r, diags)
+    }
+
+    /// A surface entity from its typed record (read by either path).
+    fn surface_record(
+        &self,
+        r: BSplineSurface<'_>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Result<Entity, Diagnostic> {
         let du = self.degree(r.u_degree, "u_degree")?;
         let dv = self.degree(r.v_degree, "v_degree")?;
         let nu = r.control_points.len();
@@ -685,3 +722,7 @@ fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<
     }
     Ok(())
 }
+
+#[cfg(test)]
+#[path = "read_direct_tests.rs"]
+mod direct_tests;

@@ -1,0 +1,1227 @@
+//! Direct decoding of B-spline curve and surface instances (ISO 10303-42
+//! `b_spline_curve_with_knots` and `b_spline_surface_with_knots`, attribute order as in
+//! spec.md c.2; their rational complex forms, c.4) from the instance body text, in one
+//! pass, into the typed records [`BSplineCurve`] and [`BSplineSurface`].
+//!
+//! The general path ([`Scanned::decode`](super::Scanned::decode) then
+//! [`BSplineCurve::from_instance`]) builds a [`Parameter`](super::Parameter) tree, one
+//! vector per list, and then walks it by attribute name; for the pole, knot and weight
+//! lists that make up nearly all of a B-spline's text this touches every value twice and
+//! allocates a tree node per value. The reader here follows the fixed attribute order of the
+//! shapes Open CASCADE, FreeCAD and our writer emit (ISO 10303-21 clause 12.2 syntax):
+//!
+//! - the simple instances `B_SPLINE_CURVE_WITH_KNOTS('name',deg,(#..),.FORM.,.F.,.F.,
+//!   (m..),(k..),.SPEC.)` and `B_SPLINE_SURFACE_WITH_KNOTS('name',du,dv,((#..),..),.FORM.,.F.,
+//!   .F.,.F.,(mu..),(mv..),(ku..),(kv..),.SPEC.)`;
+//! - the complex instances `( BOUNDED_CURVE() B_SPLINE_CURVE(..) B_SPLINE_CURVE_WITH_KNOTS
+//!   (..) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE((w..))
+//!   REPRESENTATION_ITEM('') )` and the surface analogue, partials in any order, each at
+//!   most once;
+//!
+//! and stores each value straight into the record's vectors.
+//!
+//! Exactness: the reader only ever *succeeds* where it is sure to give what the general path
+//! gives, field for field (including `entity_type`, built as `Attributes::of` does). Reals
+//! go through [`step_real_at`], as in the general lexer's number fast path, so the bits are
+//! the same; every token must be followed by whitespace, `,` or `)`, which also rejects
+//! what the general lexer reads as one malformed number token (`1.5E3X`, `1.5.2`). Anything else (another partial, a repeated partial, `$`, `*`, typed
+//! parameters, an INTEGER where a REAL is expected or the reverse, a comment, an
+//! overflowing integer, a parameter count or nesting depth beyond [`Limits`]) gives `None`,
+//! and the caller takes the general path, which decodes it or reports the located error.
+//! The tests below compare both paths on every sample file, on generated files and on
+//! damaged copies.
+
+use super::lexer::{decimal_u64, is_number_char};
+use super::scan::RawInstance;
+use super::schema::{BSplineCurve, BSplineSurface, KnotSpec, Logical, canonical_name};
+use super::string::StepString;
+use crate::Limits;
+use crate::real::step_real_at;
+
+/// A B-spline record read by [`bspline_direct`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum DirectBSpline<'a> {
+    /// A `B_SPLINE_CURVE` with explicit knots (`B_SPLINE_CURVE_WITH_KNOTS`, spec.md c.2).
+    Curve(BSplineCurve<'a>),
+    /// A `B_SPLINE_SURFACE` with explicit knots (`B_SPLINE_SURFACE_WITH_KNOTS`, spec.md c.2).
+    Surface(BSplineSurface<'a>),
+}
+
+/// Reads a B-spline curve or surface instance straight from its body text, if it has one of
+/// the shapes listed in the module documentation. `None` means "not read here": the caller
+/// then decodes the instance with [`Scanned::decode`](super::Scanned::decode) and
+/// [`BSplineCurve::from_instance`] / [`BSplineSurface::from_instance`], which give the
+/// record or the error.
+///
+/// `limits` must be the limits the instance was scanned with (the general decoder enforces
+/// their parameter count and nesting depth; this reader declines what would exceed them).
+///
+/// Whenever this returns `Some(x)`, the general path succeeds with a record equal to `x`
+/// and [`bspline_kind`](super::schema::bspline_kind) gives the same kind.
+pub fn bspline_direct<'a>(raw: &RawInstance<'a>, limits: &Limits) -> Option<DirectBSpline<'a>> {
+    let mut r = Reader {
+        text: raw.body,
+        b: raw.body.as_bytes(),
+        i: 0,
+        count: 0,
+        max_params: limits.max_params_per_entity,
+        // As the scanner derives it (`ParamLimits::max_depth`).
+        max_depth: limits.max_nesting_depth.max(1),
+    };
+    let out = match raw.keyword() {
+        Some(k) => {
+            r.i = k.len();
+            r.simple(canonical_name(k))?
+        }
+        None => r.complex()?,
+    };
+    r.ws();
+    (r.i == r.b.len()).then_some(out)
+}
+
+/// The attributes of the `B_SPLINE_CURVE` partial.
+struct CurveAttrs<'a> {
+    degree: i64,
+    control_points: Vec<u64>,
+    form: &'a str,
+    closed: Logical,
+    self_intersect: Logical,
+}
+
+/// The attributes of the `B_SPLINE_SURFACE` partial.
+struct SurfaceAttrs<'a> {
+    u_degree: i64,
+    v_degree: i64,
+    control_points: Vec<Vec<u64>>,
+    form: &'a str,
+    u_closed: Logical,
+    v_closed: Logical,
+    self_intersect: Logical,
+}
+
+/// Which family a complex instance's partials belong to.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Family {
+    Open,
+    Curve,
+    Surface,
+}
+
+/// Bits of the partials seen in a complex instance (each may appear once).
+const P_REPRESENTATION_ITEM: u16 = 1 << 0;
+const P_GEOMETRIC_REPRESENTATION_ITEM: u16 = 1 << 1;
+const P_CURVE: u16 = 1 << 2;
+const P_BOUNDED_CURVE: u16 = 1 << 3;
+const P_B_SPLINE_CURVE: u16 = 1 << 4;
+const P_CURVE_WITH_KNOTS: u16 = 1 << 5;
+const P_RATIONAL_CURVE: u16 = 1 << 6;
+const P_SURFACE: u16 = 1 << 7;
+const P_BOUNDED_SURFACE: u16 = 1 << 8;
+const P_B_SPLINE_SURFACE: u16 = 1 << 9;
+const P_SURFACE_WITH_KNOTS: u16 = 1 << 10;
+const P_RATIONAL_SURFACE: u16 = 1 << 11;
+
+/// Most elements reserved ahead for one list (8 MiB of `u64`): the count comes from the
+/// commas before the next `)`, which only a well-formed list makes exact; larger lists grow.
+const MAX_RESERVE: usize = 1 << 20;
+
+/// A cursor over one instance body, counting parameters as the general lexer does.
+struct Reader<'a> {
+    text: &'a str,
+    b: &'a [u8],
+    i: usize,
+    /// Parameters read so far, counted like `Cursor::parameter_list` (every scalar and every
+    /// nested list, over all partial records).
+    count: usize,
+    max_params: usize,
+    max_depth: usize,
+}
+
+impl<'a> Reader<'a> {
+    /// Skips the whitespace the general lexer skips (comments are not taken here).
+    #[inline(always)]
+    fn ws(&mut self) {
+        // Most calls find a token right away (compact text between list elements).
+        if self.b.get(self.i).is_some_and(|&c| c > b' ') {
+            return;
+        }
+        while let Some(&c) = self.b.get(self.i) {
+            if matches!(c, b' ' | b'\t' | b'\r' | b'\n' | b'\x0c') {
+                self.i += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
+    /// Whitespace, then the byte `c`.
+    #[inline(always)]
+    fn byte(&mut self, c: u8) -> Option<()> {
+        self.ws();
+        if self.b.get(self.i) == Some(&c) {
+            self.i += 1;
+            Some(())
+        } else {
+            None
+        }
+    }
+
+    /// Counts one parameter against the limit.
+    #[inline(always)]
+    fn param(&mut self) -> Option<()> {
+        self.count += 1;
+        (self.count <= self.max_params).then_some(())
+    }
+
+    /// A STRING parameter: the raw text between the apostrophes, `''` kept as written (as
+    /// the general lexer's `string_end` delimits it).
+    fn string(&mut self) -> Option<StepString<'a>> {
+        self.byte(b'\'')?;
+        self.param()?;
+        let start = self.i;
+        loop {
+            let p = self.i + memchr::memchr(b'\'', self.b.get(self.i..)?)?;
+            if self.b.get(p + 1) == Some(&b'\'') {
+                self.i = p + 2;
+            } else {
+                self.i = p + 1;
+                return self.text.get(start..p).map(StepString::new);
+            }
+        }
+    }
+
+    /// An INTEGER parameter (whitespace first).
+    #[inline]
+    fn integer(&mut self) -> Option<i64> {
+        self.ws();
+        self.param()?;
+        self.integer_token()
+    }
+
+    /// An INTEGER token at the cursor: unsigned digits only, ending where the general
+    /// lexer's number token ends (so `3.` or `3E1`, reals there, are declined). Does not
+    /// count the parameter.
+    #[inline(always)]
+    fn integer_token(&mut self) -> Option<i64> {
+        let start = self.i;
+        let mut e = start;
+        while self.b.get(e).is_some_and(u8::is_ascii_digit) {
+            e += 1;
+        }
+        if self.b.get(e).is_some_and(|&c| is_number_char(c)) {
+            return None;
+        }
+        let v = i64::try_from(decimal_u64(self.b.get(start..e)?)?).ok()?;
+        self.i = e;
+        Some(v)
+    }
+
+    /// An enumeration `.NAME.` (upper-case letter first, then upper case, digits, `_`).
+    #[inline]
+    fn enumeration(&mut self) -> Option<&'a str> {
+        self.byte(b'.')?;
+        self.param()?;
+        let start = self.i;
+        if !self.b.get(start).is_some_and(u8::is_ascii_uppercase) {
+            return None;
+        }
+        let mut e = start + 1;
+        while self
+            .b
+            .get(e)
+            .is_some_and(|&c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == b'_')
+        {
+            e += 1;
+        }
+        if self.b.get(e) != Some(&b'.') {
+            return None;
+        }
+        self.i = e + 1;
+        self.text.get(start..e)
+    }
+
+    /// A LOGICAL: `.T.`, `.F.` or `.U.`.
+    #[inline]
+    fn logical(&mut self) -> Option<Logical> {
+        match self.enumeration()? {
+            "T" => Some(Logical::True),
+            "F" => Some(Logical::False),
+            "U" => Some(Logical::Unknown),
+            _ => None,
+        }
+    }
+
+    /// A REAL token at the cursor (no whitespace skipped), ending where the general lexer's
+    /// number token ends. Does not count the parameter.
+    #[inline(always)]
+    fn real_token(&mut self) -> Option<f64> {
+        // The general lexer reads a number only from a sign or a digit (a `.` there starts an
+        // enumeration).
+        if !self
+            .b
+            .get(self.i)
+            .is_some_and(|&c| c.is_ascii_digit() || c == b'-' || c == b'+')
+        {
+            return None;
+        }
+        let (v, end) = step_real_at(self.b, self.i).ok()?;
+        // The general lexer takes the maximal run of number characters as one token
+        // (`1.5E3X` and `1.5.2` are one bad token, not a number and then something). Its
+        // check (`is_number_char` after the real) is not repeated here because the only
+        // caller, `list`, accepts nothing after an element but whitespace, `,` or `)`, none
+        // of which is a number character: such a token is declined there.
+        self.i = end;
+        Some(v)
+    }
+
+    /// A reference `#digits` at the cursor (no whitespace skipped). Does not count.
+    #[inline(always)]
+    fn reference_token(&mut self) -> Option<u64> {
+        if self.b.get(self.i) != Some(&b'#') {
+            return None;
+        }
+        let start = self.i + 1;
+        // Ids of up to 7 digits (files under ten million instances) in one word; longer
+        // runs byte by byte, checked (`decimal_u64`).
+        if let Some((v, n)) = short_digit_run(self.b, start) {
+            self.i = start + n;
+            return Some(v);
+        }
+        let mut e = start;
+        while self.b.get(e).is_some_and(u8::is_ascii_digit) {
+            e += 1;
+        }
+        let v = decimal_u64(self.b.get(start..e)?)?;
+        self.i = e;
+        Some(v)
+    }
+
+    /// Opens a list parameter: whitespace, `(`, counted as one parameter at nesting `depth`
+    /// (1 for a record's parameter, as the general lexer's stack length). Returns the
+    /// number of elements to reserve: `hint` (the length of a list that should have the
+    /// same, such as the multiplicities for the knots) or else the commas counted up to the
+    /// next `)`. Only a capacity: a longer list grows.
+    #[inline]
+    fn open_list(&mut self, depth: usize, hint: Option<usize>) -> Option<usize> {
+        self.byte(b'(')?;
+        self.param()?;
+        if depth >= self.max_depth {
+            return None;
+        }
+        // Elements are scalars here, so a well-formed list ends at the next `)`.
+        let n = match hint {
+            Some(n) => n,
+            None => commas_before_close(self.b, self.i) + 1,
+        };
+        let remaining = self.max_params.saturating_sub(self.count);
+        Some(n.min(remaining).min(MAX_RESERVE))
+    }
+
+    /// A list of scalars read by `token`, opened at nesting `depth`.
+    #[inline(always)]
+    fn list<T>(
+        &mut self,
+        depth: usize,
+        token: fn(&mut Self) -> Option<T>,
+        hint: Option<usize>,
+    ) -> Option<Vec<T>> {
+        let reserve = self.open_list(depth, hint)?;
+        // Elements allowed before the general lexer's parameter limit (`open_list` checked
+        // that `count <= max_params`).
+        let budget = self.max_params - self.count;
+        let mut out = Vec::with_capacity(reserve);
+        self.ws();
+        if self.b.get(self.i) == Some(&b')') {
+            self.i += 1;
+            return Some(out);
+        }
+        loop {
+            self.ws();
+            if out.len() >= budget {
+                return None;
+            }
+            out.push(token(self)?);
+            // Compact text (`#1,#2,...`) has the delimiter right after the token.
+            let mut c = self.b.get(self.i);
+            if !matches!(c, Some(b',' | b')')) {
+                self.ws();
+                c = self.b.get(self.i);
+            }
+            match c {
+                Some(b',') => self.i += 1,
+                Some(b')') => {
+                    self.i += 1;
+                    self.count += out.len();
+                    return Some(out);
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    /// A list of lists of scalars (a surface's poles or weights). `shape`: the expected
+    /// rows and row length (the weights have the poles' shape); without it the first row's
+    /// length is the capacity hint for the others.
+    fn grid<T>(
+        &mut self,
+        token: fn(&mut Self) -> Option<T>,
+        shape: Option<(usize, usize)>,
+    ) -> Option<Vec<Vec<T>>> {
+        self.byte(b'(')?;
+        self.param()?;
+        if 1 >= self.max_depth {
+            return None;
+        }
+        let (rows_hint, mut row_hint) = match shape {
+            Some((r, n)) => (r, Some(n)),
+            None => (8, None),
+        };
+        let mut rows = Vec::with_capacity(rows_hint.min(MAX_RESERVE));
+        self.ws();
+        if self.b.get(self.i) == Some(&b')') {
+            self.i += 1;
+            return Some(rows);
+        }
+        loop {
+            let row = self.list(2, token, row_hint)?;
+            row_hint = Some(row.len());
+            rows.push(row);
+            self.ws();
+            match self.b.get(self.i) {
+                Some(b',') => self.i += 1,
+                Some(b')') => {
+                    self.i += 1;
+                    return Some(rows);
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    /// `B_SPLINE_CURVE`'s own attributes, the first without a leading comma.
+    fn curve_attrs(&mut self) -> Option<CurveAttrs<'a>> {
+        let degree = self.integer()?;
+        self.byte(b',')?;
+        let control_points = self.list(1, Self::reference_token, None)?;
+        self.byte(b',')?;
+        let form = self.enumeration()?;
+        self.byte(b',')?;
+        let closed = self.logical()?;
+        self.byte(b',')?;
+        let self_intersect = self.logical()?;
+        Some(CurveAttrs {
+            degree,
+            control_points,
+            form,
+            closed,
+            self_intersect,
+        })
+    }
+
+    /// `B_SPLINE_SURFACE`'s own attributes.
+    fn surface_attrs(&mut self) -> Option<SurfaceAttrs<'a>> {
+        let u_degree = self.integer()?;
+        self.byte(b',')?;
+        let v_degree = self.integer()?;
+        self.byte(b',')?;
+        let control_points = self.grid(Self::reference_token, None)?;
+        self.byte(b',')?;
+        let form = self.enumeration()?;
+        self.byte(b',')?;
+        let u_closed = self.logical()?;
+        self.byte(b',')?;
+        let v_closed = self.logical()?;
+        self.byte(b',')?;
+        let self_intersect = self.logical()?;
+        Some(SurfaceAttrs {
+            u_degree,
+            v_degree,
+            control_points,
+            form,
+            u_closed,
+            v_closed,
+            self_intersect,
+        })
+    }
+
+    /// `B_SPLINE_CURVE_WITH_KNOTS`'s own attributes.
+    fn curve_knots(&mut self) -> Option<KnotSpec<'a>> {
+        let m = self.list(1, Self::integer_token, None)?;
+        self.byte(b',')?;
+        let k = self.list(1, Self::real_token, Some(m.len()))?;
+        self.byte(b',')?;
+        let knot_spec = self.enumeration()?;
+        Some(KnotSpec::Explicit {
+            multiplicities: vec![m],
+            knots: vec![k],
+            knot_spec,
+        })
+    }
+
+    /// `B_SPLINE_SURFACE_WITH_KNOTS`'s own attributes.
+    fn surface_knots(&mut self) -> Option<KnotSpec<'a>> {
+        let mu = self.list(1, Self::integer_token, None)?;
+        self.byte(b',')?;
+        let mv = self.list(1, Self::integer_token, None)?;
+        self.byte(b',')?;
+        let ku = self.list(1, Self::real_token, Some(mu.len()))?;
+        self.byte(b',')?;
+        let kv = self.list(1, Self::real_token, Some(mv.len()))?;
+        self.byte(b',')?;
+        let knot_spec = self.enumeration()?;
+        Some(KnotSpec::Explicit {
+            multiplicities: vec![mu, mv],
+            knots: vec![ku, kv],
+            knot_spec,
+        })
+    }
+
+    /// A simple instance (the keyword already read): the whole supertype chain's attributes
+    /// in order (`SUPERTYPE_CHAINS` in the schema module).
+    fn simple(&mut self, keyword: &str) -> Option<DirectBSpline<'a>> {
+        match keyword {
+            "B_SPLINE_CURVE_WITH_KNOTS" => {
+                if self.max_depth < 2 {
+                    return None;
+                }
+                self.byte(b'(')?;
+                let name = self.string()?;
+                self.byte(b',')?;
+                let c = self.curve_attrs()?;
+                self.byte(b',')?;
+                let knots = self.curve_knots()?;
+                self.byte(b')')?;
+                Some(DirectBSpline::Curve(curve_record(
+                    Some(name),
+                    c,
+                    knots,
+                    None,
+                    keyword.to_owned(),
+                )))
+            }
+            "B_SPLINE_SURFACE_WITH_KNOTS" => {
+                if self.max_depth < 3 {
+                    return None;
+                }
+                self.byte(b'(')?;
+                let name = self.string()?;
+                self.byte(b',')?;
+                let s = self.surface_attrs()?;
+                self.byte(b',')?;
+                let knots = self.surface_knots()?;
+                self.byte(b')')?;
+                Some(DirectBSpline::Surface(surface_record(
+                    Some(name),
+                    s,
+                    knots,
+                    None,
+                    keyword.to_owned(),
+                )))
+            }
+            _ => None,
+        }
+    }
+
+    /// A partial record's keyword: `[A-Z_] { A-Z | 0-9 | _ }`, the maximal run (a
+    /// following lower-case letter is then not the `(` expected next).
+    fn keyword(&mut self) -> Option<&'a str> {
+        self.ws();
+        let start = self.i;
+        if !self
+            .b
+            .get(start)
+            .is_some_and(|&c| c.is_ascii_uppercase() || c == b'_')
+        {
+            return None;
+        }
+        let mut e = start + 1;
+        while self
+            .b
+            .get(e)
+            .is_some_and(|&c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == b'_')
+        {
+            e += 1;
+        }
+        self.i = e;
+        self.text.get(start..e)
+    }
+
+    /// A complex instance `( partial partial ... )`.
+    fn complex(&mut self) -> Option<DirectBSpline<'a>> {
+        // Every shape read here has a list at depth 1.
+        if self.max_depth < 2 {
+            return None;
+        }
+        self.byte(b'(')?;
+        let mut seen: u16 = 0;
+        let mut family = Family::Open;
+        let mut entity_type = String::with_capacity(160);
+        entity_type.push('(');
+        let mut name = None;
+        let mut curve = None;
+        let mut surface = None;
+        let mut knots = None;
+        let mut curve_weights = None;
+        let mut surface_weights = None;
+        loop {
+            self.ws();
+            if self.b.get(self.i) == Some(&b')') {
+                self.i += 1;
+                break;
+            }
+            let keyword = canonical_name(self.keyword()?);
+            let (bit, fam) = match keyword {
+                "REPRESENTATION_ITEM" => (P_REPRESENTATION_ITEM, Family::Open),
+                "GEOMETRIC_REPRESENTATION_ITEM" => (P_GEOMETRIC_REPRESENTATION_ITEM, Family::Open),
+                "CURVE" => (P_CURVE, Family::Curve),
+                "BOUNDED_CURVE" => (P_BOUNDED_CURVE, Family::Curve),
+                "B_SPLINE_CURVE" => (P_B_SPLINE_CURVE, Family::Curve),
+                "B_SPLINE_CURVE_WITH_KNOTS" => (P_CURVE_WITH_KNOTS, Family::Curve),
+                "RATIONAL_B_SPLINE_CURVE" => (P_RATIONAL_CURVE, Family::Curve),
+                "SURFACE" => (P_SURFACE, Family::Surface),
+                "BOUNDED_SURFACE" => (P_BOUNDED_SURFACE, Family::Surface),
+                "B_SPLINE_SURFACE" => (P_B_SPLINE_SURFACE, Family::Surface),
+                "B_SPLINE_SURFACE_WITH_KNOTS" => (P_SURFACE_WITH_KNOTS, Family::Surface),
+                "RATIONAL_B_SPLINE_SURFACE" => (P_RATIONAL_SURFACE, Family::Surface),
+                _ => return None,
+            };
+            if seen & bit != 0 {
+                return None;
+            }
+            seen |= bit;
+            if fam != Family::Open {
+                if family != Family::Open && family != fam {
+                    return None;
+                }
+                family = fam;
+            }
+            if entity_type.len() > 1 {
+                entity_type.push(',');
+            }
+            entity_type.push_str(keyword);
+            self.byte(b'(')?;
+            match bit {
+                P_REPRESENTATION_ITEM => name = Some(self.string()?),
+                P_B_SPLINE_CURVE => curve = Some(self.curve_attrs()?),
+                P_CURVE_WITH_KNOTS => knots = Some(self.curve_knots()?),
+                P_RATIONAL_CURVE => {
+                    // One weight per pole (when B_SPLINE_CURVE came first, as usual).
+                    let hint = curve
+                        .as_ref()
+                        .map(|c: &CurveAttrs<'a>| c.control_points.len());
+                    curve_weights = Some(self.list(1, Self::real_token, hint)?);
+                }
+                P_B_SPLINE_SURFACE => {
+                    if self.max_depth < 3 {
+                        return None;
+                    }
+                    surface = Some(self.surface_attrs()?);
+                }
+                P_SURFACE_WITH_KNOTS => knots = Some(self.surface_knots()?),
+                P_RATIONAL_SURFACE => {
+                    if self.max_depth < 3 {
+                        return None;
+                    }
+                    let shape = surface.as_ref().map(|s: &SurfaceAttrs<'a>| {
+                        let rows = &s.control_points;
+                        (rows.len(), rows.first().map_or(0, Vec::len))
+                    });
+                    surface_weights = Some(self.grid(Self::real_token, shape)?);
+                }
+                // The attribute-less partials.
+                _ => {}
+            }
+            self.byte(b')')?;
+        }
+        entity_type.push(')');
+        match family {
+            Family::Curve => Some(DirectBSpline::Curve(curve_record(
+                name,
+                curve?,
+                knots?,
+                curve_weights,
+                entity_type,
+            ))),
+            Family::Surface => Some(DirectBSpline::Surface(surface_record(
+                name,
+                surface?,
+                knots?,
+                surface_weights,
+                entity_type,
+            ))),
+            Family::Open => None,
+        }
+    }
+}
+
+/// The number of commas in `b[from..]` before the first `)` (or the end), eight bytes at a
+/// time: a list's element count, to size its vector once.
+fn commas_before_close(b: &[u8], from: usize) -> usize {
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    // 0x80 in each zero byte of `x` and nothing else (no borrow between bytes, so exact).
+    let zero_bytes = |x: u64| !(((x & LOW7) + LOW7) | x | LOW7);
+    let rest = b.get(from..).unwrap_or_default();
+    let mut n = 0;
+    let mut chunks = rest.chunks_exact(8);
+    for c in &mut chunks {
+        let Ok(word) = <[u8; 8]>::try_from(c) else {
+            break;
+        };
+        let x = u64::from_le_bytes(word);
+        let comma = zero_bytes(x ^ (ONES * u64::from(b',')));
+        let close = zero_bytes(x ^ (ONES * u64::from(b')')));
+        if close != 0 {
+            // Bytes before the first `)` (little-endian: lower bytes come first).
+            let before = (close & close.wrapping_neg()) - 1;
+            return n + bytes_flagged(comma & before);
+        }
+        n += bytes_flagged(comma);
+    }
+    for &c in chunks.remainder() {
+        match c {
+            b')' => return n,
+            b',' => n += 1,
+            _ => {}
+        }
+    }
+    n
+}
+
+/// The digit run at `b[i..]` if it has 1 to 7 digits followed by a non-digit, all within
+/// one eight-byte word: `(value, digit count)`. `None` otherwise (no digit, eight or more,
+/// or fewer than eight bytes left), for the byte loop to decide.
+///
+/// One SWAR step: byte `j` is flagged as a non-digit when `c - '0'` borrows or `c + 0x46`
+/// carries into bit 7 (or bit 7 is set already); borrows and carries travel upwards only,
+/// so the lowest flag is exact. The digits are then moved to the top bytes (zeros below)
+/// and combined by multiply-shift (pairs, quads, then the eight-digit sum).
+#[inline(always)]
+fn short_digit_run(b: &[u8], i: usize) -> Option<(u64, usize)> {
+    let chunk = b.get(i..i.checked_add(8)?)?;
+    let mut w = [0u8; 8];
+    w.copy_from_slice(chunk);
+    let v = u64::from_le_bytes(w);
+    let digits = v.wrapping_sub(0x3030_3030_3030_3030);
+    let non_digit = (v.wrapping_add(0x4646_4646_4646_4646) | digits) & 0x8080_8080_8080_8080;
+    // The lowest flag is in byte n; n is 8 when all eight are digits (trailing_zeros 64).
+    let n = (non_digit.trailing_zeros() / 8) as usize;
+    if n == 0 || n == 8 {
+        return None;
+    }
+    let x = digits << (8 * (8 - n));
+    const MASK: u64 = 0x0000_00FF_0000_00FF;
+    const MUL1: u64 = 0x000F_4240_0000_0064; // 100 + (1000000 << 32)
+    const MUL2: u64 = 0x0000_2710_0000_0001; // 1 + (10000 << 32)
+    let x = x.wrapping_mul(10).wrapping_add(x >> 8);
+    let hi = (x & MASK).wrapping_mul(MUL1);
+    let lo = ((x >> 16) & MASK).wrapping_mul(MUL2);
+    Some((hi.wrapping_add(lo) >> 32, n))
+}
+
+/// How many bytes of a [`commas_before_close`] mask have their 0x80 flag: the flags moved
+/// to bit 0 of each byte are summed into the top byte by one multiplication (at most 8, so
+/// no carry; cheaper than `count_ones` without a POPCNT instruction in the baseline target).
+#[inline(always)]
+fn bytes_flagged(mask: u64) -> usize {
+    let sum = ((mask >> 7).wrapping_mul(0x0101_0101_0101_0101)) >> 56;
+    // At most 8.
+    sum as usize
+}
+
+fn curve_record<'a>(
+    name: Option<StepString<'a>>,
+    c: CurveAttrs<'a>,
+    knots: KnotSpec<'a>,
+    weights: Option<Vec<f64>>,
+    entity_type: String,
+) -> BSplineCurve<'a> {
+    BSplineCurve {
+        name,
+        degree: c.degree,
+        control_points: c.control_points,
+        curve_form: c.form,
+        closed_curve: c.closed,
+        self_intersect: c.self_intersect,
+        knots,
+        weights,
+        entity_type,
+    }
+}
+
+fn surface_record<'a>(
+    name: Option<StepString<'a>>,
+    s: SurfaceAttrs<'a>,
+    knots: KnotSpec<'a>,
+    weights: Option<Vec<Vec<f64>>>,
+    entity_type: String,
+) -> BSplineSurface<'a> {
+    BSplineSurface {
+        name,
+        u_degree: s.u_degree,
+        v_degree: s.v_degree,
+        control_points: s.control_points,
+        surface_form: s.form,
+        u_closed: s.u_closed,
+        v_closed: s.v_closed,
+        self_intersect: s.self_intersect,
+        knots,
+        weights,
+        entity_type,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::step::schema::{At, BSplineKind, bspline_kind};
+    use crate::step::{Scanned, scan};
+    use proptest::prelude::*;
+
+    fn file(data: &str) -> String {
+        format!(
+            "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\nENDSEC;\nDATA;\n{data}\nENDSEC;\nEND-ISO-10303-21;\n"
+        )
+    }
+
+    /// The contract: when the direct reader answers, the general path gives the same kind
+    /// and an equal record (reals compared bit for bit through `Debug`, which keeps `-0.0`).
+    /// Returns whether the direct reader answered.
+    fn check(s: &Scanned<'_>, raw: &RawInstance<'_>, limits: &Limits) -> bool {
+        let Some(direct) = bspline_direct(raw, limits) else {
+            return false;
+        };
+        let inst = match s.decode(raw) {
+            Ok(i) => i,
+            Err(e) => panic!("direct read #{} but general decode fails: {e}", raw.id),
+        };
+        let at = At::default();
+        let general = match bspline_kind(&inst.body) {
+            Some(BSplineKind::Curve) => {
+                BSplineCurve::from_instance(&inst, at).map(DirectBSpline::Curve)
+            }
+            Some(BSplineKind::Surface) => {
+                BSplineSurface::from_instance(&inst, at).map(DirectBSpline::Surface)
+            }
+            None => panic!("direct read #{} but it is not a B-spline", raw.id),
+        };
+        match general {
+            Ok(g) => {
+                assert_eq!(direct, g, "#{}: {}", raw.id, raw.body);
+                assert_eq!(format!("{direct:?}"), format!("{g:?}"), "#{}", raw.id);
+            }
+            Err(e) => panic!("direct read #{} but the general path fails: {e}", raw.id),
+        }
+        true
+    }
+
+    /// Checks every instance of a file; returns (answered, general B-spline successes).
+    fn check_text(text: &str, limits: &Limits) -> (usize, usize) {
+        let Ok(s) = scan(text, limits) else {
+            return (0, 0);
+        };
+        let mut answered = 0;
+        let mut bsplines = 0;
+        for raw in &s.instances {
+            if check(&s, raw, limits) {
+                answered += 1;
+            }
+            let ok = s
+                .decode(raw)
+                .is_ok_and(|inst| match bspline_kind(&inst.body) {
+                    Some(BSplineKind::Curve) => {
+                        BSplineCurve::from_instance(&inst, At::default()).is_ok()
+                    }
+                    Some(BSplineKind::Surface) => {
+                        BSplineSurface::from_instance(&inst, At::default()).is_ok()
+                    }
+                    None => false,
+                });
+            if ok {
+                bsplines += 1;
+            }
+        }
+        (answered, bsplines)
+    }
+
+    fn one(data: &str, limits: &Limits) -> Option<DirectBSpline<'static>> {
+        let text: &'static str = Box::leak(file(data).into_boxed_str());
+        let s = scan(text, limits).unwrap();
+        let raw = s.instances.last().unwrap();
+        check(&s, raw, limits);
+        bspline_direct(raw, limits)
+    }
+
+    fn answers(data: &str) -> bool {
+        one(data, &Limits::default()).is_some()
+    }
+
+    const CURVE: &str = "#5=B_SPLINE_CURVE_WITH_KNOTS('c1',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.PIECEWISE_BEZIER_KNOTS.);";
+    const SURFACE: &str = "#9=B_SPLINE_SURFACE_WITH_KNOTS('s',1,1,((#1,#2),(#3,#4)),.PLANE_SURF.,.F.,.T.,.U.,(2),(2),(0.,1.),(-2.5,3.E-2),.UNSPECIFIED.);";
+    const RCURVE: &str = "#7=( BOUNDED_CURVE() B_SPLINE_CURVE(2,(#1,#2,#3),\n.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,\n1.),.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM(\n) RATIONAL_B_SPLINE_CURVE((1.,0.5,1.)) REPRESENTATION_ITEM('') );";
+    const RSURFACE: &str = "#8=( BOUNDED_SURFACE() B_SPLINE_SURFACE(1,1,((#1,#2),(#3,#4)),.UNSPECIFIED.,.F.,.F.,.F.) B_SPLINE_SURFACE_WITH_KNOTS((2),(2),(0.,1.),(0.,1.),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(((1.,2.),(3.,4.))) REPRESENTATION_ITEM('') SURFACE() );";
+
+    #[test]
+    fn simple_curve_values() {
+        let Some(DirectBSpline::Curve(c)) = one(CURVE, &Limits::default()) else {
+            panic!("not read");
+        };
+        // Hand-read from the text above.
+        assert_eq!(c.name.as_ref().map(|n| n.raw.as_ref()), Some("c1"));
+        assert_eq!(c.degree, 2);
+        assert_eq!(c.control_points, vec![1, 2, 3]);
+        assert_eq!(c.curve_form, "UNSPECIFIED");
+        assert_eq!(c.closed_curve, Logical::False);
+        assert_eq!(
+            c.knots,
+            KnotSpec::Explicit {
+                multiplicities: vec![vec![3, 3]],
+                knots: vec![vec![0.0, 1.0]],
+                knot_spec: "PIECEWISE_BEZIER_KNOTS"
+            }
+        );
+        assert_eq!(c.weights, None);
+        assert_eq!(c.entity_type, "B_SPLINE_CURVE_WITH_KNOTS");
+    }
+
+    #[test]
+    fn simple_surface_values() {
+        let Some(DirectBSpline::Surface(s)) = one(SURFACE, &Limits::default()) else {
+            panic!("not read");
+        };
+        assert_eq!(s.control_points, vec![vec![1, 2], vec![3, 4]]);
+        assert_eq!((s.u_degree, s.v_degree), (1, 1));
+        assert_eq!(s.surface_form, "PLANE_SURF");
+        assert_eq!(
+            (s.u_closed, s.v_closed, s.self_intersect),
+            (Logical::False, Logical::True, Logical::Unknown)
+        );
+        let KnotSpec::Explicit { knots, .. } = &s.knots else {
+            panic!("explicit")
+        };
+        assert_eq!(knots, &vec![vec![0.0, 1.0], vec![-2.5, 0.03]]);
+    }
+
+    #[test]
+    fn complex_curve_and_surface_values() {
+        let Some(DirectBSpline::Curve(c)) = one(RCURVE, &Limits::default()) else {
+            panic!("not read");
+        };
+        assert_eq!(c.weights, Some(vec![1.0, 0.5, 1.0]));
+        assert_eq!(
+            c.entity_type,
+            "(BOUNDED_CURVE,B_SPLINE_CURVE,B_SPLINE_CURVE_WITH_KNOTS,CURVE,\
+             GEOMETRIC_REPRESENTATION_ITEM,RATIONAL_B_SPLINE_CURVE,REPRESENTATION_ITEM)"
+        );
+        let Some(DirectBSpline::Surface(s)) = one(RSURFACE, &Limits::default()) else {
+            panic!("not read");
+        };
+        assert_eq!(s.weights, Some(vec![vec![1.0, 2.0], vec![3.0, 4.0]]));
+        assert_eq!(s.name.as_ref().map(|n| n.raw.as_ref()), Some(""));
+    }
+
+    #[test]
+    fn accepted_variants() {
+        // Whitespace everywhere the lexer allows it, partials in another order, short
+        // names, no REPRESENTATION_ITEM (name None), '' escapes, negative and signed reals.
+        for data in [
+            "#5 = B_SPLINE_CURVE_WITH_KNOTS ( 'a''b' , 2 ,\r\n( #1 ,\t#2 , #3 ) , .UNSPECIFIED. , .F. , .F. , ( 3 , 3 ) , ( -0. , +1.5E1 ) , .UNSPECIFIED. ) ;",
+            "#5=BSCWK('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=(RATIONAL_B_SPLINE_CURVE((1.,1.,1.))B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)BSPCR(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.));",
+            "#5=( B_SPLINE_SURFACE_WITH_KNOTS((2),(2),(0.,1.),(0.,1.),.UNSPECIFIED.) B_SPLINE_SURFACE(1,1,((#1,#2),(#3,#4)),.UNSPECIFIED.,.F.,.F.,.F.) REPRESENTATION_ITEM('x\\X\\E9') );",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(),.UNSPECIFIED.,.F.,.F.,(),(),.UNSPECIFIED.);",
+            "#5=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((),()),.UNSPECIFIED.,.F.,.F.,.F.,(2),(2),(0.,1.),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#18446744073709551615),.UNSPECIFIED.,.F.,.F.,(3,9223372036854775807),(0.,1.),.UNSPECIFIED.);",
+        ] {
+            assert!(answers(data), "{data}");
+        }
+    }
+
+    #[test]
+    fn declined_shapes() {
+        for data in [
+            // `$` or a typed name, a comment, an integer knot, a real degree.
+            "#5=B_SPLINE_CURVE_WITH_KNOTS($,2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,/* x */#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2.,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',-2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            // Malformed tokens the general lexer rejects.
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.5E3X),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.5.2),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2A,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#18446744073709551616),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,9223372036854775808),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.X.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3,),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.,1.);",
+            "#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.unspecified.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+            // Other entities and subtypes.
+            "#5=B_SPLINE_CURVE('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.);",
+            "#5=(BEZIER_CURVE()B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.));",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)FOO());",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)CURVE()CURVE());",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)SURFACE());",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.));",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)RATIONAL_B_SPLINE_CURVE(W((1.,1.,1.))));",
+            "#5=(B_SPLINE_CURVE(2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.)REPRESENTATION_ITEM(*));",
+        ] {
+            assert!(!answers(data), "{data}");
+        }
+    }
+
+    #[test]
+    fn limits_are_declined_not_exceeded() {
+        // 1 (name) + 1 + 1+3 + 3 (form, logicals) + 1+2 + 1+2 + 1 = 16 parameters.
+        let at = |max_params, max_depth| Limits {
+            max_params_per_entity: max_params,
+            max_nesting_depth: max_depth,
+            ..Limits::default()
+        };
+        assert!(one(CURVE, &at(16, 2)).is_some());
+        assert!(one(CURVE, &at(15, 2)).is_none());
+        assert!(one(CURVE, &at(16, 1)).is_none());
+        // The surface's rows are at depth 2.
+        assert!(one(SURFACE, &at(1000, 3)).is_some());
+        assert!(one(SURFACE, &at(1000, 2)).is_none());
+        assert!(one(RSURFACE, &at(1000, 2)).is_none());
+        assert!(one(RCURVE, &at(1000, 2)).is_some());
+    }
+
+    proptest! {
+        /// The word-at-a-time comma count equals a byte loop.
+        #[test]
+        fn comma_count_matches_a_byte_loop(
+            text in prop::collection::vec(prop::sample::select(b",)#1 (\xac\xa9\x00\x2d\x28".to_vec()), 0..40),
+            from in 0usize..40,
+        ) {
+            let mut expect = 0;
+            for &c in text.get(from..).unwrap_or_default() {
+                if c == b')' {
+                    break;
+                }
+                expect += usize::from(c == b',');
+            }
+            prop_assert_eq!(commas_before_close(&text, from), expect);
+        }
+    }
+
+    proptest! {
+        /// The one-word digit run equals the byte loop and `decimal_u64`.
+        #[test]
+        fn short_digit_run_matches_a_byte_loop(
+            text in prop::collection::vec(prop_oneof![
+                4 => b'0'..=b'9', 1 => prop::sample::select(b",)/:#A \xff".to_vec())
+            ], 0..14),
+            from in 0usize..14,
+        ) {
+            let rest = text.get(from..).unwrap_or_default();
+            let n = rest.iter().take_while(|c| c.is_ascii_digit()).count();
+            let expect = ((1..=7).contains(&n) && rest.len() >= 8)
+                .then(|| (decimal_u64(&rest[..n]).unwrap(), n));
+            prop_assert_eq!(short_digit_run(&text, from), expect);
+        }
+    }
+
+    #[test]
+    fn integers_are_not_step_reals() {
+        // `integer_token` relies on a bare digit run not being a STEP REAL (ISO 10303-21
+        // 6.3.3: the point is required), as the general lexer's number fast path does.
+        assert!(step_real_at(b"3)", 0).is_err());
+        assert!(step_real_at(b"3,", 0).is_err());
+    }
+
+    fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        let Ok(rd) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("step") || x.eq_ignore_ascii_case("stp"))
+            {
+                out.push(p);
+            }
+        }
+    }
+
+    fn repo_files() -> Vec<(std::path::PathBuf, String)> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut paths = Vec::new();
+        walk(&root.join("samples"), &mut paths);
+        walk(&root.join("tests"), &mut paths);
+        paths.sort();
+        paths
+            .into_iter()
+            .filter_map(|p| {
+                let bytes = std::fs::read(&p).ok()?;
+                Some((p, String::from_utf8(bytes).ok()?))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_repository_file_agrees_and_freecad_splines_are_read_directly() {
+        let files = repo_files();
+        assert!(files.len() > 50, "sample files not found");
+        let mut total = 0;
+        for (path, text) in &files {
+            let (answered, bsplines) = check_text(text, &Limits::default());
+            total += answered;
+            // Open CASCADE writes only the shapes read directly.
+            if path.to_string_lossy().contains("samples/freecad") {
+                assert_eq!(answered, bsplines, "{}", path.display());
+            }
+        }
+        assert!(total > 100, "only {total} direct reads");
+    }
+
+    /// The B-spline instances of the FreeCAD samples, as separate statements.
+    fn sample_statements() -> &'static [String] {
+        static CACHE: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+        CACHE.get_or_init(collect_statements)
+    }
+
+    fn collect_statements() -> Vec<String> {
+        let mut out = Vec::new();
+        for (path, text) in repo_files() {
+            if !path.to_string_lossy().contains("samples/freecad") {
+                continue;
+            }
+            let Ok(s) = scan(&text, &Limits::default()) else {
+                continue;
+            };
+            for raw in &s.instances {
+                if bspline_direct(raw, &Limits::default()).is_some() && raw.body.len() < 4000 {
+                    out.push(format!("#{}={};", raw.id, raw.body));
+                }
+            }
+        }
+        out.extend([CURVE, SURFACE, RCURVE, RSURFACE].map(str::to_owned));
+        out
+    }
+
+    #[test]
+    fn whitespace_between_all_tokens_is_still_read_directly() {
+        // Every blank the general lexer skips, after every `(`, `,` and `)` and before every
+        // `,` and `)` of every sample B-spline: still read here, still equal.
+        let blanks = [" ", "\t", "\r\n", "\n", "\x0c", "  \t "];
+        for (k, stmt) in sample_statements().iter().enumerate() {
+            let Some(eq) = stmt.find('=') else { continue };
+            let (head, body) = stmt.split_at(eq + 1);
+            let body = body.strip_suffix(';').unwrap_or(body);
+            let blank = blanks[k % blanks.len()];
+            let mut spaced = String::new();
+            for c in body.chars() {
+                if matches!(c, ',' | ')') {
+                    spaced.push_str(blank);
+                }
+                spaced.push(c);
+                if matches!(c, '(' | ',' | ')') {
+                    spaced.push_str(blank);
+                }
+            }
+            let data = format!("{head}{blank}{spaced}{blank};");
+            assert!(answers(&data), "{data}");
+        }
+    }
+
+    #[derive(Debug, Clone)]
+    enum Edit {
+        Delete(usize),
+        Duplicate(usize),
+        Replace(usize, u8),
+        Insert(usize, &'static str),
+        /// Drop the point of the n-th real (`1.` -> `1`).
+        Integer(usize),
+    }
+
+    fn edit() -> impl Strategy<Value = Edit> {
+        let bytes = prop::sample::select(b"#(),.'$*/ 0123456789E+-_AFTUX\t\n".to_vec());
+        let inserts = prop::sample::select(vec![
+            " ", "\r\n", "\t", "/* c */", "''", "'", "(", ")", ",", "1", "$", "E5", "A()",
+        ]);
+        prop_oneof![
+            any::<usize>().prop_map(Edit::Delete),
+            any::<usize>().prop_map(Edit::Duplicate),
+            (any::<usize>(), bytes).prop_map(|(i, c)| Edit::Replace(i, c)),
+            (any::<usize>(), inserts).prop_map(|(i, s)| Edit::Insert(i, s)),
+            any::<usize>().prop_map(Edit::Integer),
+        ]
+    }
+
+    fn apply(stmt: &str, edits: &[Edit]) -> String {
+        let mut b = stmt.as_bytes().to_vec();
+        for e in edits {
+            // Keep `#id=` and the final `;` so the statement stays one instance.
+            let Some(eq) = b.iter().position(|&c| c == b'=') else {
+                break;
+            };
+            let lo = eq + 1;
+            let hi = b.len().saturating_sub(1);
+            if hi <= lo {
+                break;
+            }
+            let at = |i: usize| lo + i % (hi - lo);
+            match e {
+                Edit::Delete(i) => {
+                    b.remove(at(*i));
+                }
+                Edit::Duplicate(i) => {
+                    let k = at(*i);
+                    b.insert(k, b[k]);
+                }
+                Edit::Replace(i, c) => {
+                    let k = at(*i);
+                    b[k] = *c;
+                }
+                Edit::Insert(i, s) => {
+                    let k = at(*i);
+                    b.splice(k..k, s.bytes());
+                }
+                Edit::Integer(n) => {
+                    // The n-th `digit.` followed by a delimiter.
+                    let spots: Vec<usize> = (lo + 1..hi)
+                        .filter(|&k| {
+                            b[k] == b'.'
+                                && b[k - 1].is_ascii_digit()
+                                && matches!(b.get(k + 1), Some(b',' | b')'))
+                        })
+                        .collect();
+                    if !spots.is_empty() {
+                        b.remove(spots[n % spots.len()]);
+                    }
+                }
+            }
+        }
+        String::from_utf8_lossy(&b).into_owned()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// Damaged copies of real instances: whenever the direct reader answers, the general
+        /// path agrees (checked inside `check_text`), under default and tight limits.
+        #[test]
+        fn damaged_instances_agree(
+            pick in any::<prop::sample::Index>(),
+            edits in prop::collection::vec(edit(), 0..4),
+            max_params in 5usize..200,
+            max_depth in 1usize..4,
+        ) {
+            let statements = sample_statements();
+            let stmt = pick.get(statements);
+            let damaged = apply(stmt, &edits);
+            let text = file(&format!("#1=CARTESIAN_POINT('',(0.,0.,0.));\n{damaged}"));
+            check_text(&text, &Limits::default());
+            let tight = Limits {
+                max_params_per_entity: max_params,
+                max_nesting_depth: max_depth,
+                ..Limits::default()
+            };
+            check_text(&text, &tight);
+        }
+    }
+}
