@@ -688,35 +688,14 @@ fn commas_before_close(b: &[u8], from: usize) -> usize {
     n
 }
 
-/// The digit run at `b[i..]` if it has 1 to 7 digits followed by a non-digit, all within
-/// one eight-byte word: `(value, digit count)`. `None` otherwise (no digit, eight or more,
-/// or fewer than eight bytes left), for the byte loop to decide.
-///
-/// One SWAR step: byte `j` is flagged as a non-digit when `c - '0'` borrows or `c + 0x46`
-/// carries into bit 7 (or bit 7 is set already); borrows and carries travel upwards only,
-/// so the lowest flag is exact. The digits are then moved to the top bytes (zeros below)
-/// and combined by multiply-shift (pairs, quads, then the eight-digit sum).
+/// The digit run at `b[i..]` if it has 1 to 7 digits followed by a non-digit:
+/// `(value, digit count)`; `None` otherwise (no digit, or eight or more), for the byte loop
+/// to decide. One word through the shared reader [`digit_word`](crate::real::digit_word)
+/// (a SWAR non-digit mask and a multiply-shift conversion).
 #[inline(always)]
 fn short_digit_run(b: &[u8], i: usize) -> Option<(u64, usize)> {
-    let chunk = b.get(i..i.checked_add(8)?)?;
-    let mut w = [0u8; 8];
-    w.copy_from_slice(chunk);
-    let v = u64::from_le_bytes(w);
-    let digits = v.wrapping_sub(0x3030_3030_3030_3030);
-    let non_digit = (v.wrapping_add(0x4646_4646_4646_4646) | digits) & 0x8080_8080_8080_8080;
-    // The lowest flag is in byte n; n is 8 when all eight are digits (trailing_zeros 64).
-    let n = (non_digit.trailing_zeros() / 8) as usize;
-    if n == 0 || n == 8 {
-        return None;
-    }
-    let x = digits << (8 * (8 - n));
-    const MASK: u64 = 0x0000_00FF_0000_00FF;
-    const MUL1: u64 = 0x000F_4240_0000_0064; // 100 + (1000000 << 32)
-    const MUL2: u64 = 0x0000_2710_0000_0001; // 1 + (10000 << 32)
-    let x = x.wrapping_mul(10).wrapping_add(x >> 8);
-    let hi = (x & MASK).wrapping_mul(MUL1);
-    let lo = ((x >> 16) & MASK).wrapping_mul(MUL2);
-    Some((hi.wrapping_add(lo) >> 32, n))
+    let (v, n) = crate::real::digit_word(b, i);
+    (1..8).contains(&n).then_some((v, n))
 }
 
 /// How many bytes of a [`commas_before_close`] mask have their 0x80 flag: the flags moved
@@ -1017,8 +996,7 @@ mod tests {
         ) {
             let rest = text.get(from..).unwrap_or_default();
             let n = rest.iter().take_while(|c| c.is_ascii_digit()).count();
-            let expect = ((1..=7).contains(&n) && rest.len() >= 8)
-                .then(|| (decimal_u64(&rest[..n]).unwrap(), n));
+            let expect = (1..=7).contains(&n).then(|| (decimal_u64(&rest[..n]).unwrap(), n));
             prop_assert_eq!(short_digit_run(&text, from), expect);
         }
     }
