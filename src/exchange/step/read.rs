@@ -47,17 +47,24 @@ fn read_with(text: &str, options: &ImportOptions, direct: bool) -> Result<Docume
     for e in &scanned.errors {
         doc.diagnostics.push(parse_diagnostic(e));
     }
-    let scale = file_units(&scanned, options, &mut doc);
+    // One pass over the instances (a large file has millions, and each pass over them is a
+    // pass over memory) finds both the B-spline candidates and the complex instances, where
+    // the unit context is.
+    let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
+    let mut complex: Vec<&RawInstance<'_>> = Vec::new();
+    for raw in &scanned.instances {
+        if raw.keyword_initial().is_none() {
+            complex.push(raw);
+        }
+        // A duplicated id was reported by the scanner; only the indexed (first) one is read.
+        if maybe_bspline(raw) && scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset) {
+            candidates.push(raw);
+        }
+    }
+    let scale = file_units(&scanned, &complex, options, &mut doc);
 
     // Each B-spline is independent once the file is scanned: decode them in parallel
     // (rayon keeps the file order in `collect`), then append results in order.
-    let candidates: Vec<&RawInstance<'_>> = scanned
-        .instances
-        .iter()
-        .filter(|raw| maybe_bspline(raw))
-        // A duplicated id was reported by the scanner; only the indexed (first) one is read.
-        .filter(|raw| scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset))
-        .collect();
     let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
         .par_iter()
         .map(|raw| {
@@ -186,8 +193,13 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
 
 /// Finds the file's length unit, records it in `doc`, and returns the factor to apply to
 /// coordinates (1 unless a conversion is needed).
-fn file_units(s: &Scanned<'_>, options: &ImportOptions, doc: &mut Document) -> f64 {
-    let (found, problems) = context_units(s);
+fn file_units(
+    s: &Scanned<'_>,
+    complex: &[&RawInstance<'_>],
+    options: &ImportOptions,
+    doc: &mut Document,
+) -> f64 {
+    let (found, problems) = context_units(s, complex);
     let loc = |id: u64, offset: usize| {
         let (line, column) = s.locate(offset);
         Location {

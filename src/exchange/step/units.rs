@@ -171,17 +171,21 @@ pub(super) fn resolve_length(
 pub(super) type UnitProblem = (u64, usize, String);
 
 /// The length units of the contexts that assign units, in file order:
-/// `(context id, unit)`, plus messages for units that could not be understood.
-pub(super) fn context_units(s: &Scanned<'_>) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
+/// `(context id, unit)`, plus messages for units that could not be understood. `complex`
+/// is the file's complex instances in file order (a context assigning units is one,
+/// ISO 10303-42 `global_unit_assigned_context` being a partial of it); simple instances
+/// cannot be and are not passed.
+pub(super) fn context_units(
+    s: &Scanned<'_>,
+    complex: &[&RawInstance<'_>],
+) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
     let mut found = Vec::new();
     let mut problems = Vec::new();
     // A SIMD substring search: rational B-splines are complex instances too, and their
     // long bodies are searched in full.
     let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
-    for raw in &s.instances {
-        // Simple instances are skipped by the scanner's record of their keyword, without
-        // reading the text.
-        if raw.keyword_initial().is_some() || finder.find(raw.body.as_bytes()).is_none() {
+    for &raw in complex {
+        if finder.find(raw.body.as_bytes()).is_none() {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
