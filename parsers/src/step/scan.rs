@@ -855,9 +855,10 @@ impl<'a> Scanned<'a> {
 }
 
 /// `#n = ` at the start of a statement: the id, the offset of the body, and the keyword of
-/// a simple instance (`None` for a complex one).
+/// a simple instance (`None` for a complex one). Inlined into the scan loop: called once
+/// per statement, and a call returned its result through memory.
 #[allow(clippy::type_complexity)]
-#[inline]
+#[inline(always)]
 fn instance_head(
     text: &str,
     start: usize,

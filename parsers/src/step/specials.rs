@@ -61,17 +61,28 @@ impl<'b> Specials<'b> {
 /// The special-byte mask of `b[at..at + 64]` (bytes past the end are not special).
 #[inline]
 fn block_mask(b: &[u8], at: usize) -> u64 {
+    match b.get(at..at + BLOCK) {
+        Some(full) => mask_of(full),
+        None => tail_mask(b, at),
+    }
+}
+
+/// [`block_mask`] of the last, short block: copied into a zero-padded block first (kept
+/// out of line so that the usual path has no buffer to clear).
+#[cold]
+#[inline(never)]
+fn tail_mask(b: &[u8], at: usize) -> u64 {
     let mut padded = [0u8; BLOCK];
-    let block: &[u8] = match b.get(at..at + BLOCK) {
-        Some(full) => full,
-        None => {
-            let tail = b.get(at..).unwrap_or_default();
-            if let Some(dst) = padded.get_mut(..tail.len()) {
-                dst.copy_from_slice(tail);
-            }
-            &padded
-        }
-    };
+    let tail = b.get(at..).unwrap_or_default();
+    if let Some(dst) = padded.get_mut(..tail.len()) {
+        dst.copy_from_slice(tail);
+    }
+    mask_of(&padded)
+}
+
+/// Bit `k` set for each `;`, `'` or `/` at `block[k]` (`block` holds 64 bytes).
+#[inline(always)]
+fn mask_of(block: &[u8]) -> u64 {
     let mut mask = 0u64;
     for (k, chunk) in block.chunks_exact(16).enumerate() {
         let mut lanes = [0u8; 16];
@@ -92,6 +103,7 @@ fn block_mask(b: &[u8], at: usize) -> u64 {
 /// The index of the `;` that ends the statement starting at `from`, skipping strings and
 /// comments: [`statement_end`](super::lexer::statement_end) (same results and errors,
 /// tested) over a shared [`Specials`] cursor.
+#[inline]
 pub(crate) fn statement_end_in(sp: &mut Specials<'_>, from: usize) -> LResult<usize> {
     let b = sp.b;
     let mut i = from;
