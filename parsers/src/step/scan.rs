@@ -117,6 +117,9 @@ pub struct Scanned<'a> {
     /// sections...).
     pub errors: Vec<ParseError>,
     index: IdIndex,
+    /// The largest id in `instances` (0 when empty), kept while scanning so that building
+    /// the index needs no extra pass over every instance.
+    max_id: u64,
     lines: LineIndex,
     limits: ParamLimits,
 }
@@ -262,6 +265,7 @@ fn scan_impl<'a>(
         instances: Vec::new(),
         errors: Vec::new(),
         index: IdIndex::Sparse(HashMap::new()),
+        max_id: 0,
         lines,
         limits: plimits,
     };
@@ -344,6 +348,8 @@ struct Run<'a> {
     /// Where the piece started.
     from: usize,
     instances: Vec<RawInstance<'a>>,
+    /// The largest id in `instances` (0 when empty).
+    max_id: u64,
     errors: Vec<ParseError>,
     end: RunEnd,
     /// An error that ends the scan of the file (bad `ENDSEC`, entity limit).
@@ -436,13 +442,16 @@ fn scan_statements<'a>(
                         .ok()
                         .filter(|&n| n <= MAX_KEYWORD_LEN),
                 ) {
-                    (Ok(head_len), Some(keyword_len)) => run.instances.push(RawInstance {
-                        id,
-                        offset: start,
-                        body: text.get(body_offset..end).unwrap_or_default(),
-                        head_len,
-                        keyword: keyword_len | (u32::from(initial) << 24),
-                    }),
+                    (Ok(head_len), Some(keyword_len)) => {
+                        run.max_id = run.max_id.max(id);
+                        run.instances.push(RawInstance {
+                            id,
+                            offset: start,
+                            body: text.get(body_offset..end).unwrap_or_default(),
+                            head_len,
+                            keyword: keyword_len | (u32::from(initial) << 24),
+                        });
+                    }
                     _ => run.errors.push(error(
                         ParseErrorKind::InvalidId("(statement head too long)".to_owned()),
                         start,
@@ -761,6 +770,7 @@ impl<'a> Scanned<'a> {
                     over.map(|r| r.id),
                 ));
             }
+            self.max_id = self.max_id.max(run.max_id);
             if self.instances.is_empty() {
                 // The usual case (one DATA section, first piece): take the vector as it
                 // is rather than copy 40 bytes per statement.
@@ -791,7 +801,8 @@ impl<'a> Scanned<'a> {
     /// Builds the `#id` index; a duplicate id is a recovered error (the first one wins).
     fn build_index(&mut self, _limits: &Limits) {
         let n = self.instances.len();
-        let max = self.instances.iter().map(|r| r.id).max().unwrap_or(0);
+        let max = self.max_id;
+        debug_assert_eq!(max, self.instances.iter().map(|r| r.id).max().unwrap_or(0));
         let dense_ok = usize::try_from(max)
             .ok()
             .filter(|&m| m <= n.saturating_mul(4).saturating_add(1024));
