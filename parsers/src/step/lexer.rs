@@ -603,40 +603,6 @@ pub(crate) fn string_end(b: &[u8], start: usize, end: usize) -> LResult<usize> {
     }
 }
 
-/// The index of the `;` that ends the statement starting at `from`, skipping strings and
-/// comments (so `';'` inside a string or a comment does not end it).
-pub(crate) fn statement_end(b: &[u8], from: usize) -> LResult<usize> {
-    let mut i = from;
-    loop {
-        let hay = b.get(i..).unwrap_or_default();
-        let Some(p) = memchr::memchr3(b';', b'\'', b'/', hay) else {
-            return Err((
-                ParseErrorKind::Expected {
-                    expected: "`;`",
-                    found: "end of input".to_owned(),
-                },
-                from,
-            ));
-        };
-        let q = i + p;
-        match b.get(q) {
-            Some(b';') => return Ok(q),
-            Some(b'\'') => i = string_end(b, q, b.len())? + 1,
-            _ => {
-                if b.get(q + 1) == Some(&b'*') {
-                    let hay = b.get(q + 2..).unwrap_or_default();
-                    match memchr::memmem::find(hay, b"*/") {
-                        Some(e) => i = q + 2 + e + 2,
-                        None => return Err((ParseErrorKind::UnterminatedComment, q)),
-                    }
-                } else {
-                    i = q + 1;
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,8 +14,8 @@ use std::collections::HashMap;
 
 use super::ast::{Body, DataSection, Exchange, Instance, Parameter, Record};
 use super::error::{LineIndex, ParseError, ParseErrorKind};
-use super::lexer::{Cursor, LexError, ParamLimits, statement_end};
-use super::specials::{Specials, statement_end_in};
+use super::lexer::{Cursor, LexError, ParamLimits};
+use super::specials::{Specials, statement_end, statement_end_in};
 use crate::Limits;
 
 /// An entity instance found by [`scan`], not yet decoded.
