@@ -228,16 +228,11 @@ fn step_real_general_at(b: &[u8], start: usize) -> Result<(f64, usize), RealErro
 /// {DIGIT}]` starting at `start`. Returns the digits and the offset after the token.
 #[inline]
 fn lex_step(b: &[u8], start: usize) -> Result<(Decimal, usize), RealError> {
-    let mut d = Decimal::default();
-    let mut i = start;
-    match b.get(i) {
-        Some(b'-') => {
-            d.negative = true;
-            i += 1;
-        }
-        Some(b'+') => i += 1,
-        _ => {}
-    }
+    let (negative, mut i) = sign(b, start);
+    let mut d = Decimal {
+        negative,
+        ..Decimal::default()
+    };
     let mut acc = Digits::default();
     let int_start = i;
     i = acc.run(b, i);
@@ -283,16 +278,11 @@ pub fn parse_iges_real(token: &str) -> Result<f64, RealError> {
 /// [`iges_real_at`] (inside a record).
 #[inline]
 fn lex_iges(b: &[u8], start: usize) -> Result<(Decimal, Option<usize>, usize), RealError> {
-    let mut d = Decimal::default();
-    let mut i = start;
-    match b.get(i) {
-        Some(b'-') => {
-            d.negative = true;
-            i += 1;
-        }
-        Some(b'+') => i += 1,
-        _ => {}
-    }
+    let (negative, mut i) = sign(b, start);
+    let mut d = Decimal {
+        negative,
+        ..Decimal::default()
+    };
     let mut acc = Digits::default();
     let int_start = i;
     i = acc.run(b, i);
@@ -464,21 +454,22 @@ fn eight_digit_values(v: u64) -> u64 {
     hi.wrapping_add(lo) >> 32
 }
 
+/// An optional sign at `b[i]` (both formats: `+` or `-`): whether it is `-`, and the offset
+/// after it.
+#[inline(always)]
+fn sign(b: &[u8], i: usize) -> (bool, usize) {
+    match b.get(i) {
+        Some(b'-') => (true, i + 1),
+        Some(b'+') => (false, i + 1),
+        _ => (false, i),
+    }
+}
+
 /// `[SIGN] DIGIT {DIGIT}` after an exponent letter; the value saturates (a huge exponent is
 /// still huge) and the offset after the digits is returned.
 #[inline(always)]
-fn lex_exponent(b: &[u8], mut i: usize) -> Result<(i64, usize), RealError> {
-    let negative = match b.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
+fn lex_exponent(b: &[u8], i: usize) -> Result<(i64, usize), RealError> {
+    let (negative, mut i) = sign(b, i);
     let start = i;
     let mut exp: i64 = 0;
     while let Some(&c) = b.get(i) {

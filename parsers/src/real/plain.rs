@@ -73,18 +73,7 @@ pub(super) fn plain_decimal_at(
     start: usize,
     min_int_digits: usize,
 ) -> Option<(f64, usize)> {
-    let mut i = start;
-    let negative = match b.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
+    let (negative, mut i) = super::sign(b, start);
     let int_start = i;
     let mut m: u64 = 0;
     // Integer digits: few in coordinates, one at a time (bounded: more than 19 is not this
