@@ -21,6 +21,8 @@ mod options;
 pub mod step;
 #[cfg(test)]
 pub(crate) mod test_documents;
+#[cfg(test)]
+pub(crate) mod test_files;
 mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::exchange::ExportOptions;
+use crate::exchange::test_files::repository_files;
 use crate::nurbs::Grid;
 use nurbsx_parsers::Limits;
 use nurbsx_parsers::step::scan;
@@ -17,23 +18,6 @@ fn same_both_ways(text: &str, options: &ImportOptions) {
     let without = read_with(text, options, false);
     assert_eq!(format!("{with:?}"), format!("{without:?}"));
     assert_eq!(with, without);
-}
-
-fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            walk(&p, out);
-        } else if p
-            .extension()
-            .is_some_and(|x| x.eq_ignore_ascii_case("step") || x.eq_ignore_ascii_case("stp"))
-        {
-            out.push(p);
-        }
-    }
 }
 
 /// How many candidate instances the direct decoder answers, and how many B-spline
@@ -65,10 +49,7 @@ fn direct_coverage(text: &str) -> (usize, usize) {
 
 #[test]
 fn repository_files_read_the_same_with_and_without_the_direct_decoder() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut paths = Vec::new();
-    walk(&root.join("samples"), &mut paths);
-    walk(&root.join("tests"), &mut paths);
+    let paths = repository_files(&["samples", "tests"], &["step", "stp"]);
     assert!(paths.len() > 50, "sample files not found");
     let mut entities = 0;
     for p in &paths {

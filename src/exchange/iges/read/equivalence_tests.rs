@@ -7,6 +7,7 @@
 
 use super::{Path, read_with};
 use crate::exchange::test_documents::random_document;
+use crate::exchange::test_files::repository_files;
 use crate::exchange::{ExportOptions, Format, ImportOptions, LengthUnit};
 
 fn option_variants() -> Vec<ImportOptions> {
@@ -33,37 +34,9 @@ fn assert_same(text: &str, what: &str) {
     }
 }
 
-/// Every `.igs`/`.iges` file under the given directories (recursively).
-fn iges_files(dirs: &[&str]) -> Vec<std::path::PathBuf> {
-    let mut out = Vec::new();
-    let mut stack: Vec<std::path::PathBuf> = dirs
-        .iter()
-        .map(|d| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(d))
-        .collect();
-    while let Some(dir) = stack.pop() {
-        let Ok(entries) = std::fs::read_dir(&dir) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path
-                .extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "igs" | "iges"))
-            {
-                out.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
 #[test]
 fn repository_files_read_identically() {
-    let files = iges_files(&["samples", "tests"]);
+    let files = repository_files(&["samples", "tests"], &["igs", "iges"]);
     assert!(files.len() >= 50, "only {} IGES files found", files.len());
     let mut surfaces = 0;
     for path in &files {
