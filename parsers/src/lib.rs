@@ -28,6 +28,7 @@
 //! section letter, sequence number, column and DE pointer.
 
 mod decimal;
+pub mod grammar;
 pub mod iges;
 pub mod limits;
 pub mod real;
