@@ -31,7 +31,7 @@
 //! The tests below compare both paths on every sample file, on generated files and on
 //! damaged copies.
 
-use super::lexer::{decimal_u64, is_number_char};
+use super::grammar::{decimal_u64, is_number_char};
 use super::scan::RawInstance;
 use super::schema::{BSplineCurve, BSplineSurface, KnotSpec, Logical, canonical_name};
 use super::string::StepString;

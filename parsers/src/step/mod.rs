@@ -20,7 +20,7 @@
 mod ast;
 pub mod direct;
 mod error;
-mod lexer;
+mod grammar;
 mod scan;
 pub mod schema;
 mod specials;

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 
 use super::ast::{Body, DataSection, Exchange, Instance, Parameter, Record};
 use super::error::{LineIndex, ParseError, ParseErrorKind};
-use super::lexer::{Cursor, LexError, ParamLimits};
+use super::grammar::{self, Cursor, LexError, ParamLimits};
 use super::specials::{Specials, statement_end, statement_end_in};
 use crate::Limits;
 
@@ -526,19 +526,13 @@ fn cut_points(bytes: &[u8], from: usize, pieces: usize) -> Vec<usize> {
 }
 
 /// Whether the cursor is at the keyword `kw` followed by a non-keyword character.
-fn section_keyword(c: &Cursor<'_>, kw: &str) -> bool {
-    c.starts_with(kw)
-        && !c
-            .text
-            .as_bytes()
-            .get(c.pos + kw.len())
-            .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_' || *b == b'-')
+fn section_keyword(c: &Cursor<'_>, kw: &'static str) -> bool {
+    c.matches(grammar::structure_keyword(kw))
 }
 
 /// After a structure keyword: optional whitespace/comments, then `;`.
 fn end_of_keyword_statement(c: &mut Cursor<'_>) -> Result<(), LexError> {
-    c.skip_ws()?;
-    c.expect_byte(b';', "`;`")
+    c.rule(grammar::end_of_keyword_statement)
 }
 
 impl<'a> Scanned<'a> {
@@ -560,10 +554,12 @@ impl<'a> Scanned<'a> {
     /// Decodes an instance's parameters.
     pub fn decode(&self, raw: &RawInstance<'a>) -> Result<Instance<'a>, ParseError> {
         let end = raw.body_offset() + raw.body.len();
-        let mut c = Cursor::new(self.text, raw.body_offset(), end);
-        c.body(self.limits)
-            .map(|body| Instance { id: raw.id, body })
-            .map_err(|(kind, at)| self.error_at(kind, at, Some(raw.id)))
+        let limits = self.limits;
+        grammar::run(self.text.as_bytes(), raw.body_offset(), end, |i| {
+            grammar::entity_instance_body(i, limits)
+        })
+        .map(|(body, _)| Instance { id: raw.id, body })
+        .map_err(|(kind, at)| self.error_at(kind, at, Some(raw.id)))
     }
 
     /// Decodes instance `#id`; `referrer` (the instance holding the reference) locates the
@@ -663,18 +659,12 @@ impl<'a> Scanned<'a> {
             }
             let end = statement_end(self.text.as_bytes(), c.pos)
                 .map_err(|(k, at)| self.error_at(k, at, None))?;
-            let mut rc = Cursor::new(self.text, c.pos, end);
-            let mut count = 0;
-            let record = rc.record(self.limits, &mut count).and_then(|r| {
-                rc.skip_ws()?;
-                if rc.pos < end {
-                    Err(rc.expected("`;`"))
-                } else {
-                    Ok(r)
-                }
+            let limits = self.limits;
+            let record = grammar::run(self.text.as_bytes(), c.pos, end, |i| {
+                grammar::header_entity(i, limits)
             });
             match record {
-                Ok(r) => self.header.push(r),
+                Ok((r, _)) => self.header.push(r),
                 Err((k, at)) => self.errors.push(self.error_at(k, at, None)),
             }
             c.pos = end + 1;
@@ -707,9 +697,9 @@ impl<'a> Scanned<'a> {
         c.skip_ws().map_err(|e| err(self, e))?;
         let mut params = Vec::new();
         if c.peek() == Some(b'(') {
-            let mut count = 0;
+            let limits = self.limits;
             params = c
-                .parameter_list(self.limits, &mut count)
+                .rule(|i| grammar::parameter_list(i, limits))
                 .map_err(|e| err(self, e))?;
         }
         end_of_keyword_statement(c).map_err(|e| err(self, e))?;
@@ -937,8 +927,8 @@ fn quick_head(b: &[u8], start: usize, end: usize) -> Option<(u64, usize, Option<
     }
 }
 
-/// [`instance_head`] for any input, through the general lexer (blanks and comments
-/// anywhere, located errors).
+/// [`instance_head`] for any input, by the grammar rule (blanks and comments anywhere,
+/// located errors).
 #[allow(clippy::type_complexity)]
 #[cold]
 fn instance_head_general(
@@ -946,44 +936,29 @@ fn instance_head_general(
     start: usize,
     end: usize,
 ) -> Result<(u64, usize, Option<&str>), (ParseErrorKind, usize, Option<u64>)> {
-    let mut c = Cursor::new(text, start, end);
-    if c.peek() != Some(b'#') {
-        let (k, at) = c.expected("`#` starting an entity instance, or ENDSEC;");
-        return Err((k, at, None));
-    }
-    c.pos += 1;
-    let from = c.pos;
-    while c.peek().is_some_and(|b| b.is_ascii_digit()) {
-        c.pos += 1;
-    }
-    let digits = text.get(from..c.pos).unwrap_or_default();
-    let id = match super::lexer::decimal_u64(digits.as_bytes()) {
-        Some(id) => id,
-        None => {
-            let shown: String = text
-                .get(from..end)
-                .unwrap_or_default()
-                .chars()
-                .take_while(|c| c.is_ascii_alphanumeric())
-                .take(30)
-                .collect();
-            return Err((ParseErrorKind::InvalidId(shown), start, None));
+    let input = text.as_bytes().get(start..end).unwrap_or_default();
+    match grammar::entity_instance_head(input) {
+        Ok((_, (id, body, keyword))) => Ok((id, end - body.len(), keyword)),
+        Err(e) => {
+            let (kind, at) = grammar::located(e, end);
+            match grammar::entity_instance_name(input) {
+                // A failure after the id names the instance.
+                Ok((_, id)) => Err((kind, at, Some(id))),
+                // No valid id: show what stands after the `#`.
+                Err(_) if input.first() == Some(&b'#') => {
+                    let shown: String = text
+                        .get(start + 1..end)
+                        .unwrap_or_default()
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric())
+                        .take(30)
+                        .collect();
+                    Err((ParseErrorKind::InvalidId(shown), start, None))
+                }
+                Err(_) => Err((kind, at, None)),
+            }
         }
-    };
-    let wrap = |(k, at): LexError| (k, at, Some(id));
-    c.skip_ws().map_err(wrap)?;
-    c.expect_byte(b'=', "`=` after the instance name")
-        .map_err(wrap)?;
-    c.skip_ws().map_err(wrap)?;
-    let body_offset = c.pos;
-    let keyword = match c.peek() {
-        Some(b) if b.is_ascii_uppercase() || b == b'!' => {
-            let k = c.keyword().map_err(wrap)?;
-            Some(k)
-        }
-        _ => None,
-    };
-    Ok((id, body_offset, keyword))
+    }
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@
 
 use wide::u8x16;
 
-use super::lexer::LResult;
+use super::grammar::LResult;
 use crate::step::ParseErrorKind;
 
 /// Bytes per mask.
@@ -147,7 +147,7 @@ pub(crate) fn statement_end_in(sp: &mut Specials<'_>, from: usize) -> LResult<us
 }
 
 /// The index of the apostrophe closing the string that opens at `start` (doubled
-/// apostrophes belong to the string), as [`string_end`](super::lexer::string_end) to the
+/// apostrophes belong to the string), as [`string_end`](super::grammar) to the
 /// end of the input.
 fn string_end_in(sp: &mut Specials<'_>, start: usize) -> LResult<usize> {
     let b = sp.b;
