@@ -47,6 +47,15 @@ pub(crate) struct ParamLimits {
     pub(crate) max_params: usize,
 }
 
+impl From<&crate::Limits> for ParamLimits {
+    fn from(limits: &crate::Limits) -> Self {
+        ParamLimits {
+            max_depth: limits.max_nesting_depth.max(1),
+            max_params: limits.max_params_per_entity,
+        }
+    }
+}
+
 /// The parameter budget of one instance: every scalar, list and typed parameter counts,
 /// at any depth.
 struct Budget {

@@ -9,16 +9,16 @@
 //!   the unit entities and the representation context, read by attribute *name* from the
 //!   EXPRESS definitions (so simple and complex instances, in any partial order, read the
 //!   same).
-//! - [`direct`]: the B-spline curve and surface instances Open CASCADE and our writer emit,
-//!   read straight from the body text into the [`schema`] records in one pass (the
-//!   general path stays the fallback and the reference).
+//!   Its decoders of raw instances, [`Scanned::bspline`] and [`Scanned::cartesian_point`],
+//!   read the shapes Open CASCADE, FreeCAD and nurbsx write straight from the body text in
+//!   one pass (a private fast path inside each) and everything else through the grammar.
 //! - [`writer`]: Part 21 text from a tree; [`Builder`] creates instances with fresh ids.
 //!
 //! Errors: [`ParseError`] (syntax/structure: line, column, `#id`), [`SchemaError`] (a
 //! record's attribute: `#id`, entity, attribute index and name, expected vs found).
 
 mod ast;
-pub mod direct;
+mod bspline_text;
 mod error;
 mod grammar;
 mod scan;

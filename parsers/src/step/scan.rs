@@ -254,10 +254,7 @@ fn scan_impl<'a>(
             None,
         ));
     }
-    let plimits = ParamLimits {
-        max_depth: limits.max_nesting_depth.max(1),
-        max_params: limits.max_params_per_entity,
-    };
+    let plimits = ParamLimits::from(limits);
     let mut s = Scanned {
         text,
         header: Vec::new(),
@@ -544,6 +541,11 @@ impl<'a> Scanned<'a> {
     /// `(line, column)` (1-based) of a byte offset.
     pub fn locate(&self, offset: usize) -> (usize, usize) {
         self.lines.locate(self.text, offset)
+    }
+
+    /// The parameter limits the instances are decoded under.
+    pub(crate) fn param_limits(&self) -> ParamLimits {
+        self.limits
     }
 
     /// The instance `#id` (the first one if the id is duplicated).

@@ -14,7 +14,8 @@
 //! layer's job, which turns records into NURBS.
 
 use super::ast::{Body, Instance, Parameter};
-use super::error::SchemaError;
+use super::error::{ParseError, SchemaError};
+use super::scan::{RawInstance, Scanned};
 use super::string::StepString;
 
 /// Own (non-inherited) explicit attributes of the entity data types read here, in EXPRESS
@@ -624,7 +625,7 @@ impl<'a> CartesianPoint<'a> {
     /// escapes in the name, errors...); callers then use [`CartesianPoint::from_instance`],
     /// which handles and reports everything. Same values as the general path, bit for bit
     /// (both use [`parse_step_real`](crate::real::parse_step_real)).
-    pub fn coordinates_fast(raw: &super::RawInstance<'_>) -> Option<([f64; 3], usize)> {
+    fn coordinates_from_text(raw: &RawInstance<'_>) -> Option<([f64; 3], usize)> {
         if raw.keyword() != Some("CARTESIAN_POINT") {
             return None;
         }
@@ -933,6 +934,82 @@ pub fn bspline_kind(body: &Body<'_>) -> Option<BSplineKind> {
     kind
 }
 
+/// A B-spline curve or surface record: what [`Scanned::bspline`] decodes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BSpline<'a> {
+    /// A `b_spline_curve` (ISO 10303-42 4.4.12) with its knots, explicit or implied by the
+    /// subtype, and its weights when rational.
+    Curve(BSplineCurve<'a>),
+    /// A `b_spline_surface` (ISO 10303-42 4.4.39), likewise.
+    Surface(BSplineSurface<'a>),
+}
+
+/// Why an instance did not decode into its record: its syntax (located by line, column and
+/// `#id`) or its attributes against the EXPRESS definition.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DecodeError {
+    /// The instance's parameters do not follow ISO 10303-21.
+    #[error(transparent)]
+    Syntax(#[from] ParseError),
+    /// The parameters do not match the entity's attributes.
+    #[error(transparent)]
+    Schema(#[from] SchemaError),
+}
+
+impl<'a> Scanned<'a> {
+    /// The location of an instance, for schema errors.
+    fn at(&self, raw: &RawInstance<'_>) -> At {
+        let (line, column) = self.locate(raw.offset);
+        At {
+            id: raw.id,
+            line,
+            column,
+        }
+    }
+
+    /// Decodes instance `raw` as a B-spline curve or surface, simple or complex, in any
+    /// partial order, with implicit-knot subtypes (ISO 10303-42 4.4.12-4.4.17 and
+    /// 4.4.39-4.4.44); `Ok(None)` when it is another entity.
+    ///
+    /// The shapes Open CASCADE, FreeCAD and nurbsx write are read from the body text in one
+    /// pass (private to this decoder); any other shape, and anything irregular, is decoded
+    /// by the grammar and read by attribute name, which gives the same record or the
+    /// located error.
+    pub fn bspline(&self, raw: &RawInstance<'a>) -> Result<Option<BSpline<'a>>, DecodeError> {
+        if let Some(record) = super::bspline_text::read(raw, self.param_limits()) {
+            return Ok(Some(record));
+        }
+        let inst = self.decode(raw)?;
+        Ok(match bspline_kind(&inst.body) {
+            None => None,
+            Some(BSplineKind::Curve) => Some(BSpline::Curve(BSplineCurve::from_instance(
+                &inst,
+                self.at(raw),
+            )?)),
+            Some(BSplineKind::Surface) => Some(BSpline::Surface(BSplineSurface::from_instance(
+                &inst,
+                self.at(raw),
+            )?)),
+        })
+    }
+
+    /// Decodes instance `raw` as a `cartesian_point` (ISO 10303-42 4.4.2): its first three
+    /// coordinates (zeros past its dimension) and its dimension. The usual simple instance
+    /// is read from its text in one pass; any other shape through the grammar, by attribute
+    /// name, with the same values or the located error.
+    pub fn cartesian_point(&self, raw: &RawInstance<'a>) -> Result<([f64; 3], usize), DecodeError> {
+        if let Some(point) = CartesianPoint::coordinates_from_text(raw) {
+            return Ok(point);
+        }
+        let p = CartesianPoint::from_instance(&self.decode(raw)?, self.at(raw))?;
+        let mut c = [0.0; 3];
+        for (k, v) in p.coordinates.iter().take(3).enumerate() {
+            c[k] = *v;
+        }
+        Ok((c, p.coordinates.len()))
+    }
+}
+
 /// A unit (ISO 10303-41): only what the reader needs to find the length unit.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Unit<'a> {
@@ -1092,5 +1169,80 @@ impl RepresentationContext {
                 Vec::new()
             },
         }))
+    }
+}
+
+#[cfg(test)]
+mod point_text_tests {
+    use super::*;
+    use crate::Limits;
+    use crate::real::write_real;
+    use crate::step::scan;
+    use proptest::prelude::*;
+
+    fn at(id: u64) -> At {
+        At {
+            id,
+            line: 2,
+            column: 1,
+        }
+    }
+
+    proptest! {
+        /// The text reader and the general record path give the same bits, and the text
+        /// reader declines (None) rather than guessing on shapes it does not handle.
+        #[test]
+        fn text_reader_equals_general_path(xs in prop::collection::vec(any::<f64>().prop_filter("finite", |x| x.is_finite()), 1..4), spaced in any::<bool>(), name in "[a-z' ]{0,5}") {
+            let mut coords = String::new();
+            for (i, x) in xs.iter().enumerate() {
+                if i > 0 { coords.push(','); if spaced { coords.push_str(" \n"); } }
+                write_real(&mut coords, *x).unwrap();
+            }
+            let name = name.replace('\'', "''");
+            let text = format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT( '{name}' ,({coords}) );\nENDSEC;END-ISO-10303-21;");
+            let s = scan(&text, &Limits::default()).unwrap();
+            let raw = s.get(1).unwrap();
+            let (fast, n) = CartesianPoint::coordinates_from_text(raw).unwrap();
+            let slow = CartesianPoint::from_instance(&s.decode(raw).unwrap(), at(1)).unwrap();
+            prop_assert_eq!(n, xs.len());
+            for (f, g) in fast.iter().zip(&slow.coordinates) {
+                prop_assert_eq!(f.to_bits(), g.to_bits());
+            }
+            // The public decoder gives the same.
+            prop_assert_eq!(s.cartesian_point(raw).unwrap(), (fast, n));
+        }
+    }
+
+    #[test]
+    fn text_reader_declines_other_shapes() {
+        for body in ["(0,1,2)", "(0.,1.,2.,3.)", "(0., /* c */ 1.)", "(1.e5)"] {
+            let text = format!(
+                "ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT('',{body});\nENDSEC;END-ISO-10303-21;"
+            );
+            let s = scan(&text, &Limits::default()).unwrap();
+            assert_eq!(
+                CartesianPoint::coordinates_from_text(s.get(1).unwrap()),
+                None,
+                "{body}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_decoder_reads_what_the_text_reader_declines() {
+        let text = "ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT('',(0,1,2));\n#2=CARTESIAN_POINT('',(0., /* c */ 1.));\n#3=CARTESIAN_POINT('',(1.e5));\nENDSEC;END-ISO-10303-21;";
+        let s = scan(text, &Limits::default()).unwrap();
+        assert_eq!(
+            s.cartesian_point(s.get(1).unwrap()).unwrap(),
+            ([0., 1., 2.], 3)
+        );
+        assert_eq!(
+            s.cartesian_point(s.get(2).unwrap()).unwrap(),
+            ([0., 1., 0.], 2)
+        );
+        assert!(matches!(
+            s.cartesian_point(s.get(3).unwrap()),
+            Err(DecodeError::Syntax(_))
+        ));
     }
 }

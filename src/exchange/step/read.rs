@@ -1,13 +1,11 @@
 //! STEP file -> [`Document`]: every B-spline curve and surface, the length unit, and
 //! located diagnostics (module table in [`super`]).
 
-use nurbsx_parsers::step::direct::{DirectBSpline, bspline_direct};
 use nurbsx_parsers::step::schema::{
-    At, BSplineCurve, BSplineKind, BSplineSurface, CartesianPoint, KnotSpec, Logical, bspline_kind,
-    canonical_name,
+    BSpline, BSplineCurve, BSplineSurface, DecodeError, KnotSpec, Logical, canonical_name,
 };
 use nurbsx_parsers::step::{
-    Instance, ParseError, ParseErrorKind, RawInstance, Scanned, scan_parallel, schema_names,
+    ParseError, ParseErrorKind, RawInstance, Scanned, scan_parallel, schema_names,
 };
 
 use rayon::prelude::*;
@@ -28,12 +26,6 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
-    read_with(text, options, true)
-}
-
-/// [`read`], with the direct B-spline decoder ([`bspline_direct`]) tried first or not (the
-/// tests compare both: the result must not depend on it).
-fn read_with(text: &str, options: &ImportOptions, direct: bool) -> Result<Document, Diagnostic> {
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
@@ -75,28 +67,12 @@ fn read_with(text: &str, options: &ImportOptions, direct: bool) -> Result<Docume
                 options,
                 scale,
             };
-            // The shapes Open CASCADE and our writer emit are read straight from the text;
-            // `None` (anything else, or anything irregular) takes the general path, which
-            // gives the same record or reports the error.
-            let result = match direct
-                .then(|| bspline_direct(raw, &options.limits))
-                .flatten()
-            {
-                Some(DirectBSpline::Curve(r)) => ctx.curve_record(r, &mut diags),
-                Some(DirectBSpline::Surface(r)) => ctx.surface_record(r, &mut diags),
-                None => {
-                    let inst = match scanned.decode(raw) {
-                        Ok(i) => i,
-                        Err(e) => return (None, vec![parse_diagnostic(&e)]),
-                    };
-                    let Some(kind) = bspline_kind(&inst.body) else {
-                        return (None, diags);
-                    };
-                    match kind {
-                        BSplineKind::Curve => ctx.curve(&inst, &mut diags),
-                        BSplineKind::Surface => ctx.surface(&inst, &mut diags),
-                    }
-                }
+            let result = match scanned.bspline(raw) {
+                Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
+                Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
+                Ok(None) => return (None, diags),
+                Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
+                Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
             };
             match result {
                 Ok(e) => (Some(e), diags),
@@ -317,15 +293,6 @@ impl<'a> Ctx<'_, 'a> {
         }
     }
 
-    fn at(&self) -> At {
-        let (line, column) = self.s.locate(self.raw.offset);
-        At {
-            id: self.raw.id,
-            line,
-            column,
-        }
-    }
-
     fn error(&self, code: &str, message: impl Into<String>) -> Diagnostic {
         Diagnostic::error(code, message, self.location())
     }
@@ -362,24 +329,10 @@ impl<'a> Ctx<'_, 'a> {
                     ),
                 ));
             };
-            let (c, n) = match CartesianPoint::coordinates_fast(praw) {
-                Some(fast) => fast,
-                None => {
-                    let p = self
-                        .s
-                        .decode(praw)
-                        .map_err(|e| parse_diagnostic(&e))
-                        .and_then(|pinst| {
-                            let (line, column) = self.s.locate(praw.offset);
-                            CartesianPoint::from_instance(&pinst, At { id, line, column })
-                                .map_err(|e| self.point_error(i, id, &e.detail()))
-                        })?;
-                    let mut c = [0.0; 3];
-                    for (k, v) in p.coordinates.iter().take(3).enumerate() {
-                        c[k] = *v;
-                    }
-                    (c, p.coordinates.len())
-                }
+            let (c, n) = match self.s.cartesian_point(praw) {
+                Ok(point) => point,
+                Err(DecodeError::Syntax(e)) => return Err(parse_diagnostic(&e)),
+                Err(DecodeError::Schema(e)) => return Err(self.point_error(i, id, &e.detail())),
             };
             match *dim {
                 None if n == 2 || n == 3 => *dim = Some(n),
@@ -511,17 +464,7 @@ impl<'a> Ctx<'_, 'a> {
         }
     }
 
-    fn curve(
-        &self,
-        inst: &Instance<'a>,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Result<Entity, Diagnostic> {
-        let r = BSplineCurve::from_instance(inst, self.at())
-            .map_err(|e| self.error("step.schema", e.detail()))?;
-        self.curve_record(r, diags)
-    }
-
-    /// A curve entity from its typed record (read by either path).
+    /// A curve entity from its typed record.
     fn curve_record(
         &self,
         r: BSplineCurve<'_>,
@@ -562,23 +505,13 @@ impl<'a> Ctx<'_, 'a> {
             geometry: Geometry::Curve(curve),
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.at().line),
+                line: Some(self.s.locate(self.raw.offset).0),
             },
             meta,
         })
     }
 
-    fn surface(
-        &self,
-        inst: &Instance<'a>,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Result<Entity, Diagnostic> {
-        let r = BSplineSurface::from_instance(inst, self.at())
-            .map_err(|e| self.error("step.schema", e.detail()))?;
-        self.surface_record(r, diags)
-    }
-
-    /// A surface entity from its typed record (read by either path).
+    /// A surface entity from its typed record.
     fn surface_record(
         &self,
         r: BSplineSurface<'_>,
@@ -692,7 +625,7 @@ impl<'a> Ctx<'_, 'a> {
             geometry: Geometry::Surface(surface),
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.at().line),
+                line: Some(self.s.locate(self.raw.offset).0),
             },
             meta,
         })
@@ -736,5 +669,5 @@ fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<
 }
 
 #[cfg(test)]
-#[path = "read_direct_tests.rs"]
-mod direct_tests;
+#[path = "read_decoder_tests.rs"]
+mod decoder_tests;

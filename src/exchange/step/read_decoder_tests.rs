@@ -1,7 +1,7 @@
-//! The STEP reader's result does not depend on the direct B-spline decoder
-//! ([`bspline_direct`]): every repository file, generated files and damaged copies read the
-//! same with and without it, and the decoder does answer for every B-spline our writer and
-//! Open CASCADE emit (so the fast path is not silently dead).
+//! The STEP B-spline decoder ([`Scanned::bspline`], with its private one-pass text reader)
+//! gives exactly the record of the general path (the grammar, then the records' attribute
+//! reader), errors included: on every repository file, on written files and on damaged
+//! copies, under default and tight parameter limits.
 
 use super::*;
 use crate::exchange::ExportOptions;
@@ -9,46 +9,47 @@ use crate::exchange::test_files::repository_files;
 use crate::nurbs::Grid;
 use nurbsx_parsers::Limits;
 use nurbsx_parsers::step::scan;
+use nurbsx_parsers::step::schema::{At, BSplineKind, bspline_kind};
 use proptest::prelude::*;
 
-/// Both paths, compared as values and as `Debug` text (which keeps `-0.0` and NaN bits
-/// apart where `PartialEq` would not).
-fn same_both_ways(text: &str, options: &ImportOptions) {
-    let with = read_with(text, options, true);
-    let without = read_with(text, options, false);
-    assert_eq!(format!("{with:?}"), format!("{without:?}"));
-    assert_eq!(with, without);
+/// The general path, written out: decode the instance, classify it, read its attributes.
+fn general<'a>(s: &Scanned<'a>, raw: &RawInstance<'a>) -> Result<Option<BSpline<'a>>, DecodeError> {
+    let inst = s.decode(raw)?;
+    let (line, column) = s.locate(raw.offset);
+    let at = At {
+        id: raw.id,
+        line,
+        column,
+    };
+    Ok(match bspline_kind(&inst.body) {
+        None => None,
+        Some(BSplineKind::Curve) => Some(BSpline::Curve(BSplineCurve::from_instance(&inst, at)?)),
+        Some(BSplineKind::Surface) => {
+            Some(BSpline::Surface(BSplineSurface::from_instance(&inst, at)?))
+        }
+    })
 }
 
-/// How many candidate instances the direct decoder answers, and how many B-spline
-/// instances the general path reads without a schema error.
-fn direct_coverage(text: &str) -> (usize, usize) {
-    let limits = Limits::default();
-    let Ok(s) = scan(text, &limits) else {
-        return (0, 0);
+/// Every instance decodes the same through the decoder and the general path (compared as
+/// `Debug` text too, which keeps `-0.0` and NaN bits apart where `PartialEq` would not);
+/// returns how many B-splines decoded.
+fn same_both_ways(text: &str, limits: &Limits) -> usize {
+    let Ok(s) = scan(text, limits) else {
+        return 0;
     };
-    let mut answered = 0;
-    let mut general = 0;
+    let mut decoded = 0;
     for raw in &s.instances {
-        answered += usize::from(bspline_direct(raw, &limits).is_some());
-        let ok = s
-            .decode(raw)
-            .is_ok_and(|inst| match bspline_kind(&inst.body) {
-                Some(BSplineKind::Curve) => {
-                    BSplineCurve::from_instance(&inst, At::default()).is_ok()
-                }
-                Some(BSplineKind::Surface) => {
-                    BSplineSurface::from_instance(&inst, At::default()).is_ok()
-                }
-                None => false,
-            });
-        general += usize::from(ok);
+        let one = s.bspline(raw);
+        let two = general(&s, raw);
+        assert_eq!(format!("{one:?}"), format!("{two:?}"), "#{}", raw.id);
+        assert_eq!(one, two);
+        decoded += usize::from(matches!(one, Ok(Some(_))));
     }
-    (answered, general)
+    decoded
 }
 
 #[test]
-fn repository_files_read_the_same_with_and_without_the_direct_decoder() {
+fn repository_files_decode_the_same_both_ways() {
     let paths = repository_files(&["samples", "tests"], &["step", "stp"]);
     assert!(paths.len() > 50, "sample files not found");
     let mut entities = 0;
@@ -56,22 +57,14 @@ fn repository_files_read_the_same_with_and_without_the_direct_decoder() {
         let Ok(text) = std::fs::read_to_string(p) else {
             continue;
         };
-        same_both_ways(&text, &ImportOptions::default());
-        // A target unit exercises the scaled path too.
-        let inch = ImportOptions {
-            target_units: Some(LengthUnit::In),
-            ..ImportOptions::default()
-        };
-        same_both_ways(&text, &inch);
+        let decoded = same_both_ways(&text, &Limits::default());
         if p.to_string_lossy().contains("samples/freecad") {
-            let (answered, general) = direct_coverage(&text);
-            assert_eq!(answered, general, "{}", p.display());
-            entities += answered;
+            entities += decoded;
         }
     }
     assert!(
         entities > 100,
-        "only {entities} direct reads in the FreeCAD samples"
+        "only {entities} B-splines decoded in the FreeCAD samples"
     );
 }
 
@@ -151,13 +144,10 @@ fn written(seed: u64, count: usize) -> String {
 }
 
 #[test]
-fn written_files_are_read_directly_and_the_same() {
+fn written_files_decode_the_same_both_ways() {
     for seed in 1..6 {
         let text = written(seed, 30);
-        same_both_ways(&text, &ImportOptions::default());
-        let (answered, general) = direct_coverage(&text);
-        assert_eq!(answered, 30, "seed {seed}");
-        assert_eq!(general, 30, "seed {seed}");
+        assert_eq!(same_both_ways(&text, &Limits::default()), 30, "seed {seed}");
         // And the document read is the one written (entity count; values are the
         // round-trip tests' business).
         let doc = read(&text, &ImportOptions::default()).expect("reads");
@@ -173,7 +163,7 @@ fn bspline_spans(text: &str) -> Vec<(usize, usize)> {
     };
     s.instances
         .iter()
-        .filter(|r| bspline_direct(r, &limits).is_some())
+        .filter(|r| matches!(s.bspline(r), Ok(Some(_))))
         .map(|r| (r.body_offset(), r.body_offset() + r.body.len()))
         .collect()
 }
@@ -261,8 +251,8 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
     /// Damaged copies of a written file (bytes deleted, duplicated, replaced, whitespace
     /// and comments inserted, reals turned into integers, in one B-spline body) read the
-    /// same with and without the direct decoder, errors included, under default and tight
-    /// parameter limits.
+    /// decode the same through the decoder and the general path, errors included, under
+    /// default and tight parameter limits.
     #[test]
     fn damaged_files_read_the_same(
         pick in any::<prop::sample::Index>(),
@@ -273,10 +263,12 @@ proptest! {
         let (text, spans) = base_file();
         prop_assume!(!spans.is_empty());
         let damaged = apply(text, *pick.get(spans), &edits);
-        same_both_ways(&damaged, &ImportOptions::default());
-        let mut tight = ImportOptions::default();
-        tight.limits.max_params_per_entity = max_params;
-        tight.limits.max_nesting_depth = max_depth;
+        same_both_ways(&damaged, &Limits::default());
+        let tight = Limits {
+            max_params_per_entity: max_params,
+            max_nesting_depth: max_depth,
+            ..Limits::default()
+        };
         same_both_ways(&damaged, &tight);
     }
 }

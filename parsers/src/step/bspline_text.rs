@@ -1,10 +1,10 @@
-//! Direct decoding of B-spline curve and surface instances (ISO 10303-42
+//! The B-spline curve and surface instances (ISO 10303-42
 //! `b_spline_curve_with_knots` and `b_spline_surface_with_knots`, attribute order as in
 //! spec.md c.2; their rational complex forms, c.4) from the instance body text, in one
 //! pass, into the typed records [`BSplineCurve`] and [`BSplineSurface`].
 //!
-//! The general path ([`Scanned::decode`](super::Scanned::decode) then
-//! [`BSplineCurve::from_instance`]) builds a [`Parameter`](super::Parameter) tree, one
+//! Private to [`Scanned::bspline`](super::Scanned::bspline), the one decoder of these
+//! records: its general path (the grammar, then [`BSplineCurve::from_instance`]) builds a [`Parameter`](super::Parameter) tree, one
 //! vector per list, and then walks it by attribute name; for the pole, knot and weight
 //! lists that make up nearly all of a B-spline's text this touches every value twice and
 //! allocates a tree node per value. The reader here follows the fixed attribute order of the
@@ -26,26 +26,16 @@
 //! the same; every token must be followed by whitespace, `,` or `)`, which also rejects
 //! what the general lexer reads as one malformed number token (`1.5E3X`, `1.5.2`). Anything else (another partial, a repeated partial, `$`, `*`, typed
 //! parameters, an INTEGER where a REAL is expected or the reverse, a comment, an
-//! overflowing integer, a parameter count or nesting depth beyond [`Limits`]) gives `None`,
+//! overflowing integer, a parameter count or nesting depth beyond [`Limits`](crate::Limits)) gives `None`,
 //! and the caller takes the general path, which decodes it or reports the located error.
 //! The tests below compare both paths on every sample file, on generated files and on
 //! damaged copies.
 
-use super::grammar::{decimal_u64, is_number_char};
+use super::grammar::{ParamLimits, decimal_u64, is_number_char};
 use super::scan::RawInstance;
-use super::schema::{BSplineCurve, BSplineSurface, KnotSpec, Logical, canonical_name};
+use super::schema::{BSpline, BSplineCurve, BSplineSurface, KnotSpec, Logical, canonical_name};
 use super::string::StepString;
-use crate::Limits;
 use crate::real::step_real_at;
-
-/// A B-spline record read by [`bspline_direct`].
-#[derive(Debug, Clone, PartialEq)]
-pub enum DirectBSpline<'a> {
-    /// A `B_SPLINE_CURVE` with explicit knots (`B_SPLINE_CURVE_WITH_KNOTS`, spec.md c.2).
-    Curve(BSplineCurve<'a>),
-    /// A `B_SPLINE_SURFACE` with explicit knots (`B_SPLINE_SURFACE_WITH_KNOTS`, spec.md c.2).
-    Surface(BSplineSurface<'a>),
-}
 
 /// Reads a B-spline curve or surface instance straight from its body text, if it has one of
 /// the shapes listed in the module documentation. `None` means "not read here": the caller
@@ -58,15 +48,14 @@ pub enum DirectBSpline<'a> {
 ///
 /// Whenever this returns `Some(x)`, the general path succeeds with a record equal to `x`
 /// and [`bspline_kind`](super::schema::bspline_kind) gives the same kind.
-pub fn bspline_direct<'a>(raw: &RawInstance<'a>, limits: &Limits) -> Option<DirectBSpline<'a>> {
+pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<BSpline<'a>> {
     let mut r = Reader {
         text: raw.body,
         b: raw.body.as_bytes(),
         i: 0,
         count: 0,
-        max_params: limits.max_params_per_entity,
-        // As the scanner derives it (`ParamLimits::max_depth`).
-        max_depth: limits.max_nesting_depth.max(1),
+        max_params: limits.max_params,
+        max_depth: limits.max_depth,
     };
     let out = match raw.keyword() {
         Some(k) => {
@@ -478,7 +467,7 @@ impl<'a> Reader<'a> {
 
     /// A simple instance (the keyword already read): the whole supertype chain's attributes
     /// in order (`SUPERTYPE_CHAINS` in the schema module).
-    fn simple(&mut self, keyword: &str) -> Option<DirectBSpline<'a>> {
+    fn simple(&mut self, keyword: &str) -> Option<BSpline<'a>> {
         match keyword {
             "B_SPLINE_CURVE_WITH_KNOTS" => {
                 if self.max_depth < 2 {
@@ -491,7 +480,7 @@ impl<'a> Reader<'a> {
                 self.byte(b',')?;
                 let knots = self.curve_knots()?;
                 self.byte(b')')?;
-                Some(DirectBSpline::Curve(curve_record(
+                Some(BSpline::Curve(curve_record(
                     Some(name),
                     c,
                     knots,
@@ -510,7 +499,7 @@ impl<'a> Reader<'a> {
                 self.byte(b',')?;
                 let knots = self.surface_knots()?;
                 self.byte(b')')?;
-                Some(DirectBSpline::Surface(surface_record(
+                Some(BSpline::Surface(surface_record(
                     Some(name),
                     s,
                     knots,
@@ -547,7 +536,7 @@ impl<'a> Reader<'a> {
     }
 
     /// A complex instance `( partial partial ... )`.
-    fn complex(&mut self) -> Option<DirectBSpline<'a>> {
+    fn complex(&mut self) -> Option<BSpline<'a>> {
         // Every shape read here has a list at depth 1.
         if self.max_depth < 2 {
             return None;
@@ -635,14 +624,14 @@ impl<'a> Reader<'a> {
         }
         entity_type.push(')');
         match family {
-            Family::Curve => Some(DirectBSpline::Curve(curve_record(
+            Family::Curve => Some(BSpline::Curve(curve_record(
                 name,
                 curve?,
                 knots?,
                 curve_weights,
                 entity_type,
             ))),
-            Family::Surface => Some(DirectBSpline::Surface(surface_record(
+            Family::Surface => Some(BSpline::Surface(surface_record(
                 name,
                 surface?,
                 knots?,
@@ -753,9 +742,15 @@ fn surface_record<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Limits;
     use crate::step::schema::{At, BSplineKind, bspline_kind};
     use crate::step::{Scanned, scan};
     use proptest::prelude::*;
+
+    /// The text reader under the parameter limits the scanner derives from `limits`.
+    fn bspline_direct<'a>(raw: &RawInstance<'a>, limits: &Limits) -> Option<BSpline<'a>> {
+        read(raw, ParamLimits::from(limits))
+    }
 
     fn file(data: &str) -> String {
         format!(
@@ -776,11 +771,9 @@ mod tests {
         };
         let at = At::default();
         let general = match bspline_kind(&inst.body) {
-            Some(BSplineKind::Curve) => {
-                BSplineCurve::from_instance(&inst, at).map(DirectBSpline::Curve)
-            }
+            Some(BSplineKind::Curve) => BSplineCurve::from_instance(&inst, at).map(BSpline::Curve),
             Some(BSplineKind::Surface) => {
-                BSplineSurface::from_instance(&inst, at).map(DirectBSpline::Surface)
+                BSplineSurface::from_instance(&inst, at).map(BSpline::Surface)
             }
             None => panic!("direct read #{} but it is not a B-spline", raw.id),
         };
@@ -823,7 +816,7 @@ mod tests {
         (answered, bsplines)
     }
 
-    fn one(data: &str, limits: &Limits) -> Option<DirectBSpline<'static>> {
+    fn one(data: &str, limits: &Limits) -> Option<BSpline<'static>> {
         let text: &'static str = Box::leak(file(data).into_boxed_str());
         let s = scan(text, limits).unwrap();
         let raw = s.instances.last().unwrap();
@@ -842,7 +835,7 @@ mod tests {
 
     #[test]
     fn simple_curve_values() {
-        let Some(DirectBSpline::Curve(c)) = one(CURVE, &Limits::default()) else {
+        let Some(BSpline::Curve(c)) = one(CURVE, &Limits::default()) else {
             panic!("not read");
         };
         // Hand-read from the text above.
@@ -865,7 +858,7 @@ mod tests {
 
     #[test]
     fn simple_surface_values() {
-        let Some(DirectBSpline::Surface(s)) = one(SURFACE, &Limits::default()) else {
+        let Some(BSpline::Surface(s)) = one(SURFACE, &Limits::default()) else {
             panic!("not read");
         };
         assert_eq!(s.control_points, vec![vec![1, 2], vec![3, 4]]);
@@ -883,7 +876,7 @@ mod tests {
 
     #[test]
     fn complex_curve_and_surface_values() {
-        let Some(DirectBSpline::Curve(c)) = one(RCURVE, &Limits::default()) else {
+        let Some(BSpline::Curve(c)) = one(RCURVE, &Limits::default()) else {
             panic!("not read");
         };
         assert_eq!(c.weights, Some(vec![1.0, 0.5, 1.0]));
@@ -892,7 +885,7 @@ mod tests {
             "(BOUNDED_CURVE,B_SPLINE_CURVE,B_SPLINE_CURVE_WITH_KNOTS,CURVE,\
              GEOMETRIC_REPRESENTATION_ITEM,RATIONAL_B_SPLINE_CURVE,REPRESENTATION_ITEM)"
         );
-        let Some(DirectBSpline::Surface(s)) = one(RSURFACE, &Limits::default()) else {
+        let Some(BSpline::Surface(s)) = one(RSURFACE, &Limits::default()) else {
             panic!("not read");
         };
         assert_eq!(s.weights, Some(vec![vec![1.0, 2.0], vec![3.0, 4.0]]));
