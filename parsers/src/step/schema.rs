@@ -13,6 +13,8 @@
 //! references, a LOGICAL...). Geometric rules (knot counts, weights > 0) are the exchange
 //! layer's job, which turns records into NURBS.
 
+use std::borrow::Cow;
+
 use super::ast::{Body, Instance, Parameter};
 use super::error::{ParseError, SchemaError};
 use super::scan::{RawInstance, Scanned};
@@ -598,6 +600,12 @@ pub enum Logical {
     Unknown,
 }
 
+impl From<bool> for Logical {
+    fn from(v: bool) -> Self {
+        if v { Logical::True } else { Logical::False }
+    }
+}
+
 impl Logical {
     /// `Some(bool)` for `.T.`/`.F.`, `None` for `.U.`.
     pub fn as_bool(self) -> Option<bool> {
@@ -614,8 +622,8 @@ impl Logical {
 pub struct CartesianPoint<'a> {
     /// `name` (absent only in a complex instance without REPRESENTATION_ITEM).
     pub name: Option<StepString<'a>>,
-    /// 1 to 3 coordinates.
-    pub coordinates: Vec<f64>,
+    /// 1 to 3 coordinates (owned when read, borrowed when written).
+    pub coordinates: Cow<'a, [f64]>,
 }
 
 impl<'a> CartesianPoint<'a> {
@@ -707,7 +715,7 @@ impl<'a> CartesianPoint<'a> {
         }
         Ok(CartesianPoint {
             name: a.string("REPRESENTATION_ITEM", "name").ok(),
-            coordinates,
+            coordinates: Cow::Owned(coordinates),
         })
     }
 }
@@ -1205,7 +1213,7 @@ mod point_text_tests {
             let (fast, n) = CartesianPoint::coordinates_from_text(raw).unwrap();
             let slow = CartesianPoint::from_instance(&s.decode(raw).unwrap(), at(1)).unwrap();
             prop_assert_eq!(n, xs.len());
-            for (f, g) in fast.iter().zip(&slow.coordinates) {
+            for (f, g) in fast.iter().zip(slow.coordinates.iter()) {
                 prop_assert_eq!(f.to_bits(), g.to_bits());
             }
             // The public decoder gives the same.

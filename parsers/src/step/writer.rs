@@ -8,6 +8,7 @@
 //! `B_SPLINE_CURVE` because `O` < `_`). The output is pure ASCII when every string is.
 
 use super::ast::{Body, Exchange, Instance, Parameter, Record};
+use super::schema::{BSplineCurve, BSplineSurface, CartesianPoint, KnotSpec, Logical};
 use super::string::StepString;
 use crate::real::{NonFiniteReal, write_real};
 
@@ -180,6 +181,320 @@ fn write_params_with<'p, 'a>(
         }
     }
     Ok(())
+}
+
+/// Appends `#id = CARTESIAN_POINT('name',(x,y[,z]));` and a newline (ISO 10303-42
+/// 4.4.2), the record's coordinates as they are.
+///
+/// ```
+/// # use std::borrow::Cow;
+/// # use nurbsx_parsers::step::{StepString, schema::CartesianPoint, writer::write_cartesian_point};
+/// let mut out = String::new();
+/// let p = CartesianPoint { name: Some(StepString::new("")), coordinates: Cow::Borrowed(&[0., 1.5, -2.]) };
+/// write_cartesian_point(&mut out, 7, &p).unwrap();
+/// assert_eq!(out, "#7 = CARTESIAN_POINT('',(0.,1.5,-2.));\n");
+/// ```
+pub fn write_cartesian_point(
+    out: &mut String,
+    id: u64,
+    p: &CartesianPoint<'_>,
+) -> Result<(), NonFiniteReal> {
+    push_id(out, id);
+    out.push_str(" = CARTESIAN_POINT(");
+    push_name(out, p.name.as_ref());
+    out.push(',');
+    push_reals(out, &p.coordinates)?;
+    out.push_str(");\n");
+    Ok(())
+}
+
+/// Appends a B-spline curve instance and a newline: a simple instance of the knot subtype
+/// (`B_SPLINE_CURVE_WITH_KNOTS`, `BEZIER_CURVE`, `UNIFORM_CURVE`, `QUASI_UNIFORM_CURVE`)
+/// when it has no weights, else the complex instance of the rational curve (ISO 10303-42
+/// 4.4.18) with its seven partial records in byte order of their keywords (ISO 10303-21
+/// 12.2.5). The record's `entity_type` is not read: the shape follows from the data.
+pub fn write_bspline_curve(
+    out: &mut String,
+    id: u64,
+    c: &BSplineCurve<'_>,
+) -> Result<(), NonFiniteReal> {
+    let subtype = subtype_keyword(&c.knots, "CURVE");
+    let bspline = |out: &mut String| {
+        push_i64(out, c.degree);
+        out.push(',');
+        push_refs(out, &c.control_points);
+        out.push(',');
+        push_enum(out, c.curve_form);
+        out.push(',');
+        push_logical(out, c.closed_curve);
+        out.push(',');
+        push_logical(out, c.self_intersect);
+    };
+    match &c.weights {
+        None => simple(out, id, subtype, c.name.as_ref(), bspline, |out| {
+            knots(out, &c.knots)
+        }),
+        Some(w) => complex(
+            out,
+            id,
+            &mut [
+                ("BOUNDED_CURVE", Part::Empty),
+                ("B_SPLINE_CURVE", Part::BSpline),
+                (subtype, Part::Knots),
+                ("CURVE", Part::Empty),
+                ("GEOMETRIC_REPRESENTATION_ITEM", Part::Empty),
+                ("RATIONAL_B_SPLINE_CURVE", Part::Weights),
+                ("REPRESENTATION_ITEM", Part::Name),
+            ],
+            |out, part| match part {
+                Part::Empty => Ok(()),
+                Part::BSpline => {
+                    bspline(out);
+                    Ok(())
+                }
+                Part::Knots => knots(out, &c.knots),
+                Part::Weights => push_reals(out, w),
+                Part::Name => {
+                    push_name(out, c.name.as_ref());
+                    Ok(())
+                }
+            },
+        ),
+    }
+}
+
+/// Appends a B-spline surface instance and a newline, as [`write_bspline_curve`] does for
+/// curves (ISO 10303-42 4.4.39-4.4.45): control points and weights row by row (outer index
+/// u, ISO 10303-42 4.4.39).
+pub fn write_bspline_surface(
+    out: &mut String,
+    id: u64,
+    sf: &BSplineSurface<'_>,
+) -> Result<(), NonFiniteReal> {
+    let subtype = subtype_keyword(&sf.knots, "SURFACE");
+    let bspline = |out: &mut String| {
+        push_i64(out, sf.u_degree);
+        out.push(',');
+        push_i64(out, sf.v_degree);
+        out.push_str(",(");
+        for (i, row) in sf.control_points.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            push_refs(out, row);
+        }
+        out.push_str("),");
+        push_enum(out, sf.surface_form);
+        out.push(',');
+        push_logical(out, sf.u_closed);
+        out.push(',');
+        push_logical(out, sf.v_closed);
+        out.push(',');
+        push_logical(out, sf.self_intersect);
+    };
+    match &sf.weights {
+        None => simple(out, id, subtype, sf.name.as_ref(), bspline, |out| {
+            knots(out, &sf.knots)
+        }),
+        Some(w) => complex(
+            out,
+            id,
+            &mut [
+                ("BOUNDED_SURFACE", Part::Empty),
+                ("B_SPLINE_SURFACE", Part::BSpline),
+                (subtype, Part::Knots),
+                ("GEOMETRIC_REPRESENTATION_ITEM", Part::Empty),
+                ("RATIONAL_B_SPLINE_SURFACE", Part::Weights),
+                ("REPRESENTATION_ITEM", Part::Name),
+                ("SURFACE", Part::Empty),
+            ],
+            |out, part| match part {
+                Part::Empty => Ok(()),
+                Part::BSpline => {
+                    bspline(out);
+                    Ok(())
+                }
+                Part::Knots => knots(out, &sf.knots),
+                Part::Weights => {
+                    out.push('(');
+                    for (i, row) in w.iter().enumerate() {
+                        if i > 0 {
+                            out.push(',');
+                        }
+                        push_reals(out, row)?;
+                    }
+                    out.push(')');
+                    Ok(())
+                }
+                Part::Name => {
+                    push_name(out, sf.name.as_ref());
+                    Ok(())
+                }
+            },
+        ),
+    }
+}
+
+/// The keyword of the knot subtype partial (`kind` is `CURVE` or `SURFACE`).
+fn subtype_keyword(k: &KnotSpec<'_>, kind: &str) -> &'static str {
+    match (k, kind) {
+        (KnotSpec::Explicit { .. }, "CURVE") => "B_SPLINE_CURVE_WITH_KNOTS",
+        (KnotSpec::Bezier, "CURVE") => "BEZIER_CURVE",
+        (KnotSpec::Uniform, "CURVE") => "UNIFORM_CURVE",
+        (KnotSpec::QuasiUniform, "CURVE") => "QUASI_UNIFORM_CURVE",
+        (KnotSpec::Explicit { .. }, _) => "B_SPLINE_SURFACE_WITH_KNOTS",
+        (KnotSpec::Bezier, _) => "BEZIER_SURFACE",
+        (KnotSpec::Uniform, _) => "UNIFORM_SURFACE",
+        (KnotSpec::QuasiUniform, _) => "QUASI_UNIFORM_SURFACE",
+    }
+}
+
+/// The knot attributes of `..._WITH_KNOTS` (every direction's multiplicities, then every
+/// direction's knots, then `knot_spec`); nothing for the implicit subtypes.
+fn knots(out: &mut String, k: &KnotSpec<'_>) -> Result<(), NonFiniteReal> {
+    if let KnotSpec::Explicit {
+        multiplicities,
+        knots,
+        knot_spec,
+    } = k
+    {
+        for m in multiplicities {
+            push_integers(out, m);
+            out.push(',');
+        }
+        for values in knots {
+            push_reals(out, values)?;
+            out.push(',');
+        }
+        push_enum(out, knot_spec);
+    }
+    Ok(())
+}
+
+/// One partial record of a complex instance: which attributes it holds.
+#[derive(Clone, Copy)]
+enum Part {
+    Empty,
+    BSpline,
+    Knots,
+    Weights,
+    Name,
+}
+
+/// `#id = ( A(...) B(...) );` with the partials in byte-wise keyword order (ISO 10303-21
+/// clause 12.2.5), each part's attributes written by `params`.
+fn complex(
+    out: &mut String,
+    id: u64,
+    parts: &mut [(&'static str, Part)],
+    mut params: impl FnMut(&mut String, Part) -> Result<(), NonFiniteReal>,
+) -> Result<(), NonFiniteReal> {
+    parts.sort_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
+    push_id(out, id);
+    out.push_str(" = ( ");
+    for &(keyword, part) in parts.iter() {
+        out.push_str(keyword);
+        out.push('(');
+        params(out, part)?;
+        out.push_str(") ");
+    }
+    out.push_str(");\n");
+    Ok(())
+}
+
+/// `#id = KEYWORD('name',<B-spline attributes>[,<knot attributes>]);` (the knot attributes
+/// only for `..._WITH_KNOTS`; the implicit subtypes have none).
+fn simple(
+    out: &mut String,
+    id: u64,
+    keyword: &str,
+    name: Option<&StepString<'_>>,
+    bspline: impl FnOnce(&mut String),
+    knots: impl FnOnce(&mut String) -> Result<(), NonFiniteReal>,
+) -> Result<(), NonFiniteReal> {
+    push_id(out, id);
+    out.push_str(" = ");
+    out.push_str(keyword);
+    out.push('(');
+    push_name(out, name);
+    out.push(',');
+    bspline(out);
+    if keyword.ends_with("_WITH_KNOTS") {
+        out.push(',');
+        knots(out)?;
+    }
+    out.push_str(");\n");
+    Ok(())
+}
+
+fn push_id(out: &mut String, id: u64) {
+    out.push('#');
+    push_u64(out, id);
+}
+
+fn push_i64(out: &mut String, v: i64) {
+    if v < 0 {
+        out.push('-');
+    }
+    push_u64(out, v.unsigned_abs());
+}
+
+/// `(#a,#b,...)`.
+fn push_refs(out: &mut String, ids: &[u64]) {
+    out.push('(');
+    for (k, &id) in ids.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        push_id(out, id);
+    }
+    out.push(')');
+}
+
+/// `(x,y,...)`, each real by [`write_real`].
+fn push_reals(out: &mut String, values: &[f64]) -> Result<(), NonFiniteReal> {
+    out.push('(');
+    for (k, &x) in values.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        write_real(out, x)?;
+    }
+    out.push(')');
+    Ok(())
+}
+
+/// `(1,2,...)`.
+fn push_integers(out: &mut String, values: &[i64]) {
+    out.push('(');
+    for (k, &m) in values.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        push_i64(out, m);
+    }
+    out.push(')');
+}
+
+fn push_enum(out: &mut String, e: &str) {
+    out.push('.');
+    out.push_str(e);
+    out.push('.');
+}
+
+fn push_logical(out: &mut String, v: Logical) {
+    out.push_str(match v {
+        Logical::True => ".T.",
+        Logical::False => ".F.",
+        Logical::Unknown => ".U.",
+    });
+}
+
+/// `'raw text'` (an absent name is written empty).
+fn push_name(out: &mut String, name: Option<&StepString<'_>>) {
+    out.push('\'');
+    out.push_str(name.map_or("", |n| &n.raw));
+    out.push('\'');
 }
 
 impl Parameter<'static> {

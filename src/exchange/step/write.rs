@@ -20,11 +20,14 @@
 //! QUASI_UNIFORM_ subtype implies are written as that subtype, except where Open CASCADE
 //! would drop or misread it (rational or multi-span Bezier): those keep explicit knots.
 
+use std::borrow::Cow;
+
 use nurbsx_parsers::real::NonFiniteReal;
-use nurbsx_parsers::step::writer::{write_instance, write_record};
-use nurbsx_parsers::step::{Body, Builder, Parameter, Record};
-#[cfg(test)]
-use nurbsx_parsers::step::{DataSection, Exchange, write_exchange};
+use nurbsx_parsers::step::schema::{BSplineCurve, BSplineSurface, CartesianPoint, KnotSpec};
+use nurbsx_parsers::step::writer::{
+    write_bspline_curve, write_bspline_surface, write_cartesian_point, write_instance, write_record,
+};
+use nurbsx_parsers::step::{Body, Builder, Parameter, Record, StepString};
 
 use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
@@ -298,59 +301,15 @@ fn finish(
     ]
 }
 
-/// The straightforward writer: every instance as a [`Parameter`] tree in a [`Builder`],
-/// formatted by [`write_exchange`]. [`write`] must produce exactly its bytes (tested).
-#[cfg(test)]
-pub(crate) fn write_reference(
-    document: &Document,
-    options: &ExportOptions,
-) -> Result<String, Diagnostic> {
-    let mut f = frame(document, options);
-    let scale = f.scale;
-    let b = &mut f.b;
-    let mut curves3 = Vec::new();
-    let mut curves2 = Vec::new();
-    let mut surfaces = Vec::new();
-    for e in &document.entities {
-        let loc = Location::at_entity(e.id.clone());
-        match &e.geometry {
-            Geometry::Curve(c) => {
-                let id = curve(b, c, e, scale, options)
-                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
-                if c.dimension() == 2 {
-                    curves2.push(id);
-                } else {
-                    curves3.push(id);
-                }
-            }
-            Geometry::Surface(sf) => {
-                let id = surface(b, sf, e, scale, options)
-                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
-                surfaces.push(id);
-            }
-        }
-    }
-    let header = finish(&mut f, options, &curves3, &curves2, &surfaces);
-    let b = std::mem::take(&mut f.b);
-    let exchange = Exchange {
-        header,
-        data: vec![DataSection {
-            params: Vec::new(),
-            instances: b.into_instances(),
-        }],
-    };
-    write_exchange(&exchange)
-        .map_err(|e| Diagnostic::error("step.write", e.to_string(), Location::default()))
-}
-
 /// Writes a document as a STEP file (module documentation above). Coordinates are scaled
 /// once when `options.units` differs from the document's unit; the file declares the unit
 /// its numbers are in. Fails on non-finite values (impossible for checked NURBS) only.
 ///
-/// The geometry (poles and B-spline instances, nearly all of a file) is formatted straight
-/// from the model into one pre-sized string, with no parameter tree; the few other instances
-/// go through [`Builder`] and [`write_instance`]. The text is byte-identical to the
-/// straightforward path (`write_reference`, tests below) and ids are assigned in the same
+/// The geometry (poles and B-spline instances, nearly all of a file) becomes typed records
+/// (`CartesianPoint`, `BSplineCurve`, `BSplineSurface`) that the Part 21 record writers
+/// append to one pre-sized string, with no parameter tree; the few other instances go
+/// through [`Builder`] and [`write_instance`]. The text is byte-identical to the
+/// parameter-tree path (the reference writer of the tests) and ids are assigned in the same
 /// order: each entity's poles, then the entity.
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
     let mut f = frame(document, options);
@@ -415,8 +374,8 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     let mut id = first;
     for e in &document.entities {
         match &e.geometry {
-            Geometry::Curve(c) => fast::curve(&mut out, &mut id, c, e, scale, options),
-            Geometry::Surface(sf) => fast::surface(&mut out, &mut id, sf, e, scale, options),
+            Geometry::Curve(c) => write_curve(&mut out, &mut id, c, e, scale, options),
+            Geometry::Surface(sf) => write_surface(&mut out, &mut id, sf, e, scale, options),
         }
         .map_err(real_error)?;
     }
@@ -457,8 +416,157 @@ fn surface_closed(sf: &NurbsSurface) -> (bool, bool) {
     (gap_u <= tol, gap_v <= tol)
 }
 
-/// The B-spline instances written as text, straight from the model (used by [`write`]).
-mod fast;
+/// The records of one curve: its poles (ids from `*id` on) and its B-spline (the next id),
+/// written by the Part 21 record writers; `id` is left at the next free id.
+fn write_curve(
+    out: &mut String,
+    id: &mut u64,
+    c: &NurbsCurve,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<(), NonFiniteReal> {
+    let first = *id;
+    for p in c.control_points() {
+        write_point(out, *id, p, c.dimension(), scale)?;
+        *id += 1;
+    }
+    let cid = *id;
+    *id += 1;
+    let n = c.num_poles();
+    let subtype = if options.use_implicit_knot_subtypes {
+        implicit_subtype(c.degree(), n, c.knots())
+            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), n)]))
+    } else {
+        None
+    };
+    let knots = knot_spec(subtype, || {
+        let (values, mults) = crate::nurbs::knots::to_distinct(c.knots());
+        (
+            vec![counts(&mults)],
+            vec![values],
+            knot_form(c.degree(), c.knots()),
+        )
+    });
+    let record = BSplineCurve {
+        name: Some(StepString::from_text(e.meta.name.as_deref().unwrap_or(""))),
+        degree: i64::try_from(c.degree()).unwrap_or(i64::MAX),
+        control_points: (first..cid).collect(),
+        curve_form: form_name(e.meta.form.as_ref(), CURVE_FORMS),
+        closed_curve: curve_closed(c).into(),
+        self_intersect: e.meta.self_intersect.unwrap_or(false).into(),
+        knots,
+        weights: c.weights().map(<[f64]>::to_vec),
+        entity_type: String::new(),
+    };
+    write_bspline_curve(out, cid, &record)
+}
+
+/// The records of one surface: its poles row by row, then its B-spline, as
+/// [`write_curve`].
+fn write_surface(
+    out: &mut String,
+    id: &mut u64,
+    sf: &NurbsSurface,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<(), NonFiniteReal> {
+    let net = sf.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    let mut rows = Vec::with_capacity(nu);
+    for i in 0..nu {
+        let row_first = *id;
+        for p in net.row(i) {
+            write_point(out, *id, p, sf.dimension(), scale)?;
+            *id += 1;
+        }
+        rows.push((row_first..*id).collect());
+    }
+    let sid = *id;
+    *id += 1;
+    let subtype = if options.use_implicit_knot_subtypes {
+        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
+        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
+        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+        if su == sv {
+            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+        } else {
+            None
+        }
+    } else {
+        None
+    };
+    let knots = knot_spec(subtype, || {
+        let (ku, mu) = crate::nurbs::knots::to_distinct(sf.knots_u());
+        let (kv, mv) = crate::nurbs::knots::to_distinct(sf.knots_v());
+        let fu = knot_form(sf.degree_u(), sf.knots_u());
+        let fv = knot_form(sf.degree_v(), sf.knots_v());
+        let spec = if fu == fv { fu } else { "UNSPECIFIED" };
+        (vec![counts(&mu), counts(&mv)], vec![ku, kv], spec)
+    });
+    let (closed_u, closed_v) = surface_closed(sf);
+    let record = BSplineSurface {
+        name: Some(StepString::from_text(e.meta.name.as_deref().unwrap_or(""))),
+        u_degree: i64::try_from(sf.degree_u()).unwrap_or(i64::MAX),
+        v_degree: i64::try_from(sf.degree_v()).unwrap_or(i64::MAX),
+        control_points: rows,
+        surface_form: form_name(e.meta.form.as_ref(), SURFACE_FORMS),
+        u_closed: closed_u.into(),
+        v_closed: closed_v.into(),
+        self_intersect: e.meta.self_intersect.unwrap_or(false).into(),
+        knots,
+        weights: sf
+            .weights()
+            .map(|w| (0..nu).map(|i| w.row(i).to_vec()).collect()),
+        entity_type: String::new(),
+    };
+    write_bspline_surface(out, sid, &record)
+}
+
+/// `#id = CARTESIAN_POINT('',(x,y[,z]));` with the first `dim` coordinates, scaled.
+fn write_point(
+    out: &mut String,
+    id: u64,
+    p: &crate::nurbs::Point3,
+    dim: usize,
+    scale: f64,
+) -> Result<(), NonFiniteReal> {
+    let scaled = [p[0] * scale, p[1] * scale, p[2] * scale];
+    let point = CartesianPoint {
+        name: Some(StepString::new("")),
+        coordinates: Cow::Borrowed(scaled.get(..dim).unwrap_or(&scaled)),
+    };
+    write_cartesian_point(out, id, &point)
+}
+
+/// The knot attributes: the implicit subtype's, else the explicit lists `explicit` makes.
+fn knot_spec(
+    subtype: Option<KnotForm>,
+    explicit: impl FnOnce() -> (Vec<Vec<i64>>, Vec<Vec<f64>>, &'static str),
+) -> KnotSpec<'static> {
+    match subtype {
+        Some(KnotForm::Bezier) => KnotSpec::Bezier,
+        Some(KnotForm::Uniform) => KnotSpec::Uniform,
+        Some(KnotForm::QuasiUniform) => KnotSpec::QuasiUniform,
+        None => {
+            let (multiplicities, knots, knot_spec) = explicit();
+            KnotSpec::Explicit {
+                multiplicities,
+                knots,
+                knot_spec,
+            }
+        }
+    }
+}
+
+/// Multiplicities as the INTEGERs of the record.
+fn counts(mults: &[usize]) -> Vec<i64> {
+    mults
+        .iter()
+        .map(|&m| i64::try_from(m).unwrap_or(i64::MAX))
+        .collect()
+}
 
 /// The representation context with length, angle and solid-angle units and a 1e-7
 /// uncertainty (in the length unit), as Open CASCADE writes it.
@@ -595,23 +703,6 @@ fn axis_placement(b: &mut Builder) -> u64 {
     )
 }
 
-#[cfg(test)]
-fn point(b: &mut Builder, p: crate::nurbs::Point3, dim: usize, scale: f64) -> u64 {
-    let c: Vec<f64> = p.iter().take(dim).map(|x| x * scale).collect();
-    b.simple("CARTESIAN_POINT", vec![s(""), Parameter::reals(&c)])
-}
-
-/// Distinct knots and multiplicities as STEP parameters.
-#[cfg(test)]
-fn knot_lists(knots: &[f64]) -> (Parameter<'static>, Parameter<'static>) {
-    let (values, mults) = crate::nurbs::knots::to_distinct(knots);
-    let mults: Vec<i64> = mults
-        .iter()
-        .map(|&m| i64::try_from(m).unwrap_or(i64::MAX))
-        .collect();
-    (Parameter::integers(&mults), Parameter::reals(&values))
-}
-
 /// The implicit-knot subtype whose knots are exactly `knots`, if any.
 fn implicit_subtype(degree: usize, poles: usize, knots: &[f64]) -> Option<KnotForm> {
     [KnotForm::Bezier, KnotForm::QuasiUniform, KnotForm::Uniform]
@@ -639,11 +730,6 @@ fn form_name(meta: Option<&String>, allowed: &[&'static str]) -> &'static str {
         .unwrap_or("UNSPECIFIED")
 }
 
-#[cfg(test)]
-fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
-    Parameter::Enumeration(form_name(meta, allowed))
-}
-
 const CURVE_FORMS: &[&str] = &[
     "POLYLINE_FORM",
     "CIRCULAR_ARC",
@@ -665,166 +751,6 @@ const SURFACE_FORMS: &[&str] = &[
     "SURF_OF_LINEAR_EXTRUSION",
     "UNSPECIFIED",
 ];
-
-#[cfg(test)]
-fn name_of(e: &Entity) -> Parameter<'static> {
-    s(e.meta.name.as_deref().unwrap_or(""))
-}
-
-/// Writes one curve; returns its id.
-#[cfg(test)]
-fn curve(
-    b: &mut Builder,
-    c: &NurbsCurve,
-    e: &Entity,
-    scale: f64,
-    options: &ExportOptions,
-) -> Result<u64, String> {
-    let dim = c.dimension();
-    let pts: Vec<u64> = c
-        .control_points()
-        .iter()
-        .map(|&p| point(b, p, dim, scale))
-        .collect();
-    let degree = i64::try_from(c.degree()).map_err(|_| "degree out of range".to_owned())?;
-    let (d0, d1) = c.domain();
-    let closed = distance(c.point_at_unchecked(d0), c.point_at_unchecked(d1))
-        <= closure_tolerance(c.control_points());
-    let bspline = vec![
-        Parameter::Integer(degree),
-        Parameter::refs(&pts),
-        form_of(e.meta.form.as_ref(), CURVE_FORMS),
-        Parameter::logical(closed),
-        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
-    ];
-    let subtype = if options.use_implicit_knot_subtypes {
-        implicit_subtype(c.degree(), c.num_poles(), c.knots())
-            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), c.num_poles())]))
-    } else {
-        None
-    };
-    let (mults, knots) = knot_lists(c.knots());
-    let spec = Parameter::Enumeration(knot_form(c.degree(), c.knots()));
-    let (sub_keyword, sub_params) = match subtype {
-        Some(KnotForm::Bezier) => ("BEZIER_CURVE", vec![]),
-        Some(KnotForm::Uniform) => ("UNIFORM_CURVE", vec![]),
-        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_CURVE", vec![]),
-        None => ("B_SPLINE_CURVE_WITH_KNOTS", vec![mults, knots, spec]),
-    };
-    Ok(match c.weights() {
-        None => {
-            let mut params = vec![name_of(e)];
-            params.extend(bspline);
-            params.extend(sub_params);
-            b.simple(sub_keyword, params)
-        }
-        Some(w) => b.complex(vec![
-            rec("BOUNDED_CURVE", vec![]),
-            rec("B_SPLINE_CURVE", bspline),
-            rec(sub_keyword, sub_params),
-            rec("CURVE", vec![]),
-            rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
-            rec("RATIONAL_B_SPLINE_CURVE", vec![Parameter::reals(w)]),
-            rec("REPRESENTATION_ITEM", vec![name_of(e)]),
-        ]),
-    })
-}
-
-/// Writes one surface; returns its id.
-#[cfg(test)]
-fn surface(
-    b: &mut Builder,
-    sf: &NurbsSurface,
-    e: &Entity,
-    scale: f64,
-    options: &ExportOptions,
-) -> Result<u64, String> {
-    let dim = sf.dimension();
-    let net = sf.control_points();
-    let (nu, nv) = (net.nu(), net.nv());
-    let rows: Vec<Parameter<'static>> = (0..nu)
-        .map(|i| {
-            let ids: Vec<u64> = net
-                .row(i)
-                .iter()
-                .map(|&p| point(b, p, dim, scale))
-                .collect();
-            Parameter::refs(&ids)
-        })
-        .collect();
-    let du = i64::try_from(sf.degree_u()).map_err(|_| "degree out of range".to_owned())?;
-    let dv = i64::try_from(sf.degree_v()).map_err(|_| "degree out of range".to_owned())?;
-    let tol = closure_tolerance(net.as_slice());
-    let ((u0, u1), (v0, v1)) = sf.domain();
-    let mut gap_u: f64 = 0.0;
-    let mut gap_v: f64 = 0.0;
-    for k in 0..=8 {
-        let t = k as f64 / 8.0;
-        let v = v0 + (v1 - v0) * t;
-        let u = u0 + (u1 - u0) * t;
-        gap_u = gap_u.max(distance(
-            sf.point_at_unchecked(u0, v),
-            sf.point_at_unchecked(u1, v),
-        ));
-        gap_v = gap_v.max(distance(
-            sf.point_at_unchecked(u, v0),
-            sf.point_at_unchecked(u, v1),
-        ));
-    }
-    let bspline = vec![
-        Parameter::Integer(du),
-        Parameter::Integer(dv),
-        Parameter::List(rows),
-        form_of(e.meta.form.as_ref(), SURFACE_FORMS),
-        Parameter::logical(gap_u <= tol),
-        Parameter::logical(gap_v <= tol),
-        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
-    ];
-    let subtype = if options.use_implicit_knot_subtypes {
-        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
-        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
-        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
-        if su == sv {
-            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
-        } else {
-            None
-        }
-    } else {
-        None
-    };
-    let (mu, ku) = knot_lists(sf.knots_u());
-    let (mv, kv) = knot_lists(sf.knots_v());
-    let fu = knot_form(sf.degree_u(), sf.knots_u());
-    let fv = knot_form(sf.degree_v(), sf.knots_v());
-    let spec = Parameter::Enumeration(if fu == fv { fu } else { "UNSPECIFIED" });
-    let (sub_keyword, sub_params) = match subtype {
-        Some(KnotForm::Bezier) => ("BEZIER_SURFACE", vec![]),
-        Some(KnotForm::Uniform) => ("UNIFORM_SURFACE", vec![]),
-        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_SURFACE", vec![]),
-        None => ("B_SPLINE_SURFACE_WITH_KNOTS", vec![mu, mv, ku, kv, spec]),
-    };
-    Ok(match sf.weights() {
-        None => {
-            let mut params = vec![name_of(e)];
-            params.extend(bspline);
-            params.extend(sub_params);
-            b.simple(sub_keyword, params)
-        }
-        Some(w) => {
-            let wrows: Vec<Parameter<'static>> =
-                (0..nu).map(|i| Parameter::reals(w.row(i))).collect();
-            b.complex(vec![
-                rec("BOUNDED_SURFACE", vec![]),
-                rec("B_SPLINE_SURFACE", bspline),
-                rec(sub_keyword, sub_params),
-                rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
-                rec("RATIONAL_B_SPLINE_SURFACE", vec![Parameter::List(wrows)]),
-                rec("REPRESENTATION_ITEM", vec![name_of(e)]),
-                rec("SURFACE", vec![]),
-            ])
-        }
-    })
-}
 
 /// The current UTC time as `YYYY-MM-DDTHH:MM:SS` (civil-from-days, H. Hinnant's algorithm).
 fn now_iso8601() -> String {

@@ -2,7 +2,228 @@ use super::*;
 use crate::exchange::test_documents::random_document;
 use crate::exchange::{Format, ImportOptions};
 use crate::nurbs::Point3;
+use nurbsx_parsers::step::{DataSection, Exchange, write_exchange};
 use proptest::prelude::*;
+
+// The reference writer: every instance as a `Parameter` tree in a `Builder`, formatted by
+// `write_exchange`; `write` must produce exactly its bytes.
+
+/// The straightforward writer: every instance as a [`Parameter`] tree in a [`Builder`],
+/// formatted by [`write_exchange`]. [`write`] must produce exactly its bytes (tested).
+fn write_reference(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    let mut f = frame(document, options);
+    let scale = f.scale;
+    let b = &mut f.b;
+    let mut curves3 = Vec::new();
+    let mut curves2 = Vec::new();
+    let mut surfaces = Vec::new();
+    for e in &document.entities {
+        let loc = Location::at_entity(e.id.clone());
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                let id = curve(b, c, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                if c.dimension() == 2 {
+                    curves2.push(id);
+                } else {
+                    curves3.push(id);
+                }
+            }
+            Geometry::Surface(sf) => {
+                let id = surface(b, sf, e, scale, options)
+                    .map_err(|m| Diagnostic::error("step.write", m, loc))?;
+                surfaces.push(id);
+            }
+        }
+    }
+    let header = finish(&mut f, options, &curves3, &curves2, &surfaces);
+    let b = std::mem::take(&mut f.b);
+    let exchange = Exchange {
+        header,
+        data: vec![DataSection {
+            params: Vec::new(),
+            instances: b.into_instances(),
+        }],
+    };
+    write_exchange(&exchange)
+        .map_err(|e| Diagnostic::error("step.write", e.to_string(), Location::default()))
+}
+
+fn point(b: &mut Builder, p: crate::nurbs::Point3, dim: usize, scale: f64) -> u64 {
+    let c: Vec<f64> = p.iter().take(dim).map(|x| x * scale).collect();
+    b.simple("CARTESIAN_POINT", vec![s(""), Parameter::reals(&c)])
+}
+
+/// Distinct knots and multiplicities as STEP parameters.
+fn knot_lists(knots: &[f64]) -> (Parameter<'static>, Parameter<'static>) {
+    let (values, mults) = crate::nurbs::knots::to_distinct(knots);
+    let mults: Vec<i64> = mults
+        .iter()
+        .map(|&m| i64::try_from(m).unwrap_or(i64::MAX))
+        .collect();
+    (Parameter::integers(&mults), Parameter::reals(&values))
+}
+
+fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
+    Parameter::Enumeration(form_name(meta, allowed))
+}
+
+fn name_of(e: &Entity) -> Parameter<'static> {
+    s(e.meta.name.as_deref().unwrap_or(""))
+}
+
+/// Writes one curve; returns its id.
+fn curve(
+    b: &mut Builder,
+    c: &NurbsCurve,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<u64, String> {
+    let dim = c.dimension();
+    let pts: Vec<u64> = c
+        .control_points()
+        .iter()
+        .map(|&p| point(b, p, dim, scale))
+        .collect();
+    let degree = i64::try_from(c.degree()).map_err(|_| "degree out of range".to_owned())?;
+    let (d0, d1) = c.domain();
+    let closed = distance(c.point_at_unchecked(d0), c.point_at_unchecked(d1))
+        <= closure_tolerance(c.control_points());
+    let bspline = vec![
+        Parameter::Integer(degree),
+        Parameter::refs(&pts),
+        form_of(e.meta.form.as_ref(), CURVE_FORMS),
+        Parameter::logical(closed),
+        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
+    ];
+    let subtype = if options.use_implicit_knot_subtypes {
+        implicit_subtype(c.degree(), c.num_poles(), c.knots())
+            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), c.num_poles())]))
+    } else {
+        None
+    };
+    let (mults, knots) = knot_lists(c.knots());
+    let spec = Parameter::Enumeration(knot_form(c.degree(), c.knots()));
+    let (sub_keyword, sub_params) = match subtype {
+        Some(KnotForm::Bezier) => ("BEZIER_CURVE", vec![]),
+        Some(KnotForm::Uniform) => ("UNIFORM_CURVE", vec![]),
+        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_CURVE", vec![]),
+        None => ("B_SPLINE_CURVE_WITH_KNOTS", vec![mults, knots, spec]),
+    };
+    Ok(match c.weights() {
+        None => {
+            let mut params = vec![name_of(e)];
+            params.extend(bspline);
+            params.extend(sub_params);
+            b.simple(sub_keyword, params)
+        }
+        Some(w) => b.complex(vec![
+            rec("BOUNDED_CURVE", vec![]),
+            rec("B_SPLINE_CURVE", bspline),
+            rec(sub_keyword, sub_params),
+            rec("CURVE", vec![]),
+            rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
+            rec("RATIONAL_B_SPLINE_CURVE", vec![Parameter::reals(w)]),
+            rec("REPRESENTATION_ITEM", vec![name_of(e)]),
+        ]),
+    })
+}
+
+/// Writes one surface; returns its id.
+fn surface(
+    b: &mut Builder,
+    sf: &NurbsSurface,
+    e: &Entity,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<u64, String> {
+    let dim = sf.dimension();
+    let net = sf.control_points();
+    let (nu, nv) = (net.nu(), net.nv());
+    let rows: Vec<Parameter<'static>> = (0..nu)
+        .map(|i| {
+            let ids: Vec<u64> = net
+                .row(i)
+                .iter()
+                .map(|&p| point(b, p, dim, scale))
+                .collect();
+            Parameter::refs(&ids)
+        })
+        .collect();
+    let du = i64::try_from(sf.degree_u()).map_err(|_| "degree out of range".to_owned())?;
+    let dv = i64::try_from(sf.degree_v()).map_err(|_| "degree out of range".to_owned())?;
+    let tol = closure_tolerance(net.as_slice());
+    let ((u0, u1), (v0, v1)) = sf.domain();
+    let mut gap_u: f64 = 0.0;
+    let mut gap_v: f64 = 0.0;
+    for k in 0..=8 {
+        let t = k as f64 / 8.0;
+        let v = v0 + (v1 - v0) * t;
+        let u = u0 + (u1 - u0) * t;
+        gap_u = gap_u.max(distance(
+            sf.point_at_unchecked(u0, v),
+            sf.point_at_unchecked(u1, v),
+        ));
+        gap_v = gap_v.max(distance(
+            sf.point_at_unchecked(u, v0),
+            sf.point_at_unchecked(u, v1),
+        ));
+    }
+    let bspline = vec![
+        Parameter::Integer(du),
+        Parameter::Integer(dv),
+        Parameter::List(rows),
+        form_of(e.meta.form.as_ref(), SURFACE_FORMS),
+        Parameter::logical(gap_u <= tol),
+        Parameter::logical(gap_v <= tol),
+        Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
+    ];
+    let subtype = if options.use_implicit_knot_subtypes {
+        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
+        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
+        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+        if su == sv {
+            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+        } else {
+            None
+        }
+    } else {
+        None
+    };
+    let (mu, ku) = knot_lists(sf.knots_u());
+    let (mv, kv) = knot_lists(sf.knots_v());
+    let fu = knot_form(sf.degree_u(), sf.knots_u());
+    let fv = knot_form(sf.degree_v(), sf.knots_v());
+    let spec = Parameter::Enumeration(if fu == fv { fu } else { "UNSPECIFIED" });
+    let (sub_keyword, sub_params) = match subtype {
+        Some(KnotForm::Bezier) => ("BEZIER_SURFACE", vec![]),
+        Some(KnotForm::Uniform) => ("UNIFORM_SURFACE", vec![]),
+        Some(KnotForm::QuasiUniform) => ("QUASI_UNIFORM_SURFACE", vec![]),
+        None => ("B_SPLINE_SURFACE_WITH_KNOTS", vec![mu, mv, ku, kv, spec]),
+    };
+    Ok(match sf.weights() {
+        None => {
+            let mut params = vec![name_of(e)];
+            params.extend(bspline);
+            params.extend(sub_params);
+            b.simple(sub_keyword, params)
+        }
+        Some(w) => {
+            let wrows: Vec<Parameter<'static>> =
+                (0..nu).map(|i| Parameter::reals(w.row(i))).collect();
+            b.complex(vec![
+                rec("BOUNDED_SURFACE", vec![]),
+                rec("B_SPLINE_SURFACE", bspline),
+                rec(sub_keyword, sub_params),
+                rec("GEOMETRIC_REPRESENTATION_ITEM", vec![]),
+                rec("RATIONAL_B_SPLINE_SURFACE", vec![Parameter::List(wrows)]),
+                rec("REPRESENTATION_ITEM", vec![name_of(e)]),
+                rec("SURFACE", vec![]),
+            ])
+        }
+    })
+}
 
 fn options_variants() -> Vec<ExportOptions> {
     let mut v = Vec::new();
