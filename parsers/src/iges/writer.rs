@@ -19,7 +19,7 @@ use super::P_DATA_COLUMNS;
 use super::directory::DirectoryEntry;
 use super::error::WriteError;
 use super::global::Global;
-use crate::real::{NonFiniteReal, write_real, write_real_fast};
+use crate::real::{NonFiniteReal, write_real};
 
 /// One parameter to write.
 #[derive(Debug, Clone, PartialEq)]
@@ -193,7 +193,7 @@ impl ParamWriter<'_> {
     #[inline]
     pub fn real(&mut self, x: f64) -> Result<(), NonFiniteReal> {
         let start = self.out.len();
-        write_real_fast(self.out, x)?;
+        write_real(self.out, x)?;
         self.place(start);
         Ok(())
     }

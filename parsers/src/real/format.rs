@@ -1,7 +1,10 @@
-//! A faster [`super::write_real`] for the writers: the same text, byte for byte, with the
-//! common CAD values (integers, short binary fractions such as `0.25`) formatted directly
-//! instead of through std's `Display`, which the reference path uses for every value whose
-//! exact decimal expansion is short (those are the only possible Ryu/std tie cases).
+//! The one REAL formatter of both writers ([`write_real`]): std's shortest round-trip digits
+//! (its `Display`/`LowerExp`, the definition, [`write_real_std`]) in the layout of the
+//! module documentation, reached by three routes that give the same bytes: the common CAD
+//! values (integers, short binary fractions such as `0.25`) formatted directly, Ryu's
+//! shortest digits for values that cannot be a tie between two shortest candidates, and std
+//! itself for the few whose exact decimal expansion is short (the only possible Ryu/std tie
+//! cases).
 //!
 //! Why the direct forms are the shortest round-trip digits:
 //! - an integer `|x| < 2^53`: its neighbours are at most 1 apart, so no other decimal with as
@@ -14,21 +17,24 @@
 //! The tests compare every path with the std reference over random bits, ties, short
 //! decimals and the layout thresholds.
 
-use super::{NonFiniteReal, write_real};
+use std::fmt::Write as _;
 
-/// Appends `x` exactly as [`write_real`] does (same bytes for every finite `f64`; the same
-/// error for NaN and infinities), faster for integers and short binary fractions.
+use super::NonFiniteReal;
+
+/// Appends `x` to `out` in the shortest form that reads back bit-identical, always with a
+/// decimal point (layout in the module documentation of [`crate::real`]); NaN and infinities
+/// are refused.
 ///
 /// ```
-/// # use nurbsx_parsers::real::write_real_fast;
+/// # use nurbsx_parsers::real::write_real;
 /// let mut s = String::new();
-/// for x in [1.0, 0.25, -0.0, 250.0, 1e-7, 0.1 + 0.2] {
-///     write_real_fast(&mut s, x).unwrap();
+/// for x in [1.0, 0.1 + 0.2, 1e16, -0.0, 5e-324, 250.0, 0.25, 1e-7] {
+///     write_real(&mut s, x).unwrap();
 ///     s.push(' ');
 /// }
-/// assert_eq!(s, "1. 0.25 -0. 250. 1.E-7 0.30000000000000004 ");
+/// assert_eq!(s, "1. 0.30000000000000004 1.E16 -0. 5.E-324 250. 0.25 1.E-7 ");
 /// ```
-pub fn write_real_fast(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
+pub fn write_real(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     if !x.is_finite() {
         return Err(NonFiniteReal(x));
     }
@@ -46,12 +52,12 @@ pub fn write_real_fast(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
             Ok(())
         }
         // Ties between two shortest candidates are possible: the reference path.
-        Kind::MayTie => write_real(out, x),
+        Kind::MayTie => write_real_std(out, x),
         Kind::Other => write_ryu(out, x),
     }
 }
 
-/// How [`write_real_fast`] formats a finite value.
+/// How [`write_real`] formats a finite value.
 enum Kind {
     /// `|x| = v < 2^53`, an integer (zero included).
     Integer(u64),
@@ -150,7 +156,7 @@ fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
             out.push_str(exponent);
             Ok(())
         }
-        _ => write_real(out, x),
+        _ => write_real_std(out, x),
     }
 }
 
@@ -216,11 +222,96 @@ fn push_digits(out: &mut String, v: u64) {
     }
 }
 
+/// [`write_real`] through std's `Display`/`LowerExp`: the definition of the digits, and the
+/// route for possible ties and for any value whose Ryu layout does not match ours.
+pub(super) fn write_real_std(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
+    if !x.is_finite() {
+        return Err(NonFiniteReal(x));
+    }
+    let ax = x.abs();
+    if ax == 0.0 || (1e-5..1e16).contains(&ax) {
+        let start = out.len();
+        // Display never uses an exponent and prints the shortest round-trip digits.
+        let _ = write!(out, "{x}");
+        if !out[start..].contains('.') {
+            out.push('.');
+        }
+    } else {
+        let start = out.len();
+        let _ = write!(out, "{x:e}");
+        // `{:e}` gives e.g. "1e16", "1.5e-7": insert the point and upper-case the exponent.
+        let Some(e_pos) = out[start..].find('e').map(|p| p + start) else {
+            return Ok(()); // unreachable for finite non-zero values; keep the digits as is
+        };
+        let exponent = out[e_pos + 1..].to_owned();
+        out.truncate(e_pos);
+        if !out[start..].contains('.') {
+            out.push('.');
+        }
+        out.push('E');
+        out.push_str(&exponent);
+    }
+    Ok(())
+}
+
+/// Formats `x` as [`write_real`] does, into a new string.
+pub fn format_real(x: f64) -> Result<String, NonFiniteReal> {
+    let mut s = String::with_capacity(24);
+    write_real(&mut s, x)?;
+    Ok(s)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::write_real_std;
     use super::*;
     use proptest::prelude::*;
+
+    /// Whether the exact decimal value of `x` has at most 18 significant digits.
+    ///
+    /// A tie (the exact value halfway between the two nearest shortest-digit decimals) needs the
+    /// exact value to be that midpoint, an (n+1)-digit decimal with n <= 17 (shortest
+    /// round-trip digits never exceed 17). Writing `x = m 2^e` with `m` odd: for `e < 0` the exact
+    /// value is `m 5^-e / 10^-e`, whose significant digits are those of `m 5^-e`; for `e >= 0`
+    /// it is an integer whose last non-zero digit can only be 5 if `5^e` divides `m`; all such
+    /// integers are treated as short (conservative: the reference path is always correct).
+    fn has_short_exact_decimal(x: f64) -> bool {
+        let bits = x.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let frac = bits & ((1u64 << 52) - 1);
+        let (mut m, mut e) = if biased == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1u64 << 52), biased - 1075)
+        };
+        if m == 0 {
+            return true;
+        }
+        let tz = m.trailing_zeros();
+        m >>= tz;
+        // trailing_zeros of a non-zero u64 is at most 63.
+        #[allow(clippy::cast_possible_wrap)]
+        let tz = tz as i32;
+        e += tz;
+        if e < 0 {
+            let Ok(k) = u32::try_from(-e) else {
+                return false;
+            };
+            if k > 60 {
+                return false;
+            }
+            5u128
+                .checked_pow(k)
+                .and_then(|p| p.checked_mul(u128::from(m)))
+                .is_some_and(|v| v < 1_000_000_000_000_000_000)
+        } else {
+            // Conservative: any integer whose odd part is divisible by 5^e (including e = 0,
+            // all odd integers) takes the reference path.
+            u32::try_from(e)
+                .ok()
+                .and_then(|k| 5u64.checked_pow(k))
+                .is_some_and(|p| m % p == 0)
+        }
+    }
 
     /// 2^53.
     const TWO_POW_53: f64 = 9_007_199_254_740_992.0;
@@ -231,7 +322,7 @@ mod tests {
             classify(x),
             Kind::MayTie | Kind::Integer(_) | Kind::ShortFraction(..)
         );
-        let reference = super::super::has_short_exact_decimal(x);
+        let reference = has_short_exact_decimal(x);
         // Integers below 2^53 and short fractions are direct paths; every other value the
         // reference calls short must take the reference path.
         if reference {
@@ -246,7 +337,7 @@ mod tests {
             check_kind(x);
         }
         let (mut fast, mut reference) = (String::new(), String::new());
-        let a = write_real_fast(&mut fast, x);
+        let a = write_real(&mut fast, x);
         let b = write_real_std(&mut reference, x);
         assert_eq!(a.is_ok(), b.is_ok(), "{x:e}");
         assert_eq!(fast, reference, "{x:e} bits {:#x}", x.to_bits());
@@ -309,7 +400,7 @@ mod tests {
         }
         for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             let mut s = String::new();
-            assert!(write_real_fast(&mut s, x).is_err());
+            assert!(write_real(&mut s, x).is_err());
             assert!(s.is_empty());
         }
     }

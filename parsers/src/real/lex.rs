@@ -1,183 +1,9 @@
-//! REAL literals: one strict lexer per format and one exact writer shared by both.
-//!
-//! # Writing
-//! [`write_real`] prints the *shortest* decimal digits that read back as the same `f64`
-//! (Rust's `Display`/`LowerExp` implement the Ryu/Grisu shortest round-trip algorithm) and
-//! then makes the token valid in both formats:
-//!
-//! - a decimal point is always present (`1.` not `1`; ISO 10303-21 clause 6.3.3 requires a
-//!   digit, a point, optional digits; IGES 5.3 section 2.2.2.3 requires the point for REAL);
-//! - magnitudes in `[1e-5, 1e16)` are written positionally (`0.5`, `250.`, `6.28318530717958`),
-//!   all others with an upper-case exponent (`1.E16`, `5.E-324`, `-2.5E-7`);
-//! - `-0.0` keeps its sign (`-0.`), so read -> write -> read is bit-identical.
-//!
-//! Non-finite values cannot be written in either format and are refused.
-//!
-//! # Reading
-//! [`parse_step_real`] accepts exactly the Part 21 production
-//! `REAL = [ SIGN ] DIGIT { DIGIT } "." { DIGIT } [ "E" [ SIGN ] DIGIT { DIGIT } ]`
-//! and [`parse_iges_real`] the IGES form (leading digit optional, `E`, `e`, `D` or `d`
-//! exponent, an integer token accepted where a real is expected, as Open CASCADE does).
-//! The whole token must be consumed (`1.52.3` is an error, not `1.52`), and a value that
-//! overflows to infinity (`1.E400`) is an error, not a silent `inf`.
+//! Reading REALs: the STEP (ISO 10303-21 6.3.3) and IGES (5.3 section 2.2.2.3) grammars,
+//! lexed and converted in one pass ([`crate::decimal`]), with the common coordinate shape
+//! read first by a shorter path ([`coordinate`]).
 
-use std::fmt::Write as _;
-
+use super::RealError;
 use crate::decimal::Decimal;
-
-/// Why a token is not an acceptable REAL.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-pub enum RealError {
-    /// The token does not match the format's REAL grammar.
-    #[error("not a valid real number")]
-    Syntax,
-    /// The token is well formed but its value is outside the finite `f64` range.
-    #[error("real number overflows to infinity")]
-    NonFinite,
-}
-
-/// A NaN or infinite value was given to the writer; neither format can represent it.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("cannot write non-finite real {0}")]
-pub struct NonFiniteReal(pub f64);
-
-/// Appends `x` to `out` in the shortest form that reads back bit-identical, always with a
-/// decimal point. See the module documentation for the exact shape.
-///
-/// ```
-/// # use nurbsx_parsers::real::write_real;
-/// let mut s = String::new();
-/// for x in [1.0, 0.1 + 0.2, 1e16, -0.0, 5e-324, 250.0] {
-///     write_real(&mut s, x).unwrap();
-///     s.push(' ');
-/// }
-/// assert_eq!(s, "1. 0.30000000000000004 1.E16 -0. 5.E-324 250. ");
-/// ```
-pub fn write_real(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
-    if !x.is_finite() {
-        return Err(NonFiniteReal(x));
-    }
-    // Fast path: Ryu (`ryu` crate) prints the same shortest round-trip digits as std's
-    // Grisu/Dragon (both give the shortest digit string that reads back, the closest to the
-    // exact value); about 3x faster and allocation free. Its layout is `1.0`, `250.0`,
-    // `0.5`, `1e16`, `1.5e-7`, `-0.0`; we only reshape it, and fall back to the std path
-    // whenever Ryu's positional/exponent choice differs from ours (the test
-    // `ryu_agrees_with_std` checks the two paths give identical text).
-    if has_short_exact_decimal(x) {
-        // Only such values can be a tie between two shortest candidates, which Ryu rounds
-        // half to even and std half up; take the reference path for them.
-        return write_real_std(out, x);
-    }
-    let mut buf = ryu::Buffer::new();
-    let t = buf.format_finite(x);
-    let ax = x.abs();
-    let positional = ax == 0.0 || (1e-5..1e16).contains(&ax);
-    match t.find('e') {
-        None if positional => {
-            // "250.0" -> "250.", "0.5" stays; shortest digits never end in 0 after the point
-            // except the ".0" Ryu adds to integers.
-            out.push_str(t.strip_suffix(".0").map_or(t, |m| &t[..m.len() + 1]));
-            Ok(())
-        }
-        Some(e) if !positional => {
-            let (mantissa, exponent) = (&t[..e], &t[e + 1..]);
-            out.push_str(mantissa);
-            if !mantissa.contains('.') {
-                out.push('.');
-            }
-            out.push('E');
-            out.push_str(exponent);
-            Ok(())
-        }
-        _ => write_real_std(out, x),
-    }
-}
-
-/// Whether the exact decimal value of `x` has at most 18 significant digits.
-///
-/// A tie (the exact value halfway between the two nearest shortest-digit decimals) needs the
-/// exact value to be that midpoint, an (n+1)-digit decimal with n <= 17 (shortest
-/// round-trip digits never exceed 17). Writing `x = m 2^e` with `m` odd: for `e < 0` the exact
-/// value is `m 5^-e / 10^-e`, whose significant digits are those of `m 5^-e`; for `e >= 0`
-/// it is an integer whose last non-zero digit can only be 5 if `5^e` divides `m`; all such
-/// integers are treated as short (conservative: the reference path is always correct).
-fn has_short_exact_decimal(x: f64) -> bool {
-    let bits = x.to_bits();
-    let biased = ((bits >> 52) & 0x7ff) as i32;
-    let frac = bits & ((1u64 << 52) - 1);
-    let (mut m, mut e) = if biased == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1u64 << 52), biased - 1075)
-    };
-    if m == 0 {
-        return true;
-    }
-    let tz = m.trailing_zeros();
-    m >>= tz;
-    // trailing_zeros of a non-zero u64 is at most 63.
-    #[allow(clippy::cast_possible_wrap)]
-    let tz = tz as i32;
-    e += tz;
-    if e < 0 {
-        let Ok(k) = u32::try_from(-e) else {
-            return false;
-        };
-        if k > 60 {
-            return false;
-        }
-        5u128
-            .checked_pow(k)
-            .and_then(|p| p.checked_mul(u128::from(m)))
-            .is_some_and(|v| v < 1_000_000_000_000_000_000)
-    } else {
-        // Conservative: any integer whose odd part is divisible by 5^e (including e = 0,
-        // all odd integers) takes the reference path.
-        u32::try_from(e)
-            .ok()
-            .and_then(|k| 5u64.checked_pow(k))
-            .is_some_and(|p| m % p == 0)
-    }
-}
-
-/// [`write_real`] through std's `Display`/`LowerExp` (the reference implementation; used
-/// where Ryu's layout does not match ours).
-fn write_real_std(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
-    if !x.is_finite() {
-        return Err(NonFiniteReal(x));
-    }
-    let ax = x.abs();
-    if ax == 0.0 || (1e-5..1e16).contains(&ax) {
-        let start = out.len();
-        // Display never uses an exponent and prints the shortest round-trip digits.
-        let _ = write!(out, "{x}");
-        if !out[start..].contains('.') {
-            out.push('.');
-        }
-    } else {
-        let start = out.len();
-        let _ = write!(out, "{x:e}");
-        // `{:e}` gives e.g. "1e16", "1.5e-7": insert the point and upper-case the exponent.
-        let Some(e_pos) = out[start..].find('e').map(|p| p + start) else {
-            return Ok(()); // unreachable for finite non-zero values; keep the digits as is
-        };
-        let exponent = out[e_pos + 1..].to_owned();
-        out.truncate(e_pos);
-        if !out[start..].contains('.') {
-            out.push('.');
-        }
-        out.push('E');
-        out.push_str(&exponent);
-    }
-    Ok(())
-}
-
-/// Formats `x` as [`write_real`] does, into a new string.
-pub fn format_real(x: f64) -> Result<String, NonFiniteReal> {
-    let mut s = String::with_capacity(24);
-    write_real(&mut s, x)?;
-    Ok(s)
-}
 
 /// Parses a STEP Part 21 REAL token (ISO 10303-21:2016, 6.3.3) strictly.
 ///
@@ -210,7 +36,7 @@ pub fn parse_step_real(token: &str) -> Result<f64, RealError> {
 #[inline]
 pub fn step_real_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
     // A STEP REAL needs a digit before the point (ISO 10303-21 6.3.3).
-    if let Some(r) = plain::plain_decimal_at(b, start, 1) {
+    if let Some(r) = coordinate::plain_decimal_at(b, start, 1) {
         return Ok(r);
     }
     step_real_general_at(b, start)
@@ -522,6 +348,8 @@ fn slow_parse(token: &[u8], exp_letter: Option<usize>) -> Result<f64, RealError>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::real::format::write_real_std;
+    use crate::real::{format_real, write_real};
     use proptest::prelude::*;
 
     #[test]
@@ -725,7 +553,7 @@ mod tests {
             rest in "[0-9.,)Ee +-]{0,3}",
         ) {
             let buf = format!("({text}{rest}");
-            if let Some((v, end)) = plain::plain_decimal_at(buf.as_bytes(), 1, 1) {
+            if let Some((v, end)) = coordinate::plain_decimal_at(buf.as_bytes(), 1, 1) {
                 prop_assert_eq!(
                     step_real_general_at(buf.as_bytes(), 1).map(|(x, e)| (x.to_bits(), e)),
                     Ok((v.to_bits(), end)),
@@ -752,13 +580,9 @@ mod tests {
     }
 }
 
-// The writers' fast formatter (same output as `write_real`), kept in its own file.
-mod fast;
-pub use fast::write_real_fast;
-
 // The coordinate shape read a word at a time, in front of both general lexers.
-mod plain;
-pub(crate) use plain::digit_word;
+mod coordinate;
+pub(crate) use coordinate::digit_word;
 
 // The IGES real read in place from a record's bytes (one pass, no token slice).
 mod iges;

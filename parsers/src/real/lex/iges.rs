@@ -35,7 +35,7 @@ pub fn iges_real_at(b: &[u8], start: usize) -> Result<(f64, usize), RealError> {
 /// [`general_at`] then reads. Where it answers, it answers as `general_at` (tested below).
 #[inline(always)]
 fn plain_decimal_at(b: &[u8], start: usize) -> Option<(f64, usize)> {
-    super::plain::plain_decimal_at(b, start, 0)
+    super::coordinate::plain_decimal_at(b, start, 0)
 }
 
 /// Every form of the IGES grammar ([`lex_iges`], the lexer of
