@@ -627,8 +627,23 @@ impl<'a> Cursor<'a> {
         rule.parse(input).is_ok()
     }
 
-    /// Skips [`space`].
+    /// Skips [`space`]. Between statements the next byte is nearly always a token or the
+    /// one line break: answered here without running the rule.
+    #[inline]
     pub(crate) fn skip_ws(&mut self) -> LResult<()> {
+        match self.peek() {
+            Some(c) if c > b' ' && c != b'/' => return Ok(()),
+            None => return Ok(()),
+            Some(b'\n') => {
+                if let Some(&c) = self.text.as_bytes().get(self.pos + 1) {
+                    if c > b' ' && c != b'/' && self.pos + 1 < self.end {
+                        self.pos += 1;
+                        return Ok(());
+                    }
+                }
+            }
+            _ => {}
+        }
         self.rule(space)
     }
 

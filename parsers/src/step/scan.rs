@@ -523,8 +523,10 @@ fn cut_points(bytes: &[u8], from: usize, pieces: usize) -> Vec<usize> {
 }
 
 /// Whether the cursor is at the keyword `kw` followed by a non-keyword character.
+#[inline]
 fn section_keyword(c: &Cursor<'_>, kw: &'static str) -> bool {
-    c.matches(grammar::structure_keyword(kw))
+    // Nearly every statement starts with `#`: one comparison rejects it.
+    c.starts_with(kw) && c.matches(grammar::structure_keyword(kw))
 }
 
 /// After a structure keyword: optional whitespace/comments, then `;`.

@@ -983,6 +983,7 @@ impl<'a> Scanned<'a> {
     /// pass (private to this decoder); any other shape, and anything irregular, is decoded
     /// by the grammar and read by attribute name, which gives the same record or the
     /// located error.
+    #[inline]
     pub fn bspline(&self, raw: &RawInstance<'a>) -> Result<Option<BSpline<'a>>, DecodeError> {
         if let Some(record) = super::bspline_text::read(raw, self.param_limits()) {
             return Ok(Some(record));
@@ -1005,6 +1006,7 @@ impl<'a> Scanned<'a> {
     /// coordinates (zeros past its dimension) and its dimension. The usual simple instance
     /// is read from its text in one pass; any other shape through the grammar, by attribute
     /// name, with the same values or the located error.
+    #[inline]
     pub fn cartesian_point(&self, raw: &RawInstance<'a>) -> Result<([f64; 3], usize), DecodeError> {
         if let Some(point) = CartesianPoint::coordinates_from_text(raw) {
             return Ok(point);
