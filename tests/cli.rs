@@ -230,7 +230,13 @@ fn an_unknown_format_exits_1_with_a_located_error() {
     );
     let o = nurbsx(["validate", f.to_str().unwrap()]);
     assert_exit(&o, 1);
-    assert!(stdout(&o).contains("error[format.unknown]"));
+    // The finding on stderr, the verdict on stdout.
+    assert!(
+        stderr(&o).contains("error[format.unknown]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains(": INVALID ("), "{}", stdout(&o));
     // An extension that contradicts the content is refused, not trusted.
     let g = dir.join("fake.step");
     std::fs::write(&g, "hello\n").unwrap();
@@ -515,12 +521,17 @@ fn validate_reports_bad_geometry_with_exit_1_and_a_file_line() {
     let good = data("circle.json");
     let o = nurbsx(["validate", bad.to_str().unwrap(), good.to_str().unwrap()]);
     assert_exit(&o, 1);
-    let text = stdout(&o);
+    let err = stderr(&o);
     let prefix = format!("{}: error[geometry.invalid]: ", bad.display());
     assert!(
-        text.lines()
+        err.lines()
             .any(|l| l.starts_with(&prefix) && l.contains("knot[4]")),
-        "{text}"
+        "{err}"
+    );
+    let text = stdout(&o);
+    assert!(
+        !text.contains("error["),
+        "diagnostics are not on stdout: {text}"
     );
     assert!(text.contains(&format!("{}: INVALID", bad.display())));
     assert!(text.contains(&format!("{}: valid (1 entities", good.display())));
@@ -698,7 +709,19 @@ fn validate_with_a_missing_file_reports_it_and_exits_2() {
     assert_exit(&o, 2);
     let tags = check_xml(&stdout(&o));
     assert!(tags.iter().any(|(n, _)| n == "error"));
-    assert!(stderr(&o).contains("gone.igs"));
+    // Inside the document, once; not repeated on stderr.
+    assert_eq!(
+        stdout(&o).matches("cannot read").count(),
+        2,
+        "message and text of <error>"
+    );
+    assert!(stdout(&o).contains("gone.igs"));
+    assert_eq!(stderr(&o), "");
+    // In text form the error is on stderr, once, and there is no verdict for the file.
+    let o = nurbsx(["validate", missing.to_str().unwrap()]);
+    assert_exit(&o, 2);
+    assert_eq!(stderr(&o).matches("gone.igs").count(), 1, "{}", stderr(&o));
+    assert_eq!(stdout(&o), "");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -900,7 +923,13 @@ fn convert_step_to_iges_verifies_and_keeps_the_geometry() {
         "2026-01-01T00:00:00",
     ]);
     assert_exit(&o, 0);
-    assert!(stderr(&o).contains("verified 1 entities"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "read 1 B-spline curves and surfaces, wrote 1 as IGES; verified 1 written entities"
+        ),
+        "{}",
+        stderr(&o)
+    );
     let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["ok"], true);
     assert_eq!(r["output_format"], "iges");
@@ -1173,7 +1202,7 @@ fn to_overrides_a_contradicting_extension_with_a_warning() {
         "step",
     ]);
     assert!(
-        stderr(&o).contains("warning: writing STEP to"),
+        stderr(&o).contains("x.igs: warning[format.extension]: writing STEP as --to asks"),
         "{}",
         stderr(&o)
     );

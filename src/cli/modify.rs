@@ -10,7 +10,9 @@ use super::args::{
     ElevateArgs, InsertKnotArgs, MeshFormatArg, ModelFormatArg, OutputArgs, SimpleOpArgs,
     TessellateArgs,
 };
-use super::{CliError, Context, Outcome, display_name, is_dash, read_input, write_output};
+use super::{
+    CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, write_output,
+};
 
 /// `nurbsx elevate`.
 pub fn elevate(ctx: &Context, a: ElevateArgs) -> Result<Outcome, CliError> {
@@ -69,7 +71,8 @@ fn output_kind(out: &OutputArgs, input: InputKind) -> Result<InputKind, CliError
     })
 }
 
-/// Loads, applies `op` to one entity or all, and writes.
+/// Loads, applies `op` to one entity or all, and writes; the diagnostics include what the
+/// output format cannot hold (left out with a warning), and a summary says what was written.
 fn modify(
     ctx: &Context,
     input: &Path,
@@ -77,24 +80,34 @@ fn modify(
     op: Operation,
     entity: Option<&str>,
 ) -> Result<Outcome, CliError> {
-    let Loaded { kind, mut document } = load(ctx, input)?;
+    let name = display_name(input);
+    let Loaded { kind, mut document } = load_file(ctx, input)?;
     let target = output_kind(out, kind)?;
     tracing::info!(?op, input = %input.display(), output = %out.output.display(), "modify");
+    let read = document.entities.len();
+    if let Some(format) = target.format() {
+        pipeline::drop_unwritable(&mut document, format);
+    }
+    ctx.report.diagnostics(&name, &document.diagnostics);
     pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     let text = pipeline::write_as(&document, target, &export_options(&out.output))
         .map_err(|e| CliError::pipeline(&out.output, e))?;
     write_output(&out.output, &text)?;
-    Ok(Outcome::Success)
-}
-
-/// Reads and loads an input, printing the reader's diagnostics.
-fn load(ctx: &Context, input: &Path) -> Result<Loaded, CliError> {
-    let (bytes, hint) = read_input(input, &ctx.settings)?;
-    let loaded =
-        pipeline::load(&bytes, hint, &ctx.settings).map_err(|e| CliError::pipeline(input, e))?;
-    ctx.print_diagnostics(&display_name(input), &loaded.document.diagnostics);
-    Ok(loaded)
+    let written = document.entities.len();
+    let mut summary = format!(
+        "{name} -> {}: read {read} B-spline curves and surfaces, wrote {written} as {}",
+        display_name(&out.output),
+        target.name().to_ascii_uppercase()
+    );
+    if read > written {
+        summary.push_str(&format!(
+            ", left out {} (2-D parameter-space curves: see the pcurve_not_written warning)",
+            read - written
+        ));
+    }
+    ctx.report.summary(&summary);
+    Ok(outcome_of(&document.diagnostics))
 }
 
 /// Writer options naming the output file in the header.
@@ -130,7 +143,9 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
             }
         }
     };
-    let loaded = load(ctx, &a.input)?;
+    let name = display_name(&a.input);
+    let loaded = load_file(ctx, &a.input)?;
+    ctx.report.diagnostics(&name, &loaded.document.diagnostics);
     let text = pipeline::tessellate(
         &loaded.document,
         a.entity.as_deref(),
@@ -140,5 +155,5 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
     )
     .map_err(|e| CliError::pipeline(&a.input, e))?;
     write_output(&a.output, &text)?;
-    Ok(Outcome::Success)
+    Ok(outcome_of(&loaded.document.diagnostics))
 }

@@ -521,6 +521,7 @@ pub fn evaluate(
     for at in &request.params {
         let result = match (&entity.geometry, at.as_slice()) {
             (Geometry::Curve(c), &[u]) => {
+                let u = snap_to_domain(u, c.domain());
                 let ders = c.derivatives(u, request.derivatives).map_err(at_error)?;
                 let derivatives = (request.derivatives > 0)
                     .then(|| Value::Array(ders[1..].iter().map(|&d| coords(d)).collect()));
@@ -554,6 +555,8 @@ pub fn evaluate(
                 }
             }
             (Geometry::Surface(s), &[u, v]) => {
+                let (du, dv) = s.domain();
+                let (u, v) = (snap_to_domain(u, du), snap_to_domain(v, dv));
                 let skl = s.derivatives(u, v, request.derivatives).map_err(at_error)?;
                 let derivatives = (request.derivatives > 0).then(|| {
                     let mut map = Map::new();
@@ -727,6 +730,7 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
             Geometry::Surface(s)
         }
         (Geometry::Curve(c), Operation::InsertKnot { u: t, times, .. }) => {
+            check_knot_insertion(c.knots(), c.degree(), c.domain(), t, times, "")?;
             Geometry::Curve(c.insert_knot(t, times)?)
         }
         (
@@ -737,8 +741,14 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
                 direction,
             },
         ) => match direction {
-            Direction::U => Geometry::Surface(s.insert_knot_u(t, times)?),
-            Direction::V => Geometry::Surface(s.insert_knot_v(t, times)?),
+            Direction::U => {
+                check_knot_insertion(s.knots_u(), s.degree_u(), s.domain().0, t, times, " in u")?;
+                Geometry::Surface(s.insert_knot_u(t, times)?)
+            }
+            Direction::V => {
+                check_knot_insertion(s.knots_v(), s.degree_v(), s.domain().1, t, times, " in v")?;
+                Geometry::Surface(s.insert_knot_v(t, times)?)
+            }
             Direction::Both => {
                 return Err(PipelineError::usage(
                     "insert_knot.direction",
@@ -747,6 +757,57 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
             }
         },
     })
+}
+
+/// Checks a knot insertion in the user's terms before the algorithm (NURBS Book A5.1) runs:
+/// the knot must lie in the domain (`insert_knot.domain`) and its multiplicity may not exceed
+/// the degree (`insert_knot.multiplicity`). Both are usage errors, as a parameter outside the
+/// domain is for `evaluate`. `which` names the surface direction (`" in u"`), empty for curves.
+fn check_knot_insertion(
+    knots: &[f64],
+    degree: usize,
+    (start, end): (f64, f64),
+    t: f64,
+    times: usize,
+    which: &str,
+) -> Result<(), PipelineError> {
+    if !(t >= start && t <= end) {
+        return Err(PipelineError::usage(
+            "insert_knot.domain",
+            format!("knot {t} is outside the domain [{start}, {end}]{which}"),
+        ));
+    }
+    let s = knots.iter().filter(|&&k| k == t).count();
+    let total = s.saturating_add(times);
+    if total > degree {
+        let hint = if t == start || t == end {
+            "; at a domain end, `nurbsx clamp` makes the end knot's multiplicity degree + 1"
+        } else {
+            ""
+        };
+        return Err(PipelineError::usage(
+            "insert_knot.multiplicity",
+            format!(
+                "knot {t}{which} already appears {s} time(s); inserting it {times} more \
+                 time(s) would make {total}, above the degree {degree}{hint}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Moves a parameter that lies within a few units in the last place of a domain end onto
+/// that end (an end computed as `a + (b - a) * 1.0` may miss `b` by one ulp); parameters
+/// further out are left for the evaluator to refuse.
+fn snap_to_domain(t: f64, (start, end): (f64, f64)) -> f64 {
+    let slack = 4.0 * f64::EPSILON * start.abs().max(end.abs());
+    if t < start && start - t <= slack {
+        start
+    } else if t > end && t - end <= slack {
+        end
+    } else {
+        t
+    }
 }
 
 /// Tessellates one entity (or all with `entity = None`) under a chord tolerance: curves by
