@@ -1208,3 +1208,244 @@ fn to_overrides_a_contradicting_extension_with_a_warning() {
     );
     assert!(!stderr(&o).contains("panicked"));
 }
+
+// ---------------------------------------------------------------------------------------
+// Conventions: help, completions, man pages, colour
+
+const COMMANDS: [&str; 13] = [
+    "convert",
+    "info",
+    "validate",
+    "evaluate",
+    "elevate",
+    "clamp",
+    "unclamp",
+    "insert-knot",
+    "tessellate",
+    "serve",
+    "help",
+    "completions",
+    "man",
+];
+
+const LIMIT_FLAGS: [(&str, &str); 9] = [
+    ("--max-degree", "NURBSX_MAX_DEGREE"),
+    ("--max-input-bytes", "NURBSX_MAX_INPUT_BYTES"),
+    ("--max-entities", "NURBSX_MAX_ENTITIES"),
+    ("--max-nesting-depth", "NURBSX_MAX_NESTING_DEPTH"),
+    ("--max-params", "NURBSX_MAX_PARAMS"),
+    ("--max-poles", "NURBSX_MAX_POLES"),
+    ("--max-eval-points", "NURBSX_MAX_EVAL_POINTS"),
+    ("--max-elevate-by", "NURBSX_MAX_ELEVATE_BY"),
+    ("--max-mesh-vertices", "NURBSX_MAX_MESH_VERTICES"),
+];
+
+#[test]
+fn help_works_like_cargos_and_lists_the_limits_once() {
+    // `help --help` and `help help` are help, not errors.
+    for args in [vec!["help", "--help"], vec!["help", "help"], vec!["help"]] {
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        assert!(
+            stdout(&o).contains("Usage: nurbsx"),
+            "{args:?}: {}",
+            stdout(&o)
+        );
+    }
+    // `help CMD` is the command's full help.
+    for c in COMMANDS {
+        let o = nurbsx(["help", c]);
+        assert_exit(&o, 0);
+        assert!(
+            stdout(&o).contains(&format!("Usage: nurbsx {c}")),
+            "help {c}: {}",
+            stdout(&o)
+        );
+        // The limits are not repeated in every command's help.
+        let o = nurbsx([c, "--help"]);
+        assert!(
+            !stdout(&o).contains("--max-poles"),
+            "{c} --help:\n{}",
+            stdout(&o)
+        );
+        assert!(stdout(&o).lines().count() < 150, "{c} --help is short");
+    }
+    // They are on one page, each with its environment variable.
+    let o = nurbsx(["help", "limits"]);
+    assert_exit(&o, 0);
+    for (flag, env) in LIMIT_FLAGS {
+        assert!(
+            stdout(&o).contains(flag) && stdout(&o).contains(env),
+            "{flag}"
+        );
+    }
+    let top = stdout(&nurbsx(["--help"]));
+    assert!(top.contains("nurbsx help limits"), "{top}");
+    let o = nurbsx(["help", "exit-codes"]);
+    assert_exit(&o, 0);
+    for code in [
+        "limit.*",
+        "evaluate.domain",
+        "insert_knot.domain",
+        "format.unknown",
+    ] {
+        assert!(stdout(&o).contains(code), "{code}");
+    }
+    let o = nurbsx(["help", "output"]);
+    assert_exit(&o, 0);
+    assert!(stdout(&o).contains("--min-severity"));
+    let o = nurbsx(["help", "frobnicate"]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("frobnicate"), "{}", stderr(&o));
+}
+
+#[test]
+fn completions_parse_for_every_shell() {
+    let o = nurbsx(["completions", "bash"]);
+    assert_exit(&o, 0);
+    let dir = temp_dir("completions");
+    let script = dir.join("nurbsx.bash");
+    std::fs::write(&script, &o.stdout).unwrap();
+    let check = Command::new("bash")
+        .arg("-n")
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(check.status.success(), "bash -n: {}", stderr(&check));
+    // Sourcing it defines the completion function.
+    let sourced = Command::new("bash")
+        .arg("-c")
+        .arg(format!("source {} && complete -p nurbsx", script.display()))
+        .output()
+        .unwrap();
+    assert!(stdout(&sourced).contains("nurbsx"), "{}", stderr(&sourced));
+    for shell in ["bash", "zsh", "fish", "powershell", "elvish"] {
+        let o = nurbsx(["completions", shell]);
+        assert_exit(&o, 0);
+        let text = stdout(&o);
+        for c in ["convert", "validate", "insert-knot", "tessellate"] {
+            assert!(text.contains(c), "{shell} completions name {c}");
+        }
+        assert!(text.contains("min-severity"), "{shell}: global options");
+    }
+    // zsh and fish parse their own scripts where they are installed.
+    for (shell, flag) in [("zsh", "-n"), ("fish", "--no-execute")] {
+        let o = nurbsx(["completions", shell]);
+        let file = dir.join(format!("nurbsx.{shell}"));
+        std::fs::write(&file, &o.stdout).unwrap();
+        if let Ok(check) = Command::new(shell).arg(flag).arg(&file).output() {
+            assert!(check.status.success(), "{shell}: {}", stderr(&check));
+        }
+    }
+    assert_exit(&nurbsx(["completions", "tcsh"]), 2);
+}
+
+/// Renders roff with groff (as `man -l` does) and returns the text with its warnings.
+fn render_roff(roff: &[u8]) -> Option<(String, String)> {
+    let mut child = Command::new("groff")
+        .args(["-man", "-Tutf8", "-ww", "-z"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .ok()?;
+    child.stdin.take().unwrap().write_all(roff).unwrap();
+    let checked = child.wait_with_output().unwrap();
+    let mut child = Command::new("groff")
+        .args(["-man", "-Tutf8"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .ok()?;
+    child.stdin.take().unwrap().write_all(roff).unwrap();
+    let rendered = child.wait_with_output().unwrap();
+    // Undo the terminal overstrike (bold `N\bN`, underline `_\bx`).
+    let mut text = String::new();
+    for c in stdout(&rendered).chars() {
+        if c == '\u{8}' {
+            text.pop();
+        } else {
+            text.push(c);
+        }
+    }
+    Some((text, stderr(&checked)))
+}
+
+#[test]
+fn man_pages_render() {
+    let mut pages = vec![("nurbsx".to_owned(), nurbsx(["man"]))];
+    for c in ["convert", "validate", "insert-knot"] {
+        pages.push((format!("nurbsx-{c}"), nurbsx(["man", c])));
+    }
+    for (name, o) in &pages {
+        assert_exit(o, 0);
+        let roff = stdout(o);
+        assert!(roff.contains(&format!(".TH {name} 1")), "{roff}");
+        assert!(roff.contains(".SH NAME") && roff.contains(".SH SYNOPSIS"));
+        if let Some((text, warnings)) = render_roff(&o.stdout) {
+            assert_eq!(warnings, "", "groff warnings for {name}");
+            assert!(text.contains("NAME") && text.contains("SYNOPSIS"), "{text}");
+            // groff hyphenates and escapes: compare without them.
+            let plain = text.replace(['\u{2010}', '\u{2212}'], "-");
+            assert!(plain.contains(name.as_str()), "{plain}");
+        }
+    }
+    let dir = temp_dir("man");
+    let o = nurbsx(["man", "--out-dir", dir.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(dir.join("nurbsx.1").is_file());
+    for c in COMMANDS {
+        assert!(dir.join(format!("nurbsx-{c}.1")).is_file(), "{c}");
+    }
+    assert_exit(&nurbsx(["man", "frobnicate"]), 2);
+}
+
+/// `nurbsx` with extra environment variables.
+fn nurbsx_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(BIN);
+    c.args(args).env_remove("RUST_LOG").env_remove("NO_COLOR");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().unwrap()
+}
+
+#[test]
+fn colour_follows_the_flag_and_no_color() {
+    let bad = data("bad_knots.json");
+    let bad = bad.to_str().unwrap();
+    let esc = "\u{1b}[";
+    let o = nurbsx_env(&["--color", "always", "validate", bad], &[]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains(&format!("{esc}")), "{:?}", stderr(&o));
+    assert!(stderr(&o).contains("error[geometry.invalid]"));
+    // The flag after the command works too, `=` or not.
+    let o = nurbsx_env(&["validate", bad, "--color=always"], &[]);
+    assert!(stderr(&o).contains(esc));
+    for (args, env) in [
+        (vec!["--color", "never", "validate", bad], vec![]),
+        // Not a terminal: auto means plain.
+        (vec!["validate", bad], vec![]),
+        (
+            vec!["--color", "auto", "validate", bad],
+            vec![("NO_COLOR", "1")],
+        ),
+    ] {
+        let o = nurbsx_env(&args, &env);
+        assert_exit(&o, 1);
+        assert!(!stderr(&o).contains(esc), "{args:?}: {:?}", stderr(&o));
+        assert!(stderr(&o).contains("error[geometry.invalid]"));
+    }
+    // Help and usage errors follow the flag.
+    let o = nurbsx_env(&["--color", "always", "--help"], &[]);
+    assert!(stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "never", "--help"], &[]);
+    assert!(!stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "always", "help", "convert"], &[]);
+    assert!(stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "always", "info", "--bogus"], &[]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains(esc), "{:?}", stderr(&o));
+    let o = nurbsx_env(&["info", "--bogus"], &[]);
+    assert!(!stderr(&o).contains(esc));
+}

@@ -4,13 +4,12 @@ use std::path::Path;
 
 use serde::de::{self, DeserializeSeed, Deserializer, SeqAccess, Visitor};
 
-use crate::exchange::Severity;
 use crate::pipeline::{self, ErrorKind, EvalRequest, PipelineError};
 
 use super::args::{EvaluateArgs, parse_tuple};
 use super::{
     CliError, Context, Outcome, display_name, load_file, outcome_of, output, print_stdout,
-    read_input,
+    read_input, reader_error,
 };
 
 /// Runs `nurbsx evaluate`.
@@ -48,20 +47,11 @@ pub fn run(ctx: &Context, a: EvaluateArgs) -> Result<Outcome, CliError> {
         // The entity is missing because the reader refused it (a limit, invalid data): say
         // that, not "no such entity".
         Err(e) if e.code() == "entity.not_found" => {
-            let wanted = a.entity.as_deref();
-            let cause = diagnostics.iter().find(|d| {
-                d.severity == Severity::Error
-                    && match (wanted, d.location.entity.as_deref()) {
-                        (Some(w), Some(id)) => id == w || id.trim_start_matches(['#', 'D']) == w,
-                        (None, _) => true,
-                        (Some(_), None) => false,
-                    }
-            });
-            let error = cause.map_or(e, |d| PipelineError::from_exchange(d.clone()));
+            let error = reader_error(&loaded.document, a.entity.as_deref()).unwrap_or(e);
             if !a.json {
                 let others: Vec<_> = diagnostics
                     .iter()
-                    .filter(|d| Some(*d) != cause)
+                    .filter(|d| **d != error.diagnostic)
                     .cloned()
                     .collect();
                 ctx.report.diagnostics(&name, &others);

@@ -111,16 +111,16 @@ fn check_one(ctx: &Context, path: &std::path::Path, strict: bool) -> FileValidat
     match read_input(path, &ctx.settings) {
         Ok((bytes, hint)) => {
             let mut report = pipeline::validate(&bytes, hint, strict, &ctx.settings);
-            let mut extra = Vec::new();
-            if let Some(kind) = pipeline::InputKind::sniff(&bytes) {
-                extra.extend(extension_warning(path, kind));
-            }
-            if report.entities == 0 && report.errors == 0 {
-                extra.push(no_bspline_warning(report.diagnostics.len()));
-            }
-            if !extra.is_empty() {
-                extra.append(&mut report.diagnostics);
-                report = ValidationReport::new(report.entities, extra, strict);
+            let ext = pipeline::InputKind::sniff(&bytes).and_then(|k| extension_warning(path, k));
+            let empty = report.entities == 0 && report.errors == 0;
+            if ext.is_some() || empty {
+                let found = report.diagnostics.len();
+                let mut all: Vec<Diagnostic> = ext.into_iter().collect();
+                all.append(&mut report.diagnostics);
+                if empty {
+                    all.push(no_bspline_warning(found));
+                }
+                report = ValidationReport::new(report.entities, all, strict);
             }
             FileValidation {
                 file,

@@ -290,6 +290,25 @@ pub fn extension_warning(path: &Path, found: InputKind) -> Option<Diagnostic> {
     })
 }
 
+/// Why the entity asked for (`None`: any entity) is missing from a document, when the reader
+/// refused it: its first error diagnostic (a limit, invalid data), as that error's kind.
+pub fn reader_error(
+    doc: &crate::exchange::Document,
+    wanted: Option<&str>,
+) -> Option<PipelineError> {
+    doc.diagnostics
+        .iter()
+        .find(|d| {
+            d.severity == Severity::Error
+                && match (wanted, d.location.entity.as_deref()) {
+                    (None, _) => true,
+                    (Some(w), Some(id)) => id == w || id.trim_start_matches(['#', 'D']) == w,
+                    (Some(_), None) => false,
+                }
+        })
+        .map(|d| PipelineError::from_exchange(d.clone()))
+}
+
 /// Reads and loads an input file; the document's diagnostics gain the extension warning.
 /// Nothing is printed: the caller shows the diagnostics on stderr or in its document.
 pub fn load_file(ctx: &Context, path: &Path) -> Result<Loaded, CliError> {

@@ -10,8 +10,10 @@ use super::args::{
     ElevateArgs, InsertKnotArgs, MeshFormatArg, ModelFormatArg, OutputArgs, SimpleOpArgs,
     TessellateArgs,
 };
+use super::inspect::no_bspline_warning;
 use super::{
-    CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, write_output,
+    CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, reader_error,
+    write_output,
 };
 
 /// `nurbsx elevate`.
@@ -88,6 +90,9 @@ fn modify(
     if let Some(format) = target.format() {
         pipeline::drop_unwritable(&mut document, format);
     }
+    if let Some(outcome) = nothing_to_do(ctx, &name, input, &document, entity)? {
+        return Ok(outcome);
+    }
     ctx.report.diagnostics(&name, &document.diagnostics);
     pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
@@ -108,6 +113,45 @@ fn modify(
     }
     ctx.report.summary(&summary);
     Ok(outcome_of(&document.diagnostics))
+}
+
+/// When the document holds no entity to work on: the reader's error that explains it (a
+/// limit, invalid data; exit 1), else the `no_bspline` warning that `convert` and `validate`
+/// give too (nothing written, exit 0). `None` when there is work to do.
+fn nothing_to_do(
+    ctx: &Context,
+    name: &str,
+    input: &Path,
+    document: &crate::exchange::Document,
+    entity: Option<&str>,
+) -> Result<Option<Outcome>, CliError> {
+    let missing = match entity {
+        None => document.entities.is_empty(),
+        Some(_) => pipeline::select(document, entity).is_err(),
+    };
+    if !missing {
+        return Ok(None);
+    }
+    if let Some(error) = reader_error(document, entity) {
+        let others: Vec<_> = document
+            .diagnostics
+            .iter()
+            .filter(|d| **d != error.diagnostic)
+            .cloned()
+            .collect();
+        ctx.report.diagnostics(name, &others);
+        return Err(CliError::pipeline(input, error));
+    }
+    if entity.is_some() {
+        // An id that is not in the file: the usage error that lists the ids there are.
+        return pipeline::select(document, entity)
+            .map(|_| None)
+            .map_err(|e| CliError::pipeline(input, e));
+    }
+    ctx.report.diagnostics(name, &document.diagnostics);
+    ctx.report
+        .diagnostic(Some(name), &no_bspline_warning(document.diagnostics.len()));
+    Ok(Some(Outcome::Success))
 }
 
 /// Writer options naming the output file in the header.
@@ -145,6 +189,11 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
     };
     let name = display_name(&a.input);
     let loaded = load_file(ctx, &a.input)?;
+    if let Some(outcome) =
+        nothing_to_do(ctx, &name, &a.input, &loaded.document, a.entity.as_deref())?
+    {
+        return Ok(outcome);
+    }
     ctx.report.diagnostics(&name, &loaded.document.diagnostics);
     let text = pipeline::tessellate(
         &loaded.document,

@@ -780,10 +780,13 @@ fn check_knot_insertion(
     let s = knots.iter().filter(|&&k| k == t).count();
     let total = s.saturating_add(times);
     if total > degree {
-        let hint = if t == start || t == end {
-            "; at a domain end, `nurbsx clamp` makes the end knot's multiplicity degree + 1"
-        } else {
-            ""
+        let hint = match (t == start || t == end, s > degree) {
+            (true, true) => "; that end is already clamped",
+            (true, false) => {
+                "; at a domain end, `nurbsx clamp` raises the multiplicity to degree + 1 \
+                 without changing the shape"
+            }
+            _ => "",
         };
         return Err(PipelineError::usage(
             "insert_knot.multiplicity",
