@@ -1449,3 +1449,395 @@ fn colour_follows_the_flag_and_no_color() {
     let o = nurbsx_env(&["info", "--bogus"], &[]);
     assert!(!stderr(&o).contains(esc));
 }
+
+// ---------------------------------------------------------------------------------------
+// One output policy: results on stdout, diagnostics on stderr (or in the JSON document),
+// filtered by -q / --min-severity, JSON with --log-format json, each once
+
+/// A STEP circle in a file named `.igs`: every command reads it (by its content) with one
+/// `format.extension` warning.
+fn misnamed_circle(dir: &Path) -> PathBuf {
+    let f = dir.join("circle.igs");
+    std::fs::copy(data("curve_circle_nurbs.step"), &f).unwrap();
+    f
+}
+
+/// Every command that reads a file, with arguments that succeed on the circle.
+fn every_reading_command(input: &str, dir: &Path) -> Vec<Vec<String>> {
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let cmds: Vec<Vec<&str>> = vec![
+        vec!["info", input],
+        vec!["validate", input],
+        vec!["evaluate", input, "--at", "1"],
+        vec!["elevate", input, "--by", "1", "-o"],
+        vec!["clamp", input, "-o"],
+        vec!["unclamp", input, "-o"],
+        vec!["insert-knot", input, "--at", "1", "-o"],
+        vec!["tessellate", input, "--tolerance", "0.1", "-o"],
+        vec!["convert", input, "-o"],
+    ];
+    cmds.into_iter()
+        .map(|c| {
+            let mut v: Vec<String> = c.iter().map(|s| (*s).to_owned()).collect();
+            if v.last().map(String::as_str) == Some("-o") {
+                let ext = if v[0] == "tessellate" { "obj" } else { "step" };
+                v.push(out(&format!("{}.{ext}", v[0])));
+            }
+            v
+        })
+        .collect()
+}
+
+#[test]
+fn every_command_puts_diagnostics_on_stderr_once_and_filters_them() {
+    let dir = temp_dir("policy");
+    let input = misnamed_circle(&dir);
+    let input = input.to_str().unwrap();
+    for args in every_reading_command(input, &dir) {
+        let c = &args[0];
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        let (out, err) = (stdout(&o), stderr(&o));
+        assert_eq!(
+            err.matches("warning[format.extension]").count(),
+            1,
+            "{c}: the warning once on stderr:\n{err}"
+        );
+        assert!(
+            err.contains(&format!("{input}: warning[format.extension]: the extension says IGES but the content is STEP")),
+            "{c}: {err}"
+        );
+        assert!(
+            !out.contains("warning["),
+            "{c}: no diagnostics on stdout:\n{out}"
+        );
+        // -q and --min-severity error hide warnings; -qq hides the summaries too.
+        for quiet in [vec!["-q"], vec!["--min-severity", "error"]] {
+            let mut a = quiet.clone();
+            a.extend(args.iter().map(String::as_str));
+            let o = nurbsx(&a);
+            assert_exit(&o, 0);
+            assert!(
+                !stderr(&o).contains("warning"),
+                "{c} {quiet:?}: {}",
+                stderr(&o)
+            );
+        }
+        let mut a = vec!["-qq"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        assert_eq!(stderr(&o), "", "{c} -qq");
+        // -v / --min-severity info show the info notes too (the unit of the file).
+        let mut a = vec!["--min-severity", "info"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert!(stderr(&o).contains("info[units]"), "{c}: {}", stderr(&o));
+        // JSON logs: every stderr line is a JSON object; the warning is one of them.
+        let mut a = vec!["--log-format", "json"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        let lines: Vec<Value> = stderr(&o)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{c}: not JSON ({e}): {l}")))
+            .collect();
+        let warnings: Vec<&Value> = lines
+            .iter()
+            .filter(|v| v["code"] == "format.extension")
+            .collect();
+        assert_eq!(warnings.len(), 1, "{c}: {lines:?}");
+        assert_eq!(warnings[0]["severity"], "warning");
+        assert_eq!(warnings[0]["file"], input);
+    }
+}
+
+#[test]
+fn json_documents_carry_the_diagnostics_instead_of_stderr() {
+    let dir = temp_dir("policy-json");
+    let input = misnamed_circle(&dir);
+    let input = input.to_str().unwrap();
+    for args in [
+        vec!["info", input, "--json"],
+        vec!["evaluate", input, "--at", "1", "--json"],
+        vec!["validate", input, "--format", "json"],
+    ] {
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        assert_eq!(stderr(&o), "", "{args:?}");
+        let doc = json(&o);
+        let diagnostics = if args[0] == "validate" {
+            doc[0]["diagnostics"].clone()
+        } else {
+            doc["diagnostics"].clone()
+        };
+        let codes: Vec<&str> = diagnostics
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|d| d["code"].as_str().unwrap())
+            .collect();
+        assert!(codes.contains(&"format.extension"), "{args:?}: {codes:?}");
+        // The default filter leaves out info notes; -v brings them in.
+        assert!(!codes.contains(&"units"), "{args:?}: {codes:?}");
+        let mut a = vec!["-v"];
+        a.extend(&args);
+        let doc = json(&nurbsx(&a));
+        assert!(doc.to_string().contains("\"units\""), "{args:?} -v");
+    }
+    let o = nurbsx(["validate", input, "--format", "sarif"]);
+    assert_eq!(stderr(&o), "");
+    assert!(stdout(&o).contains("format.extension"));
+}
+
+#[test]
+fn validate_on_the_samples_is_quiet_by_default() {
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    let o = nurbsx(["validate", samples.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    let files = stdout(&o).lines().count();
+    assert_eq!(files, 108, "one verdict per sample");
+    // Info notes only with -v.
+    assert!(!stderr(&o).contains(": info["), "{}", stderr(&o));
+    let o = nurbsx(["-v", "validate", samples.to_str().unwrap()]);
+    assert!(stderr(&o).contains(": info["));
+    let o = nurbsx(["-q", "validate", samples.to_str().unwrap()]);
+    assert_eq!(stderr(&o), "");
+}
+
+// ---------------------------------------------------------------------------------------
+// One exit-code policy
+
+/// The code in the last `error[code]` of stderr.
+fn error_code(o: &Output) -> String {
+    let err = stderr(o);
+    let line = err
+        .lines()
+        .rev()
+        .find(|l| l.contains("error["))
+        .unwrap_or_else(|| panic!("no error line: {err}"));
+    let start = line.find("error[").unwrap() + 6;
+    line[start..start + line[start..].find(']').unwrap()].to_owned()
+}
+
+#[test]
+fn a_limit_of_zero_is_refused_by_every_command() {
+    let circle = data("circle.json");
+    let c = circle.to_str().unwrap();
+    let dir = temp_dir("zero");
+    for args in every_reading_command(c, &dir) {
+        for zero in [
+            ["--max-degree", "0"],
+            ["--max-input-bytes", "0"],
+            ["--max-poles", "0"],
+        ] {
+            let mut a: Vec<&str> = zero.to_vec();
+            a.extend(args.iter().map(String::as_str));
+            let o = nurbsx(&a);
+            assert_exit(&o, 2);
+            assert!(
+                stderr(&o).contains("must be at least 1"),
+                "{a:?}: {}",
+                stderr(&o)
+            );
+        }
+        let o = Command::new(BIN)
+            .args(&args)
+            .env("NURBSX_MAX_DEGREE", "0")
+            .output()
+            .unwrap();
+        assert_exit(&o, 2);
+    }
+}
+
+#[test]
+fn a_limit_error_is_a_limit_error_in_every_command() {
+    // The circle has degree 3: with --max-degree 2 its only entity is refused.
+    let dir = temp_dir("limit-all");
+    let step = data("curve_circle_nurbs.step");
+    for args in every_reading_command(step.to_str().unwrap(), &dir) {
+        let mut a = vec!["--max-degree", "2"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 1);
+        assert_eq!(error_code(&o), "limit.degree", "{a:?}");
+        assert_eq!(
+            stderr(&o).matches("error[limit.degree]").count(),
+            1,
+            "{a:?}: once: {}",
+            stderr(&o)
+        );
+    }
+    // The input-size limit too.
+    for args in every_reading_command(step.to_str().unwrap(), &dir) {
+        let mut a = vec!["--max-input-bytes", "100"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 1);
+        assert_eq!(error_code(&o), "limit.input_bytes", "{a:?}");
+    }
+}
+
+#[test]
+fn domain_errors_are_usage_errors_in_the_users_terms() {
+    let dir = temp_dir("domain");
+    let c = data("circle.json");
+    let c = c.to_str().unwrap();
+    let out = dir.join("k.json");
+    let out = out.to_str().unwrap();
+    let o = nurbsx(["evaluate", c, "--at", "100"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "evaluate.domain");
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "100"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "insert_knot.domain");
+    assert!(
+        stderr(&o).contains("knot 100 is outside the domain [0, 1]"),
+        "{}",
+        stderr(&o)
+    );
+    // Too often: named in terms of the command line, not of library functions.
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "0.5", "--times", "5"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "insert_knot.multiplicity");
+    assert!(!stderr(&o).contains("clamp_start"), "{}", stderr(&o));
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "0"]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("already clamped"), "{}", stderr(&o));
+    assert!(!out_exists(out));
+    // --direction offers only what it accepts.
+    let help = stdout(&nurbsx(["insert-knot", "--help"]));
+    let line = help.lines().find(|l| l.contains("--direction")).unwrap();
+    assert!(!help.contains("both"), "{line}\n{help}");
+    assert_exit(
+        &nurbsx([
+            "insert-knot",
+            c,
+            "-o",
+            out,
+            "--at",
+            "0.5",
+            "--direction",
+            "both",
+        ]),
+        2,
+    );
+}
+
+fn out_exists(p: &str) -> bool {
+    Path::new(p).exists()
+}
+
+#[test]
+fn evaluate_snaps_parameters_within_a_few_ulps_of_the_domain_ends() {
+    let c = data("circle.json");
+    let c = c.to_str().unwrap();
+    // 1 + 1 ulp and -1e-17 (what a + (b - a) * t computes for t = 1 or 0 in bad cases).
+    let above = f64::from_bits(1.0f64.to_bits() + 1);
+    let o = nurbsx([
+        "evaluate",
+        c,
+        "--json",
+        "--at",
+        &format!("{above:e}"),
+        "--at",
+        "-1e-17",
+    ]);
+    assert_exit(&o, 0);
+    let r = json(&o);
+    let p1 = floats(&r["results"][0]["point"]);
+    let p0 = floats(&r["results"][1]["point"]);
+    // The ends of the unit circle, by the independent Bernstein form.
+    for (p, u) in [(p1, 1.0f64), (p0, 0.0)] {
+        let q = circle_by_bernstein(u.min(0.999_999_999_999_999_9));
+        assert!(
+            (p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12,
+            "{p:?} {q:?}"
+        );
+    }
+    // Further out is still refused.
+    let o = nurbsx(["evaluate", c, "--at", "1.000000001"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "evaluate.domain");
+}
+
+#[test]
+fn convert_verify_before_the_input_is_a_flag_not_a_tolerance() {
+    let dir = temp_dir("verify-flag");
+    let out = dir.join("c.igs");
+    let step = data("curve_circle_nurbs.step");
+    let o = nurbsx([
+        "convert",
+        "--verify",
+        step.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("verified 1 written entities"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("(tolerance 1e-9)"));
+    let o = nurbsx([
+        "convert",
+        step.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--verify=1e-12",
+    ]);
+    assert_exit(&o, 0);
+    assert!(stderr(&o).contains("(tolerance 1e-12)"), "{}", stderr(&o));
+}
+
+#[test]
+fn files_without_b_splines_are_a_warning_in_convert_and_validate_alike() {
+    let dir = temp_dir("no-bspline");
+    let f = dir.join("points.step");
+    std::fs::write(
+        &f,
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\n\
+         FILE_NAME('x','2000-01-01T00:00:00',('x'),('x'),'x','x','x');\n\
+         FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n\
+         #1 = CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;\nEND-ISO-10303-21;\n",
+    )
+    .unwrap();
+    let f = f.to_str().unwrap();
+    let out = dir.join("points.igs");
+    let o = nurbsx(["convert", f, "-o", out.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(!out.exists(), "nothing written");
+    let convert_line = stderr(&o)
+        .lines()
+        .find(|l| l.contains("warning[no_bspline]"))
+        .unwrap_or_else(|| panic!("{}", stderr(&o)))
+        .to_owned();
+    let o = nurbsx(["validate", f]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains(&convert_line),
+        "same message:\n{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("valid (0 entities"));
+    // In a batch it is not a failure either.
+    let good = dir.join("good.step");
+    std::fs::copy(data("curve_circle_nurbs.step"), &good).unwrap();
+    let o = nurbsx([
+        "convert",
+        f,
+        good.to_str().unwrap(),
+        "--out-dir",
+        dir.join("out").to_str().unwrap(),
+        "--to",
+        "iges",
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("converted 1 of 2 files")
+            && stderr(&o).contains("1 without B-spline entities"),
+        "{}",
+        stderr(&o)
+    );
+}
