@@ -1841,3 +1841,149 @@ fn files_without_b_splines_are_a_warning_in_convert_and_validate_alike() {
         stderr(&o)
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Batch collisions, content against extension, SARIF, nothing dropped in silence
+
+#[test]
+fn batch_name_collisions_are_errors_unless_a_policy_is_given() {
+    let dir = temp_dir("collide");
+    let a = dir.join("x.igs");
+    let b = dir.join("x.step");
+    std::fs::copy(data("curve_circle_nurbs.igs"), &a).unwrap();
+    std::fs::copy(data("curve_circle_nurbs.step"), &b).unwrap();
+    let out = dir.join("out");
+    let run = |policy: Option<&str>| {
+        let mut args = vec![
+            "convert".to_owned(),
+            a.to_str().unwrap().to_owned(),
+            b.to_str().unwrap().to_owned(),
+            "--out-dir".to_owned(),
+            out.to_str().unwrap().to_owned(),
+            "--to".to_owned(),
+            "step".to_owned(),
+        ];
+        if let Some(p) = policy {
+            args.push("--on-collision".to_owned());
+            args.push(p.to_owned());
+        }
+        nurbsx(&args)
+    };
+    let o = run(None);
+    assert_exit(&o, 2);
+    assert!(
+        stderr(&o).contains("x.igs") && stderr(&o).contains("x.step") && stderr(&o).contains("--on-collision"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "nothing converted");
+    let o = run(Some("rename"));
+    assert_exit(&o, 0);
+    assert!(out.join("x.step").is_file() && out.join("x-2.step").is_file());
+    assert!(stderr(&o).contains("warning[batch.collision]"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&out).unwrap();
+    let o = run(Some("overwrite"));
+    assert_exit(&o, 0);
+    assert!(out.join("x.step").is_file() && !out.join("x-2.step").exists());
+    assert!(stderr(&o).contains("warning[batch.collision]"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("converted 1 of 1 files"), "{}", stderr(&o));
+}
+
+#[test]
+fn batch_warns_when_content_contradicts_the_extension() {
+    let dir = temp_dir("batch-ext");
+    let f = misnamed_circle(&dir);
+    let o = nurbsx([
+        "convert",
+        f.to_str().unwrap(),
+        "--out-dir",
+        dir.join("out").to_str().unwrap(),
+        "--to",
+        "iges",
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("warning[format.extension]: the extension says IGES but the content is STEP"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn sarif_names_the_tool_honestly_and_describes_its_rules() {
+    let o = nurbsx([
+        "validate",
+        "--format",
+        "sarif",
+        data("bad_knots.json").to_str().unwrap(),
+    ]);
+    let doc = json(&o);
+    let driver = &doc["runs"][0]["tool"]["driver"];
+    // Cargo.toml's repository is a placeholder: no made-up home page.
+    let repo = env!("CARGO_PKG_REPOSITORY");
+    match driver.get("informationUri") {
+        Some(uri) => {
+            assert_eq!(uri, repo);
+            assert!(!repo.contains(".invalid") && !repo.contains("example."));
+        }
+        None => assert!(repo.contains(".invalid") || repo.contains("example.") || repo.is_empty()),
+    }
+    assert!(!doc.to_string().contains("example.invalid"));
+    let rules = driver["rules"].as_array().unwrap();
+    assert!(!rules.is_empty());
+    for r in rules {
+        let text = r["shortDescription"]["text"].as_str().unwrap();
+        assert!(!text.starts_with("nurbsx diagnostic"), "{text}");
+        assert!(text.ends_with('.') && text.len() > 20, "a sentence: {text}");
+    }
+    let geometry = rules.iter().find(|r| r["id"] == "geometry.invalid").unwrap();
+    assert!(
+        geometry["shortDescription"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("B-spline curve or surface is invalid")
+    );
+}
+
+#[test]
+fn modify_commands_say_what_they_leave_out() {
+    // The filleted box: 26 surfaces, 48 3-D edge curves and 96 2-D pcurves; IGES output
+    // has no place for the pcurves, and every writing command says so.
+    let dir = temp_dir("left-out");
+    let step = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("samples/freecad/brep_filleted_box_nurbs.step");
+    let step = step.to_str().unwrap();
+    for args in [
+        vec!["convert", step],
+        vec!["elevate", step, "--by", "1"],
+        vec!["clamp", step],
+        vec!["unclamp", step],
+    ] {
+        let out = dir.join(format!("{}.igs", args[0]));
+        let mut a = args.clone();
+        a.extend(["-o", out.to_str().unwrap()]);
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        let err = stderr(&o);
+        assert!(
+            err.contains("warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"),
+            "{args:?}: {err}"
+        );
+        assert!(
+            err.contains("read 170 B-spline curves and surfaces, wrote 74 as IGES, left out 96"),
+            "{args:?}: {err}"
+        );
+        // The file holds what the summary says: 26 surfaces and 48 curves.
+        let info = json(&nurbsx(["info", out.to_str().unwrap(), "--json"]));
+        let entities = info["entities"].as_array().unwrap();
+        assert_eq!(entities.len(), 74);
+        assert_eq!(entities.iter().filter(|e| e["kind"] == "surface").count(), 26);
+        assert!(entities.iter().all(|e| e["dimension"] == 3));
+    }
+    // STEP output keeps them: nothing to say.
+    let out = dir.join("box.step");
+    let o = nurbsx(["clamp", step, "-o", out.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(!stderr(&o).contains("pcurve_not_written"));
+    assert!(stderr(&o).contains("wrote 170 as STEP"), "{}", stderr(&o));
+}
