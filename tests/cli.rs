@@ -1872,7 +1872,9 @@ fn batch_name_collisions_are_errors_unless_a_policy_is_given() {
     let o = run(None);
     assert_exit(&o, 2);
     assert!(
-        stderr(&o).contains("x.igs") && stderr(&o).contains("x.step") && stderr(&o).contains("--on-collision"),
+        stderr(&o).contains("x.igs")
+            && stderr(&o).contains("x.step")
+            && stderr(&o).contains("--on-collision"),
         "{}",
         stderr(&o)
     );
@@ -1880,13 +1882,25 @@ fn batch_name_collisions_are_errors_unless_a_policy_is_given() {
     let o = run(Some("rename"));
     assert_exit(&o, 0);
     assert!(out.join("x.step").is_file() && out.join("x-2.step").is_file());
-    assert!(stderr(&o).contains("warning[batch.collision]"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning[batch.collision]"),
+        "{}",
+        stderr(&o)
+    );
     std::fs::remove_dir_all(&out).unwrap();
     let o = run(Some("overwrite"));
     assert_exit(&o, 0);
     assert!(out.join("x.step").is_file() && !out.join("x-2.step").exists());
-    assert!(stderr(&o).contains("warning[batch.collision]"), "{}", stderr(&o));
-    assert!(stderr(&o).contains("converted 1 of 1 files"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning[batch.collision]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("converted 1 of 1 files"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -1903,7 +1917,8 @@ fn batch_warns_when_content_contradicts_the_extension() {
     ]);
     assert_exit(&o, 0);
     assert!(
-        stderr(&o).contains("warning[format.extension]: the extension says IGES but the content is STEP"),
+        stderr(&o)
+            .contains("warning[format.extension]: the extension says IGES but the content is STEP"),
         "{}",
         stderr(&o)
     );
@@ -1936,7 +1951,10 @@ fn sarif_names_the_tool_honestly_and_describes_its_rules() {
         assert!(!text.starts_with("nurbsx diagnostic"), "{text}");
         assert!(text.ends_with('.') && text.len() > 20, "a sentence: {text}");
     }
-    let geometry = rules.iter().find(|r| r["id"] == "geometry.invalid").unwrap();
+    let geometry = rules
+        .iter()
+        .find(|r| r["id"] == "geometry.invalid")
+        .unwrap();
     assert!(
         geometry["shortDescription"]["text"]
             .as_str()
@@ -1950,8 +1968,8 @@ fn modify_commands_say_what_they_leave_out() {
     // The filleted box: 26 surfaces, 48 3-D edge curves and 96 2-D pcurves; IGES output
     // has no place for the pcurves, and every writing command says so.
     let dir = temp_dir("left-out");
-    let step = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("samples/freecad/brep_filleted_box_nurbs.step");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
     let step = step.to_str().unwrap();
     for args in [
         vec!["convert", step],
@@ -1966,7 +1984,9 @@ fn modify_commands_say_what_they_leave_out() {
         assert_exit(&o, 0);
         let err = stderr(&o);
         assert!(
-            err.contains("warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"),
+            err.contains(
+                "warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"
+            ),
             "{args:?}: {err}"
         );
         assert!(
@@ -1977,7 +1997,10 @@ fn modify_commands_say_what_they_leave_out() {
         let info = json(&nurbsx(["info", out.to_str().unwrap(), "--json"]));
         let entities = info["entities"].as_array().unwrap();
         assert_eq!(entities.len(), 74);
-        assert_eq!(entities.iter().filter(|e| e["kind"] == "surface").count(), 26);
+        assert_eq!(
+            entities.iter().filter(|e| e["kind"] == "surface").count(),
+            26
+        );
         assert!(entities.iter().all(|e| e["dimension"] == 3));
     }
     // STEP output keeps them: nothing to say.

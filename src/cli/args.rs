@@ -10,15 +10,26 @@ use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use crate::exchange::{LengthUnit, StepSchema};
 use crate::pipeline::Direction;
 
-/// The exit-code table every `--help` ends with.
-pub const EXIT_CODES: &str = "\
-Exit codes:
-  0  success (validate: every file valid)
-  1  the input is invalid or unreadable, the conversion or its verification failed,
-     or (batch) any file failed
-  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)";
+/// The exit-code table of the top-level help and of `nurbsx help exit-codes` (a macro, so
+/// that `concat!` can put it into the help text).
+macro_rules! exit_codes {
+    () => {
+        "\
+Exit codes (every command):
+  0  success, and no error diagnostic (validate: every file valid)
+  1  the input is invalid, unreadable or over a limit (limit.*), an entity could not be
+     read (error diagnostic), the conversion or its verification failed, or (batch) any
+     file failed
+  2  usage error (bad flag or value, unknown entity, parameter or knot outside the
+     domain) or I/O error (missing file, unwritable output)"
+    };
+}
 
-const TOP_HELP: &str = "\
+/// The exit-code table.
+pub const EXIT_CODES: &str = exit_codes!();
+
+const TOP_HELP: &str = concat!(
+    "\
 Examples:
   nurbsx convert part.igs -o part.step --verify
   nurbsx convert drawings/ --out-dir converted/ --to step --report report.jsonl
@@ -26,11 +37,9 @@ Examples:
   nurbsx validate --format sarif *.step > results.sarif
   nurbsx evaluate circle.json --at 0.25 --at 0.5 --json
 
-Exit codes:
-  0  success (validate: every file valid)
-  1  the input is invalid or unreadable, the conversion or its verification failed,
-     or (batch) any file failed
-  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)
+",
+    exit_codes!(),
+    "
 
 More help:
   nurbsx help COMMAND      the full help of a command
@@ -38,7 +47,8 @@ More help:
   nurbsx help exit-codes   the exit codes and error codes of every command
   nurbsx help output       what goes to stdout and stderr, -q, --min-severity, --log-format
   nurbsx completions SHELL shell completions (bash, zsh, fish, powershell, elvish)
-  nurbsx man [COMMAND]     man pages (roff)";
+  nurbsx man [COMMAND]     man pages (roff)"
+);
 
 /// `nurbsx`: exact NURBS exchange between IGES 5.3 and STEP.
 #[derive(Debug, Parser)]
@@ -184,15 +194,18 @@ pub enum Command {
                       folders are searched recursively for .step/.stp/.p21/.igs/.iges files, \
                       converted in parallel, and --report writes one JSON line per file.\n\n\
                       Diagnostics (warnings about the input) go to stderr as \
-                      `file:line:col: warning[code]: message`.",
+                      `file:line:col: warning[code]: message`, then one summary line: \
+                      what was read, written, left out (with the warning that says why) \
+                      and verified.",
         after_help = concat!(
             "Examples:\n",
             "  nurbsx convert part.igs -o part.step\n",
             "  nurbsx convert part.step -o part.igs --units in --verify=1e-12\n",
             "  nurbsx convert cad/ more.igs --out-dir out/ --to step --report report.jsonl\n\n",
             "Exit codes:\n",
-            "  0  converted (batch: every file)\n",
-            "  1  input invalid, conversion or verification failed, or (batch) any file failed\n",
+            "  0  converted, or nothing to convert (batch: every file)\n",
+            "  1  input invalid or over a limit, conversion or verification failed, or (batch)\n",
+            "     any file failed\n",
             "  2  usage or I/O error"
         )
     )]
@@ -209,7 +222,8 @@ pub enum Command {
             "  nurbsx info part.igs --json | jq '.entities[].id'\n\n",
             "Exit codes:\n",
             "  0  the file was read\n",
-            "  1  the file is not readable STEP, IGES or model JSON\n",
+            "  1  the file is not readable STEP, IGES or model JSON, is over a limit, or an\n",
+            "     entity could not be read (error diagnostic)\n",
             "  2  usage or I/O error"
         )
     )]
@@ -246,7 +260,7 @@ pub enum Command {
             "  nurbsx evaluate part.igs --entity D5 --params params.txt --derivatives 2\n\n",
             "Exit codes:\n",
             "  0  evaluated\n",
-            "  1  the input is invalid or unreadable\n",
+            "  1  the input is invalid, unreadable or over a limit (limit.*)\n",
             "  2  usage or I/O error (unknown entity, parameter outside the domain, bad tuple)"
         )
     )]
@@ -258,7 +272,7 @@ pub enum Command {
         "  nurbsx elevate surface.json -o raised.json --by 1 --direction u\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid, or the result would exceed --max-degree\n",
+        "  1  the input is invalid or over a limit, or the result would exceed --max-degree\n",
         "  2  usage or I/O error"
     ))]
     Elevate(ElevateArgs),
@@ -269,7 +283,7 @@ pub enum Command {
         "  nurbsx clamp curve.json -o clamped.json\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid\n",
+        "  1  the input is invalid or over a limit\n",
         "  2  usage or I/O error"
     ))]
     Clamp(SimpleOpArgs),
@@ -279,7 +293,7 @@ pub enum Command {
         "  nurbsx unclamp part.step -o unclamped.step\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid\n",
+        "  1  the input is invalid or over a limit\n",
         "  2  usage or I/O error"
     ))]
     Unclamp(SimpleOpArgs),
@@ -290,8 +304,8 @@ pub enum Command {
         "  nurbsx insert-knot part.step -o refined.step --entity '#17' --at 0.3 --direction v\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid or the knot cannot be inserted that often\n",
-        "  2  usage or I/O error"
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
     /// Tessellate curves and surfaces into OBJ or SVG under a chord tolerance.
@@ -301,7 +315,7 @@ pub enum Command {
         "  nurbsx tessellate curve.igs -o curve.svg --tolerance 0.001 --entity D1\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid, or the mesh would exceed the vertex limit\n",
+        "  1  the input is invalid or over a limit (the mesh vertex limit too)\n",
         "  2  usage or I/O error"
     ))]
     Tessellate(TessellateArgs),

@@ -14,11 +14,12 @@ use super::{CliError, Context, Outcome, print_stdout, write_bytes};
 pub const ERROR_CODES: &str = "\
 Error codes (in `error[code]` and in JSON as \"code\"), by family:
   code                         exit  HTTP  when
-  usage, request.*             2     400   bad flag, value or request
+  usage                        2     -     bad flag or value
+  request.*                    -     400   malformed HTTP request
   entity.not_found             2     400   no entity with that id
-  evaluate.domain,             2     400   a parameter or knot outside the entity's domain
-    insert_knot.domain
-  insert_knot.multiplicity     2     400   the knot cannot be inserted that often
+  evaluate.domain              2     400   a parameter outside the entity's domain
+  insert_knot.domain           2     -     a knot outside the entity's domain
+  insert_knot.multiplicity     2     -     the knot cannot be inserted that often
   io                           2     -     missing file, unreadable or unwritable path
   limit.*                      1     413   a --max-* limit was exceeded (nurbsx help limits)
   format.unknown               1     415   not STEP, IGES or model JSON
