@@ -1417,7 +1417,7 @@ fn colour_follows_the_flag_and_no_color() {
     let esc = "\u{1b}[";
     let o = nurbsx_env(&["--color", "always", "validate", bad], &[]);
     assert_exit(&o, 1);
-    assert!(stderr(&o).contains(&format!("{esc}")), "{:?}", stderr(&o));
+    assert!(stderr(&o).contains(esc), "{:?}", stderr(&o));
     assert!(stderr(&o).contains("error[geometry.invalid]"));
     // The flag after the command works too, `=` or not.
     let o = nurbsx_env(&["validate", bad, "--color=always"], &[]);
