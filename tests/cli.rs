@@ -2010,3 +2010,346 @@ fn modify_commands_say_what_they_leave_out() {
     assert!(!stderr(&o).contains("pcurve_not_written"));
     assert!(stderr(&o).contains("wrote 170 as STEP"), "{}", stderr(&o));
 }
+
+// ---------------------------------------------------------------------------------------
+// Meshes and pictures
+
+/// The triangles of a binary STL, read by the format's definition (80-byte header, count,
+/// 50 bytes per triangle: normal, three vertices, attribute).
+fn read_stl(bytes: &[u8]) -> Vec<[[f32; 3]; 3]> {
+    let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * count, "STL size");
+    (0..count)
+        .map(|i| {
+            let t = &bytes[84 + 50 * i..];
+            let f = |k: usize| f32::from_le_bytes(t[4 * k..4 * k + 4].try_into().unwrap());
+            [[f(3), f(4), f(5)], [f(6), f(7), f(8)], [f(9), f(10), f(11)]]
+        })
+        .collect()
+}
+
+/// Checks a triangle soup is a closed surface: every edge (by its end points) belongs to
+/// exactly two triangles, in opposite directions (consistent orientation), and no triangle
+/// has zero area.
+#[track_caller]
+fn assert_watertight(triangles: &[[[f32; 3]; 3]]) {
+    use std::collections::HashMap;
+    assert!(!triangles.is_empty());
+    let key = |p: [f32; 3]| p.map(f32::to_bits);
+    let mut edges: HashMap<([u32; 3], [u32; 3]), usize> = HashMap::new();
+    for t in triangles {
+        let (a, b, c) = (t[0], t[1], t[2]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        assert!(n.iter().any(|&x| x != 0.0), "zero-area triangle {t:?}");
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            *edges.entry((key(p), key(q))).or_default() += 1;
+        }
+    }
+    for (&(p, q), &n) in &edges {
+        assert_eq!(n, 1, "directed edge used {n} times");
+        assert_eq!(
+            edges.get(&(q, p)),
+            Some(&1),
+            "edge {p:?}-{q:?} has no opposite"
+        );
+    }
+}
+
+#[test]
+fn meshes_of_closed_samples_are_watertight_in_stl_and_gltf() {
+    let dir = temp_dir("watertight");
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    for name in ["surf_sphere_nurbs", "surf_torus_nurbs"] {
+        let input = samples.join(format!("{name}.step"));
+        let stl = dir.join(format!("{name}.stl"));
+        let o = nurbsx([
+            "tessellate",
+            input.to_str().unwrap(),
+            "-o",
+            stl.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+        ]);
+        assert_exit(&o, 0);
+        let triangles = read_stl(&std::fs::read(&stl).unwrap());
+        assert_watertight(&triangles);
+        // glTF 2.0 binary: header, JSON chunk, BIN chunk; the indexed mesh is the same.
+        let glb = dir.join(format!("{name}.glb"));
+        let o = nurbsx([
+            "tessellate",
+            input.to_str().unwrap(),
+            "-o",
+            glb.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+        ]);
+        assert_exit(&o, 0);
+        let bytes = std::fs::read(&glb).unwrap();
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        assert_eq!(&bytes[0..4], b"glTF");
+        assert_eq!(word(4), 2, "glTF version");
+        assert_eq!(word(8), bytes.len());
+        let json_len = word(12);
+        assert_eq!(&bytes[16..20], b"JSON");
+        assert_eq!(json_len % 4, 0);
+        let doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let bin_at = 20 + json_len;
+        assert_eq!(&bytes[bin_at + 4..bin_at + 8], b"BIN\0");
+        let bin = &bytes[bin_at + 8..bin_at + 8 + word(bin_at)];
+        assert_eq!(doc["asset"]["version"], "2.0");
+        assert_eq!(
+            doc["buffers"][0]["byteLength"].as_u64().unwrap() as usize,
+            bin.len()
+        );
+        let prim = &doc["meshes"][0]["primitives"][0];
+        assert_eq!(prim["mode"], 4);
+        let accessor = |i: &Value| &doc["accessors"][i.as_u64().unwrap() as usize];
+        let view_of = |a: &Value| {
+            let v = &doc["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+            let off = v["byteOffset"].as_u64().unwrap() as usize;
+            &bin[off..off + v["byteLength"].as_u64().unwrap() as usize]
+        };
+        let pos = accessor(&prim["attributes"]["POSITION"]);
+        let idx = accessor(&prim["indices"]);
+        assert_eq!(pos["componentType"], 5126);
+        assert_eq!(idx["componentType"], 5125);
+        let f32s: Vec<f32> = view_of(pos)
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        let points: Vec<[f32; 3]> = f32s.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        assert_eq!(points.len() as u64, pos["count"].as_u64().unwrap());
+        for k in 0..3 {
+            let lo = points.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min);
+            let hi = points
+                .iter()
+                .map(|p| p[k])
+                .fold(f32::NEG_INFINITY, f32::max);
+            assert_eq!(pos["min"][k].as_f64().unwrap() as f32, lo);
+            assert_eq!(pos["max"][k].as_f64().unwrap() as f32, hi);
+        }
+        let indices: Vec<usize> = view_of(idx)
+            .chunks(4)
+            .map(|c| u32::from_le_bytes(c.try_into().unwrap()) as usize)
+            .collect();
+        // Welded: no two vertices at the same place.
+        let distinct: std::collections::HashSet<[u32; 3]> =
+            points.iter().map(|p| p.map(f32::to_bits)).collect();
+        assert_eq!(distinct.len(), points.len(), "{name}: vertices welded");
+        let from_gltf: Vec<[[f32; 3]; 3]> = indices
+            .chunks(3)
+            .map(|t| [points[t[0]], points[t[1]], points[t[2]]])
+            .collect();
+        assert_watertight(&from_gltf);
+        assert_eq!(from_gltf.len(), triangles.len());
+    }
+}
+
+#[test]
+fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
+    let dir = temp_dir("mesh-pcurves");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    for ext in ["obj", "glb", "svg"] {
+        let out = dir.join(format!("box.{ext}"));
+        let o = nurbsx([
+            "tessellate",
+            step.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--tolerance",
+            "0.1",
+        ]);
+        assert_exit(&o, 0);
+        assert!(
+            stderr(&o).contains("warning[pcurve_not_written]: 96 curve(s) not drawn"),
+            "{ext}: {}",
+            stderr(&o)
+        );
+        assert!(
+            stderr(&o).contains("drew 74 of 170 entities"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    let obj = std::fs::read_to_string(dir.join("box.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("o ")).count(), 74);
+    // #37 is the first pcurve of the box.
+    assert!(!obj.lines().any(|l| l == "o #37"));
+    // STL holds no curves: the 48 edges are named as left out.
+    let o = nurbsx([
+        "tessellate",
+        step.to_str().unwrap(),
+        "-o",
+        dir.join("box.stl").to_str().unwrap(),
+        "--tolerance",
+        "0.1",
+    ]);
+    assert!(
+        stderr(&o).contains("warning[curve_not_written]: 48 curve(s) not drawn"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
+    let dir = temp_dir("pictures");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    let svg = dir.join("box.svg");
+    let o = nurbsx([
+        "tessellate",
+        step.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+        "--tolerance",
+        "0.1",
+    ]);
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let tags = check_xml(&text);
+    assert_eq!(tags[0].0, "svg");
+    assert!(text.contains("isometric view"));
+    // One label per entity drawn, and a scale bar in the file's unit.
+    let labels = tags.iter().filter(|(n, _)| n == "text").count();
+    assert_eq!(labels, 74 + 2, "74 labels, the title and the scale");
+    assert!(text.contains(" mm</text>"), "scale bar in mm");
+    // One palette colour per entity (26 surfaces cycle through all 10 of Tableau 10):
+    // shading scales a colour, so each fill points in the direction of its palette entry.
+    let palette: [[f64; 3]; 10] = [
+        [31.0, 119.0, 180.0],
+        [255.0, 127.0, 14.0],
+        [44.0, 160.0, 44.0],
+        [214.0, 39.0, 40.0],
+        [148.0, 103.0, 189.0],
+        [140.0, 86.0, 75.0],
+        [227.0, 119.0, 194.0],
+        [127.0, 127.0, 127.0],
+        [188.0, 189.0, 34.0],
+        [23.0, 190.0, 207.0],
+    ];
+    let mut used = std::collections::BTreeSet::new();
+    for fill in text.split("<polygon").skip(1).map(|p| {
+        let rgb = p
+            .split("fill=\"rgb(")
+            .nth(1)
+            .unwrap()
+            .split(')')
+            .next()
+            .unwrap();
+        let c: Vec<f64> = rgb.split(',').map(|x| x.parse().unwrap()).collect();
+        c
+    }) {
+        let cos = |q: &[f64; 3]| {
+            let d: f64 = (0..3).map(|k| fill[k] * q[k]).sum();
+            let n = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            d / (n(&fill) * n(q))
+        };
+        let (best, c) = palette
+            .iter()
+            .enumerate()
+            .map(|(i, q)| (i, cos(q)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        assert!(
+            c > 0.999,
+            "fill {fill:?} is a shade of a palette colour ({c})"
+        );
+        used.insert(best);
+    }
+    assert_eq!(used.len(), 10, "{used:?}");
+    // A plane curve set: top view, inside the frame (no clipping), 2 px lines in pixel
+    // coordinates (no scaled viewBox).
+    let set = dir.join("set.json");
+    let circle = std::fs::read_to_string(data("circle.json")).unwrap();
+    std::fs::write(
+        &set,
+        format!(
+            "[{circle}, {{\"degree\": 1, \"knots\": [0, 0, 1, 1], \"control_points\": [[-1, -1], [3, 1]]}}]"
+        ),
+    )
+    .unwrap();
+    let curves = dir.join("set.svg");
+    let o = nurbsx([
+        "tessellate",
+        set.to_str().unwrap(),
+        "-o",
+        curves.to_str().unwrap(),
+        "--tolerance",
+        "0.001",
+    ]);
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&curves).unwrap();
+    assert!(text.contains("top view (XY)"), "{text}");
+    let attr = |s: &str, name: &str| -> f64 {
+        s.split(&format!("{name}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (width, height) = (attr(&text, "width"), attr(&text, "height"));
+    assert!(text.contains(&format!("viewBox=\"0 0 {width} {height}\"")));
+    let segments: Vec<[f64; 4]> = text
+        .split("<line ")
+        .skip(1)
+        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| attr(l, n)))
+        .collect();
+    assert!(
+        segments.len() > 70,
+        "the circle within 1e-3 needs 71 segments or more"
+    );
+    for [x1, y1, x2, y2] in &segments {
+        for (x, y) in [(x1, y1), (x2, y2)] {
+            assert!(
+                *x >= 24.0 && *x <= width - 24.0 && *y >= 24.0 && *y <= height - 24.0,
+                "{x},{y}"
+            );
+        }
+    }
+    // The line from (-1, -1) to (3, 1) spans the width: x from the left margin to the right
+    // one, and it rises to the right (y up in the model, down in SVG).
+    let xs: Vec<f64> = segments.iter().flat_map(|s| [s[0], s[2]]).collect();
+    let left = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let right = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        (left - 48.0).abs() < 1e-6 && (right - (width - 48.0)).abs() < 1e-6,
+        "{left} {right}"
+    );
+    assert!(text.contains("stroke-width=\"2\""));
+    // PNG: the same picture rasterised.
+    let png = dir.join("box.png");
+    let o = nurbsx([
+        "tessellate",
+        step.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--tolerance",
+        "0.1",
+    ]);
+    assert_exit(&o, 0);
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let pixmap = resvg::tiny_skia::Pixmap::decode_png(&bytes).unwrap();
+    assert_eq!(pixmap.width(), 800);
+    let coloured = pixmap
+        .pixels()
+        .iter()
+        .filter(|p| {
+            let (r, g, b) = (p.red(), p.green(), p.blue());
+            r.max(g).max(b) - r.min(g).min(b) > 40
+        })
+        .count();
+    let share = coloured as f64 / f64::from(pixmap.width() * pixmap.height());
+    assert!(share > 0.1, "the shaded part covers {share} of the picture");
+}

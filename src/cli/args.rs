@@ -308,7 +308,7 @@ pub enum Command {
         "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
-    /// Tessellate curves and surfaces into OBJ or SVG under a chord tolerance.
+    /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
         "  nurbsx tessellate part.step -o part.obj --tolerance 0.01\n",
@@ -690,10 +690,17 @@ pub struct InsertKnotArgs {
 /// A tessellation output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MeshFormatArg {
-    /// Wavefront OBJ.
+    /// Wavefront OBJ: welded triangle meshes and polylines.
     Obj,
-    /// SVG (projection on XY).
+    /// Binary STL: triangles only.
+    Stl,
+    /// Binary glTF 2.0 (.glb): triangle meshes and line strips.
+    Glb,
+    /// SVG picture: shaded isometric (or, for plane curves, top) view with frame, scale bar
+    /// and labels.
     Svg,
+    /// The SVG picture as PNG (rendered by resvg).
+    Png,
 }
 
 /// `nurbsx tessellate`.
@@ -702,7 +709,8 @@ pub struct TessellateArgs {
     /// Input file (STEP, IGES or model JSON).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Output file (.obj or .svg); `-` writes standard output (then give --format).
+    /// Output file (.obj, .stl, .glb, .svg or .png); `-` writes standard output (then give
+    /// --format).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// Mesh format (default: from OUT's extension).

@@ -13,7 +13,7 @@ use super::args::{
 use super::inspect::no_bspline_warning;
 use super::{
     CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, reader_error,
-    write_output,
+    write_bytes, write_output,
 };
 
 /// `nurbsx elevate`.
@@ -166,8 +166,7 @@ fn export_options(output: &Path) -> ExportOptions {
 /// `nurbsx tessellate`.
 pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError> {
     let format = match a.format {
-        Some(MeshFormatArg::Obj) => MeshFormat::Obj,
-        Some(MeshFormatArg::Svg) => MeshFormat::Svg,
+        Some(f) => f,
         None => {
             let ext = a
                 .output
@@ -175,17 +174,27 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
                 .and_then(|e| e.to_str())
                 .map(str::to_ascii_lowercase);
             match ext.as_deref() {
-                Some("obj") => MeshFormat::Obj,
-                Some("svg") => MeshFormat::Svg,
+                Some("obj") => MeshFormatArg::Obj,
+                Some("stl") => MeshFormatArg::Stl,
+                Some("glb") => MeshFormatArg::Glb,
+                Some("svg") => MeshFormatArg::Svg,
+                Some("png") => MeshFormatArg::Png,
                 _ => {
                     return Err(CliError::Usage(format!(
-                        "cannot tell the mesh format from `{}`: use .obj or .svg, or give \
-                         --format obj|svg",
+                        "cannot tell the mesh format from `{}`: use .obj, .stl, .glb, .svg \
+                         or .png, or give --format obj|stl|glb|svg|png",
                         a.output.display()
                     )));
                 }
             }
         }
+    };
+    let format = match format {
+        MeshFormatArg::Obj => MeshFormat::Obj,
+        MeshFormatArg::Stl => MeshFormat::Stl,
+        MeshFormatArg::Glb => MeshFormat::Glb,
+        MeshFormatArg::Svg => MeshFormat::Svg,
+        MeshFormatArg::Png => MeshFormat::Png,
     };
     let name = display_name(&a.input);
     let loaded = load_file(ctx, &a.input)?;
@@ -194,8 +203,12 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
     {
         return Ok(outcome);
     }
-    ctx.report.diagnostics(&name, &loaded.document.diagnostics);
-    let text = pipeline::tessellate(
+    let plan = pipeline::mesh::plan(&loaded.document, a.entity.as_deref(), format)
+        .map_err(|e| CliError::pipeline(&a.input, e))?;
+    let mut diagnostics = loaded.document.diagnostics.clone();
+    diagnostics.extend(plan.left_out);
+    ctx.report.diagnostics(&name, &diagnostics);
+    let bytes = pipeline::tessellate(
         &loaded.document,
         a.entity.as_deref(),
         a.tolerance,
@@ -203,6 +216,15 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
         &ctx.settings,
     )
     .map_err(|e| CliError::pipeline(&a.input, e))?;
-    write_output(&a.output, &text)?;
-    Ok(outcome_of(&loaded.document.diagnostics))
+    write_bytes(&a.output, &bytes)?;
+    ctx.report.summary(&format!(
+        "{name} -> {}: drew {} of {} entities",
+        display_name(&a.output),
+        plan.entities.len(),
+        match a.entity {
+            Some(_) => 1,
+            None => loaded.document.entities.len(),
+        }
+    ));
+    Ok(outcome_of(&diagnostics))
 }

@@ -95,10 +95,16 @@ pub enum Operation {
 /// An output format for tessellation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MeshFormat {
-    /// Wavefront OBJ (polylines and triangle meshes).
+    /// Wavefront OBJ (welded triangle meshes and polylines).
     Obj,
-    /// SVG (curves projected on XY).
+    /// Binary STL (triangles only).
+    Stl,
+    /// Binary glTF 2.0 (`.glb`: triangle meshes and line strips).
+    Glb,
+    /// An SVG picture (shaded isometric or top view, frame, scale bar, labels).
     Svg,
+    /// The SVG picture rasterised to PNG.
+    Png,
 }
 
 /// An evaluation request.
@@ -813,115 +819,32 @@ fn snap_to_domain(t: f64, (start, end): (f64, f64)) -> f64 {
     }
 }
 
-/// Tessellates one entity (or all with `entity = None`) under a chord tolerance: curves by
-/// the osculating-circle rule, surfaces to crack-free triangle meshes. OBJ holds both (one
-/// `o` group per entity); SVG holds curves projected on XY.
+/// Tessellates one entity (or all with `entity = None`) under a chord tolerance (curves by
+/// the osculating-circle rule, surfaces to crack-free grids welded at seams and poles) and
+/// writes the result: OBJ, binary STL, binary glTF 2.0 or an SVG or PNG picture
+/// ([`super::mesh`], [`super::picture`]). What the format cannot hold is left out as
+/// [`super::mesh::plan`] says (call it first to report the warnings).
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
     tolerance: f64,
     format: MeshFormat,
     settings: &Settings,
-) -> Result<String, PipelineError> {
-    use crate::nurbs::tessellate::{Polyline, polylines_to_svg};
-    use std::fmt::Write as _;
+) -> Result<Vec<u8>, PipelineError> {
+    use super::{mesh, picture};
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::usage(
             "tessellate.tolerance",
             format!("tolerance must be a positive number, got {tolerance}"),
         ));
     }
-    let selected: Vec<&Entity> = match entity {
-        Some(id) => vec![select(doc, Some(id))?],
-        None => doc.entities.iter().collect(),
-    };
-    if selected.is_empty() {
-        select(doc, None)?;
-    }
-    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
-        PipelineError::new(
-            ErrorKind::Geometry,
-            "tessellate.failed",
-            err.to_string(),
-            Location::at_entity(e.id.clone()),
-        )
-    };
-    let mut vertices = 0usize;
-    let mut budget = |n: usize| -> Result<(), PipelineError> {
-        vertices = vertices.saturating_add(n);
-        if vertices > settings.max_mesh_vertices {
-            return Err(PipelineError::new(
-                ErrorKind::Limit,
-                "limit.mesh_vertices",
-                format!(
-                    "the tessellation exceeds {} vertices; use a larger tolerance",
-                    settings.max_mesh_vertices
-                ),
-                Location::default(),
-            ));
-        }
-        Ok(())
-    };
-    match format {
-        MeshFormat::Svg => {
-            let mut lines: Vec<Polyline> = Vec::new();
-            for e in &selected {
-                match &e.geometry {
-                    Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
-                        lines.push(line);
-                    }
-                    Geometry::Surface(_) => {
-                        return Err(PipelineError::usage(
-                            "tessellate.svg_surface",
-                            format!(
-                                "{} is a surface; SVG output holds curves only (use .obj)",
-                                e.id
-                            ),
-                        ));
-                    }
-                }
-            }
-            Ok(polylines_to_svg(&lines, 800.0))
-        }
-        MeshFormat::Obj => {
-            let mut out = String::from("# nurbsx tessellation\n");
-            let mut base = 1usize; // OBJ vertex indices are 1-based and global
-            for e in &selected {
-                let _ = writeln!(out, "o {}", e.id);
-                match &e.geometry {
-                    Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
-                        for p in &line.points {
-                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
-                        }
-                        out.push('l');
-                        for k in 0..line.points.len() {
-                            let _ = write!(out, " {}", base + k);
-                        }
-                        out.push('\n');
-                        base += line.points.len();
-                    }
-                    Geometry::Surface(s) => {
-                        let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(mesh.vertices.len())?;
-                        for p in &mesh.vertices {
-                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
-                        }
-                        for n in &mesh.normals {
-                            let _ = writeln!(out, "vn {} {} {}", n[0], n[1], n[2]);
-                        }
-                        for t in &mesh.triangles {
-                            let (a, b, c) = (base + t[0], base + t[1], base + t[2]);
-                            let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
-                        }
-                        base += mesh.vertices.len();
-                    }
-                }
-            }
-            Ok(out)
-        }
-    }
+    let plan = mesh::plan(doc, entity, format)?;
+    let (faces, curves) = mesh::tessellate_all(&plan, tolerance, settings)?;
+    Ok(match format {
+        MeshFormat::Obj => mesh::obj(&faces, &curves).into_bytes(),
+        MeshFormat::Stl => mesh::stl(&faces),
+        MeshFormat::Glb => mesh::glb(&faces, &curves),
+        MeshFormat::Svg => picture::svg(&faces, &curves, doc.units.short_name()).into_bytes(),
+        MeshFormat::Png => picture::png(&picture::svg(&faces, &curves, doc.units.short_name()))?,
+    })
 }

@@ -1,0 +1,285 @@
+//! Pictures of a tessellation: an SVG drawing (and, from it, a PNG) of the welded surface
+//! meshes and the curves of [`super::mesh`].
+//!
+//! The view is an orthographic projection: isometric (looking along -(1, 1, 1), z up) when
+//! anything leaves the plane z = 0, else the XY plane seen from above. Triangles are filled
+//! far to near (painter's order) with one colour per entity, shaded by the angle between
+//! the triangle's normal and the view direction (two-sided Lambert); curves are drawn
+//! 2 px wide, over the faces they lie on and under the faces in front of them. Coordinates
+//! are mapped to pixels by the program, not by an SVG `viewBox`, so line widths are the
+//! same in every renderer. A frame, a scale bar in the document's unit, one label per
+//! entity and a title complete the picture.
+
+use std::fmt::Write as _;
+
+use crate::nurbs::Point3;
+
+use super::mesh::{CurveLine, FaceMesh, triangle_normal};
+
+/// Picture width in pixels.
+const WIDTH: f64 = 800.0;
+/// Margin around the drawing, in pixels (room for the scale bar and labels).
+const MARGIN: f64 = 48.0;
+
+/// One colour per entity, cycling (Tableau 10, a palette that stays distinct for the
+/// colour-blind in its first entries).
+const PALETTE: [[u8; 3]; 10] = [
+    [31, 119, 180],
+    [255, 127, 14],
+    [44, 160, 44],
+    [214, 39, 40],
+    [148, 103, 189],
+    [140, 86, 75],
+    [227, 119, 194],
+    [127, 127, 127],
+    [188, 189, 34],
+    [23, 190, 207],
+];
+
+/// An orthographic camera: screen right, screen up and the direction toward the viewer.
+struct View {
+    right: Point3,
+    up: Point3,
+    toward: Point3,
+    name: &'static str,
+}
+
+impl View {
+    fn project(&self, p: Point3) -> (f64, f64, f64) {
+        (dot(p, self.right), dot(p, self.up), dot(p, self.toward))
+    }
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Isometric when any point leaves z = 0, else the XY plane from above.
+fn choose_view(faces: &[FaceMesh], curves: &[CurveLine]) -> View {
+    let flat = faces
+        .iter()
+        .flat_map(|f| &f.positions)
+        .chain(curves.iter().flat_map(|c| &c.points))
+        .all(|p| p[2] == 0.0);
+    if flat {
+        View {
+            right: [1.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            toward: [0.0, 0.0, 1.0],
+            name: "top view (XY)",
+        }
+    } else {
+        let s2 = std::f64::consts::FRAC_1_SQRT_2;
+        let s6 = 1.0 / 6f64.sqrt();
+        let s3 = 1.0 / 3f64.sqrt();
+        View {
+            right: [-s2, s2, 0.0],
+            up: [-s6, -s6, 2.0 * s6],
+            toward: [s3, s3, s3],
+            name: "isometric view",
+        }
+    }
+}
+
+/// A length of 1, 2 or 5 times a power of ten, near `target`.
+fn nice_length(target: f64) -> f64 {
+    if !(target.is_finite() && target > 0.0) {
+        return 1.0;
+    }
+    let power = 10f64.powf(target.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * power)
+        .find(|&l| l <= target)
+        .unwrap_or(power)
+}
+
+/// XML text escaping for labels.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The SVG picture of the meshes and curves; `unit` names the length unit of the scale bar.
+pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
+    let view = choose_view(faces, curves);
+    // Screen bounds of everything drawn.
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in faces
+        .iter()
+        .flat_map(|f| &f.positions)
+        .chain(curves.iter().flat_map(|c| &c.points))
+    {
+        let (x, y, _) = view.project(*p);
+        lo = [lo[0].min(x), lo[1].min(y)];
+        hi = [hi[0].max(x), hi[1].max(y)];
+    }
+    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+        lo = [0.0; 2];
+        hi = [1.0; 2];
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+    let scale = (WIDTH - 2.0 * MARGIN) / span; // pixels per model unit
+    let height = ((hi[1] - lo[1]) * scale + 2.0 * MARGIN)
+        .ceil()
+        .max(2.0 * MARGIN + 1.0);
+    let px = |p: Point3| -> (f64, f64, f64) {
+        let (x, y, d) = view.project(p);
+        (
+            MARGIN + (x - lo[0]) * scale,
+            height - MARGIN - (y - lo[1]) * scale,
+            d,
+        )
+    };
+    let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = writeln!(
+        s,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{height}\" \
+         viewBox=\"0 0 {WIDTH} {height}\" font-family=\"DejaVu Sans, Arial, sans-serif\" \
+         font-size=\"12\">"
+    );
+    let _ = writeln!(
+        s,
+        "<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{height}\" fill=\"white\"/>"
+    );
+    // Triangles and curve segments, far to near. A segment is drawn over the triangles at
+    // its own depth (an edge lies on its faces): it is moved toward the viewer by a
+    // thousandth of the picture's size; faces in front of it still hide it.
+    enum Shape {
+        Triangle([(f64, f64); 3], f64),
+        Segment([(f64, f64); 2]),
+    }
+    let mut shapes: Vec<(f64, [u8; 3], Shape)> = Vec::new();
+    for (i, f) in faces.iter().enumerate() {
+        let color = PALETTE[i % PALETTE.len()];
+        for t in &f.triangles {
+            let [a, b, c] = t.map(|v| f.positions[v as usize]);
+            let light = 0.35 + 0.65 * dot(triangle_normal(a, b, c), view.toward).abs();
+            let (pa, pb, pc) = (px(a), px(b), px(c));
+            let depth = (pa.2 + pb.2 + pc.2) / 3.0;
+            let pts = [(pa.0, pa.1), (pb.0, pb.1), (pc.0, pc.1)];
+            shapes.push((depth, color, Shape::Triangle(pts, light)));
+        }
+    }
+    let bias = 1e-3 * span;
+    for (k, c) in curves.iter().enumerate() {
+        let color = PALETTE[(faces.len() + k) % PALETTE.len()];
+        for w in c.points.windows(2) {
+            let (a, b) = (px(w[0]), px(w[1]));
+            let depth = (a.2 + b.2) / 2.0 + bias;
+            shapes.push((depth, color, Shape::Segment([(a.0, a.1), (b.0, b.1)])));
+        }
+    }
+    shapes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (_, color, shape) in &shapes {
+        match shape {
+            Shape::Triangle(pts, light) => {
+                let [r, g, b] = color.map(|c| (f64::from(c) * light).round());
+                // A 1 px stroke of the fill colour closes the anti-aliasing seams.
+                let _ = writeln!(
+                    s,
+                    "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" \
+                     fill=\"rgb({r},{g},{b})\" stroke=\"rgb({r},{g},{b})\" \
+                     stroke-width=\"1\" stroke-linejoin=\"round\"/>",
+                    pts[0].0, pts[0].1, pts[1].0, pts[1].1, pts[2].0, pts[2].1
+                );
+            }
+            Shape::Segment([a, b]) => {
+                let [r, g, bl] = *color;
+                let _ = writeln!(
+                    s,
+                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" \
+                     stroke=\"rgb({r},{g},{bl})\" stroke-width=\"2\" stroke-linecap=\"round\"/>",
+                    a.0, a.1, b.0, b.1
+                );
+            }
+        }
+    }
+    // Labels: each entity's id at its first vertex.
+    let labels = faces
+        .iter()
+        .map(|f| (f.entity.as_str(), f.positions.first().copied()))
+        .chain(
+            curves
+                .iter()
+                .map(|c| (c.entity.as_str(), c.points.first().copied())),
+        );
+    for (id, at) in labels {
+        if let Some(p) = at {
+            let (x, y, _) = px(p);
+            let _ = writeln!(
+                s,
+                "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"black\" stroke=\"white\" stroke-width=\"3\" \
+                 paint-order=\"stroke\">{}</text>",
+                x + 3.0,
+                y - 3.0,
+                escape(id)
+            );
+        }
+    }
+    // Frame, title and scale bar.
+    let _ = writeln!(
+        s,
+        "<rect x=\"{m}\" y=\"{m}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"none\" \
+         stroke=\"#444\" stroke-width=\"1\"/>",
+        m = MARGIN / 2.0,
+        w = WIDTH - MARGIN,
+        h = height - MARGIN
+    );
+    let _ = writeln!(
+        s,
+        "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#222\">nurbsx: {} surface(s), {} curve(s), {}</text>",
+        MARGIN / 2.0,
+        MARGIN / 2.0 - 6.0,
+        faces.len(),
+        curves.len(),
+        view.name
+    );
+    let bar = nice_length(span / 5.0);
+    let (x0, y0) = (MARGIN, height - MARGIN / 4.0 - 4.0);
+    let x1 = x0 + bar * scale;
+    let _ = writeln!(
+        s,
+        "<path d=\"M{x0:.1},{:.1} V{y0:.1} H{x1:.1} V{:.1}\" fill=\"none\" stroke=\"black\" \
+         stroke-width=\"1.5\"/>\n<text x=\"{:.1}\" y=\"{:.1}\" fill=\"black\">{bar} {}</text>",
+        y0 - 5.0,
+        y0 - 5.0,
+        x1 + 6.0,
+        y0 + 1.0,
+        escape(unit)
+    );
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Rasterises an SVG picture of [`svg`] to PNG with resvg (the text in the system's fonts;
+/// without fonts the labels are left out of the PNG, the geometry is drawn all the same).
+pub fn png(svg: &str) -> Result<Vec<u8>, super::PipelineError> {
+    use resvg::{tiny_skia, usvg};
+    let failed = |what: String| {
+        super::PipelineError::new(
+            super::ErrorKind::Geometry,
+            "picture.png",
+            what,
+            Default::default(),
+        )
+    };
+    let mut options = usvg::Options::default();
+    options.fontdb_mut().load_system_fonts();
+    let tree = usvg::Tree::from_str(svg, &options)
+        .map_err(|e| failed(format!("cannot read the SVG picture: {e}")))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height())
+        .ok_or_else(|| failed(format!("cannot allocate a {size:?} picture")))?;
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::identity(),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .encode_png()
+        .map_err(|e| failed(format!("cannot encode the PNG: {e}")))
+}
