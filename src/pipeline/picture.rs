@@ -94,6 +94,68 @@ fn nice_length(target: f64) -> f64 {
         .unwrap_or(power)
 }
 
+/// Screen-space triangles (pixel x, y and depth toward the viewer) bucketed on a grid, to
+/// find the triangles that cover a point.
+struct Coverage {
+    triangles: Vec<[(f64, f64, f64); 3]>,
+    cells: Vec<Vec<usize>>,
+    cell: f64,
+    columns: usize,
+}
+
+impl Coverage {
+    const COLUMNS: usize = 64;
+
+    fn new(triangles: &[([(f64, f64, f64); 3], [u8; 3], f64)], height: f64) -> Self {
+        let columns = Self::COLUMNS;
+        let cell = WIDTH / columns as f64;
+        let rows = (height / cell).ceil().max(1.0) as usize;
+        let mut cells = vec![Vec::new(); columns * rows];
+        let index = |x: f64, limit: usize| ((x / cell).floor().max(0.0) as usize).min(limit - 1);
+        for (k, (t, _, _)) in triangles.iter().enumerate() {
+            let (x0, x1) = (
+                t[0].0.min(t[1].0).min(t[2].0),
+                t[0].0.max(t[1].0).max(t[2].0),
+            );
+            let (y0, y1) = (
+                t[0].1.min(t[1].1).min(t[2].1),
+                t[0].1.max(t[1].1).max(t[2].1),
+            );
+            for row in index(y0, rows)..=index(y1, rows) {
+                for col in index(x0, columns)..=index(x1, columns) {
+                    cells[row * columns + col].push(k);
+                }
+            }
+        }
+        Coverage {
+            triangles: triangles.iter().map(|(t, _, _)| *t).collect(),
+            cells,
+            cell,
+            columns,
+        }
+    }
+
+    /// Whether a triangle covers the point and lies in front of it by more than `slack`.
+    fn hides(&self, (x, y, d): (f64, f64, f64), slack: f64) -> bool {
+        let rows = self.cells.len() / self.columns;
+        let col = ((x / self.cell).floor().max(0.0) as usize).min(self.columns - 1);
+        let row = ((y / self.cell).floor().max(0.0) as usize).min(rows.max(1) - 1);
+        self.cells[row * self.columns + col].iter().any(|&k| {
+            let [a, b, c] = self.triangles[k];
+            // Barycentric coordinates of (x, y) in the screen triangle.
+            let det = (b.1 - c.1) * (a.0 - c.0) + (c.0 - b.0) * (a.1 - c.1);
+            if det == 0.0 {
+                return false;
+            }
+            let l1 = ((b.1 - c.1) * (x - c.0) + (c.0 - b.0) * (y - c.1)) / det;
+            let l2 = ((c.1 - a.1) * (x - c.0) + (a.0 - c.0) * (y - c.1)) / det;
+            let l3 = 1.0 - l1 - l2;
+            let inside = l1 >= 0.0 && l2 >= 0.0 && l3 >= 0.0;
+            inside && l1 * a.2 + l2 * b.2 + l3 * c.2 > d + slack
+        })
+    }
+}
+
 /// XML text escaping for labels.
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -145,57 +207,48 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
         s,
         "<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{height}\" fill=\"white\"/>"
     );
-    // Triangles and curve segments, far to near. A segment is drawn over the triangles at
-    // its own depth (an edge lies on its faces): it is moved toward the viewer by a
-    // thousandth of the picture's size; faces in front of it still hide it.
-    enum Shape {
-        Triangle([(f64, f64); 3], f64),
-        Segment([(f64, f64); 2]),
-    }
-    let mut shapes: Vec<(f64, [u8; 3], Shape)> = Vec::new();
+    // Triangles far to near (painter's order), then the curve segments that no triangle
+    // hides: a segment is hidden when a triangle covering its midpoint on screen lies in
+    // front of it by more than a hundredth of the picture's size (an edge lies on its own
+    // faces, whose flat triangles may stand off the exact surface by the chord tolerance).
+    let mut triangles: Vec<([(f64, f64, f64); 3], [u8; 3], f64)> = Vec::new();
     for (i, f) in faces.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         for t in &f.triangles {
             let [a, b, c] = t.map(|v| f.positions[v as usize]);
             let light = 0.35 + 0.65 * dot(triangle_normal(a, b, c), view.toward).abs();
-            let (pa, pb, pc) = (px(a), px(b), px(c));
-            let depth = (pa.2 + pb.2 + pc.2) / 3.0;
-            let pts = [(pa.0, pa.1), (pb.0, pb.1), (pc.0, pc.1)];
-            shapes.push((depth, color, Shape::Triangle(pts, light)));
+            triangles.push(([px(a), px(b), px(c)], color, light));
         }
     }
-    let bias = 1e-3 * span;
+    let depth = |t: &[(f64, f64, f64); 3]| (t[0].2 + t[1].2 + t[2].2) / 3.0;
+    triangles.sort_by(|a, b| depth(&a.0).total_cmp(&depth(&b.0)));
+    for (t, color, light) in &triangles {
+        let [r, g, b] = color.map(|c| (f64::from(c) * light).round());
+        // A 1 px stroke of the fill colour closes the anti-aliasing seams.
+        let _ = writeln!(
+            s,
+            "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" \
+             fill=\"rgb({r},{g},{b})\" stroke=\"rgb({r},{g},{b})\" \
+             stroke-width=\"1\" stroke-linejoin=\"round\"/>",
+            t[0].0, t[0].1, t[1].0, t[1].1, t[2].0, t[2].1
+        );
+    }
+    let cover = Coverage::new(&triangles, height);
+    let slack = 1e-2 * span;
     for (k, c) in curves.iter().enumerate() {
-        let color = PALETTE[(faces.len() + k) % PALETTE.len()];
+        let [r, g, b] = PALETTE[(faces.len() + k) % PALETTE.len()];
         for w in c.points.windows(2) {
-            let (a, b) = (px(w[0]), px(w[1]));
-            let depth = (a.2 + b.2) / 2.0 + bias;
-            shapes.push((depth, color, Shape::Segment([(a.0, a.1), (b.0, b.1)])));
-        }
-    }
-    shapes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    for (_, color, shape) in &shapes {
-        match shape {
-            Shape::Triangle(pts, light) => {
-                let [r, g, b] = color.map(|c| (f64::from(c) * light).round());
-                // A 1 px stroke of the fill colour closes the anti-aliasing seams.
-                let _ = writeln!(
-                    s,
-                    "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" \
-                     fill=\"rgb({r},{g},{b})\" stroke=\"rgb({r},{g},{b})\" \
-                     stroke-width=\"1\" stroke-linejoin=\"round\"/>",
-                    pts[0].0, pts[0].1, pts[1].0, pts[1].1, pts[2].0, pts[2].1
-                );
+            let (p, q) = (px(w[0]), px(w[1]));
+            let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0, (p.2 + q.2) / 2.0);
+            if cover.hides(mid, slack) {
+                continue;
             }
-            Shape::Segment([a, b]) => {
-                let [r, g, bl] = *color;
-                let _ = writeln!(
-                    s,
-                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" \
-                     stroke=\"rgb({r},{g},{bl})\" stroke-width=\"2\" stroke-linecap=\"round\"/>",
-                    a.0, a.1, b.0, b.1
-                );
-            }
+            let _ = writeln!(
+                s,
+                "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" \
+                 stroke=\"rgb({r},{g},{b})\" stroke-width=\"2\" stroke-linecap=\"round\"/>",
+                p.0, p.1, q.0, q.1
+            );
         }
     }
     // Labels: each entity's id at its first vertex.
