@@ -2353,3 +2353,51 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     let share = coloured as f64 / f64::from(pixmap.width() * pixmap.height());
     assert!(share > 0.1, "the shaded part covers {share} of the picture");
 }
+
+/// The Khronos glTF validator (npm package `gltf-validator`) on the .glb of a closed surface
+/// and of the filleted box (meshes and line strips): no error, warning or info. Needs Node
+/// and the package: `npm install --prefix DIR gltf-validator`, then
+/// `NURBSX_GLTF_VALIDATOR=DIR/node_modules cargo test --test cli -- --ignored gltf`.
+#[test]
+#[ignore = "needs Node.js and the npm package gltf-validator (NURBSX_GLTF_VALIDATOR)"]
+fn gltf_output_passes_the_khronos_validator() {
+    let modules = std::env::var("NURBSX_GLTF_VALIDATOR")
+        .expect("NURBSX_GLTF_VALIDATOR=<node_modules folder holding gltf-validator>");
+    let dir = temp_dir("gltf-validator");
+    let script = dir.join("validate.js");
+    std::fs::write(
+        &script,
+        "const v = require('gltf-validator');\n\
+         const data = new Uint8Array(require('fs').readFileSync(process.argv[2]));\n\
+         v.validateBytes(data).then(r => {\n\
+           console.log(JSON.stringify(r.issues));\n\
+           process.exit(r.issues.numErrors + r.issues.numWarnings + r.issues.numInfos === 0 ? 0 : 1);\n\
+         }).catch(e => { console.error(e); process.exit(2); });\n",
+    )
+    .unwrap();
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    for name in ["surf_torus_nurbs", "brep_filleted_box_nurbs"] {
+        let glb = dir.join(format!("{name}.glb"));
+        let o = nurbsx([
+            "tessellate",
+            samples.join(format!("{name}.step")).to_str().unwrap(),
+            "-o",
+            glb.to_str().unwrap(),
+            "--tolerance",
+            "0.05",
+        ]);
+        assert_exit(&o, 0);
+        let checked = Command::new("node")
+            .arg(&script)
+            .arg(&glb)
+            .env("NODE_PATH", &modules)
+            .output()
+            .unwrap();
+        assert!(
+            checked.status.success(),
+            "{name}: {}{}",
+            stdout(&checked),
+            stderr(&checked)
+        );
+    }
+}
