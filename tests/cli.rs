@@ -2401,3 +2401,67 @@ fn gltf_output_passes_the_khronos_validator() {
         );
     }
 }
+
+#[test]
+fn evaluate_text_is_aligned_columns_without_inline_json() {
+    let o = nurbsx([
+        "evaluate",
+        data("circle.json").to_str().unwrap(),
+        "--at",
+        "0.125",
+        "--at",
+        "1e-17",
+        "--derivatives",
+        "2",
+        "--curvature",
+    ]);
+    assert_exit(&o, 0);
+    let text = stdout(&o);
+    assert!(!text.contains(['{', '[', '"']), "no JSON:\n{text}");
+    // Small numbers in exponent form, not 0.00000000000000001.
+    assert!(text.lines().any(|l| l.starts_with("1e-17 ")), "{text}");
+    assert!(!text.contains("0.0000000000"), "{text}");
+    // The labelled lines: every number parses, and the columns end at the same place.
+    // (The header of the table is right-aligned too: it starts with blanks and a `u`.)
+    let extra: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("    ") && !l.trim_start().starts_with("u "))
+        .collect();
+    assert!(extra.iter().any(|l| l.trim_start().starts_with("d2 ")));
+    let ends: std::collections::BTreeSet<usize> = extra
+        .iter()
+        .filter(|l| l.split_whitespace().count() == 3)
+        .map(|l| l.len())
+        .collect();
+    assert_eq!(
+        ends.len(),
+        1,
+        "two-value lines end in the same column:\n{text}"
+    );
+    for l in &extra {
+        for cell in l.split_whitespace().skip(1) {
+            assert!(cell.parse::<f64>().is_ok(), "{cell} in {l}");
+        }
+    }
+    // The numbers are the JSON output's, exactly.
+    let j = json(&nurbsx([
+        "evaluate",
+        data("circle.json").to_str().unwrap(),
+        "--at",
+        "0.125",
+        "--derivatives",
+        "2",
+        "--json",
+    ]));
+    let d2 = floats(&j["results"][0]["derivatives"][1]);
+    let line = extra
+        .iter()
+        .find(|l| l.trim_start().starts_with("d2 "))
+        .unwrap();
+    let cells: Vec<f64> = line
+        .split_whitespace()
+        .skip(1)
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert_eq!(cells, d2);
+}

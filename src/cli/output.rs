@@ -91,9 +91,15 @@ fn location_extra(loc: &Location) -> String {
     parts.join(", ")
 }
 
-/// A number as Rust prints `f64`: the shortest text that reads back to the same value.
+/// A number as the shortest text that reads back to the same `f64`: positional for
+/// magnitudes from 1e-4 to 1e15, else in exponent form (`1e-17`, not 0.00000000000000001).
 fn num(x: f64) -> String {
-    format!("{x}")
+    let a = x.abs();
+    if x != 0.0 && !(1e-4..1e15).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// A domain `[a, b]`.
@@ -182,8 +188,9 @@ fn table<const N: usize>(header: &[&str; N], rows: &[[String; N]]) -> String {
     s
 }
 
-/// The `evaluate` text report: one row per parameter with the point, then any derivative,
-/// normal and curvature values.
+/// The `evaluate` text report: a table with one row per parameter (the parameter and the
+/// point); derivatives, normals and curvature follow each row as labelled lines whose
+/// labels and numbers are aligned across the report. Numbers read back exactly.
 pub fn eval_text(r: &EvalReport) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "entity {}", r.entity);
@@ -200,12 +207,49 @@ pub fn eval_text(r: &EvalReport) -> String {
         .iter()
         .map(|x| x.at.iter().chain(&x.point).map(|v| num(*v)).collect())
         .collect();
+    // The extra lines of each row: (label, values).
+    let extras: Vec<Vec<(String, Vec<String>)>> = r
+        .results
+        .iter()
+        .map(|x| {
+            let mut lines = Vec::new();
+            if let Some(d) = &x.derivatives {
+                match d {
+                    serde_json::Value::Array(list) => {
+                        for (k, v) in list.iter().enumerate() {
+                            value_lines(&format!("d{}", k + 1), v, &mut lines);
+                        }
+                    }
+                    other => value_lines("S", other, &mut lines),
+                }
+            }
+            if let Some(n) = &x.normal {
+                lines.push(("normal".to_owned(), n.iter().map(|v| num(*v)).collect()));
+            }
+            if let Some(c) = &x.curvature {
+                value_lines("", c, &mut lines);
+            }
+            lines
+        })
+        .collect();
     let mut widths: Vec<usize> = header.iter().map(|h| h.len()).collect();
     for row in &rows {
         for (w, c) in widths.iter_mut().zip(row) {
             *w = (*w).max(c.len());
         }
     }
+    let label_width = extras
+        .iter()
+        .flatten()
+        .map(|(l, _)| l.len())
+        .max()
+        .unwrap_or(0);
+    let value_width = extras
+        .iter()
+        .flatten()
+        .flat_map(|(_, v)| v.iter().map(String::len))
+        .max()
+        .unwrap_or(0);
     let fmt_row = |cells: &[&str]| {
         let mut l = String::new();
         for (c, w) in cells.iter().zip(&widths) {
@@ -214,26 +258,50 @@ pub fn eval_text(r: &EvalReport) -> String {
         l.trim_end().to_owned()
     };
     let _ = writeln!(s, "{}", fmt_row(&header));
-    for (row, x) in rows.iter().zip(&r.results) {
+    for (row, lines) in rows.iter().zip(&extras) {
         let cells: Vec<&str> = row.iter().map(String::as_str).collect();
         let _ = writeln!(s, "{}", fmt_row(&cells));
-        if let Some(d) = &x.derivatives {
-            let _ = writeln!(s, "    derivatives: {d}");
-        }
-        if let Some(n) = &x.normal {
-            let _ = writeln!(
-                s,
-                "    normal: [{}, {}, {}]",
-                num(n[0]),
-                num(n[1]),
-                num(n[2])
-            );
-        }
-        if let Some(c) = &x.curvature {
-            let _ = writeln!(s, "    curvature: {c}");
+        for (label, values) in lines {
+            let mut l = format!("    {label:<label_width$}");
+            for v in values {
+                let _ = write!(l, "  {v:>value_width$}");
+            }
+            let _ = writeln!(s, "{}", l.trim_end());
         }
     }
     s
+}
+
+/// Flattens a JSON result (numbers, arrays of numbers, objects of them) into labelled lines:
+/// `S_uv` for surface derivatives, `osculating_circle.radius` for nested fields.
+fn value_lines(label: &str, v: &serde_json::Value, out: &mut Vec<(String, Vec<String>)>) {
+    use serde_json::Value;
+    let join = |a: &str, b: &str| match (a, b) {
+        ("", b) => b.to_owned(),
+        ("S", b) => format!("S_{b}"),
+        (a, b) => format!("{a}.{b}"),
+    };
+    match v {
+        Value::Object(map) => {
+            for (k, x) in map {
+                value_lines(&join(label, k), x, out);
+            }
+        }
+        Value::Array(items) if items.iter().all(Value::is_number) => out.push((
+            label.to_owned(),
+            items
+                .iter()
+                .map(|x| x.as_f64().map_or_else(|| x.to_string(), num))
+                .collect(),
+        )),
+        Value::Number(n) => out.push((
+            label.to_owned(),
+            vec![n.as_f64().map_or_else(|| n.to_string(), num)],
+        )),
+        Value::Null => out.push((label.to_owned(), vec!["-".to_owned()])),
+        Value::String(text) => out.push((label.to_owned(), vec![text.clone()])),
+        other => out.push((label.to_owned(), vec![other.to_string()])),
+    }
 }
 
 /// The result of validating one file, or the I/O error that prevented it.
