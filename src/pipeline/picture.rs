@@ -94,10 +94,12 @@ fn nice_length(target: f64) -> f64 {
         .unwrap_or(power)
 }
 
-/// Screen-space triangles (pixel x, y and depth toward the viewer) bucketed on a grid, to
-/// find the triangles that cover a point.
+/// A triangle on screen: pixel x, y and depth toward the viewer of each corner.
+type ScreenTriangle = [(f64, f64, f64); 3];
+
+/// Screen-space triangles bucketed on a grid, to find the triangles that cover a point.
 struct Coverage {
-    triangles: Vec<[(f64, f64, f64); 3]>,
+    triangles: Vec<ScreenTriangle>,
     cells: Vec<Vec<usize>>,
     cell: f64,
     columns: usize,
@@ -106,13 +108,13 @@ struct Coverage {
 impl Coverage {
     const COLUMNS: usize = 64;
 
-    fn new(triangles: &[([(f64, f64, f64); 3], [u8; 3], f64)], height: f64) -> Self {
+    fn new(triangles: Vec<ScreenTriangle>, height: f64) -> Self {
         let columns = Self::COLUMNS;
         let cell = WIDTH / columns as f64;
         let rows = (height / cell).ceil().max(1.0) as usize;
         let mut cells = vec![Vec::new(); columns * rows];
         let index = |x: f64, limit: usize| ((x / cell).floor().max(0.0) as usize).min(limit - 1);
-        for (k, (t, _, _)) in triangles.iter().enumerate() {
+        for (k, t) in triangles.iter().enumerate() {
             let (x0, x1) = (
                 t[0].0.min(t[1].0).min(t[2].0),
                 t[0].0.max(t[1].0).max(t[2].0),
@@ -128,7 +130,7 @@ impl Coverage {
             }
         }
         Coverage {
-            triangles: triangles.iter().map(|(t, _, _)| *t).collect(),
+            triangles,
             cells,
             cell,
             columns,
@@ -211,7 +213,7 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
     // hides: a segment is hidden when a triangle covering its midpoint on screen lies in
     // front of it by more than a hundredth of the picture's size (an edge lies on its own
     // faces, whose flat triangles may stand off the exact surface by the chord tolerance).
-    let mut triangles: Vec<([(f64, f64, f64); 3], [u8; 3], f64)> = Vec::new();
+    let mut triangles: Vec<(ScreenTriangle, [u8; 3], f64)> = Vec::new();
     for (i, f) in faces.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         for t in &f.triangles {
@@ -220,7 +222,7 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
             triangles.push(([px(a), px(b), px(c)], color, light));
         }
     }
-    let depth = |t: &[(f64, f64, f64); 3]| (t[0].2 + t[1].2 + t[2].2) / 3.0;
+    let depth = |t: &ScreenTriangle| (t[0].2 + t[1].2 + t[2].2) / 3.0;
     triangles.sort_by(|a, b| depth(&a.0).total_cmp(&depth(&b.0)));
     for (t, color, light) in &triangles {
         let [r, g, b] = color.map(|c| (f64::from(c) * light).round());
@@ -233,7 +235,7 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
             t[0].0, t[0].1, t[1].0, t[1].1, t[2].0, t[2].1
         );
     }
-    let cover = Coverage::new(&triangles, height);
+    let cover = Coverage::new(triangles.into_iter().map(|(t, _, _)| t).collect(), height);
     let slack = 1e-2 * span;
     for (k, c) in curves.iter().enumerate() {
         let [r, g, b] = PALETTE[(faces.len() + k) % PALETTE.len()];
