@@ -1055,14 +1055,7 @@ fn shape_preserving_operations_keep_the_circle() {
 fn tessellate_puts_obj_vertices_on_the_circle() {
     let dir = temp_dir("tess");
     let out = dir.join("circle.obj");
-    let o = nurbsx([
-        "tessellate",
-        data("circle.json").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--tolerance",
-        "1e-3",
-    ]);
+    let o = tessellate_to(&data("circle.json"), &out, "1e-3");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&out).unwrap();
     let vertices: Vec<Vec<f64>> = text
@@ -2014,6 +2007,18 @@ fn modify_commands_say_what_they_leave_out() {
 // ---------------------------------------------------------------------------------------
 // Meshes and pictures
 
+/// `nurbsx tessellate IN -o OUT --tolerance TOL`.
+fn tessellate_to(input: &Path, out: &Path, tolerance: &str) -> Output {
+    nurbsx([
+        "tessellate".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--tolerance".as_ref(),
+        std::ffi::OsStr::new(tolerance),
+    ])
+}
+
 /// The triangles of a binary STL, read by the format's definition (80-byte header, count,
 /// 50 bytes per triangle: normal, three vertices, attribute).
 fn read_stl(bytes: &[u8]) -> Vec<[[f32; 3]; 3]> {
@@ -2068,27 +2073,13 @@ fn meshes_of_closed_samples_are_watertight_in_stl_and_gltf() {
     for name in ["surf_sphere_nurbs", "surf_torus_nurbs"] {
         let input = samples.join(format!("{name}.step"));
         let stl = dir.join(format!("{name}.stl"));
-        let o = nurbsx([
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            stl.to_str().unwrap(),
-            "--tolerance",
-            "0.05",
-        ]);
+        let o = tessellate_to(&input, &stl, "0.05");
         assert_exit(&o, 0);
         let triangles = read_stl(&std::fs::read(&stl).unwrap());
         assert_watertight(&triangles);
         // glTF 2.0 binary: header, JSON chunk, BIN chunk; the indexed mesh is the same.
         let glb = dir.join(format!("{name}.glb"));
-        let o = nurbsx([
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            glb.to_str().unwrap(),
-            "--tolerance",
-            "0.05",
-        ]);
+        let o = tessellate_to(&input, &glb, "0.05");
         assert_exit(&o, 0);
         let bytes = std::fs::read(&glb).unwrap();
         let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
@@ -2158,14 +2149,7 @@ fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
     for ext in ["obj", "glb", "svg"] {
         let out = dir.join(format!("box.{ext}"));
-        let o = nurbsx([
-            "tessellate",
-            step.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--tolerance",
-            "0.1",
-        ]);
+        let o = tessellate_to(&step, &out, "0.1");
         assert_exit(&o, 0);
         assert!(
             stderr(&o).contains("warning[pcurve_not_written]: 96 curve(s) not drawn"),
@@ -2183,14 +2167,7 @@ fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
     // #37 is the first pcurve of the box.
     assert!(!obj.lines().any(|l| l == "o #37"));
     // STL holds no curves: the 48 edges are named as left out.
-    let o = nurbsx([
-        "tessellate",
-        step.to_str().unwrap(),
-        "-o",
-        dir.join("box.stl").to_str().unwrap(),
-        "--tolerance",
-        "0.1",
-    ]);
+    let o = tessellate_to(&step, &dir.join("box.stl"), "0.1");
     assert!(
         stderr(&o).contains("warning[curve_not_written]: 48 curve(s) not drawn"),
         "{}",
@@ -2204,14 +2181,7 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     let step =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
     let svg = dir.join("box.svg");
-    let o = nurbsx([
-        "tessellate",
-        step.to_str().unwrap(),
-        "-o",
-        svg.to_str().unwrap(),
-        "--tolerance",
-        "0.1",
-    ]);
+    let o = tessellate_to(&step, &svg, "0.1");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&svg).unwrap();
     let tags = check_xml(&text);
@@ -2277,14 +2247,7 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     )
     .unwrap();
     let curves = dir.join("set.svg");
-    let o = nurbsx([
-        "tessellate",
-        set.to_str().unwrap(),
-        "-o",
-        curves.to_str().unwrap(),
-        "--tolerance",
-        "0.001",
-    ]);
+    let o = tessellate_to(&set, &curves, "0.001");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&curves).unwrap();
     assert!(text.contains("top view (XY)"), "{text}");
@@ -2329,14 +2292,7 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     assert!(text.contains("stroke-width=\"2\""));
     // PNG: the same picture rasterised.
     let png = dir.join("box.png");
-    let o = nurbsx([
-        "tessellate",
-        step.to_str().unwrap(),
-        "-o",
-        png.to_str().unwrap(),
-        "--tolerance",
-        "0.1",
-    ]);
+    let o = tessellate_to(&step, &png, "0.1");
     assert_exit(&o, 0);
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
@@ -2378,14 +2334,7 @@ fn gltf_output_passes_the_khronos_validator() {
     let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
     for name in ["surf_torus_nurbs", "brep_filleted_box_nurbs"] {
         let glb = dir.join(format!("{name}.glb"));
-        let o = nurbsx([
-            "tessellate",
-            samples.join(format!("{name}.step")).to_str().unwrap(),
-            "-o",
-            glb.to_str().unwrap(),
-            "--tolerance",
-            "0.05",
-        ]);
+        let o = tessellate_to(&samples.join(format!("{name}.step")), &glb, "0.05");
         assert_exit(&o, 0);
         let checked = Command::new("node")
             .arg(&script)

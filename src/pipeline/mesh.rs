@@ -12,9 +12,11 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use crate::exchange::{Diagnostic, Document, Entity, Location};
+use crate::nurbs::derivatives::{cross, norm};
 use crate::nurbs::tessellate::{Mesh, Polyline};
 use crate::nurbs::{Geometry, Point3};
 
+use super::ops::id_list;
 use super::{ErrorKind, MeshFormat, PipelineError, Settings, select};
 
 /// A welded triangle mesh of one surface.
@@ -67,18 +69,12 @@ pub fn plan<'d>(
     let mut left_out = Vec::new();
     let mut warn = |dropped: &[&Entity], code: &str, why: &str| {
         if let Some(first) = dropped.first() {
-            let ids: Vec<&str> = dropped.iter().take(8).map(|e| e.id.as_str()).collect();
             left_out.push(Diagnostic::warning(
                 code,
                 format!(
-                    "{} curve(s) not drawn ({}{}): {why}",
+                    "{} curve(s) not drawn ({}): {why}",
                     dropped.len(),
-                    ids.join(", "),
-                    if dropped.len() > ids.len() {
-                        ", ..."
-                    } else {
-                        ""
-                    }
+                    id_list(dropped.iter().copied())
                 ),
                 Location::at_entity(first.id.clone()),
             ));
@@ -158,7 +154,7 @@ pub fn weld(entity: &str, mesh: &Mesh) -> FaceMesh {
         .filter(|t| {
             t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
                 let [a, b, c] = t.map(|v| positions[v as usize]);
-                norm(cross(sub(b, a), sub(c, a))) > 0.0
+                norm(area_vector(a, b, c)) > 0.0
             }
         })
         .collect();
@@ -169,25 +165,17 @@ pub fn weld(entity: &str, mesh: &Mesh) -> FaceMesh {
     }
 }
 
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: Point3) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+/// Twice the area vector of a triangle: `(b - a) x (c - a)`.
+fn area_vector(a: Point3, b: Point3, c: Point3) -> Point3 {
+    cross(
+        [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+        [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+    )
 }
 
 /// The unit normal of a triangle (zero for a degenerate one).
 pub fn triangle_normal(a: Point3, b: Point3, c: Point3) -> Point3 {
-    let n = cross(sub(b, a), sub(c, a));
+    let n = area_vector(a, b, c);
     let l = norm(n);
     if l > 0.0 {
         [n[0] / l, n[1] / l, n[2] / l]

@@ -184,24 +184,25 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
         .into_iter()
         .partition(|e| e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)));
     if let Some(first) = dropped.first() {
-        let ids: Vec<&str> = dropped.iter().take(8).map(|e| e.id.as_str()).collect();
         doc.diagnostics.push(Diagnostic::warning(
             "pcurve_not_written",
             format!(
-                "{} 2-D parameter-space curve(s) not written ({}{}): IGES output has no place for \
+                "{} 2-D parameter-space curve(s) not written ({}): IGES output has no place for \
                  them outside a trimmed surface",
                 dropped.len(),
-                ids.join(", "),
-                if dropped.len() > ids.len() {
-                    ", ..."
-                } else {
-                    ""
-                }
+                id_list(dropped.iter())
             ),
             Location::at_entity(first.id.clone()),
         ));
     }
     doc.entities = kept;
+}
+
+/// The first eight ids of some entities, `, ...` when there are more: `#37, #50, ...`.
+pub(super) fn id_list<'e>(entities: impl ExactSizeIterator<Item = &'e Entity>) -> String {
+    let more = entities.len() > 8;
+    let ids: Vec<&str> = entities.take(8).map(|e| e.id.as_str()).collect();
+    format!("{}{}", ids.join(", "), if more { ", ..." } else { "" })
 }
 
 /// Reads, optionally clamps or unclamps, writes, and optionally verifies by re-reading.

@@ -13,6 +13,7 @@
 use std::fmt::Write as _;
 
 use crate::nurbs::Point3;
+use crate::nurbs::derivatives::dot;
 
 use super::mesh::{CurveLine, FaceMesh, triangle_normal};
 
@@ -48,10 +49,6 @@ impl View {
     fn project(&self, p: Point3) -> (f64, f64, f64) {
         (dot(p, self.right), dot(p, self.up), dot(p, self.toward))
     }
-}
-
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Isometric when any point leaves z = 0, else the XY plane from above.
