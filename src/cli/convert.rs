@@ -209,19 +209,25 @@ fn single(
         Ok(Converted::Empty(diagnostics)) => empty_record(&name, hint, diagnostics),
         Err(e) => failure_record(&name, e.diagnostic.clone(), hint),
     };
-    if let Some(path) = report_path {
-        write_report(path, &record)?;
-    }
+    let write_record = || match report_path {
+        Some(path) => write_report(path, &record),
+        None => Ok(()),
+    };
     let output = match result {
         Ok(Converted::Written(o)) => o,
         Ok(Converted::Empty(diagnostics)) => {
+            write_record()?;
             ctx.report.diagnostics(&name, &diagnostics);
             return Ok(outcome_of(&diagnostics));
         }
-        Err(e) => return Err(CliError::pipeline(input, e)),
+        Err(e) => {
+            write_record()?;
+            return Err(CliError::pipeline(input, e));
+        }
     };
     ctx.report.diagnostics(&name, &output.report.diagnostics);
     write_output(out, &output.text)?;
+    write_record()?;
     ctx.report.summary(&summary(
         &name,
         &display_name(out),
@@ -229,20 +235,19 @@ fn single(
         plan.request.verify,
     ));
     if let Some(devs) = &output.report.verify {
-        if ctx.report.shows(Severity::Info) {
-            for d in devs {
-                ctx.report.diagnostic(
-                    Some(&name),
-                    &Diagnostic::info(
-                        "verify.entity",
-                        format!(
-                            "{} -> {}: max deviation {:e} (relative {:e})",
-                            d.input_id, d.output_id, d.max_deviation, d.relative
-                        ),
-                        Default::default(),
+        // Per entity, shown with -v.
+        for d in devs {
+            ctx.report.diagnostic(
+                Some(&name),
+                &Diagnostic::info(
+                    "verify.entity",
+                    format!(
+                        "{} -> {}: max deviation {:e} (relative {:e})",
+                        d.input_id, d.output_id, d.max_deviation, d.relative
                     ),
-                );
-            }
+                    Default::default(),
+                ),
+            );
         }
     }
     tracing::info!(

@@ -195,12 +195,7 @@ fn clap_exit(e: &clap::Error, color: ColorArg, json_log: bool) -> ExitCode {
     if json_log {
         let message = e.render().to_string();
         let d = report::error("usage", message.trim_end().to_owned());
-        let _ = writeln!(
-            io::stderr().lock(),
-            "{}",
-            serde_json::json!({ "type": "diagnostic", "severity": d.severity, "code": d.code,
-                                "message": d.message, "location": d.location })
-        );
+        Reporter::json_only().fatal(None, &d);
     } else {
         // The error was built for stdout's colour; stderr decides for itself.
         let styled = e.render();

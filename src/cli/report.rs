@@ -76,6 +76,15 @@ impl Reporter {
         }
     }
 
+    /// A JSON-lines reporter with the default filter, for errors met before the flags are
+    /// parsed (`--log-format json` found among the raw arguments).
+    pub fn json_only() -> Self {
+        Reporter {
+            json: true,
+            ..Reporter::default()
+        }
+    }
+
     /// Whether stderr is coloured (the tracing logs follow it).
     pub fn color(&self) -> bool {
         self.color
