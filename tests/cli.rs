@@ -2414,3 +2414,35 @@ fn evaluate_text_is_aligned_columns_without_inline_json() {
         .collect();
     assert_eq!(cells, d2);
 }
+
+/// Runs a command line on a pseudo-terminal (util-linux `script`), as a user at a terminal
+/// would, and returns what the terminal showed.
+fn on_terminal(command: &str, env: &[(&str, &str)]) -> String {
+    let mut c = Command::new("script");
+    c.args(["-qec", command, "/dev/null"])
+        .env_remove("NO_COLOR")
+        .env("TERM", "xterm-256color");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    let o = c
+        .output()
+        .expect("util-linux `script` runs the command on a terminal");
+    stdout(&o)
+}
+
+#[test]
+fn colour_is_on_by_default_on_a_terminal_only() {
+    let bad = data("bad_knots.json");
+    let command = format!("{BIN} validate {}", bad.display());
+    let esc = "\u{1b}[";
+    let shown = on_terminal(&command, &[]);
+    assert!(shown.contains(esc), "coloured on a terminal: {shown:?}");
+    assert!(shown.contains("error[geometry.invalid]"));
+    let shown = on_terminal(&command, &[("NO_COLOR", "1")]);
+    assert!(!shown.contains(esc), "NO_COLOR: {shown:?}");
+    let shown = on_terminal(&format!("{command} --color never"), &[]);
+    assert!(!shown.contains(esc), "--color never: {shown:?}");
+    let shown = on_terminal(&format!("{BIN} help convert"), &[]);
+    assert!(shown.contains(esc), "coloured help: {shown:?}");
+}

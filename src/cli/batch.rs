@@ -415,7 +415,7 @@ mod tests {
             settings: Settings::default(),
             quiet: 0,
             color: crate::cli::args::ColorArg::Never,
-            report: crate::cli::report::Reporter::default(),
+            report: crate::cli::report::Reporter::silent(),
         };
         let refused = plan_jobs(&ctx, &[root.join("in")], &out, &plan, CollisionArg::Error);
         match refused {

@@ -85,6 +85,16 @@ impl Reporter {
         }
     }
 
+    /// A reporter that shows nothing (unit tests).
+    #[cfg(test)]
+    pub fn silent() -> Self {
+        Reporter {
+            min_severity: None,
+            summaries: false,
+            ..Reporter::default()
+        }
+    }
+
     /// Whether stderr is coloured (the tracing logs follow it).
     pub fn color(&self) -> bool {
         self.color
