@@ -1383,6 +1383,18 @@ fn man_pages_render() {
             assert!(plain.contains(name.as_str()), "{plain}");
         }
     }
+    // The program's page lists the limits (hidden from the options) and the exit status.
+    let o = nurbsx(["man"]);
+    if let Some((text, _)) = render_roff(&o.stdout) {
+        let plain = text.replace(['\u{2010}', '\u{2212}'], "-");
+        for (flag, env) in LIMIT_FLAGS {
+            assert!(
+                plain.contains(flag) && plain.contains(env),
+                "{flag}: {plain}"
+            );
+        }
+        assert!(plain.contains("EXIT STATUS") && plain.contains("insert_knot.domain"));
+    }
     let dir = temp_dir("man");
     let o = nurbsx(["man", "--out-dir", dir.to_str().unwrap()]);
     assert_exit(&o, 0);

@@ -53,33 +53,82 @@ Filtering (stderr and documents alike):
                        {\"type\": \"summary\", \"message\"}, or a tracing log record
   --color WHEN         auto (a terminal, NO_COLOR unset), always, never";
 
-/// The `nurbsx help limits` page, listed from the limit options' own definitions.
-pub fn limits_page() -> String {
-    use std::fmt::Write as _;
-    let cmd = Cli::command();
-    let mut s = String::from(
-        "Limits (global options: before or after the command; each also an environment\n\
-         variable, which a flag overrides; 0 is refused). Exceeding one is an error with a\n\
-         `limit.*` code and exit code 1, reported before the work or memory it would cost.\n\n",
-    );
-    for arg in cmd
+/// The limit options from their own definitions: flag, value name, environment variable
+/// and help text.
+fn limit_options() -> Vec<[String; 4]> {
+    Cli::command()
         .get_arguments()
         .filter(|a| a.get_help_heading() == Some(LIMITS))
-    {
-        let name = arg.get_long().unwrap_or_default();
-        let value = arg
-            .get_value_names()
-            .and_then(|v| v.first())
-            .map(|v| v.to_string())
-            .unwrap_or_default();
-        let env = arg
-            .get_env()
-            .map(|e| e.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
-        let _ = writeln!(s, "  --{name} {value}  [env: {env}]");
+        .map(|arg| {
+            [
+                format!("--{}", arg.get_long().unwrap_or_default()),
+                arg.get_value_names()
+                    .and_then(|v| v.first())
+                    .map(|v| v.to_string())
+                    .unwrap_or_default(),
+                arg.get_env()
+                    .map(|e| e.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                arg.get_help().map(|h| h.to_string()).unwrap_or_default(),
+            ]
+        })
+        .collect()
+}
+
+/// What the limits are, before the list.
+const LIMITS_INTRO: &str = "\
+Limits (global options: before or after the command; each also an environment
+variable, which a flag overrides; 0 is refused). Exceeding one is an error with a
+`limit.*` code and exit code 1, reported before the work or memory it would cost.";
+
+/// The `nurbsx help limits` page.
+pub fn limits_page() -> String {
+    use std::fmt::Write as _;
+    let mut s = format!("{LIMITS_INTRO}\n\n");
+    for [flag, value, env, help] in limit_options() {
+        let _ = writeln!(s, "  {flag} {value}  [env: {env}]");
         let _ = writeln!(s, "      {}", help.replace('\n', "\n      "));
     }
+    s
+}
+
+/// Text for roff: backslashes, hyphens (which roff may turn into dashes) and control
+/// characters at the start of a line escaped.
+fn roff_text(text: &str) -> String {
+    text.lines()
+        .map(|line| {
+            let escaped = line.replace('\\', "\\e").replace('-', "\\-");
+            if escaped.starts_with(['.', '\'']) {
+                format!("\\&{escaped}")
+            } else {
+                escaped
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The sections the program's man page adds to clap's: the limits (hidden from the
+/// options, as from `--help`) and the exit status.
+fn man_extra_sections() -> String {
+    use std::fmt::Write as _;
+    let mut s = format!(".SH LIMITS\n{}\n", roff_text(LIMITS_INTRO));
+    for [flag, value, env, help] in limit_options() {
+        let _ = writeln!(
+            s,
+            ".TP\n\\fB{}\\fR \\fI{}\\fR [env: {}]\n{}",
+            roff_text(&flag),
+            roff_text(&value),
+            roff_text(&env),
+            roff_text(&help)
+        );
+    }
+    let _ = writeln!(
+        s,
+        ".SH \"EXIT STATUS\"\n.nf\n{}\n\n{}\n.fi",
+        roff_text(EXIT_CODES),
+        roff_text(ERROR_CODES)
+    );
     s
 }
 
@@ -149,6 +198,9 @@ fn man_page(command: Option<&str>) -> Result<Vec<u8>, CliError> {
             context: "cannot render the man page".into(),
             source,
         })?;
+    if command.is_none() {
+        out.extend_from_slice(man_extra_sections().as_bytes());
+    }
     Ok(out)
 }
 
