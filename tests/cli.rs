@@ -2458,3 +2458,55 @@ fn colour_is_on_by_default_on_a_terminal_only() {
     let shown = on_terminal(&format!("{BIN} help convert"), &[]);
     assert!(shown.contains(esc), "coloured help: {shown:?}");
 }
+
+#[test]
+fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
+    // Orthographic: a sphere projects to a disc whatever the view. The picture maps the
+    // disc's diameter to the 704 px between the margins, so the silhouette is a circle of
+    // radius 352 px around the middle of the drawing.
+    let dir = temp_dir("silhouette");
+    let svg = dir.join("sphere.svg");
+    let sphere =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/surf_sphere_nurbs.step");
+    let o = tessellate_to(&sphere, &svg, "0.01");
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let height: f64 = text
+        .split("height=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let (cx, cy) = (400.0, height / 2.0);
+    let attr = |s: &str, name: &str| -> f64 {
+        s.split(&format!("{name}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let outline: Vec<&str> = text
+        .split("<line ")
+        .skip(1)
+        .filter(|l| l.contains("stroke=\"#303030\""))
+        .collect();
+    assert!(outline.len() > 40, "{} outline segments", outline.len());
+    for l in &outline {
+        for (x, y) in [
+            (attr(l, "x1"), attr(l, "y1")),
+            (attr(l, "x2"), attr(l, "y2")),
+        ] {
+            let r = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
+            assert!(
+                r > 0.97 * 352.0 && r < 352.5,
+                "silhouette point at radius {r}"
+            );
+        }
+    }
+}

@@ -4,8 +4,9 @@
 //! The view is an orthographic projection: isometric (looking along -(1, 1, 1), z up) when
 //! anything leaves the plane z = 0, else the XY plane seen from above. Triangles are filled
 //! far to near (painter's order) with one colour per entity, shaded by the angle between
-//! the triangle's normal and the view direction (two-sided Lambert); curves are drawn
-//! 2 px wide, over the faces they lie on and under the faces in front of them. Coordinates
+//! the triangle's normal and the view direction (two-sided Lambert); face outlines (open
+//! boundaries and silhouettes) and curves are drawn over the faces they lie on and under
+//! the faces in front of them. Coordinates
 //! are mapped to pixels by the program, not by an SVG `viewBox`, so line widths are the
 //! same in every renderer. A frame, a scale bar in the document's unit, one label per
 //! entity and a title complete the picture.
@@ -76,6 +77,43 @@ fn choose_view(faces: &[FaceMesh], curves: &[CurveLine]) -> View {
             name: "isometric view",
         }
     }
+}
+
+/// The colour of face outlines and silhouettes.
+const OUTLINE: &str = "#303030";
+
+/// The edges of a welded face mesh that outline it seen from `toward`: edges of one
+/// triangle only (the face's open boundary) and edges whose two triangles face opposite
+/// ways (the silhouette).
+fn outline_edges(f: &FaceMesh, toward: Point3) -> Vec<[Point3; 2]> {
+    use std::collections::HashMap;
+    let mut edges: HashMap<(u32, u32), Vec<f64>> = HashMap::new();
+    for t in &f.triangles {
+        let [a, b, c] = t.map(|v| f.positions[v as usize]);
+        let facing = dot(triangle_normal(a, b, c), toward);
+        for (p, q) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            edges.entry((p.min(q), p.max(q))).or_default().push(facing);
+        }
+    }
+    let mut out: Vec<[Point3; 2]> = edges
+        .into_iter()
+        .filter(|(_, facing)| match facing.as_slice() {
+            [_] => true,
+            [x, y] => (*x > 0.0) != (*y > 0.0),
+            _ => false,
+        })
+        .map(|((p, q), _)| [f.positions[p as usize], f.positions[q as usize]])
+        .collect();
+    // Hash order is arbitrary: sort for a reproducible picture.
+    out.sort_by(|a, b| {
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .map(|(x, y)| x.total_cmp(y))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    out
 }
 
 /// A length of 1, 2 or 5 times a power of ten, near `target`.
@@ -234,34 +272,52 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
     }
     let cover = Coverage::new(triangles.into_iter().map(|(t, _, _)| t).collect(), height);
     let slack = 1e-2 * span;
-    for (k, c) in curves.iter().enumerate() {
-        let [r, g, b] = PALETTE[(faces.len() + k) % PALETTE.len()];
-        for w in c.points.windows(2) {
-            let (p, q) = (px(w[0]), px(w[1]));
-            let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0, (p.2 + q.2) / 2.0);
-            if cover.hides(mid, slack) {
-                continue;
-            }
+    let mut line = |p: (f64, f64, f64), q: (f64, f64, f64), stroke: &str, width: f64| {
+        let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0, (p.2 + q.2) / 2.0);
+        if !cover.hides(mid, slack) {
             let _ = writeln!(
                 s,
                 "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" \
-                 stroke=\"rgb({r},{g},{b})\" stroke-width=\"2\" stroke-linecap=\"round\"/>",
+                 stroke=\"{stroke}\" stroke-width=\"{width}\" stroke-linecap=\"round\"/>",
                 p.0, p.1, q.0, q.1
             );
         }
+    };
+    // Outlines of the faces: their open boundaries and their silhouettes (edges between a
+    // triangle that faces the viewer and one that faces away).
+    for f in faces {
+        for [a, b] in outline_edges(f, view.toward) {
+            line(px(a), px(b), OUTLINE, 1.25);
+        }
     }
-    // Labels: each entity's id at its first vertex.
+    for (k, c) in curves.iter().enumerate() {
+        let [r, g, b] = PALETTE[(faces.len() + k) % PALETTE.len()];
+        let stroke = format!("rgb({r},{g},{b})");
+        for w in c.points.windows(2) {
+            line(px(w[0]), px(w[1]), &stroke, 2.0);
+        }
+    }
+    // Labels: each entity's id at its middle vertex (for a surface grid, near the middle of
+    // its parameter domain); a label that would sit on an earlier one moves down a line.
     let labels = faces
         .iter()
-        .map(|f| (f.entity.as_str(), f.positions.first().copied()))
+        .map(|f| (f.entity.as_str(), f.positions.get(f.positions.len() / 2)))
         .chain(
             curves
                 .iter()
-                .map(|c| (c.entity.as_str(), c.points.first().copied())),
+                .map(|c| (c.entity.as_str(), c.points.get(c.points.len() / 2))),
         );
+    let mut placed: Vec<(f64, f64)> = Vec::new();
     for (id, at) in labels {
         if let Some(p) = at {
-            let (x, y, _) = px(p);
+            let (x, mut y, _) = px(*p);
+            while placed
+                .iter()
+                .any(|&(px, py)| (px - x).abs() < 40.0 && (py - y).abs() < 13.0)
+            {
+                y += 14.0;
+            }
+            placed.push((x, y));
             let _ = writeln!(
                 s,
                 "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"black\" stroke=\"white\" stroke-width=\"3\" \
