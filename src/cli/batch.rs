@@ -282,7 +282,7 @@ pub fn run(
         .build()
         .map_err(|e| CliError::Usage(format!("cannot start {threads} worker threads: {e}")))?;
     let total = u64::try_from(work.len()).unwrap_or(u64::MAX);
-    let bar = if ctx.quiet == 0 && std::io::stderr().is_terminal() {
+    let bar = if ctx.quiet == 0 && !ctx.report.json() && std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(total);
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {wide_msg}",

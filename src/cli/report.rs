@@ -95,6 +95,11 @@ impl Reporter {
         }
     }
 
+    /// Whether stderr carries JSON lines only (no progress bar then).
+    pub fn json(&self) -> bool {
+        self.json
+    }
+
     /// Whether stderr is coloured (the tracing logs follow it).
     pub fn color(&self) -> bool {
         self.color
