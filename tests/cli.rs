@@ -230,7 +230,13 @@ fn an_unknown_format_exits_1_with_a_located_error() {
     );
     let o = nurbsx(["validate", f.to_str().unwrap()]);
     assert_exit(&o, 1);
-    assert!(stdout(&o).contains("error[format.unknown]"));
+    // The finding on stderr, the verdict on stdout.
+    assert!(
+        stderr(&o).contains("error[format.unknown]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains(": INVALID ("), "{}", stdout(&o));
     // An extension that contradicts the content is refused, not trusted.
     let g = dir.join("fake.step");
     std::fs::write(&g, "hello\n").unwrap();
@@ -515,12 +521,17 @@ fn validate_reports_bad_geometry_with_exit_1_and_a_file_line() {
     let good = data("circle.json");
     let o = nurbsx(["validate", bad.to_str().unwrap(), good.to_str().unwrap()]);
     assert_exit(&o, 1);
-    let text = stdout(&o);
+    let err = stderr(&o);
     let prefix = format!("{}: error[geometry.invalid]: ", bad.display());
     assert!(
-        text.lines()
+        err.lines()
             .any(|l| l.starts_with(&prefix) && l.contains("knot[4]")),
-        "{text}"
+        "{err}"
+    );
+    let text = stdout(&o);
+    assert!(
+        !text.contains("error["),
+        "diagnostics are not on stdout: {text}"
     );
     assert!(text.contains(&format!("{}: INVALID", bad.display())));
     assert!(text.contains(&format!("{}: valid (1 entities", good.display())));
@@ -698,7 +709,19 @@ fn validate_with_a_missing_file_reports_it_and_exits_2() {
     assert_exit(&o, 2);
     let tags = check_xml(&stdout(&o));
     assert!(tags.iter().any(|(n, _)| n == "error"));
-    assert!(stderr(&o).contains("gone.igs"));
+    // Inside the document, once; not repeated on stderr.
+    assert_eq!(
+        stdout(&o).matches("cannot read").count(),
+        2,
+        "message and text of <error>"
+    );
+    assert!(stdout(&o).contains("gone.igs"));
+    assert_eq!(stderr(&o), "");
+    // In text form the error is on stderr, once, and there is no verdict for the file.
+    let o = nurbsx(["validate", missing.to_str().unwrap()]);
+    assert_exit(&o, 2);
+    assert_eq!(stderr(&o).matches("gone.igs").count(), 1, "{}", stderr(&o));
+    assert_eq!(stdout(&o), "");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -900,7 +923,13 @@ fn convert_step_to_iges_verifies_and_keeps_the_geometry() {
         "2026-01-01T00:00:00",
     ]);
     assert_exit(&o, 0);
-    assert!(stderr(&o).contains("verified 1 entities"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "read 1 B-spline curves and surfaces, wrote 1 as IGES; verified 1 written entities"
+        ),
+        "{}",
+        stderr(&o)
+    );
     let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["ok"], true);
     assert_eq!(r["output_format"], "iges");
@@ -1026,14 +1055,7 @@ fn shape_preserving_operations_keep_the_circle() {
 fn tessellate_puts_obj_vertices_on_the_circle() {
     let dir = temp_dir("tess");
     let out = dir.join("circle.obj");
-    let o = nurbsx([
-        "tessellate",
-        data("circle.json").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--tolerance",
-        "1e-3",
-    ]);
+    let o = tessellate_to(&data("circle.json"), &out, "1e-3");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&out).unwrap();
     let vertices: Vec<Vec<f64>> = text
@@ -1173,9 +1195,1318 @@ fn to_overrides_a_contradicting_extension_with_a_warning() {
         "step",
     ]);
     assert!(
-        stderr(&o).contains("warning: writing STEP to"),
+        stderr(&o).contains("x.igs: warning[format.extension]: writing STEP as --to asks"),
         "{}",
         stderr(&o)
     );
     assert!(!stderr(&o).contains("panicked"));
+}
+
+// ---------------------------------------------------------------------------------------
+// Conventions: help, completions, man pages, colour
+
+const COMMANDS: [&str; 13] = [
+    "convert",
+    "info",
+    "validate",
+    "evaluate",
+    "elevate",
+    "clamp",
+    "unclamp",
+    "insert-knot",
+    "tessellate",
+    "serve",
+    "help",
+    "completions",
+    "man",
+];
+
+const LIMIT_FLAGS: [(&str, &str); 9] = [
+    ("--max-degree", "NURBSX_MAX_DEGREE"),
+    ("--max-input-bytes", "NURBSX_MAX_INPUT_BYTES"),
+    ("--max-entities", "NURBSX_MAX_ENTITIES"),
+    ("--max-nesting-depth", "NURBSX_MAX_NESTING_DEPTH"),
+    ("--max-params", "NURBSX_MAX_PARAMS"),
+    ("--max-poles", "NURBSX_MAX_POLES"),
+    ("--max-eval-points", "NURBSX_MAX_EVAL_POINTS"),
+    ("--max-elevate-by", "NURBSX_MAX_ELEVATE_BY"),
+    ("--max-mesh-vertices", "NURBSX_MAX_MESH_VERTICES"),
+];
+
+#[test]
+fn help_works_like_cargos_and_lists_the_limits_once() {
+    // `help --help` and `help help` are help, not errors.
+    for args in [vec!["help", "--help"], vec!["help", "help"], vec!["help"]] {
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        assert!(
+            stdout(&o).contains("Usage: nurbsx"),
+            "{args:?}: {}",
+            stdout(&o)
+        );
+    }
+    // `help CMD` is the command's full help.
+    for c in COMMANDS {
+        let o = nurbsx(["help", c]);
+        assert_exit(&o, 0);
+        assert!(
+            stdout(&o).contains(&format!("Usage: nurbsx {c}")),
+            "help {c}: {}",
+            stdout(&o)
+        );
+        // The limits are not repeated in every command's help.
+        let o = nurbsx([c, "--help"]);
+        assert!(
+            !stdout(&o).contains("--max-poles"),
+            "{c} --help:\n{}",
+            stdout(&o)
+        );
+        assert!(stdout(&o).lines().count() < 150, "{c} --help is short");
+    }
+    // They are on one page, each with its environment variable.
+    let o = nurbsx(["help", "limits"]);
+    assert_exit(&o, 0);
+    for (flag, env) in LIMIT_FLAGS {
+        assert!(
+            stdout(&o).contains(flag) && stdout(&o).contains(env),
+            "{flag}"
+        );
+    }
+    let top = stdout(&nurbsx(["--help"]));
+    assert!(top.contains("nurbsx help limits"), "{top}");
+    let o = nurbsx(["help", "exit-codes"]);
+    assert_exit(&o, 0);
+    for code in [
+        "limit.*",
+        "evaluate.domain",
+        "insert_knot.domain",
+        "format.unknown",
+    ] {
+        assert!(stdout(&o).contains(code), "{code}");
+    }
+    let o = nurbsx(["help", "output"]);
+    assert_exit(&o, 0);
+    assert!(stdout(&o).contains("--min-severity"));
+    let o = nurbsx(["help", "frobnicate"]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("frobnicate"), "{}", stderr(&o));
+}
+
+#[test]
+fn completions_parse_for_every_shell() {
+    let o = nurbsx(["completions", "bash"]);
+    assert_exit(&o, 0);
+    let dir = temp_dir("completions");
+    let script = dir.join("nurbsx.bash");
+    std::fs::write(&script, &o.stdout).unwrap();
+    let check = Command::new("bash")
+        .arg("-n")
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(check.status.success(), "bash -n: {}", stderr(&check));
+    // Sourcing it defines the completion function.
+    let sourced = Command::new("bash")
+        .arg("-c")
+        .arg(format!("source {} && complete -p nurbsx", script.display()))
+        .output()
+        .unwrap();
+    assert!(stdout(&sourced).contains("nurbsx"), "{}", stderr(&sourced));
+    for shell in ["bash", "zsh", "fish", "powershell", "elvish"] {
+        let o = nurbsx(["completions", shell]);
+        assert_exit(&o, 0);
+        let text = stdout(&o);
+        for c in ["convert", "validate", "insert-knot", "tessellate"] {
+            assert!(text.contains(c), "{shell} completions name {c}");
+        }
+        assert!(text.contains("min-severity"), "{shell}: global options");
+    }
+    // zsh and fish parse their own scripts where they are installed.
+    for (shell, flag) in [("zsh", "-n"), ("fish", "--no-execute")] {
+        let o = nurbsx(["completions", shell]);
+        let file = dir.join(format!("nurbsx.{shell}"));
+        std::fs::write(&file, &o.stdout).unwrap();
+        if let Ok(check) = Command::new(shell).arg(flag).arg(&file).output() {
+            assert!(check.status.success(), "{shell}: {}", stderr(&check));
+        }
+    }
+    assert_exit(&nurbsx(["completions", "tcsh"]), 2);
+}
+
+/// Renders roff with groff (as `man -l` does) and returns the text with its warnings.
+fn render_roff(roff: &[u8]) -> Option<(String, String)> {
+    let mut child = Command::new("groff")
+        .args(["-man", "-Tutf8", "-ww", "-z"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .ok()?;
+    child.stdin.take().unwrap().write_all(roff).unwrap();
+    let checked = child.wait_with_output().unwrap();
+    let mut child = Command::new("groff")
+        .args(["-man", "-Tutf8"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .ok()?;
+    child.stdin.take().unwrap().write_all(roff).unwrap();
+    let rendered = child.wait_with_output().unwrap();
+    // Undo the terminal overstrike (bold `N\bN`, underline `_\bx`).
+    let mut text = String::new();
+    for c in stdout(&rendered).chars() {
+        if c == '\u{8}' {
+            text.pop();
+        } else {
+            text.push(c);
+        }
+    }
+    Some((text, stderr(&checked)))
+}
+
+#[test]
+fn man_pages_render() {
+    let mut pages = vec![("nurbsx".to_owned(), nurbsx(["man"]))];
+    for c in ["convert", "validate", "insert-knot"] {
+        pages.push((format!("nurbsx-{c}"), nurbsx(["man", c])));
+    }
+    for (name, o) in &pages {
+        assert_exit(o, 0);
+        let roff = stdout(o);
+        assert!(roff.contains(&format!(".TH {name} 1")), "{roff}");
+        assert!(roff.contains(".SH NAME") && roff.contains(".SH SYNOPSIS"));
+        if let Some((text, warnings)) = render_roff(&o.stdout) {
+            assert_eq!(warnings, "", "groff warnings for {name}");
+            assert!(text.contains("NAME") && text.contains("SYNOPSIS"), "{text}");
+            // groff hyphenates and escapes: compare without them.
+            let plain = text.replace(['\u{2010}', '\u{2212}'], "-");
+            assert!(plain.contains(name.as_str()), "{plain}");
+        }
+    }
+    // The program's page lists the limits (hidden from the options) and the exit status.
+    let o = nurbsx(["man"]);
+    if let Some((text, _)) = render_roff(&o.stdout) {
+        let plain = text.replace(['\u{2010}', '\u{2212}'], "-");
+        for (flag, env) in LIMIT_FLAGS {
+            assert!(
+                plain.contains(flag) && plain.contains(env),
+                "{flag}: {plain}"
+            );
+        }
+        assert!(plain.contains("EXIT STATUS") && plain.contains("insert_knot.domain"));
+    }
+    let dir = temp_dir("man");
+    let o = nurbsx(["man", "--out-dir", dir.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(dir.join("nurbsx.1").is_file());
+    for c in COMMANDS {
+        assert!(dir.join(format!("nurbsx-{c}.1")).is_file(), "{c}");
+    }
+    assert_exit(&nurbsx(["man", "frobnicate"]), 2);
+}
+
+/// `nurbsx` with extra environment variables.
+fn nurbsx_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(BIN);
+    c.args(args).env_remove("RUST_LOG").env_remove("NO_COLOR");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().unwrap()
+}
+
+#[test]
+fn colour_follows_the_flag_and_no_color() {
+    let bad = data("bad_knots.json");
+    let bad = bad.to_str().unwrap();
+    let esc = "\u{1b}[";
+    let o = nurbsx_env(&["--color", "always", "validate", bad], &[]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains(esc), "{:?}", stderr(&o));
+    assert!(stderr(&o).contains("error[geometry.invalid]"));
+    // The flag after the command works too, `=` or not.
+    let o = nurbsx_env(&["validate", bad, "--color=always"], &[]);
+    assert!(stderr(&o).contains(esc));
+    for (args, env) in [
+        (vec!["--color", "never", "validate", bad], vec![]),
+        // Not a terminal: auto means plain.
+        (vec!["validate", bad], vec![]),
+        (
+            vec!["--color", "auto", "validate", bad],
+            vec![("NO_COLOR", "1")],
+        ),
+    ] {
+        let o = nurbsx_env(&args, &env);
+        assert_exit(&o, 1);
+        assert!(!stderr(&o).contains(esc), "{args:?}: {:?}", stderr(&o));
+        assert!(stderr(&o).contains("error[geometry.invalid]"));
+    }
+    // Help and usage errors follow the flag.
+    let o = nurbsx_env(&["--color", "always", "--help"], &[]);
+    assert!(stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "never", "--help"], &[]);
+    assert!(!stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "always", "help", "convert"], &[]);
+    assert!(stdout(&o).contains(esc));
+    let o = nurbsx_env(&["--color", "always", "info", "--bogus"], &[]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains(esc), "{:?}", stderr(&o));
+    let o = nurbsx_env(&["info", "--bogus"], &[]);
+    assert!(!stderr(&o).contains(esc));
+}
+
+// ---------------------------------------------------------------------------------------
+// One output policy: results on stdout, diagnostics on stderr (or in the JSON document),
+// filtered by -q / --min-severity, JSON with --log-format json, each once
+
+/// A STEP circle in a file named `.igs`: every command reads it (by its content) with one
+/// `format.extension` warning.
+fn misnamed_circle(dir: &Path) -> PathBuf {
+    let f = dir.join("circle.igs");
+    std::fs::copy(data("curve_circle_nurbs.step"), &f).unwrap();
+    f
+}
+
+/// Every command that reads a file, with arguments that succeed on the circle.
+fn every_reading_command(input: &str, dir: &Path) -> Vec<Vec<String>> {
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let cmds: Vec<Vec<&str>> = vec![
+        vec!["info", input],
+        vec!["validate", input],
+        vec!["evaluate", input, "--at", "1"],
+        vec!["elevate", input, "--by", "1", "-o"],
+        vec!["clamp", input, "-o"],
+        vec!["unclamp", input, "-o"],
+        vec!["insert-knot", input, "--at", "1", "-o"],
+        vec!["tessellate", input, "--tolerance", "0.1", "-o"],
+        vec!["convert", input, "-o"],
+    ];
+    cmds.into_iter()
+        .map(|c| {
+            let mut v: Vec<String> = c.iter().map(|s| (*s).to_owned()).collect();
+            if v.last().map(String::as_str) == Some("-o") {
+                let ext = if v[0] == "tessellate" { "obj" } else { "step" };
+                v.push(out(&format!("{}.{ext}", v[0])));
+            }
+            v
+        })
+        .collect()
+}
+
+#[test]
+fn every_command_puts_diagnostics_on_stderr_once_and_filters_them() {
+    let dir = temp_dir("policy");
+    let input = misnamed_circle(&dir);
+    let input = input.to_str().unwrap();
+    for args in every_reading_command(input, &dir) {
+        let c = &args[0];
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        let (out, err) = (stdout(&o), stderr(&o));
+        assert_eq!(
+            err.matches("warning[format.extension]").count(),
+            1,
+            "{c}: the warning once on stderr:\n{err}"
+        );
+        assert!(
+            err.contains(&format!("{input}: warning[format.extension]: the extension says IGES but the content is STEP")),
+            "{c}: {err}"
+        );
+        assert!(
+            !out.contains("warning["),
+            "{c}: no diagnostics on stdout:\n{out}"
+        );
+        // -q and --min-severity error hide warnings; -qq hides the summaries too.
+        for quiet in [vec!["-q"], vec!["--min-severity", "error"]] {
+            let mut a = quiet.clone();
+            a.extend(args.iter().map(String::as_str));
+            let o = nurbsx(&a);
+            assert_exit(&o, 0);
+            assert!(
+                !stderr(&o).contains("warning"),
+                "{c} {quiet:?}: {}",
+                stderr(&o)
+            );
+        }
+        let mut a = vec!["-qq"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        assert_eq!(stderr(&o), "", "{c} -qq");
+        // -v / --min-severity info show the info notes too (the unit of the file).
+        let mut a = vec!["--min-severity", "info"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert!(stderr(&o).contains("info[units]"), "{c}: {}", stderr(&o));
+        // JSON logs: every stderr line is a JSON object; the warning is one of them.
+        let mut a = vec!["--log-format", "json"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        let lines: Vec<Value> = stderr(&o)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{c}: not JSON ({e}): {l}")))
+            .collect();
+        let warnings: Vec<&Value> = lines
+            .iter()
+            .filter(|v| v["code"] == "format.extension")
+            .collect();
+        assert_eq!(warnings.len(), 1, "{c}: {lines:?}");
+        assert_eq!(warnings[0]["severity"], "warning");
+        assert_eq!(warnings[0]["file"], input);
+    }
+}
+
+#[test]
+fn json_documents_carry_the_diagnostics_instead_of_stderr() {
+    let dir = temp_dir("policy-json");
+    let input = misnamed_circle(&dir);
+    let input = input.to_str().unwrap();
+    for args in [
+        vec!["info", input, "--json"],
+        vec!["evaluate", input, "--at", "1", "--json"],
+        vec!["validate", input, "--format", "json"],
+    ] {
+        let o = nurbsx(&args);
+        assert_exit(&o, 0);
+        assert_eq!(stderr(&o), "", "{args:?}");
+        let doc = json(&o);
+        let diagnostics = if args[0] == "validate" {
+            doc[0]["diagnostics"].clone()
+        } else {
+            doc["diagnostics"].clone()
+        };
+        let codes: Vec<&str> = diagnostics
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|d| d["code"].as_str().unwrap())
+            .collect();
+        assert!(codes.contains(&"format.extension"), "{args:?}: {codes:?}");
+        // The default filter leaves out info notes; -v brings them in.
+        assert!(!codes.contains(&"units"), "{args:?}: {codes:?}");
+        let mut a = vec!["-v"];
+        a.extend(&args);
+        let doc = json(&nurbsx(&a));
+        assert!(doc.to_string().contains("\"units\""), "{args:?} -v");
+    }
+    let o = nurbsx(["validate", input, "--format", "sarif"]);
+    assert_eq!(stderr(&o), "");
+    assert!(stdout(&o).contains("format.extension"));
+}
+
+#[test]
+fn validate_on_the_samples_is_quiet_by_default() {
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    let o = nurbsx(["validate", samples.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    let files = stdout(&o).lines().count();
+    assert_eq!(files, 108, "one verdict per sample");
+    // Info notes only with -v.
+    assert!(!stderr(&o).contains(": info["), "{}", stderr(&o));
+    let o = nurbsx(["-v", "validate", samples.to_str().unwrap()]);
+    assert!(stderr(&o).contains(": info["));
+    let o = nurbsx(["-q", "validate", samples.to_str().unwrap()]);
+    assert_eq!(stderr(&o), "");
+}
+
+// ---------------------------------------------------------------------------------------
+// One exit-code policy
+
+/// The code in the last `error[code]` of stderr.
+fn error_code(o: &Output) -> String {
+    let err = stderr(o);
+    let line = err
+        .lines()
+        .rev()
+        .find(|l| l.contains("error["))
+        .unwrap_or_else(|| panic!("no error line: {err}"));
+    let start = line.find("error[").unwrap() + 6;
+    line[start..start + line[start..].find(']').unwrap()].to_owned()
+}
+
+#[test]
+fn a_limit_of_zero_is_refused_by_every_command() {
+    let circle = data("circle.json");
+    let c = circle.to_str().unwrap();
+    let dir = temp_dir("zero");
+    for args in every_reading_command(c, &dir) {
+        for zero in [
+            ["--max-degree", "0"],
+            ["--max-input-bytes", "0"],
+            ["--max-poles", "0"],
+        ] {
+            let mut a: Vec<&str> = zero.to_vec();
+            a.extend(args.iter().map(String::as_str));
+            let o = nurbsx(&a);
+            assert_exit(&o, 2);
+            assert!(
+                stderr(&o).contains("must be at least 1"),
+                "{a:?}: {}",
+                stderr(&o)
+            );
+        }
+        let o = Command::new(BIN)
+            .args(&args)
+            .env("NURBSX_MAX_DEGREE", "0")
+            .output()
+            .unwrap();
+        assert_exit(&o, 2);
+    }
+}
+
+#[test]
+fn a_limit_error_is_a_limit_error_in_every_command() {
+    // The circle has degree 3: with --max-degree 2 its only entity is refused.
+    let dir = temp_dir("limit-all");
+    let step = data("curve_circle_nurbs.step");
+    for args in every_reading_command(step.to_str().unwrap(), &dir) {
+        let mut a = vec!["--max-degree", "2"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 1);
+        assert_eq!(error_code(&o), "limit.degree", "{a:?}");
+        assert_eq!(
+            stderr(&o).matches("error[limit.degree]").count(),
+            1,
+            "{a:?}: once: {}",
+            stderr(&o)
+        );
+    }
+    // The input-size limit too.
+    for args in every_reading_command(step.to_str().unwrap(), &dir) {
+        let mut a = vec!["--max-input-bytes", "100"];
+        a.extend(args.iter().map(String::as_str));
+        let o = nurbsx(&a);
+        assert_exit(&o, 1);
+        assert_eq!(error_code(&o), "limit.input_bytes", "{a:?}");
+    }
+}
+
+#[test]
+fn domain_errors_are_usage_errors_in_the_users_terms() {
+    let dir = temp_dir("domain");
+    let c = data("circle.json");
+    let c = c.to_str().unwrap();
+    let out = dir.join("k.json");
+    let out = out.to_str().unwrap();
+    let o = nurbsx(["evaluate", c, "--at", "100"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "evaluate.domain");
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "100"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "insert_knot.domain");
+    assert!(
+        stderr(&o).contains("knot 100 is outside the domain [0, 1]"),
+        "{}",
+        stderr(&o)
+    );
+    // Too often: named in terms of the command line, not of library functions.
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "0.5", "--times", "5"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "insert_knot.multiplicity");
+    assert!(!stderr(&o).contains("clamp_start"), "{}", stderr(&o));
+    let o = nurbsx(["insert-knot", c, "-o", out, "--at", "0"]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("already clamped"), "{}", stderr(&o));
+    assert!(!out_exists(out));
+    // --direction offers only what it accepts.
+    let help = stdout(&nurbsx(["insert-knot", "--help"]));
+    let line = help.lines().find(|l| l.contains("--direction")).unwrap();
+    assert!(!help.contains("both"), "{line}\n{help}");
+    assert_exit(
+        &nurbsx([
+            "insert-knot",
+            c,
+            "-o",
+            out,
+            "--at",
+            "0.5",
+            "--direction",
+            "both",
+        ]),
+        2,
+    );
+}
+
+fn out_exists(p: &str) -> bool {
+    Path::new(p).exists()
+}
+
+#[test]
+fn evaluate_snaps_parameters_within_a_few_ulps_of_the_domain_ends() {
+    let c = data("circle.json");
+    let c = c.to_str().unwrap();
+    // 1 + 1 ulp and -1e-17 (what a + (b - a) * t computes for t = 1 or 0 in bad cases).
+    let above = f64::from_bits(1.0f64.to_bits() + 1);
+    let o = nurbsx([
+        "evaluate",
+        c,
+        "--json",
+        "--at",
+        &format!("{above:e}"),
+        "--at",
+        "-1e-17",
+    ]);
+    assert_exit(&o, 0);
+    let r = json(&o);
+    let p1 = floats(&r["results"][0]["point"]);
+    let p0 = floats(&r["results"][1]["point"]);
+    // The ends of the unit circle, by the independent Bernstein form.
+    for (p, u) in [(p1, 1.0f64), (p0, 0.0)] {
+        let q = circle_by_bernstein(u.min(0.999_999_999_999_999_9));
+        assert!(
+            (p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12,
+            "{p:?} {q:?}"
+        );
+    }
+    // Further out is still refused.
+    let o = nurbsx(["evaluate", c, "--at", "1.000000001"]);
+    assert_exit(&o, 2);
+    assert_eq!(error_code(&o), "evaluate.domain");
+}
+
+#[test]
+fn convert_verify_before_the_input_is_a_flag_not_a_tolerance() {
+    let dir = temp_dir("verify-flag");
+    let out = dir.join("c.igs");
+    let step = data("curve_circle_nurbs.step");
+    let o = nurbsx([
+        "convert",
+        "--verify",
+        step.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("verified 1 written entities"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("(tolerance 1e-9)"));
+    let o = nurbsx([
+        "convert",
+        step.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--verify=1e-12",
+    ]);
+    assert_exit(&o, 0);
+    assert!(stderr(&o).contains("(tolerance 1e-12)"), "{}", stderr(&o));
+}
+
+#[test]
+fn files_without_b_splines_are_a_warning_in_convert_and_validate_alike() {
+    let dir = temp_dir("no-bspline");
+    let f = dir.join("points.step");
+    std::fs::write(
+        &f,
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\n\
+         FILE_NAME('x','2000-01-01T00:00:00',('x'),('x'),'x','x','x');\n\
+         FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n\
+         #1 = CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;\nEND-ISO-10303-21;\n",
+    )
+    .unwrap();
+    let f = f.to_str().unwrap();
+    let out = dir.join("points.igs");
+    let o = nurbsx(["convert", f, "-o", out.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(!out.exists(), "nothing written");
+    let convert_line = stderr(&o)
+        .lines()
+        .find(|l| l.contains("warning[no_bspline]"))
+        .unwrap_or_else(|| panic!("{}", stderr(&o)))
+        .to_owned();
+    let o = nurbsx(["validate", f]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains(&convert_line),
+        "same message:\n{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("valid (0 entities"));
+    // In a batch it is not a failure either.
+    let good = dir.join("good.step");
+    std::fs::copy(data("curve_circle_nurbs.step"), &good).unwrap();
+    let o = nurbsx([
+        "convert",
+        f,
+        good.to_str().unwrap(),
+        "--out-dir",
+        dir.join("out").to_str().unwrap(),
+        "--to",
+        "iges",
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("converted 1 of 2 files")
+            && stderr(&o).contains("1 without B-spline entities"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// Batch collisions, content against extension, SARIF, nothing dropped in silence
+
+#[test]
+fn batch_name_collisions_are_errors_unless_a_policy_is_given() {
+    let dir = temp_dir("collide");
+    let a = dir.join("x.igs");
+    let b = dir.join("x.step");
+    std::fs::copy(data("curve_circle_nurbs.igs"), &a).unwrap();
+    std::fs::copy(data("curve_circle_nurbs.step"), &b).unwrap();
+    let out = dir.join("out");
+    let run = |policy: Option<&str>| {
+        let mut args = vec![
+            "convert".to_owned(),
+            a.to_str().unwrap().to_owned(),
+            b.to_str().unwrap().to_owned(),
+            "--out-dir".to_owned(),
+            out.to_str().unwrap().to_owned(),
+            "--to".to_owned(),
+            "step".to_owned(),
+        ];
+        if let Some(p) = policy {
+            args.push("--on-collision".to_owned());
+            args.push(p.to_owned());
+        }
+        nurbsx(&args)
+    };
+    let o = run(None);
+    assert_exit(&o, 2);
+    assert!(
+        stderr(&o).contains("x.igs")
+            && stderr(&o).contains("x.step")
+            && stderr(&o).contains("--on-collision"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "nothing converted");
+    let o = run(Some("rename"));
+    assert_exit(&o, 0);
+    assert!(out.join("x.step").is_file() && out.join("x-2.step").is_file());
+    assert!(
+        stderr(&o).contains("warning[batch.collision]"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(&out).unwrap();
+    let o = run(Some("overwrite"));
+    assert_exit(&o, 0);
+    assert!(out.join("x.step").is_file() && !out.join("x-2.step").exists());
+    assert!(
+        stderr(&o).contains("warning[batch.collision]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("converted 1 of 1 files"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn batch_warns_when_content_contradicts_the_extension() {
+    let dir = temp_dir("batch-ext");
+    let f = misnamed_circle(&dir);
+    let o = nurbsx([
+        "convert",
+        f.to_str().unwrap(),
+        "--out-dir",
+        dir.join("out").to_str().unwrap(),
+        "--to",
+        "iges",
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o)
+            .contains("warning[format.extension]: the extension says IGES but the content is STEP"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn sarif_names_the_tool_honestly_and_describes_its_rules() {
+    let o = nurbsx([
+        "validate",
+        "--format",
+        "sarif",
+        data("bad_knots.json").to_str().unwrap(),
+    ]);
+    let doc = json(&o);
+    let driver = &doc["runs"][0]["tool"]["driver"];
+    // Cargo.toml's repository is a placeholder: no made-up home page.
+    let repo = env!("CARGO_PKG_REPOSITORY");
+    match driver.get("informationUri") {
+        Some(uri) => {
+            assert_eq!(uri, repo);
+            assert!(!repo.contains(".invalid") && !repo.contains("example."));
+        }
+        None => assert!(repo.contains(".invalid") || repo.contains("example.") || repo.is_empty()),
+    }
+    assert!(!doc.to_string().contains("example.invalid"));
+    let rules = driver["rules"].as_array().unwrap();
+    assert!(!rules.is_empty());
+    for r in rules {
+        let text = r["shortDescription"]["text"].as_str().unwrap();
+        assert!(!text.starts_with("nurbsx diagnostic"), "{text}");
+        assert!(text.ends_with('.') && text.len() > 20, "a sentence: {text}");
+    }
+    let geometry = rules
+        .iter()
+        .find(|r| r["id"] == "geometry.invalid")
+        .unwrap();
+    assert!(
+        geometry["shortDescription"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("B-spline curve or surface is invalid")
+    );
+}
+
+#[test]
+fn modify_commands_say_what_they_leave_out() {
+    // The filleted box: 26 surfaces, 48 3-D edge curves and 96 2-D pcurves; IGES output
+    // has no place for the pcurves, and every writing command says so.
+    let dir = temp_dir("left-out");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    let step = step.to_str().unwrap();
+    for args in [
+        vec!["convert", step],
+        vec!["elevate", step, "--by", "1"],
+        vec!["clamp", step],
+        vec!["unclamp", step],
+    ] {
+        let out = dir.join(format!("{}.igs", args[0]));
+        let mut a = args.clone();
+        a.extend(["-o", out.to_str().unwrap()]);
+        let o = nurbsx(&a);
+        assert_exit(&o, 0);
+        let err = stderr(&o);
+        assert!(
+            err.contains(
+                "warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"
+            ),
+            "{args:?}: {err}"
+        );
+        assert!(
+            err.contains("read 170 B-spline curves and surfaces, wrote 74 as IGES, left out 96"),
+            "{args:?}: {err}"
+        );
+        // The file holds what the summary says: 26 surfaces and 48 curves.
+        let info = json(&nurbsx(["info", out.to_str().unwrap(), "--json"]));
+        let entities = info["entities"].as_array().unwrap();
+        assert_eq!(entities.len(), 74);
+        assert_eq!(
+            entities.iter().filter(|e| e["kind"] == "surface").count(),
+            26
+        );
+        assert!(entities.iter().all(|e| e["dimension"] == 3));
+    }
+    // STEP output keeps them: nothing to say.
+    let out = dir.join("box.step");
+    let o = nurbsx(["clamp", step, "-o", out.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(!stderr(&o).contains("pcurve_not_written"));
+    assert!(stderr(&o).contains("wrote 170 as STEP"), "{}", stderr(&o));
+}
+
+// ---------------------------------------------------------------------------------------
+// Meshes and pictures
+
+/// `nurbsx tessellate IN -o OUT --tolerance TOL`.
+fn tessellate_to(input: &Path, out: &Path, tolerance: &str) -> Output {
+    nurbsx([
+        "tessellate".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--tolerance".as_ref(),
+        std::ffi::OsStr::new(tolerance),
+    ])
+}
+
+/// The triangles of a binary STL, read by the format's definition (80-byte header, count,
+/// 50 bytes per triangle: normal, three vertices, attribute).
+fn read_stl(bytes: &[u8]) -> Vec<[[f32; 3]; 3]> {
+    let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * count, "STL size");
+    (0..count)
+        .map(|i| {
+            let t = &bytes[84 + 50 * i..];
+            let f = |k: usize| f32::from_le_bytes(t[4 * k..4 * k + 4].try_into().unwrap());
+            [[f(3), f(4), f(5)], [f(6), f(7), f(8)], [f(9), f(10), f(11)]]
+        })
+        .collect()
+}
+
+/// Checks a triangle soup is a closed surface: every edge (by its end points) belongs to
+/// exactly two triangles, in opposite directions (consistent orientation), and no triangle
+/// has zero area.
+#[track_caller]
+fn assert_watertight(triangles: &[[[f32; 3]; 3]]) {
+    use std::collections::HashMap;
+    assert!(!triangles.is_empty());
+    let key = |p: [f32; 3]| p.map(f32::to_bits);
+    let mut edges: HashMap<([u32; 3], [u32; 3]), usize> = HashMap::new();
+    for t in triangles {
+        let (a, b, c) = (t[0], t[1], t[2]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        assert!(n.iter().any(|&x| x != 0.0), "zero-area triangle {t:?}");
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            *edges.entry((key(p), key(q))).or_default() += 1;
+        }
+    }
+    for (&(p, q), &n) in &edges {
+        assert_eq!(n, 1, "directed edge used {n} times");
+        assert_eq!(
+            edges.get(&(q, p)),
+            Some(&1),
+            "edge {p:?}-{q:?} has no opposite"
+        );
+    }
+}
+
+#[test]
+fn meshes_of_closed_samples_are_watertight_in_stl_and_gltf() {
+    let dir = temp_dir("watertight");
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    for name in ["surf_sphere_nurbs", "surf_torus_nurbs"] {
+        let input = samples.join(format!("{name}.step"));
+        let stl = dir.join(format!("{name}.stl"));
+        let o = tessellate_to(&input, &stl, "0.05");
+        assert_exit(&o, 0);
+        let triangles = read_stl(&std::fs::read(&stl).unwrap());
+        assert_watertight(&triangles);
+        // glTF 2.0 binary: header, JSON chunk, BIN chunk; the indexed mesh is the same.
+        let glb = dir.join(format!("{name}.glb"));
+        let o = tessellate_to(&input, &glb, "0.05");
+        assert_exit(&o, 0);
+        let bytes = std::fs::read(&glb).unwrap();
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        assert_eq!(&bytes[0..4], b"glTF");
+        assert_eq!(word(4), 2, "glTF version");
+        assert_eq!(word(8), bytes.len());
+        let json_len = word(12);
+        assert_eq!(&bytes[16..20], b"JSON");
+        assert_eq!(json_len % 4, 0);
+        let doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let bin_at = 20 + json_len;
+        assert_eq!(&bytes[bin_at + 4..bin_at + 8], b"BIN\0");
+        let bin = &bytes[bin_at + 8..bin_at + 8 + word(bin_at)];
+        assert_eq!(doc["asset"]["version"], "2.0");
+        assert_eq!(
+            doc["buffers"][0]["byteLength"].as_u64().unwrap() as usize,
+            bin.len()
+        );
+        let prim = &doc["meshes"][0]["primitives"][0];
+        assert_eq!(prim["mode"], 4);
+        let accessor = |i: &Value| &doc["accessors"][i.as_u64().unwrap() as usize];
+        let view_of = |a: &Value| {
+            let v = &doc["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+            let off = v["byteOffset"].as_u64().unwrap() as usize;
+            &bin[off..off + v["byteLength"].as_u64().unwrap() as usize]
+        };
+        let pos = accessor(&prim["attributes"]["POSITION"]);
+        let idx = accessor(&prim["indices"]);
+        assert_eq!(pos["componentType"], 5126);
+        assert_eq!(idx["componentType"], 5125);
+        let f32s: Vec<f32> = view_of(pos)
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        let points: Vec<[f32; 3]> = f32s.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        assert_eq!(points.len() as u64, pos["count"].as_u64().unwrap());
+        for k in 0..3 {
+            let lo = points.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min);
+            let hi = points
+                .iter()
+                .map(|p| p[k])
+                .fold(f32::NEG_INFINITY, f32::max);
+            assert_eq!(pos["min"][k].as_f64().unwrap() as f32, lo);
+            assert_eq!(pos["max"][k].as_f64().unwrap() as f32, hi);
+        }
+        let indices: Vec<usize> = view_of(idx)
+            .chunks(4)
+            .map(|c| u32::from_le_bytes(c.try_into().unwrap()) as usize)
+            .collect();
+        // Welded: no two vertices at the same place.
+        let distinct: std::collections::HashSet<[u32; 3]> =
+            points.iter().map(|p| p.map(f32::to_bits)).collect();
+        assert_eq!(distinct.len(), points.len(), "{name}: vertices welded");
+        let from_gltf: Vec<[[f32; 3]; 3]> = indices
+            .chunks(3)
+            .map(|t| [points[t[0]], points[t[1]], points[t[2]]])
+            .collect();
+        assert_watertight(&from_gltf);
+        assert_eq!(from_gltf.len(), triangles.len());
+    }
+}
+
+#[test]
+fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
+    let dir = temp_dir("mesh-pcurves");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    for ext in ["obj", "glb", "svg"] {
+        let out = dir.join(format!("box.{ext}"));
+        let o = tessellate_to(&step, &out, "0.1");
+        assert_exit(&o, 0);
+        assert!(
+            stderr(&o).contains("warning[pcurve_not_written]: 96 curve(s) not drawn"),
+            "{ext}: {}",
+            stderr(&o)
+        );
+        assert!(
+            stderr(&o).contains("drew 74 of 170 entities"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    let obj = std::fs::read_to_string(dir.join("box.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("o ")).count(), 74);
+    // #37 is the first pcurve of the box.
+    assert!(!obj.lines().any(|l| l == "o #37"));
+    // STL holds no curves: the 48 edges are named as left out.
+    let o = tessellate_to(&step, &dir.join("box.stl"), "0.1");
+    assert!(
+        stderr(&o).contains("warning[curve_not_written]: 48 curve(s) not drawn"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
+    let dir = temp_dir("pictures");
+    let step =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    let svg = dir.join("box.svg");
+    let o = tessellate_to(&step, &svg, "0.1");
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let tags = check_xml(&text);
+    assert_eq!(tags[0].0, "svg");
+    assert!(text.contains("isometric view"));
+    // One label per entity drawn, and a scale bar in the file's unit.
+    let labels = tags.iter().filter(|(n, _)| n == "text").count();
+    assert_eq!(labels, 74 + 2, "74 labels, the title and the scale");
+    assert!(text.contains(" mm</text>"), "scale bar in mm");
+    // One palette colour per entity (26 surfaces cycle through all 10 of Tableau 10):
+    // shading scales a colour, so each fill points in the direction of its palette entry.
+    let palette: [[f64; 3]; 10] = [
+        [31.0, 119.0, 180.0],
+        [255.0, 127.0, 14.0],
+        [44.0, 160.0, 44.0],
+        [214.0, 39.0, 40.0],
+        [148.0, 103.0, 189.0],
+        [140.0, 86.0, 75.0],
+        [227.0, 119.0, 194.0],
+        [127.0, 127.0, 127.0],
+        [188.0, 189.0, 34.0],
+        [23.0, 190.0, 207.0],
+    ];
+    let mut used = std::collections::BTreeSet::new();
+    for fill in text.split("<polygon").skip(1).map(|p| {
+        let rgb = p
+            .split("fill=\"rgb(")
+            .nth(1)
+            .unwrap()
+            .split(')')
+            .next()
+            .unwrap();
+        let c: Vec<f64> = rgb.split(',').map(|x| x.parse().unwrap()).collect();
+        c
+    }) {
+        let cos = |q: &[f64; 3]| {
+            let d: f64 = (0..3).map(|k| fill[k] * q[k]).sum();
+            let n = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            d / (n(&fill) * n(q))
+        };
+        let (best, c) = palette
+            .iter()
+            .enumerate()
+            .map(|(i, q)| (i, cos(q)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        assert!(
+            c > 0.999,
+            "fill {fill:?} is a shade of a palette colour ({c})"
+        );
+        used.insert(best);
+    }
+    assert_eq!(used.len(), 10, "{used:?}");
+    // A plane curve set: top view, inside the frame (no clipping), 2 px lines in pixel
+    // coordinates (no scaled viewBox).
+    let set = dir.join("set.json");
+    let circle = std::fs::read_to_string(data("circle.json")).unwrap();
+    std::fs::write(
+        &set,
+        format!(
+            "[{circle}, {{\"degree\": 1, \"knots\": [0, 0, 1, 1], \"control_points\": [[-1, -1], [3, 1]]}}]"
+        ),
+    )
+    .unwrap();
+    let curves = dir.join("set.svg");
+    let o = tessellate_to(&set, &curves, "0.001");
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&curves).unwrap();
+    assert!(text.contains("top view (XY)"), "{text}");
+    let attr = |s: &str, name: &str| -> f64 {
+        s.split(&format!("{name}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (width, height) = (attr(&text, "width"), attr(&text, "height"));
+    assert!(text.contains(&format!("viewBox=\"0 0 {width} {height}\"")));
+    let segments: Vec<[f64; 4]> = text
+        .split("<line ")
+        .skip(1)
+        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| attr(l, n)))
+        .collect();
+    assert!(
+        segments.len() > 70,
+        "the circle within 1e-3 needs 71 segments or more"
+    );
+    for [x1, y1, x2, y2] in &segments {
+        for (x, y) in [(x1, y1), (x2, y2)] {
+            assert!(
+                *x >= 24.0 && *x <= width - 24.0 && *y >= 24.0 && *y <= height - 24.0,
+                "{x},{y}"
+            );
+        }
+    }
+    // The line from (-1, -1) to (3, 1) spans the width: x from the left margin to the right
+    // one, and it rises to the right (y up in the model, down in SVG).
+    let xs: Vec<f64> = segments.iter().flat_map(|s| [s[0], s[2]]).collect();
+    let left = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let right = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        (left - 48.0).abs() < 1e-6 && (right - (width - 48.0)).abs() < 1e-6,
+        "{left} {right}"
+    );
+    assert!(text.contains("stroke-width=\"2\""));
+    // PNG: the same picture rasterised.
+    let png = dir.join("box.png");
+    let o = tessellate_to(&step, &png, "0.1");
+    assert_exit(&o, 0);
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let pixmap = resvg::tiny_skia::Pixmap::decode_png(&bytes).unwrap();
+    assert_eq!(pixmap.width(), 800);
+    let coloured = pixmap
+        .pixels()
+        .iter()
+        .filter(|p| {
+            let (r, g, b) = (p.red(), p.green(), p.blue());
+            r.max(g).max(b) - r.min(g).min(b) > 40
+        })
+        .count();
+    let share = coloured as f64 / f64::from(pixmap.width() * pixmap.height());
+    assert!(share > 0.1, "the shaded part covers {share} of the picture");
+}
+
+/// The Khronos glTF validator (npm package `gltf-validator`) on the .glb of a closed surface
+/// and of the filleted box (meshes and line strips): no error, warning or info. Needs Node
+/// and the package: `npm install --prefix DIR gltf-validator`, then
+/// `NURBSX_GLTF_VALIDATOR=DIR/node_modules cargo test --test cli -- --ignored gltf`.
+#[test]
+#[ignore = "needs Node.js and the npm package gltf-validator (NURBSX_GLTF_VALIDATOR)"]
+fn gltf_output_passes_the_khronos_validator() {
+    let modules = std::env::var("NURBSX_GLTF_VALIDATOR")
+        .expect("NURBSX_GLTF_VALIDATOR=<node_modules folder holding gltf-validator>");
+    let dir = temp_dir("gltf-validator");
+    let script = dir.join("validate.js");
+    std::fs::write(
+        &script,
+        "const v = require('gltf-validator');\n\
+         const data = new Uint8Array(require('fs').readFileSync(process.argv[2]));\n\
+         v.validateBytes(data).then(r => {\n\
+           console.log(JSON.stringify(r.issues));\n\
+           process.exit(r.issues.numErrors + r.issues.numWarnings + r.issues.numInfos === 0 ? 0 : 1);\n\
+         }).catch(e => { console.error(e); process.exit(2); });\n",
+    )
+    .unwrap();
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    for name in ["surf_torus_nurbs", "brep_filleted_box_nurbs"] {
+        let glb = dir.join(format!("{name}.glb"));
+        let o = tessellate_to(&samples.join(format!("{name}.step")), &glb, "0.05");
+        assert_exit(&o, 0);
+        let checked = Command::new("node")
+            .arg(&script)
+            .arg(&glb)
+            .env("NODE_PATH", &modules)
+            .output()
+            .unwrap();
+        assert!(
+            checked.status.success(),
+            "{name}: {}{}",
+            stdout(&checked),
+            stderr(&checked)
+        );
+    }
+}
+
+#[test]
+fn evaluate_text_is_aligned_columns_without_inline_json() {
+    let o = nurbsx([
+        "evaluate",
+        data("circle.json").to_str().unwrap(),
+        "--at",
+        "0.125",
+        "--at",
+        "1e-17",
+        "--derivatives",
+        "2",
+        "--curvature",
+    ]);
+    assert_exit(&o, 0);
+    let text = stdout(&o);
+    assert!(!text.contains(['{', '[', '"']), "no JSON:\n{text}");
+    // Small numbers in exponent form, not 0.00000000000000001.
+    assert!(text.lines().any(|l| l.starts_with("1e-17 ")), "{text}");
+    assert!(!text.contains("0.0000000000"), "{text}");
+    // The labelled lines: every number parses, and the columns end at the same place.
+    // (The header of the table is right-aligned too: it starts with blanks and a `u`.)
+    let extra: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("    ") && !l.trim_start().starts_with("u "))
+        .collect();
+    assert!(extra.iter().any(|l| l.trim_start().starts_with("d2 ")));
+    let ends: std::collections::BTreeSet<usize> = extra
+        .iter()
+        .filter(|l| l.split_whitespace().count() == 3)
+        .map(|l| l.len())
+        .collect();
+    assert_eq!(
+        ends.len(),
+        1,
+        "two-value lines end in the same column:\n{text}"
+    );
+    for l in &extra {
+        for cell in l.split_whitespace().skip(1) {
+            assert!(cell.parse::<f64>().is_ok(), "{cell} in {l}");
+        }
+    }
+    // The numbers are the JSON output's, exactly.
+    let j = json(&nurbsx([
+        "evaluate",
+        data("circle.json").to_str().unwrap(),
+        "--at",
+        "0.125",
+        "--derivatives",
+        "2",
+        "--json",
+    ]));
+    let d2 = floats(&j["results"][0]["derivatives"][1]);
+    let line = extra
+        .iter()
+        .find(|l| l.trim_start().starts_with("d2 "))
+        .unwrap();
+    let cells: Vec<f64> = line
+        .split_whitespace()
+        .skip(1)
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert_eq!(cells, d2);
+}
+
+/// Runs a command line on a pseudo-terminal (util-linux `script`), as a user at a terminal
+/// would, and returns what the terminal showed.
+fn on_terminal(command: &str, env: &[(&str, &str)]) -> String {
+    let mut c = Command::new("script");
+    c.args(["-qec", command, "/dev/null"])
+        .env_remove("NO_COLOR")
+        .env("TERM", "xterm-256color");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    let o = c
+        .output()
+        .expect("util-linux `script` runs the command on a terminal");
+    stdout(&o)
+}
+
+#[test]
+fn colour_is_on_by_default_on_a_terminal_only() {
+    let bad = data("bad_knots.json");
+    let command = format!("{BIN} validate {}", bad.display());
+    let esc = "\u{1b}[";
+    let shown = on_terminal(&command, &[]);
+    assert!(shown.contains(esc), "coloured on a terminal: {shown:?}");
+    assert!(shown.contains("error[geometry.invalid]"));
+    let shown = on_terminal(&command, &[("NO_COLOR", "1")]);
+    assert!(!shown.contains(esc), "NO_COLOR: {shown:?}");
+    let shown = on_terminal(&format!("{command} --color never"), &[]);
+    assert!(!shown.contains(esc), "--color never: {shown:?}");
+    let shown = on_terminal(&format!("{BIN} help convert"), &[]);
+    assert!(shown.contains(esc), "coloured help: {shown:?}");
+}
+
+#[test]
+fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
+    // Orthographic: a sphere projects to a disc whatever the view. The picture maps the
+    // disc's diameter to the 704 px between the margins, so the silhouette is a circle of
+    // radius 352 px around the middle of the drawing.
+    let dir = temp_dir("silhouette");
+    let svg = dir.join("sphere.svg");
+    let sphere =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/surf_sphere_nurbs.step");
+    let o = tessellate_to(&sphere, &svg, "0.01");
+    assert_exit(&o, 0);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let height: f64 = text
+        .split("height=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let (cx, cy) = (400.0, height / 2.0);
+    let attr = |s: &str, name: &str| -> f64 {
+        s.split(&format!("{name}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let outline: Vec<&str> = text
+        .split("<line ")
+        .skip(1)
+        .filter(|l| l.contains("stroke=\"#303030\""))
+        .collect();
+    assert!(outline.len() > 40, "{} outline segments", outline.len());
+    for l in &outline {
+        for (x, y) in [
+            (attr(l, "x1"), attr(l, "y1")),
+            (attr(l, "x2"), attr(l, "y2")),
+        ] {
+            let r = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
+            assert!(
+                r > 0.97 * 352.0 && r < 352.5,
+                "silhouette point at radius {r}"
+            );
+        }
+    }
 }

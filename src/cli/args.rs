@@ -10,15 +10,26 @@ use clap::{ArgAction, Args, Parser, Subcommand, ValueEnum};
 use crate::exchange::{LengthUnit, StepSchema};
 use crate::pipeline::Direction;
 
-/// The exit-code table every `--help` ends with.
-pub const EXIT_CODES: &str = "\
-Exit codes:
-  0  success (validate: every file valid)
-  1  the input is invalid or unreadable, the conversion or its verification failed,
-     or (batch) any file failed
-  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)";
+/// The exit-code table of the top-level help and of `nurbsx help exit-codes` (a macro, so
+/// that `concat!` can put it into the help text).
+macro_rules! exit_codes {
+    () => {
+        "\
+Exit codes (every command):
+  0  success, and no error diagnostic (validate: every file valid)
+  1  the input is invalid, unreadable or over a limit (limit.*), an entity could not be
+     read (error diagnostic), the conversion or its verification failed, or (batch) any
+     file failed
+  2  usage error (bad flag or value, unknown entity, parameter or knot outside the
+     domain) or I/O error (missing file, unwritable output)"
+    };
+}
 
-const TOP_HELP: &str = "\
+/// The exit-code table.
+pub const EXIT_CODES: &str = exit_codes!();
+
+const TOP_HELP: &str = concat!(
+    "\
 Examples:
   nurbsx convert part.igs -o part.step --verify
   nurbsx convert drawings/ --out-dir converted/ --to step --report report.jsonl
@@ -26,17 +37,18 @@ Examples:
   nurbsx validate --format sarif *.step > results.sarif
   nurbsx evaluate circle.json --at 0.25 --at 0.5 --json
 
-Exit codes:
-  0  success (validate: every file valid)
-  1  the input is invalid or unreadable, the conversion or its verification failed,
-     or (batch) any file failed
-  2  usage error (bad flag or value) or I/O error (missing file, unwritable output)
+",
+    exit_codes!(),
+    "
 
-Limits: every --max-* option can also be set by an environment variable
-(--max-poles = NURBSX_MAX_POLES, ...; a flag wins). Exceeding a limit is an error with a
-`limit.*` code, reported before the work or memory it would cost.
-
-Logging: -v / -q, or RUST_LOG (e.g. RUST_LOG=nurbsx=debug); logs go to stderr.";
+More help:
+  nurbsx help COMMAND      the full help of a command
+  nurbsx help limits       the --max-* limits (global options, also environment variables)
+  nurbsx help exit-codes   the exit codes and error codes of every command
+  nurbsx help output       what goes to stdout and stderr, -q, --min-severity, --log-format
+  nurbsx completions SHELL shell completions (bash, zsh, fish, powershell, elvish)
+  nurbsx man [COMMAND]     man pages (roff)"
+);
 
 /// `nurbsx`: exact NURBS exchange between IGES 5.3 and STEP.
 #[derive(Debug, Parser)]
@@ -49,6 +61,7 @@ Logging: -v / -q, or RUST_LOG (e.g. RUST_LOG=nurbsx=debug); logs go to stderr.";
                   validate, evaluate and modify B-spline curves and surfaces without losing a bit.",
     after_help = TOP_HELP,
     propagate_version = true,
+    disable_help_subcommand = true,
     max_term_width = 100
 )]
 pub struct Cli {
@@ -60,53 +73,95 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Logging and limits, accepted before or after the command name.
+/// Output, logging and limits, accepted before or after the command name. The limits are
+/// hidden from every command's `--help` and listed once by `nurbsx help limits`.
 #[derive(Debug, Args)]
 pub struct GlobalArgs {
-    /// More log output on stderr (-v info, -vv debug, -vvv trace). RUST_LOG overrides.
+    /// More output on stderr: -v shows info notes and info logs, -vv debug logs, -vvv trace.
     #[arg(short, long, action = ArgAction::Count, global = true, help_heading = "Global options")]
     pub verbose: u8,
-    /// Less output: -q hides warnings and progress, -qq also hides error logs.
+    /// Less output on stderr: -q shows errors only, -qq also hides summaries (the one line
+    /// that explains a failing exit code is always printed).
     #[arg(short, long, action = ArgAction::Count, global = true, conflicts_with = "verbose", help_heading = "Global options")]
     pub quiet: u8,
-    /// Log line format on stderr.
+    /// The least severe diagnostic shown (default warning; info with -v, error with -q).
+    #[arg(
+        long,
+        value_enum,
+        value_name = "LEVEL",
+        global = true,
+        help_heading = "Global options"
+    )]
+    pub min_severity: Option<SeverityArg>,
+    /// Colour on stderr and in help: auto (on a terminal, unless NO_COLOR is set), always,
+    /// never.
+    #[arg(long, value_enum, value_name = "WHEN", default_value_t = ColorArg::Auto, global = true, help_heading = "Global options")]
+    pub color: ColorArg,
+    /// Format of everything nurbsx writes on stderr (diagnostics, summaries, logs).
     #[arg(long, value_enum, default_value_t = LogFormat::Text, global = true, help_heading = "Global options")]
     pub log_format: LogFormat,
     /// Highest B-spline degree accepted when reading and produced by operations
     /// (default 25, as Open CASCADE).
-    #[arg(
-        long,
-        env = "NURBSX_MAX_DEGREE",
-        value_name = "N",
-        global = true,
-        help_heading = "Limits"
-    )]
+    #[arg(long, env = "NURBSX_MAX_DEGREE", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_degree: Option<usize>,
     /// Largest input file accepted, e.g. 512MiB (default 2GiB).
-    #[arg(long, env = "NURBSX_MAX_INPUT_BYTES", value_name = "SIZE", value_parser = parse_bytes, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_INPUT_BYTES", value_name = "SIZE", value_parser = positive_bytes, global = true, hide = true, help_heading = LIMITS)]
     pub max_input_bytes: Option<usize>,
     /// Most STEP entity instances / IGES directory entries in one file (default 50000000).
-    #[arg(long, env = "NURBSX_MAX_ENTITIES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_ENTITIES", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_entities: Option<usize>,
     /// Deepest nesting of parenthesised STEP lists (default 64; real files nest 3-4 deep).
-    #[arg(long, env = "NURBSX_MAX_NESTING_DEPTH", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_NESTING_DEPTH", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_nesting_depth: Option<usize>,
     /// Most parameters in one STEP instance or IGES entity, list elements included
     /// (default 50000000).
-    #[arg(long, env = "NURBSX_MAX_PARAMS", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_PARAMS", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_params: Option<usize>,
     /// Most control points in one curve or surface (default 25000000).
-    #[arg(long, env = "NURBSX_MAX_POLES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_POLES", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_poles: Option<usize>,
     /// Most parameters evaluated in one `evaluate` call or HTTP request (default 10000000).
-    #[arg(long, env = "NURBSX_MAX_EVAL_POINTS", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_EVAL_POINTS", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_eval_points: Option<usize>,
     /// Largest degree elevation in one `elevate` call or request (default 20).
-    #[arg(long, env = "NURBSX_MAX_ELEVATE_BY", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_ELEVATE_BY", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_elevate_by: Option<usize>,
     /// Most vertices one tessellation may produce (default 20000000).
-    #[arg(long, env = "NURBSX_MAX_MESH_VERTICES", value_name = "N", value_parser = positive, global = true, help_heading = "Limits")]
+    #[arg(long, env = "NURBSX_MAX_MESH_VERTICES", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_mesh_vertices: Option<usize>,
+}
+
+/// The help heading of the limit options (`nurbsx help limits` lists the options under it).
+pub const LIMITS: &str = "Limits";
+
+/// A byte-size limit: a size of at least 1 byte.
+fn positive_bytes(s: &str) -> Result<usize, String> {
+    match parse_bytes(s)? {
+        0 => Err("must be at least 1 byte".to_owned()),
+        n => Ok(n),
+    }
+}
+
+/// `--color`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ColorArg {
+    /// Colour when the output is a terminal and NO_COLOR is not set.
+    Auto,
+    /// Always colour.
+    Always,
+    /// Never colour.
+    Never,
+}
+
+/// `--min-severity`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
+pub enum SeverityArg {
+    /// Errors only.
+    Error,
+    /// Errors and warnings.
+    Warning,
+    /// Everything, informational notes included.
+    Info,
 }
 
 /// A limit value: a whole number of at least 1 (a limit of 0 would refuse everything).
@@ -139,15 +194,18 @@ pub enum Command {
                       folders are searched recursively for .step/.stp/.p21/.igs/.iges files, \
                       converted in parallel, and --report writes one JSON line per file.\n\n\
                       Diagnostics (warnings about the input) go to stderr as \
-                      `file:line:col: warning[code]: message`.",
+                      `file:line:col: warning[code]: message`, then one summary line: \
+                      what was read, written, left out (with the warning that says why) \
+                      and verified.",
         after_help = concat!(
             "Examples:\n",
             "  nurbsx convert part.igs -o part.step\n",
-            "  nurbsx convert part.step -o part.igs --units in --verify 1e-12\n",
+            "  nurbsx convert part.step -o part.igs --units in --verify=1e-12\n",
             "  nurbsx convert cad/ more.igs --out-dir out/ --to step --report report.jsonl\n\n",
             "Exit codes:\n",
-            "  0  converted (batch: every file)\n",
-            "  1  input invalid, conversion or verification failed, or (batch) any file failed\n",
+            "  0  converted, or nothing to convert (batch: every file)\n",
+            "  1  input invalid or over a limit, conversion or verification failed, or (batch)\n",
+            "     any file failed\n",
             "  2  usage or I/O error"
         )
     )]
@@ -164,7 +222,8 @@ pub enum Command {
             "  nurbsx info part.igs --json | jq '.entities[].id'\n\n",
             "Exit codes:\n",
             "  0  the file was read\n",
-            "  1  the file is not readable STEP, IGES or model JSON\n",
+            "  1  the file is not readable STEP, IGES or model JSON, is over a limit, or an\n",
+            "     entity could not be read (error diagnostic)\n",
             "  2  usage or I/O error"
         )
     )]
@@ -201,7 +260,7 @@ pub enum Command {
             "  nurbsx evaluate part.igs --entity D5 --params params.txt --derivatives 2\n\n",
             "Exit codes:\n",
             "  0  evaluated\n",
-            "  1  the input is invalid or unreadable\n",
+            "  1  the input is invalid, unreadable or over a limit (limit.*)\n",
             "  2  usage or I/O error (unknown entity, parameter outside the domain, bad tuple)"
         )
     )]
@@ -213,7 +272,7 @@ pub enum Command {
         "  nurbsx elevate surface.json -o raised.json --by 1 --direction u\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid, or the result would exceed --max-degree\n",
+        "  1  the input is invalid or over a limit, or the result would exceed --max-degree\n",
         "  2  usage or I/O error"
     ))]
     Elevate(ElevateArgs),
@@ -224,7 +283,7 @@ pub enum Command {
         "  nurbsx clamp curve.json -o clamped.json\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid\n",
+        "  1  the input is invalid or over a limit\n",
         "  2  usage or I/O error"
     ))]
     Clamp(SimpleOpArgs),
@@ -234,7 +293,7 @@ pub enum Command {
         "  nurbsx unclamp part.step -o unclamped.step\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid\n",
+        "  1  the input is invalid or over a limit\n",
         "  2  usage or I/O error"
     ))]
     Unclamp(SimpleOpArgs),
@@ -245,18 +304,18 @@ pub enum Command {
         "  nurbsx insert-knot part.step -o refined.step --entity '#17' --at 0.3 --direction v\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid or the knot cannot be inserted that often\n",
-        "  2  usage or I/O error"
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
-    /// Tessellate curves and surfaces into OBJ or SVG under a chord tolerance.
+    /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
         "  nurbsx tessellate part.step -o part.obj --tolerance 0.01\n",
         "  nurbsx tessellate curve.igs -o curve.svg --tolerance 0.001 --entity D1\n\n",
         "Exit codes:\n",
         "  0  written\n",
-        "  1  the input is invalid, or the mesh would exceed the vertex limit\n",
+        "  1  the input is invalid or over a limit (the mesh vertex limit too)\n",
         "  2  usage or I/O error"
     ))]
     Tessellate(TessellateArgs),
@@ -275,6 +334,67 @@ pub enum Command {
         )
     )]
     Serve(ServeArgs),
+    /// Show the help of nurbsx, of a command, or of a topic (limits, exit-codes, output).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx help convert\n",
+        "  nurbsx help limits\n",
+        "  nurbsx help exit-codes\n\n",
+        "Exit codes:\n",
+        "  0  shown\n",
+        "  2  usage error (unknown command or topic)"
+    ))]
+    Help(HelpArgs),
+    /// Print a shell completion script on stdout.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx completions bash > ~/.local/share/bash-completion/completions/nurbsx\n",
+        "  nurbsx completions zsh > ~/.zfunc/_nurbsx\n",
+        "  nurbsx completions fish > ~/.config/fish/completions/nurbsx.fish\n",
+        "  nurbsx completions powershell >> $PROFILE\n\n",
+        "Exit codes:\n",
+        "  0  printed\n",
+        "  2  usage error (unknown shell) or I/O error"
+    ))]
+    Completions(CompletionsArgs),
+    /// Print a man page (roff) on stdout, or write one per command with --out-dir.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx man | man -l -\n",
+        "  nurbsx man convert | man -l -\n",
+        "  nurbsx man --out-dir target/man\n\n",
+        "Exit codes:\n",
+        "  0  printed or written\n",
+        "  2  usage error (unknown command) or I/O error"
+    ))]
+    Man(ManArgs),
+}
+
+/// `nurbsx help`.
+#[derive(Debug, Args)]
+pub struct HelpArgs {
+    /// A command (`convert`), or a topic: `limits`, `exit-codes`, `output`.
+    #[arg(value_name = "COMMAND|TOPIC")]
+    pub topic: Option<String>,
+}
+
+/// `nurbsx completions`.
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+/// `nurbsx man`.
+#[derive(Debug, Args)]
+pub struct ManArgs {
+    /// The command whose page to print (default: the nurbsx page).
+    #[arg(value_name = "COMMAND", conflicts_with = "out_dir")]
+    pub command: Option<String>,
+    /// Write every page (nurbsx.1, nurbsx-convert.1, ...) into this folder instead.
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: Option<std::path::PathBuf>,
 }
 
 /// An output exchange format.
@@ -346,10 +466,10 @@ pub struct ConvertArgs {
     #[arg(long)]
     pub unclamp: bool,
     /// Re-read the output and compare every entity with its input by sampling; fail when the
-    /// deviation relative to the entity's size exceeds TOL (default 1e-9). Write `--verify=TOL`
-    /// or put --verify after the input, so that IN is not read as TOL.
-    #[arg(long, value_name = "TOL", num_args = 0..=1, default_missing_value = "1e-9",
-          value_parser = parse_tolerance)]
+    /// deviation relative to the entity's size exceeds TOL (default 1e-9). A tolerance is
+    /// given with `=` (`--verify=1e-12`), so `--verify in.step` never reads the file as TOL.
+    #[arg(long, value_name = "TOL", num_args = 0..=1, require_equals = true,
+          default_missing_value = "1e-9", value_parser = parse_tolerance)]
     pub verify: Option<f64>,
     /// Write a JSON report (batch: JSON Lines, one object per file).
     #[arg(long, value_name = "FILE")]
@@ -364,6 +484,22 @@ pub struct ConvertArgs {
     #[arg(short = 'j', long, value_name = "N",
           value_parser = clap::value_parser!(u16).range(1..=256))]
     pub jobs: Option<u16>,
+    /// Batch: what to do when two inputs would be written to the same output (`a.igs` and
+    /// `a.step` both to `a.step`): error (the default: nothing is converted), rename
+    /// (`a-2.step`, with a warning), overwrite (the later input wins, with a warning).
+    #[arg(long, value_enum, value_name = "POLICY", default_value_t = CollisionArg::Error)]
+    pub on_collision: CollisionArg,
+}
+
+/// `--on-collision`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CollisionArg {
+    /// Refuse the batch (exit 2) and name the colliding inputs.
+    Error,
+    /// Number the later outputs: `a-2.step`, `a-3.step`, ...
+    Rename,
+    /// Convert only the last input of each colliding group; the others are not written.
+    Overwrite,
 }
 
 /// `--units`: keep the document's unit or convert to one.
@@ -473,6 +609,24 @@ impl From<DirectionArg> for Direction {
     }
 }
 
+/// The surface direction of a knot insertion (one at a time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum KnotDirectionArg {
+    /// Along u.
+    U,
+    /// Along v.
+    V,
+}
+
+impl From<KnotDirectionArg> for Direction {
+    fn from(d: KnotDirectionArg) -> Self {
+        match d {
+            KnotDirectionArg::U => Direction::U,
+            KnotDirectionArg::V => Direction::V,
+        }
+    }
+}
+
 /// `nurbsx elevate`.
 #[derive(Debug, Args)]
 pub struct ElevateArgs {
@@ -526,8 +680,8 @@ pub struct InsertKnotArgs {
     #[arg(long, value_name = "K", default_value_t = 1)]
     pub times: usize,
     /// Surface direction (u or v); curves ignore it.
-    #[arg(long, value_enum, default_value_t = DirectionArg::U)]
-    pub direction: DirectionArg,
+    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
+    pub direction: KnotDirectionArg,
     /// Only this entity (default: all).
     #[arg(long, value_name = "ID")]
     pub entity: Option<String>,
@@ -536,10 +690,17 @@ pub struct InsertKnotArgs {
 /// A tessellation output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MeshFormatArg {
-    /// Wavefront OBJ.
+    /// Wavefront OBJ: welded triangle meshes and polylines.
     Obj,
-    /// SVG (projection on XY).
+    /// Binary STL: triangles only.
+    Stl,
+    /// Binary glTF 2.0 (.glb): triangle meshes and line strips.
+    Glb,
+    /// SVG picture: shaded isometric (or, for plane curves, top) view with frame, scale bar
+    /// and labels.
     Svg,
+    /// The SVG picture as PNG (rendered by resvg).
+    Png,
 }
 
 /// `nurbsx tessellate`.
@@ -548,7 +709,8 @@ pub struct TessellateArgs {
     /// Input file (STEP, IGES or model JSON).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Output file (.obj or .svg); `-` writes standard output (then give --format).
+    /// Output file (.obj, .stl, .glb, .svg or .png); `-` writes standard output (then give
+    /// --format).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// Mesh format (default: from OUT's extension).

@@ -2,7 +2,7 @@
 //! parallel (rayon) with a progress bar on a terminal, write one JSON line per file to the
 //! report, print a summary. Any failed file makes the exit code 1.
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -10,10 +10,27 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::pipeline::{self, InputKind};
+use crate::pipeline::InputKind;
 
-use super::convert::{FileRecord, Plan, batch_output_path, failure_record, success_record};
-use super::{CliError, Context, Outcome, display_name, eprint_line, write_output};
+use crate::exchange::Diagnostic;
+
+use super::args::CollisionArg;
+use super::convert::{
+    Converted, FileRecord, Plan, batch_output_path, convert_bytes, empty_record, failure_record,
+    success_record,
+};
+use super::{CliError, Context, Outcome, display_name, outcome_of, write_output};
+
+/// The batch options besides the conversion plan.
+#[derive(Debug, Clone, Copy)]
+pub struct Options<'a> {
+    /// `--report FILE`.
+    pub report: Option<&'a Path>,
+    /// `-j N`.
+    pub jobs: Option<usize>,
+    /// `--on-collision`.
+    pub on_collision: CollisionArg,
+}
 
 /// One planned conversion.
 #[derive(Debug, Clone)]
@@ -34,7 +51,7 @@ fn is_exchange_file(path: &Path) -> bool {
 /// folders (so a link cycle cannot loop) and without entering `skip` (the batch's own output
 /// folder, so that a rerun does not convert its previous outputs). Iterative: folder depth
 /// cannot exhaust the stack.
-pub fn walk(root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> {
+pub fn walk(ctx: &Context, root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> {
     let skip = skip.and_then(|p| p.canonicalize().ok());
     let mut found = Vec::new();
     let mut stack = vec![root.to_path_buf()];
@@ -50,7 +67,14 @@ pub fn walk(root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> 
             // One unreadable subfolder should not stop a batch over a large tree: say so and
             // go on (the summary counts only the files found).
             Err(e) => {
-                eprint_line(&format!("warning: skipping `{}`: {e}", dir.display()));
+                ctx.report.diagnostic(
+                    Some(&display_name(&dir)),
+                    &Diagnostic::warning(
+                        "io.skipped",
+                        format!("folder skipped: {e}"),
+                        Default::default(),
+                    ),
+                );
                 continue;
             }
         };
@@ -76,17 +100,24 @@ pub fn walk(root: &Path, skip: Option<&Path>) -> Result<Vec<PathBuf>, CliError> 
 
 /// Expands the inputs into jobs: files as given, folders searched recursively, each output
 /// at the same relative place under `out_dir`. Outputs that would collide (`a.igs` and
-/// `a.stp` both to `a.step`) are numbered (`a-2.step`).
-fn plan_jobs(inputs: &[PathBuf], out_dir: &Path, plan: &Plan) -> Result<Vec<Job>, CliError> {
-    let mut jobs = Vec::new();
-    let mut taken = HashSet::new();
+/// `a.stp` both to `a.step`) are refused, numbered (`a-2.step`) or overwritten by the later
+/// input, as `--on-collision` says; the last two with a warning naming both inputs.
+fn plan_jobs(
+    ctx: &Context,
+    inputs: &[PathBuf],
+    out_dir: &Path,
+    plan: &Plan,
+    on_collision: CollisionArg,
+) -> Result<Vec<Job>, CliError> {
+    let mut jobs: Vec<Job> = Vec::new();
+    let mut taken: HashMap<PathBuf, usize> = HashMap::new();
     for input in inputs {
         let meta = std::fs::metadata(input).map_err(|source| CliError::Io {
             context: format!("cannot read `{}`", input.display()),
             source,
         })?;
         let pairs: Vec<(PathBuf, PathBuf)> = if meta.is_dir() {
-            walk(input, Some(out_dir))?
+            walk(ctx, input, Some(out_dir))?
                 .into_iter()
                 .map(|file| {
                     let relative = file.strip_prefix(input).unwrap_or(&file).to_path_buf();
@@ -99,22 +130,72 @@ fn plan_jobs(inputs: &[PathBuf], out_dir: &Path, plan: &Plan) -> Result<Vec<Job>
         };
         for (file, relative) in pairs {
             let base = batch_output_path(out_dir, &relative, plan.request.to);
-            let mut output = base.clone();
-            // `a.igs` and `a.stp` both map to `a.step`: number the later ones `a-2.step`, ...
-            let mut n = 2usize;
-            while !taken.insert(output.clone()) {
-                let stem = base.file_stem().unwrap_or_default().to_string_lossy();
-                let name = match base.extension() {
-                    Some(ext) => format!("{stem}-{n}.{}", ext.to_string_lossy()),
-                    None => format!("{stem}-{n}"),
-                };
-                output = base.with_file_name(name);
-                n += 1;
+            let Some(&earlier) = taken.get(&base) else {
+                taken.insert(base.clone(), jobs.len());
+                jobs.push(Job {
+                    input: file,
+                    output: base,
+                });
+                continue;
+            };
+            let first = display_name(&jobs[earlier].input);
+            let this = display_name(&file);
+            let target = display_name(&base);
+            match on_collision {
+                CollisionArg::Error => {
+                    return Err(CliError::Usage(format!(
+                        "`{first}` and `{this}` would both be written to `{target}`; rename \
+                         one, convert them separately, or give --on-collision rename|overwrite"
+                    )));
+                }
+                CollisionArg::Overwrite => {
+                    ctx.report.diagnostic(
+                        Some(&first),
+                        &Diagnostic::warning(
+                            "batch.collision",
+                            format!(
+                                "not converted: `{this}` is written to `{target}` instead \
+                                 (--on-collision overwrite)"
+                            ),
+                            Default::default(),
+                        ),
+                    );
+                    jobs[earlier].input = file;
+                }
+                CollisionArg::Rename => {
+                    // Number the later ones `a-2.step`, `a-3.step`, ...
+                    let mut n = 2usize;
+                    let output = loop {
+                        let stem = base.file_stem().unwrap_or_default().to_string_lossy();
+                        let name = match base.extension() {
+                            Some(ext) => format!("{stem}-{n}.{}", ext.to_string_lossy()),
+                            None => format!("{stem}-{n}"),
+                        };
+                        let candidate = base.with_file_name(name);
+                        if !taken.contains_key(&candidate) {
+                            break candidate;
+                        }
+                        n += 1;
+                    };
+                    ctx.report.diagnostic(
+                        Some(&this),
+                        &Diagnostic::warning(
+                            "batch.collision",
+                            format!(
+                                "written to `{}` because `{first}` is written to `{target}` \
+                                 (--on-collision rename)",
+                                display_name(&output)
+                            ),
+                            Default::default(),
+                        ),
+                    );
+                    taken.insert(output.clone(), jobs.len());
+                    jobs.push(Job {
+                        input: file,
+                        output,
+                    });
+                }
             }
-            jobs.push(Job {
-                input: file,
-                output,
-            });
         }
     }
     Ok(jobs)
@@ -149,24 +230,21 @@ fn convert_one(job: &Job, plan: &Plan) -> (FileRecord, Vec<crate::exchange::Diag
                 CliError::Pipeline { error, .. } => error.diagnostic,
                 other => crate::exchange::Diagnostic::error(
                     "io",
-                    other
-                        .message()
-                        .unwrap_or_default()
-                        .trim_start_matches("error: ")
-                        .to_owned(),
+                    other.message().unwrap_or_default(),
                     Default::default(),
                 ),
             };
             return (failure_record(&name, d, None), Vec::new());
         }
     };
-    let mut request = plan.request.clone();
+    let mut plan = plan.clone();
     if let Some(file_name) = job.output.file_name().and_then(|n| n.to_str()) {
-        request.export.file_name = file_name.to_owned();
+        plan.request.export.file_name = file_name.to_owned();
     }
-    match pipeline::convert(&bytes, hint, &request, &plan.settings) {
+    match convert_bytes(&job.input, &bytes, hint, &plan) {
         Err(e) => (failure_record(&name, e.diagnostic, hint), Vec::new()),
-        Ok(out) => match write_output(&job.output, &out.text) {
+        Ok(Converted::Empty(diagnostics)) => (empty_record(&name, hint, &diagnostics), diagnostics),
+        Ok(Converted::Written(out)) => match write_output(&job.output, &out.text) {
             Ok(()) => {
                 let record = success_record(&name, Some(display_name(&job.output)), &out.report);
                 (record, out.report.diagnostics)
@@ -174,10 +252,7 @@ fn convert_one(job: &Job, plan: &Plan) -> (FileRecord, Vec<crate::exchange::Diag
             Err(e) => {
                 let d = crate::exchange::Diagnostic::error(
                     "io",
-                    e.message()
-                        .unwrap_or_default()
-                        .trim_start_matches("error: ")
-                        .to_owned(),
+                    e.message().unwrap_or_default(),
                     Default::default(),
                 );
                 (failure_record(&name, d, hint), Vec::new())
@@ -192,23 +267,22 @@ pub fn run(
     inputs: &[PathBuf],
     out_dir: &Path,
     plan: &Plan,
-    report_path: Option<&Path>,
-    jobs: Option<usize>,
+    options: Options<'_>,
 ) -> Result<Outcome, CliError> {
     let started = Instant::now();
-    let work = plan_jobs(inputs, out_dir, plan)?;
+    let work = plan_jobs(ctx, inputs, out_dir, plan, options.on_collision)?;
     if work.is_empty() {
         return Err(CliError::Usage(
             "no .step/.stp/.p21/.igs/.iges files found in the inputs".into(),
         ));
     }
-    let threads = jobs.unwrap_or(0);
+    let threads = options.jobs.unwrap_or(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| CliError::Usage(format!("cannot start {threads} worker threads: {e}")))?;
     let total = u64::try_from(work.len()).unwrap_or(u64::MAX);
-    let bar = if ctx.quiet == 0 && std::io::stderr().is_terminal() {
+    let bar = if ctx.quiet == 0 && !ctx.report.json() && std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(total);
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {wide_msg}",
@@ -219,7 +293,7 @@ pub fn run(
     } else {
         ProgressBar::hidden()
     };
-    let records: Vec<FileRecord> = pool.install(|| {
+    let results: Vec<(FileRecord, Outcome)> = pool.install(|| {
         work.par_iter()
             .map(|job| {
                 bar.set_message(display_name(&job.input));
@@ -233,18 +307,22 @@ pub fn run(
                     "batch file done"
                 );
                 bar.suspend(|| {
-                    ctx.print_diagnostics(&record.file, &diagnostics);
-                    if let (Some(line), true) = (&record.error, ctx.quiet < 2) {
-                        eprint_line(line);
+                    ctx.report.diagnostics(&record.file, &diagnostics);
+                    if let (Some(code), Some(message)) = (&record.error_code, &record.error) {
+                        let d =
+                            Diagnostic::error(code.clone(), message.clone(), Default::default());
+                        ctx.report.diagnostic(Some(&record.file), &d);
                     }
                 });
                 bar.inc(1);
-                record
+                let outcome = outcome_of(&diagnostics);
+                (record, outcome)
             })
             .collect()
     });
     bar.finish_and_clear();
-    if let Some(path) = report_path {
+    let records: Vec<&FileRecord> = results.iter().map(|(r, _)| r).collect();
+    if let Some(path) = options.report {
         let mut text = String::new();
         for r in &records {
             let line = serde_json::to_string(r)
@@ -254,34 +332,50 @@ pub fn run(
         }
         write_output(path, &text)?;
     }
-    let failed: Vec<&FileRecord> = records.iter().filter(|r| !r.ok).collect();
+    let failed: Vec<&FileRecord> = records.iter().copied().filter(|r| !r.ok).collect();
+    let with_errors = results
+        .iter()
+        .filter(|(r, o)| r.ok && *o == Outcome::Failure)
+        .count();
+    let empty = records
+        .iter()
+        .filter(|r| r.ok && r.output.is_none())
+        .count();
     let warnings: usize = records.iter().map(|r| r.diagnostics.warnings).sum();
-    if ctx.quiet < 2 {
-        let mut summary = format!(
-            "nurbsx: converted {} of {} files in {:.2} s",
-            records.len() - failed.len(),
-            records.len(),
-            started.elapsed().as_secs_f64()
-        );
-        if !failed.is_empty() {
-            let names: Vec<&str> = failed.iter().take(10).map(|r| r.file.as_str()).collect();
-            summary.push_str(&format!(
-                "; {} failed: {}{}",
-                failed.len(),
-                names.join(", "),
-                if failed.len() > names.len() {
-                    ", ..."
-                } else {
-                    ""
-                }
-            ));
-        }
-        if warnings > 0 {
-            summary.push_str(&format!("; {warnings} warnings"));
-        }
-        eprint_line(&summary);
+    let written = records.len() - failed.len() - empty;
+    let mut summary = format!(
+        "nurbsx: converted {written} of {} files in {:.2} s",
+        records.len(),
+        started.elapsed().as_secs_f64()
+    );
+    if empty > 0 {
+        summary.push_str(&format!(
+            "; {empty} without B-spline entities (nothing written)"
+        ));
     }
-    Ok(if failed.is_empty() {
+    if with_errors > 0 {
+        summary.push_str(&format!(
+            "; {with_errors} written without the entities that had errors"
+        ));
+    }
+    if !failed.is_empty() {
+        let names: Vec<&str> = failed.iter().take(10).map(|r| r.file.as_str()).collect();
+        summary.push_str(&format!(
+            "; {} failed: {}{}",
+            failed.len(),
+            names.join(", "),
+            if failed.len() > names.len() {
+                ", ..."
+            } else {
+                ""
+            }
+        ));
+    }
+    if warnings > 0 {
+        summary.push_str(&format!("; {warnings} warnings"));
+    }
+    ctx.report.summary(&summary);
+    Ok(if failed.is_empty() && with_errors == 0 {
         Outcome::Success
     } else {
         Outcome::Failure
@@ -294,7 +388,7 @@ mod tests {
     use crate::pipeline::{ConvertRequest, Settings};
 
     #[test]
-    fn plans_keep_the_folder_layout_and_number_collisions() {
+    fn plans_keep_the_folder_layout_and_refuse_or_number_collisions() {
         let root = std::env::temp_dir().join(format!("nurbsx-plan-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&root);
         std::fs::create_dir_all(root.join("in/sub")).unwrap();
@@ -317,7 +411,31 @@ mod tests {
         };
         // The output folder inside the input folder is not searched.
         let out = root.join("in/out");
-        let jobs = plan_jobs(&[root.join("in")], &out, &plan).unwrap();
+        let ctx = Context {
+            settings: Settings::default(),
+            quiet: 0,
+            color: crate::cli::args::ColorArg::Never,
+            report: crate::cli::report::Reporter::silent(),
+        };
+        let refused = plan_jobs(&ctx, &[root.join("in")], &out, &plan, CollisionArg::Error);
+        match refused {
+            Err(CliError::Usage(m)) => assert!(m.contains("a.STP") && m.contains("a.igs"), "{m}"),
+            other => panic!("{other:?}"),
+        }
+        let jobs = plan_jobs(
+            &ctx,
+            &[root.join("in")],
+            &out,
+            &plan,
+            CollisionArg::Overwrite,
+        )
+        .unwrap();
+        assert_eq!(jobs.len(), 2);
+        assert_eq!(
+            (&jobs[0].input, &jobs[0].output),
+            (&root.join("in/a.igs"), &out.join("a.step"))
+        );
+        let jobs = plan_jobs(&ctx, &[root.join("in")], &out, &plan, CollisionArg::Rename).unwrap();
         let pairs: Vec<(PathBuf, PathBuf)> =
             jobs.into_iter().map(|j| (j.input, j.output)).collect();
         assert_eq!(

@@ -9,8 +9,8 @@ use crate::pipeline::{self, ClampPolicy, ConvertReport, ConvertRequest, InputKin
 
 use super::args::{ConvertArgs, FormatArg};
 use super::{
-    CliError, Context, Outcome, batch, display_name, eprint_line, is_dash, output, read_input,
-    write_output,
+    CliError, Context, Outcome, batch, display_name, extension_warning, is_dash, outcome_of,
+    output, read_input, write_output,
 };
 
 /// What one conversion did, as written to `--report` (pretty JSON for one file, one JSON
@@ -117,8 +117,11 @@ pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
             &a.inputs,
             out_dir,
             &plan,
-            a.report.as_deref(),
-            a.jobs.map(usize::from),
+            batch::Options {
+                report: a.report.as_deref(),
+                jobs: a.jobs.map(usize::from),
+                on_collision: a.on_collision,
+            },
         );
     }
     let (Some(input), Some(out)) = (a.inputs.first(), a.output.as_ref()) else {
@@ -179,12 +182,18 @@ fn single(
         Some(to) => {
             // --to wins over the extension; a contradiction is worth a word.
             if let Ok(Some(ext)) = format_from_output(out) {
-                if ext != to && ctx.quiet == 0 {
-                    eprint_line(&format!(
-                        "warning: writing {} to `{}` as --to asks, despite the extension",
-                        format_label(to),
-                        out.display()
-                    ));
+                if ext != to {
+                    ctx.report.diagnostic(
+                        Some(&display_name(out)),
+                        &Diagnostic::warning(
+                            "format.extension",
+                            format!(
+                                "writing {} as --to asks, despite the extension",
+                                format_label(to)
+                            ),
+                            Default::default(),
+                        ),
+                    );
                 }
             }
         }
@@ -194,27 +203,52 @@ fn single(
     }
     let name = display_name(input);
     let (bytes, hint) = read_input(input, &plan.settings)?;
-    let result = pipeline::convert(&bytes, hint, &plan.request, &plan.settings);
+    let result = convert_bytes(input, &bytes, hint, &plan);
     let record = match &result {
-        Ok(o) => success_record(&name, Some(display_name(out)), &o.report),
+        Ok(Converted::Written(o)) => success_record(&name, Some(display_name(out)), &o.report),
+        Ok(Converted::Empty(diagnostics)) => empty_record(&name, hint, diagnostics),
         Err(e) => failure_record(&name, e.diagnostic.clone(), hint),
     };
+    let write_record = || match report_path {
+        Some(path) => write_report(path, &record),
+        None => Ok(()),
+    };
     let output = match result {
-        Ok(o) => o,
+        Ok(Converted::Written(o)) => o,
+        Ok(Converted::Empty(diagnostics)) => {
+            write_record()?;
+            ctx.report.diagnostics(&name, &diagnostics);
+            return Ok(outcome_of(&diagnostics));
+        }
         Err(e) => {
-            if let Some(path) = report_path {
-                write_report(path, &record)?;
-            }
+            write_record()?;
             return Err(CliError::pipeline(input, e));
         }
     };
-    ctx.print_diagnostics(&name, &output.report.diagnostics);
+    ctx.report.diagnostics(&name, &output.report.diagnostics);
     write_output(out, &output.text)?;
+    write_record()?;
+    ctx.report.summary(&summary(
+        &name,
+        &display_name(out),
+        &output.report,
+        plan.request.verify,
+    ));
     if let Some(devs) = &output.report.verify {
-        print_verification(ctx, &name, devs, plan.request.verify.unwrap_or_default());
-    }
-    if let Some(path) = report_path {
-        write_report(path, &record)?;
+        // Per entity, shown with -v.
+        for d in devs {
+            ctx.report.diagnostic(
+                Some(&name),
+                &Diagnostic::info(
+                    "verify.entity",
+                    format!(
+                        "{} -> {}: max deviation {:e} (relative {:e})",
+                        d.input_id, d.output_id, d.max_deviation, d.relative
+                    ),
+                    Default::default(),
+                ),
+            );
+        }
     }
     tracing::info!(
         input = %name,
@@ -222,32 +256,75 @@ fn single(
         entities = output.report.entities_out,
         "converted"
     );
-    Ok(Outcome::Success)
+    Ok(outcome_of(&output.report.diagnostics))
 }
 
-/// Prints the verification summary (per entity with -v) on stderr.
-fn print_verification(
-    ctx: &Context,
-    name: &str,
-    devs: &[pipeline::EntityDeviation],
-    tolerance: f64,
-) {
-    if ctx.quiet > 0 {
-        return;
-    }
-    if ctx.verbose > 0 {
-        for d in devs {
-            eprint_line(&format!(
-                "{name}: verify: {} -> {}: max deviation {:e} (relative {:e})",
-                d.input_id, d.output_id, d.max_deviation, d.relative
-            ));
+/// What a conversion gave: a file, or nothing because the input holds no B-spline entity
+/// (with the diagnostics that say so).
+pub enum Converted {
+    /// The converted file and its report.
+    Written(pipeline::ConvertOutput),
+    /// No B-spline entity: nothing to write. The diagnostics end with `no_bspline`.
+    Empty(Vec<Diagnostic>),
+}
+
+/// Converts the bytes of one input (single and batch mode alike): warns when the extension
+/// contradicts the content, and turns an input without any B-spline entity into
+/// [`Converted::Empty`] (a warning, as `validate` says it, not a failure) unless the reader
+/// found errors (then the file is invalid, exit 1).
+pub fn convert_bytes(
+    path: &Path,
+    bytes: &[u8],
+    hint: Option<InputKind>,
+    plan: &Plan,
+) -> Result<Converted, pipeline::PipelineError> {
+    let warning = InputKind::sniff(bytes).and_then(|kind| extension_warning(path, kind));
+    match pipeline::convert(bytes, hint, &plan.request, &plan.settings) {
+        Ok(mut o) => {
+            if let Some(w) = warning {
+                o.report.diagnostics.insert(0, w);
+            }
+            Ok(Converted::Written(o))
         }
+        Err(e) if e.code() == "convert.empty" => {
+            // Read again for the diagnostics that say why nothing was found.
+            let loaded = pipeline::load(bytes, hint, &plan.settings)?;
+            let mut diagnostics: Vec<Diagnostic> = warning.into_iter().collect();
+            let found = loaded.document.diagnostics.len();
+            diagnostics.extend(loaded.document.diagnostics);
+            if !diagnostics.iter().any(|d| d.severity == Severity::Error) {
+                diagnostics.push(super::inspect::no_bspline_warning(found));
+            }
+            Ok(Converted::Empty(diagnostics))
+        }
+        Err(e) => Err(e),
     }
-    let worst = devs.iter().map(|d| d.relative).fold(0.0, f64::max);
-    eprint_line(&format!(
-        "{name}: verified {} entities: largest relative deviation {worst:e} (tolerance {tolerance:e})",
-        devs.len()
-    ));
+}
+
+/// The summary line of one conversion: what was read, written, left out and verified.
+pub fn summary(input: &str, out: &str, r: &ConvertReport, tolerance: Option<f64>) -> String {
+    let left_out = r.entities_in.saturating_sub(r.entities_out);
+    let mut s = format!(
+        "{input} -> {out}: read {} B-spline curves and surfaces, wrote {} as {}",
+        r.entities_in,
+        r.entities_out,
+        r.output_format.to_ascii_uppercase()
+    );
+    if left_out > 0 {
+        s.push_str(&format!(
+            ", left out {left_out} (2-D parameter-space curves: see the pcurve_not_written warning)"
+        ));
+    }
+    if let Some(devs) = &r.verify {
+        let worst = devs.iter().map(|d| d.relative).fold(0.0, f64::max);
+        s.push_str(&format!(
+            "; verified {} written entities against the input: largest relative deviation \
+             {worst:e} (tolerance {:e})",
+            devs.len(),
+            tolerance.unwrap_or_default()
+        ));
+    }
+    s
 }
 
 /// The record of a successful conversion.
@@ -267,6 +344,23 @@ pub fn success_record(file: &str, output: Option<String>, report: &ConvertReport
             .as_ref()
             .map(|v| v.iter().map(|d| d.relative).fold(0.0, f64::max)),
         report: Some(report.clone()),
+    }
+}
+
+/// The record of an input without B-spline entities: nothing written, not a failure.
+pub fn empty_record(file: &str, hint: Option<InputKind>, diagnostics: &[Diagnostic]) -> FileRecord {
+    FileRecord {
+        file: file.to_owned(),
+        output: None,
+        ok: true,
+        input_format: hint.map(|k| k.name().to_owned()),
+        output_format: None,
+        entities: 0,
+        diagnostics: Counts::of(diagnostics),
+        error: None,
+        error_code: None,
+        max_relative_deviation: None,
+        report: None,
     }
 }
 

@@ -7,7 +7,10 @@ use serde::de::{self, DeserializeSeed, Deserializer, SeqAccess, Visitor};
 use crate::pipeline::{self, ErrorKind, EvalRequest, PipelineError};
 
 use super::args::{EvaluateArgs, parse_tuple};
-use super::{CliError, Context, Outcome, display_name, output, print_stdout, read_input};
+use super::{
+    CliError, Context, Outcome, display_name, load_file, outcome_of, output, print_stdout,
+    read_input, reader_error,
+};
 
 /// Runs `nurbsx evaluate`.
 pub fn run(ctx: &Context, a: EvaluateArgs) -> Result<Outcome, CliError> {
@@ -29,10 +32,9 @@ pub fn run(ctx: &Context, a: EvaluateArgs) -> Result<Outcome, CliError> {
             bad[0], bad[1]
         )));
     }
-    let (bytes, hint) = read_input(&a.input, &ctx.settings)?;
-    let loaded =
-        pipeline::load(&bytes, hint, &ctx.settings).map_err(|e| CliError::pipeline(&a.input, e))?;
-    ctx.print_diagnostics(&display_name(&a.input), &loaded.document.diagnostics);
+    let name = display_name(&a.input);
+    let loaded = load_file(ctx, &a.input)?;
+    let diagnostics = &loaded.document.diagnostics;
     let request = EvalRequest {
         entity: a.entity.clone(),
         params,
@@ -40,18 +42,43 @@ pub fn run(ctx: &Context, a: EvaluateArgs) -> Result<Outcome, CliError> {
         normals: a.normals,
         curvature: a.curvature,
     };
-    let report = pipeline::evaluate(&loaded.document, &request, &ctx.settings)
-        .map_err(|e| CliError::pipeline(&a.input, e))?;
+    let report = match pipeline::evaluate(&loaded.document, &request, &ctx.settings) {
+        Ok(report) => report,
+        // The entity is missing because the reader refused it (a limit, invalid data): say
+        // that, not "no such entity".
+        Err(e) if e.code() == "entity.not_found" => {
+            let error = reader_error(&loaded.document, a.entity.as_deref()).unwrap_or(e);
+            if !a.json {
+                let others: Vec<_> = diagnostics
+                    .iter()
+                    .filter(|d| **d != error.diagnostic)
+                    .cloned()
+                    .collect();
+                ctx.report.diagnostics(&name, &others);
+            }
+            return Err(CliError::pipeline(&a.input, error));
+        }
+        Err(e) => {
+            if !a.json {
+                ctx.report.diagnostics(&name, diagnostics);
+            }
+            return Err(CliError::pipeline(&a.input, e));
+        }
+    };
     let text = if a.json {
-        let mut s = serde_json::to_string_pretty(&report)
+        let mut value = serde_json::to_value(&report)
+            .map_err(|e| CliError::Usage(format!("cannot serialise the results: {e}")))?;
+        value["diagnostics"] = serde_json::json!(ctx.report.filter(diagnostics));
+        let mut s = serde_json::to_string_pretty(&value)
             .map_err(|e| CliError::Usage(format!("cannot serialise the results: {e}")))?;
         s.push('\n');
         s
     } else {
+        ctx.report.diagnostics(&name, diagnostics);
         output::eval_text(&report)
     };
     print_stdout(&text)?;
-    Ok(Outcome::Success)
+    Ok(outcome_of(diagnostics))
 }
 
 /// Reads a parameter file: a JSON array of arrays (when it starts with `[`), else one tuple

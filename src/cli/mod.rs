@@ -5,35 +5,41 @@
 //! work itself is a call into [`crate::pipeline`], the same pipeline the HTTP service uses.
 //! This module holds no conversion logic: it reads files, calls the pipeline, and prints.
 //!
-//! Exit codes (also in every `--help` and README.md):
+//! Output policy (also `nurbsx help output` and README.md): results on stdout; diagnostics,
+//! summaries and the final error line on stderr through [`report::Reporter`] (or inside the
+//! document when a JSON, JUnit or SARIF document is asked for), each once.
+//!
+//! Exit codes (also `nurbsx help exit-codes` and README.md):
 //!
 //! | code | meaning |
 //! | --- | --- |
-//! | 0 | success (validate: every file valid) |
-//! | 1 | input invalid or unreadable, conversion or verification failed, any batch file failed |
-//! | 2 | usage error (bad flag or value) or I/O error (missing file, unwritable output) |
+//! | 0 | success, and no error diagnostic was reported (validate: every file valid) |
+//! | 1 | the input is invalid, unreadable or over a limit, an error diagnostic was reported, the conversion or verification failed, or (batch) a file failed |
+//! | 2 | usage error (bad flag or value, unknown entity, parameter or knot outside the domain) or I/O error |
 //!
 //! A [`PipelineError`] maps by its kind: [`ErrorKind::Usage`] to 2, every other kind to 1.
-//! Errors print as one line on stderr, `file:line:col: error[code]: message` when the pipeline
-//! located them, else `error: message`; never a backtrace. A closed stdout (`| head`) ends the
-//! program quietly.
+//! A closed stdout (`| head`) ends the program quietly.
 
 pub mod args;
 mod batch;
 mod convert;
 mod evaluate;
+mod help;
 mod inspect;
 mod modify;
 mod output;
+mod report;
 
 use std::io::{self, IsTerminal, Read, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
-use crate::pipeline::{ErrorKind, InputKind, PipelineError, Settings};
-use args::{Cli, Command, GlobalArgs, LogFormat};
+use crate::exchange::{Diagnostic, Severity};
+use crate::pipeline::{ErrorKind, InputKind, Loaded, PipelineError, Settings};
+use args::{Cli, ColorArg, Command, GlobalArgs, LogFormat};
+use report::Reporter;
 
 /// How a command ended when it did not fail outright.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,19 +93,26 @@ impl CliError {
         }
     }
 
-    /// The one line printed on stderr (without a trailing newline); `None` for a closed pipe.
-    pub fn message(&self) -> Option<String> {
+    /// The file and diagnostic printed on stderr; `None` for a closed pipe or a quiet exit.
+    pub fn diagnostic(&self) -> Option<(Option<&str>, Diagnostic)> {
         match self {
-            CliError::Pipeline { file, error } => Some(match file {
-                Some(f) => output::diagnostic_line(f, &error.diagnostic),
-                None => format!("error: {}", error.diagnostic),
-            }),
-            CliError::Usage(m) => Some(format!("error: {m}")),
-            CliError::Io { context, source } => Some(format!("error: {context}: {source}")),
+            CliError::Pipeline { file, error } => Some((file.as_deref(), error.diagnostic.clone())),
+            CliError::Usage(m) => Some((None, report::error("usage", m.clone()))),
+            CliError::Io { context, source } => {
+                Some((None, report::error("io", format!("{context}: {source}"))))
+            }
             CliError::Stdout(e) if e.kind() == io::ErrorKind::BrokenPipe => None,
-            CliError::Stdout(e) => Some(format!("error: cannot write to standard output: {e}")),
+            CliError::Stdout(e) => Some((
+                None,
+                report::error("io", format!("cannot write to standard output: {e}")),
+            )),
             CliError::Quiet(_) => None,
         }
+    }
+
+    /// The message alone (for reports that carry it as text).
+    pub fn message(&self) -> Option<String> {
+        self.diagnostic().map(|(_, d)| d.message)
     }
 }
 
@@ -111,39 +124,101 @@ pub fn exit_code_of(kind: ErrorKind) -> u8 {
     }
 }
 
+/// The value of a global option in the raw arguments (`--name value` or `--name=value`),
+/// read before clap parses them, so that help and usage errors follow `--color` and
+/// `--log-format` too. The last occurrence wins, as in clap; `--` ends the options.
+fn early_option(args: &[std::ffi::OsString], name: &str) -> Option<String> {
+    let mut found = None;
+    let mut it = args.iter().skip(1);
+    while let Some(arg) = it.next() {
+        let Some(arg) = arg.to_str() else { continue };
+        if arg == "--" {
+            break;
+        }
+        if arg == name {
+            found = it.next().and_then(|v| v.to_str()).map(str::to_owned);
+        } else if let Some(v) = arg.strip_prefix(name).and_then(|r| r.strip_prefix('=')) {
+            found = Some(v.to_owned());
+        }
+    }
+    found
+}
+
+/// The clap colour choice for help and usage errors (on stdout and stderr).
+fn clap_color(choice: ColorArg, stream_is_terminal: bool) -> clap::ColorChoice {
+    if report::color_wanted(choice, stream_is_terminal) {
+        clap::ColorChoice::Always
+    } else {
+        clap::ColorChoice::Never
+    }
+}
+
 /// Entry point of the `nurbsx` binary.
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
-        Err(e) => {
-            // Help and version go to stdout with exit 0; usage errors to stderr with exit 2.
-            let _ = e.print();
-            return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
-        }
+    let raw: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let color = match early_option(&raw, "--color").as_deref() {
+        Some("always") => ColorArg::Always,
+        Some("never") => ColorArg::Never,
+        _ => ColorArg::Auto,
     };
-    init_logging(&cli.global);
-    match run(cli) {
+    let json_log = early_option(&raw, "--log-format").as_deref() == Some("json");
+    let parsed = Cli::command()
+        .color(clap_color(color, io::stdout().is_terminal()))
+        .try_get_matches_from(&raw)
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
+        Ok(cli) => cli,
+        Err(e) => return clap_exit(&e, color, json_log),
+    };
+    let reporter = Reporter::from_args(&cli.global);
+    init_logging(&cli.global, reporter.color());
+    match run(cli, &reporter) {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
         Ok(Outcome::Failure) => ExitCode::from(1),
-        Err(CliError::Stdout(e)) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
         Err(e) => {
-            if let Some(line) = e.message() {
-                let _ = writeln!(io::stderr().lock(), "{line}");
+            if let Some((file, d)) = e.diagnostic() {
+                reporter.fatal(file, &d);
             }
             ExitCode::from(e.exit_code())
         }
     }
 }
 
+/// Ends on a clap outcome: help and version on stdout with exit 0; a usage error on stderr
+/// (a JSON line with `--log-format json`) with exit 2.
+fn clap_exit(e: &clap::Error, color: ColorArg, json_log: bool) -> ExitCode {
+    let code = u8::try_from(e.exit_code()).unwrap_or(2);
+    if !e.use_stderr() {
+        let _ = e.print();
+        return ExitCode::from(code);
+    }
+    if json_log {
+        let message = e.render().to_string();
+        let d = report::error("usage", message.trim_end().to_owned());
+        Reporter::json_only().fatal(None, &d);
+    } else {
+        // The error was built for stdout's colour; stderr decides for itself.
+        let styled = e.render();
+        let text = if report::color_wanted(color, io::stderr().is_terminal()) {
+            styled.ansi().to_string()
+        } else {
+            styled.to_string()
+        };
+        let _ = write!(io::stderr().lock(), "{text}");
+    }
+    ExitCode::from(code)
+}
+
 /// Runs a parsed command line.
-fn run(cli: Cli) -> Result<Outcome, CliError> {
+fn run(cli: Cli, reporter: &Reporter) -> Result<Outcome, CliError> {
     let settings = settings_from(&cli.global);
     let ctx = Context {
         settings,
         quiet: cli.global.quiet,
-        verbose: cli.global.verbose,
+        color: cli.global.color,
+        report: reporter.clone(),
     };
-    match cli.command {
+    let result = match cli.command {
         Command::Convert(a) => convert::run(&ctx, a),
         Command::Info(a) => inspect::info(&ctx, a),
         Command::Validate(a) => inspect::validate(&ctx, a),
@@ -154,6 +229,14 @@ fn run(cli: Cli) -> Result<Outcome, CliError> {
         Command::InsertKnot(a) => modify::insert_knot(&ctx, a),
         Command::Tessellate(a) => modify::tessellate(&ctx, a),
         Command::Serve(a) => serve(&ctx, a),
+        Command::Help(a) => help::help(&ctx, a),
+        Command::Completions(a) => help::completions(a),
+        Command::Man(a) => help::man(a),
+    };
+    match result {
+        // A closed pipe is how `| head` says it has enough: not a failure.
+        Err(CliError::Stdout(e)) if e.kind() == io::ErrorKind::BrokenPipe => Ok(Outcome::Success),
+        other => other,
     }
 }
 
@@ -162,29 +245,75 @@ fn run(cli: Cli) -> Result<Outcome, CliError> {
 pub struct Context {
     /// Pipeline limits and policies.
     pub settings: Settings,
-    /// `-q` count.
+    /// `-q` count (the progress bar is hidden with any).
     pub quiet: u8,
-    /// `-v` count.
-    pub verbose: u8,
+    /// `--color` (for help printed on stdout).
+    pub color: ColorArg,
+    /// The writer of stderr.
+    pub report: Reporter,
 }
 
-impl Context {
-    /// Prints reader/writer diagnostics for a file on stderr (errors and warnings; info
-    /// notes only with -v; nothing with -qq, warnings hidden with -q).
-    pub fn print_diagnostics(&self, file: &str, diagnostics: &[crate::exchange::Diagnostic]) {
-        use crate::exchange::Severity;
-        let mut err = io::stderr().lock();
-        for d in diagnostics {
-            let show = match d.severity {
-                Severity::Error => self.quiet < 2,
-                Severity::Warning => self.quiet == 0,
-                Severity::Info => self.verbose > 0,
-            };
-            if show {
-                let _ = writeln!(err, "{}", output::diagnostic_line(file, d));
-            }
-        }
+/// Exit 1 when any error diagnostic was reported (an entity could not be read, or broke a
+/// limit, and is missing from the result), else exit 0.
+pub fn outcome_of(diagnostics: &[Diagnostic]) -> Outcome {
+    if diagnostics.iter().any(|d| d.severity == Severity::Error) {
+        Outcome::Failure
+    } else {
+        Outcome::Success
     }
+}
+
+/// A warning when a file's extension names another format than its content (the content
+/// decides; `.json` and unknown extensions are not contradicted by anything).
+pub fn extension_warning(path: &Path, found: InputKind) -> Option<Diagnostic> {
+    let declared = if is_dash(path) {
+        None
+    } else {
+        InputKind::from_path(path)
+    }?;
+    (declared != found && declared != InputKind::Json).then(|| {
+        Diagnostic::warning(
+            "format.extension",
+            format!(
+                "the extension says {} but the content is {}; read as {}",
+                declared.name().to_ascii_uppercase(),
+                found.name().to_ascii_uppercase(),
+                found.name().to_ascii_uppercase()
+            ),
+            Default::default(),
+        )
+    })
+}
+
+/// Why the entity asked for (`None`: any entity) is missing from a document, when the reader
+/// refused it: its first error diagnostic (a limit, invalid data), as that error's kind.
+pub fn reader_error(
+    doc: &crate::exchange::Document,
+    wanted: Option<&str>,
+) -> Option<PipelineError> {
+    doc.diagnostics
+        .iter()
+        .find(|d| {
+            d.severity == Severity::Error
+                && match (wanted, d.location.entity.as_deref()) {
+                    (None, _) => true,
+                    (Some(w), Some(id)) => id == w || id.trim_start_matches(['#', 'D']) == w,
+                    (Some(_), None) => false,
+                }
+        })
+        .map(|d| PipelineError::from_exchange(d.clone()))
+}
+
+/// Reads and loads an input file; the document's diagnostics gain the extension warning.
+/// Nothing is printed: the caller shows the diagnostics on stderr or in its document.
+pub fn load_file(ctx: &Context, path: &Path) -> Result<Loaded, CliError> {
+    let (bytes, hint) = read_input(path, &ctx.settings)?;
+    let mut loaded = crate::pipeline::load(&bytes, hint, &ctx.settings)
+        .map_err(|e| CliError::pipeline(path, e))?;
+    if let Some(w) = extension_warning(path, loaded.kind) {
+        loaded.document.diagnostics.insert(0, w);
+    }
+    Ok(loaded)
 }
 
 /// Fills the pipeline settings from the global flags.
@@ -221,7 +350,7 @@ fn settings_from(g: &GlobalArgs) -> Settings {
 }
 
 /// Sets up tracing on stderr: RUST_LOG if set, else a level from -v/-q.
-fn init_logging(g: &GlobalArgs) {
+fn init_logging(g: &GlobalArgs, color: bool) {
     use tracing_subscriber::EnvFilter;
     let default = match (g.verbose, g.quiet) {
         (0, 0) => "warn",
@@ -235,7 +364,7 @@ fn init_logging(g: &GlobalArgs) {
     let builder = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(io::stderr)
-        .with_ansi(io::stderr().is_terminal());
+        .with_ansi(color);
     // A second initialisation (never in the binary) is harmless: keep the first.
     let _ = match g.log_format {
         LogFormat::Text => builder.try_init(),
@@ -321,10 +450,15 @@ pub fn read_input(
 
 /// Writes output text to a file (creating missing parent folders) or standard output (`-`).
 pub fn write_output(path: &Path, text: &str) -> Result<(), CliError> {
+    write_bytes(path, text.as_bytes())
+}
+
+/// Writes bytes to a file (creating missing parent folders) or standard output (`-`).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     if is_dash(path) {
         let mut out = io::stdout().lock();
         return out
-            .write_all(text.as_bytes())
+            .write_all(bytes)
             .and_then(|()| out.flush())
             .map_err(CliError::Stdout);
     }
@@ -335,20 +469,12 @@ pub fn write_output(path: &Path, text: &str) -> Result<(), CliError> {
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(io_err)?;
     }
-    std::fs::write(path, text).map_err(io_err)
-}
-
-/// Writes one line to stderr, ignoring failures (there is nowhere else to report them).
-pub fn eprint_line(line: &str) {
-    let _ = writeln!(io::stderr().lock(), "{line}");
+    std::fs::write(path, bytes).map_err(io_err)
 }
 
 /// Writes text to standard output (a closed pipe is reported as [`CliError::Stdout`]).
 pub fn print_stdout(text: &str) -> Result<(), CliError> {
-    let mut out = io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|()| out.flush())
-        .map_err(CliError::Stdout)
+    write_bytes(Path::new("-"), text.as_bytes())
 }
 
 /// `nurbsx serve`: fills the service configuration and runs it.

@@ -10,7 +10,11 @@ use super::args::{
     ElevateArgs, InsertKnotArgs, MeshFormatArg, ModelFormatArg, OutputArgs, SimpleOpArgs,
     TessellateArgs,
 };
-use super::{CliError, Context, Outcome, display_name, is_dash, read_input, write_output};
+use super::inspect::no_bspline_warning;
+use super::{
+    CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, reader_error,
+    write_bytes, write_output,
+};
 
 /// `nurbsx elevate`.
 pub fn elevate(ctx: &Context, a: ElevateArgs) -> Result<Outcome, CliError> {
@@ -69,7 +73,8 @@ fn output_kind(out: &OutputArgs, input: InputKind) -> Result<InputKind, CliError
     })
 }
 
-/// Loads, applies `op` to one entity or all, and writes.
+/// Loads, applies `op` to one entity or all, and writes; the diagnostics include what the
+/// output format cannot hold (left out with a warning), and a summary says what was written.
 fn modify(
     ctx: &Context,
     input: &Path,
@@ -77,24 +82,76 @@ fn modify(
     op: Operation,
     entity: Option<&str>,
 ) -> Result<Outcome, CliError> {
-    let Loaded { kind, mut document } = load(ctx, input)?;
+    let name = display_name(input);
+    let Loaded { kind, mut document } = load_file(ctx, input)?;
     let target = output_kind(out, kind)?;
     tracing::info!(?op, input = %input.display(), output = %out.output.display(), "modify");
+    let read = document.entities.len();
+    if let Some(format) = target.format() {
+        pipeline::drop_unwritable(&mut document, format);
+    }
+    if let Some(outcome) = nothing_to_do(ctx, &name, input, &document, entity)? {
+        return Ok(outcome);
+    }
+    ctx.report.diagnostics(&name, &document.diagnostics);
     pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     let text = pipeline::write_as(&document, target, &export_options(&out.output))
         .map_err(|e| CliError::pipeline(&out.output, e))?;
     write_output(&out.output, &text)?;
-    Ok(Outcome::Success)
+    let written = document.entities.len();
+    let mut summary = format!(
+        "{name} -> {}: read {read} B-spline curves and surfaces, wrote {written} as {}",
+        display_name(&out.output),
+        target.name().to_ascii_uppercase()
+    );
+    if read > written {
+        summary.push_str(&format!(
+            ", left out {} (2-D parameter-space curves: see the pcurve_not_written warning)",
+            read - written
+        ));
+    }
+    ctx.report.summary(&summary);
+    Ok(outcome_of(&document.diagnostics))
 }
 
-/// Reads and loads an input, printing the reader's diagnostics.
-fn load(ctx: &Context, input: &Path) -> Result<Loaded, CliError> {
-    let (bytes, hint) = read_input(input, &ctx.settings)?;
-    let loaded =
-        pipeline::load(&bytes, hint, &ctx.settings).map_err(|e| CliError::pipeline(input, e))?;
-    ctx.print_diagnostics(&display_name(input), &loaded.document.diagnostics);
-    Ok(loaded)
+/// When the document holds no entity to work on: the reader's error that explains it (a
+/// limit, invalid data; exit 1), else the `no_bspline` warning that `convert` and `validate`
+/// give too (nothing written, exit 0). `None` when there is work to do.
+fn nothing_to_do(
+    ctx: &Context,
+    name: &str,
+    input: &Path,
+    document: &crate::exchange::Document,
+    entity: Option<&str>,
+) -> Result<Option<Outcome>, CliError> {
+    let missing = match entity {
+        None => document.entities.is_empty(),
+        Some(_) => pipeline::select(document, entity).is_err(),
+    };
+    if !missing {
+        return Ok(None);
+    }
+    if let Some(error) = reader_error(document, entity) {
+        let others: Vec<_> = document
+            .diagnostics
+            .iter()
+            .filter(|d| **d != error.diagnostic)
+            .cloned()
+            .collect();
+        ctx.report.diagnostics(name, &others);
+        return Err(CliError::pipeline(input, error));
+    }
+    if entity.is_some() {
+        // An id that is not in the file: the usage error that lists the ids there are.
+        return pipeline::select(document, entity)
+            .map(|_| None)
+            .map_err(|e| CliError::pipeline(input, e));
+    }
+    ctx.report.diagnostics(name, &document.diagnostics);
+    ctx.report
+        .diagnostic(Some(name), &no_bspline_warning(document.diagnostics.len()));
+    Ok(Some(Outcome::Success))
 }
 
 /// Writer options naming the output file in the header.
@@ -109,8 +166,7 @@ fn export_options(output: &Path) -> ExportOptions {
 /// `nurbsx tessellate`.
 pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError> {
     let format = match a.format {
-        Some(MeshFormatArg::Obj) => MeshFormat::Obj,
-        Some(MeshFormatArg::Svg) => MeshFormat::Svg,
+        Some(f) => f,
         None => {
             let ext = a
                 .output
@@ -118,20 +174,41 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
                 .and_then(|e| e.to_str())
                 .map(str::to_ascii_lowercase);
             match ext.as_deref() {
-                Some("obj") => MeshFormat::Obj,
-                Some("svg") => MeshFormat::Svg,
+                Some("obj") => MeshFormatArg::Obj,
+                Some("stl") => MeshFormatArg::Stl,
+                Some("glb") => MeshFormatArg::Glb,
+                Some("svg") => MeshFormatArg::Svg,
+                Some("png") => MeshFormatArg::Png,
                 _ => {
                     return Err(CliError::Usage(format!(
-                        "cannot tell the mesh format from `{}`: use .obj or .svg, or give \
-                         --format obj|svg",
+                        "cannot tell the mesh format from `{}`: use .obj, .stl, .glb, .svg \
+                         or .png, or give --format obj|stl|glb|svg|png",
                         a.output.display()
                     )));
                 }
             }
         }
     };
-    let loaded = load(ctx, &a.input)?;
-    let text = pipeline::tessellate(
+    let format = match format {
+        MeshFormatArg::Obj => MeshFormat::Obj,
+        MeshFormatArg::Stl => MeshFormat::Stl,
+        MeshFormatArg::Glb => MeshFormat::Glb,
+        MeshFormatArg::Svg => MeshFormat::Svg,
+        MeshFormatArg::Png => MeshFormat::Png,
+    };
+    let name = display_name(&a.input);
+    let loaded = load_file(ctx, &a.input)?;
+    if let Some(outcome) =
+        nothing_to_do(ctx, &name, &a.input, &loaded.document, a.entity.as_deref())?
+    {
+        return Ok(outcome);
+    }
+    let plan = pipeline::mesh::plan(&loaded.document, a.entity.as_deref(), format)
+        .map_err(|e| CliError::pipeline(&a.input, e))?;
+    let mut diagnostics = loaded.document.diagnostics.clone();
+    diagnostics.extend(plan.left_out);
+    ctx.report.diagnostics(&name, &diagnostics);
+    let bytes = pipeline::tessellate(
         &loaded.document,
         a.entity.as_deref(),
         a.tolerance,
@@ -139,6 +216,15 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
         &ctx.settings,
     )
     .map_err(|e| CliError::pipeline(&a.input, e))?;
-    write_output(&a.output, &text)?;
-    Ok(Outcome::Success)
+    write_bytes(&a.output, &bytes)?;
+    ctx.report.summary(&format!(
+        "{name} -> {}: drew {} of {} entities",
+        display_name(&a.output),
+        plan.entities.len(),
+        match a.entity {
+            Some(_) => 1,
+            None => loaded.document.entities.len(),
+        }
+    ));
+    Ok(outcome_of(&diagnostics))
 }

@@ -22,6 +22,11 @@ pub fn severity_name(s: Severity) -> &'static str {
 /// is unknown (the form compilers use, which CI annotation matchers recognise). The entity
 /// (`#17`, `D5`) and IGES section position follow in parentheses when known.
 pub fn diagnostic_line(file: &str, d: &Diagnostic) -> String {
+    diagnostic_line_styled(file, d, false)
+}
+
+/// [`diagnostic_line`] with the severity coloured (ANSI) when `color` is set.
+pub fn diagnostic_line_styled(file: &str, d: &Diagnostic, color: bool) -> String {
     let mut s = String::from(file);
     if let Some(line) = d.location.line {
         let _ = write!(s, ":{line}");
@@ -29,19 +34,43 @@ pub fn diagnostic_line(file: &str, d: &Diagnostic) -> String {
             let _ = write!(s, ":{col}");
         }
     }
-    let _ = write!(
-        s,
-        ": {}[{}]: {}",
-        severity_name(d.severity),
-        d.code,
-        d.message
-    );
+    s.push_str(": ");
+    s.push_str(&bare_diagnostic_line(d, color));
+    s
+}
+
+/// `severity[code]: message (entity ...)` without a file; `error: message` for the codes of
+/// failures that are not about a file's content (`usage`, `io`).
+pub fn bare_diagnostic_line(d: &Diagnostic, color: bool) -> String {
+    let label = if matches!(d.code.as_str(), "usage" | "io") {
+        severity_name(d.severity).to_owned()
+    } else {
+        format!("{}[{}]", severity_name(d.severity), d.code)
+    };
+    let mut s = if color {
+        let style = severity_style(d.severity);
+        format!("{}{label}{}", style.render(), style.render_reset())
+    } else {
+        label
+    };
+    let _ = write!(s, ": {}", d.message);
     let extra = location_extra(&d.location);
     if !extra.is_empty() {
         let _ = write!(s, " ({extra})");
     }
     // One diagnostic, one line: a message never breaks an annotation over lines.
     s.replace(['\n', '\r'], " ")
+}
+
+/// The colour of a severity label (as rustc and cargo: red errors, yellow warnings).
+fn severity_style(s: Severity) -> anstyle::Style {
+    use anstyle::{AnsiColor, Style};
+    let color = match s {
+        Severity::Error => AnsiColor::Red,
+        Severity::Warning => AnsiColor::Yellow,
+        Severity::Info => AnsiColor::Cyan,
+    };
+    Style::new().bold().fg_color(Some(color.into()))
 }
 
 /// The entity and IGES section/sequence of a location, e.g. `entity #17` or `entity D5, P12`.
@@ -62,9 +91,15 @@ fn location_extra(loc: &Location) -> String {
     parts.join(", ")
 }
 
-/// A number as Rust prints `f64`: the shortest text that reads back to the same value.
+/// A number as the shortest text that reads back to the same `f64`: positional for
+/// magnitudes from 1e-4 to 1e15, else in exponent form (`1e-17`, not 0.00000000000000001).
 fn num(x: f64) -> String {
-    format!("{x}")
+    let a = x.abs();
+    if x != 0.0 && !(1e-4..1e15).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// A domain `[a, b]`.
@@ -72,7 +107,7 @@ fn range((a, b): (f64, f64)) -> String {
     format!("[{}, {}]", num(a), num(b))
 }
 
-/// The `info` text report.
+/// The `info` text report (its diagnostics go to stderr).
 pub fn info_text(file: &str, r: &InfoReport) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "file:     {file}");
@@ -122,12 +157,6 @@ pub fn info_text(file: &str, r: &InfoReport) -> String {
         s.push('\n');
         s.push_str(&table(&header, &rows));
     }
-    if !r.diagnostics.is_empty() {
-        let _ = writeln!(s, "\ndiagnostics: {}", r.diagnostics.len());
-        for d in &r.diagnostics {
-            let _ = writeln!(s, "{}", diagnostic_line(file, d));
-        }
-    }
     s
 }
 
@@ -159,8 +188,9 @@ fn table<const N: usize>(header: &[&str; N], rows: &[[String; N]]) -> String {
     s
 }
 
-/// The `evaluate` text report: one row per parameter with the point, then any derivative,
-/// normal and curvature values.
+/// The `evaluate` text report: a table with one row per parameter (the parameter and the
+/// point); derivatives, normals and curvature follow each row as labelled lines whose
+/// labels and numbers are aligned across the report. Numbers read back exactly.
 pub fn eval_text(r: &EvalReport) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "entity {}", r.entity);
@@ -177,12 +207,49 @@ pub fn eval_text(r: &EvalReport) -> String {
         .iter()
         .map(|x| x.at.iter().chain(&x.point).map(|v| num(*v)).collect())
         .collect();
+    // The extra lines of each row: (label, values).
+    let extras: Vec<Vec<(String, Vec<String>)>> = r
+        .results
+        .iter()
+        .map(|x| {
+            let mut lines = Vec::new();
+            if let Some(d) = &x.derivatives {
+                match d {
+                    serde_json::Value::Array(list) => {
+                        for (k, v) in list.iter().enumerate() {
+                            value_lines(&format!("d{}", k + 1), v, &mut lines);
+                        }
+                    }
+                    other => value_lines("S", other, &mut lines),
+                }
+            }
+            if let Some(n) = &x.normal {
+                lines.push(("normal".to_owned(), n.iter().map(|v| num(*v)).collect()));
+            }
+            if let Some(c) = &x.curvature {
+                value_lines("", c, &mut lines);
+            }
+            lines
+        })
+        .collect();
     let mut widths: Vec<usize> = header.iter().map(|h| h.len()).collect();
     for row in &rows {
         for (w, c) in widths.iter_mut().zip(row) {
             *w = (*w).max(c.len());
         }
     }
+    let label_width = extras
+        .iter()
+        .flatten()
+        .map(|(l, _)| l.len())
+        .max()
+        .unwrap_or(0);
+    let value_width = extras
+        .iter()
+        .flatten()
+        .flat_map(|(_, v)| v.iter().map(String::len))
+        .max()
+        .unwrap_or(0);
     let fmt_row = |cells: &[&str]| {
         let mut l = String::new();
         for (c, w) in cells.iter().zip(&widths) {
@@ -191,26 +258,50 @@ pub fn eval_text(r: &EvalReport) -> String {
         l.trim_end().to_owned()
     };
     let _ = writeln!(s, "{}", fmt_row(&header));
-    for (row, x) in rows.iter().zip(&r.results) {
+    for (row, lines) in rows.iter().zip(&extras) {
         let cells: Vec<&str> = row.iter().map(String::as_str).collect();
         let _ = writeln!(s, "{}", fmt_row(&cells));
-        if let Some(d) = &x.derivatives {
-            let _ = writeln!(s, "    derivatives: {d}");
-        }
-        if let Some(n) = &x.normal {
-            let _ = writeln!(
-                s,
-                "    normal: [{}, {}, {}]",
-                num(n[0]),
-                num(n[1]),
-                num(n[2])
-            );
-        }
-        if let Some(c) = &x.curvature {
-            let _ = writeln!(s, "    curvature: {c}");
+        for (label, values) in lines {
+            let mut l = format!("    {label:<label_width$}");
+            for v in values {
+                let _ = write!(l, "  {v:>value_width$}");
+            }
+            let _ = writeln!(s, "{}", l.trim_end());
         }
     }
     s
+}
+
+/// Flattens a JSON result (numbers, arrays of numbers, objects of them) into labelled lines:
+/// `S_uv` for surface derivatives, `osculating_circle.radius` for nested fields.
+fn value_lines(label: &str, v: &serde_json::Value, out: &mut Vec<(String, Vec<String>)>) {
+    use serde_json::Value;
+    let join = |a: &str, b: &str| match (a, b) {
+        ("", b) => b.to_owned(),
+        ("S", b) => format!("S_{b}"),
+        (a, b) => format!("{a}.{b}"),
+    };
+    match v {
+        Value::Object(map) => {
+            for (k, x) in map {
+                value_lines(&join(label, k), x, out);
+            }
+        }
+        Value::Array(items) if items.iter().all(Value::is_number) => out.push((
+            label.to_owned(),
+            items
+                .iter()
+                .map(|x| x.as_f64().map_or_else(|| x.to_string(), num))
+                .collect(),
+        )),
+        Value::Number(n) => out.push((
+            label.to_owned(),
+            vec![n.as_f64().map_or_else(|| n.to_string(), num)],
+        )),
+        Value::Null => out.push((label.to_owned(), vec!["-".to_owned()])),
+        Value::String(text) => out.push((label.to_owned(), vec![text.clone()])),
+        other => out.push((label.to_owned(), vec![other.to_string()])),
+    }
 }
 
 /// The result of validating one file, or the I/O error that prevented it.
@@ -226,17 +317,11 @@ pub struct FileValidation {
     pub io_error: Option<String>,
 }
 
-/// Text: one line per diagnostic, then a summary line per file.
+/// Text: one verdict line per file checked (the diagnostics go to stderr; files that could
+/// not be read are reported there and have no verdict).
 pub fn validate_text(files: &[FileValidation]) -> String {
     let mut s = String::new();
-    for f in files {
-        if let Some(e) = &f.io_error {
-            let _ = writeln!(s, "{}: error[io]: {e}", f.file);
-            continue;
-        }
-        for d in &f.report.diagnostics {
-            let _ = writeln!(s, "{}", diagnostic_line(&f.file, d));
-        }
+    for f in files.iter().filter(|f| f.io_error.is_none()) {
         let r = &f.report;
         let _ = writeln!(
             s,
@@ -404,17 +489,16 @@ pub fn validate_sarif(files: &[FileValidation]) -> String {
             add(&f.file, &d.code, level, &d.message, &d.location);
         }
     }
-    let sarif = json!({
+    let mut sarif = json!({
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
         "runs": [{
             "tool": { "driver": {
                 "name": "nurbsx",
                 "version": env!("CARGO_PKG_VERSION"),
-                "informationUri": "https://example.invalid/nurbsx",
                 "rules": rules.iter().map(|r| json!({
                     "id": r,
-                    "shortDescription": { "text": format!("nurbsx diagnostic {r}") },
+                    "shortDescription": { "text": rule_description(r) },
                 })).collect::<Vec<_>>(),
             }},
             "artifacts": files.iter().map(|f| json!({
@@ -423,9 +507,91 @@ pub fn validate_sarif(files: &[FileValidation]) -> String {
             "results": results,
         }],
     });
+    if let Some(uri) = project_uri() {
+        sarif["runs"][0]["tool"]["driver"]["informationUri"] = json!(uri);
+    }
     let mut s = serde_json::to_string_pretty(&sarif).unwrap_or_default();
     s.push('\n');
     s
+}
+
+/// The project's home page for SARIF `informationUri`: Cargo.toml's `repository`, unless it
+/// is empty or a placeholder (an `.invalid` or `example.*` host, RFC 2606), in which case the
+/// optional property is left out rather than pointing at nothing.
+pub fn project_uri() -> Option<&'static str> {
+    let uri = env!("CARGO_PKG_REPOSITORY");
+    let host = uri
+        .split("://")
+        .nth(1)
+        .and_then(|rest| rest.split('/').next())
+        .unwrap_or("");
+    let placeholder = host.is_empty()
+        || host.ends_with(".invalid")
+        || host.starts_with("example.")
+        || host.contains(".example.");
+    (!placeholder).then_some(uri)
+}
+
+/// What a diagnostic code means, for SARIF rule descriptions: the known codes by name, the
+/// others by their family (the part before the first dot).
+pub fn rule_description(code: &str) -> String {
+    let known = match code {
+        "io" => "The file could not be read (missing, unreadable or a folder).",
+        "format.unknown" => "The content is neither STEP (ISO 10303-21), IGES 5.3 nor model JSON.",
+        "format.mismatch" => "The file's declared format contradicts its content.",
+        "format.extension" => {
+            "The file's extension names another format than its content; it was read by its content."
+        }
+        "encoding.not_utf8" => "The file is not valid text in the encoding its format requires.",
+        "step.syntax" => "A STEP Part 21 statement is malformed (ISO 10303-21 clause 6-10).",
+        "step.structure" => {
+            "The STEP file's sections are missing or out of order (ISO 10303-21 clause 5)."
+        }
+        "step.reference" => "A STEP instance refers to an instance that does not exist.",
+        "step.reference_cycle" => "STEP instances refer to each other in a cycle.",
+        "step.schema" => "The STEP FILE_SCHEMA is missing or not one nurbsx reads.",
+        "iges.syntax" => "An IGES 5.3 record is malformed (fixed columns, sections, delimiters).",
+        "iges.entity" => "An IGES directory entry or parameter record is inconsistent.",
+        "geometry.invalid" => {
+            "A B-spline curve or surface is invalid (degree, poles, knots or weights)."
+        }
+        "knots.invalid" => {
+            "A knot vector is invalid (decreasing, non-finite or wrong multiplicity)."
+        }
+        "weights.invalid" => "A weight is not a finite positive number.",
+        "points.invalid" => "A control point is not finite or has the wrong dimension.",
+        "transform.invalid" => "An IGES 124 transformation matrix is invalid.",
+        "flag_mismatch" => {
+            "A B-spline flag (closed, periodic, planar, form) disagrees with the data; the data is kept."
+        }
+        "flag_invalid" => "A B-spline flag has a value outside the standard's range.",
+        "no_bspline" => "The file holds no B-spline curve or surface, so nothing was converted.",
+        "pcurve_not_written" => {
+            "2-D parameter-space curves were not written: the output format has no place for them."
+        }
+        "trim_ignored" | "trim_not_applied" => {
+            "Trimming is not converted: the untrimmed B-spline geometry is."
+        }
+        "topology_ignored" => "Topology (faces, edges, shells) is not converted: the geometry is.",
+        "entities_skipped" => "Entities of kinds nurbsx does not convert were skipped.",
+        "model_scale_ignored" => "The IGES model-space scale is reported, not applied.",
+        _ => "",
+    };
+    if !known.is_empty() {
+        return known.to_owned();
+    }
+    let family = code.split('.').next().unwrap_or(code);
+    match family {
+        "limit" => format!("A configured limit was exceeded ({code}); see `nurbsx help limits`."),
+        "step" => format!("A STEP Part 21 finding ({code})."),
+        "iges" => format!("An IGES 5.3 finding ({code})."),
+        "verify" => format!("The re-read output deviates from the input ({code})."),
+        f if f.starts_with("unit") => format!("Length units: {}.", code.replace('_', " ")),
+        _ => format!(
+            "A finding about the B-spline data: {}.",
+            code.replace(['_', '.'], " ")
+        ),
+    }
 }
 
 #[cfg(test)]

@@ -10,7 +10,9 @@
 mod error;
 mod export;
 mod input;
+pub mod mesh;
 mod ops;
+pub mod picture;
 mod reports;
 
 pub use error::{ErrorKind, PipelineError};

@@ -95,10 +95,16 @@ pub enum Operation {
 /// An output format for tessellation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MeshFormat {
-    /// Wavefront OBJ (polylines and triangle meshes).
+    /// Wavefront OBJ (welded triangle meshes and polylines).
     Obj,
-    /// SVG (curves projected on XY).
+    /// Binary STL (triangles only).
+    Stl,
+    /// Binary glTF 2.0 (`.glb`: triangle meshes and line strips).
+    Glb,
+    /// An SVG picture (shaded isometric or top view, frame, scale bar, labels).
     Svg,
+    /// The SVG picture rasterised to PNG.
+    Png,
 }
 
 /// An evaluation request.
@@ -178,24 +184,25 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
         .into_iter()
         .partition(|e| e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)));
     if let Some(first) = dropped.first() {
-        let ids: Vec<&str> = dropped.iter().take(8).map(|e| e.id.as_str()).collect();
         doc.diagnostics.push(Diagnostic::warning(
             "pcurve_not_written",
             format!(
-                "{} 2-D parameter-space curve(s) not written ({}{}): IGES output has no place for \
+                "{} 2-D parameter-space curve(s) not written ({}): IGES output has no place for \
                  them outside a trimmed surface",
                 dropped.len(),
-                ids.join(", "),
-                if dropped.len() > ids.len() {
-                    ", ..."
-                } else {
-                    ""
-                }
+                id_list(dropped.iter())
             ),
             Location::at_entity(first.id.clone()),
         ));
     }
     doc.entities = kept;
+}
+
+/// The first eight ids of some entities, `, ...` when there are more: `#37, #50, ...`.
+pub(super) fn id_list<'e>(entities: impl ExactSizeIterator<Item = &'e Entity>) -> String {
+    let more = entities.len() > 8;
+    let ids: Vec<&str> = entities.take(8).map(|e| e.id.as_str()).collect();
+    format!("{}{}", ids.join(", "), if more { ", ..." } else { "" })
 }
 
 /// Reads, optionally clamps or unclamps, writes, and optionally verifies by re-reading.
@@ -521,6 +528,7 @@ pub fn evaluate(
     for at in &request.params {
         let result = match (&entity.geometry, at.as_slice()) {
             (Geometry::Curve(c), &[u]) => {
+                let u = snap_to_domain(u, c.domain());
                 let ders = c.derivatives(u, request.derivatives).map_err(at_error)?;
                 let derivatives = (request.derivatives > 0)
                     .then(|| Value::Array(ders[1..].iter().map(|&d| coords(d)).collect()));
@@ -554,6 +562,8 @@ pub fn evaluate(
                 }
             }
             (Geometry::Surface(s), &[u, v]) => {
+                let (du, dv) = s.domain();
+                let (u, v) = (snap_to_domain(u, du), snap_to_domain(v, dv));
                 let skl = s.derivatives(u, v, request.derivatives).map_err(at_error)?;
                 let derivatives = (request.derivatives > 0).then(|| {
                     let mut map = Map::new();
@@ -727,6 +737,7 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
             Geometry::Surface(s)
         }
         (Geometry::Curve(c), Operation::InsertKnot { u: t, times, .. }) => {
+            check_knot_insertion(c.knots(), c.degree(), c.domain(), t, times, "")?;
             Geometry::Curve(c.insert_knot(t, times)?)
         }
         (
@@ -737,8 +748,14 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
                 direction,
             },
         ) => match direction {
-            Direction::U => Geometry::Surface(s.insert_knot_u(t, times)?),
-            Direction::V => Geometry::Surface(s.insert_knot_v(t, times)?),
+            Direction::U => {
+                check_knot_insertion(s.knots_u(), s.degree_u(), s.domain().0, t, times, " in u")?;
+                Geometry::Surface(s.insert_knot_u(t, times)?)
+            }
+            Direction::V => {
+                check_knot_insertion(s.knots_v(), s.degree_v(), s.domain().1, t, times, " in v")?;
+                Geometry::Surface(s.insert_knot_v(t, times)?)
+            }
             Direction::Both => {
                 return Err(PipelineError::usage(
                     "insert_knot.direction",
@@ -749,115 +766,86 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
     })
 }
 
-/// Tessellates one entity (or all with `entity = None`) under a chord tolerance: curves by
-/// the osculating-circle rule, surfaces to crack-free triangle meshes. OBJ holds both (one
-/// `o` group per entity); SVG holds curves projected on XY.
+/// Checks a knot insertion in the user's terms before the algorithm (NURBS Book A5.1) runs:
+/// the knot must lie in the domain (`insert_knot.domain`) and its multiplicity may not exceed
+/// the degree (`insert_knot.multiplicity`). Both are usage errors, as a parameter outside the
+/// domain is for `evaluate`. `which` names the surface direction (`" in u"`), empty for curves.
+fn check_knot_insertion(
+    knots: &[f64],
+    degree: usize,
+    (start, end): (f64, f64),
+    t: f64,
+    times: usize,
+    which: &str,
+) -> Result<(), PipelineError> {
+    if !(t >= start && t <= end) {
+        return Err(PipelineError::usage(
+            "insert_knot.domain",
+            format!("knot {t} is outside the domain [{start}, {end}]{which}"),
+        ));
+    }
+    let s = knots.iter().filter(|&&k| k == t).count();
+    let total = s.saturating_add(times);
+    if total > degree {
+        let hint = match (t == start || t == end, s > degree) {
+            (true, true) => "; that end is already clamped",
+            (true, false) => {
+                "; at a domain end, `nurbsx clamp` raises the multiplicity to degree + 1 \
+                 without changing the shape"
+            }
+            _ => "",
+        };
+        return Err(PipelineError::usage(
+            "insert_knot.multiplicity",
+            format!(
+                "knot {t}{which} already appears {s} time(s); inserting it {times} more \
+                 time(s) would make {total}, above the degree {degree}{hint}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Moves a parameter that lies within a few units in the last place of a domain end onto
+/// that end (an end computed as `a + (b - a) * 1.0` may miss `b` by one ulp); parameters
+/// further out are left for the evaluator to refuse.
+fn snap_to_domain(t: f64, (start, end): (f64, f64)) -> f64 {
+    let slack = 4.0 * f64::EPSILON * start.abs().max(end.abs());
+    if t < start && start - t <= slack {
+        start
+    } else if t > end && t - end <= slack {
+        end
+    } else {
+        t
+    }
+}
+
+/// Tessellates one entity (or all with `entity = None`) under a chord tolerance (curves by
+/// the osculating-circle rule, surfaces to crack-free grids welded at seams and poles) and
+/// writes the result: OBJ, binary STL, binary glTF 2.0 or an SVG or PNG picture
+/// ([`super::mesh`], [`super::picture`]). What the format cannot hold is left out as
+/// [`super::mesh::plan`] says (call it first to report the warnings).
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
     tolerance: f64,
     format: MeshFormat,
     settings: &Settings,
-) -> Result<String, PipelineError> {
-    use crate::nurbs::tessellate::{Polyline, polylines_to_svg};
-    use std::fmt::Write as _;
+) -> Result<Vec<u8>, PipelineError> {
+    use super::{mesh, picture};
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::usage(
             "tessellate.tolerance",
             format!("tolerance must be a positive number, got {tolerance}"),
         ));
     }
-    let selected: Vec<&Entity> = match entity {
-        Some(id) => vec![select(doc, Some(id))?],
-        None => doc.entities.iter().collect(),
-    };
-    if selected.is_empty() {
-        select(doc, None)?;
-    }
-    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
-        PipelineError::new(
-            ErrorKind::Geometry,
-            "tessellate.failed",
-            err.to_string(),
-            Location::at_entity(e.id.clone()),
-        )
-    };
-    let mut vertices = 0usize;
-    let mut budget = |n: usize| -> Result<(), PipelineError> {
-        vertices = vertices.saturating_add(n);
-        if vertices > settings.max_mesh_vertices {
-            return Err(PipelineError::new(
-                ErrorKind::Limit,
-                "limit.mesh_vertices",
-                format!(
-                    "the tessellation exceeds {} vertices; use a larger tolerance",
-                    settings.max_mesh_vertices
-                ),
-                Location::default(),
-            ));
-        }
-        Ok(())
-    };
-    match format {
-        MeshFormat::Svg => {
-            let mut lines: Vec<Polyline> = Vec::new();
-            for e in &selected {
-                match &e.geometry {
-                    Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
-                        lines.push(line);
-                    }
-                    Geometry::Surface(_) => {
-                        return Err(PipelineError::usage(
-                            "tessellate.svg_surface",
-                            format!(
-                                "{} is a surface; SVG output holds curves only (use .obj)",
-                                e.id
-                            ),
-                        ));
-                    }
-                }
-            }
-            Ok(polylines_to_svg(&lines, 800.0))
-        }
-        MeshFormat::Obj => {
-            let mut out = String::from("# nurbsx tessellation\n");
-            let mut base = 1usize; // OBJ vertex indices are 1-based and global
-            for e in &selected {
-                let _ = writeln!(out, "o {}", e.id);
-                match &e.geometry {
-                    Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
-                        for p in &line.points {
-                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
-                        }
-                        out.push('l');
-                        for k in 0..line.points.len() {
-                            let _ = write!(out, " {}", base + k);
-                        }
-                        out.push('\n');
-                        base += line.points.len();
-                    }
-                    Geometry::Surface(s) => {
-                        let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(mesh.vertices.len())?;
-                        for p in &mesh.vertices {
-                            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
-                        }
-                        for n in &mesh.normals {
-                            let _ = writeln!(out, "vn {} {} {}", n[0], n[1], n[2]);
-                        }
-                        for t in &mesh.triangles {
-                            let (a, b, c) = (base + t[0], base + t[1], base + t[2]);
-                            let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
-                        }
-                        base += mesh.vertices.len();
-                    }
-                }
-            }
-            Ok(out)
-        }
-    }
+    let plan = mesh::plan(doc, entity, format)?;
+    let (faces, curves) = mesh::tessellate_all(&plan, tolerance, settings)?;
+    Ok(match format {
+        MeshFormat::Obj => mesh::obj(&faces, &curves).into_bytes(),
+        MeshFormat::Stl => mesh::stl(&faces),
+        MeshFormat::Glb => mesh::glb(&faces, &curves),
+        MeshFormat::Svg => picture::svg(&faces, &curves, doc.units.short_name()).into_bytes(),
+        MeshFormat::Png => picture::png(&picture::svg(&faces, &curves, doc.units.short_name()))?,
+    })
 }

@@ -1,0 +1,388 @@
+//! Tessellation output: which entities go into a mesh file, the welded triangle mesh of each
+//! surface, and the writers (Wavefront OBJ, binary STL, binary glTF 2.0, and the SVG picture
+//! of [`super::picture`]).
+//!
+//! A surface's tessellation is a parameter grid; on a closed surface the grid's first and
+//! last rows (the seam) and every vertex of a degenerate row (a pole) lie at the same point.
+//! [`weld`] merges vertices that coincide within 1e-9 of the surface's size and drops the
+//! triangles that welding leaves with a repeated vertex, so the mesh of a closed surface is
+//! watertight (every edge shared by two triangles) with no zero-area triangle.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+
+use crate::exchange::{Diagnostic, Document, Entity, Location};
+use crate::nurbs::derivatives::{cross, norm};
+use crate::nurbs::tessellate::{Mesh, Polyline};
+use crate::nurbs::{Geometry, Point3};
+
+use super::ops::id_list;
+use super::{ErrorKind, MeshFormat, PipelineError, Settings, select};
+
+/// A welded triangle mesh of one surface.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FaceMesh {
+    /// The entity id (`#17`, `D5`).
+    pub entity: String,
+    /// Distinct vertex positions.
+    pub positions: Vec<Point3>,
+    /// Triangles as indices into `positions`, counter-clockwise seen from `S_u x S_v`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A tessellated curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveLine {
+    /// The entity id.
+    pub entity: String,
+    /// Its points.
+    pub points: Vec<Point3>,
+}
+
+/// What a mesh file will hold, and what it leaves out (with the warnings that say so).
+#[derive(Debug)]
+pub struct MeshPlan<'d> {
+    /// The entities to tessellate.
+    pub entities: Vec<&'d Entity>,
+    /// One warning per kind of entity left out.
+    pub left_out: Vec<Diagnostic>,
+}
+
+/// Chooses the entities of a mesh file: the one asked for, or all. 2-D curves are left out
+/// when 3-D geometry is drawn too (they are parameter-space curves of a B-rep, not geometry
+/// in the plane z = 0); a file of 2-D curves only is drawn in that plane. STL holds
+/// triangles only, so curves are left out of it.
+pub fn plan<'d>(
+    doc: &'d Document,
+    entity: Option<&str>,
+    format: MeshFormat,
+) -> Result<MeshPlan<'d>, PipelineError> {
+    let selected: Vec<&Entity> = match entity {
+        Some(id) => vec![select(doc, Some(id))?],
+        None => doc.entities.iter().collect(),
+    };
+    if selected.is_empty() {
+        select(doc, None)?;
+    }
+    let is_curve = |e: &Entity| matches!(e.geometry, Geometry::Curve(_));
+    let any_3d = selected.iter().any(|e| e.geometry.dimension() == 3);
+    let mut left_out = Vec::new();
+    let mut warn = |dropped: &[&Entity], code: &str, why: &str| {
+        if let Some(first) = dropped.first() {
+            left_out.push(Diagnostic::warning(
+                code,
+                format!(
+                    "{} curve(s) not drawn ({}): {why}",
+                    dropped.len(),
+                    id_list(dropped.iter().copied())
+                ),
+                Location::at_entity(first.id.clone()),
+            ));
+        }
+    };
+    let (pcurves, mut kept): (Vec<&Entity>, Vec<&Entity>) = selected
+        .into_iter()
+        .partition(|e| any_3d && is_curve(e) && e.geometry.dimension() == 2);
+    warn(
+        &pcurves,
+        "pcurve_not_written",
+        "2-D parameter-space curves have no place in a 3-D picture or mesh",
+    );
+    if format == MeshFormat::Stl {
+        let (curves, surfaces): (Vec<&Entity>, Vec<&Entity>) =
+            kept.into_iter().partition(|e| is_curve(e));
+        warn(&curves, "curve_not_written", "STL holds triangles only");
+        kept = surfaces;
+    }
+    Ok(MeshPlan {
+        entities: kept,
+        left_out,
+    })
+}
+
+/// Welds a surface tessellation: vertices within 1e-9 of the mesh's bounding-box diagonal
+/// become one, and triangles left with a repeated vertex or no area are dropped.
+pub fn weld(entity: &str, mesh: &Mesh) -> FaceMesh {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let eps = (1e-9 * diagonal).max(f64::MIN_POSITIVE);
+    // Vertices hashed by cells of size eps; a match is searched in the 27 cells around.
+    let cell = |p: &Point3| -> [i64; 3] {
+        // In range: (p - lo) / eps <= 1e9 (the saturating cast guards the rest).
+        [0, 1, 2].map(|k| ((p[k] - lo[k]) / eps).floor() as i64)
+    };
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut positions: Vec<Point3> = Vec::with_capacity(mesh.vertices.len());
+    let mut remap: Vec<u32> = Vec::with_capacity(mesh.vertices.len());
+    for p in &mesh.vertices {
+        let c = cell(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    for &i in cells.get(&key).map_or(&[][..], Vec::as_slice) {
+                        let q = positions[i as usize];
+                        let d2: f64 = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum();
+                        if d2 <= eps * eps {
+                            found = Some(i);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let index = found.unwrap_or_else(|| {
+            let i = u32::try_from(positions.len()).unwrap_or(u32::MAX);
+            positions.push(*p);
+            cells.entry(c).or_default().push(i);
+            i
+        });
+        remap.push(index);
+    }
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| remap[v]))
+        .filter(|t| {
+            t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
+                let [a, b, c] = t.map(|v| positions[v as usize]);
+                norm(area_vector(a, b, c)) > 0.0
+            }
+        })
+        .collect();
+    FaceMesh {
+        entity: entity.to_owned(),
+        positions,
+        triangles,
+    }
+}
+
+/// Twice the area vector of a triangle: `(b - a) x (c - a)`.
+fn area_vector(a: Point3, b: Point3, c: Point3) -> Point3 {
+    cross(
+        [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+        [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+    )
+}
+
+/// The unit normal of a triangle (zero for a degenerate one).
+pub fn triangle_normal(a: Point3, b: Point3, c: Point3) -> Point3 {
+    let n = area_vector(a, b, c);
+    let l = norm(n);
+    if l > 0.0 {
+        [n[0] / l, n[1] / l, n[2] / l]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// Tessellates the planned entities under a chord tolerance, within the vertex limit.
+pub fn tessellate_all(
+    plan: &MeshPlan<'_>,
+    tolerance: f64,
+    settings: &Settings,
+) -> Result<(Vec<FaceMesh>, Vec<CurveLine>), PipelineError> {
+    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
+        PipelineError::new(
+            ErrorKind::Geometry,
+            "tessellate.failed",
+            err.to_string(),
+            Location::at_entity(e.id.clone()),
+        )
+    };
+    let mut vertices = 0usize;
+    let mut budget = |n: usize| -> Result<(), PipelineError> {
+        vertices = vertices.saturating_add(n);
+        if vertices > settings.max_mesh_vertices {
+            return Err(PipelineError::new(
+                ErrorKind::Limit,
+                "limit.mesh_vertices",
+                format!(
+                    "the tessellation exceeds {} vertices; use a larger tolerance",
+                    settings.max_mesh_vertices
+                ),
+                Location::default(),
+            ));
+        }
+        Ok(())
+    };
+    let mut faces = Vec::new();
+    let mut curves = Vec::new();
+    for e in &plan.entities {
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                let line: Polyline = c.tessellate(tolerance).map_err(|err| located(e, err))?;
+                budget(line.points.len())?;
+                curves.push(CurveLine {
+                    entity: e.id.clone(),
+                    points: line.points,
+                });
+            }
+            Geometry::Surface(s) => {
+                let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
+                budget(mesh.vertices.len())?;
+                faces.push(weld(&e.id, &mesh));
+            }
+        }
+    }
+    Ok((faces, curves))
+}
+
+/// Wavefront OBJ: one `o` group per entity, welded `v`ertices, `f` triangles and `l` lines
+/// (indices are 1-based and global).
+pub fn obj(faces: &[FaceMesh], curves: &[CurveLine]) -> String {
+    let mut out = String::from("# nurbsx tessellation\n");
+    let mut base = 1usize;
+    for f in faces {
+        let _ = writeln!(out, "o {}", f.entity);
+        for p in &f.positions {
+            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+        }
+        for t in &f.triangles {
+            let [a, b, c] = t.map(|v| base + v as usize);
+            let _ = writeln!(out, "f {a} {b} {c}");
+        }
+        base += f.positions.len();
+    }
+    for c in curves {
+        let _ = writeln!(out, "o {}", c.entity);
+        for p in &c.points {
+            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+        }
+        out.push('l');
+        for k in 0..c.points.len() {
+            let _ = write!(out, " {}", base + k);
+        }
+        out.push('\n');
+        base += c.points.len();
+    }
+    out
+}
+
+/// Binary STL: an 80-byte header, the triangle count, then per triangle its unit normal,
+/// three vertices (little-endian `f32`) and a zero attribute word.
+pub fn stl(faces: &[FaceMesh]) -> Vec<u8> {
+    let count: usize = faces.iter().map(|f| f.triangles.len()).sum();
+    let mut out = Vec::with_capacity(84 + 50 * count);
+    let mut header = [b' '; 80];
+    let title = b"nurbsx tessellation (binary STL)";
+    header[..title.len()].copy_from_slice(title);
+    out.extend_from_slice(&header);
+    out.extend_from_slice(&u32::try_from(count).unwrap_or(u32::MAX).to_le_bytes());
+    for f in faces {
+        for t in &f.triangles {
+            let [a, b, c] = t.map(|v| f.positions[v as usize]);
+            for p in [triangle_normal(a, b, c), a, b, c] {
+                for x in p {
+                    out.extend_from_slice(&(x as f32).to_le_bytes());
+                }
+            }
+            out.extend_from_slice(&0u16.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// Binary glTF 2.0 (`.glb`): one node and mesh per entity; surfaces as indexed triangles,
+/// curves as line strips; positions `f32`, indices `u32`; every accessor with the
+/// `min`/`max` the specification requires for positions.
+pub fn glb(faces: &[FaceMesh], curves: &[CurveLine]) -> Vec<u8> {
+    use serde_json::{Value, json};
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut meshes = Vec::new();
+    /// Appends positions as a vertex buffer view and their accessor; returns the accessor.
+    fn positions(
+        points: &[Point3],
+        bin: &mut Vec<u8>,
+        views: &mut Vec<Value>,
+        accessors: &mut Vec<Value>,
+    ) -> usize {
+        let offset = bin.len();
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for p in points {
+            for k in 0..3 {
+                let x = p[k] as f32;
+                lo[k] = lo[k].min(x);
+                hi[k] = hi[k].max(x);
+                bin.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset, "target": 34962}));
+        accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
+            "count": points.len(), "type": "VEC3", "min": lo, "max": hi}));
+        accessors.len() - 1
+    }
+    for f in faces {
+        let pos = positions(&f.positions, &mut bin, &mut views, &mut accessors);
+        let offset = bin.len();
+        for t in &f.triangles {
+            for v in t {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        meshes.push(
+            json!({"name": f.entity, "primitives": [{"attributes": {"POSITION": pos},
+            "indices": accessors.len(), "mode": 4}]}),
+        );
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset, "target": 34963}));
+        accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5125,
+            "count": 3 * f.triangles.len(), "type": "SCALAR"}));
+    }
+    for c in curves {
+        let pos = positions(&c.points, &mut bin, &mut views, &mut accessors);
+        meshes.push(
+            json!({"name": c.entity, "primitives": [{"attributes": {"POSITION": pos}, "mode": 3}]}),
+        );
+    }
+    let nodes: Vec<Value> = meshes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| json!({"mesh": i, "name": m["name"]}))
+        .collect();
+    let mut document = json!({
+        "asset": {"version": "2.0", "generator": concat!("nurbsx ", env!("CARGO_PKG_VERSION"))},
+        "scene": 0,
+        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "accessors": accessors,
+        "bufferViews": views,
+    });
+    if !bin.is_empty() {
+        document["buffers"] = json!([{"byteLength": bin.len()}]);
+    }
+    let mut text = document.to_string().into_bytes();
+    // Chunks are 4-byte aligned: JSON padded with spaces, binary data with zeros.
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let u32_le = |n: usize| u32::try_from(n).unwrap_or(u32::MAX).to_le_bytes();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&u32_le(total));
+    out.extend_from_slice(&u32_le(text.len()));
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&u32_le(bin.len()));
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+    }
+    out
+}
