@@ -306,6 +306,34 @@ fn cli_max_degree_flag() {
     );
 }
 
+/// The nesting limit has a ceiling (the STEP list rule recurses once per level): the
+/// ceiling is accepted, one more is a usage error (exit 2) from the flag and the variable.
+#[test]
+fn cli_max_nesting_depth_ceiling() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/curve_deg3_clamped.step");
+    let ceiling = nurbsx_parsers::Limits::MAX_NESTING_DEPTH;
+    let run = |value: usize, env: bool| {
+        let mut c = Command::new(BIN);
+        if env {
+            c.env("NURBSX_MAX_NESTING_DEPTH", value.to_string());
+        } else {
+            c.args(["--max-nesting-depth", &value.to_string()]);
+        }
+        c.arg("validate").arg(&path).output().unwrap()
+    };
+    for env in [false, true] {
+        assert_eq!(run(ceiling, env).status.code(), Some(0), "env {env}");
+        let over = run(ceiling + 1, env);
+        assert_eq!(over.status.code(), Some(2), "env {env}");
+        assert!(
+            String::from_utf8_lossy(&over.stderr).contains(&format!("at most {ceiling}")),
+            "{}",
+            String::from_utf8_lossy(&over.stderr)
+        );
+    }
+}
+
 /// Pipeline settings: evaluation points, elevation amount, result degree, mesh vertices.
 #[test]
 fn pipeline_limits() {

@@ -16,13 +16,24 @@
 //! one and check only what the syntax requires. Turning records into NURBS (knot
 //! multiplicities, weights, units, transforms) belongs to the consumer of this crate (in nurbsx, its exchange layer); this crate depends on no geometry code.
 //!
-//! Both formats are read by hand-written byte scanners, not parser combinators (the
-//! brief asked for nom; the deviation is deliberate): the hot loops (statement scanning,
-//! parameter lists, REAL conversion) run at hundreds of MB/s with SWAR digit parsing and
-//! fused lexing-plus-conversion, nesting is handled with an explicit stack so the input
-//! never controls recursion depth, and every error needs an exact byte offset for its
-//! line/column (STEP) or sequence/column (IGES). The grammar each scanner follows is cited
-//! in its module (ISO 10303-21 clauses, IGES 5.3 sections).
+//! The STEP grammar is written with nom 8 ([`step`]'s private `grammar` module): every rule
+//! of ISO 10303-21 (space and comments, keywords, simple and complex records, typed and
+//! untyped parameters, lists, STRING, BINARY, ENUMERATION, entity instance names, INTEGER
+//! and REAL, the structure keywords and the instance head) is a nom parser named after its
+//! production, returning [`grammar::GrammarError`] (byte offset, innermost rule, cause).
+//! The fast primitives are leaves of that one grammar, not a second parser: the SIMD
+//! statement-end search (`step/specials.rs`) splits the file into statements for the rules,
+//! the SWAR keyword run and the one-pass REAL reader ([`real`]) sit inside the `keyword`
+//! and number rules, and a list steps through blank-free runs of references and reals in a
+//! tight loop. Nested lists recurse with their depth checked against
+//! [`Limits::max_nesting_depth`] before each nested rule, so the input cannot deepen the
+//! recursion past the configured limit. Each record type has one public decoder of raw
+//! instances ([`step::Scanned::bspline`], [`step::Scanned::cartesian_point`]) with its
+//! one-pass text reader private inside it, and one writer from records
+//! ([`step::writer`]).
+//!
+//! The IGES reader (sections, Global, directory entries, free-format parameters) is still a
+//! hand-written byte scanner; its move onto the nom grammar framework is in progress.
 //!
 //! Every error carries a location: STEP errors a line, column and `#id`; IGES errors a
 //! section letter, sequence number, column and DE pointer.

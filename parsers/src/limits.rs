@@ -12,8 +12,10 @@ pub struct Limits {
     pub max_input_bytes: usize,
     /// Most entity instances (STEP) or directory entries (IGES) in one file (default 50 million).
     pub max_entities: usize,
-    /// Deepest nesting of parenthesised lists in a STEP parameter list (default 64).
-    /// Real files nest at most 3 or 4 deep (a surface's weights are a list of lists).
+    /// Deepest nesting of parenthesised lists in a STEP parameter list (default 64, at most
+    /// [`Limits::MAX_NESTING_DEPTH`]: the grammar recurses once per level, and a larger value
+    /// is read as that ceiling). Real files nest at most 3 or 4 deep (a surface's weights
+    /// are a list of lists).
     pub max_nesting_depth: usize,
     /// Most parameters in one instance or one IGES parameter record, counting list elements
     /// at every depth (default 50 million).
@@ -23,6 +25,13 @@ pub struct Limits {
     /// Most control points in one curve, or in one surface (both directions multiplied)
     /// (default 25 million).
     pub max_poles: usize,
+}
+
+impl Limits {
+    /// The ceiling of [`Limits::max_nesting_depth`]: 128 levels of the list rule fit in half
+    /// of a 2 MiB thread stack (the default of rayon's and tokio's blocking threads), even
+    /// in a debug build (tested).
+    pub const MAX_NESTING_DEPTH: usize = 128;
 }
 
 impl Default for Limits {

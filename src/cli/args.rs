@@ -110,8 +110,9 @@ pub struct GlobalArgs {
     /// Most STEP entity instances / IGES directory entries in one file (default 50000000).
     #[arg(long, env = "NURBSX_MAX_ENTITIES", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
     pub max_entities: Option<usize>,
-    /// Deepest nesting of parenthesised STEP lists (default 64; real files nest 3-4 deep).
-    #[arg(long, env = "NURBSX_MAX_NESTING_DEPTH", value_name = "N", value_parser = positive, global = true, hide = true, help_heading = LIMITS)]
+    /// Deepest nesting of parenthesised STEP lists, 1 to 128 (default 64; real files nest
+    /// 3-4 deep).
+    #[arg(long, env = "NURBSX_MAX_NESTING_DEPTH", value_name = "N", value_parser = nesting_depth, global = true, hide = true, help_heading = LIMITS)]
     pub max_nesting_depth: Option<usize>,
     /// Most parameters in one STEP instance or IGES entity, list elements included
     /// (default 50000000).
@@ -165,6 +166,17 @@ pub enum SeverityArg {
 }
 
 /// A limit value: a whole number of at least 1 (a limit of 0 would refuse everything).
+/// `--max-nesting-depth`: the STEP grammar recurses once per level, so the limit has a
+/// ceiling ([`nurbsx_parsers::Limits::MAX_NESTING_DEPTH`]).
+fn nesting_depth(s: &str) -> Result<usize, String> {
+    let n = positive(s)?;
+    let max = nurbsx_parsers::Limits::MAX_NESTING_DEPTH;
+    if n > max {
+        return Err(format!("must be at most {max}"));
+    }
+    Ok(n)
+}
+
 fn positive(s: &str) -> Result<usize, String> {
     match s.trim().parse::<usize>() {
         Ok(0) => Err("must be at least 1".to_owned()),

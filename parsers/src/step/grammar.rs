@@ -50,7 +50,9 @@ pub(crate) struct ParamLimits {
 impl From<&crate::Limits> for ParamLimits {
     fn from(limits: &crate::Limits) -> Self {
         ParamLimits {
-            max_depth: limits.max_nesting_depth.max(1),
+            max_depth: limits
+                .max_nesting_depth
+                .clamp(1, crate::Limits::MAX_NESTING_DEPTH),
             max_params: limits.max_params_per_entity,
         }
     }
@@ -841,6 +843,43 @@ mod tests {
             let got = space(b).map(|(rest, ())| b.len() - rest.len()).map_err(|_| ());
             prop_assert_eq!(got, want, "{:?}", s);
         }
+    }
+
+    /// The deepest nesting the limit allows, on a thread with a 1 MiB stack (half of what
+    /// rayon's and tokio's blocking threads have), and the ceiling applied to larger limits.
+    #[test]
+    fn the_nesting_ceiling_fits_a_small_stack() {
+        let deep = std::thread::Builder::new()
+            .stack_size(1 << 20)
+            .spawn(|| {
+                let limits = ParamLimits::from(&crate::Limits {
+                    max_nesting_depth: usize::MAX,
+                    ..crate::Limits::default()
+                });
+                assert_eq!(limits.max_depth, crate::Limits::MAX_NESTING_DEPTH);
+                let n = crate::Limits::MAX_NESTING_DEPTH;
+                let ok = format!("{}1{}", "(".repeat(n), ")".repeat(n));
+                let typed = format!("{}1{}", "(A".repeat(n - 1) + "(", ")".repeat(n));
+                let over = format!("{}1{}", "(".repeat(n + 1), ")".repeat(n + 1));
+                let run_on = |t: &str| {
+                    run(t.as_bytes(), 0, t.len(), |i| parameter_list(i, limits)).map(|_| ())
+                };
+                (run_on(&ok).is_ok(), run_on(&typed).is_ok(), run_on(&over))
+            })
+            .unwrap()
+            .join()
+            .unwrap();
+        assert_eq!(
+            deep,
+            (
+                true,
+                true,
+                Err((
+                    ParseErrorKind::NestingTooDeep(crate::Limits::MAX_NESTING_DEPTH),
+                    128
+                ))
+            )
+        );
     }
 
     #[test]

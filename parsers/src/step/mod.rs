@@ -1,5 +1,7 @@
 //! # ISO 10303-21 (STEP Part 21) exchange structures
 //!
+//! - `grammar` (private): the Part 21 rules as nom parsers, each named after its
+//!   production; [`scan`], [`Scanned::decode`] and [`parse`] run them.
 //! - [`scan`]: one pass over the file: header decoded, every entity instance located
 //!   (`#id`, keyword, body slice) with `memchr`, an `#id` index; parameters decoded lazily
 //!   with [`Scanned::decode`]. This is what a reader that needs a few entity types uses.

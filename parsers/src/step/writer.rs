@@ -200,11 +200,22 @@ pub fn write_cartesian_point(
     p: &CartesianPoint<'_>,
 ) -> Result<(), NonFiniteReal> {
     push_id(out, id);
-    out.push_str(" = CARTESIAN_POINT(");
-    push_name(out, p.name.as_ref());
-    out.push(',');
-    push_reals(out, &p.coordinates)?;
-    out.push_str(");\n");
+    // Most of a file is points, nearly all unnamed: their head is one copy.
+    match p.name.as_ref().map(|n| n.raw.as_ref()) {
+        None | Some("") => out.push_str(" = CARTESIAN_POINT('',("),
+        Some(name) => {
+            out.push_str(" = CARTESIAN_POINT('");
+            out.push_str(name);
+            out.push_str("',(");
+        }
+    }
+    for (k, &x) in p.coordinates.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        write_real(out, x)?;
+    }
+    out.push_str("));\n");
     Ok(())
 }
 
