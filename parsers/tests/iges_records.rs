@@ -624,3 +624,155 @@ fn missing_start_section_and_global_field_13_missing() {
         Some(text.lines().nth(1).unwrap().find(",MM,").unwrap() + 2)
     );
 }
+
+/// The pointer entities decode by their declarations: every field lands in place, the
+/// pointer walk lists what the declarations call pointers, and a record shorter than its
+/// counts is an error naming them.
+#[test]
+fn pointer_entities_decode_by_their_declarations() {
+    use nurbsx_parsers::iges::records::{
+        CompositeCurve102, CurveOnSurface142, Edge, EdgeList504, Face510, Loop508, LoopEdge,
+        TrimmedSurface144,
+    };
+    let ty = |ty| De {
+        ty,
+        ..De::default()
+    };
+    let mut b = Builder::new(DEFAULT_GLOBAL);
+    let c1 = b.entity(De::default(), &sentinel_126()); // D1
+    let c2 = b.entity(De::default(), &sentinel_126()); // D3
+    let comp = b.entity(ty(102), "102,2,1,3;"); // D5
+    let cos = b.entity(ty(142), "142,1,31,5,,2;"); // D7
+    let trim = b.entity(ty(144), "144,31,1,2,7,7,7;"); // D9
+    let edges = b.entity(ty(504), "504,2,1,41,1,41,2,3,41,2,41,1;"); // D11
+    let lp = b.entity(ty(508), "508,2,0,11,1,1,1,0,5,0,11,2,0,2,1,1,0,3;"); // D13
+    let face = b.entity(ty(510), "510,31,1,1,13;"); // D15
+    let short = b.entity(ty(102), "102,3,1;"); // D17
+    let negative = b.entity(ty(102), "102,-1;"); // D19
+    let text = b.build();
+    let file = iges::parse(&text).unwrap();
+    let entry = |de: usize| file.entry(de as i64).unwrap();
+    assert_eq!((c1, c2), (1, 3));
+    assert_eq!(
+        file.decode::<CompositeCurve102>(entry(comp))
+            .record
+            .unwrap(),
+        CompositeCurve102 {
+            members: vec![1, 3]
+        }
+    );
+    assert_eq!(
+        file.decode::<CurveOnSurface142>(entry(cos)).record.unwrap(),
+        CurveOnSurface142 {
+            creation: 1,
+            surface: 31,
+            parameter_curve: 5,
+            model_curve: 0,
+            preferred: 2
+        }
+    );
+    assert_eq!(
+        file.decode::<TrimmedSurface144>(entry(trim))
+            .record
+            .unwrap(),
+        TrimmedSurface144 {
+            surface: 31,
+            outer_given: 1,
+            outer: 7,
+            inner: vec![7, 7]
+        }
+    );
+    assert_eq!(
+        file.decode::<EdgeList504>(entry(edges)).record.unwrap(),
+        EdgeList504 {
+            edges: vec![
+                Edge {
+                    curve: 1,
+                    start: (41, 1),
+                    end: (41, 2)
+                },
+                Edge {
+                    curve: 3,
+                    start: (41, 2),
+                    end: (41, 1)
+                },
+            ]
+        }
+    );
+    assert_eq!(
+        file.decode::<Loop508>(entry(lp)).record.unwrap(),
+        Loop508 {
+            edges: vec![
+                LoopEdge {
+                    kind: 0,
+                    edge: 11,
+                    index: 1,
+                    orientation: 1,
+                    parameter_curves: vec![(0, 5)]
+                },
+                LoopEdge {
+                    kind: 0,
+                    edge: 11,
+                    index: 2,
+                    orientation: 0,
+                    parameter_curves: vec![(1, 1), (0, 3)]
+                },
+            ]
+        }
+    );
+    assert_eq!(
+        file.decode::<Face510>(entry(face)).record.unwrap(),
+        Face510 {
+            surface: 31,
+            outer_first: 1,
+            loops: vec![13]
+        }
+    );
+    // The pointer walk: names, values and the types each field may name.
+    let refs = file.references(entry(lp)).unwrap().unwrap();
+    let pointers: Vec<(&str, i64)> = refs.iter().map(|&(n, p, _)| (n, p)).collect();
+    assert_eq!(
+        pointers,
+        vec![
+            ("EDGE", 11),
+            ("CURV", 5),
+            ("EDGE", 11),
+            ("CURV", 1),
+            ("CURV", 3)
+        ]
+    );
+    assert_eq!(refs[0].2, &[504, 502]);
+    let refs = file.references(entry(cos)).unwrap().unwrap();
+    assert_eq!(
+        refs.iter().map(|&(n, p, _)| (n, p)).collect::<Vec<_>>(),
+        vec![("SPTR", 31), ("BPTR", 5)]
+    );
+    assert!(file.references(entry(c1)).unwrap().unwrap().is_empty());
+    // Arity from the declaration: N = 3 needs 4 parameters, the record holds 2.
+    let e = file
+        .decode::<CompositeCurve102>(entry(short))
+        .record
+        .unwrap_err();
+    assert!(
+        matches!(&e.kind, ErrorKind::Truncated { what, needed: 4, present: 2 } if what == "102 with N = 3"),
+        "{e}"
+    );
+    assert_eq!((e.section, e.de), ('P', Some(short)));
+    let e = file
+        .decode::<CompositeCurve102>(entry(negative))
+        .record
+        .unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::OutOfRange(_)), "{e}");
+    // A record of another type is refused by name.
+    let e = file.decode::<Face510>(entry(comp)).record.unwrap_err();
+    assert!(
+        matches!(
+            e.kind,
+            ErrorKind::WrongEntity {
+                found: 102,
+                expected: 510
+            }
+        ),
+        "{e}"
+    );
+}

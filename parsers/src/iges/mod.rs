@@ -32,8 +32,9 @@
 //! # Ok::<(), iges::ParseError>(())
 //! ```
 //!
-//! Robustness: every count read from the file is compared with the parameters actually
-//! present before anything is allocated; all conversions are checked; one entity's bad
+//! Robustness: what a count read from the file allocates is bounded by the data actually
+//! present, and a record shorter than its counts declare is an error naming them; all
+//! conversions are checked; one entity's bad
 //! parameters give a located error for that entity only ([`IgesFile::decode`] is
 //! called per entity), the others still parse.
 
@@ -478,7 +479,7 @@ impl Parameters {
         self.values.len() + 1
     }
 
-    /// Whether there are no parameters (never true for a parsed entity).
+    /// Whether there are no parameters (never true: the entity type is always there).
     pub fn is_empty(&self) -> bool {
         false
     }

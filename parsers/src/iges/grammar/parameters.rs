@@ -416,12 +416,7 @@ impl<'a> ParameterReader<'a> {
                 ErrorKind::Unterminated(char::from(self.d.record)),
             ),
         };
-        if let crate::grammar::Cause::Format(ErrorKind::BadParameter { index, name: n, .. }) =
-            &mut e.cause
-        {
-            *index = self.index;
-            *n = name;
-        }
+        name_parameter(&mut e, self.index, name);
         e
     }
 
@@ -537,46 +532,36 @@ impl<'a> ParameterReader<'a> {
     }
 
     /// Interprets a parameter already cut by [`ParameterReader::parameter`] as an optional
-    /// real (a default is `None`).
+    /// real (a default is `None`); `index` and `name` name it in an error.
     pub fn as_optional_real(
         &self,
         (at, p): (&'a [u8], Parameter<'a>),
         index: usize,
         name: &'static str,
     ) -> Result<Option<f64>, Error<'a>> {
-        match p {
-            Parameter::Default => Ok(None),
+        let value = match p {
+            Parameter::Default => return Ok(None),
             Parameter::Value(v) => std::str::from_utf8(v)
                 .ok()
-                .and_then(|t| parse_iges_real(t).ok())
-                .map(Some)
-                .ok_or_else(|| {
-                    let mut e = bad_parameter(at, "a real", p);
-                    if let crate::grammar::Cause::Format(ErrorKind::BadParameter {
-                        index: i,
-                        name: n,
-                        ..
-                    }) = &mut e.cause
-                    {
-                        *i = index;
-                        *n = name;
-                    }
-                    e
-                }),
-            Parameter::String(_) => {
-                let mut e = bad_parameter(at, "a real", p);
-                if let crate::grammar::Cause::Format(ErrorKind::BadParameter {
-                    index: i,
-                    name: n,
-                    ..
-                }) = &mut e.cause
-                {
-                    *i = index;
-                    *n = name;
-                }
-                Err(e)
-            }
-        }
+                .and_then(|t| parse_iges_real(t).ok()),
+            Parameter::String(_) => None,
+        };
+        value.map(Some).ok_or_else(|| {
+            let mut e = bad_parameter(at, "a real", p);
+            name_parameter(&mut e, index, name);
+            e
+        })
+    }
+}
+
+/// Fills in the index and name of a [`bad_parameter`] error.
+fn name_parameter(e: &mut Error<'_>, index: usize, name: &'static str) {
+    if let crate::grammar::Cause::Format(ErrorKind::BadParameter {
+        index: i, name: n, ..
+    }) = &mut e.cause
+    {
+        *i = index;
+        *n = name;
     }
 }
 

@@ -499,3 +499,62 @@ fn one<'a>(
 fn count(n: usize) -> i64 {
     i64::try_from(n).unwrap_or(i64::MAX)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn head(ints: &[(&'static str, i64)]) -> Head {
+        Head {
+            ints: ints.to_vec(),
+        }
+    }
+
+    /// The declarations against the parameter counts of the standard's tables: a full 126
+    /// has `17 + 5K + M` parameters, of which the last five (range, normal) are optional; a
+    /// full 128 has `21 + 5 K1 + 5 K2 + 4 K1 K2 + M1 + M2`, the last four optional.
+    #[test]
+    fn declared_counts_match_the_standard() {
+        for (k, m) in [(1i64, 1i64), (3, 3), (6, 2), (10, 5)] {
+            let h = head(&[("K", k), ("M", m)]);
+            let n = required(curve126::SCHEMA.fields, &h).unwrap();
+            assert_eq!(n + 5, usize::try_from(17 + 5 * k + m).unwrap());
+        }
+        for (k1, k2, m1, m2) in [(3i64, 2i64, 2i64, 1i64), (1, 1, 1, 1), (5, 7, 3, 2)] {
+            let h = head(&[("K1", k1), ("K2", k2), ("M1", m1), ("M2", m2)]);
+            let n = required(surface128::SCHEMA.fields, &h).unwrap();
+            let full = 21 + 5 * k1 + 5 * k2 + 4 * k1 * k2 + m1 + m2;
+            assert_eq!(n + 4, usize::try_from(full).unwrap());
+        }
+        assert_eq!(
+            required(transform124::SCHEMA.fields, &Head::default()),
+            Some(12)
+        );
+        // 504: N edges of five parameters.
+        let h = head(&[("N", 3)]);
+        assert_eq!(required(edge_list504::SCHEMA.fields, &h), Some(1 + 15));
+    }
+
+    #[test]
+    fn hostile_counts_are_errors() {
+        let count = |fields: &[Field], ints: &[(&'static str, i64)]| {
+            fields
+                .iter()
+                .find_map(|f| match f.repeat {
+                    Repeat::Times(c) => Some((c.of)(&head(ints))),
+                    _ => None,
+                })
+                .unwrap()
+        };
+        let curve = curve126::SCHEMA.fields;
+        assert!(count(curve, &[("K", i64::MAX), ("M", 3)]).is_err());
+        assert!(count(curve, &[("K", -1), ("M", 1)]).is_err());
+        assert!(count(curve, &[("K", 2), ("M", 3)]).is_err());
+        assert!(count(curve, &[("K", 2), ("M", 0)]).is_err());
+        let surface = surface128::SCHEMA.fields;
+        let big = [("K1", i64::MAX), ("K2", i64::MAX), ("M1", 1), ("M2", 1)];
+        assert!(count(surface, &big).is_err());
+        // 2^31 - 1 is a count: the record check refuses the record, not the count.
+        assert!(count(curve, &[("K", (1 << 31) - 1), ("M", 3)]).is_ok());
+    }
+}
