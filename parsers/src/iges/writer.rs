@@ -74,14 +74,14 @@ where
         out: &mut out,
         de: 0,
         seq: 0,
+        tail: *b"        P0000000\n",
         pd,
         rd,
         tokens: 0,
         scratch: String::new(),
     };
     for index in 0..des.len() {
-        w.de = pointer_of(index);
-        w.tokens = 0;
+        w.start_entity(pointer_of(index));
         let first = w.seq + 1;
         params(index, &mut w).map_err(|e| WriteError::NonFinite {
             entity: index,
@@ -109,6 +109,9 @@ pub struct ParamWriter<'a> {
     de: usize,
     /// The last P sequence number written.
     seq: usize,
+    /// Columns 65-80 and the line end, ` {de:>7}P{seq:07}\n`: the DE pointer written once
+    /// per entity, the sequence number counted up in place (while both fit 7 digits).
+    tail: [u8; 17],
     pd: char,
     rd: char,
     /// Parameters written for the current entity.
@@ -145,6 +148,16 @@ impl ParamWriter<'_> {
     /// dropped).
     pub fn text(&mut self, t: &str) {
         self.push_general(&hollerith(t), true);
+    }
+
+    /// Starts the parameters of the entity with DE pointer `de`.
+    fn start_entity(&mut self, de: usize) {
+        self.de = de;
+        self.tokens = 0;
+        self.tail[1..8].fill(b' ');
+        if de < 10_000_000 {
+            fill_digits(&mut self.tail[1..8], de);
+        }
     }
 
     /// Columns used on the current line.
@@ -214,16 +227,21 @@ impl ParamWriter<'_> {
     /// Pads the line to 64 columns and adds the DE pointer and the sequence number.
     fn finish_line(&mut self) {
         self.seq += 1;
+        // The sequence digits follow `seq` (an ASCII counter: usually one digit changes).
+        for d in self.tail[9..16].iter_mut().rev() {
+            if *d == b'9' {
+                *d = b'0';
+            } else {
+                *d += 1;
+                break;
+            }
+        }
         let used = self.cur();
         pad(self.out, b' ', P_DATA_COLUMNS.saturating_sub(used));
         if self.de < 10_000_000 && self.seq < 10_000_000 {
-            // ` {de:>7}P{seq:07}\n` in one piece: columns 65-80.
-            let mut tail = *b"        P0000000\n";
-            fill_digits(&mut tail[1..8], self.de);
-            fill_digits(&mut tail[9..16], self.seq);
-            // Only ASCII was written; one validated copy is cheaper than 17 pushes here.
+            // Only ASCII is in `tail`; one validated copy is cheaper than 17 pushes here.
             self.out
-                .push_str(std::str::from_utf8(&tail).unwrap_or_default());
+                .push_str(std::str::from_utf8(&self.tail).unwrap_or_default());
         } else {
             self.out.push(' ');
             push_uint(self.out, self.de, 7, b' ');

@@ -16,7 +16,7 @@
 
 use nom::branch::alt;
 use nom::bytes::complete::{take, take_while, take_while1};
-use nom::combinator::{map, peek};
+use nom::combinator::map;
 use nom::error::context;
 use nom::{IResult, Parser};
 
@@ -217,29 +217,77 @@ pub fn integer(text: &[u8]) -> Option<i64> {
 /// left for the caller) when [`parameter`] reads it, else with [`parameter`]'s error.
 #[inline(always)]
 pub fn real_parameter(d: Delimiters) -> impl Fn(&[u8]) -> Rule<'_, (f64, End)> {
-    move |i: &[u8]| {
-        let mut k = 0;
-        while i.get(k) == Some(&b' ') {
-            k += 1;
-        }
-        match i.get(k) {
-            Some(&c) if c == d.param => return Ok((&i[k + 1..], (0.0, End::Parameter))),
-            Some(&c) if c == d.record => return Ok((&i[k + 1..], (0.0, End::Record))),
-            _ => {}
-        }
-        if let Ok((v, mut e)) = iges_real_at(i, k) {
-            // Usually the delimiter follows at once; blanks may come first.
-            while i.get(e) == Some(&b' ') {
-                e += 1;
-            }
-            match i.get(e) {
-                Some(&c) if c == d.param => return Ok((&i[e + 1..], (v, End::Parameter))),
-                Some(&c) if c == d.record => return Ok((&i[e + 1..], (v, End::Record))),
-                _ => {}
-            }
-        }
-        not_a_real(d, i)
+    move |i: &[u8]| match real_value(d, i, 0) {
+        Some((v, n, end)) => Ok((&i[n..], (v, end))),
+        None => not_a_real(d, i),
     }
+}
+
+/// The success path of [`real_parameter`] without its error, on `b` from `start`: the
+/// value, the offset after its delimiter, and which delimiter; `None` where
+/// [`real_parameter`] fails or the text is not the usual shape (then [`real_parameter`]
+/// decides).
+#[inline(always)]
+fn real_value(d: Delimiters, b: &[u8], start: usize) -> Option<(f64, usize, End)> {
+    let mut k = start;
+    while b.get(k) == Some(&b' ') {
+        k += 1;
+    }
+    let delimiter = |c: u8| {
+        if c == d.param {
+            Some(End::Parameter)
+        } else if c == d.record {
+            Some(End::Record)
+        } else {
+            None
+        }
+    };
+    if let Some(end) = delimiter(*b.get(k)?) {
+        return Some((0.0, k + 1, end));
+    }
+    let (v, mut e) = iges_real_at(b, k).ok()?;
+    // Usually the delimiter follows at once; blanks may come first.
+    while b.get(e) == Some(&b' ') {
+        e += 1;
+    }
+    let end = delimiter(*b.get(e)?)?;
+    Some((v, e + 1, end))
+}
+
+/// The success path of [`integer_parameter`] for the usual shape (blanks, an optional sign
+/// and 1 to 18 digits, blanks, a delimiter, or a default): the value, the offset after its
+/// delimiter, and which delimiter; `None` for anything else (then [`integer_parameter`]
+/// decides).
+#[inline]
+fn integer_value(d: Delimiters, b: &[u8]) -> Option<(Option<i64>, usize, End)> {
+    let mut k = 0;
+    while b.get(k) == Some(&b' ') {
+        k += 1;
+    }
+    let start = k;
+    if matches!(b.get(k), Some(b'+' | b'-')) {
+        k += 1;
+    }
+    while b.get(k).is_some_and(u8::is_ascii_digit) {
+        k += 1;
+    }
+    let value = if k == start {
+        None
+    } else {
+        Some(integer(&b[start..k])?)
+    };
+    while b.get(k) == Some(&b' ') {
+        k += 1;
+    }
+    let c = *b.get(k)?;
+    let end = if c == d.param {
+        End::Parameter
+    } else if c == d.record {
+        End::Record
+    } else {
+        return None;
+    };
+    Some((value, k + 1, end))
 }
 
 /// Why the parameter at `i` is not a real: [`parameter`]'s error, or a `BadParameter`.
@@ -300,12 +348,12 @@ pub fn string_parameter(d: Delimiters) -> impl Fn(&[u8]) -> Rule<'_, (Option<&st
     }
 }
 
-/// Whether `i` starts with a delimiter after blanks (a `default` parameter), without
-/// consuming it.
+/// Whether `i` starts with a delimiter after blanks (a `default` parameter).
+#[inline]
 pub fn at_default(d: Delimiters, i: &[u8]) -> bool {
-    peek(nom::sequence::preceded(blanks, default(d)))
-        .parse(i)
-        .is_ok()
+    i.iter()
+        .find(|&&c| c != b' ')
+        .is_some_and(|&c| c == d.param || c == d.record)
 }
 
 /// Reads one entity's parameter record parameter by parameter (section 2.2.3), with the
@@ -321,8 +369,9 @@ pub struct ParameterReader<'a> {
     done: bool,
     /// Most parameters allowed in the record.
     max: usize,
-    /// The parameter count the record's declared counts need, and what for, once known.
-    expected: Option<(usize, String)>,
+    /// The parameter count the record's declared counts need, and what for (the entity
+    /// type and the counts it was computed from), once known.
+    expected: Option<(usize, i64, Vec<(&'static str, i64)>)>,
 }
 
 impl<'a> ParameterReader<'a> {
@@ -353,10 +402,11 @@ impl<'a> ParameterReader<'a> {
         self.done
     }
 
-    /// Declares that the record needs `needed` parameters after the entity type: reading
-    /// past the record's end before that is a [`ErrorKind::Truncated`] error.
-    pub fn expect(&mut self, needed: usize, what: String) {
-        self.expected = Some((needed, what));
+    /// Declares that the record of entity type `entity` needs `needed` parameters after
+    /// the entity type, by the counts `counts`: reading past the record's end before that is
+    /// a [`ErrorKind::Truncated`] error naming them.
+    pub fn expect(&mut self, needed: usize, entity: i64, counts: Vec<(&'static str, i64)>) {
+        self.expected = Some((needed, entity, counts));
     }
 
     /// Room for `count` values of `width` parameters each, bounded by what the remaining
@@ -384,8 +434,13 @@ impl<'a> ParameterReader<'a> {
     #[cold]
     fn missing(&self, name: &'static str, expected: &'static str) -> Error<'a> {
         let kind = match &self.expected {
-            Some((needed, what)) if self.index <= *needed => ErrorKind::Truncated {
-                what: what.clone(),
+            Some((needed, entity, counts)) if self.index <= *needed => ErrorKind::Truncated {
+                what: counts
+                    .iter()
+                    .enumerate()
+                    .fold(entity.to_string(), |w, (k, (n, v))| {
+                        format!("{w}{} {n} = {v}", if k == 0 { " with" } else { "," })
+                    }),
                 needed: *needed,
                 present: self.index.saturating_sub(1),
             },
@@ -465,7 +520,22 @@ impl<'a> ParameterReader<'a> {
     /// `count` required reals.
     pub fn reals(&mut self, count: usize, name: &'static str) -> Result<Vec<f64>, Error<'a>> {
         let mut v = Vec::with_capacity(self.capacity(count, 1));
-        for _ in 0..count {
+        // The usual case in one tight loop over the leaf's success path; the first
+        // parameter it does not take (and everything after) goes through `real`.
+        let rest = self.rest;
+        let mut at = 0;
+        let fast = count.min(self.max.saturating_sub(self.index));
+        while !self.done && v.len() < fast {
+            let Some((x, next, end)) = real_value(self.d, rest, at) else {
+                break;
+            };
+            v.push(x);
+            at = next;
+            self.done = end == End::Record;
+        }
+        self.index += v.len();
+        self.rest = rest.get(at..).unwrap_or_default();
+        for _ in v.len()..count {
             v.push(self.real(name)?);
         }
         Ok(v)
@@ -478,7 +548,27 @@ impl<'a> ParameterReader<'a> {
         name: [&'static str; 3],
     ) -> Result<Vec<[f64; 3]>, Error<'a>> {
         let mut v = Vec::with_capacity(self.capacity(count, 3));
-        for _ in 0..count {
+        // As in `reals`: whole points in the tight loop, the rest through `real`.
+        let rest = self.rest;
+        let mut at = 0;
+        let fast = count.min(self.max.saturating_sub(self.index) / 3);
+        while !self.done && v.len() < fast {
+            let Some((x, a, End::Parameter)) = real_value(self.d, rest, at) else {
+                break;
+            };
+            let Some((y, b, End::Parameter)) = real_value(self.d, rest, a) else {
+                break;
+            };
+            let Some((z, c, end)) = real_value(self.d, rest, b) else {
+                break;
+            };
+            v.push([x, y, z]);
+            at = c;
+            self.done = end == End::Record;
+        }
+        self.index += 3 * v.len();
+        self.rest = rest.get(at..).unwrap_or_default();
+        for _ in v.len()..count {
             v.push([
                 self.real(name[0])?,
                 self.real(name[1])?,
@@ -492,6 +582,13 @@ impl<'a> ParameterReader<'a> {
     pub fn integer(&mut self, name: &'static str, default: Option<i64>) -> Result<i64, Error<'a>> {
         self.open(name, "an integer")?;
         let at = self.rest;
+        // The usual shape without the rule's machinery; anything else through the rule.
+        if let Some((Some(v), n, end)) =
+            integer_value(self.d, at).map(|(v, n, end)| (v.or(default), n, end))
+        {
+            self.step(&at[n..], end);
+            return Ok(v);
+        }
         match integer_parameter(self.d)(at) {
             Ok((rest, (v, end))) => match v.or(default) {
                 Some(v) => {

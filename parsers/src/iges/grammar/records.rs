@@ -11,7 +11,6 @@
 //! SWAR read of the seven digits most writers zero-pad.
 
 use nom::Parser;
-use nom::bytes::complete::take;
 
 use super::super::error::{ErrorKind, ParseError, ParseWarning};
 use super::parameters::{Error, Rule};
@@ -251,8 +250,9 @@ enum Shape {
 fn record(line: &str) -> Option<(&str, char, usize, Shape)> {
     let b = line.as_bytes();
     if b.len() >= 80 {
-        let (rest, (data, letter, seq)) = (take(72usize), section_letter, sequence_number)
-            .parse(b)
+        let (data, columns_73_on) = b.split_at(72);
+        let (rest, (letter, seq)) = (section_letter, sequence_number)
+            .parse(columns_73_on)
             .ok()?;
         let shape = if rest.iter().all(|c| *c == b' ') {
             Shape::Exact
@@ -289,6 +289,7 @@ fn record(line: &str) -> Option<(&str, char, usize, Shape)> {
 }
 
 /// `section-letter` (column 73): an upper-case letter.
+#[inline(always)]
 fn section_letter(i: &[u8]) -> Rule<'_, u8> {
     match i.first() {
         Some(&c) if c.is_ascii_uppercase() => Ok((&i[1..], c)),
@@ -299,6 +300,7 @@ fn section_letter(i: &[u8]) -> Rule<'_, u8> {
 /// `sequence-number` (columns 74-80): right-justified digits, blanks or zeros before them.
 /// The fast leaf: seven digits (the zero-padded form most writers use) in one
 /// multiply-shift pass, anything else one byte at a time.
+#[inline(always)]
 pub fn sequence_number(i: &[u8]) -> Rule<'_, usize> {
     let n = i.len().min(7);
     let (field, rest) = i.split_at(n);
@@ -322,6 +324,7 @@ fn is_blank(line: &str) -> bool {
 }
 
 /// Parses a right-justified sequence number (blanks and leading zeros allowed).
+#[inline(always)]
 fn parse_seq(b: &[u8]) -> Option<usize> {
     // Seven digits (the zero-padded form many writers use) in one multiply-shift pass;
     // anything else, one byte at a time below.

@@ -184,16 +184,21 @@ pub struct Head {
 
 impl Head {
     /// The integer named `name` (the innermost when groups repeat a name).
+    #[inline]
     pub fn get(&self, name: &str) -> Result<i64, String> {
+        // Names are a byte or two: compared inline rather than through `memcmp`.
+        let same =
+            |n: &str| n.len() == name.len() && n.bytes().zip(name.bytes()).all(|(a, b)| a == b);
         self.ints
             .iter()
             .rev()
-            .find(|(n, _)| *n == name)
+            .find(|(n, _)| same(n))
             .map(|&(_, v)| v)
             .ok_or_else(|| format!("{name} is not read yet"))
     }
 
     /// The integer named `name` as a count: an error when negative.
+    #[inline]
     pub fn count(&self, name: &str) -> Result<usize, String> {
         let v = self.get(name)?;
         usize::try_from(v).map_err(|_| format!("{name} = {v} is negative"))
@@ -364,7 +369,7 @@ pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'
     let first = r.rest();
     let mut head = Head::default();
     if let Some(n) = required(schema.fields, &head) {
-        r.expect(n, schema.entity.to_string());
+        r.expect(n, schema.entity, Vec::new());
     }
     let mut values = read_fields(schema, schema.fields, r, &mut head, first, true)?;
     values.extra = r.skip_rest()?;
@@ -388,14 +393,8 @@ fn read_fields<'a>(
         if top && !expecting && !matches!(f.repeat, Repeat::One | Repeat::Optional) {
             // The counts are read: declare what the record must hold.
             expecting = true;
-            let what =
-                std::iter::once(schema.entity.to_string())
-                    .chain(head.ints.iter().enumerate().map(|(k, (n, v))| {
-                        format!("{} {n} = {v}", if k == 0 { " with" } else { "," })
-                    }))
-                    .collect::<String>();
             if let Some(n) = required(schema.fields, head) {
-                r.expect(n, what);
+                r.expect(n, schema.entity, head.ints.clone());
             }
         }
         let v = match (f.repeat, f.ty) {
