@@ -371,7 +371,16 @@ pub struct ParameterReader<'a> {
     max: usize,
     /// The parameter count the record's declared counts need, and what for (the entity
     /// type and the counts it was computed from), once known.
-    expected: Option<(usize, i64, Vec<(&'static str, i64)>)>,
+    expected: Option<Expected>,
+}
+
+/// What a record must hold once its counts are read: the parameters after the entity
+/// type, the entity type, and the counts they follow from (for [`ErrorKind::Truncated`]).
+#[derive(Debug, Clone)]
+struct Expected {
+    needed: usize,
+    entity: i64,
+    counts: Vec<(&'static str, i64)>,
 }
 
 impl<'a> ParameterReader<'a> {
@@ -406,7 +415,11 @@ impl<'a> ParameterReader<'a> {
     /// the entity type, by the counts `counts`: reading past the record's end before that is
     /// a [`ErrorKind::Truncated`] error naming them.
     pub fn expect(&mut self, needed: usize, entity: i64, counts: Vec<(&'static str, i64)>) {
-        self.expected = Some((needed, entity, counts));
+        self.expected = Some(Expected {
+            needed,
+            entity,
+            counts,
+        });
     }
 
     /// Room for `count` values of `width` parameters each, bounded by what the remaining
@@ -434,7 +447,11 @@ impl<'a> ParameterReader<'a> {
     #[cold]
     fn missing(&self, name: &'static str, expected: &'static str) -> Error<'a> {
         let kind = match &self.expected {
-            Some((needed, entity, counts)) if self.index <= *needed => ErrorKind::Truncated {
+            Some(Expected {
+                needed,
+                entity,
+                counts,
+            }) if self.index <= *needed => ErrorKind::Truncated {
                 what: counts
                     .iter()
                     .enumerate()
