@@ -39,15 +39,6 @@ pub struct Delimiters {
     pub record: u8,
 }
 
-impl Default for Delimiters {
-    fn default() -> Self {
-        Delimiters {
-            param: b',',
-            record: b';',
-        }
-    }
-}
-
 /// One parameter as the grammar cuts it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Parameter<'a> {
@@ -621,11 +612,8 @@ impl<'a> ParameterReader<'a> {
         }
     }
 
-    /// A string; `None` for a default or when the record ended.
+    /// A string; `None` for a default.
     pub fn string(&mut self, name: &'static str) -> Result<Option<&'a str>, Error<'a>> {
-        if self.done {
-            return Ok(None);
-        }
         self.open(name, "a Hollerith string")?;
         match string_parameter(self.d)(self.rest) {
             Ok((rest, (v, end))) => {
@@ -809,6 +797,18 @@ mod tests {
         ) {
             let s = format!("{}{tail}", toks.join(","));
             prop_assert_eq!(grammar_split(&s, D), plain_split(&s, D), "{:?}", s);
+        }
+
+        /// Where the integer fast leaf answers, it answers as the `integer_parameter` rule
+        /// (value or default, the same end and the same rest).
+        #[test]
+        fn integer_leaf_matches_the_rule(t in token(), tail in "[;, x]{0,2}") {
+            let s = format!("{t}{tail}");
+            let b = s.as_bytes();
+            if let Some((v, n, end)) = integer_value(D, b) {
+                let rule = integer_parameter(D)(b).ok().map(|(rest, (v, end))| (v, rest.len(), end));
+                prop_assert_eq!(rule, Some((v, b.len() - n, end)), "{:?}", s);
+            }
         }
 
         /// The fast real leaf answers as `parameter` followed by `parse_iges_real`

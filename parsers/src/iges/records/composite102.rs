@@ -8,14 +8,7 @@ pub(super) const SCHEMA: Schema = Schema {
     name: "Composite Curve",
     fields: &[
         Field::one("N", Type::Integer),
-        Field::times(
-            "DE",
-            Type::Pointer(CURVES),
-            Count {
-                formula: "N",
-                of: |h| h.count("N"),
-            },
-        ),
+        Field::times("DE", Type::Pointer(CURVES), Count::Field("N")),
     ],
 };
 

@@ -33,7 +33,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "knot",
             Type::Real,
-            Count {
+            Count::Formula {
                 formula: "K + M + 2",
                 of: |h| k_m(h).map(|(k, m)| k + m + 2),
             },
@@ -41,7 +41,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "weight",
             Type::Real,
-            Count {
+            Count::Formula {
                 formula: "K + 1",
                 of: |h| k_m(h).map(|(k, _)| k + 1),
             },
@@ -49,7 +49,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "X, Y, Z",
             Type::Point,
-            Count {
+            Count::Formula {
                 formula: "K + 1",
                 of: |h| k_m(h).map(|(k, _)| k + 1),
             },

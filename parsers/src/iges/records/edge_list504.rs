@@ -10,10 +10,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::one("N", Type::Integer),
         Field::group(
             "edge",
-            Count {
-                formula: "N",
-                of: |h| h.count("N"),
-            },
+            Count::Field("N"),
             &[
                 Field::one("CURV", Type::Pointer(CURVES)),
                 Field::one("SVP", Type::Pointer(&[502])),

@@ -10,14 +10,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::one("SURF", Type::Pointer(SURFACES)),
         Field::one("N", Type::Integer),
         Field::one("OF", Type::Flag),
-        Field::times(
-            "LOOP",
-            Type::Pointer(&[508]),
-            Count {
-                formula: "N",
-                of: |h| h.count("N"),
-            },
-        ),
+        Field::times("LOOP", Type::Pointer(&[508]), Count::Field("N")),
     ],
 };
 

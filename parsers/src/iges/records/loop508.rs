@@ -11,10 +11,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::one("N", Type::Integer),
         Field::group(
             "edge",
-            Count {
-                formula: "N",
-                of: |h| h.count("N"),
-            },
+            Count::Field("N"),
             &[
                 Field::one("TYPE", Type::Flag),
                 Field::one("EDGE", Type::Pointer(&[504, 502])),
@@ -23,10 +20,7 @@ pub(super) const SCHEMA: Schema = Schema {
                 Field::one("K", Type::Integer),
                 Field::group(
                     "parameter curve",
-                    Count {
-                        formula: "K",
-                        of: |h| h.count("K"),
-                    },
+                    Count::Field("K"),
                     &[
                         Field::one("ISOP", Type::Flag),
                         Field::one("CURV", Type::Pointer(CURVES)),

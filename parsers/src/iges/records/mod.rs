@@ -100,11 +100,26 @@ pub enum Repeat {
 /// `K + M + 2` knots), with checked arithmetic: a hostile count is an error, not an
 /// allocation.
 #[derive(Debug, Clone, Copy)]
-pub struct Count {
-    /// The formula as the standard writes it.
-    pub formula: &'static str,
-    /// Evaluates it.
-    pub of: fn(&Head) -> Result<usize, String>,
+pub enum Count {
+    /// The value of an `Integer` field read before (e.g. `N`).
+    Field(&'static str),
+    /// A formula over the integers read before.
+    Formula {
+        /// The formula as the standard writes it.
+        formula: &'static str,
+        /// Evaluates it.
+        of: fn(&Head) -> Result<usize, String>,
+    },
+}
+
+impl Count {
+    /// The count, given the integers read so far.
+    pub fn of(&self, head: &Head) -> Result<usize, String> {
+        match self {
+            Count::Field(name) => head.count(name),
+            Count::Formula { of, .. } => of(head),
+        }
+    }
 }
 
 /// One parameter (or repeated parameters) of an entity.
@@ -344,9 +359,9 @@ pub fn required(fields: &[Field], head: &Head) -> Option<usize> {
         let k = match f.repeat {
             Repeat::One => f.ty.width(),
             Repeat::Optional => 0,
-            Repeat::Times(c) => (c.of)(head).ok()?.checked_mul(f.ty.width())?,
+            Repeat::Times(c) => c.of(head).ok()?.checked_mul(f.ty.width())?,
             Repeat::Group(c, inner) => {
-                let count = (c.of)(head).ok()?;
+                let count = c.of(head).ok()?;
                 if count == 0 {
                     0
                 } else {
@@ -388,7 +403,8 @@ fn read_fields<'a>(
     let mut expecting = false;
     for f in fields {
         let count = |c: &Count, head: &Head| {
-            (c.of)(head).map_err(|m| Error::format(first, ErrorKind::OutOfRange(m)))
+            c.of(head)
+                .map_err(|m| Error::format(first, ErrorKind::OutOfRange(m)))
         };
         if top && !expecting && !matches!(f.repeat, Repeat::One | Repeat::Optional) {
             // The counts are read: declare what the record must hold.
@@ -422,7 +438,6 @@ fn read_fields<'a>(
                 Some(x) => Value::Real(x),
                 None => Value::Absent,
             },
-            (Repeat::Optional, Type::String) => Value::String(r.string(f.name)?),
             (Repeat::Optional, ty) => {
                 if r.done() {
                     Value::Absent
@@ -540,7 +555,7 @@ mod tests {
             fields
                 .iter()
                 .find_map(|f| match f.repeat {
-                    Repeat::Times(c) => Some((c.of)(&head(ints))),
+                    Repeat::Times(c) => Some(c.of(&head(ints))),
                     _ => None,
                 })
                 .unwrap()

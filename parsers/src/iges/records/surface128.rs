@@ -53,7 +53,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "S knot",
             Type::Real,
-            Count {
+            Count::Formula {
                 formula: "K1 + M1 + 2",
                 of: |h| counts(h).map(|[k1, _, m1, _]| k1 + m1 + 2),
             },
@@ -61,7 +61,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "T knot",
             Type::Real,
-            Count {
+            Count::Formula {
                 formula: "K2 + M2 + 2",
                 of: |h| counts(h).map(|[_, k2, _, m2]| k2 + m2 + 2),
             },
@@ -69,7 +69,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "weight",
             Type::Real,
-            Count {
+            Count::Formula {
                 formula: "(K1 + 1)(K2 + 1)",
                 of: |h| counts(h).map(|[k1, k2, _, _]| (k1 + 1) * (k2 + 1)),
             },
@@ -77,7 +77,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::times(
             "X, Y, Z",
             Type::Point,
-            Count {
+            Count::Formula {
                 formula: "(K1 + 1)(K2 + 1)",
                 of: |h| counts(h).map(|[k1, k2, _, _]| (k1 + 1) * (k2 + 1)),
             },

@@ -11,14 +11,7 @@ pub(super) const SCHEMA: Schema = Schema {
         Field::one("N1", Type::Flag),
         Field::one("N2", Type::Integer),
         Field::one("PTO", Type::Pointer(&[142])),
-        Field::times(
-            "PTI",
-            Type::Pointer(&[142]),
-            Count {
-                formula: "N2",
-                of: |h| h.count("N2"),
-            },
-        ),
+        Field::times("PTI", Type::Pointer(&[142]), Count::Field("N2")),
     ],
 };
 
