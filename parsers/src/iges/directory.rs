@@ -1,5 +1,5 @@
 //! Directory Entries: two 80-column records of ten 8-column fields each (IGES 5.3 section
-//! 2.2.4.4; spec.md a.4). The rule that reads them is [`super::grammar::directory`].
+//! 2.2.4.4). The rule that reads them is [`super::grammar::directory`].
 
 /// The status number (DE field 9): four 2-digit fields.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

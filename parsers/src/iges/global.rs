@@ -1,5 +1,5 @@
-//! The Global section: delimiters and the 26 typed parameters (IGES 5.3 section 2.2.4.3;
-//! spec.md a.2). The rule that reads it is [`super::grammar::global`].
+//! The Global section: delimiters and the 26 typed parameters (IGES 5.3 section
+//! 2.2.4.3). The rule that reads it is [`super::grammar::global`].
 
 use super::grammar::parameters::Delimiters;
 

@@ -1,4 +1,4 @@
-//! The IGES 5.3 writer: exact 80-column records (spec.md a.1-a.6; architecture.md 4.7).
+//! The IGES 5.3 writer: exact 80-column records (section 2.2.4).
 //!
 //! - S: free text in columns 1-72;
 //! - G: the 26 parameters, strings as Hollerith, defaults left empty (`,,` for the default

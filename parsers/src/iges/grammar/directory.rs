@@ -1,4 +1,4 @@
-//! The Directory Entry (IGES 5.3 section 2.2.4.4; spec.md a.4): two records of ten
+//! The Directory Entry (IGES 5.3 section 2.2.4.4): two records of ten
 //! 8-column fields each, the twentieth and tenth being the section letter and sequence
 //! number.
 //!

@@ -1,4 +1,4 @@
-//! The Global section (IGES 5.3 section 2.2.4.3; spec.md a.2): the two delimiters, then
+//! The Global section (IGES 5.3 section 2.2.4.3): the two delimiters, then
 //! 24 typed parameters in the free format of section 2.2.3.
 //!
 //! ```text
@@ -73,7 +73,7 @@ fn delimiter_definition(i: &[u8]) -> Option<(&[u8], u8)> {
 
 /// Parses the Global section from its records (data columns 1-72 of each).
 ///
-/// Delimiter bootstrap (spec.md a.2): a first character equal to `,` means the default
+/// Delimiter bootstrap (section 2.2.4.3): a first character equal to `,` means the default
 /// parameter delimiter; otherwise parameter 1 must be `1Hx`. Parameter 2 is then empty
 /// (default `;`) or `1Hy`. Malformed ordinary parameters become `None` with a
 /// `global_field` warning; a malformed units flag (14) or model scale (13) is an error,

@@ -1,4 +1,4 @@
-//! The fixed 80-column records and the five sections (IGES 5.3 section 2.2.4; spec.md a.1).
+//! The fixed 80-column records and the five sections (IGES 5.3 section 2.2.4).
 //!
 //! ```text
 //! file    = { record } ; sections in the order S G D P T

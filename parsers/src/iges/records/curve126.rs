@@ -60,7 +60,7 @@ pub(super) const SCHEMA: Schema = Schema {
     ],
 };
 
-/// Entity 126, Rational B-Spline Curve (IGES 5.3 section 4.23; spec.md b.1).
+/// Entity 126, Rational B-Spline Curve (IGES 5.3 section 4.23).
 ///
 /// | index | name | meaning |
 /// |---|---|---|

@@ -89,7 +89,7 @@ pub(super) const SCHEMA: Schema = Schema {
     ],
 };
 
-/// Entity 128, Rational B-Spline Surface (IGES 5.3 section 4.24; spec.md b.2).
+/// Entity 128, Rational B-Spline Surface (IGES 5.3 section 4.24).
 ///
 /// Weights and control points are kept in the file's order, the **first index fastest**:
 /// `W(0,0), W(1,0), .., W(K1,0), W(0,1), ..`; [`Surface128::index`] maps `(i, j)`.
