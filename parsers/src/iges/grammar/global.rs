@@ -7,7 +7,7 @@
 //! ```
 //!
 //! The first two parameters define the delimiters the rest is read with, so they are read
-//! by a bootstrap rule of their own ([`delimiter_definition`]); everything after them by
+//! by a bootstrap rule of their own (`delimiter_definition`); everything after them by
 //! [`ParameterReader`].
 
 use super::super::error::{ErrorKind, ParseError, ParseWarning};

@@ -127,7 +127,7 @@ impl Entity for Curve126 {
 }
 
 impl WriteParams for Curve126 {
-    /// The parameters in [`SCHEMA`]'s order; `V(0), V(1)` and the normal are written when
+    /// The parameters in the declaration's order; `V(0), V(1)` and the normal are written when
     /// present (a missing range or normal ends the record early).
     fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
         w.int(126);

@@ -160,7 +160,7 @@ impl Entity for Surface128 {
 }
 
 impl WriteParams for Surface128 {
-    /// The parameters in [`SCHEMA`]'s order; the range is written when present.
+    /// The parameters in the declaration's order; the range is written when present.
     fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
         w.int(128);
         w.int(count(self.poles[0]) - 1);
