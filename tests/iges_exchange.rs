@@ -212,9 +212,11 @@ fn written_flags_and_global() {
     assert_eq!(g.date.as_deref(), Some("20260102.030405"));
     assert_eq!(g.version_flag, Some(11));
     assert_eq!(g.max_coordinate, Some(5e10));
-    use nurbsx_parsers::iges::schema::Curve126;
+    use nurbsx_parsers::iges::records::Curve126;
     let rec = |de: i64| {
-        Curve126::from_params(&file.parameters(file.entry(de).unwrap()).unwrap()).unwrap()
+        file.decode::<Curve126>(file.entry(de).unwrap())
+            .record
+            .unwrap()
     };
     let arc = rec(1);
     // planar, open, rational, non-periodic
@@ -255,11 +257,17 @@ fn closed_and_periodic_flags_follow_the_data() {
     doc.entities.push(entity("c", Geometry::Curve(closed)));
     let text = exchange::iges::write(&doc, &export_options()).unwrap();
     let file = nurbsx_parsers::iges::parse(&text).unwrap();
-    use nurbsx_parsers::iges::schema::Curve126;
-    let p = Curve126::from_params(&file.parameters(file.entry(1).unwrap()).unwrap()).unwrap();
+    use nurbsx_parsers::iges::records::Curve126;
+    let p = file
+        .decode::<Curve126>(file.entry(1).unwrap())
+        .record
+        .unwrap();
     assert_eq!((p.closed, p.periodic), (1, 1));
     assert_eq!((p.v0, p.v1), (Some(2.0), Some(6.0)));
-    let c = Curve126::from_params(&file.parameters(file.entry(3).unwrap()).unwrap()).unwrap();
+    let c = file
+        .decode::<Curve126>(file.entry(3).unwrap())
+        .record
+        .unwrap();
     assert_eq!((c.closed, c.periodic), (1, 0));
     let back = exchange::iges::read(&text, &ImportOptions::default()).unwrap();
     assert!(!has(&back, "flag_mismatch"), "{:#?}", back.diagnostics);

@@ -4,7 +4,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use nurbsx_parsers::iges::{self, schema};
+use nurbsx_parsers::iges::{self, records};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
@@ -14,10 +14,10 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     for entry in file.entries.iter().flatten() {
-        let Ok(p) = file.parameters(entry) else {
-            continue;
-        };
-        let _ = schema::Curve126::from_params(&p);
-        let _ = schema::Surface128::from_params(&p);
+        let _ = file.parameters(entry);
+        let _ = file.decode::<records::Curve126>(entry);
+        let _ = file.decode::<records::Surface128>(entry);
+        let _ = file.decode::<records::Transform124>(entry);
+        let _ = file.decode::<records::Loop508>(entry);
     }
 });

@@ -5,9 +5,15 @@
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use nurbsx_parsers::iges::schema::{Curve126, Surface128};
-use nurbsx_parsers::iges::writer::{WriteEntity, write};
+use nurbsx_parsers::iges::records::{Curve126, Surface128};
+use nurbsx_parsers::iges::writer::{WriteParams, write_with};
 use nurbsx_parsers::iges::{self, DirectoryEntry, Global};
+
+/// One entity to write.
+enum Record {
+    Curve(Curve126),
+    Surface(Surface128),
+}
 
 fn synthetic() -> String {
     let mut entities = Vec::new();
@@ -36,13 +42,7 @@ fn synthetic() -> String {
             normal: Some([0.0, 0.0, 0.0]),
             extra: 0,
         };
-        entities.push(WriteEntity {
-            de: DirectoryEntry {
-                entity_type: 126,
-                ..DirectoryEntry::default()
-            },
-            params: c.to_params(),
-        });
+        entities.push((126, Record::Curve(c)));
     }
     for _ in 0..1_000 {
         let n = 10;
@@ -62,13 +62,7 @@ fn synthetic() -> String {
             range: Some([0.0, 1.0, 0.0, 1.0]),
             extra: 0,
         };
-        entities.push(WriteEntity {
-            de: DirectoryEntry {
-                entity_type: 128,
-                ..DirectoryEntry::default()
-            },
-            params: s.to_params(),
-        });
+        entities.push((128, Record::Surface(s)));
     }
     let global = Global {
         param_delimiter: ',',
@@ -77,7 +71,24 @@ fn synthetic() -> String {
         units_name: Some("MM".into()),
         ..Global::default()
     };
-    write("synthetic benchmark file", &global, &entities).unwrap()
+    let des: Vec<DirectoryEntry> = entities
+        .iter()
+        .map(|&(entity_type, _)| DirectoryEntry {
+            entity_type,
+            ..DirectoryEntry::default()
+        })
+        .collect();
+    write_with(
+        "synthetic benchmark file",
+        &global,
+        &des,
+        0,
+        |i, w| match &entities[i].1 {
+            Record::Curve(c) => c.write_params(w),
+            Record::Surface(s) => s.write_params(w),
+        },
+    )
+    .unwrap()
 }
 
 fn bench(c: &mut Criterion) {
@@ -93,10 +104,9 @@ fn bench(c: &mut Criterion) {
             let file = iges::parse(&text).unwrap();
             let mut poles = 0usize;
             for e in file.entries.iter().flatten() {
-                let p = file.parameters(e).unwrap();
                 poles += match e.entity_type {
-                    126 => Curve126::from_params(&p).unwrap().points.len(),
-                    _ => Surface128::from_params(&p).unwrap().points.len(),
+                    126 => file.decode::<Curve126>(e).record.unwrap().points.len(),
+                    _ => file.decode::<Surface128>(e).record.unwrap().points.len(),
                 };
             }
             poles

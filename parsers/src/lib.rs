@@ -5,9 +5,12 @@
 //! - [`step`]: ISO 10303-21 (STEP Part 21) exchange structures: lexer, parser, a borrowed
 //!   AST with an `#id` index, typed records for the ISO 10303-42 B-spline entities, and a
 //!   writer.
-//! - [`iges`]: IGES 5.3 fixed-column files: the S, G, D, P, T sections, the Global section
-//!   with its delimiters, Directory Entries, free-format Parameter Data, typed records for
-//!   entities 124, 126 and 128, and a writer.
+//! - [`iges`]: IGES 5.3 fixed-column files: a nom grammar ([`iges::grammar`]: records and
+//!   the S, G, D, P, T sections, the Global section with its delimiters and Hollerith
+//!   strings, Directory Entries, free-format parameter data) whose fast leaves are the SWAR
+//!   sequence-number reader and the one-pass real reader of the P section; one declaration
+//!   per entity read ([`iges::records`]: 124, 126, 128, 102, 142, 144, 504, 508, 510) with
+//!   one decoder for all; a writer from typed records.
 //! - [`real`]: the one place where REAL literals are lexed and written (shortest digits
 //!   that round-trip an `f64`, always with a decimal point), shared by both formats.
 //! - [`limits`]: explicit resource limits applied while parsing untrusted input.

@@ -16,7 +16,7 @@ mod iges_support;
 use iges_support::{Builder, De, OCCT_GLOBAL, rec, seq_reals};
 use nurbsx_parsers::iges::{
     self, ErrorKind,
-    schema::{Curve126, Surface128, Transform124},
+    records::{Curve126, Surface128, Transform124},
 };
 
 const DEFAULT_GLOBAL: &str = ",,4Htest,8Hfile.igs,6Hnurbsx,3H0.1,32,38,6,308,15,,1.,2,2HMM,1,0.01,15H20260101.120000,1.E-7,100.,,,11,0,15H20260101.120000,;";
@@ -41,7 +41,7 @@ fn curve_126_every_slot_lands_in_place() {
     let file = iges::parse(&text).unwrap();
     assert!(file.warnings.is_empty(), "{:?}", file.warnings);
     let e = file.entry(de as i64).unwrap();
-    let c = Curve126::from_params(&file.parameters(e).unwrap()).unwrap();
+    let c = file.decode::<Curve126>(e).record.unwrap();
     assert_eq!(c.degree, 2);
     assert_eq!((c.planar, c.closed, c.polynomial, c.periodic), (1, 0, 0, 0));
     assert_eq!(c.knots, (101..=107).map(f64::from).collect::<Vec<_>>());
@@ -85,8 +85,10 @@ fn surface_128_non_square_first_index_fastest() {
     );
     let text = b.build();
     let file = iges::parse(&text).unwrap();
-    let s =
-        Surface128::from_params(&file.parameters(file.entry(de as i64).unwrap()).unwrap()).unwrap();
+    let s = file
+        .decode::<Surface128>(file.entry(de as i64).unwrap())
+        .record
+        .unwrap();
     assert_eq!(s.poles, [4, 3]);
     assert_eq!(s.degree, [2, 1]);
     assert_eq!(s.closed, [0, 1]);
@@ -120,12 +122,16 @@ fn planar_126_without_normal_and_missing_range() {
     );
     let text = b.build();
     let file = iges::parse(&text).unwrap();
-    let ca =
-        Curve126::from_params(&file.parameters(file.entry(a as i64).unwrap()).unwrap()).unwrap();
+    let ca = file
+        .decode::<Curve126>(file.entry(a as i64).unwrap())
+        .record
+        .unwrap();
     assert_eq!(ca.planar, 1);
     assert_eq!((ca.v0, ca.v1, ca.normal), (Some(0.0), Some(1.0), None));
-    let cc =
-        Curve126::from_params(&file.parameters(file.entry(c as i64).unwrap()).unwrap()).unwrap();
+    let cc = file
+        .decode::<Curve126>(file.entry(c as i64).unwrap())
+        .record
+        .unwrap();
     assert_eq!((cc.v0, cc.v1, cc.normal), (None, None, None));
     assert_eq!(cc.points[1], [1.0, 0.0, 0.0]);
 }
@@ -141,9 +147,9 @@ fn exponents_comments_and_blanks() {
     let de = b.entity_lines(De::default(), &lines);
     let text = b.build();
     let file = iges::parse(&text).unwrap();
-    let p = file.parameters(file.entry(de as i64).unwrap()).unwrap();
-    assert!(p.warnings.is_empty(), "{:?}", p.warnings);
-    let c = Curve126::from_params(&p).unwrap();
+    let d = file.decode::<Curve126>(file.entry(de as i64).unwrap());
+    assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+    let c = d.record.unwrap();
     assert_eq!(c.knots, vec![0.0, 0.0, 1.0, 1.0]);
     assert_eq!(c.weights, vec![1.0, 5.0]);
     assert_eq!(c.points, vec![[-390.5, 0.21, 0.5], [1.0, 1.0, 0.0]]);
@@ -169,8 +175,10 @@ fn custom_delimiters_and_hollerith_with_delimiters() {
     assert_eq!(g.units_flag, Some(6));
     assert_eq!(g.units_name.as_deref(), Some("M"));
     assert_eq!(g.resolution, Some(1e-6));
-    let c =
-        Curve126::from_params(&file.parameters(file.entry(de as i64).unwrap()).unwrap()).unwrap();
+    let c = file
+        .decode::<Curve126>(file.entry(de as i64).unwrap())
+        .record
+        .unwrap();
     assert_eq!(c.points[1], [1000.0, 0.0, 0.0]);
 
     // The form `1H/,1H#,` (a comma after the declarations) is tolerated with a warning.
@@ -288,7 +296,7 @@ fn euclid_excerpt() {
     let file = iges::parse(&text).unwrap();
     let e = file.entry(21).unwrap();
     assert_eq!(e.parameter_pointer, 41);
-    let c = Curve126::from_params(&file.parameters(e).unwrap()).unwrap();
+    let c = file.decode::<Curve126>(e).record.unwrap();
     assert_eq!(c.degree, 3);
     assert_eq!(c.knots, vec![0., 0., 0., 0., 1., 1., 1., 1.]);
     assert_eq!(c.weights, vec![1.; 4]);
@@ -299,7 +307,7 @@ fn euclid_excerpt() {
     // The fillers read cleanly as raw entities, comment lines included.
     let p = file.parameters(file.entry(19).unwrap()).unwrap();
     assert_eq!(p.len(), 5);
-    assert_eq!(p.real(1, "x").unwrap(), 9.0);
+    assert_eq!(p.real(1).unwrap(), 9.0);
     assert!(p.warnings.is_empty());
 }
 
@@ -338,14 +346,16 @@ fn transform_124_and_other_entities_kept_raw() {
     );
     let text = b.build();
     let file = iges::parse(&text).unwrap();
-    let tr = Transform124::from_params(&file.parameters(file.entry(t as i64).unwrap()).unwrap())
+    let tr = file
+        .decode::<Transform124>(file.entry(t as i64).unwrap())
+        .record
         .unwrap();
     assert_eq!(tr.apply([1.0, 2.0, 3.0]), [8.0, 21.0, 33.0]);
     assert_eq!(file.entry(c as i64).unwrap().transform, t as i64);
     let p = file.parameters(file.entry(s as i64).unwrap()).unwrap();
     assert_eq!((p.entity_type, p.form, p.len()), (402, 7, 4));
     let p = file.parameters(file.entry(h as i64).unwrap()).unwrap();
-    assert_eq!(p.string(2, "name").unwrap(), Some("PART1"));
+    assert_eq!(p.string(2), Some("PART1"));
 }
 
 #[test]
@@ -393,7 +403,7 @@ fn crlf_and_short_lines_tolerated() {
     let crlf = text.replace('\n', "\r\n");
     let f = iges::parse(&crlf).unwrap();
     assert!(f.warnings.iter().any(|w| w.code == "crlf"));
-    let c = Curve126::from_params(&f.parameters(f.entry(1).unwrap()).unwrap()).unwrap();
+    let c = f.decode::<Curve126>(f.entry(1).unwrap()).record.unwrap();
     assert_eq!(c.normal, Some([501.0, 502.0, 503.0]));
     // Short S/G/T lines: trailing blanks of the data columns removed.
     let short: String = text
@@ -458,12 +468,16 @@ fn entity_errors_are_located_and_do_not_stop_others() {
     let text = b.build();
     let file = iges::parse(&text).unwrap();
     for de in [good1, good2] {
-        let c = Curve126::from_params(&file.parameters(file.entry(de as i64).unwrap()).unwrap())
+        let c = file
+            .decode::<Curve126>(file.entry(de as i64).unwrap())
+            .record
             .unwrap();
         assert_eq!(c.weights, vec![201.0, 202.0, 203.0, 204.0]);
     }
-    let pb = file.parameters(file.entry(bad as i64).unwrap()).unwrap();
-    let e = Curve126::from_params(&pb).unwrap_err();
+    let e = file
+        .decode::<Curve126>(file.entry(bad as i64).unwrap())
+        .record
+        .unwrap_err();
     assert_eq!(e.de, Some(bad));
     assert_eq!(e.section, 'P');
     // The record was split at 64 columns: find where "1.52.3" actually is.
@@ -477,8 +491,10 @@ fn entity_errors_are_located_and_do_not_stop_others() {
         .unwrap();
     assert_eq!((e.sequence, e.column), (seq, Some(col)));
     assert!(matches!(e.kind, ErrorKind::BadParameter { .. }), "{e}");
-    let ph = file.parameters(file.entry(huge as i64).unwrap()).unwrap();
-    let e = Curve126::from_params(&ph).unwrap_err();
+    let e = file
+        .decode::<Curve126>(file.entry(huge as i64).unwrap())
+        .record
+        .unwrap_err();
     assert!(matches!(e.kind, ErrorKind::Truncated { .. }), "{e}");
     assert_eq!(e.de, Some(huge));
 }
@@ -606,5 +622,157 @@ fn missing_start_section_and_global_field_13_missing() {
     assert_eq!(
         e.column,
         Some(text.lines().nth(1).unwrap().find(",MM,").unwrap() + 2)
+    );
+}
+
+/// The pointer entities decode by their declarations: every field lands in place, the
+/// pointer walk lists what the declarations call pointers, and a record shorter than its
+/// counts is an error naming them.
+#[test]
+fn pointer_entities_decode_by_their_declarations() {
+    use nurbsx_parsers::iges::records::{
+        CompositeCurve102, CurveOnSurface142, Edge, EdgeList504, Face510, Loop508, LoopEdge,
+        TrimmedSurface144,
+    };
+    let ty = |ty| De {
+        ty,
+        ..De::default()
+    };
+    let mut b = Builder::new(DEFAULT_GLOBAL);
+    let c1 = b.entity(De::default(), &sentinel_126()); // D1
+    let c2 = b.entity(De::default(), &sentinel_126()); // D3
+    let comp = b.entity(ty(102), "102,2,1,3;"); // D5
+    let cos = b.entity(ty(142), "142,1,31,5,,2;"); // D7
+    let trim = b.entity(ty(144), "144,31,1,2,7,7,7;"); // D9
+    let edges = b.entity(ty(504), "504,2,1,41,1,41,2,3,41,2,41,1;"); // D11
+    let lp = b.entity(ty(508), "508,2,0,11,1,1,1,0,5,0,11,2,0,2,1,1,0,3;"); // D13
+    let face = b.entity(ty(510), "510,31,1,1,13;"); // D15
+    let short = b.entity(ty(102), "102,3,1;"); // D17
+    let negative = b.entity(ty(102), "102,-1;"); // D19
+    let text = b.build();
+    let file = iges::parse(&text).unwrap();
+    let entry = |de: usize| file.entry(de as i64).unwrap();
+    assert_eq!((c1, c2), (1, 3));
+    assert_eq!(
+        file.decode::<CompositeCurve102>(entry(comp))
+            .record
+            .unwrap(),
+        CompositeCurve102 {
+            members: vec![1, 3]
+        }
+    );
+    assert_eq!(
+        file.decode::<CurveOnSurface142>(entry(cos)).record.unwrap(),
+        CurveOnSurface142 {
+            creation: 1,
+            surface: 31,
+            parameter_curve: 5,
+            model_curve: 0,
+            preferred: 2
+        }
+    );
+    assert_eq!(
+        file.decode::<TrimmedSurface144>(entry(trim))
+            .record
+            .unwrap(),
+        TrimmedSurface144 {
+            surface: 31,
+            outer_given: 1,
+            outer: 7,
+            inner: vec![7, 7]
+        }
+    );
+    assert_eq!(
+        file.decode::<EdgeList504>(entry(edges)).record.unwrap(),
+        EdgeList504 {
+            edges: vec![
+                Edge {
+                    curve: 1,
+                    start: (41, 1),
+                    end: (41, 2)
+                },
+                Edge {
+                    curve: 3,
+                    start: (41, 2),
+                    end: (41, 1)
+                },
+            ]
+        }
+    );
+    assert_eq!(
+        file.decode::<Loop508>(entry(lp)).record.unwrap(),
+        Loop508 {
+            edges: vec![
+                LoopEdge {
+                    kind: 0,
+                    edge: 11,
+                    index: 1,
+                    orientation: 1,
+                    parameter_curves: vec![(0, 5)]
+                },
+                LoopEdge {
+                    kind: 0,
+                    edge: 11,
+                    index: 2,
+                    orientation: 0,
+                    parameter_curves: vec![(1, 1), (0, 3)]
+                },
+            ]
+        }
+    );
+    assert_eq!(
+        file.decode::<Face510>(entry(face)).record.unwrap(),
+        Face510 {
+            surface: 31,
+            outer_first: 1,
+            loops: vec![13]
+        }
+    );
+    // The pointer walk: names, values and the types each field may name.
+    let refs = file.references(entry(lp)).unwrap().unwrap();
+    let pointers: Vec<(&str, i64)> = refs.iter().map(|&(n, p, _)| (n, p)).collect();
+    assert_eq!(
+        pointers,
+        vec![
+            ("EDGE", 11),
+            ("CURV", 5),
+            ("EDGE", 11),
+            ("CURV", 1),
+            ("CURV", 3)
+        ]
+    );
+    assert_eq!(refs[0].2, &[504, 502]);
+    let refs = file.references(entry(cos)).unwrap().unwrap();
+    assert_eq!(
+        refs.iter().map(|&(n, p, _)| (n, p)).collect::<Vec<_>>(),
+        vec![("SPTR", 31), ("BPTR", 5)]
+    );
+    assert!(file.references(entry(c1)).unwrap().unwrap().is_empty());
+    // Arity from the declaration: N = 3 needs 4 parameters, the record holds 2.
+    let e = file
+        .decode::<CompositeCurve102>(entry(short))
+        .record
+        .unwrap_err();
+    assert!(
+        matches!(&e.kind, ErrorKind::Truncated { what, needed: 4, present: 2 } if what == "102 with N = 3"),
+        "{e}"
+    );
+    assert_eq!((e.section, e.de), ('P', Some(short)));
+    let e = file
+        .decode::<CompositeCurve102>(entry(negative))
+        .record
+        .unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::OutOfRange(_)), "{e}");
+    // A record of another type is refused by name.
+    let e = file.decode::<Face510>(entry(comp)).record.unwrap_err();
+    assert!(
+        matches!(
+            e.kind,
+            ErrorKind::WrongEntity {
+                found: 102,
+                expected: 510
+            }
+        ),
+        "{e}"
     );
 }

@@ -3,10 +3,11 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nurbsx_parsers::iges::{
-    self, DirectoryEntry, Global, Status,
-    schema::{Curve126, Surface128, Transform124},
-    writer::{Param, WriteEntity, write},
+    self, DirectoryEntry, Global, Status, WriteError,
+    records::{Curve126, Surface128, Transform124},
+    writer::{ParamWriter, WriteParams, write_with},
 };
+use nurbsx_parsers::real::NonFiniteReal;
 use proptest::prelude::*;
 
 fn global() -> Global {
@@ -38,14 +39,40 @@ fn global() -> Global {
     }
 }
 
-fn entity(ty: i64, params: Vec<Param>) -> WriteEntity {
+/// An entity to write: its Directory Entry and its typed record.
+struct WriteEntity {
+    de: DirectoryEntry,
+    record: Box<dyn WriteParams>,
+}
+
+fn entity(ty: i64, record: impl WriteParams + 'static) -> WriteEntity {
     WriteEntity {
         de: DirectoryEntry {
             entity_type: ty,
             ..DirectoryEntry::default()
         },
-        params,
+        record: Box::new(record),
     }
+}
+
+/// A 406 Property entity with one name: a Hollerith string long enough to span lines.
+struct Name406(String);
+
+impl WriteParams for Name406 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(406);
+        w.int(1);
+        w.text(&self.0);
+        Ok(())
+    }
+}
+
+/// Records in, text out.
+fn write(start: &str, global: &Global, entities: &[WriteEntity]) -> Result<String, WriteError> {
+    let des: Vec<DirectoryEntry> = entities.iter().map(|e| e.de.clone()).collect();
+    write_with(start, global, &des, 0, |i, w| {
+        entities[i].record.write_params(w)
+    })
 }
 
 fn curve(points: Vec<[f64; 3]>, weights: Vec<f64>) -> Curve126 {
@@ -112,7 +139,7 @@ fn layout_is_column_exact_and_reads_back_equal() {
         rows: [[0., -1., 0., 10.], [1., 0., 0., 20.], [0., 0., 1., 30.]],
         form: 0,
     };
-    let mut ce = entity(126, c.to_params());
+    let mut ce = entity(126, c.clone());
     ce.de.transform = 1; // the 124 written first
     ce.de.label = "CURVE1".into();
     ce.de.status = Status {
@@ -121,13 +148,10 @@ fn layout_is_column_exact_and_reads_back_equal() {
     };
     ce.de.subscript = 7;
     let entities = vec![
-        entity(124, t.to_params()),
+        entity(124, t),
         ce,
-        entity(128, s.to_params()),
-        entity(
-            406,
-            vec![Param::Int(406), Param::Int(1), Param::Text("x".repeat(150))],
-        ),
+        entity(128, s.clone()),
+        entity(406, Name406("x".repeat(150))),
     ];
     let text = write("first line\nsecond line", &global(), &entities).unwrap();
 
@@ -189,15 +213,21 @@ fn layout_is_column_exact_and_reads_back_equal() {
         ),
         (1, "CURVE1", 5, 7)
     );
-    let c2 = Curve126::from_params(&file.parameters(e).unwrap()).unwrap();
+    let c2 = file.decode::<Curve126>(e).record.unwrap();
     assert_eq!(c2, c);
     assert!(c2.points[3][0].is_sign_negative());
-    let s2 = Surface128::from_params(&file.parameters(file.entry(5).unwrap()).unwrap()).unwrap();
+    let s2 = file
+        .decode::<Surface128>(file.entry(5).unwrap())
+        .record
+        .unwrap();
     assert_eq!(s2, s);
-    let t2 = Transform124::from_params(&file.parameters(file.entry(1).unwrap()).unwrap()).unwrap();
+    let t2 = file
+        .decode::<Transform124>(file.entry(1).unwrap())
+        .record
+        .unwrap();
     assert_eq!(t2.rows, t.rows);
     let p = file.parameters(file.entry(7).unwrap()).unwrap();
-    assert_eq!(p.string(2, "name").unwrap(), Some("x".repeat(150).as_str()));
+    assert_eq!(p.string(2), Some("x".repeat(150).as_str()));
 }
 
 #[test]
@@ -209,11 +239,14 @@ fn custom_delimiters_written_and_read() {
         vec![[0.0; 3], [1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
         vec![1.0; 3],
     );
-    let text = write("", &g, &[entity(126, c.to_params())]).unwrap();
+    let text = write("", &g, &[entity(126, c.clone())]).unwrap();
     assert!(text.lines().nth(1).unwrap().starts_with("1H//1H#/"));
     let file = iges::parse(&text).unwrap();
     assert_eq!(file.global, g);
-    let c2 = Curve126::from_params(&file.parameters(file.entry(1).unwrap()).unwrap()).unwrap();
+    let c2 = file
+        .decode::<Curve126>(file.entry(1).unwrap())
+        .record
+        .unwrap();
     assert_eq!(c2, c);
 }
 
@@ -223,7 +256,7 @@ fn non_finite_is_refused() {
         vec![[0.0; 3], [f64::NAN, 2.0, 3.0], [4.0, 5.0, 6.0]],
         vec![1.0; 3],
     );
-    assert!(write("", &global(), &[entity(126, c.to_params())]).is_err());
+    assert!(write("", &global(), &[entity(126, c.clone())]).is_err());
 }
 
 proptest! {
@@ -238,9 +271,9 @@ proptest! {
         let points: Vec<[f64; 3]> = (0..4).map(|k| [vals[3 * k], vals[3 * k + 1], vals[3 * k + 2]]).collect();
         let weights: Vec<f64> = vals[12..16].iter().map(|w| w.abs().max(1e-300)).collect();
         let c = curve(points, weights);
-        let text = write("", &global(), &[entity(126, c.to_params())]).unwrap();
+        let text = write("", &global(), &[entity(126, c.clone())]).unwrap();
         let file = iges::parse(&text).unwrap();
-        let c2 = Curve126::from_params(&file.parameters(file.entry(1).unwrap()).unwrap()).unwrap();
+        let c2 = file.decode::<Curve126>(file.entry(1).unwrap()).record.unwrap();
         for (a, b) in c.points.iter().flatten().zip(c2.points.iter().flatten()) {
             prop_assert_eq!(a.to_bits(), b.to_bits());
         }

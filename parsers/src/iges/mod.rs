@@ -1,10 +1,18 @@
 //! # IGES 5.3 fixed-column ASCII files
 //!
-//! The format layer for IGES: records and sections ([`records`]), the Global section with
-//! its delimiters ([`global`]), Directory Entries ([`directory`]), the free-format
-//! parameter tokenizer ([`params`]), typed records for entities 124, 126 and 128
-//! ([`schema`], with all parameter-slot arithmetic in [`schema::layout`]) and the writer
-//! ([`writer`]). No geometry: turning records into NURBS is left to the consumer of these records.
+//! The format layer for IGES, in three parts:
+//!
+//! - [`grammar`]: the nom rules of the standard, by part of the file: 80-column records and
+//!   sections, the Global section with its delimiters and Hollerith strings, the Directory
+//!   Entry's twenty fields, free-format parameter data with both delimiters and `E`/`D`
+//!   exponents. The fast leaves (the SWAR sequence-number reader, the one-pass real reader
+//!   of the P section) are rules of that one grammar.
+//! - [`records`]: one declaration per entity nurbsx reads (124, 126, 128 and the 102, 142,
+//!   144, 504, 508, 510 whose pointers it follows) and the typed record built from it;
+//!   [`IgesFile::decode`] is the one decoder of every declared entity.
+//! - [`writer`]: typed records in, 80-column text out.
+//!
+//! No geometry: turning records into NURBS is left to the consumer of these records.
 //!
 //! ```
 //! # use nurbsx_parsers::iges;
@@ -17,43 +25,42 @@
 //! text += &rec("S      1G      1D      2P      1", 'T', 1);
 //! let file = iges::parse(&text)?;
 //! let entry = file.entries[0].as_ref().unwrap();
-//! let curve = iges::schema::Curve126::from_params(&file.parameters(entry)?)?;
+//! let curve = file.decode::<iges::records::Curve126>(entry).record?;
 //! assert_eq!(curve.points[1], [1., 1., 1.]);
 //! assert_eq!((curve.v0, curve.v1), (Some(0.), Some(1.)));
 //! assert_eq!(curve.normal, None); // the optional normal is absent
 //! # Ok::<(), iges::ParseError>(())
 //! ```
 //!
-//! Robustness: every count read from the file is compared with the parameters actually
-//! present before anything is allocated; all conversions are checked; one entity's bad
-//! parameters give a located error for that entity only ([`IgesFile::parameters`] is
+//! Robustness: what a count read from the file allocates is bounded by the data actually
+//! present, and a record shorter than its counts declare is an error naming them; all
+//! conversions are checked; one entity's bad
+//! parameters give a located error for that entity only ([`IgesFile::decode`] is
 //! called per entity), the others still parse.
 
-pub mod direct;
 pub mod directory;
 pub mod error;
 pub mod global;
-pub mod params;
+pub mod grammar;
 pub mod records;
-pub mod schema;
 pub mod writer;
 
-pub use direct::{Decoded, Scratch};
 pub use directory::{DirectoryEntry, Status};
 pub use error::{ErrorKind, ParseError, ParseWarning, WriteError};
 pub use global::Global;
-pub use params::{Token, TokenKind, Tokenizer};
-pub use records::Record;
+pub use grammar::parameters::{Delimiters, Parameter};
+pub use records::Entity;
 
 use crate::Limits;
-use crate::real::parse_iges_real;
-use records::field;
+use crate::grammar::Cause;
+use grammar::parameters::{Error, ParameterReader};
+use grammar::records::{Record, field};
 
 /// Data columns of a Parameter Data record (1-64); 65 is blank, 66-72 the back-pointer.
 pub const P_DATA_COLUMNS: usize = 64;
 
 /// A parsed IGES file: the Start text, the Global section, the Directory Entries, and
-/// the Parameter Data records, which are tokenized per entity on demand.
+/// the Parameter Data records, which are decoded per entity on demand.
 #[derive(Debug, Clone)]
 pub struct IgesFile<'a> {
     /// The Start section text (columns 1-72 of each S record, right-trimmed, joined by `\n`).
@@ -68,7 +75,7 @@ pub struct IgesFile<'a> {
     /// Terminate record counts `[S, G, D, P]` as declared, when readable.
     pub terminate_counts: Option<[usize; 4]>,
     parameters: Vec<Record<'a>>,
-    tokenizer: Tokenizer,
+    delimiters: Delimiters,
     limits: Limits,
 }
 
@@ -78,11 +85,11 @@ pub fn parse(text: &str) -> Result<IgesFile<'_>, ParseError> {
 }
 
 /// Parses an IGES file: sections, Global section and Directory Entries. Parameter Data is
-/// tokenized per entity by [`IgesFile::parameters`].
+/// decoded per entity by [`IgesFile::decode`].
 pub fn parse_with<'a>(text: &'a str, limits: &Limits) -> Result<IgesFile<'a>, ParseError> {
     let mut warnings = Vec::new();
-    let sections = records::split(text, limits, &mut warnings)?;
-    let global = Global::parse(&sections.global, &mut warnings)?;
+    let sections = grammar::records::split(text, limits, &mut warnings)?;
+    let global = grammar::global::global_section(&sections.global, &mut warnings)?;
     let d = &sections.directory;
     if d.len() % 2 != 0 {
         let last = d.last().map_or((0, 0), |r| (r.sequence, r.line));
@@ -102,7 +109,7 @@ pub fn parse_with<'a>(text: &'a str, limits: &Limits) -> Result<IgesFile<'a>, Pa
     let entries = d
         .chunks_exact(2)
         .enumerate()
-        .map(|(i, pair)| DirectoryEntry::parse(&pair[0], &pair[1], 2 * i + 1))
+        .map(|(i, pair)| grammar::directory::directory_entry(&pair[0], &pair[1], 2 * i + 1))
         .collect();
     let start = sections
         .start
@@ -144,7 +151,7 @@ pub fn parse_with<'a>(text: &'a str, limits: &Limits) -> Result<IgesFile<'a>, Pa
     }
     Ok(IgesFile {
         start,
-        tokenizer: global.tokenizer(),
+        delimiters: global.delimiters(),
         global,
         entries,
         warnings,
@@ -181,9 +188,9 @@ impl<'a> IgesFile<'a> {
         self.parameters.len()
     }
 
-    /// The tokenizer built from the Global delimiters.
-    pub fn tokenizer(&self) -> Tokenizer {
-        self.tokenizer
+    /// The delimiters of the Global section.
+    pub fn delimiters(&self) -> Delimiters {
+        self.delimiters
     }
 
     /// Whether parameter line `r`'s back-pointer names a directory entry of this file (an
@@ -195,8 +202,7 @@ impl<'a> IgesFile<'a> {
             .is_ok_and(|bp| bp % 2 == 1 && bp / 2 < self.entries.len())
     }
 
-    /// The Parameter Data records of one entity and the `param_line_count` warning if any
-    /// (the first half of [`IgesFile::parameters`], shared with the direct decoders).
+    /// The Parameter Data records of one entity and the `param_line_count` warning if any.
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
     /// 66-72) names this entity. Returns the records, the index just past them in the P
@@ -269,215 +275,243 @@ impl<'a> IgesFile<'a> {
         Ok((records, end, warnings))
     }
 
-    /// Tokenizes the Parameter Data of one entity.
+    /// Decodes one entity into its typed record `R` (IGES 5.3 chapter 4, by
+    /// [`Entity::SCHEMA`]): the one decoder of every declared entity.
     ///
     /// The lines are those from the DE's parameter pointer on whose back-pointer (columns
     /// 66-72) names this entity; a count different from DE field 14 is a
-    /// `param_line_count` warning in [`Parameters::warnings`]. The record must start with
-    /// the entity type and end with the record delimiter; text after it is a comment.
-    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters<'_>, ParseError> {
-        let de = entry.pointer;
-        let (records, end, warnings) = self.entity_records(entry)?;
-        let mut data = String::with_capacity(records.len() * P_DATA_COLUMNS);
-        join_data(records, &mut data);
-        let mut p = Parameters {
-            de,
+    /// `param_line_count` warning in [`Decoded::warnings`]. The record must start with the
+    /// entity type and end with the record delimiter; text after it is a comment. Reals
+    /// are converted where they stand, in one pass over the data.
+    pub fn decode<R: Entity>(&self, entry: &DirectoryEntry) -> Decoded<R> {
+        let schema = R::SCHEMA;
+        let result = self.read(entry, |r| {
+            if entry.entity_type != schema.entity {
+                return Err(Error::format(
+                    r.rest(),
+                    ErrorKind::WrongEntity {
+                        found: entry.entity_type,
+                        expected: schema.entity,
+                    },
+                ));
+            }
+            records::read(&schema, r).map(|values| R::from_values(values, entry))
+        });
+        match result {
+            Ok((warnings, record)) => Decoded {
+                warnings,
+                record: Ok(record),
+            },
+            Err((warnings, e)) => Decoded {
+                warnings,
+                record: Err(e),
+            },
+        }
+    }
+
+    /// The DE pointers among an entity's parameters, by its declaration ([`records::SCHEMAS`]):
+    /// `(field name, pointer, entity types the field may name)`, zero pointers left out.
+    /// `None` when the entity's type has no declaration.
+    #[allow(clippy::type_complexity)]
+    pub fn references(
+        &self,
+        entry: &DirectoryEntry,
+    ) -> Option<Result<Vec<(&'static str, i64, &'static [i64])>, ParseError>> {
+        let schema = records::SCHEMAS
+            .iter()
+            .find(|s| s.entity == entry.entity_type)?;
+        Some(
+            self.read(entry, |r| records::read(schema, r).map(|v| v.pointers()))
+                .map(|(_, refs)| refs)
+                .map_err(|(_, e)| e),
+        )
+    }
+
+    /// The parameters of any entity as the grammar cuts them (for entities without a
+    /// declared record), with the `param_line_count` warning if any.
+    pub fn parameters(&self, entry: &DirectoryEntry) -> Result<Parameters, ParseError> {
+        let (warnings, values) = self
+            .read(entry, |r| {
+                let mut values = Vec::new();
+                while let Some((_, p)) = r.parameter()? {
+                    values.push(match p {
+                        Parameter::Default => RawParameter::Default,
+                        Parameter::String(s) => RawParameter::String(s.to_owned()),
+                        Parameter::Value(v) => {
+                            RawParameter::Value(String::from_utf8_lossy(v).into_owned())
+                        }
+                    });
+                }
+                Ok(values)
+            })
+            .map_err(|(_, e)| e)?;
+        Ok(Parameters {
+            de: entry.pointer,
             entity_type: entry.entity_type,
             form: entry.form,
-            data,
-            tokens: Vec::new(),
-            records,
+            values,
             warnings,
-        };
-        let max = self.limits.max_params_per_entity;
-        let mut tokens = Vec::with_capacity((p.data.len() / 8).min(max));
-        self.tokenizer
-            .tokenize(&p.data, 0, &mut tokens, max)
-            .map_err(|e| match (&e.kind, self.parameters.get(end)) {
-                // The entity's lines end where the back-pointer changes; when its data then
-                // lacks the record delimiter and the next line does not start another
-                // entity's data, the likely cause is a wrong back-pointer on that line:
-                // name it rather than the last line read.
-                (ErrorKind::Unterminated(_), Some(next)) if !self.starts_entity(next) => {
-                    ParseError::new(
-                        ErrorKind::BackPointer {
-                            found: field(next.data, 65, 72).to_owned(),
-                            expected: de,
-                        },
-                        'P',
-                        next.sequence,
-                    )
-                    .at_column(66)
-                    .at_line(next.line)
-                    .of_entity(de)
-                }
-                _ => p.locate(e.offset, e.kind),
-            })?;
-        p.tokens = tokens;
-        let ty = p.int(0, "entity type")?;
-        if ty != entry.entity_type {
-            return Err(p.error_at(
-                0,
-                ErrorKind::WrongEntity {
-                    found: ty,
-                    expected: entry.entity_type,
-                },
-            ));
+        })
+    }
+
+    /// Finds an entity's records, joins their data columns and runs `read` after the
+    /// entity type (checked against the DE); a failure becomes a located error.
+    fn read<T>(
+        &self,
+        entry: &DirectoryEntry,
+        read: impl for<'d> FnOnce(&mut ParameterReader<'d>) -> Result<T, Error<'d>>,
+    ) -> Result<(Vec<ParseWarning>, T), (Vec<ParseWarning>, ParseError)> {
+        let (records, end, warnings) = self.entity_records(entry).map_err(|e| (Vec::new(), e))?;
+        let mut data = String::with_capacity(records.len().saturating_mul(P_DATA_COLUMNS));
+        join_data(records, &mut data);
+        let whole = data.as_bytes();
+        let mut r = ParameterReader::new(whole, self.delimiters, self.limits.max_params_per_entity);
+        let result = r.integer("entity type", None).and_then(|ty| {
+            if ty == entry.entity_type {
+                read(&mut r)
+            } else {
+                Err(Error::format(
+                    whole,
+                    ErrorKind::WrongEntity {
+                        found: ty,
+                        expected: entry.entity_type,
+                    },
+                ))
+            }
+        });
+        match result {
+            Ok(v) => Ok((warnings, v)),
+            Err(e) => {
+                let e = self.locate(entry, records, end, whole, e);
+                Err((warnings, e))
+            }
         }
-        Ok(p)
+    }
+
+    /// A grammar error in an entity's joined data as a located error: P sequence number,
+    /// column and DE pointer.
+    #[cold]
+    fn locate(
+        &self,
+        entry: &DirectoryEntry,
+        records: &[Record<'_>],
+        end: usize,
+        whole: &[u8],
+        e: Error<'_>,
+    ) -> ParseError {
+        let de = entry.pointer;
+        let mut offset = e.offset(whole);
+        let kind = match e.cause {
+            Cause::Format(k) => k,
+            Cause::Syntax(k) => ErrorKind::Garbage(format!("{k:?} in {}", e.rule)),
+        };
+        match (&kind, self.parameters.get(end)) {
+            // The entity's lines end where the back-pointer changes; when its data then
+            // lacks the record delimiter and the next line does not start another
+            // entity's data, the likely cause is a wrong back-pointer on that line:
+            // name it rather than the last line read.
+            (ErrorKind::Unterminated(_), Some(next)) if !self.starts_entity(next) => {
+                return ParseError::new(
+                    ErrorKind::BackPointer {
+                        found: field(next.data, 65, 72).to_owned(),
+                        expected: de,
+                    },
+                    'P',
+                    next.sequence,
+                )
+                .at_column(66)
+                .at_line(next.line)
+                .of_entity(de);
+            }
+            // Point at the record delimiter, not past it.
+            (ErrorKind::Truncated { .. }, _) => offset = offset.saturating_sub(1),
+            _ => {}
+        }
+        let idx = offset / P_DATA_COLUMNS;
+        let r = records.get(idx).or(records.last());
+        ParseError::new(kind, 'P', r.map_or(0, |r| r.sequence))
+            .at_column(offset % P_DATA_COLUMNS + 1)
+            .at_line(r.map_or(0, |r| r.line))
+            .of_entity(de)
     }
 }
 
-/// The tokenized Parameter Data of one entity. Index 0 is the entity type; index `i` is
-/// parameter `i` of the entity's table in the IGES specification.
-#[derive(Debug, Clone)]
-pub struct Parameters<'f> {
+/// The outcome of decoding one entity: the warnings about its parameter lines and the
+/// typed record or the located error.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decoded<T> {
+    /// Non-fatal findings for this entity (`param_line_count`).
+    pub warnings: Vec<ParseWarning>,
+    /// The typed record, or the located error.
+    pub record: Result<T, ParseError>,
+}
+
+/// One parameter of an entity read raw ([`IgesFile::parameters`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RawParameter {
+    /// Nothing between two delimiters: the default value.
+    Default,
+    /// A Hollerith string's characters.
+    String(String),
+    /// Anything else: the trimmed text.
+    Value(String),
+}
+
+/// The parameters of one entity, as the grammar cuts them. Index 0 is the entity type;
+/// index `i` is parameter `i` of the entity's table in the IGES specification.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameters {
     /// The owning DE pointer.
     pub de: usize,
     /// Entity type (DE field 1).
     pub entity_type: i64,
     /// Form number (DE field 15).
     pub form: i64,
-    data: String,
-    tokens: Vec<Token>,
-    records: &'f [Record<'f>],
+    /// The parameters after the entity type (index 0 here is parameter 1).
+    pub values: Vec<RawParameter>,
     /// Non-fatal findings for this entity.
     pub warnings: Vec<ParseWarning>,
 }
 
-impl<'f> Parameters<'f> {
+impl Parameters {
     /// Number of parameters including the entity type.
     pub fn len(&self) -> usize {
-        self.tokens.len()
+        self.values.len() + 1
     }
 
-    /// Whether there are no parameters (never true for a parsed entity).
+    /// Whether there are no parameters (never true: the entity type is always there).
     pub fn is_empty(&self) -> bool {
-        self.tokens.is_empty()
+        false
     }
 
-    /// The kind of parameter `i`.
-    pub fn kind(&self, i: usize) -> Option<TokenKind> {
-        self.tokens.get(i).map(|t| t.kind)
+    fn get(&self, i: usize) -> Option<&RawParameter> {
+        self.values.get(i.checked_sub(1)?)
     }
 
-    /// The text of parameter `i` (Hollerith strings without their `nH` prefix).
-    pub fn text(&self, i: usize) -> Option<&str> {
-        self.tokens.get(i).map(|t| t.text(&self.data))
-    }
-
-    /// The 1-based P sequence number, file line and column where parameter `i` starts.
-    pub fn position(&self, i: usize) -> (usize, usize, usize) {
-        let off = self
-            .tokens
-            .get(i)
-            .map_or(self.data.len(), |t| t.start as usize);
-        self.position_of(off)
-    }
-
-    fn position_of(&self, off: usize) -> (usize, usize, usize) {
-        let idx = off / P_DATA_COLUMNS;
-        let r = self.records.get(idx).or(self.records.last());
-        (
-            r.map_or(0, |r| r.sequence),
-            r.map_or(0, |r| r.line),
-            off % P_DATA_COLUMNS + 1,
-        )
-    }
-
-    fn locate(&self, offset: usize, kind: ErrorKind) -> ParseError {
-        let (seq, line, col) = self.position_of(offset);
-        ParseError::new(kind, 'P', seq)
-            .at_column(col)
-            .at_line(line)
-            .of_entity(self.de)
-    }
-
-    /// A located error at parameter `i` (or at the record end when `i` is past it).
-    pub fn error_at(&self, i: usize, kind: ErrorKind) -> ParseError {
-        let off = self.tokens.get(i).map_or_else(
-            || self.tokens.last().map_or(0, |t| t.end as usize),
-            |t| t.start as usize,
-        );
-        self.locate(off, kind)
-    }
-
-    fn bad(&self, i: usize, name: &'static str, expected: &'static str) -> ParseError {
-        let found = match self.kind(i) {
-            None => "<missing>".to_owned(),
-            Some(TokenKind::Empty) => "<empty>".to_owned(),
-            Some(_) => self.text(i).unwrap_or("").chars().take(40).collect(),
-        };
-        self.error_at(
-            i,
-            ErrorKind::BadParameter {
-                index: i,
-                name,
-                expected,
-                found,
-            },
-        )
-    }
-
-    /// Integer parameter `i` (required; empty is an error: counts have no default).
-    pub fn int(&self, i: usize, name: &'static str) -> Result<i64, ParseError> {
-        match self.tokens.get(i) {
-            Some(t) if t.kind == TokenKind::Plain => {
-                params::parse_int(t.text(&self.data)).ok_or_else(|| self.bad(i, name, "an integer"))
-            }
-            _ => Err(self.bad(i, name, "an integer")),
+    /// Parameter `i` as a string (`None` unless it is a Hollerith string).
+    pub fn string(&self, i: usize) -> Option<&str> {
+        match self.get(i)? {
+            RawParameter::String(s) => Some(s),
+            _ => None,
         }
     }
 
-    /// Integer parameter `i`, empty = `default`.
-    pub fn int_or(&self, i: usize, name: &'static str, default: i64) -> Result<i64, ParseError> {
-        match self.kind(i) {
-            Some(TokenKind::Empty) => Ok(default),
-            _ => self.int(i, name),
+    /// Parameter `i` as a real (section 2.2.2.3; a default is 0.0).
+    pub fn real(&self, i: usize) -> Option<f64> {
+        match self.get(i)? {
+            RawParameter::Default => Some(0.0),
+            RawParameter::Value(v) => crate::real::parse_iges_real(v).ok(),
+            RawParameter::String(_) => None,
         }
     }
 
-    /// Real parameter `i`; empty = 0.0 (the IGES default); an integer token is accepted.
-    pub fn real(&self, i: usize, name: &'static str) -> Result<f64, ParseError> {
-        match self.tokens.get(i) {
-            Some(t) if t.kind == TokenKind::Empty => Ok(0.0),
-            Some(t) if t.kind == TokenKind::Plain => {
-                parse_iges_real(t.text(&self.data)).map_err(|_| self.bad(i, name, "a real"))
-            }
-            _ => Err(self.bad(i, name, "a real")),
+    /// Parameter `i` as an integer (section 2.2.2.2; a default is 0).
+    pub fn int(&self, i: usize) -> Option<i64> {
+        match self.get(i)? {
+            RawParameter::Default => Some(0),
+            RawParameter::Value(v) => grammar::parameters::integer(v.as_bytes()),
+            RawParameter::String(_) => None,
         }
-    }
-
-    /// Optional real parameter `i`: `None` when absent or empty.
-    pub fn opt_real(&self, i: usize, name: &'static str) -> Result<Option<f64>, ParseError> {
-        match self.kind(i) {
-            None | Some(TokenKind::Empty) => Ok(None),
-            _ => self.real(i, name).map(Some),
-        }
-    }
-
-    /// String parameter `i`: `None` when empty or absent.
-    pub fn string(&self, i: usize, name: &'static str) -> Result<Option<&str>, ParseError> {
-        match self.kind(i) {
-            None | Some(TokenKind::Empty) => Ok(None),
-            Some(TokenKind::Hollerith) => Ok(self.text(i)),
-            Some(TokenKind::Plain) => Err(self.bad(i, name, "a Hollerith string")),
-        }
-    }
-
-    /// Reads `count` reals starting at parameter `from` into `out` (no allocation when `out`
-    /// has capacity).
-    pub fn reals_into(
-        &self,
-        from: usize,
-        count: usize,
-        name: &'static str,
-        out: &mut Vec<f64>,
-    ) -> Result<(), ParseError> {
-        for i in from..from.saturating_add(count) {
-            out.push(self.real(i, name)?);
-        }
-        Ok(())
     }
 }
 

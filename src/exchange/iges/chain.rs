@@ -3,7 +3,7 @@
 //! apply innermost first: `x' = T_k(... T_2(T_1(x)))`. Walking is iterative, bounded by
 //! `Limits::max_nesting_depth`, with cycle detection.
 
-use nurbsx_parsers::iges::schema::Transform124;
+use nurbsx_parsers::iges::records::Transform124;
 use nurbsx_parsers::iges::{IgesFile, ParseError};
 
 /// Why a chain could not be resolved.
@@ -74,8 +74,10 @@ pub fn resolve(
                 entity_type: entry.entity_type,
             });
         }
-        let params = file.parameters(entry).map_err(ChainError::Parse)?;
-        let t = Transform124::from_params(&params).map_err(ChainError::Parse)?;
+        let t = file
+            .decode::<Transform124>(entry)
+            .record
+            .map_err(ChainError::Parse)?;
         out.push((entry.pointer, t));
         // The visited check above bounds the loop by the number of entries.
         next = entry.transform;

@@ -3,9 +3,10 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-#[cfg(test)]
-use nurbsx_parsers::iges::schema::{Curve126, Surface128};
-use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning, Scratch};
+use nurbsx_parsers::iges::records::{
+    CompositeCurve102, Curve126, CurveOnSurface142, Loop508, Surface128, Transform124,
+};
+use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
 use rayon::prelude::*;
 
 use super::analysis;
@@ -29,24 +30,6 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 /// parser's warnings (`crlf`, `short_line`, `sequence`, `terminate_count`,
 /// `param_line_count`, `delimiter_form`, `global_field`, `missing_start`...).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
-    read_with(text, options, Path::Direct)
-}
-
-/// How 126/128 parameters become typed records.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Path {
-    /// [`IgesFile::decode_curve126`] / [`IgesFile::decode_surface128`]: one pass over the
-    /// bytes, falling back to the general path on anything unusual; poles transposed by a
-    /// strided copy.
-    Direct,
-    /// The general path (tokens, then `from_params`; poles placed by `Grid::from_fn`): the
-    /// reference the direct path is tested against.
-    #[cfg(test)]
-    General,
-}
-
-/// [`read`] by the given decoding path (both give the same document, bit for bit).
-fn read_with(text: &str, options: &ImportOptions, path: Path) -> Result<Document, Diagnostic> {
     let file =
         iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
@@ -87,11 +70,11 @@ fn read_with(text: &str, options: &ImportOptions, path: Path) -> Result<Document
     let results: Vec<(Outcome, Vec<Diagnostic>)> = file
         .entries
         .par_iter()
-        .map_init(Scratch::default, |scratch, entry| {
+        .map(|entry| {
             let mut diags = Vec::new();
             let outcome = read_entry(
                 &file,
-                (entry, path, scratch),
+                entry,
                 &users,
                 &parametric,
                 options,
@@ -139,7 +122,7 @@ enum Outcome {
 /// diagnostics in the order the sequential reader reported them.
 fn read_entry(
     file: &IgesFile<'_>,
-    (entry, path, scratch): (&Result<DirectoryEntry, ParseError>, Path, &mut Scratch),
+    entry: &Result<DirectoryEntry, ParseError>,
     users: &BTreeMap<usize, Vec<(usize, i64)>>,
     parametric: &BTreeSet<usize>,
     options: &ImportOptions,
@@ -156,13 +139,13 @@ fn read_entry(
     let result = match entry.entity_type {
         126 => read_curve(
             file,
-            (entry, path, scratch),
+            entry,
             parametric.contains(&entry.pointer),
             options,
             factor,
             diags,
         ),
-        128 => read_surface(file, (entry, path, scratch), options, factor, diags),
+        128 => read_surface(file, entry, options, factor, diags),
         124 => return Outcome::Nothing,
         t => return Outcome::Skipped(t),
     };
@@ -289,7 +272,8 @@ fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> LengthUnit {
 }
 
 /// For every entity, the entities that reference it as a trim, composite member or B-rep
-/// element: `(user DE, user type)`. Reads 102, 141-144 and 504/510 parameters.
+/// element: `(user DE, user type)`. Follows the DE pointers the 102, 142, 144, 504 and 510
+/// declarations name (their other pointers name 142s, 502s and 508s, never a 126 or 128).
 fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
     let mut map: BTreeMap<usize, Vec<(usize, i64)>> = BTreeMap::new();
     for entry in file.entries.iter().flatten() {
@@ -297,48 +281,16 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
         if !matches!(ty, 102 | 142 | 144 | 504 | 510) {
             continue;
         }
-        let Ok(p) = file.parameters(entry) else {
+        let Some(Ok(references)) = file.references(entry) else {
             continue; // an unreadable user is reported nowhere else; its users are unknown
         };
-        let mut add = |ptr: i64| {
-            if let Some(target) = file.entry(ptr)
+        for (_, pointer, _) in references {
+            if let Some(target) = file.entry(pointer)
                 && matches!(target.entity_type, 126 | 128)
             {
                 map.entry(target.pointer)
                     .or_default()
                     .push((entry.pointer, ty));
-            }
-        };
-        let int = |i: usize| p.int(i, "pointer").ok();
-        match ty {
-            102 => {
-                let n = int(1).unwrap_or(0).clamp(0, p.len() as i64) as usize;
-                for k in 0..n {
-                    if let Some(v) = int(2 + k) {
-                        add(v);
-                    }
-                }
-            }
-            142 => {
-                for i in 2..=4 {
-                    if let Some(v) = int(i) {
-                        add(v);
-                    }
-                }
-            }
-            144 | 510 => {
-                if let Some(v) = int(1) {
-                    add(v);
-                }
-            }
-            _ => {
-                // 504 Edge List: N, then (CURV, SVP, SV, TVP, TV) per edge.
-                let n = int(1).unwrap_or(0).clamp(0, p.len() as i64) as usize;
-                for k in 0..n {
-                    if let Some(v) = int(2 + 5 * k) {
-                        add(v);
-                    }
-                }
             }
         }
     }
@@ -346,9 +298,9 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
 }
 
 /// The DE pointers of the 126 curves that live in a surface's parameter space: the B(t)
-/// curve of a 142 Curve on a Parametric Surface (parameter 3, BPTR; IGES 5.3 section 4.22),
-/// directly or as members of a 102 Composite Curve, and the parameter-space curves of a 508
-/// Loop (per edge: TYPE, EDGE, NDX, OF, K, then K pairs ISOP, CURV; section 4.152).
+/// curve of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.22), directly or as
+/// members of a 102 Composite Curve, and the parameter-space curves of a 508 Loop (section
+/// 4.152).
 fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let add = |ptr: i64, out: &mut BTreeSet<usize>| {
@@ -360,15 +312,14 @@ fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
                 out.insert(target.pointer);
             }
             102 => {
-                let Ok(p) = file.parameters(target) else {
+                let Ok(composite) = file.decode::<CompositeCurve102>(target).record else {
                     return;
                 };
-                let n = p.int(1, "N").unwrap_or(0).clamp(0, p.len() as i64) as usize;
-                for k in 0..n {
-                    if let Some(member) = p.int(2 + k, "pointer").ok().and_then(|m| file.entry(m))
-                        && member.entity_type == 126
+                for member in composite.members {
+                    if let Some(m) = file.entry(member)
+                        && m.entity_type == 126
                     {
-                        out.insert(member.pointer);
+                        out.insert(m.pointer);
                     }
                 }
             }
@@ -376,34 +327,20 @@ fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
         }
     };
     for entry in file.entries.iter().flatten() {
-        let Ok(p) = (match entry.entity_type {
-            142 | 508 => file.parameters(entry),
-            _ => continue,
-        }) else {
-            continue;
-        };
-        if entry.entity_type == 142 {
-            if let Ok(bptr) = p.int(3, "BPTR") {
-                add(bptr, &mut out);
-            }
-            continue;
-        }
-        let edges = p.int(1, "N").unwrap_or(0).clamp(0, p.len() as i64) as usize;
-        let mut i = 2;
-        for _ in 0..edges {
-            let Ok(k) = p.int(i + 4, "K") else {
-                break;
-            };
-            let k = k.clamp(0, p.len() as i64) as usize;
-            for j in 0..k {
-                if let Ok(curve) = p.int(i + 6 + 2 * j, "CURV") {
-                    add(curve, &mut out);
+        match entry.entity_type {
+            142 => {
+                if let Ok(c) = file.decode::<CurveOnSurface142>(entry).record {
+                    add(c.parameter_curve, &mut out);
                 }
             }
-            i += 5 + 2 * k;
-            if i > p.len() {
-                break;
+            508 => {
+                if let Ok(l) = file.decode::<Loop508>(entry).record {
+                    for (_, curve) in l.edges.iter().flat_map(|e| &e.parameter_curves) {
+                        add(*curve, &mut out);
+                    }
+                }
             }
+            _ => {}
         }
     }
     out
@@ -445,7 +382,7 @@ fn parse_diag(code: &str, e: &ParseError) -> Diagnostic {
 /// The `limit.*` code of a parser limit error (the same codes the STEP reader uses), so a
 /// caller can tell "too big for this configuration" from "malformed". The parser's
 /// `ErrorKind::Limit` carries only a message; the parameter-count limit is the only one
-/// whose message mentions parameters (iges/params.rs), the others count entries/records.
+/// whose message mentions parameters, the others count entries/records.
 fn limit_code(e: &ParseError) -> Option<&'static str> {
     match &e.kind {
         iges::ErrorKind::Limit(m) if m.contains("parameter") => Some("limit.params_per_entity"),
@@ -476,7 +413,7 @@ fn transforms(
     options: &ImportOptions,
     meta: &mut Meta,
     diags: &mut Vec<Diagnostic>,
-) -> Option<Vec<nurbsx_parsers::iges::schema::Transform124>> {
+) -> Option<Vec<Transform124>> {
     match chain::resolve(file, entry.transform, options.limits.max_nesting_depth) {
         Ok(list) => {
             meta.transforms_applied = list.iter().map(|(de, _)| format!("D{de}")).collect();
@@ -497,11 +434,7 @@ fn transforms(
     }
 }
 
-fn apply_all(
-    ts: &[nurbsx_parsers::iges::schema::Transform124],
-    p: Point3,
-    factor: Option<f64>,
-) -> Point3 {
+fn apply_all(ts: &[Transform124], p: Point3, factor: Option<f64>) -> Point3 {
     let mut q = p;
     for t in ts {
         q = t.apply(q);
@@ -629,8 +562,7 @@ fn from_file_order(w: &[f64], nu: usize, nv: usize) -> Grid<f64> {
 }
 
 /// Passes the decoded entity's warnings on and returns its record; a failure becomes an
-/// `iges.entity` error diagnostic and `None` (the same diagnostics, in the same order, as
-/// [`decode`]).
+/// `iges.entity` error diagnostic and `None`, so the other entities still load.
 fn decoded<T>(d: iges::Decoded<T>, diags: &mut Vec<Diagnostic>) -> Option<T> {
     diags.extend(d.warnings.iter().map(warning_diag));
     d.record
@@ -638,38 +570,15 @@ fn decoded<T>(d: iges::Decoded<T>, diags: &mut Vec<Diagnostic>) -> Option<T> {
         .ok()
 }
 
-/// Tokenizes one entity's parameters and decodes its typed record, passing the tokenizer's
-/// warnings on; a failure becomes an `iges.entity` error diagnostic and `None`, so the
-/// other entities still load. (The general path, kept as the reference of the tests.)
-#[cfg(test)]
-fn decode<T>(
-    file: &IgesFile<'_>,
-    entry: &DirectoryEntry,
-    diags: &mut Vec<Diagnostic>,
-    from_params: impl FnOnce(&iges::Parameters<'_>) -> Result<T, ParseError>,
-) -> Option<T> {
-    let decoded = file.parameters(entry).and_then(|p| {
-        diags.extend(p.warnings.iter().map(warning_diag));
-        from_params(&p)
-    });
-    decoded
-        .map_err(|e| diags.push(parse_diag("iges.entity", &e)))
-        .ok()
-}
-
 fn read_curve(
     file: &IgesFile<'_>,
-    (entry, path, scratch): (&DirectoryEntry, Path, &mut Scratch),
+    entry: &DirectoryEntry,
     parametric: bool,
     options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = match path {
-        Path::Direct => decoded(file.decode_curve126(entry, scratch), diags)?,
-        #[cfg(test)]
-        Path::General => decode(file, entry, diags, Curve126::from_params)?,
-    };
+    let rec = decoded(file.decode::<Curve126>(entry), diags)?;
     if !check_limits(entry, &[rec.degree], rec.points.len(), options, diags) {
         return None;
     }
@@ -788,16 +697,12 @@ fn read_curve(
 
 fn read_surface(
     file: &IgesFile<'_>,
-    (entry, path, scratch): (&DirectoryEntry, Path, &mut Scratch),
+    entry: &DirectoryEntry,
     options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
-    let rec = match path {
-        Path::Direct => decoded(file.decode_surface128(entry, scratch), diags)?,
-        #[cfg(test)]
-        Path::General => decode(file, entry, diags, Surface128::from_params)?,
-    };
+    let rec = decoded(file.decode::<Surface128>(entry), diags)?;
     if !check_limits(entry, &rec.degree, rec.points.len(), options, diags) {
         return None;
     }
@@ -823,25 +728,15 @@ fn read_surface(
     let ts = transforms(file, entry, options, &mut meta, diags)?;
     let [nu, nv] = rec.poles;
     // IGES lists the first (u) index fastest; Grid is u-major: transpose explicitly.
-    let (points, weights) = match (
-        path,
-        transposed(&rec.points, nu, nv, |p| apply_all(&ts, p, factor)),
-    ) {
-        (Path::Direct, Some(points)) => {
-            let weights = weights_policy(polynomial, rec.weights, entry, diags).map(|w| {
-                transposed(&w, nu, nv, |x| x).unwrap_or_else(|| from_file_order(&w, nu, nv))
-            });
-            (points, weights)
-        }
-        _ => {
-            let points = Grid::from_fn(nu, nv, |i, j| {
-                apply_all(&ts, rec.points[rec.index(i, j)], factor)
-            });
-            let weights = weights_policy(polynomial, rec.weights.clone(), entry, diags)
-                .map(|_| Grid::from_fn(nu, nv, |i, j| rec.weights[rec.index(i, j)]));
-            (points, weights)
-        }
-    };
+    let points =
+        transposed(&rec.points, nu, nv, |p| apply_all(&ts, p, factor)).unwrap_or_else(|| {
+            Grid::from_fn(nu, nv, |i, j| {
+                let p = rec.points.get(rec.index(i, j)).copied();
+                apply_all(&ts, p.unwrap_or([f64::NAN; 3]), factor)
+            })
+        });
+    let weights = weights_policy(polynomial, rec.weights, entry, diags)
+        .map(|w| transposed(&w, nu, nv, |x| x).unwrap_or_else(|| from_file_order(&w, nu, nv)));
     let surface = match NurbsSurface::new(
         rec.degree[0],
         rec.degree[1],
@@ -912,6 +807,3 @@ fn read_surface(
     }
     Some((Geometry::Surface(surface), meta))
 }
-
-#[cfg(test)]
-mod equivalence_tests;

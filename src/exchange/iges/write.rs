@@ -18,13 +18,9 @@
 //!   `ExportOptions::units` differs from the document's unit), resolution, maximum
 //!   coordinate, dates from `ExportOptions::timestamp` (deterministic when given).
 
-#[cfg(test)]
-use nurbsx_parsers::iges::schema::{Curve126, Surface128};
-#[cfg(test)]
-use nurbsx_parsers::iges::writer::WriteEntity;
-use nurbsx_parsers::iges::writer::{self, ParamWriter};
+use nurbsx_parsers::iges::records::{Curve126, Surface128};
+use nurbsx_parsers::iges::writer::{self, WriteParams};
 use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
-use nurbsx_parsers::real::NonFiniteReal;
 
 use super::analysis;
 use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
@@ -35,9 +31,8 @@ use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 /// Errors (a `Diagnostic` with code `iges.write` or `options.timestamp`) only for values
 /// that cannot be written (non-finite after unit scaling) or a malformed timestamp.
 ///
-/// Parameters go straight from the model into the P section ([`writer::write_with`]), with
-/// no per-entity parameter list; the text is byte-identical to the straightforward path
-/// (`write_reference`, tests below).
+/// Each entity becomes its typed record ([`Curve126`], [`Surface128`]) when the writer
+/// reaches it, and the record writes itself into the P section ([`writer::write_with`]).
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
     let unit = options.units.unwrap_or(document.units);
     let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
@@ -77,36 +72,14 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             return Ok(());
         };
         match (&e.geometry, plan) {
-            (Geometry::Curve(c), Plan::Curve(p)) => curve_params(w, c, p, factor),
-            (Geometry::Surface(s), Plan::Surface(p)) => surface_params(w, s, p, factor),
+            (Geometry::Curve(c), Plan::Curve(p)) => curve_record(c, p, factor).write_params(w),
+            (Geometry::Surface(s), Plan::Surface(p)) => {
+                surface_record(s, p, factor).write_params(w)
+            }
             _ => Ok(()), // unreachable: plans are made from the same entities
         }
     })
     .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
-}
-
-/// The straightforward writer: each entity as a [`Curve126`] / [`Surface128`] record and its
-/// parameter list, written by [`writer::write`]. [`write`] must produce exactly its bytes.
-#[cfg(test)]
-pub(crate) fn write_reference(
-    document: &Document,
-    options: &ExportOptions,
-) -> Result<String, Diagnostic> {
-    let unit = options.units.unwrap_or(document.units);
-    let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
-    let mut entities = Vec::with_capacity(document.entities.len());
-    let mut max_coord = 0.0f64;
-    for e in &document.entities {
-        let we = match &e.geometry {
-            Geometry::Curve(c) => curve_entity(c, &e.meta, factor),
-            Geometry::Surface(s) => surface_entity(s, &e.meta, factor),
-        };
-        max_coord = max_coord.max(max_abs(&we.1));
-        entities.push(we.0);
-    }
-    let (start, global) = header(options, unit, max_coord, entities.len())?;
-    writer::write(&start, &global, &entities)
-        .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
 }
 
 /// The Start section text and the Global section of a file of `count` entities.
@@ -227,109 +200,61 @@ fn surface_plan(s: &NurbsSurface, meta: &Meta) -> SurfacePlan {
     }
 }
 
-/// A count as an IGES integer (counts of in-memory data are far below `i64::MAX`).
-fn count(n: usize) -> i64 {
-    i64::try_from(n).unwrap_or(i64::MAX)
-}
-
-/// The 126 parameters (IGES 5.3 section 4.23) in [`Curve126`]'s order.
-fn curve_params(
-    w: &mut ParamWriter<'_>,
-    c: &NurbsCurve,
-    p: &CurvePlan,
-    factor: Option<f64>,
-) -> Result<(), NonFiniteReal> {
+/// The 126 record of a curve (IGES 5.3 section 4.23): poles scaled, weights 1.0 when the
+/// curve is polynomial.
+fn curve_record(c: &NurbsCurve, p: &CurvePlan, factor: Option<f64>) -> Curve126 {
     let n = c.num_poles();
-    w.int(126);
-    w.int(count(n.saturating_sub(1)));
-    w.int(count(c.degree()));
-    for f in [p.planar, p.closed, p.polynomial, p.periodic] {
-        w.int(f);
+    Curve126 {
+        degree: c.degree(),
+        planar: p.planar,
+        closed: p.closed,
+        polynomial: p.polynomial,
+        periodic: p.periodic,
+        knots: c.knots().to_vec(),
+        weights: c.weights().map_or_else(|| vec![1.0; n], <[f64]>::to_vec),
+        points: c
+            .control_points()
+            .iter()
+            .map(|&q| scaled(q, factor))
+            .collect(),
+        v0: Some(p.range.0),
+        v1: Some(p.range.1),
+        normal: Some(p.normal),
+        extra: 0,
     }
-    for &k in c.knots() {
-        w.real(k)?;
-    }
-    match c.weights() {
-        Some(ws) => {
-            for &x in ws {
-                w.real(x)?;
-            }
-        }
-        None => {
-            for _ in 0..n {
-                w.real(1.0)?;
-            }
-        }
-    }
-    for &q in c.control_points() {
-        for x in scaled(q, factor) {
-            w.real(x)?;
-        }
-    }
-    w.real(p.range.0)?;
-    w.real(p.range.1)?;
-    for x in p.normal {
-        w.real(x)?;
-    }
-    Ok(())
 }
 
-/// The 128 parameters (IGES 5.3 section 4.24) in [`Surface128`]'s order: the first (u)
-/// index fastest.
-fn surface_params(
-    w: &mut ParamWriter<'_>,
-    s: &NurbsSurface,
-    p: &SurfacePlan,
-    factor: Option<f64>,
-) -> Result<(), NonFiniteReal> {
+/// The 128 record of a surface (IGES 5.3 section 4.24): weights and poles listed with the
+/// first (u) index fastest, poles scaled.
+fn surface_record(s: &NurbsSurface, p: &SurfacePlan, factor: Option<f64>) -> Surface128 {
     let net = s.control_points();
     let (nu, nv) = (net.nu(), net.nv());
-    w.int(128);
-    w.int(count(nu) - 1);
-    w.int(count(nv) - 1);
-    w.int(count(s.degree_u()));
-    w.int(count(s.degree_v()));
-    for f in [
-        p.closed[0],
-        p.closed[1],
-        p.polynomial,
-        p.periodic[0],
-        p.periodic[1],
-    ] {
-        w.int(f);
-    }
-    for &k in s.knots_u().iter().chain(s.knots_v()) {
-        w.real(k)?;
-    }
+    let mut points = Vec::with_capacity(nu * nv);
+    let mut weights = Vec::with_capacity(nu * nv);
     for j in 0..nv {
         for i in 0..nu {
-            w.real(s.weight(i, j))?;
+            points.push(scaled(*net.get(i, j), factor));
+            weights.push(s.weight(i, j));
         }
     }
-    for j in 0..nv {
-        for i in 0..nu {
-            for x in scaled(*net.get(i, j), factor) {
-                w.real(x)?;
-            }
-        }
+    Surface128 {
+        degree: [s.degree_u(), s.degree_v()],
+        poles: [nu, nv],
+        closed: p.closed,
+        polynomial: p.polynomial,
+        periodic: p.periodic,
+        knots_u: s.knots_u().to_vec(),
+        knots_v: s.knots_v().to_vec(),
+        weights,
+        points,
+        range: Some(p.range),
+        extra: 0,
     }
-    for x in p.range {
-        w.real(x)?;
-    }
-    Ok(())
 }
 
 /// `m` and the largest coordinate magnitude of `p`.
 fn max_abs_point(m: f64, p: Point3) -> f64 {
     p.iter().fold(m, |m, &x| m.max(x.abs()))
-}
-
-#[cfg(test)]
-fn max_abs(points: &[Point3]) -> f64 {
-    points
-        .iter()
-        .flat_map(|p| p.iter())
-        .fold(0.0f64, |m, &x| m.max(x.abs()))
 }
 
 fn scaled(p: Point3, factor: Option<f64>) -> Point3 {
@@ -359,125 +284,12 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
     }
 }
 
-/// PROP3 and the weights to write.
-#[cfg(test)]
-fn weights_of(w: Option<&[f64]>, n: usize) -> (i64, Vec<f64>) {
-    match w {
-        None => (1, vec![1.0; n]),
-        Some(w) => (0, w.to_vec()),
-    }
-}
-
 fn within(range: (f64, f64), domain: (f64, f64)) -> bool {
     range.0 >= domain.0 && range.1 <= domain.1 && range.0 < range.1
 }
 
-#[cfg(test)]
-fn curve_entity(c: &NurbsCurve, meta: &Meta, factor: Option<f64>) -> (WriteEntity, Vec<Point3>) {
-    let points: Vec<Point3> = c
-        .control_points()
-        .iter()
-        .map(|&p| scaled(p, factor))
-        .collect();
-    let tol = analysis::tolerance(c.control_points().iter());
-    let (polynomial, weights) = weights_of(c.weights(), points.len());
-    let normal = if c.dimension() == 2 {
-        Some([0.0, 0.0, 1.0])
-    } else {
-        match meta.plane_normal {
-            Some(n) if analysis::on_plane(c.control_points(), n, tol) && is_unit(n) => Some(n),
-            _ => analysis::plane_normal(c.control_points(), tol),
-        }
-    };
-    let domain = c.domain();
-    let range = meta
-        .parameter_range
-        .map(|r| r.u)
-        .filter(|&r| within(r, domain))
-        .unwrap_or(domain);
-    let rec = Curve126 {
-        degree: c.degree(),
-        planar: i64::from(normal.is_some()),
-        closed: i64::from(analysis::curve_closed(c, tol)),
-        polynomial,
-        periodic: i64::from(analysis::curve_periodic(c, tol)),
-        knots: c.knots().to_vec(),
-        weights,
-        points,
-        v0: Some(range.0),
-        v1: Some(range.1),
-        normal: Some(normal.unwrap_or([0.0, 0.0, 0.0])),
-        extra: 0,
-    };
-    let use_flag = if c.dimension() == 2 { 5 } else { 0 };
-    let params = rec.to_params();
-    (
-        WriteEntity {
-            de: de(126, meta, use_flag),
-            params,
-        },
-        rec.points,
-    )
-}
-
 fn is_unit(n: Point3) -> bool {
     ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() <= 1e-12
-}
-
-#[cfg(test)]
-fn surface_entity(
-    s: &NurbsSurface,
-    meta: &Meta,
-    factor: Option<f64>,
-) -> (WriteEntity, Vec<Point3>) {
-    let net = s.control_points();
-    let (nu, nv) = (net.nu(), net.nv());
-    // IGES lists the first (u) index fastest: j outer, i inner.
-    let mut points = Vec::with_capacity(nu * nv);
-    let mut weights = Vec::with_capacity(nu * nv);
-    for j in 0..nv {
-        for i in 0..nu {
-            points.push(scaled(*net.get(i, j), factor));
-            weights.push(s.weight(i, j));
-        }
-    }
-    let polynomial = i64::from(s.weights().is_none());
-    let tol = analysis::tolerance(net.as_slice().iter());
-    let (du, dv) = s.domain();
-    let (ru, rv) = match meta.parameter_range {
-        Some(r) => match r.v {
-            Some(v) if within(r.u, du) && within(v, dv) => (r.u, v),
-            _ => (du, dv),
-        },
-        None => (du, dv),
-    };
-    let rec = Surface128 {
-        degree: [s.degree_u(), s.degree_v()],
-        poles: [nu, nv],
-        closed: [
-            i64::from(analysis::surface_closed(s, 0, tol)),
-            i64::from(analysis::surface_closed(s, 1, tol)),
-        ],
-        polynomial,
-        periodic: [
-            i64::from(analysis::surface_periodic(s, 0, tol)),
-            i64::from(analysis::surface_periodic(s, 1, tol)),
-        ],
-        knots_u: s.knots_u().to_vec(),
-        knots_v: s.knots_v().to_vec(),
-        weights,
-        points,
-        range: Some([ru.0, ru.1, rv.0, rv.1]),
-        extra: 0,
-    };
-    let params = rec.to_params();
-    (
-        WriteEntity {
-            de: de(128, meta, 0),
-            params,
-        },
-        rec.points,
-    )
 }
 
 /// `YYYYMMDD.HHNNSS` from an ISO 8601 `YYYY-MM-DDTHH:MM:SS` time stamp, or the current UTC
@@ -523,137 +335,4 @@ fn now_digits() -> String {
         (rem / 60) % 60,
         rem % 60
     )
-}
-
-/// The fast writer against the straightforward one: byte-identical text for every sample
-/// file and for random documents (rational and polynomial curves and surfaces, 2-D curves,
-/// planar and skew curves, names, and odd values: -0.0, 1e-300, 1e300, subnormals,
-/// integers, short binary fractions), with and without unit scaling.
-#[cfg(test)]
-mod equivalence_tests {
-    use super::*;
-    use crate::exchange::test_documents::random_document;
-    use crate::exchange::{Format, ImportOptions, LengthUnit};
-    use proptest::prelude::*;
-
-    fn options_variants() -> Vec<ExportOptions> {
-        [
-            (None, "sample"),
-            (Some(LengthUnit::In), ""),
-            (
-                Some(LengthUnit::M),
-                "a long file name that needs more than one line of the global section, 72 columns",
-            ),
-        ]
-        .into_iter()
-        .map(|(units, name)| ExportOptions {
-            units,
-            timestamp: Some("2026-01-01T00:00:00".to_owned()),
-            file_name: name.to_owned(),
-            ..ExportOptions::default()
-        })
-        .collect()
-    }
-
-    fn assert_same(doc: &Document, options: &ExportOptions, what: &str) {
-        match (write(doc, options), write_reference(doc, options)) {
-            (Ok(a), Ok(b)) => {
-                if a != b {
-                    let at = a
-                        .bytes()
-                        .zip(b.bytes())
-                        .position(|(x, y)| x != y)
-                        .unwrap_or(a.len().min(b.len()));
-                    let from = at.saturating_sub(160);
-                    panic!(
-                        "{what}: outputs differ at byte {at}:\nfast: {:?}\nref:  {:?}",
-                        &a[from..(at + 80).min(a.len())],
-                        &b[from..(at + 80).min(b.len())]
-                    );
-                }
-            }
-            (Err(a), Err(b)) => assert_eq!(a.message, b.message, "{what}"),
-            (a, b) => panic!("{what}: fast {:?} vs reference {:?}", a.err(), b.err()),
-        }
-    }
-
-    #[test]
-    fn equals_reference_on_every_sample() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
-        let mut paths: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("step" | "igs")))
-            .collect();
-        paths.sort();
-        assert!(paths.len() >= 100, "only {} samples found", paths.len());
-        for path in paths {
-            let bytes = std::fs::read(&path).unwrap();
-            let doc = crate::exchange::read(&bytes, &ImportOptions::default()).unwrap();
-            assert!(!doc.entities.is_empty(), "{}", path.display());
-            for options in options_variants() {
-                assert_same(&doc, &options, &path.display().to_string());
-            }
-        }
-    }
-
-    #[test]
-    fn empty_document_equals_reference() {
-        let doc = Document::new(Format::Iges, LengthUnit::Mm);
-        for options in options_variants() {
-            assert_same(&doc, &options, "empty document");
-        }
-    }
-
-    /// The generator reaches every case the equivalence test is meant to cover.
-    #[test]
-    fn generated_documents_cover_the_cases() {
-        let (mut curves2, mut rational_curves, mut curves, mut rational_surfaces, mut surfaces) =
-            (0, 0, 0, 0, 0);
-        let mut odd = [false; 5];
-        for seed in 0..300 {
-            for e in random_document(seed, Format::Iges).entities {
-                let points: Vec<Point3> = match &e.geometry {
-                    Geometry::Curve(c) => {
-                        curves += 1;
-                        curves2 += usize::from(c.dimension() == 2);
-                        rational_curves += usize::from(c.is_rational());
-                        c.control_points().to_vec()
-                    }
-                    Geometry::Surface(s) => {
-                        surfaces += 1;
-                        rational_surfaces += usize::from(s.is_rational());
-                        s.control_points().as_slice().to_vec()
-                    }
-                };
-                for x in points.iter().flatten() {
-                    odd[0] |= *x == 0.0 && x.is_sign_negative();
-                    odd[1] |= *x == 1e-300;
-                    odd[2] |= x.abs() == 1e300;
-                    odd[3] |= x.is_subnormal();
-                    odd[4] |= *x == 0.5 || *x == -0.25;
-                }
-            }
-        }
-        for (what, n) in [
-            ("2-D curves", curves2),
-            ("rational curves", rational_curves),
-            ("polynomial curves", curves - rational_curves),
-            ("rational surfaces", rational_surfaces),
-            ("polynomial surfaces", surfaces - rational_surfaces),
-        ] {
-            assert!(n >= 20, "only {n} {what}");
-        }
-        assert_eq!(odd, [true; 5]);
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(400))]
-        #[test]
-        fn equals_reference_on_random_documents(seed in any::<u64>(), variant in 0usize..3) {
-            let doc = random_document(seed, Format::Iges);
-            let options = &options_variants()[variant];
-            assert_same(&doc, options, &format!("seed {seed}"));
-        }
-    }
 }

@@ -1,11 +1,19 @@
-//! The fixed 80-column records and the five sections (IGES 5.3 section 2.1; spec.md a.1).
+//! The fixed 80-column records and the five sections (IGES 5.3 section 2.2.4).
 //!
-//! A record is a line whose column 73 holds the section letter and columns 74-80 a
-//! right-justified sequence number. Lines are split with `memchr`; CR before LF and lines
-//! shorter than 80 columns are tolerated with a warning when the section letter and
-//! sequence number can still be found at the end of the line (as Open CASCADE does).
+//! ```text
+//! file    = { record } ; sections in the order S G D P T
+//! record  = data (columns 1-72) section-letter (column 73) sequence-number (columns 74-80)
+//! ```
+//!
+//! Lines are split with `memchr`; CR before LF and lines shorter than 80 columns are
+//! tolerated with a warning when the section letter and sequence number can still be found
+//! at the end of the line (as Open CASCADE does). [`sequence_number`] is the fast leaf: a
+//! SWAR read of the seven digits most writers zero-pad.
 
-use super::error::{ErrorKind, ParseError, ParseWarning};
+use nom::Parser;
+
+use super::super::error::{ErrorKind, ParseError, ParseWarning};
+use super::parameters::{Error, Rule};
 use crate::Limits;
 
 /// One record: its data columns (1-72, possibly shorter for a short line) and its position.
@@ -89,7 +97,7 @@ pub fn split<'a>(
             ));
             break;
         }
-        let (data, letter, seq) = match classify(line) {
+        let (data, letter, seq) = match record(line) {
             Some((data, letter, seq, shape)) => {
                 match shape {
                     Shape::Short if !short_warned => {
@@ -235,22 +243,24 @@ enum Shape {
     Long,
 }
 
-/// Finds the data, section letter and sequence number of a line.
-fn classify(line: &str) -> Option<(&str, char, usize, Shape)> {
+/// `record`: the data, section letter and sequence number of a line (section 2.2.4).
+///
+/// The 80-column form is `take(72) letter sequence-number` and blanks; a shorter line is
+/// read back from its end (`... S0000001`, `... S1`), as Open CASCADE reads it.
+fn record(line: &str) -> Option<(&str, char, usize, Shape)> {
     let b = line.as_bytes();
     if b.len() >= 80 {
-        let letter = b[72];
-        let seq = parse_seq(&b[73..80])?;
-        if !letter.is_ascii_uppercase() {
-            return None;
-        }
-        let shape = if b.len() == 80 || b[80..].iter().all(|c| *c == b' ') {
+        let (data, columns_73_on) = b.split_at(72);
+        let (rest, (letter, seq)) = (section_letter, sequence_number)
+            .parse(columns_73_on)
+            .ok()?;
+        let shape = if rest.iter().all(|c| *c == b' ') {
             Shape::Exact
         } else {
             Shape::Long
         };
-        let data = line.get(..72)?;
-        return Some((data, letter as char, seq, shape));
+        let data = line.get(..data.len())?;
+        return Some((data, char::from(letter), seq, shape));
     }
     // Short line: scan back over the sequence digits to the section letter.
     let trimmed = line.trim_end();
@@ -272,10 +282,32 @@ fn classify(line: &str) -> Option<(&str, char, usize, Shape)> {
     if !matches!(letter, b'S' | b'G' | b'D' | b'P' | b'T' | b'C' | b'B') {
         return None;
     }
-    let seq = parse_seq(digits)?;
+    let (_, seq) = sequence_number(digits).ok()?;
     let data_end = (j - 1).min(72);
     let data = trimmed.get(..data_end)?;
     Some((data, letter as char, seq, Shape::Short))
+}
+
+/// `section-letter` (column 73): an upper-case letter.
+#[inline(always)]
+fn section_letter(i: &[u8]) -> Rule<'_, u8> {
+    match i.first() {
+        Some(&c) if c.is_ascii_uppercase() => Ok((&i[1..], c)),
+        _ => Err(nom::Err::Error(Error::format(i, ErrorKind::BadRecord))),
+    }
+}
+
+/// `sequence-number` (columns 74-80): right-justified digits, blanks or zeros before them.
+/// The fast leaf: seven digits (the zero-padded form most writers use) in one
+/// multiply-shift pass, anything else one byte at a time.
+#[inline(always)]
+pub fn sequence_number(i: &[u8]) -> Rule<'_, usize> {
+    let n = i.len().min(7);
+    let (field, rest) = i.split_at(n);
+    match parse_seq(field) {
+        Some(v) => Ok((rest, v)),
+        None => Err(nom::Err::Error(Error::format(i, ErrorKind::BadRecord))),
+    }
 }
 
 /// `line.trim().is_empty()`, answered from the bytes for ASCII lines (the per-line cost of
@@ -292,6 +324,7 @@ fn is_blank(line: &str) -> bool {
 }
 
 /// Parses a right-justified sequence number (blanks and leading zeros allowed).
+#[inline(always)]
 fn parse_seq(b: &[u8]) -> Option<usize> {
     // Seven digits (the zero-padded form many writers use) in one multiply-shift pass;
     // anything else, one byte at a time below.

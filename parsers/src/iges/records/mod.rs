@@ -1,0 +1,574 @@
+//! The entity schema: one declaration per entity nurbsx reads (IGES 5.3 chapter 4), and
+//! the typed records built from it.
+//!
+//! A [`Schema`] lists an entity's parameters in the order of its table in the standard,
+//! with their types (section 2.2.2), which are DE pointers and to which entity types, and
+//! how counts read earlier repeat later fields. One generic reader ([`read`]) decodes any
+//! declared entity from the parameter grammar into [`Values`]; the record type then takes
+//! its fields by name. The arity check (a record must hold what its counts declare, checked
+//! before anything is allocated) and the pointer walk ([`Values::pointers`]) come from the
+//! declaration too. Adding an entity is one declaration plus its record type.
+
+mod composite102;
+mod curve126;
+mod curve_on_surface142;
+mod edge_list504;
+mod face510;
+mod loop508;
+mod surface128;
+mod transform124;
+mod trimmed_surface144;
+
+pub use composite102::CompositeCurve102;
+pub use curve_on_surface142::CurveOnSurface142;
+pub use curve126::Curve126;
+pub use edge_list504::{Edge, EdgeList504};
+pub use face510::Face510;
+pub use loop508::{Loop508, LoopEdge};
+pub use surface128::Surface128;
+pub use transform124::Transform124;
+pub use trimmed_surface144::TrimmedSurface144;
+
+use super::directory::DirectoryEntry;
+use super::error::ErrorKind;
+use super::grammar::parameters::{Error, ParameterReader};
+
+/// Curve entities a curve pointer may name (IGES 5.3 sections 4.2-4.23, 4.26).
+pub const CURVES: &[i64] = &[100, 102, 104, 106, 110, 112, 116, 126, 130];
+
+/// Surface entities a surface pointer may name (IGES 5.3 sections 4.18-4.24, 4.30, 4.160-4.164).
+pub const SURFACES: &[i64] = &[
+    108, 114, 118, 120, 122, 128, 140, 143, 190, 192, 194, 196, 198,
+];
+
+/// Every declared entity.
+pub const SCHEMAS: &[Schema] = &[
+    composite102::SCHEMA,
+    transform124::SCHEMA,
+    curve126::SCHEMA,
+    surface128::SCHEMA,
+    curve_on_surface142::SCHEMA,
+    trimmed_surface144::SCHEMA,
+    edge_list504::SCHEMA,
+    loop508::SCHEMA,
+    face510::SCHEMA,
+];
+
+/// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Type {
+    /// An integer that must be present (a count, a degree).
+    Integer,
+    /// An integer whose default is 0 (a flag, a form, an enumeration).
+    Flag,
+    /// A real; the default is 0.0.
+    Real,
+    /// A point: three reals X, Y, Z.
+    Point,
+    /// A DE pointer to an entity of one of these types (any type when empty); the default
+    /// is 0, no entity.
+    Pointer(&'static [i64]),
+    /// A Hollerith string.
+    String,
+}
+
+impl Type {
+    /// Parameters one value of this type takes.
+    pub fn width(self) -> usize {
+        match self {
+            Type::Point => 3,
+            _ => 1,
+        }
+    }
+}
+
+/// How many times a field occurs.
+#[derive(Debug, Clone, Copy)]
+pub enum Repeat {
+    /// Exactly once.
+    One,
+    /// Once, or absent when the record ends before it; a default is absent too. A point is
+    /// present only when all three of its parameters are.
+    Optional,
+    /// As many times as the count says.
+    Times(Count),
+    /// The fields of a group, repeated as many times as the count says.
+    Group(Count, &'static [Field]),
+}
+
+/// A count computed from the integers read before it (the standard's formula, e.g.
+/// `K + M + 2` knots), with checked arithmetic: a hostile count is an error, not an
+/// allocation.
+#[derive(Debug, Clone, Copy)]
+pub enum Count {
+    /// The value of an `Integer` field read before (e.g. `N`).
+    Field(&'static str),
+    /// A formula over the integers read before.
+    Formula {
+        /// The formula as the standard writes it.
+        formula: &'static str,
+        /// Evaluates it.
+        of: fn(&Head) -> Result<usize, String>,
+    },
+}
+
+impl Count {
+    /// The count, given the integers read so far.
+    pub fn of(&self, head: &Head) -> Result<usize, String> {
+        match self {
+            Count::Field(name) => head.count(name),
+            Count::Formula { of, .. } => of(head),
+        }
+    }
+}
+
+/// One parameter (or repeated parameters) of an entity.
+#[derive(Debug, Clone, Copy)]
+pub struct Field {
+    /// The name in the standard's table.
+    pub name: &'static str,
+    /// Its type.
+    pub ty: Type,
+    /// How often it occurs.
+    pub repeat: Repeat,
+}
+
+impl Field {
+    /// A field that occurs once.
+    pub const fn one(name: &'static str, ty: Type) -> Field {
+        Field {
+            name,
+            ty,
+            repeat: Repeat::One,
+        }
+    }
+
+    /// A field that may be absent at the record's end.
+    pub const fn optional(name: &'static str, ty: Type) -> Field {
+        Field {
+            name,
+            ty,
+            repeat: Repeat::Optional,
+        }
+    }
+
+    /// A field repeated `count` times.
+    pub const fn times(name: &'static str, ty: Type, count: Count) -> Field {
+        Field {
+            name,
+            ty,
+            repeat: Repeat::Times(count),
+        }
+    }
+
+    /// A group of fields repeated `count` times.
+    pub const fn group(name: &'static str, count: Count, fields: &'static [Field]) -> Field {
+        Field {
+            name,
+            ty: Type::Integer,
+            repeat: Repeat::Group(count, fields),
+        }
+    }
+}
+
+/// An entity's declaration.
+#[derive(Debug, Clone, Copy)]
+pub struct Schema {
+    /// The entity type number.
+    pub entity: i64,
+    /// The standard's name for it.
+    pub name: &'static str,
+    /// The parameters after the entity type, in order.
+    pub fields: &'static [Field],
+}
+
+/// A typed record of one declared entity.
+pub trait Entity: Sized {
+    /// Its declaration.
+    const SCHEMA: Schema;
+    /// The record from the values [`read`] decoded by [`Entity::SCHEMA`] (and the
+    /// entry, for the fields a record keeps from its Directory Entry).
+    fn from_values(values: Values<'_>, entry: &DirectoryEntry) -> Self;
+}
+
+/// The integers read so far (the `Integer` fields), for the counts that follow.
+#[derive(Debug, Clone, Default)]
+pub struct Head {
+    ints: Vec<(&'static str, i64)>,
+}
+
+impl Head {
+    /// The integer named `name` (the innermost when groups repeat a name).
+    #[inline]
+    pub fn get(&self, name: &str) -> Result<i64, String> {
+        // Names are a byte or two: compared inline rather than through `memcmp`.
+        let same =
+            |n: &str| n.len() == name.len() && n.bytes().zip(name.bytes()).all(|(a, b)| a == b);
+        self.ints
+            .iter()
+            .rev()
+            .find(|(n, _)| same(n))
+            .map(|&(_, v)| v)
+            .ok_or_else(|| format!("{name} is not read yet"))
+    }
+
+    /// The integer named `name` as a count: an error when negative.
+    #[inline]
+    pub fn count(&self, name: &str) -> Result<usize, String> {
+        let v = self.get(name)?;
+        usize::try_from(v).map_err(|_| format!("{name} = {v} is negative"))
+    }
+}
+
+/// A decoded value, by field.
+#[derive(Debug, Clone)]
+pub enum Value<'a> {
+    /// An integer, flag or pointer.
+    Int(i64),
+    /// A real.
+    Real(f64),
+    /// A point.
+    Point([f64; 3]),
+    /// A string (`None`: a default).
+    String(Option<&'a str>),
+    /// An optional field that is absent.
+    Absent,
+    /// Repeated integers, flags or pointers.
+    Ints(Vec<i64>),
+    /// Repeated reals.
+    Reals(Vec<f64>),
+    /// Repeated points.
+    Points(Vec<[f64; 3]>),
+    /// Repeated strings.
+    Strings(Vec<Option<&'a str>>),
+    /// Repeated groups.
+    Groups(Vec<Values<'a>>),
+}
+
+/// The values of an entity's (or a group's) fields, in declaration order.
+#[derive(Debug, Clone)]
+pub struct Values<'a> {
+    fields: &'static [Field],
+    values: Vec<Value<'a>>,
+    /// Parameters after the declared ones (associativity and property pointers, or values
+    /// some writers add); 0 for a group.
+    pub extra: usize,
+}
+
+impl<'a> Values<'a> {
+    fn slot(&mut self, name: &str) -> Option<&mut Value<'a>> {
+        let i = self.fields.iter().position(|f| f.name == name)?;
+        self.values.get_mut(i)
+    }
+
+    /// Takes field `name`'s value out (a missing field reads as [`Value::Absent`]).
+    pub fn take(&mut self, name: &str) -> Value<'a> {
+        self.slot(name)
+            .map_or(Value::Absent, |v| std::mem::replace(v, Value::Absent))
+    }
+
+    /// An integer, flag or pointer field (0 when absent).
+    pub fn int(&mut self, name: &str) -> i64 {
+        match self.take(name) {
+            Value::Int(v) => v,
+            _ => 0,
+        }
+    }
+
+    /// A real field (`None` when absent).
+    pub fn real(&mut self, name: &str) -> Option<f64> {
+        match self.take(name) {
+            Value::Real(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// A point field (`None` when absent).
+    pub fn point(&mut self, name: &str) -> Option<[f64; 3]> {
+        match self.take(name) {
+            Value::Point(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// A repeated integer or pointer field.
+    pub fn ints(&mut self, name: &str) -> Vec<i64> {
+        match self.take(name) {
+            Value::Ints(v) => v,
+            _ => Vec::new(),
+        }
+    }
+
+    /// A repeated real field.
+    pub fn reals(&mut self, name: &str) -> Vec<f64> {
+        match self.take(name) {
+            Value::Reals(v) => v,
+            _ => Vec::new(),
+        }
+    }
+
+    /// A repeated point field.
+    pub fn points(&mut self, name: &str) -> Vec<[f64; 3]> {
+        match self.take(name) {
+            Value::Points(v) => v,
+            _ => Vec::new(),
+        }
+    }
+
+    /// A repeated group.
+    pub fn groups(&mut self, name: &str) -> Vec<Values<'a>> {
+        match self.take(name) {
+            Value::Groups(v) => v,
+            _ => Vec::new(),
+        }
+    }
+
+    /// Every DE pointer among the values, with its field name and the entity types the
+    /// declaration allows it to name (zero pointers, "no entity", left out).
+    pub fn pointers(&self) -> Vec<(&'static str, i64, &'static [i64])> {
+        let mut out = Vec::new();
+        // The declaration, not the input, bounds the depth: groups nest as the standard's
+        // tables do (at most two levels here).
+        self.pointers_into(&mut out);
+        out
+    }
+
+    fn pointers_into(&self, out: &mut Vec<(&'static str, i64, &'static [i64])>) {
+        for (f, v) in self.fields.iter().zip(&self.values) {
+            match (f.ty, v) {
+                (Type::Pointer(to), Value::Int(p)) if *p != 0 => out.push((f.name, *p, to)),
+                (Type::Pointer(to), Value::Ints(ps)) => {
+                    out.extend(ps.iter().filter(|&&p| p != 0).map(|&p| (f.name, p, to)));
+                }
+                (_, Value::Groups(gs)) => {
+                    for g in gs {
+                        g.pointers_into(out);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// Parameters the declared fields need, given the integers read so far; `None` when a
+/// count depends on integers not read yet.
+pub fn required(fields: &[Field], head: &Head) -> Option<usize> {
+    let mut n = 0usize;
+    for f in fields {
+        let k = match f.repeat {
+            Repeat::One => f.ty.width(),
+            Repeat::Optional => 0,
+            Repeat::Times(c) => c.of(head).ok()?.checked_mul(f.ty.width())?,
+            Repeat::Group(c, inner) => {
+                let count = c.of(head).ok()?;
+                if count == 0 {
+                    0
+                } else {
+                    count.checked_mul(required(inner, head)?)?
+                }
+            }
+        };
+        n = n.checked_add(k)?;
+    }
+    Some(n)
+}
+
+/// Reads the parameters after the entity type by `schema`, then counts what follows.
+///
+/// The arity check: once the counts are known, the parameters they need are declared to
+/// the reader, so a record that ends early is a [`ErrorKind::Truncated`] error naming the
+/// counts; a count that is out of range is an [`ErrorKind::OutOfRange`] error at the first
+/// parameter. Nothing is allocated beyond what the remaining data can hold.
+pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'a>, Error<'a>> {
+    let first = r.rest();
+    let mut head = Head::default();
+    if let Some(n) = required(schema.fields, &head) {
+        r.expect(n, schema.entity, Vec::new());
+    }
+    let mut values = read_fields(schema, schema.fields, r, &mut head, first, true)?;
+    values.extra = r.skip_rest()?;
+    Ok(values)
+}
+
+fn read_fields<'a>(
+    schema: &Schema,
+    fields: &'static [Field],
+    r: &mut ParameterReader<'a>,
+    head: &mut Head,
+    first: &'a [u8],
+    top: bool,
+) -> Result<Values<'a>, Error<'a>> {
+    let mut values = Vec::with_capacity(fields.len());
+    let mut expecting = false;
+    for f in fields {
+        let count = |c: &Count, head: &Head| {
+            c.of(head)
+                .map_err(|m| Error::format(first, ErrorKind::OutOfRange(m)))
+        };
+        if top && !expecting && !matches!(f.repeat, Repeat::One | Repeat::Optional) {
+            // The counts are read: declare what the record must hold.
+            expecting = true;
+            if let Some(n) = required(schema.fields, head) {
+                r.expect(n, schema.entity, head.ints.clone());
+            }
+        }
+        let v = match (f.repeat, f.ty) {
+            (Repeat::One, ty) => one(r, f.name, ty, head)?,
+            (Repeat::Optional, Type::Point) => {
+                let start = r.index();
+                let xyz = [r.parameter()?, r.parameter()?, r.parameter()?];
+                match xyz {
+                    [Some(x), Some(y), Some(z)] => {
+                        let x = r.as_optional_real(x, start, f.name)?;
+                        let y = r.as_optional_real(y, start + 1, f.name)?;
+                        let z = r.as_optional_real(z, start + 2, f.name)?;
+                        match (x, y, z) {
+                            (None, None, None) => Value::Absent,
+                            (x, y, z) => {
+                                Value::Point([x.unwrap_or(0.0), y.unwrap_or(0.0), z.unwrap_or(0.0)])
+                            }
+                        }
+                    }
+                    // Fewer than three parameters left: no point (and nothing extra).
+                    _ => Value::Absent,
+                }
+            }
+            (Repeat::Optional, Type::Real) => match r.optional_real(f.name)? {
+                Some(x) => Value::Real(x),
+                None => Value::Absent,
+            },
+            (Repeat::Optional, ty) => {
+                if r.done() {
+                    Value::Absent
+                } else {
+                    one(r, f.name, ty, head)?
+                }
+            }
+            (Repeat::Times(c), ty) => {
+                let n = count(&c, head)?;
+                match ty {
+                    Type::Real => Value::Reals(r.reals(n, f.name)?),
+                    Type::Point => Value::Points(r.points(n, [f.name; 3])?),
+                    Type::String => {
+                        let mut v = Vec::with_capacity(r.capacity(n, 1));
+                        for _ in 0..n {
+                            v.push(r.string(f.name)?);
+                        }
+                        Value::Strings(v)
+                    }
+                    Type::Integer | Type::Flag | Type::Pointer(_) => {
+                        let default = (ty != Type::Integer).then_some(0);
+                        let mut v = Vec::with_capacity(r.capacity(n, 1));
+                        for _ in 0..n {
+                            v.push(r.integer(f.name, default)?);
+                        }
+                        Value::Ints(v)
+                    }
+                }
+            }
+            (Repeat::Group(c, inner), _) => {
+                let n = count(&c, head)?;
+                let width = required(inner, &Head::default()).unwrap_or(1);
+                let mut groups = Vec::with_capacity(r.capacity(n, width));
+                for _ in 0..n {
+                    let mark = head.ints.len();
+                    let at = r.rest();
+                    groups.push(read_fields(schema, inner, r, head, at, false)?);
+                    head.ints.truncate(mark);
+                }
+                Value::Groups(groups)
+            }
+        };
+        values.push(v);
+    }
+    Ok(Values {
+        fields,
+        values,
+        extra: 0,
+    })
+}
+
+/// One value of a field that occurs once.
+fn one<'a>(
+    r: &mut ParameterReader<'a>,
+    name: &'static str,
+    ty: Type,
+    head: &mut Head,
+) -> Result<Value<'a>, Error<'a>> {
+    Ok(match ty {
+        Type::Integer => {
+            let v = r.integer(name, None)?;
+            head.ints.push((name, v));
+            Value::Int(v)
+        }
+        Type::Flag | Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
+        Type::Real => Value::Real(r.real(name)?),
+        Type::Point => Value::Point([r.real(name)?, r.real(name)?, r.real(name)?]),
+        Type::String => Value::String(r.string(name)?),
+    })
+}
+
+/// A count as an IGES integer (counts of in-memory data are far below `i64::MAX`).
+fn count(n: usize) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn head(ints: &[(&'static str, i64)]) -> Head {
+        Head {
+            ints: ints.to_vec(),
+        }
+    }
+
+    /// The declarations against the parameter counts of the standard's tables: a full 126
+    /// has `17 + 5K + M` parameters, of which the last five (range, normal) are optional; a
+    /// full 128 has `21 + 5 K1 + 5 K2 + 4 K1 K2 + M1 + M2`, the last four optional.
+    #[test]
+    fn declared_counts_match_the_standard() {
+        for (k, m) in [(1i64, 1i64), (3, 3), (6, 2), (10, 5)] {
+            let h = head(&[("K", k), ("M", m)]);
+            let n = required(curve126::SCHEMA.fields, &h).unwrap();
+            assert_eq!(n + 5, usize::try_from(17 + 5 * k + m).unwrap());
+        }
+        for (k1, k2, m1, m2) in [(3i64, 2i64, 2i64, 1i64), (1, 1, 1, 1), (5, 7, 3, 2)] {
+            let h = head(&[("K1", k1), ("K2", k2), ("M1", m1), ("M2", m2)]);
+            let n = required(surface128::SCHEMA.fields, &h).unwrap();
+            let full = 21 + 5 * k1 + 5 * k2 + 4 * k1 * k2 + m1 + m2;
+            assert_eq!(n + 4, usize::try_from(full).unwrap());
+        }
+        assert_eq!(
+            required(transform124::SCHEMA.fields, &Head::default()),
+            Some(12)
+        );
+        // 504: N edges of five parameters.
+        let h = head(&[("N", 3)]);
+        assert_eq!(required(edge_list504::SCHEMA.fields, &h), Some(1 + 15));
+    }
+
+    #[test]
+    fn hostile_counts_are_errors() {
+        let count = |fields: &[Field], ints: &[(&'static str, i64)]| {
+            fields
+                .iter()
+                .find_map(|f| match f.repeat {
+                    Repeat::Times(c) => Some(c.of(&head(ints))),
+                    _ => None,
+                })
+                .unwrap()
+        };
+        let curve = curve126::SCHEMA.fields;
+        assert!(count(curve, &[("K", i64::MAX), ("M", 3)]).is_err());
+        assert!(count(curve, &[("K", -1), ("M", 1)]).is_err());
+        assert!(count(curve, &[("K", 2), ("M", 3)]).is_err());
+        assert!(count(curve, &[("K", 2), ("M", 0)]).is_err());
+        let surface = surface128::SCHEMA.fields;
+        let big = [("K1", i64::MAX), ("K2", i64::MAX), ("M1", 1), ("M2", 1)];
+        assert!(count(surface, &big).is_err());
+        // 2^31 - 1 is a count: the record check refuses the record, not the count.
+        assert!(count(curve, &[("K", (1 << 31) - 1), ("M", 3)]).is_ok());
+    }
+}
