@@ -12,6 +12,63 @@ use super::reports::{
 };
 use super::{ErrorKind, InputKind, Loaded, PipelineError, Settings, load};
 
+/// Characters one `f64` takes at most in a reply (`-2.2250738585072014e-308` and a
+/// separator): reply estimates count every number at this width, so they bound the text.
+const NUMBER_BYTES: f64 = 25.0;
+
+/// Refuses work whose reply would exceed [`Settings::max_reply_bytes`]: `estimate` is the
+/// reply size worked out before the work, `what` names the reply, `advice` says how to
+/// shrink it.
+fn check_reply(
+    estimate: f64,
+    what: &str,
+    advice: &str,
+    settings: &Settings,
+) -> Result<(), PipelineError> {
+    if estimate > settings.max_reply_bytes as f64 {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.reply_bytes",
+            format!(
+                "the {what} would take about {:.0} bytes, above the reply limit of {} bytes; {advice}",
+                estimate, settings.max_reply_bytes
+            ),
+            Location::default(),
+        ));
+    }
+    Ok(())
+}
+
+/// An upper estimate of a written file (STEP, IGES or model JSON): per control point one
+/// point record (up to 4 numbers and about 30 bytes of syntax), per knot one number, and
+/// 256 bytes of entity records per entity.
+fn estimated_file_bytes(doc: &Document) -> f64 {
+    doc.entities
+        .iter()
+        .map(|e| {
+            let (poles, knots) = match &e.geometry {
+                Geometry::Curve(c) => (c.num_poles(), c.knots().len()),
+                Geometry::Surface(s) => (
+                    s.control_points().as_slice().len(),
+                    s.knots_u().len() + s.knots_v().len(),
+                ),
+            };
+            256.0 + poles as f64 * (4.0 * NUMBER_BYTES + 30.0) + knots as f64 * NUMBER_BYTES
+        })
+        .sum()
+}
+
+/// Checks the estimate of a file (or model JSON) about to be written against
+/// [`Settings::max_reply_bytes`] (413 `limit.reply_bytes`).
+pub fn check_file_reply(doc: &Document, settings: &Settings) -> Result<(), PipelineError> {
+    check_reply(
+        estimated_file_bytes(doc),
+        "written file",
+        "send fewer or smaller entities",
+        settings,
+    )
+}
+
 /// What to do with knot-vector ends while converting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ClampPolicy {
@@ -234,11 +291,14 @@ pub fn convert(
     };
     let entities_in = document.entities.len();
     drop_unwritable(&mut document, format);
+    settings.cancel.check()?;
     let original = op.is_some().then(|| document.clone());
     if let Some(op) = op {
         apply(&mut document, op, None, settings)?;
     }
+    check_file_reply(&document, settings)?;
     let text = write(&document, format, &request.export)?;
+    settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
     let verify = match request.verify {
         None => None,
@@ -324,22 +384,23 @@ fn verify_output(
         ));
     }
     let scale = reference.units.to_mm() / out_units.to_mm();
-    Ok(reference
+    reference
         .entities
         .iter()
         .zip(&reread.entities)
         .map(|(a, b)| {
+            settings.cancel.check()?;
             let (max, size) = sampled_deviation(&a.geometry, &b.geometry, scale);
             let relative = max / size.max(f64::MIN_POSITIVE);
-            EntityDeviation {
+            Ok(EntityDeviation {
                 input_id: a.id.clone(),
                 output_id: b.id.clone(),
                 max_deviation: max,
                 relative,
                 ok: relative <= tolerance,
-            }
+            })
         })
-        .collect())
+        .collect()
 }
 
 /// Largest distance between `a` (scaled by `scale`) and `b` at the same normalised
@@ -507,6 +568,12 @@ pub fn evaluate(
     }
     let entity = select(doc, request.entity.as_deref())?;
     let dim = entity.geometry.dimension();
+    check_reply(
+        request.params.len() as f64 * eval_result_bytes(&entity.geometry, request),
+        "evaluation reply",
+        "ask for fewer parameters or fewer quantities per point",
+        settings,
+    )?;
     let coords = |p: Point3| -> Value { json!(p[..dim]) };
     let failure = |e: crate::nurbs::GeometryError| json!({ "error": e.to_string() });
     let at_error = |e: crate::nurbs::GeometryError| {
@@ -518,7 +585,10 @@ pub fn evaluate(
         )
     };
     let mut results = Vec::with_capacity(request.params.len());
-    for at in &request.params {
+    for (k, at) in request.params.iter().enumerate() {
+        if k % EVAL_POLL == 0 {
+            settings.cancel.check()?;
+        }
         let result = match (&entity.geometry, at.as_slice()) {
             (Geometry::Curve(c), &[u]) => {
                 let ders = c.derivatives(u, request.derivatives).map_err(at_error)?;
@@ -620,6 +690,39 @@ pub fn evaluate(
     })
 }
 
+/// Evaluations between two polls of the stop signal.
+const EVAL_POLL: usize = 1024;
+
+/// An upper estimate of one evaluation result's JSON text: the parameters and the point,
+/// then per derivative order the vectors it adds (curves 1, surfaces `order + 1` with
+/// their keys), the normal, and the curvature record (at most 12 numbers with keys).
+fn eval_result_bytes(g: &Geometry, request: &EvalRequest) -> f64 {
+    let dim = g.dimension() as f64;
+    let (arity, curve) = match g {
+        Geometry::Curve(_) => (1.0, true),
+        Geometry::Surface(_) => (2.0, false),
+    };
+    let vector = dim * NUMBER_BYTES + 4.0;
+    let mut bytes = 24.0 + (arity + dim) * NUMBER_BYTES;
+    for order in 1..=request.derivatives {
+        bytes += if curve {
+            vector
+        } else {
+            (order as f64 + 1.0) * (vector + order as f64 + 3.0)
+        };
+    }
+    if request.derivatives > 0 {
+        bytes += 16.0;
+    }
+    if request.normals {
+        bytes += 3.0 * NUMBER_BYTES + 12.0;
+    }
+    if request.curvature {
+        bytes += 12.0 * NUMBER_BYTES + 160.0;
+    }
+    bytes
+}
+
 /// Applies an operation to one entity (`entity = Some(id)`) or to all.
 pub fn apply(
     doc: &mut Document,
@@ -636,6 +739,7 @@ pub fn apply(
                 continue;
             }
         }
+        settings.cancel.check()?;
         e.geometry = apply_one(&e.geometry, op, settings).map_err(|err| PipelineError {
             diagnostic: Diagnostic {
                 location: Location::at_entity(e.id.clone()),
@@ -749,9 +853,23 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
     })
 }
 
+/// Reply bytes per curve point at most: an OBJ `v` line and its index in the `l` line (SVG
+/// takes less).
+const CURVE_POINT_BYTES: f64 = 3.0 * NUMBER_BYTES + 16.0;
+
+/// Reply bytes per surface vertex at most: its `v` and `vn` lines and its share (two
+/// triangles) of the `f` lines.
+const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
+
 /// Tessellates one entity (or all with `entity = None`) under a chord tolerance: curves by
 /// the osculating-circle rule, surfaces to crack-free triangle meshes. OBJ holds both (one
 /// `o` group per entity); SVG holds curves projected on XY.
+///
+/// Before any mesh is built, the vertex count is estimated for every entity
+/// ([`crate::nurbs::NurbsCurve::tessellation_estimate`]) and the request refused when the
+/// sum exceeds [`Settings::max_mesh_vertices`] or its text would exceed
+/// [`Settings::max_reply_bytes`]; the same vertex limit bounds the work itself, and the
+/// stop signal is polled every [`crate::nurbs::tessellate::STOP_POLL`] steps.
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
@@ -759,7 +877,7 @@ pub fn tessellate(
     format: MeshFormat,
     settings: &Settings,
 ) -> Result<String, PipelineError> {
-    use crate::nurbs::tessellate::{Polyline, polylines_to_svg};
+    use crate::nurbs::tessellate::{Budget, Polyline, TessellationError, polylines_to_svg};
     use std::fmt::Write as _;
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::usage(
@@ -774,29 +892,68 @@ pub fn tessellate(
     if selected.is_empty() {
         select(doc, None)?;
     }
-    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
+    let over_limit = |what: String| {
         PipelineError::new(
-            ErrorKind::Geometry,
-            "tessellate.failed",
-            err.to_string(),
-            Location::at_entity(e.id.clone()),
+            ErrorKind::Limit,
+            "limit.mesh_vertices",
+            format!(
+                "{what}, above the limit of {} vertices; use a larger tolerance",
+                settings.max_mesh_vertices
+            ),
+            Location::default(),
         )
     };
+    // The a-priori estimate, before any mesh is built.
+    let mut estimate = 0.0;
+    let mut reply = 0.0;
+    for e in &selected {
+        settings.cancel.check()?;
+        let (n, bytes) = match &e.geometry {
+            Geometry::Curve(c) => (c.tessellation_estimate(tolerance), CURVE_POINT_BYTES),
+            Geometry::Surface(s) => (s.tessellation_estimate(tolerance), SURFACE_VERTEX_BYTES),
+        };
+        estimate += n;
+        reply += n * bytes;
+    }
+    if estimate > settings.max_mesh_vertices as f64 {
+        return Err(over_limit(format!(
+            "the tessellation would need about {estimate:.3e} vertices (estimated from the \
+             curvature before the work)"
+        )));
+    }
+    check_reply(
+        reply,
+        "mesh text",
+        "use a larger tolerance or fewer entities",
+        settings,
+    )?;
+    let stop = || settings.cancel.is_set();
+    // Each entity may use what the ones before it left of the vertex limit.
     let mut vertices = 0usize;
-    let mut budget = |n: usize| -> Result<(), PipelineError> {
-        vertices = vertices.saturating_add(n);
-        if vertices > settings.max_mesh_vertices {
-            return Err(PipelineError::new(
-                ErrorKind::Limit,
-                "limit.mesh_vertices",
-                format!(
-                    "the tessellation exceeds {} vertices; use a larger tolerance",
-                    settings.max_mesh_vertices
-                ),
-                Location::default(),
-            ));
-        }
-        Ok(())
+    let failed = |e: &Entity, err: TessellationError| match err {
+        TessellationError::Geometry(g) => PipelineError::new(
+            ErrorKind::Geometry,
+            "tessellate.failed",
+            g.to_string(),
+            Location::at_entity(e.id.clone()),
+        ),
+        TessellationError::TooManyPoints { .. } => over_limit(format!(
+            "the tessellation of {} needs more vertices than remain",
+            e.id
+        )),
+        TessellationError::Stopped => super::cancelled(),
+    };
+    let within = |used: usize| Budget {
+        max_points: settings.max_mesh_vertices.saturating_sub(used),
+        stop: &stop,
+    };
+    let text_limit = |out: &str| {
+        check_reply(
+            out.len() as f64,
+            "mesh text",
+            "use a larger tolerance or fewer entities",
+            settings,
+        )
     };
     match format {
         MeshFormat::Svg => {
@@ -804,8 +961,10 @@ pub fn tessellate(
             for e in &selected {
                 match &e.geometry {
                     Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
+                        let line = c
+                            .tessellate_within(tolerance, &within(vertices))
+                            .map_err(|err| failed(e, err))?;
+                        vertices += line.points.len();
                         lines.push(line);
                     }
                     Geometry::Surface(_) => {
@@ -819,7 +978,9 @@ pub fn tessellate(
                     }
                 }
             }
-            Ok(polylines_to_svg(&lines, 800.0))
+            let out = polylines_to_svg(&lines, 800.0);
+            text_limit(&out)?;
+            Ok(out)
         }
         MeshFormat::Obj => {
             let mut out = String::from("# nurbsx tessellation\n");
@@ -828,8 +989,10 @@ pub fn tessellate(
                 let _ = writeln!(out, "o {}", e.id);
                 match &e.geometry {
                     Geometry::Curve(c) => {
-                        let line = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(line.points.len())?;
+                        let line = c
+                            .tessellate_within(tolerance, &within(vertices))
+                            .map_err(|err| failed(e, err))?;
+                        vertices += line.points.len();
                         for p in &line.points {
                             let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
                         }
@@ -841,8 +1004,10 @@ pub fn tessellate(
                         base += line.points.len();
                     }
                     Geometry::Surface(s) => {
-                        let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
-                        budget(mesh.vertices.len())?;
+                        let mesh = s
+                            .tessellate_within(tolerance, &within(vertices))
+                            .map_err(|err| failed(e, err))?;
+                        vertices += mesh.vertices.len();
                         for p in &mesh.vertices {
                             let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
                         }
@@ -856,6 +1021,7 @@ pub fn tessellate(
                         base += mesh.vertices.len();
                     }
                 }
+                text_limit(&out)?;
             }
             Ok(out)
         }

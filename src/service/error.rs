@@ -105,8 +105,15 @@ pub fn status_of(kind: ErrorKind) -> StatusCode {
 
 impl From<PipelineError> for ApiError {
     fn from(e: PipelineError) -> Self {
+        // Stopped work: its request is gone (time limit) or the drain ended; either way the
+        // server, not the input, is the cause.
+        let status = if e.code() == crate::pipeline::cancelled().code() {
+            StatusCode::SERVICE_UNAVAILABLE
+        } else {
+            status_of(e.kind)
+        };
         ApiError {
-            status: status_of(e.kind),
+            status,
             code: e.diagnostic.code,
             message: e.diagnostic.message,
             location: Some(e.diagnostic.location),

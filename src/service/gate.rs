@@ -4,12 +4,15 @@
 //! - at most `max_concurrency` requests compute at once (a semaphore of that many permits);
 //! - up to [`QUEUE_FACTOR`] × `max_concurrency` more are admitted and wait for a permit,
 //!   each at most [`QUEUE_WAIT`];
+//! - a request takes its admission once its body has arrived ([`super::upload`] bounds the
+//!   bodies still arriving), so queued bodies bound memory to about
+//!   (1 + QUEUE_FACTOR) × max_concurrency × max_body_bytes;
 //! - a request beyond that, or one that waited [`QUEUE_WAIT`] without a permit, gets 503
-//!   `overloaded` with `Retry-After: 1` at once, before its body is read (so queued bodies
-//!   bound memory to about (1 + QUEUE_FACTOR) × max_concurrency × max_body_bytes);
-//! - the permit moves into the blocking task, so a request that timed out keeps its slot
-//!   until its computation really ends (CPU work cannot be cancelled), and the count of
-//!   busy slots never lies.
+//!   `overloaded` with `Retry-After: 1`;
+//! - the permit moves into the blocking task with the request's stop signal
+//!   ([`crate::pipeline::Cancel`]): when the request's future is dropped (time limit,
+//!   connection closed) or [`Gate::stop_all`] is called, the computation stops at its next
+//!   poll and frees its slot; the count of busy slots never lies.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -18,6 +21,7 @@ use std::time::Duration;
 use tokio::sync::Semaphore;
 
 use super::error::ApiError;
+use crate::pipeline::Cancel;
 
 /// How many requests may wait per computing slot.
 pub const QUEUE_FACTOR: usize = 4;
@@ -33,6 +37,16 @@ pub struct Gate {
     admitted: AtomicUsize,
     max_admitted: usize,
     shutting_down: AtomicBool,
+    stop_all: Arc<AtomicBool>,
+}
+
+/// Sets a request's stop flag when the request's future goes away.
+struct StopOnDrop(Arc<AtomicBool>);
+
+impl Drop for StopOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
 }
 
 /// Holds one admission; dropping it frees the place.
@@ -56,7 +70,13 @@ impl Gate {
             admitted: AtomicUsize::new(0),
             max_admitted: slots.saturating_mul(1 + QUEUE_FACTOR),
             shutting_down: AtomicBool::new(false),
+            stop_all: Arc::new(AtomicBool::new(false)),
         }
+    }
+
+    /// Stops every computation at its next poll (the end of a shutdown's drain).
+    pub fn stop_all(&self) {
+        self.stop_all.store(true, Ordering::Release);
     }
 
     /// Admits a request, or refuses with 503 when computing and queue places are all taken.
@@ -101,10 +121,11 @@ impl Gate {
     }
 
     /// Runs CPU-bound `work` on the blocking pool once a slot is free (waiting at most
-    /// [`QUEUE_WAIT`]). A panic in `work` becomes a logged 500 with a generic message.
+    /// [`QUEUE_WAIT`]), giving it the request's stop signal to poll. A panic in `work`
+    /// becomes a logged 500 with a generic message.
     pub async fn run<T, F>(&self, work: F) -> Result<T, ApiError>
     where
-        F: FnOnce() -> Result<T, ApiError> + Send + 'static,
+        F: FnOnce(Cancel) -> Result<T, ApiError> + Send + 'static,
         T: Send + 'static,
     {
         let permit = match tokio::time::timeout(QUEUE_WAIT, self.permits.clone().acquire_owned())
@@ -121,10 +142,15 @@ impl Gate {
             }
         };
         let span = tracing::Span::current();
+        let stop = Arc::new(AtomicBool::new(false));
+        let _stop_on_drop = StopOnDrop(stop.clone());
+        let all = self.stop_all.clone();
+        let cancel =
+            Cancel::new(move || stop.load(Ordering::Acquire) || all.load(Ordering::Acquire));
         let handle = tokio::task::spawn_blocking(move || {
             let _permit = permit;
             let _entered = span.enter();
-            work()
+            work(cancel)
         });
         match handle.await {
             Ok(result) => result,

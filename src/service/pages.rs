@@ -53,9 +53,7 @@ pub async fn readyz(State(state): State<Arc<AppState>>) -> Response {
     responses((status = 200, description = "Prometheus text exposition format 0.0.4",
         content_type = "text/plain; version=0.0.4", body = String)))]
 pub async fn metrics(State(state): State<Arc<AppState>>) -> Response {
-    let text = state
-        .metrics
-        .render(state.gate.busy(), state.gate.admitted());
+    let text = state.metrics.render(&state.gauges());
     (
         [(
             header::CONTENT_TYPE,
