@@ -59,7 +59,12 @@ fn circle() -> Value {
 }
 
 /// One request on its own connection (`Connection: close`): status, body, time taken.
-async fn request(addr: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String, Duration) {
+async fn request(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: &str,
+) -> (u16, String, Duration) {
     let start = Instant::now();
     let mut s = TcpStream::connect(addr).await.unwrap();
     let head = format!(
@@ -168,7 +173,13 @@ async fn slow_uploads_do_not_delay_a_normal_request() {
     let addr = server.addr;
     let before = evaluate_latency(addr).await;
     let slow: Vec<_> = (0..50).map(|_| slow_upload(addr, 1000)).collect();
-    wait_for(addr, "nurbsx_uploads_receiving", 50.0, Duration::from_secs(10)).await;
+    wait_for(
+        addr,
+        "nurbsx_uploads_receiving",
+        50.0,
+        Duration::from_secs(10),
+    )
+    .await;
     let m = metrics(addr).await;
     assert_eq!(sample(&m, "nurbsx_requests_admitted"), 0.0, "{m}");
     let during = evaluate_latency(addr).await;
@@ -244,15 +255,30 @@ async fn upload_count_and_bytes_are_bounded() {
     .await;
     let addr = server.addr;
     let slow: Vec<_> = (0..3).map(|_| slow_upload(addr, 100)).collect();
-    wait_for(addr, "nurbsx_uploads_receiving", 3.0, Duration::from_secs(10)).await;
+    wait_for(
+        addr,
+        "nurbsx_uploads_receiving",
+        3.0,
+        Duration::from_secs(10),
+    )
+    .await;
     let (status, body, took) = request(addr, "POST", "/v1/evaluate", &evaluate_body()).await;
     assert_eq!(status, 503, "{body}");
     assert!(body.contains("request bodies are being received"), "{body}");
-    assert!(took < Duration::from_secs(2), "refused at once, took {took:?}");
+    assert!(
+        took < Duration::from_secs(2),
+        "refused at once, took {took:?}"
+    );
     for c in slow {
         c.abort();
     }
-    wait_for(addr, "nurbsx_uploads_receiving", 0.0, Duration::from_secs(10)).await;
+    wait_for(
+        addr,
+        "nurbsx_uploads_receiving",
+        0.0,
+        Duration::from_secs(10),
+    )
+    .await;
     // Bytes: two bodies of 3000 bytes cannot be held together under 5000.
     let holder = tokio::spawn(async move {
         let mut s = TcpStream::connect(addr).await.unwrap();
@@ -271,7 +297,10 @@ async fn upload_count_and_bytes_are_bounded() {
     let padded = format!("{}{}", evaluate_body(), " ".repeat(3000));
     let (status, body, _) = request(addr, "POST", "/v1/evaluate", &padded).await;
     assert_eq!(status, 503, "{body}");
-    assert!(body.contains("bodies being received hold more than"), "{body}");
+    assert!(
+        body.contains("bodies being received hold more than"),
+        "{body}"
+    );
     holder.abort();
     let (status, body, _) = request(addr, "POST", "/v1/evaluate", &" ".repeat(4001)).await;
     assert_eq!(status, 413, "{body}");
@@ -357,7 +386,10 @@ async fn silent_connections_are_closed_and_do_not_block_shutdown() {
         .unwrap()
         .unwrap();
     let took = asked.elapsed();
-    assert!(took >= Duration::from_secs(1), "the drain lasts 1 s: {took:?}");
+    assert!(
+        took >= Duration::from_secs(1),
+        "the drain lasts 1 s: {took:?}"
+    );
     for s in &mut conns {
         assert!(closed_within(s, Duration::from_secs(1)).await);
     }
@@ -472,7 +504,12 @@ async fn request_ids_are_bounded() {
     let ok = "7f3a-01:trace/span_2.x";
     let reply = app.clone().oneshot(id_for(ok)).await.unwrap();
     assert_eq!(reply.headers()["x-request-id"], ok);
-    for bad in ["a".repeat(200_000), "a".repeat(65), "semi;colon".into(), "sp ace".into()] {
+    for bad in [
+        "a".repeat(200_000),
+        "a".repeat(65),
+        "semi;colon".into(),
+        "sp ace".into(),
+    ] {
         let reply = app.clone().oneshot(id_for(&bad)).await.unwrap();
         let echoed = reply.headers()["x-request-id"].to_str().unwrap();
         assert_ne!(echoed, bad);
@@ -526,4 +563,161 @@ async fn the_reply_estimate_bounds_the_reply() {
         let (status, reply, _) = request(loose.addr, "POST", "/v1/evaluate", &body).await;
         assert_eq!(status, 200, "{reply}");
     }
+}
+
+/// The real binary under SIGTERM with slow uploads, half-sent heads and a request in
+/// flight (its body half sent): `/readyz` turns 503 at once (within 500 ms) and stays 503
+/// while the listener still answers; the in-flight request, completed during the drain, is
+/// answered 200 with the right point; the process exits cleanly within drain (2 s) + 1 s
+/// of the signal, and not before the drain is over.
+#[cfg(unix)]
+#[test]
+fn sigterm_drains_then_exits_within_the_drain_plus_one_second() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::process::{Command, Stdio};
+    let drain = Duration::from_secs(2);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+        .args([
+            "serve",
+            "--addr",
+            "127.0.0.1:0",
+            "--drain",
+            "2s",
+            "--concurrency",
+            "2",
+        ])
+        .env("RUST_LOG", "info")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel::<String>();
+    let log = std::thread::spawn(move || {
+        let mut lines = Vec::new();
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if line.contains("nurbsx service listening") {
+                let addr = line
+                    .split_whitespace()
+                    .find_map(|w| w.strip_prefix("addr="))
+                    .unwrap_or_default()
+                    .to_owned();
+                let _ = addr_tx.send(addr);
+            }
+            lines.push(line);
+        }
+        lines
+    });
+    let addr: SocketAddr = addr_rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("the startup line names the address")
+        .parse()
+        .unwrap();
+    let get = |path: &str| -> String {
+        let mut s = std::net::TcpStream::connect(addr).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        write!(
+            s,
+            "GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut reply = String::new();
+        s.read_to_string(&mut reply).unwrap();
+        reply
+    };
+    // Hostile clients: slow uploads and half-sent heads.
+    let mut hostile = Vec::new();
+    for k in 0..10 {
+        let mut s = std::net::TcpStream::connect(addr).unwrap();
+        if k % 2 == 0 {
+            write!(
+                s,
+                "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Length: 1000\r\n\r\n{{"
+            )
+            .unwrap();
+        } else {
+            write!(s, "GET /healthz HTTP/1.1\r\nHost:").unwrap();
+        }
+        hostile.push(s);
+    }
+    // The request in flight: head and half its body.
+    let body = json!({ "geometry": circle(), "params": [[0.125]] }).to_string();
+    let (first, second) = body.split_at(body.len() / 2);
+    let mut in_flight = std::net::TcpStream::connect(addr).unwrap();
+    in_flight
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    write!(
+        in_flight,
+        "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\n\r\n{first}",
+        body.len()
+    )
+    .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while !get("/metrics").contains("\nnurbsx_uploads_receiving 6\n") {
+        assert!(Instant::now() < deadline, "{}", get("/metrics"));
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(get("/readyz").starts_with("HTTP/1.1 200"));
+
+    let signalled = Instant::now();
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    loop {
+        let reply = get("/readyz");
+        if reply.starts_with("HTTP/1.1 503") {
+            assert!(reply.contains("shutting down"), "{reply}");
+            break;
+        }
+        assert!(
+            signalled.elapsed() < Duration::from_millis(500),
+            "/readyz still {reply}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    // Halfway through the drain the listener still answers, and says it is draining.
+    std::thread::sleep(Duration::from_millis(700));
+    let reply = get("/readyz");
+    assert!(reply.starts_with("HTTP/1.1 503"), "{reply}");
+    assert!(get("/healthz").starts_with("HTTP/1.1 200"));
+    in_flight.write_all(second.as_bytes()).unwrap();
+    let mut reply = String::new();
+    in_flight.read_to_string(&mut reply).unwrap();
+    assert!(reply.starts_with("HTTP/1.1 200"), "{reply}");
+    assert!(
+        reply.to_ascii_lowercase().contains("connection: close"),
+        "{reply}"
+    );
+    let v: Value = serde_json::from_str(&reply[reply.find("\r\n\r\n").unwrap() + 4..]).unwrap();
+    // The circle at u = 1/8: the middle of the first arc, (√2/2, √2/2).
+    let p = &v["results"][0]["point"];
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!((p[0].as_f64().unwrap() - h).abs() < 1e-12, "{v}");
+    assert!((p[1].as_f64().unwrap() - h).abs() < 1e-12, "{v}");
+
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if signalled.elapsed() > drain + Duration::from_secs(1) {
+            child.kill().unwrap();
+            panic!("still running {:?} after SIGTERM", signalled.elapsed());
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let took = signalled.elapsed();
+    assert!(status.success(), "{status:?}");
+    assert!(took >= drain, "exited before the drain was over: {took:?}");
+    drop(hostile);
+    let lines = log.join().unwrap();
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("version=") && l.contains("max_body_bytes=")),
+        "{lines:?}"
+    );
 }

@@ -407,13 +407,13 @@ pub const CLOSE_GRACE: Duration = Duration::from_millis(300);
 
 /// Serves on a bound listener until `shutdown` completes, then drains:
 ///
-/// 1. at once `/readyz` answers 503, idle keep-alive connections are closed, and every
-///    reply from then on closes its connection;
+/// 1. at once `/readyz` answers 503, and every reply from then on closes its connection
+///    (`Connection: close`), so keep-alive clients reconnect through their load balancer;
 /// 2. the listener keeps accepting and serving for [`ServeConfig::drain`], so a load
 ///    balancer that still sends requests gets answers while it notices the 503;
-/// 3. then the listener closes, computations still running are stopped (their requests
-///    get 503 `cancelled`), and after [`CLOSE_GRACE`] every connection still open (slow
-///    uploads, half-sent heads, slow readers) is dropped.
+/// 3. then the listener closes, idle connections are closed, computations still running
+///    are stopped (their requests get 503 `cancelled`), and after [`CLOSE_GRACE`] every
+///    connection still open (slow uploads, half-sent heads, slow readers) is dropped.
 ///
 /// So `serve_on` returns within `drain + CLOSE_GRACE` of `shutdown`, whatever the clients
 /// do.
@@ -449,8 +449,8 @@ pub async fn serve_on(
     let mut http = hyper::server::conn::http1::Builder::new();
     http.timer(TokioTimer::new())
         .header_read_timeout(config.header_timeout);
-    // 0: serving; 1: draining (close idle, finish the current exchange); 2: closing.
-    let (phase_tx, phase_rx) = tokio::sync::watch::channel(0u8);
+    // Set at the end of the drain: every connection finishes its exchange and closes.
+    let (closing_tx, closing_rx) = tokio::sync::watch::channel(false);
     let mut connections = tokio::task::JoinSet::new();
     let mut listener = Some(listener);
     let mut drain_end: Option<tokio::time::Instant> = None;
@@ -480,7 +480,6 @@ pub async fn serve_on(
                 shutdown = None;
                 state.gate.begin_shutdown();
                 drain_end = Some(tokio::time::Instant::now() + config.drain);
-                let _ = phase_tx.send(1);
                 tracing::info!(drain_ms = config.drain.as_millis() as u64,
                     "shutting down: /readyz is 503, serving until the drain ends");
             }
@@ -488,17 +487,12 @@ pub async fn serve_on(
             accepted = accept => match accepted {
                 Ok((stream, _peer)) => {
                     let conn = http.serve_connection(TokioIo::new(stream), service.clone());
-                    let mut phase = phase_rx.clone();
+                    let mut closing = closing_rx.clone();
                     let state = state.clone();
                     state.connections.fetch_add(1, Ordering::AcqRel);
                     connections.spawn(async move {
                         let mut conn = std::pin::pin!(conn);
-                        // A connection accepted while draining is told at once (its first
-                        // exchange is then its last).
-                        let mut told = *phase.borrow_and_update() > 0;
-                        if told {
-                            conn.as_mut().graceful_shutdown();
-                        }
+                        let mut told = false;
                         loop {
                             tokio::select! {
                                 result = conn.as_mut() => {
@@ -507,9 +501,10 @@ pub async fn serve_on(
                                     }
                                     break;
                                 }
-                                changed = phase.changed(), if !told => {
-                                    told = changed.is_err() || *phase.borrow() > 0;
+                                changed = closing.changed(), if !told => {
+                                    told = changed.is_err() || *closing.borrow();
                                     if told {
+                                        // Idle: closed now; mid-exchange: after its reply.
                                         conn.as_mut().graceful_shutdown();
                                     }
                                 }
@@ -531,7 +526,7 @@ pub async fn serve_on(
     }
     drop(listener.take());
     state.gate.stop_all();
-    let _ = phase_tx.send(2);
+    let _ = closing_tx.send(true);
     let left = connections.len();
     tracing::info!(
         connections = left,
