@@ -613,7 +613,9 @@ impl NurbsSurface {
     /// mesh is a tensor grid, so the estimate is the product of the chords needed along u
     /// and along v ([`NurbsCurve::tessellation_estimate`]'s rule on the iso-parameter
     /// curves, with the curvature of `S_u`, `S_uu` (and `S_v`, `S_vv`), the largest over
-    /// 9 iso-curves each way) plus one. Costs at most about 2 × 9 × 65 000 evaluations.
+    /// 9 iso-curves each way) plus one. A lower bound in practice: the mesher also halves
+    /// the other direction where a cell's interior fails, up to about 10 times more
+    /// vertices on a cylinder. Costs at most about 2 × 9 × 65 000 evaluations.
     pub fn tessellation_estimate(&self, tolerance: f64) -> f64 {
         let ((u0, u1), (v0, v1)) = self.domain();
         let ubreaks = domain_breaks(self.knots_u(), (u0, u1));
