@@ -499,7 +499,7 @@ async fn no_computing_slot_is_503_and_not_ready() {
     )
     .await;
     assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
-    assert_eq!(headers[header::RETRY_AFTER], "1");
+    assert_eq!(headers[header::RETRY_AFTER], "1"); // nothing measured yet
     assert_eq!(json_of(&body)["error"]["code"], "overloaded");
     let (status, _, body) = send(closed.clone(), get("/readyz")).await;
     assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
@@ -749,7 +749,7 @@ async fn openapi_documents_every_route_and_error() {
         );
         if path.starts_with("/v1") {
             assert!(op["requestBody"].is_object(), "{path} has no request body");
-            for code in ["200", "400", "413", "415", "422", "503"] {
+            for code in ["200", "400", "408", "413", "415", "422", "503"] {
                 assert!(op["responses"][code].is_object(), "{path} lacks {code}");
             }
             let err = &op["responses"]["422"]["content"]["application/json"]["schema"];

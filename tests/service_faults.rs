@@ -721,3 +721,36 @@ fn sigterm_drains_then_exits_within_the_drain_plus_one_second() {
         "{lines:?}"
     );
 }
+
+/// `Retry-After` on an overloaded refusal is the time the queue takes to drain at the
+/// measured pace: after computations of 400 ms on 1 slot, with 5 requests admitted, about
+/// 5 × 0.4 s = 2 s (up to 4 s when sleeps overshoot on a loaded machine), not a fixed 1.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn retry_after_follows_the_queue_drain_time() {
+    use nurbsx::service::gate::{Gate, QUEUE_FACTOR};
+    let gate = Gate::new(1);
+    assert_eq!(gate.retry_after_s(), 1, "no measurement yet");
+    for _ in 0..3 {
+        gate.run(|_| {
+            std::thread::sleep(Duration::from_millis(400));
+            Ok(())
+        })
+        .await
+        .unwrap();
+    }
+    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit().unwrap()).collect();
+    let refused = gate.admit().unwrap_err();
+    assert_eq!(refused.code, "overloaded");
+    assert!(
+        (2..=4).contains(&refused.retry_after_s),
+        "{}",
+        refused.retry_after_s
+    );
+    use axum::response::IntoResponse;
+    let reply = refused.clone().into_response();
+    assert_eq!(
+        reply.headers()["retry-after"],
+        refused.retry_after_s.to_string().as_str()
+    );
+    drop(held);
+}

@@ -22,6 +22,8 @@ pub struct ApiError {
     pub message: String,
     /// Where in the input, when the failure comes from the input.
     pub location: Option<Location>,
+    /// For a 503: the `Retry-After` seconds (1 unless the refusal knows better).
+    pub retry_after_s: u64,
 }
 
 /// The JSON body of every error reply.
@@ -52,6 +54,7 @@ impl ApiError {
             code: code.to_owned(),
             message: message.into(),
             location: None,
+            retry_after_s: 1,
         }
     }
 
@@ -117,6 +120,7 @@ impl From<PipelineError> for ApiError {
             code: e.diagnostic.code,
             message: e.diagnostic.message,
             location: Some(e.diagnostic.location),
+            retry_after_s: 1,
         }
     }
 }
@@ -128,7 +132,7 @@ impl IntoResponse for ApiError {
         } else {
             tracing::debug!(status = %self.status, code = %self.code, "{}", self.message);
         }
-        let retry = self.status == StatusCode::SERVICE_UNAVAILABLE;
+        let retry = (self.status == StatusCode::SERVICE_UNAVAILABLE).then_some(self.retry_after_s);
         let body = ErrorBody {
             error: ErrorDetail {
                 code: self.code,
@@ -137,10 +141,10 @@ impl IntoResponse for ApiError {
             },
         };
         let mut response = (self.status, Json(body)).into_response();
-        if retry {
+        if let Some(seconds) = retry {
             response
                 .headers_mut()
-                .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
+                .insert(header::RETRY_AFTER, HeaderValue::from(seconds.max(1)));
         }
         response
     }

@@ -8,14 +8,16 @@
 //!   bodies still arriving), so queued bodies bound memory to about
 //!   (1 + QUEUE_FACTOR) × max_concurrency × max_body_bytes;
 //! - a request beyond that, or one that waited [`QUEUE_WAIT`] without a permit, gets 503
-//!   `overloaded` with `Retry-After: 1`;
+//!   `overloaded` with `Retry-After` the time the queue takes to drain at the measured
+//!   pace ([`Gate::retry_after_s`]: admitted requests × mean computing time / slots, from 1
+//!   to [`MAX_RETRY_AFTER_S`] seconds);
 //! - the permit moves into the blocking task with the request's stop signal
 //!   ([`crate::pipeline::Cancel`]): when the request's future is dropped (time limit,
 //!   connection closed) or [`Gate::stop_all`] is called, the computation stops at its next
 //!   poll and frees its slot; the count of busy slots never lies.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use tokio::sync::Semaphore;
@@ -29,6 +31,9 @@ pub const QUEUE_FACTOR: usize = 4;
 /// The longest a request waits for a computing slot before 503.
 pub const QUEUE_WAIT: Duration = Duration::from_secs(2);
 
+/// The longest `Retry-After` the gate advises, in seconds.
+pub const MAX_RETRY_AFTER_S: u64 = 60;
+
 /// The admission counter and the computing-slot semaphore.
 #[derive(Debug)]
 pub struct Gate {
@@ -38,6 +43,9 @@ pub struct Gate {
     max_admitted: usize,
     shutting_down: AtomicBool,
     stop_all: Arc<AtomicBool>,
+    /// Mean computing time of the recent requests, in microseconds (exponentially weighted,
+    /// 1/8 per request; 0 until the first one ends).
+    mean_work_us: Arc<AtomicU64>,
 }
 
 /// Sets a request's stop flag when the request's future goes away.
@@ -71,6 +79,27 @@ impl Gate {
             max_admitted: slots.saturating_mul(1 + QUEUE_FACTOR),
             shutting_down: AtomicBool::new(false),
             stop_all: Arc::new(AtomicBool::new(false)),
+            mean_work_us: Arc::new(AtomicU64::new(0)),
+        }
+    }
+
+    /// Seconds for the admitted requests to drain at the measured pace: admitted × mean
+    /// computing time / slots, rounded up, from 1 to [`MAX_RETRY_AFTER_S`].
+    pub fn retry_after_s(&self) -> u64 {
+        let mean_us = self.mean_work_us.load(Ordering::Relaxed);
+        let admitted = u64::try_from(self.admitted()).unwrap_or(u64::MAX);
+        let slots = u64::try_from(self.slots.max(1)).unwrap_or(1);
+        admitted
+            .saturating_mul(mean_us)
+            .div_ceil(slots.saturating_mul(1_000_000))
+            .clamp(1, MAX_RETRY_AFTER_S)
+    }
+
+    /// An `overloaded` refusal with the drain-time `Retry-After`.
+    fn overloaded(&self, message: String) -> ApiError {
+        ApiError {
+            retry_after_s: self.retry_after_s(),
+            ..ApiError::overloaded(message)
         }
     }
 
@@ -84,7 +113,8 @@ impl Gate {
         let before = self.admitted.fetch_add(1, Ordering::AcqRel);
         let admission = Admission { gate: self };
         if before >= self.max_admitted {
-            return Err(ApiError::overloaded(format!(
+            drop(admission);
+            return Err(self.overloaded(format!(
                 "all {} computing slots and {} queue places are taken; retry shortly",
                 self.slots,
                 self.max_admitted.saturating_sub(self.slots)
@@ -134,7 +164,7 @@ impl Gate {
             Ok(Ok(permit)) => permit,
             Ok(Err(_closed)) => return Err(ApiError::overloaded("the server is shutting down")),
             Err(_elapsed) => {
-                return Err(ApiError::overloaded(format!(
+                return Err(self.overloaded(format!(
                     "all {} computing slots stayed busy for {} ms; retry shortly",
                     self.slots,
                     QUEUE_WAIT.as_millis()
@@ -147,10 +177,22 @@ impl Gate {
         let all = self.stop_all.clone();
         let cancel =
             Cancel::new(move || stop.load(Ordering::Acquire) || all.load(Ordering::Acquire));
+        let mean = self.mean_work_us.clone();
         let handle = tokio::task::spawn_blocking(move || {
             let _permit = permit;
             let _entered = span.enter();
-            work(cancel)
+            let start = std::time::Instant::now();
+            let result = work(cancel);
+            let took = u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX);
+            // A lost update between two requests ending together only delays the average.
+            let old = mean.load(Ordering::Relaxed);
+            let new = if old == 0 {
+                took
+            } else {
+                old - old / 8 + took / 8
+            };
+            mean.store(new.max(1), Ordering::Relaxed);
+            result
         });
         match handle.await {
             Ok(result) => result,

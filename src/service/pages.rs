@@ -21,7 +21,8 @@ pub async fn healthz() -> Json<Health> {
     })
 }
 
-/// Readiness: 200 when not shutting down and a request would be admitted now.
+/// Readiness: 200 when not shutting down and a request would be admitted now; 503 from
+/// the moment SIGTERM arrives (the listener keeps serving during the drain).
 #[utoipa::path(get, path = "/readyz", tag = "operations",
     responses(
         (status = 200, description = "Ready", body = Health),
