@@ -754,3 +754,46 @@ async fn retry_after_follows_the_queue_drain_time() {
     );
     drop(held);
 }
+
+/// A client that goes away while its computation runs frees the slot within 1 s.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_gone_client_frees_its_slot() {
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        ..config()
+    })
+    .await;
+    let body = json!({
+        "geometry": {"degree": 2, "knots": [0, 0, 0, 1, 1, 1],
+                     "control_points": [[0, 0, 0], [1, 2, 0], [3, 2, 1]]},
+        "tolerance": 1e-14
+    })
+    .to_string();
+    let mut s = TcpStream::connect(server.addr).await.unwrap();
+    s.write_all(
+        format!(
+            "POST /v1/tessellate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\n\r\n{body}",
+            body.len()
+        )
+        .as_bytes(),
+    )
+    .await
+    .unwrap();
+    wait_for(
+        server.addr,
+        "nurbsx_compute_slots_busy",
+        1.0,
+        Duration::from_secs(10),
+    )
+    .await;
+    drop(s);
+    let freed = wait_for(
+        server.addr,
+        "nurbsx_compute_slots_busy",
+        0.0,
+        Duration::from_secs(1),
+    )
+    .await;
+    assert!(freed < Duration::from_secs(1), "{freed:?}");
+}
