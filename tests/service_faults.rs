@@ -797,3 +797,20 @@ async fn a_gone_client_frees_its_slot() {
     .await;
     assert!(freed < Duration::from_secs(1), "{freed:?}");
 }
+
+/// Parameter tuples of mixed or zero length are a malformed request (400), found while the
+/// body is parsed.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn parameter_tuples_must_share_one_length() {
+    let server = start(config()).await;
+    for params in [json!([[0.1], [0.2, 0.3]]), json!([[]])] {
+        let body = json!({ "geometry": circle(), "params": params }).to_string();
+        let (status, reply, _) = request(server.addr, "POST", "/v1/evaluate", &body).await;
+        assert_eq!(status, 400, "{reply}");
+        assert!(reply.contains("parameter tuple"), "{reply}");
+    }
+    let body = json!({ "geometry": circle(), "params": [] }).to_string();
+    let (status, reply, _) = request(server.addr, "POST", "/v1/evaluate", &body).await;
+    assert_eq!(status, 200, "{reply}");
+    assert!(reply.contains("\"results\":[]"), "{reply}");
+}

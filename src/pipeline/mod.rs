@@ -20,8 +20,8 @@ pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,
-    apply, check_file_reply, convert, drop_unwritable, evaluate, info, select, tessellate,
-    validate, write,
+    apply, check_evaluation, check_file_reply, convert, drop_unwritable, evaluate, info, select,
+    tessellate, validate, write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,

@@ -544,36 +544,8 @@ pub fn evaluate(
     settings: &Settings,
 ) -> Result<EvalReport, PipelineError> {
     use serde_json::{Map, Value, json};
-    if request.params.len() > settings.max_eval_points {
-        return Err(PipelineError::new(
-            ErrorKind::Limit,
-            "limit.eval_points",
-            format!(
-                "{} parameters requested, above the limit of {}",
-                request.params.len(),
-                settings.max_eval_points
-            ),
-            Location::default(),
-        ));
-    }
-    if request.derivatives > crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER {
-        return Err(PipelineError::usage(
-            "evaluate.order",
-            format!(
-                "derivative order {} is above the supported {}",
-                request.derivatives,
-                crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER
-            ),
-        ));
-    }
-    let entity = select(doc, request.entity.as_deref())?;
+    let entity = check_evaluation(doc, request, request.params.len(), settings)?;
     let dim = entity.geometry.dimension();
-    check_reply(
-        request.params.len() as f64 * eval_result_bytes(&entity.geometry, request),
-        "evaluation reply",
-        "ask for fewer parameters or fewer quantities per point",
-        settings,
-    )?;
     let coords = |p: Point3| -> Value { json!(p[..dim]) };
     let failure = |e: crate::nurbs::GeometryError| json!({ "error": e.to_string() });
     let at_error = |e: crate::nurbs::GeometryError| {
@@ -688,6 +660,46 @@ pub fn evaluate(
         entity: entity.id.clone(),
         results,
     })
+}
+
+/// The checks [`evaluate`] makes before any work, for `count` parameters (the caller may
+/// hold them in another form until they pass): the point limit, the derivative order, the
+/// entity, and the reply estimate against [`Settings::max_reply_bytes`]. The entity.
+pub fn check_evaluation<'d>(
+    doc: &'d Document,
+    request: &EvalRequest,
+    count: usize,
+    settings: &Settings,
+) -> Result<&'d Entity, PipelineError> {
+    if count > settings.max_eval_points {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.eval_points",
+            format!(
+                "{count} parameters requested, above the limit of {}",
+                settings.max_eval_points
+            ),
+            Location::default(),
+        ));
+    }
+    if request.derivatives > crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER {
+        return Err(PipelineError::usage(
+            "evaluate.order",
+            format!(
+                "derivative order {} is above the supported {}",
+                request.derivatives,
+                crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER
+            ),
+        ));
+    }
+    let entity = select(doc, request.entity.as_deref())?;
+    check_reply(
+        count as f64 * eval_result_bytes(&entity.geometry, request),
+        "evaluation reply",
+        "ask for fewer parameters or fewer quantities per point",
+        settings,
+    )?;
+    Ok(entity)
 }
 
 /// Evaluations between two polls of the stop signal.

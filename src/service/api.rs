@@ -131,7 +131,8 @@ pub struct EvaluateRequest {
     /// Entity id (`#17`, `D5`, or the index for model JSON); default: the first entity.
     pub entity: Option<String>,
     /// `[[u], ...]` for a curve, `[[u, v], ...]` for a surface.
-    pub params: Vec<Vec<f64>>,
+    #[schema(value_type = Vec<Vec<f64>>)]
+    pub params: ParamList,
     /// Highest derivative order (0: points only).
     #[serde(default)]
     pub derivatives: usize,
@@ -141,6 +142,104 @@ pub struct EvaluateRequest {
     /// Curvature (curves: curvature, torsion; surfaces: Gaussian, mean, principal).
     #[serde(default)]
     pub curvature: bool,
+}
+
+/// Evaluation parameters as they arrive: `[[u], ...]` or `[[u, v], ...]`, kept flat (8
+/// bytes per number instead of a vector per point, 56 bytes and more), so that a request
+/// is measured against the point and reply limits before it costs a vector per point.
+/// All tuples have the same length (else the request is malformed).
+#[derive(Debug, Default)]
+pub struct ParamList {
+    /// The numbers, tuple after tuple.
+    values: Vec<f64>,
+    /// The length of every tuple (0 when there are none).
+    arity: usize,
+}
+
+impl ParamList {
+    /// How many tuples.
+    pub fn len(&self) -> usize {
+        self.values.len().checked_div(self.arity).unwrap_or(0)
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// One vector per tuple, as the pipeline takes them.
+    pub fn into_vecs(self) -> Vec<Vec<f64>> {
+        if self.arity == 0 {
+            return Vec::new();
+        }
+        self.values
+            .chunks_exact(self.arity)
+            .map(<[f64]>::to_vec)
+            .collect()
+    }
+}
+
+impl<'de> Deserialize<'de> for ParamList {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Tuples;
+        /// One tuple appended to the flat list; its length.
+        struct Tuple<'a>(&'a mut Vec<f64>);
+        impl<'de> serde::de::DeserializeSeed<'de> for Tuple<'_> {
+            type Value = usize;
+            fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<usize, D::Error> {
+                d.deserialize_seq(self)
+            }
+        }
+        impl<'de> serde::de::Visitor<'de> for Tuple<'_> {
+            type Value = usize;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a parameter tuple [u] or [u, v]")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<usize, A::Error> {
+                let mut n = 0;
+                while let Some(x) = seq.next_element::<f64>()? {
+                    self.0.push(x);
+                    n += 1;
+                }
+                Ok(n)
+            }
+        }
+        impl<'de> serde::de::Visitor<'de> for Tuples {
+            type Value = ParamList;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a list of parameter tuples [[u], ...] or [[u, v], ...]")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<ParamList, A::Error> {
+                let mut list = ParamList::default();
+                let mut first = true;
+                while let Some(n) = seq.next_element_seed(Tuple(&mut list.values))? {
+                    if first {
+                        list.arity = n;
+                        first = false;
+                    } else if n != list.arity {
+                        return Err(serde::de::Error::custom(format!(
+                            "parameter tuples of different lengths ({} and {n}): give [u] for \
+                             every point of a curve, [u, v] for every point of a surface",
+                            list.arity
+                        )));
+                    }
+                }
+                if !first && list.arity == 0 {
+                    return Err(serde::de::Error::custom(
+                        "empty parameter tuple []: give [u] or [u, v]",
+                    ));
+                }
+                Ok(list)
+            }
+        }
+        d.deserialize_seq(Tuples)
+    }
 }
 
 /// `POST /v1/degree-elevate`.

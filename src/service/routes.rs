@@ -201,19 +201,23 @@ pub async fn evaluate(
     ApiJson(req): ApiJson<EvaluateRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, req.format)?;
-    let request = EvalRequest {
+    let mut request = EvalRequest {
         entity: req.entity,
-        params: req.params,
+        params: Vec::new(),
         derivatives: req.derivatives,
         normals: req.normals,
         curvature: req.curvature,
     };
+    let params = req.params;
     let mut settings = state.settings.clone();
     let report = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
+            // Limits first, while the parameters are still flat.
+            pipeline::check_evaluation(&loaded.document, &request, params.len(), &settings)?;
+            request.params = params.into_vecs();
             Ok(pipeline::evaluate(&loaded.document, &request, &settings)?)
         })
         .await?;
