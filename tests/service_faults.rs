@@ -814,3 +814,56 @@ async fn parameter_tuples_must_share_one_length() {
     assert_eq!(status, 200, "{reply}");
     assert!(reply.contains("\"results\":[]"), "{reply}");
 }
+
+/// A mesh much finer than its a-priori estimate (the mesher refines a cylinder's straight
+/// direction too) stops at the point count the reply limit allows: 413
+/// `limit.reply_bytes` instead of writing the text out; with room, the same request is 200
+/// and its reply stays under the limit.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_mesh_finer_than_estimated_stops_at_the_reply_limit() {
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let ring = [
+        [2.0, 0.0],
+        [2.0, 2.0],
+        [0.0, 2.0],
+        [-2.0, 2.0],
+        [-2.0, 0.0],
+        [-2.0, -2.0],
+        [0.0, -2.0],
+        [2.0, -2.0],
+        [2.0, 0.0],
+    ];
+    let cylinder = json!({
+        "degree_u": 2, "degree_v": 1,
+        "knots_u": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
+        "knots_v": [0, 0, 1, 1],
+        "control_points": ring.iter().map(|p| json!([[p[0], p[1], 0], [p[0], p[1], 1]])).collect::<Vec<_>>(),
+        "weights": ring.iter().enumerate().map(|(i, _)| {
+            let wi = if i % 2 == 1 { w } else { 1.0 };
+            json!([wi, wi])
+        }).collect::<Vec<_>>()
+    });
+    let body = json!({ "geometry": cylinder, "tolerance": 1e-3 }).to_string();
+    let tight = start(ServeConfig {
+        max_reply_bytes: 200_000,
+        ..config()
+    })
+    .await;
+    let (status, reply, _) = request(tight.addr, "POST", "/v1/tessellate", &body).await;
+    assert_eq!(status, 413, "{reply}");
+    assert!(reply.contains("limit.reply_bytes"), "{reply}");
+    let roomy = start(ServeConfig {
+        max_reply_bytes: 2_000_000,
+        ..config()
+    })
+    .await;
+    let (status, reply, _) = request(roomy.addr, "POST", "/v1/tessellate", &body).await;
+    assert_eq!(status, 200);
+    let vertices = reply.lines().filter(|l| l.starts_with("v ")).count();
+    // More vertices than the 200 KB reply could hold, fewer bytes than the 2 MB one.
+    assert!(
+        vertices > 662 && reply.len() < 2_000_000,
+        "{vertices} {}",
+        reply.len()
+    );
+}

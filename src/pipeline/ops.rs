@@ -942,6 +942,20 @@ pub fn tessellate(
     let stop = || settings.cancel.is_set();
     // Each entity may use what the ones before it left of the vertex limit.
     let mut vertices = 0usize;
+    // The reply limit caps the points too (at the widest text per point of the format), so
+    // a mesh much finer than its estimate stops at the cap instead of being written out.
+    let per_point = match format {
+        MeshFormat::Svg => CURVE_POINT_BYTES,
+        MeshFormat::Obj
+            if selected
+                .iter()
+                .any(|e| matches!(e.geometry, Geometry::Surface(_))) =>
+        {
+            SURFACE_VERTEX_BYTES
+        }
+        MeshFormat::Obj => CURVE_POINT_BYTES,
+    };
+    let reply_cap = (settings.max_reply_bytes as f64 / per_point) as usize;
     let failed = |e: &Entity, err: TessellationError| match err {
         TessellationError::Geometry(g) => PipelineError::new(
             ErrorKind::Geometry,
@@ -949,6 +963,18 @@ pub fn tessellate(
             g.to_string(),
             Location::at_entity(e.id.clone()),
         ),
+        TessellationError::TooManyPoints { .. } if reply_cap < settings.max_mesh_vertices => {
+            PipelineError::new(
+                ErrorKind::Limit,
+                "limit.reply_bytes",
+                format!(
+                    "the mesh text of {} would exceed the reply limit of {} bytes (about {} \
+                     vertices); use a larger tolerance or fewer entities",
+                    e.id, settings.max_reply_bytes, reply_cap
+                ),
+                Location::default(),
+            )
+        }
         TessellationError::TooManyPoints { .. } => over_limit(format!(
             "the tessellation of {} needs more vertices than remain",
             e.id
@@ -956,7 +982,10 @@ pub fn tessellate(
         TessellationError::Stopped => super::cancelled(),
     };
     let within = |used: usize| Budget {
-        max_points: settings.max_mesh_vertices.saturating_sub(used),
+        max_points: settings
+            .max_mesh_vertices
+            .min(reply_cap)
+            .saturating_sub(used),
         stop: &stop,
     };
     let text_limit = |out: &str| {

@@ -182,6 +182,8 @@ pub async fn info(
         .run(move |cancel| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&body.bytes, body.hint, &settings)?;
+            // The report holds every entity's geometry: about a written file's size.
+            pipeline::check_file_reply(&loaded.document, &settings)?;
             Ok(pipeline::info(&loaded))
         })
         .await?;
