@@ -514,8 +514,8 @@ async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
     use std::sync::Arc;
     let gate = Arc::new(Gate::new(1));
     // Admission: 1 computing + QUEUE_FACTOR waiting, then refused.
-    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit().unwrap()).collect();
-    let refused = gate.admit().unwrap_err();
+    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit(0).unwrap()).collect();
+    let refused = gate.admit(0).unwrap_err();
     assert_eq!(refused.status, StatusCode::SERVICE_UNAVAILABLE);
     assert!(!gate.ready());
     drop(held);

@@ -722,11 +722,13 @@ fn sigterm_drains_then_exits_within_the_drain_plus_one_second() {
     );
 }
 
-/// `Retry-After` on an overloaded refusal is the time the queue takes to drain at the
-/// measured pace: after computations of 400 ms on 1 slot, with 5 requests admitted, about
-/// 5 × 0.4 s = 2 s (up to 4 s when sleeps overshoot on a loaded machine), not a fixed 1.
+/// Admission by predicted wait, and `Retry-After` from the queue's drain time: after
+/// computations of 400 ms on 1 slot, a request is refused once the requests ahead would
+/// keep it waiting more than 2 s (5 ahead: 6 admitted; sleeps that overshoot on a loaded
+/// machine make it 4 or 5), and `Retry-After` is about admitted × 0.4 s = 2.4 s, rounded
+/// up (2 to 4 s), not a fixed 1.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn retry_after_follows_the_queue_drain_time() {
+async fn admission_and_retry_after_follow_the_measured_pace() {
     use nurbsx::service::gate::{Gate, QUEUE_FACTOR};
     let gate = Gate::new(1);
     assert_eq!(gate.retry_after_s(), 1, "no measurement yet");
@@ -738,9 +740,21 @@ async fn retry_after_follows_the_queue_drain_time() {
         .await
         .unwrap();
     }
-    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit().unwrap()).collect();
-    let refused = gate.admit().unwrap_err();
+    let mut held = Vec::new();
+    let refused = loop {
+        match gate.admit(0) {
+            Ok(a) => held.push(a),
+            Err(e) => break e,
+        }
+        assert!(held.len() <= QUEUE_FACTOR + 1);
+    };
+    assert!((4..=6).contains(&held.len()), "{} admitted", held.len());
     assert_eq!(refused.code, "overloaded");
+    assert!(
+        refused.message.contains("at the measured pace"),
+        "{}",
+        refused.message
+    );
     assert!(
         (2..=4).contains(&refused.retry_after_s),
         "{}",
@@ -753,6 +767,13 @@ async fn retry_after_follows_the_queue_drain_time() {
         refused.retry_after_s.to_string().as_str()
     );
     drop(held);
+    // The byte budget: bodies of the admitted requests together.
+    let gate = Gate::with_byte_budget(2, 1000);
+    let first = gate.admit(600).unwrap();
+    let e = gate.admit(600).unwrap_err();
+    assert!(e.message.contains("bodies would pass"), "{}", e.message);
+    drop(first);
+    assert!(gate.admit(600).is_ok());
 }
 
 /// A client that goes away while its computation runs frees the slot within 1 s.

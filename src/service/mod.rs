@@ -165,7 +165,13 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
     settings.max_reply_bytes = config.max_reply_bytes;
     let state = Arc::new(AppState {
         settings,
-        gate: Gate::new(config.max_concurrency),
+        gate: Gate::with_byte_budget(
+            config.max_concurrency,
+            config
+                .max_concurrency
+                .saturating_mul(5)
+                .saturating_mul(config.max_body_bytes),
+        ),
         uploads: Uploads::new(
             config.max_uploads,
             config.max_upload_bytes,
@@ -293,7 +299,7 @@ async fn receive_then_admit(
         Ok(bytes) => bytes,
         Err(e) => return close_after(e.into_response()),
     };
-    match state.gate.admit() {
+    match state.gate.admit(bytes.len()) {
         Ok(_admission) => {
             next.run(Request::from_parts(parts, Body::from(bytes)))
                 .await
