@@ -124,6 +124,18 @@ async fn wait_for(addr: SocketAddr, name: &str, value: f64, within: Duration) ->
     }
 }
 
+/// Asserts that no computing slot is busy within 1 s from now.
+async fn slot_freed_within_a_second(addr: SocketAddr) {
+    let freed = wait_for(
+        addr,
+        "nurbsx_compute_slots_busy",
+        0.0,
+        Duration::from_secs(1),
+    )
+    .await;
+    assert!(freed < Duration::from_secs(1), "{freed:?}");
+}
+
 /// Median of a few evaluate round trips.
 async fn evaluate_latency(addr: SocketAddr) -> Duration {
     let mut times = Vec::new();
@@ -421,14 +433,7 @@ async fn a_timed_out_tessellation_frees_its_slot_within_a_second() {
     let (status, reply, _) = request(server.addr, "POST", "/v1/tessellate", &body).await;
     assert_eq!(status, 503, "{reply}");
     assert!(reply.contains("\"timeout\""), "{reply}");
-    let freed = wait_for(
-        server.addr,
-        "nurbsx_compute_slots_busy",
-        0.0,
-        Duration::from_secs(1),
-    )
-    .await;
-    assert!(freed < Duration::from_secs(1), "{freed:?}");
+    slot_freed_within_a_second(server.addr).await;
 }
 
 /// The case: tolerance 1e-300 on a 3-point parabola is refused before the work,
@@ -809,14 +814,7 @@ async fn a_gone_client_frees_its_slot() {
     )
     .await;
     drop(s);
-    let freed = wait_for(
-        server.addr,
-        "nurbsx_compute_slots_busy",
-        0.0,
-        Duration::from_secs(1),
-    )
-    .await;
-    assert!(freed < Duration::from_secs(1), "{freed:?}");
+    slot_freed_within_a_second(server.addr).await;
 }
 
 /// Parameter tuples of mixed or zero length are a malformed request (400), found while the

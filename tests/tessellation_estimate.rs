@@ -6,32 +6,12 @@
 // Test helpers outside #[test] functions fail loudly on purpose.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::f64::consts::{FRAC_1_SQRT_2, PI};
+mod common;
 
-use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface};
+use std::f64::consts::PI;
 
-/// A circle of radius `r` as 4 rational quadratic arcs.
-fn circle(r: f64) -> NurbsCurve {
-    let w = FRAC_1_SQRT_2;
-    let p = [
-        [1., 0.],
-        [1., 1.],
-        [0., 1.],
-        [-1., 1.],
-        [-1., 0.],
-        [-1., -1.],
-        [0., -1.],
-        [1., -1.],
-        [1., 0.],
-    ];
-    NurbsCurve::new(
-        2,
-        vec![0., 0., 0., 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1., 1., 1.],
-        p.iter().map(|q| [r * q[0], r * q[1], 0.0]).collect(),
-        Some(vec![1., w, 1., w, 1., w, 1., w, 1.]),
-    )
-    .unwrap()
-}
+use common::circle9 as circle;
+use nurbsx::nurbs::{Grid, NurbsSurface};
 
 /// The circle swept along z over height 1: a cylinder, straight along v.
 fn cylinder(r: f64) -> NurbsSurface {

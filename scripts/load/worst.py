@@ -25,14 +25,9 @@ import subprocess
 import sys
 import time
 
-W = math.sqrt(0.5)
-CIRCLE = {
-    "degree": 2,
-    "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
-    "control_points": [[1, 0, 0], [1, 1, 0], [0, 1, 0], [-1, 1, 0], [-1, 0, 0],
-                       [-1, -1, 0], [0, -1, 0], [1, -1, 0], [1, 0, 0]],
-    "weights": [1, W, 1, W, 1, W, 1, W, 1],
-}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from load import CIRCLE  # noqa: E402  (the same circle as the load test)
+
 PATCH = {
     "degree_u": 2, "degree_v": 2,
     "knots_u": [0, 0, 0, 1, 1, 1], "knots_v": [0, 0, 0, 1, 1, 1],

@@ -73,6 +73,18 @@ pub struct Budget<'a> {
 /// between two polls of [`Budget::stop`].
 pub const STOP_POLL: usize = 1024;
 
+impl Budget<'_> {
+    /// Counts one unit of work in `work`; every [`STOP_POLL`] units, asks
+    /// [`Budget::stop`].
+    fn tick(&self, work: &mut usize) -> Result<(), TessellationError> {
+        *work += 1;
+        if *work % STOP_POLL == 0 && (self.stop)() {
+            return Err(TessellationError::Stopped);
+        }
+        Ok(())
+    }
+}
+
 /// Why a bounded tessellation did not finish.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TessellationError {
@@ -434,13 +446,7 @@ impl NurbsCurve {
             limit: budget.max_points,
         };
         let mut work = 0usize;
-        let mut poll = || -> Result<(), TessellationError> {
-            work += 1;
-            if work % STOP_POLL == 0 && (budget.stop)() {
-                return Err(TessellationError::Stopped);
-            }
-            Ok(())
-        };
+        let mut poll = || budget.tick(&mut work);
         let step_tol = 0.8 * tolerance;
         // 1. Osculating-circle steps, span by span.
         let mut params = vec![a];
@@ -657,13 +663,7 @@ impl NurbsSurface {
     ) -> Result<Mesh, TessellationError> {
         check_tolerance(tolerance)?;
         let mut work = 0usize;
-        let mut poll = || -> Result<(), TessellationError> {
-            work += 1;
-            if work % STOP_POLL == 0 && (budget.stop)() {
-                return Err(TessellationError::Stopped);
-            }
-            Ok(())
-        };
+        let mut poll = || budget.tick(&mut work);
         let (du, dv) = self.domain();
         let mut us = initial_params(self.knots_u(), du, self.degree_u());
         let mut vs = initial_params(self.knots_v(), dv, self.degree_v());

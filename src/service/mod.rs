@@ -407,6 +407,23 @@ async fn method_not_allowed() -> ApiError {
     )
 }
 
+/// One open connection in [`AppState::connections`], counted until dropped (also when
+/// its task is aborted at the end of a shutdown).
+struct OpenConnection(Arc<AppState>);
+
+impl OpenConnection {
+    fn count(state: Arc<AppState>) -> Self {
+        state.connections.fetch_add(1, Ordering::AcqRel);
+        OpenConnection(state)
+    }
+}
+
+impl Drop for OpenConnection {
+    fn drop(&mut self) {
+        self.0.connections.fetch_sub(1, Ordering::AcqRel);
+    }
+}
+
 /// After the drain, how long connections get to send the replies of stopped work before
 /// they are dropped.
 pub const CLOSE_GRACE: Duration = Duration::from_millis(300);
@@ -494,9 +511,9 @@ pub async fn serve_on(
                 Ok((stream, _peer)) => {
                     let conn = http.serve_connection(TokioIo::new(stream), service.clone());
                     let mut closing = closing_rx.clone();
-                    let state = state.clone();
-                    state.connections.fetch_add(1, Ordering::AcqRel);
+                    let open = OpenConnection::count(state.clone());
                     connections.spawn(async move {
+                        let _open = open;
                         let mut conn = std::pin::pin!(conn);
                         let mut told = false;
                         loop {
@@ -516,7 +533,6 @@ pub async fn serve_on(
                                 }
                             }
                         }
-                        state.connections.fetch_sub(1, Ordering::AcqRel);
                     });
                 }
                 Err(e) => {
