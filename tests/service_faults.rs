@@ -886,3 +886,75 @@ async fn a_mesh_finer_than_estimated_stops_at_the_reply_limit() {
         reply.len()
     );
 }
+
+/// Degree elevation's output is estimated before the work from the A5.9 pole count: a
+/// limit one byte below the real reply refuses it (413 `limit.reply_bytes`, the elevated
+/// file named), three times the real size accepts it (full-precision coordinates; round
+/// numbers print shorter than the 25 bytes the estimate counts); model JSON and STEP.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_elevation_estimate_bounds_the_reply() {
+    let n = 12;
+    let knots: Vec<f64> = [0.0; 3]
+        .into_iter()
+        .chain((1..n - 2).map(|k| f64::from(k) / f64::from(n - 2)))
+        .chain([1.0; 3])
+        .collect();
+    let net: Vec<Vec<[f64; 3]>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| {
+                    // Full-precision coordinates, as real models have.
+                    let (x, y) = (f64::from(i) / 7.0, f64::from(j) / 3.0);
+                    [x, y, (x * 1.3).sin() * (y * 0.7).cos()]
+                })
+                .collect()
+        })
+        .collect();
+    let surface = json!({ "degree_u": 2, "degree_v": 2, "knots_u": knots, "knots_v": knots,
+                          "control_points": net });
+    let step = {
+        let open = start(ServeConfig {
+            max_reply_bytes: usize::MAX,
+            ..config()
+        })
+        .await;
+        let (status, reply, _) = request(
+            open.addr,
+            "POST",
+            "/v1/convert?to=step",
+            &surface.to_string(),
+        )
+        .await;
+        assert_eq!(status, 200, "{reply}");
+        reply
+    };
+    for body in [
+        json!({ "geometry": surface, "by": 2 }),
+        json!({ "file": step, "by": 2, "direction": "u" }),
+    ] {
+        let body = body.to_string();
+        let open = start(ServeConfig {
+            max_reply_bytes: usize::MAX,
+            ..config()
+        })
+        .await;
+        let (status, reply, _) = request(open.addr, "POST", "/v1/degree-elevate", &body).await;
+        assert_eq!(status, 200, "{reply}");
+        let real = reply.len();
+        let tight = start(ServeConfig {
+            max_reply_bytes: real - 1,
+            ..config()
+        })
+        .await;
+        let (status, reply, _) = request(tight.addr, "POST", "/v1/degree-elevate", &body).await;
+        assert_eq!(status, 413, "{reply}");
+        assert!(reply.contains("elevated file"), "{reply}");
+        let loose = start(ServeConfig {
+            max_reply_bytes: 3 * real,
+            ..config()
+        })
+        .await;
+        let (status, reply, _) = request(loose.addr, "POST", "/v1/degree-elevate", &body).await;
+        assert_eq!(status, 200, "{reply}");
+    }
+}

@@ -41,28 +41,69 @@ fn check_reply(
 
 /// An upper estimate of a written file (STEP, IGES or model JSON): per control point one
 /// point record (up to 4 numbers and about 30 bytes of syntax), per knot one number, and
-/// 256 bytes of entity records per entity.
-fn estimated_file_bytes(doc: &Document) -> f64 {
+/// 256 bytes of entity records per entity. With `elevation` (`by`, direction, entity), the
+/// file the document gives after that degree elevation.
+fn estimated_file_bytes(
+    doc: &Document,
+    elevation: Option<(usize, Direction, Option<&str>)>,
+) -> f64 {
+    // Degree elevation by t (NURBS Book A5.9): each of the s Bezier segments of a direction
+    // gains t control points, and each of its s + 1 distinct knots t more multiplicity.
+    let elevated = |n: usize, knots: &[f64], p: usize, by: usize| -> (usize, usize) {
+        let segments = knots
+            .get(p..knots.len().saturating_sub(p))
+            .map_or(0, |d| d.windows(2).filter(|w| w[1] > w[0]).count());
+        (
+            n.saturating_add(by.saturating_mul(segments)),
+            knots.len().saturating_add(by.saturating_mul(segments + 1)),
+        )
+    };
     doc.entities
         .iter()
         .map(|e| {
+            let by = elevation
+                .filter(|(_, _, id)| id.is_none_or(|id| is_entity(e, id)))
+                .map(|(by, direction, _)| (by, direction));
+            let (u, v) = match by.map(|(_, d)| d) {
+                Some(Direction::Both) => (true, true),
+                Some(Direction::U) => (true, false),
+                Some(Direction::V) => (false, true),
+                None => (false, false),
+            };
+            let by = by.map_or(0, |(by, _)| by);
             let (poles, knots) = match &e.geometry {
+                Geometry::Curve(c) if u => elevated(c.num_poles(), c.knots(), c.degree(), by),
                 Geometry::Curve(c) => (c.num_poles(), c.knots().len()),
-                Geometry::Surface(s) => (
-                    s.control_points().as_slice().len(),
-                    s.knots_u().len() + s.knots_v().len(),
-                ),
+                Geometry::Surface(s) => {
+                    let (nu, nv) = (s.control_points().nu(), s.control_points().nv());
+                    let (nu, ku) = if u {
+                        elevated(nu, s.knots_u(), s.degree_u(), by)
+                    } else {
+                        (nu, s.knots_u().len())
+                    };
+                    let (nv, kv) = if v {
+                        elevated(nv, s.knots_v(), s.degree_v(), by)
+                    } else {
+                        (nv, s.knots_v().len())
+                    };
+                    (nu.saturating_mul(nv), ku + kv)
+                }
             };
             256.0 + poles as f64 * (4.0 * NUMBER_BYTES + 30.0) + knots as f64 * NUMBER_BYTES
         })
         .sum()
 }
 
+/// Whether `id` names the entity: its id, or its id without the `#` (STEP) or `D` (IGES).
+fn is_entity(e: &Entity, id: &str) -> bool {
+    e.id == id || e.id.trim_start_matches(['#', 'D']) == id
+}
+
 /// Checks the estimate of a file (or model JSON) about to be written against
 /// [`Settings::max_reply_bytes`] (413 `limit.reply_bytes`).
 pub fn check_file_reply(doc: &Document, settings: &Settings) -> Result<(), PipelineError> {
     check_reply(
-        estimated_file_bytes(doc),
+        estimated_file_bytes(doc, None),
         "written file",
         "send fewer or smaller entities",
         settings,
@@ -177,10 +218,7 @@ pub struct EvalRequest {
 pub fn select<'d>(doc: &'d Document, id: Option<&str>) -> Result<&'d Entity, PipelineError> {
     let found = match id {
         None => doc.entities.first(),
-        Some(id) => doc
-            .entities
-            .iter()
-            .find(|e| e.id == id || e.id.trim_start_matches(['#', 'D']) == id),
+        Some(id) => doc.entities.iter().find(|e| is_entity(e, id)),
     };
     found.ok_or_else(|| {
         let ids: Vec<&str> = doc
@@ -745,9 +783,20 @@ pub fn apply(
     if let Some(id) = entity {
         select(doc, Some(id))?;
     }
+    if let Operation::Elevate { by, direction } = op {
+        if (1..=settings.max_elevate_by).contains(&by) {
+            // The result's size is known before the work (A5.9): refuse a too large one now.
+            check_reply(
+                estimated_file_bytes(doc, Some((by, direction, entity))),
+                "elevated file",
+                "elevate fewer entities, one direction, or by less",
+                settings,
+            )?;
+        }
+    }
     for e in doc.entities.iter_mut() {
         if let Some(id) = entity {
-            if e.id != id && e.id.trim_start_matches(['#', 'D']) != id {
+            if !is_entity(e, id) {
                 continue;
             }
         }
