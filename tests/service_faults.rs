@@ -958,3 +958,55 @@ async fn the_elevation_estimate_bounds_the_reply() {
         assert_eq!(status, 200, "{reply}");
     }
 }
+
+/// Every new option comes from its environment variable too (a flag wins), as the startup
+/// line shows; zero is refused with exit 2.
+#[cfg(unix)]
+#[test]
+fn options_come_from_flags_and_environment_variables() {
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+        .args(["serve", "--addr", "127.0.0.1:0", "--max-uploads", "7"])
+        .env("RUST_LOG", "info")
+        .env("NURBSX_MAX_UPLOADS", "9")
+        .env("NURBSX_MAX_REPLY_BYTES", "1MiB")
+        .env("NURBSX_MAX_UPLOAD_BYTES", "2MiB")
+        .env("NURBSX_MIN_UPLOAD_RATE", "3KiB")
+        .env("NURBSX_HEADER_TIMEOUT", "4s")
+        .env("NURBSX_DRAIN", "0s")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let line = BufReader::new(stderr)
+        .lines()
+        .map_while(Result::ok)
+        .find(|l| l.contains("nurbsx service listening"));
+    let _ = child.kill();
+    let _ = child.wait();
+    let line = line.expect("a startup line") + " ";
+    for field in [
+        "max_uploads=7 ",
+        "max_reply_bytes=1048576 ",
+        "max_upload_bytes=2097152 ",
+        "min_upload_rate=3072 ",
+        "header_timeout_ms=4000 ",
+        "drain_ms=0 ",
+    ] {
+        assert!(line.contains(field), "{field} in {line}");
+    }
+    for (name, value) in [
+        ("NURBSX_HEADER_TIMEOUT", "0s"),
+        ("NURBSX_MIN_UPLOAD_RATE", "0"),
+        ("NURBSX_MAX_UPLOADS", "0"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+            .args(["serve", "--addr", "127.0.0.1:0"])
+            .env(name, value)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{name}={value}: {out:?}");
+    }
+}
