@@ -3,6 +3,7 @@
 //! (`pipeline::load`), so invalid geometry is a 422 from the same checks the CLI runs.
 
 use serde::Deserialize;
+use serde_json::value::RawValue;
 use utoipa::{IntoParams, ToSchema};
 
 use super::error::ApiError;
@@ -77,7 +78,7 @@ pub struct Input {
 impl Input {
     /// Exactly one of `geometry` and `file` must be given; `format` only with `file`.
     pub fn from_fields(
-        geometry: Option<serde_json::Value>,
+        geometry: Option<Box<RawValue>>,
         file: Option<String>,
         format: Option<FileFormat>,
     ) -> Result<Self, ApiError> {
@@ -89,12 +90,12 @@ impl Input {
                         "\"format\" names the format of \"file\"; model JSON in \"geometry\" needs none",
                     ));
                 }
-                let json_array = g.is_array();
-                let bytes = serde_json::to_vec(&g).map_err(|e| {
-                    ApiError::bad_request("request.invalid", format!("geometry: {e}"))
-                })?;
+                // The text as sent: no value tree is built for it here (the pipeline
+                // parses it once, into geometry).
+                let text = g.get();
+                let json_array = text.trim_start().starts_with('[');
                 Ok(Input {
-                    bytes,
+                    bytes: String::from(Box::<str>::from(g)).into_bytes(),
                     hint: Some(InputKind::Json),
                     json_array,
                 })
@@ -123,7 +124,7 @@ impl Input {
 pub struct EvaluateRequest {
     /// Model JSON: a curve or surface object, an array of them, or `{"geometry": ...}`.
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (instead of `geometry`).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -248,7 +249,7 @@ impl<'de> Deserialize<'de> for ParamList {
 pub struct ElevateRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -268,7 +269,7 @@ pub struct ElevateRequest {
 pub struct KnotEndsRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -306,7 +307,7 @@ impl From<MeshFormatName> for MeshFormat {
 pub struct TessellateRequest {
     /// Model JSON.
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (format sniffed).
     pub file: Option<String>,
     /// Only this entity (default: all).
