@@ -6,7 +6,9 @@
 //! At a parameter `u` the osculating circle has radius `r = 1 / kappa`,
 //! `kappa = |C' x C''| / |C'|^3`. A chord spanning the angle `theta` of that circle has the
 //! sagitta `r (1 - cos(theta / 2))`; setting it to the tolerance gives
-//! `theta = 2 acos(1 - tol / r)`, and the parameter step covering one such sector is
+//! `theta = 2 acos(1 - tol / r)` (computed as `4 asin(sqrt(tol / 2r))`, the same angle
+//! without the rounding of `1 - tol / r` to 1 for tiny tolerances), and the parameter step
+//! covering one such sector is
 //! `du = theta r / |C'(u)|` (arc length over speed). Steps stop at every knot (the
 //! curvature may jump there), `theta` is capped at a quarter turn, and a straight piece
 //! (`kappa = 0`) takes a quarter of the knot span. The step is computed with `0.8 tol`
@@ -134,7 +136,8 @@ fn sagitta_step(speed: f64, kappa: f64, tol: f64) -> Option<f64> {
     let radius = 1.0 / kappa;
     let quarter = std::f64::consts::FRAC_PI_2;
     let theta = (4.0 * (tol / (2.0 * radius)).sqrt().min(1.0).asin()).min(quarter);
-    Some(theta * radius / speed)
+    let du = theta * radius / speed;
+    (du.is_finite() && du > 0.0).then_some(du)
 }
 
 /// Samples taken per knot span by the a-priori estimates, and the most samples in all.
@@ -321,27 +324,12 @@ fn curve_ders_2(c: &NurbsCurve, u: f64) -> [Point3; 3] {
     [c0, c1, c2]
 }
 
-/// The osculating-circle parameter step at `u` (seed 004), or `None` for a straight or
-/// stationary point.
+/// The osculating-circle parameter step at `u` (seed 004, [`sagitta_step`]), or `None` for
+/// a straight or stationary point.
 fn osculating_step(c: &NurbsCurve, u: f64, tol: f64) -> Option<f64> {
     let [_, d1, d2] = curve_ders_2(c, u);
     let speed = norm(d1);
-    if !(speed > 0.0 && speed.is_finite()) {
-        return None;
-    }
-    let kappa = norm(cross(d1, d2)) / (speed * speed * speed);
-    if !(kappa > 0.0 && kappa.is_finite()) {
-        return None;
-    }
-    let radius = 1.0 / kappa;
-    let quarter = std::f64::consts::FRAC_PI_2;
-    let theta = if tol >= radius {
-        quarter
-    } else {
-        (2.0 * (1.0 - tol / radius).acos()).min(quarter)
-    };
-    let du = theta * radius / speed;
-    (du.is_finite() && du > 0.0).then_some(du)
+    sagitta_step(speed, norm(cross(d1, d2)) / (speed * speed * speed), tol)
 }
 
 fn too_many(what: &'static str, tolerance: f64) -> GeometryError {
@@ -419,13 +407,7 @@ impl NurbsCurve {
         let breaks = domain_breaks(self.knots(), self.domain());
         let samples = estimate_samples(&breaks);
         let chords = chords_along(&samples, breaks.len() - 1, |u| {
-            let [_, d1, d2] = curve_ders_2(self, u);
-            let speed = norm(d1);
-            sagitta_step(
-                speed,
-                norm(cross(d1, d2)) / (speed * speed * speed),
-                tolerance,
-            )
+            osculating_step(self, u, tolerance)
         });
         chords + 1.0
     }
