@@ -525,6 +525,32 @@ async fn request_ids_are_bounded() {
     }
 }
 
+/// Sends `body` to `path` on servers with no reply limit, a limit one byte below the real
+/// reply (expects 413 `limit.reply_bytes` naming `what`) and three times the real reply
+/// (expects 200).
+async fn estimate_bounds_the_reply(path: &str, body: &str, what: &str) {
+    let with_limit = |max_reply_bytes| {
+        start(ServeConfig {
+            max_reply_bytes,
+            ..config()
+        })
+    };
+    let open = with_limit(usize::MAX).await;
+    let (status, reply, _) = request(open.addr, "POST", path, body).await;
+    assert_eq!(status, 200, "{reply}");
+    let real = reply.len();
+    let tight = with_limit(real - 1).await;
+    let (status, reply, _) = request(tight.addr, "POST", path, body).await;
+    assert_eq!(status, 413, "{reply}");
+    assert!(
+        reply.contains("limit.reply_bytes") && reply.contains(what),
+        "{reply}"
+    );
+    let loose = with_limit(3 * real).await;
+    let (status, reply, _) = request(loose.addr, "POST", path, body).await;
+    assert_eq!(status, 200, "{reply}");
+}
+
 /// The reply estimate bounds the real reply from above and not by much: a limit one byte
 /// below a real evaluation reply refuses it (413 `limit.reply_bytes`), a limit of three
 /// times the real size accepts it.
@@ -544,29 +570,7 @@ async fn the_reply_estimate_bounds_the_reply() {
                            "derivatives": derivatives, "normals": normals,
                            "curvature": curvature })
         .to_string();
-        let open = start(ServeConfig {
-            max_reply_bytes: usize::MAX,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(open.addr, "POST", "/v1/evaluate", &body).await;
-        assert_eq!(status, 200, "{reply}");
-        let real = reply.len();
-        let tight = start(ServeConfig {
-            max_reply_bytes: real - 1,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(tight.addr, "POST", "/v1/evaluate", &body).await;
-        assert_eq!(status, 413, "{reply}");
-        assert!(reply.contains("limit.reply_bytes"), "{reply}");
-        let loose = start(ServeConfig {
-            max_reply_bytes: 3 * real,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(loose.addr, "POST", "/v1/evaluate", &body).await;
-        assert_eq!(status, 200, "{reply}");
+        estimate_bounds_the_reply("/v1/evaluate", &body, "evaluation reply").await;
     }
 }
 
@@ -932,30 +936,7 @@ async fn the_elevation_estimate_bounds_the_reply() {
         json!({ "geometry": surface, "by": 2 }),
         json!({ "file": step, "by": 2, "direction": "u" }),
     ] {
-        let body = body.to_string();
-        let open = start(ServeConfig {
-            max_reply_bytes: usize::MAX,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(open.addr, "POST", "/v1/degree-elevate", &body).await;
-        assert_eq!(status, 200, "{reply}");
-        let real = reply.len();
-        let tight = start(ServeConfig {
-            max_reply_bytes: real - 1,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(tight.addr, "POST", "/v1/degree-elevate", &body).await;
-        assert_eq!(status, 413, "{reply}");
-        assert!(reply.contains("elevated file"), "{reply}");
-        let loose = start(ServeConfig {
-            max_reply_bytes: 3 * real,
-            ..config()
-        })
-        .await;
-        let (status, reply, _) = request(loose.addr, "POST", "/v1/degree-elevate", &body).await;
-        assert_eq!(status, 200, "{reply}");
+        estimate_bounds_the_reply("/v1/degree-elevate", &body.to_string(), "elevated file").await;
     }
 }
 
