@@ -499,7 +499,7 @@ async fn no_computing_slot_is_503_and_not_ready() {
     )
     .await;
     assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
-    assert_eq!(headers[header::RETRY_AFTER], "1");
+    assert_eq!(headers[header::RETRY_AFTER], "1"); // nothing measured yet
     assert_eq!(json_of(&body)["error"]["code"], "overloaded");
     let (status, _, body) = send(closed.clone(), get("/readyz")).await;
     assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
@@ -514,8 +514,8 @@ async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
     use std::sync::Arc;
     let gate = Arc::new(Gate::new(1));
     // Admission: 1 computing + QUEUE_FACTOR waiting, then refused.
-    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit().unwrap()).collect();
-    let refused = gate.admit().unwrap_err();
+    let held: Vec<_> = (0..=QUEUE_FACTOR).map(|_| gate.admit(0).unwrap()).collect();
+    let refused = gate.admit(0).unwrap_err();
     assert_eq!(refused.status, StatusCode::SERVICE_UNAVAILABLE);
     assert!(!gate.ready());
     drop(held);
@@ -527,7 +527,7 @@ async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
     let (release, wait) = std::sync::mpsc::channel::<()>();
     let g = gate.clone();
     let first = tokio::spawn(async move {
-        g.run(move || {
+        g.run(move |_| {
             let _ = wait.recv();
             Ok(1)
         })
@@ -537,28 +537,28 @@ async fn a_full_queue_refuses_and_a_busy_slot_times_out_the_wait() {
         tokio::time::sleep(Duration::from_millis(5)).await;
     }
     let start = std::time::Instant::now();
-    let second = gate.run(|| Ok(2)).await.unwrap_err();
+    let second = gate.run(|_| Ok(2)).await.unwrap_err();
     assert!(start.elapsed() >= QUEUE_WAIT);
     assert_eq!(second.status, StatusCode::SERVICE_UNAVAILABLE);
     assert_eq!(second.code, "overloaded");
     release.send(()).unwrap();
     assert_eq!(first.await.unwrap().unwrap(), 1);
     // The slot is free again.
-    assert_eq!(gate.run(|| Ok(3)).await.unwrap(), 3);
+    assert_eq!(gate.run(|_| Ok(3)).await.unwrap(), 3);
 }
 
 #[tokio::test]
 async fn a_panic_in_work_is_a_generic_500() {
     let gate = nurbsx::service::gate::Gate::new(1);
     let e = gate
-        .run(|| -> Result<(), _> { panic!("secret detail") })
+        .run(|_| -> Result<(), _> { panic!("secret detail") })
         .await
         .unwrap_err();
     assert_eq!(e.status, StatusCode::INTERNAL_SERVER_ERROR);
     assert_eq!(e.code, "internal");
     assert!(!e.message.contains("secret"));
     // The slot came back.
-    assert_eq!(gate.run(|| Ok(5)).await.unwrap(), 5);
+    assert_eq!(gate.run(|_| Ok(5)).await.unwrap(), 5);
 }
 
 /// A request body that never delivers a byte.
@@ -749,7 +749,7 @@ async fn openapi_documents_every_route_and_error() {
         );
         if path.starts_with("/v1") {
             assert!(op["requestBody"].is_object(), "{path} has no request body");
-            for code in ["200", "400", "413", "415", "422", "503"] {
+            for code in ["200", "400", "408", "413", "415", "422", "503"] {
                 assert!(op["responses"][code].is_object(), "{path} lacks {code}");
             }
             let err = &op["responses"]["422"]["content"]["application/json"]["schema"];

@@ -9,6 +9,10 @@ Only loopback addresses are accepted (127.0.0.0/8, localhost, ::1).
     nurbsx serve --addr 127.0.0.1:8080 &
     python3 scripts/load/load.py evaluate --requests 5000 --concurrency 8
     python3 scripts/load/load.py convert --file part.igs --to step --requests 500
+    python3 scripts/load/load.py evaluate --sweep 2,8,16,32 --requests 2000
+
+With --sweep, the same bounded run is repeated for each client count and one table row is
+printed per count: throughput, p50 and p99 latency, and the share of 503 replies.
 
 Python 3.8+ standard library only.
 """
@@ -60,6 +64,7 @@ def main():
     ap.add_argument("--url", default="http://127.0.0.1:8080", help="server base URL (loopback only)")
     ap.add_argument("--requests", type=int, default=2000, help="total requests (bounded)")
     ap.add_argument("--concurrency", type=int, default=8, help="client threads")
+    ap.add_argument("--sweep", help="comma-separated client counts, e.g. 2,8,16,32: one table row each")
     ap.add_argument("--max-seconds", type=float, default=120.0, help="stop after this long")
     ap.add_argument("--points", type=int, default=100, help="evaluate: parameters per request")
     ap.add_argument("--file", help="convert: the sample file to send")
@@ -68,8 +73,14 @@ def main():
 
     if not 1 <= args.requests <= MAX_REQUESTS:
         sys.exit(f"--requests must be in 1..{MAX_REQUESTS}")
-    if not 1 <= args.concurrency <= 256:
-        sys.exit("--concurrency must be in 1..256")
+    counts = [args.concurrency]
+    if args.sweep:
+        try:
+            counts = [int(c) for c in args.sweep.split(",")]
+        except ValueError:
+            sys.exit("--sweep takes comma-separated integers")
+    if not all(1 <= c <= 256 for c in counts):
+        sys.exit("client counts must be in 1..256")
     url = urllib.parse.urlsplit(args.url)
     if url.scheme != "http" or not url.hostname:
         sys.exit("--url must be http://HOST:PORT")
@@ -89,20 +100,52 @@ def main():
         headers = {"Content-Type": "application/octet-stream"}
     headers["Content-Length"] = str(len(body))
 
+    if args.sweep:
+        print(f"endpoint {path}  ({len(body)} bytes per request, {args.requests} requests per row)")
+        print("| clients | req/s | p50 ms | p99 ms | 503 share | other non-2xx | transport errors |")
+        print("| --- | --- | --- | --- | --- | --- | --- |")
+    failed = False
+    for clients in counts:
+        done, errors, elapsed, statuses, latencies = run(
+            url.hostname, port, path, body, headers, args.requests, clients, args.max_seconds)
+        ok = sum(v for k, v in statuses.items() if 200 <= k < 300)
+        shed = statuses.get(503, 0)
+        failed |= ok != done or bool(errors)
+        ms = lambda s: f"{s * 1000:.2f} ms"
+        if args.sweep:
+            print(f"| {clients} | {done / elapsed:.1f} | {percentile(latencies, 50) * 1000:.2f} "
+                  f"| {percentile(latencies, 99) * 1000:.2f} | {100.0 * shed / max(done, 1):.2f} % "
+                  f"| {done - ok - shed} | {len(errors)} |")
+            continue
+        print(f"endpoint      {path}  ({len(body)} bytes per request)")
+        print(f"requests      {done} answered, {len(errors)} transport errors, in {elapsed:.2f} s "
+              f"with {clients} clients")
+        print(f"statuses      {dict(sorted(statuses.items()))}")
+        print(f"throughput    {done / elapsed:.1f} req/s ({ok / elapsed:.1f} req/s 2xx)")
+        if done:
+            print(f"latency       p50 {ms(percentile(latencies, 50))}  p90 {ms(percentile(latencies, 90))}  "
+                  f"p99 {ms(percentile(latencies, 99))}  max {ms(latencies[-1])}")
+        if errors:
+            print(f"first errors  {errors[:3]}")
+    return 1 if failed else 0
+
+
+def run(host, port, path, body, headers, requests, concurrency, max_seconds):
+    """One bounded run: (answered, transport errors, seconds, statuses, sorted latencies)."""
     lock = threading.Lock()
     state = {"next": 0}
     latencies, statuses, errors = [], {}, []
-    deadline = time.monotonic() + args.max_seconds
+    deadline = time.monotonic() + max_seconds
 
     def take():
         with lock:
-            if state["next"] >= args.requests or time.monotonic() > deadline:
+            if state["next"] >= requests or time.monotonic() > deadline:
                 return False
             state["next"] += 1
             return True
 
     def worker():
-        conn = http.client.HTTPConnection(url.hostname, port, timeout=30)
+        conn = http.client.HTTPConnection(host, port, timeout=30)
         mine, codes = [], {}
         while take():
             t0 = time.perf_counter()
@@ -126,29 +169,15 @@ def main():
             for k, v in codes.items():
                 statuses[k] = statuses.get(k, 0) + v
 
-    threads = [threading.Thread(target=worker, daemon=True) for _ in range(args.concurrency)]
+    threads = [threading.Thread(target=worker, daemon=True) for _ in range(concurrency)]
     start = time.perf_counter()
     for t in threads:
         t.start()
     for t in threads:
         t.join()
     elapsed = time.perf_counter() - start
-
     latencies.sort()
-    done = len(latencies)
-    ok = sum(v for k, v in statuses.items() if 200 <= k < 300)
-    ms = lambda s: f"{s * 1000:.2f} ms"
-    print(f"endpoint      {path}  ({len(body)} bytes per request)")
-    print(f"requests      {done} answered, {len(errors)} transport errors, in {elapsed:.2f} s "
-          f"with {args.concurrency} clients")
-    print(f"statuses      {dict(sorted(statuses.items()))}")
-    print(f"throughput    {done / elapsed:.1f} req/s ({ok / elapsed:.1f} req/s 2xx)")
-    if done:
-        print(f"latency       p50 {ms(percentile(latencies, 50))}  p90 {ms(percentile(latencies, 90))}  "
-              f"p99 {ms(percentile(latencies, 99))}  max {ms(latencies[-1])}")
-    if errors:
-        print(f"first errors  {errors[:3]}")
-    return 0 if ok == done and not errors else 1
+    return len(latencies), errors, elapsed, statuses, latencies
 
 
 if __name__ == "__main__":

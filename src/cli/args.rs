@@ -755,6 +755,33 @@ pub struct ServeArgs {
     #[arg(long, env = "NURBSX_CONCURRENCY", value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub concurrency: Option<u32>,
+    /// Largest reply one request may build (evaluation results, mesh, written file),
+    /// estimated before the work; over it the reply is 413.
+    #[arg(long, env = "NURBSX_MAX_REPLY_BYTES", value_name = "SIZE", default_value = "64MiB",
+          value_parser = parse_bytes)]
+    pub max_reply_bytes: usize,
+    /// Most request bodies being received at once (they take no computing place until
+    /// complete).
+    #[arg(long, env = "NURBSX_MAX_UPLOADS", value_name = "N", default_value = "256",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_uploads: u32,
+    /// Most bytes the bodies being received may hold together.
+    #[arg(long, env = "NURBSX_MAX_UPLOAD_BYTES", value_name = "SIZE", default_value = "256MiB",
+          value_parser = parse_bytes)]
+    pub max_upload_bytes: usize,
+    /// Slowest average upload accepted after a 5 s grace, per second (slower: 408).
+    #[arg(long, env = "NURBSX_MIN_UPLOAD_RATE", value_name = "SIZE", default_value = "16KiB",
+          value_parser = parse_bytes)]
+    pub min_upload_rate: usize,
+    /// Time a connection has to send a complete request head, from opening or from the end
+    /// of its previous reply (also the keep-alive idle timeout).
+    #[arg(long, env = "NURBSX_HEADER_TIMEOUT", value_name = "DURATION", default_value = "10s",
+          value_parser = parse_duration)]
+    pub header_timeout: Duration,
+    /// After SIGTERM: how long to keep serving with /readyz at 503 before closing.
+    #[arg(long, env = "NURBSX_DRAIN", value_name = "DURATION", default_value = "5s",
+          value_parser = parse_duration)]
+    pub drain: Duration,
 }
 
 /// Parses `keep` or a length-unit name.

@@ -479,15 +479,29 @@ pub fn print_stdout(text: &str) -> Result<(), CliError> {
 
 /// `nurbsx serve`: fills the service configuration and runs it.
 fn serve(ctx: &Context, a: args::ServeArgs) -> Result<Outcome, CliError> {
-    if a.max_body == 0 || a.timeout.is_zero() {
+    if a.max_body == 0
+        || a.timeout.is_zero()
+        || a.max_reply_bytes == 0
+        || a.max_upload_bytes == 0
+        || a.min_upload_rate == 0
+        || a.header_timeout.is_zero()
+    {
         return Err(CliError::Usage(
-            "--max-body and --timeout must be above zero".into(),
+            "--max-body, --timeout, --max-reply-bytes, --max-upload-bytes, --min-upload-rate \
+             and --header-timeout must be above zero"
+                .into(),
         ));
     }
     let mut config = crate::service::ServeConfig {
         addr: a.addr,
         max_body_bytes: a.max_body,
+        max_reply_bytes: a.max_reply_bytes,
         request_timeout: a.timeout,
+        max_uploads: usize::try_from(a.max_uploads).unwrap_or(usize::MAX),
+        max_upload_bytes: a.max_upload_bytes,
+        min_upload_rate: u64::try_from(a.min_upload_rate).unwrap_or(u64::MAX),
+        header_timeout: a.header_timeout,
+        drain: a.drain,
         settings: ctx.settings.clone(),
         ..Default::default()
     };

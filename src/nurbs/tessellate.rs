@@ -6,7 +6,9 @@
 //! At a parameter `u` the osculating circle has radius `r = 1 / kappa`,
 //! `kappa = |C' x C''| / |C'|^3`. A chord spanning the angle `theta` of that circle has the
 //! sagitta `r (1 - cos(theta / 2))`; setting it to the tolerance gives
-//! `theta = 2 acos(1 - tol / r)`, and the parameter step covering one such sector is
+//! `theta = 2 acos(1 - tol / r)` (computed as `4 asin(sqrt(tol / 2r))`, the same angle
+//! without the rounding of `1 - tol / r` to 1 for tiny tolerances), and the parameter step
+//! covering one such sector is
 //! `du = theta r / |C'(u)|` (arc length over speed). Steps stop at every knot (the
 //! curvature may jump there), `theta` is capped at a quarter turn, and a straight piece
 //! (`kappa = 0`) takes a quarter of the knot span. The step is computed with `0.8 tol`
@@ -55,8 +57,134 @@ pub struct Mesh {
     pub triangles: Vec<[usize; 3]>,
 }
 
-/// Most points or vertices a tessellation may produce before it gives up.
+/// Most points or vertices [`NurbsCurve::tessellate`] and [`NurbsSurface::tessellate`]
+/// produce before they give up; callers with their own limit use the `_within` forms.
 pub const MAX_TESSELLATION_POINTS: usize = 4_000_000;
+
+/// What bounds a tessellation: the most points (curves) or vertices (surfaces) it may
+/// produce, and a stop test polled at bounded intervals (every [`STOP_POLL`] chords, cells
+/// or samples), so a caller can abandon work whose result nobody waits for.
+pub struct Budget<'a> {
+    /// Most points or vertices.
+    pub max_points: usize,
+    /// Returns true when the work should stop.
+    pub stop: &'a dyn Fn() -> bool,
+}
+
+/// How many units of work (chords verified, cells tested, grid points evaluated) pass
+/// between two polls of [`Budget::stop`].
+pub const STOP_POLL: usize = 1024;
+
+impl Budget<'_> {
+    /// Counts one unit of work in `work`; every [`STOP_POLL`] units, asks
+    /// [`Budget::stop`].
+    fn tick(&self, work: &mut usize) -> Result<(), TessellationError> {
+        *work += 1;
+        if *work % STOP_POLL == 0 && (self.stop)() {
+            return Err(TessellationError::Stopped);
+        }
+        Ok(())
+    }
+}
+
+/// Why a bounded tessellation did not finish.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TessellationError {
+    /// Bad tolerance, or intervals at floating-point resolution without meeting it.
+    Geometry(GeometryError),
+    /// More than [`Budget::max_points`] points or vertices would be needed.
+    TooManyPoints {
+        /// The limit.
+        limit: usize,
+    },
+    /// [`Budget::stop`] returned true.
+    Stopped,
+}
+
+impl From<GeometryError> for TessellationError {
+    fn from(e: GeometryError) -> Self {
+        TessellationError::Geometry(e)
+    }
+}
+
+/// The old single-error form of a bounded tessellation's failure.
+fn as_geometry_error(e: TessellationError, what: &'static str, tolerance: f64) -> GeometryError {
+    match e {
+        TessellationError::Geometry(g) => g,
+        TessellationError::TooManyPoints { .. } | TessellationError::Stopped => {
+            too_many(what, tolerance)
+        }
+    }
+}
+
+/// A budget of [`MAX_TESSELLATION_POINTS`] that never stops.
+fn default_budget() -> Budget<'static> {
+    Budget {
+        max_points: MAX_TESSELLATION_POINTS,
+        stop: &|| false,
+    }
+}
+
+/// Parameter length of a chord whose sagitta on the osculating circle is `tol`, at a point
+/// with speed `speed` and curvature `kappa` (seed 004: `r (1 - cos(theta / 2)) = tol`,
+/// written as `2 r sin^2(theta / 4) = tol` so that a tiny `tol / r` does not round to 0),
+/// capped at a quarter turn; `None` where the curve is straight or stationary.
+fn sagitta_step(speed: f64, kappa: f64, tol: f64) -> Option<f64> {
+    if !(speed > 0.0 && speed.is_finite() && kappa > 0.0 && kappa.is_finite()) {
+        return None;
+    }
+    let radius = 1.0 / kappa;
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let theta = (4.0 * (tol / (2.0 * radius)).sqrt().min(1.0).asin()).min(quarter);
+    let du = theta * radius / speed;
+    (du.is_finite() && du > 0.0).then_some(du)
+}
+
+/// Samples taken per knot span by the a-priori estimates, and the most samples in all.
+const ESTIMATE_SAMPLES_PER_SPAN: usize = 16;
+const ESTIMATE_SAMPLES: usize = 1 << 16;
+
+/// Sample parameters for an estimate over `breaks` (the distinct knots of the domain):
+/// `(u, du)` pairs, `du` the parameter length each sample stands for. At most
+/// [`ESTIMATE_SAMPLES`] (plus one per span when spans are fewer) whatever the knot count:
+/// when spans outnumber the budget, every k-th span is sampled and stands for k spans.
+fn estimate_samples(breaks: &[f64]) -> Vec<(f64, f64)> {
+    let spans = breaks.len().saturating_sub(1);
+    if spans == 0 {
+        return Vec::new();
+    }
+    let per_span = (ESTIMATE_SAMPLES / spans).clamp(1, ESTIMATE_SAMPLES_PER_SPAN);
+    let stride = spans.div_ceil(ESTIMATE_SAMPLES).max(1);
+    let mut out = Vec::new();
+    for w in breaks.windows(2).step_by(stride) {
+        let h = (w[1] - w[0]) / per_span as f64;
+        for k in 0..per_span {
+            out.push((w[0] + h * (k as f64 + 0.5), h * stride as f64));
+        }
+    }
+    out
+}
+
+/// The distinct knots inside the domain, with both domain ends.
+fn domain_breaks(knots: &[f64], (a, b): (f64, f64)) -> Vec<f64> {
+    let mut breaks: Vec<f64> = runs(knots)
+        .map(|(_, v, _)| v)
+        .filter(|&v| v > a && v < b)
+        .collect();
+    breaks.insert(0, a);
+    breaks.push(b);
+    breaks
+}
+
+/// Chords needed along one parameter direction by the osculating-circle rule: the integral
+/// of `du / step(u)` over the samples, with one chord per span at least.
+fn chords_along(samples: &[(f64, f64)], spans: usize, step: impl Fn(f64) -> Option<f64>) -> f64 {
+    let walked: f64 = samples
+        .iter()
+        .map(|&(u, du)| step(u).map_or(0.0, |s| du / s))
+        .sum();
+    walked.max(spans as f64)
+}
 
 fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
@@ -196,27 +324,12 @@ fn curve_ders_2(c: &NurbsCurve, u: f64) -> [Point3; 3] {
     [c0, c1, c2]
 }
 
-/// The osculating-circle parameter step at `u` (seed 004), or `None` for a straight or
-/// stationary point.
+/// The osculating-circle parameter step at `u` (seed 004, [`sagitta_step`]), or `None` for
+/// a straight or stationary point.
 fn osculating_step(c: &NurbsCurve, u: f64, tol: f64) -> Option<f64> {
     let [_, d1, d2] = curve_ders_2(c, u);
     let speed = norm(d1);
-    if !(speed > 0.0 && speed.is_finite()) {
-        return None;
-    }
-    let kappa = norm(cross(d1, d2)) / (speed * speed * speed);
-    if !(kappa > 0.0 && kappa.is_finite()) {
-        return None;
-    }
-    let radius = 1.0 / kappa;
-    let quarter = std::f64::consts::FRAC_PI_2;
-    let theta = if tol >= radius {
-        quarter
-    } else {
-        (2.0 * (1.0 - tol / radius).acos()).min(quarter)
-    };
-    let du = theta * radius / speed;
-    (du.is_finite() && du > 0.0).then_some(du)
+    sagitta_step(speed, norm(cross(d1, d2)) / (speed * speed * speed), tol)
 }
 
 fn too_many(what: &'static str, tolerance: f64) -> GeometryError {
@@ -279,14 +392,43 @@ impl NurbsCurve {
     /// Errors: `tolerance` not finite and positive ([`GeometryError::InvalidArgument`]);
     /// more than [`MAX_TESSELLATION_POINTS`] needed ([`GeometryError::ToleranceExceeded`]).
     pub fn tessellate(&self, tolerance: f64) -> Result<Polyline, GeometryError> {
+        self.tessellate_within(tolerance, &default_budget())
+            .map_err(|e| as_geometry_error(e, "curve tessellation", tolerance))
+    }
+
+    /// The points a tessellation under `tolerance` needs, estimated before the work: the
+    /// osculating-circle rule (seed 004) integrated over samples of the curvature,
+    /// `sum du / step(u)` with `step` the parameter length of a chord of sagitta
+    /// `tolerance`, at least one chord per knot span. The rule the tessellation walks with
+    /// (at 0.8 `tolerance`, then halving chords that fail) takes more points than this on
+    /// smooth curves, so an estimate above a limit means the work would exceed it too.
+    /// Costs at most about 65 000 evaluations whatever the size of the curve.
+    pub fn tessellation_estimate(&self, tolerance: f64) -> f64 {
+        let breaks = domain_breaks(self.knots(), self.domain());
+        let samples = estimate_samples(&breaks);
+        let chords = chords_along(&samples, breaks.len() - 1, |u| {
+            osculating_step(self, u, tolerance)
+        });
+        chords + 1.0
+    }
+
+    /// [`NurbsCurve::tessellate`] under a [`Budget`]: stops with
+    /// [`TessellationError::TooManyPoints`] past `budget.max_points` and with
+    /// [`TessellationError::Stopped`] when `budget.stop` says so (polled every
+    /// [`STOP_POLL`] steps).
+    pub fn tessellate_within(
+        &self,
+        tolerance: f64,
+        budget: &Budget<'_>,
+    ) -> Result<Polyline, TessellationError> {
         check_tolerance(tolerance)?;
         let (a, b) = self.domain();
-        let mut breaks: Vec<f64> = runs(self.knots())
-            .map(|(_, v, _)| v)
-            .filter(|&v| v > a && v < b)
-            .collect();
-        breaks.insert(0, a);
-        breaks.push(b);
+        let breaks = domain_breaks(self.knots(), (a, b));
+        let too_many = || TessellationError::TooManyPoints {
+            limit: budget.max_points,
+        };
+        let mut work = 0usize;
+        let mut poll = || budget.tick(&mut work);
         let step_tol = 0.8 * tolerance;
         // 1. Osculating-circle steps, span by span.
         let mut params = vec![a];
@@ -310,11 +452,15 @@ impl NurbsCurve {
                 }
                 u += du;
                 params.push(u);
-                if params.len() > MAX_TESSELLATION_POINTS {
-                    return Err(too_many("curve tessellation", tolerance));
+                if params.len() > budget.max_points {
+                    return Err(too_many());
                 }
+                poll()?;
             }
             params.push(k1);
+            if params.len() > budget.max_points {
+                return Err(too_many());
+            }
         }
         // 2. Verify every chord; halve the failing ones (explicit stack, no recursion).
         let min_du = (b - a) * 1e-12;
@@ -338,9 +484,10 @@ impl NurbsCurve {
                     out.points.push(pe);
                     stack.pop();
                 }
-                if out.params.len() + stack.len() > MAX_TESSELLATION_POINTS {
-                    return Err(too_many("curve tessellation", tolerance));
+                if out.params.len() + stack.len() > budget.max_points {
+                    return Err(too_many());
                 }
+                poll()?;
             }
         }
         Ok(out)
@@ -426,12 +573,7 @@ fn test_cell(
 
 /// Distinct knots of the domain, each span cut into `parts` pieces.
 fn initial_params(knots: &[f64], (a, b): (f64, f64), parts: usize) -> Vec<f64> {
-    let mut ks: Vec<f64> = runs(knots)
-        .map(|(_, v, _)| v)
-        .filter(|&v| v > a && v < b)
-        .collect();
-    ks.insert(0, a);
-    ks.push(b);
+    let ks = domain_breaks(knots, (a, b));
     let mut out = vec![a];
     for w in ks.windows(2) {
         for k in 1..parts {
@@ -451,7 +593,59 @@ impl NurbsSurface {
     /// Errors: bad tolerance ([`GeometryError::InvalidArgument`]); more than
     /// [`MAX_TESSELLATION_POINTS`] vertices needed ([`GeometryError::ToleranceExceeded`]).
     pub fn tessellate(&self, tolerance: f64) -> Result<Mesh, GeometryError> {
+        self.tessellate_within(tolerance, &default_budget())
+            .map_err(|e| as_geometry_error(e, "surface tessellation", tolerance))
+    }
+
+    /// The vertices a tessellation under `tolerance` needs, estimated before the work: the
+    /// mesh is a tensor grid, so the estimate is the product of the chords needed along u
+    /// and along v ([`NurbsCurve::tessellation_estimate`]'s rule on the iso-parameter
+    /// curves, with the curvature of `S_u`, `S_uu` (and `S_v`, `S_vv`), the largest over
+    /// 9 iso-curves each way) plus one. A lower bound in practice: the mesher also halves
+    /// the other direction where a cell's interior fails, up to about 10 times more
+    /// vertices on a cylinder. Costs at most about 2 × 9 × 65 000 evaluations.
+    pub fn tessellation_estimate(&self, tolerance: f64) -> f64 {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        let ubreaks = domain_breaks(self.knots_u(), (u0, u1));
+        let vbreaks = domain_breaks(self.knots_v(), (v0, v1));
+        let (us, vs) = (estimate_samples(&ubreaks), estimate_samples(&vbreaks));
+        let step = |d1: Point3, d2: Point3| {
+            let speed = norm(d1);
+            sagitta_step(
+                speed,
+                norm(cross(d1, d2)) / (speed * speed * speed),
+                tolerance,
+            )
+        };
+        let across = |k: usize, lo: f64, hi: f64| lo + (hi - lo) * k as f64 / 8.0;
+        let mut nu: f64 = 0.0;
+        let mut nv: f64 = 0.0;
+        for k in 0..=8 {
+            let v = across(k, v0, v1);
+            nu = nu.max(chords_along(&us, ubreaks.len() - 1, |u| {
+                let d = self.derivatives(u, v, 2).ok()?;
+                step(d[1][0], d[2][0])
+            }));
+            let u = across(k, u0, u1);
+            nv = nv.max(chords_along(&vs, vbreaks.len() - 1, |v| {
+                let d = self.derivatives(u, v, 2).ok()?;
+                step(d[0][1], d[0][2])
+            }));
+        }
+        (nu + 1.0) * (nv + 1.0)
+    }
+
+    /// [`NurbsSurface::tessellate`] under a [`Budget`] (see
+    /// [`NurbsCurve::tessellate_within`]; the stop test is polled every [`STOP_POLL`]
+    /// cells tested or grid points evaluated).
+    pub fn tessellate_within(
+        &self,
+        tolerance: f64,
+        budget: &Budget<'_>,
+    ) -> Result<Mesh, TessellationError> {
         check_tolerance(tolerance)?;
+        let mut work = 0usize;
+        let mut poll = || budget.tick(&mut work);
         let (du, dv) = self.domain();
         let mut us = initial_params(self.knots_u(), du, self.degree_u());
         let mut vs = initial_params(self.knots_v(), dv, self.degree_v());
@@ -460,13 +654,16 @@ impl NurbsSurface {
         let mut passed: HashSet<[u64; 4]> = HashSet::new();
         loop {
             let (nu, nv) = (us.len(), vs.len());
-            if nu.saturating_mul(nv) > MAX_TESSELLATION_POINTS {
-                return Err(too_many("surface tessellation", tolerance));
+            if nu.saturating_mul(nv) > budget.max_points {
+                return Err(TessellationError::TooManyPoints {
+                    limit: budget.max_points,
+                });
             }
             grid = Vec::with_capacity(nu * nv);
             for &u in &us {
                 for &v in &vs {
                     grid.push(self.point_at_unchecked(u, v));
+                    poll()?;
                 }
             }
             let mut split_u = vec![false; nu - 1];
@@ -477,6 +674,7 @@ impl NurbsSurface {
                     if passed.contains(&key) {
                         continue; // unchanged since it last passed
                     }
+                    poll()?;
                     let c = [
                         [grid[i * nv + j], grid[i * nv + j + 1]],
                         [grid[(i + 1) * nv + j], grid[(i + 1) * nv + j + 1]],
@@ -496,7 +694,7 @@ impl NurbsSurface {
             let (nus, nvs) = (refine(&us, &split_u), refine(&vs, &split_v));
             if nus.len() == us.len() && nvs.len() == vs.len() {
                 // Intervals at floating-point resolution: no further progress possible.
-                return Err(too_many("surface tessellation", tolerance));
+                return Err(too_many("surface tessellation", tolerance).into());
             }
             us = nus;
             vs = nvs;

@@ -19,8 +19,15 @@ pub struct Settings {
     pub max_elevate_by: usize,
     /// Largest degree any operation may produce (default 25, as Open CASCADE reads).
     pub max_degree: usize,
-    /// Most tessellation output vertices (default 20 million).
+    /// Most tessellation output vertices (default 20 million), checked before the work
+    /// from an estimate and during it.
     pub max_mesh_vertices: usize,
+    /// Largest reply (evaluation results, mesh text, written file) an operation may build,
+    /// estimated before the work and checked after it (default: no limit; the HTTP service
+    /// sets one).
+    pub max_reply_bytes: usize,
+    /// The stop signal long operations poll (default: never).
+    pub cancel: super::Cancel,
 }
 
 impl Default for Settings {
@@ -31,6 +38,8 @@ impl Default for Settings {
             max_elevate_by: 20,
             max_degree: 25,
             max_mesh_vertices: 20_000_000,
+            max_reply_bytes: usize::MAX,
+            cancel: super::Cancel::default(),
         }
     }
 }

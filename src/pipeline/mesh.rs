@@ -190,45 +190,71 @@ pub fn tessellate_all(
     tolerance: f64,
     settings: &Settings,
 ) -> Result<(Vec<FaceMesh>, Vec<CurveLine>), PipelineError> {
-    let located = |e: &Entity, err: crate::nurbs::GeometryError| {
-        PipelineError::new(
+    use crate::nurbs::tessellate::{Budget, TessellationError};
+    let stop = || settings.cancel.is_set();
+    // The reply limit caps the vertices too (at 32 bytes per vertex, less than any format
+    // writes per surface vertex), so a mesh much finer than its estimate stops at the cap
+    // instead of being built whole; the finished output is checked against the limit again.
+    let reply_cap = (settings.max_reply_bytes as f64 / 32.0) as usize;
+    let failed = |e: &Entity, err: TessellationError| match err {
+        TessellationError::Geometry(g) => PipelineError::new(
             ErrorKind::Geometry,
             "tessellate.failed",
-            err.to_string(),
+            g.to_string(),
             Location::at_entity(e.id.clone()),
-        )
-    };
-    let mut vertices = 0usize;
-    let mut budget = |n: usize| -> Result<(), PipelineError> {
-        vertices = vertices.saturating_add(n);
-        if vertices > settings.max_mesh_vertices {
-            return Err(PipelineError::new(
+        ),
+        TessellationError::TooManyPoints { .. } if reply_cap < settings.max_mesh_vertices => {
+            PipelineError::new(
                 ErrorKind::Limit,
-                "limit.mesh_vertices",
+                "limit.reply_bytes",
                 format!(
-                    "the tessellation exceeds {} vertices; use a larger tolerance",
-                    settings.max_mesh_vertices
+                    "the mesh of {} would exceed the reply limit of {} bytes (about {} \
+                     vertices); use a larger tolerance or fewer entities",
+                    e.id, settings.max_reply_bytes, reply_cap
                 ),
                 Location::default(),
-            ));
+            )
         }
-        Ok(())
+        TessellationError::TooManyPoints { .. } => PipelineError::new(
+            ErrorKind::Limit,
+            "limit.mesh_vertices",
+            format!(
+                "the tessellation of {} needs more vertices than remain of the limit of {}; \
+                 use a larger tolerance",
+                e.id, settings.max_mesh_vertices
+            ),
+            Location::default(),
+        ),
+        TessellationError::Stopped => super::cancelled(),
+    };
+    // Each entity may use what the ones before it left of the vertex limit.
+    let mut vertices = 0usize;
+    let within = |used: usize| Budget {
+        max_points: settings
+            .max_mesh_vertices
+            .min(reply_cap)
+            .saturating_sub(used),
+        stop: &stop,
     };
     let mut faces = Vec::new();
     let mut curves = Vec::new();
     for e in &plan.entities {
         match &e.geometry {
             Geometry::Curve(c) => {
-                let line: Polyline = c.tessellate(tolerance).map_err(|err| located(e, err))?;
-                budget(line.points.len())?;
+                let line: Polyline = c
+                    .tessellate_within(tolerance, &within(vertices))
+                    .map_err(|err| failed(e, err))?;
+                vertices += line.points.len();
                 curves.push(CurveLine {
                     entity: e.id.clone(),
                     points: line.points,
                 });
             }
             Geometry::Surface(s) => {
-                let mesh = s.tessellate(tolerance).map_err(|err| located(e, err))?;
-                budget(mesh.vertices.len())?;
+                let mesh = s
+                    .tessellate_within(tolerance, &within(vertices))
+                    .map_err(|err| failed(e, err))?;
+                vertices += mesh.vertices.len();
                 faces.push(weld(&e.id, &mesh));
             }
         }

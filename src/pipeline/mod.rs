@@ -7,6 +7,7 @@
 //!
 //! Everything here is synchronous and CPU-bound; the service runs it off the async threads.
 
+mod cancel;
 mod error;
 mod export;
 mod input;
@@ -15,12 +16,14 @@ mod ops;
 pub mod picture;
 mod reports;
 
+pub use cancel::{Cancel, cancelled};
 pub use error::{ErrorKind, PipelineError};
 pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,
-    apply, convert, drop_unwritable, evaluate, info, select, tessellate, validate, write,
+    apply, check_evaluation, check_file_reply, convert, drop_unwritable, evaluate, info, select,
+    tessellate, validate, write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,

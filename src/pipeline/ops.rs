@@ -12,6 +12,104 @@ use super::reports::{
 };
 use super::{ErrorKind, InputKind, Loaded, PipelineError, Settings, load};
 
+/// Characters one `f64` takes at most in a reply (`-2.2250738585072014e-308` and a
+/// separator): reply estimates count every number at this width, so they bound the text.
+const NUMBER_BYTES: f64 = 25.0;
+
+/// Refuses work whose reply would exceed [`Settings::max_reply_bytes`]: `estimate` is the
+/// reply size worked out before the work, `what` names the reply, `advice` says how to
+/// shrink it.
+fn check_reply(
+    estimate: f64,
+    what: &str,
+    advice: &str,
+    settings: &Settings,
+) -> Result<(), PipelineError> {
+    if estimate > settings.max_reply_bytes as f64 {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.reply_bytes",
+            format!(
+                "the {what} would take about {:.0} bytes, above the reply limit of {} bytes; {advice}",
+                estimate, settings.max_reply_bytes
+            ),
+            Location::default(),
+        ));
+    }
+    Ok(())
+}
+
+/// An upper estimate of a written file (STEP, IGES or model JSON): per control point one
+/// point record (up to 4 numbers and about 30 bytes of syntax), per knot one number, and
+/// 256 bytes of entity records per entity. With `elevation` (`by`, direction, entity), the
+/// file the document gives after that degree elevation.
+fn estimated_file_bytes(
+    doc: &Document,
+    elevation: Option<(usize, Direction, Option<&str>)>,
+) -> f64 {
+    // Degree elevation by t (NURBS Book A5.9): each of the s Bezier segments of a direction
+    // gains t control points, and each of its s + 1 distinct knots t more multiplicity.
+    let elevated = |n: usize, knots: &[f64], p: usize, by: usize| -> (usize, usize) {
+        let segments = knots
+            .get(p..knots.len().saturating_sub(p))
+            .map_or(0, |d| d.windows(2).filter(|w| w[1] > w[0]).count());
+        (
+            n.saturating_add(by.saturating_mul(segments)),
+            knots.len().saturating_add(by.saturating_mul(segments + 1)),
+        )
+    };
+    doc.entities
+        .iter()
+        .map(|e| {
+            let by = elevation
+                .filter(|(_, _, id)| id.is_none_or(|id| is_entity(e, id)))
+                .map(|(by, direction, _)| (by, direction));
+            let (u, v) = match by.map(|(_, d)| d) {
+                Some(Direction::Both) => (true, true),
+                Some(Direction::U) => (true, false),
+                Some(Direction::V) => (false, true),
+                None => (false, false),
+            };
+            let by = by.map_or(0, |(by, _)| by);
+            let (poles, knots) = match &e.geometry {
+                Geometry::Curve(c) if u => elevated(c.num_poles(), c.knots(), c.degree(), by),
+                Geometry::Curve(c) => (c.num_poles(), c.knots().len()),
+                Geometry::Surface(s) => {
+                    let (nu, nv) = (s.control_points().nu(), s.control_points().nv());
+                    let (nu, ku) = if u {
+                        elevated(nu, s.knots_u(), s.degree_u(), by)
+                    } else {
+                        (nu, s.knots_u().len())
+                    };
+                    let (nv, kv) = if v {
+                        elevated(nv, s.knots_v(), s.degree_v(), by)
+                    } else {
+                        (nv, s.knots_v().len())
+                    };
+                    (nu.saturating_mul(nv), ku + kv)
+                }
+            };
+            256.0 + poles as f64 * (4.0 * NUMBER_BYTES + 30.0) + knots as f64 * NUMBER_BYTES
+        })
+        .sum()
+}
+
+/// Whether `id` names the entity: its id, or its id without the `#` (STEP) or `D` (IGES).
+fn is_entity(e: &Entity, id: &str) -> bool {
+    e.id == id || e.id.trim_start_matches(['#', 'D']) == id
+}
+
+/// Checks the estimate of a file (or model JSON) about to be written against
+/// [`Settings::max_reply_bytes`] (413 `limit.reply_bytes`).
+pub fn check_file_reply(doc: &Document, settings: &Settings) -> Result<(), PipelineError> {
+    check_reply(
+        estimated_file_bytes(doc, None),
+        "written file",
+        "send fewer or smaller entities",
+        settings,
+    )
+}
+
 /// What to do with knot-vector ends while converting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ClampPolicy {
@@ -126,10 +224,7 @@ pub struct EvalRequest {
 pub fn select<'d>(doc: &'d Document, id: Option<&str>) -> Result<&'d Entity, PipelineError> {
     let found = match id {
         None => doc.entities.first(),
-        Some(id) => doc
-            .entities
-            .iter()
-            .find(|e| e.id == id || e.id.trim_start_matches(['#', 'D']) == id),
+        Some(id) => doc.entities.iter().find(|e| is_entity(e, id)),
     };
     found.ok_or_else(|| {
         let ids: Vec<&str> = doc
@@ -241,11 +336,14 @@ pub fn convert(
     };
     let entities_in = document.entities.len();
     drop_unwritable(&mut document, format);
+    settings.cancel.check()?;
     let original = op.is_some().then(|| document.clone());
     if let Some(op) = op {
         apply(&mut document, op, None, settings)?;
     }
+    check_file_reply(&document, settings)?;
     let text = write(&document, format, &request.export)?;
+    settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
     let verify = match request.verify {
         None => None,
@@ -331,22 +429,23 @@ fn verify_output(
         ));
     }
     let scale = reference.units.to_mm() / out_units.to_mm();
-    Ok(reference
+    reference
         .entities
         .iter()
         .zip(&reread.entities)
         .map(|(a, b)| {
+            settings.cancel.check()?;
             let (max, size) = sampled_deviation(&a.geometry, &b.geometry, scale);
             let relative = max / size.max(f64::MIN_POSITIVE);
-            EntityDeviation {
+            Ok(EntityDeviation {
                 input_id: a.id.clone(),
                 output_id: b.id.clone(),
                 max_deviation: max,
                 relative,
                 ok: relative <= tolerance,
-            }
+            })
         })
-        .collect())
+        .collect()
 }
 
 /// Largest distance between `a` (scaled by `scale`) and `b` at the same normalised
@@ -490,29 +589,7 @@ pub fn evaluate(
     settings: &Settings,
 ) -> Result<EvalReport, PipelineError> {
     use serde_json::{Map, Value, json};
-    if request.params.len() > settings.max_eval_points {
-        return Err(PipelineError::new(
-            ErrorKind::Limit,
-            "limit.eval_points",
-            format!(
-                "{} parameters requested, above the limit of {}",
-                request.params.len(),
-                settings.max_eval_points
-            ),
-            Location::default(),
-        ));
-    }
-    if request.derivatives > crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER {
-        return Err(PipelineError::usage(
-            "evaluate.order",
-            format!(
-                "derivative order {} is above the supported {}",
-                request.derivatives,
-                crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER
-            ),
-        ));
-    }
-    let entity = select(doc, request.entity.as_deref())?;
+    let entity = check_evaluation(doc, request, request.params.len(), settings)?;
     let dim = entity.geometry.dimension();
     let coords = |p: Point3| -> Value { json!(p[..dim]) };
     let failure = |e: crate::nurbs::GeometryError| json!({ "error": e.to_string() });
@@ -525,7 +602,10 @@ pub fn evaluate(
         )
     };
     let mut results = Vec::with_capacity(request.params.len());
-    for at in &request.params {
+    for (k, at) in request.params.iter().enumerate() {
+        if k % EVAL_POLL == 0 {
+            settings.cancel.check()?;
+        }
         let result = match (&entity.geometry, at.as_slice()) {
             (Geometry::Curve(c), &[u]) => {
                 let u = snap_to_domain(u, c.domain());
@@ -630,6 +710,79 @@ pub fn evaluate(
     })
 }
 
+/// The checks [`evaluate`] makes before any work, for `count` parameters (the caller may
+/// hold them in another form until they pass): the point limit, the derivative order, the
+/// entity, and the reply estimate against [`Settings::max_reply_bytes`]. The entity.
+pub fn check_evaluation<'d>(
+    doc: &'d Document,
+    request: &EvalRequest,
+    count: usize,
+    settings: &Settings,
+) -> Result<&'d Entity, PipelineError> {
+    if count > settings.max_eval_points {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.eval_points",
+            format!(
+                "{count} parameters requested, above the limit of {}",
+                settings.max_eval_points
+            ),
+            Location::default(),
+        ));
+    }
+    if request.derivatives > crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER {
+        return Err(PipelineError::usage(
+            "evaluate.order",
+            format!(
+                "derivative order {} is above the supported {}",
+                request.derivatives,
+                crate::nurbs::derivatives::MAX_DERIVATIVE_ORDER
+            ),
+        ));
+    }
+    let entity = select(doc, request.entity.as_deref())?;
+    check_reply(
+        count as f64 * eval_result_bytes(&entity.geometry, request),
+        "evaluation reply",
+        "ask for fewer parameters or fewer quantities per point",
+        settings,
+    )?;
+    Ok(entity)
+}
+
+/// Evaluations between two polls of the stop signal.
+const EVAL_POLL: usize = 1024;
+
+/// An upper estimate of one evaluation result's JSON text: the parameters and the point,
+/// then per derivative order the vectors it adds (curves 1, surfaces `order + 1` with
+/// their keys), the normal, and the curvature record (at most 12 numbers with keys).
+fn eval_result_bytes(g: &Geometry, request: &EvalRequest) -> f64 {
+    let dim = g.dimension() as f64;
+    let (arity, curve) = match g {
+        Geometry::Curve(_) => (1.0, true),
+        Geometry::Surface(_) => (2.0, false),
+    };
+    let vector = dim * NUMBER_BYTES + 4.0;
+    let mut bytes = 24.0 + (arity + dim) * NUMBER_BYTES;
+    for order in 1..=request.derivatives {
+        bytes += if curve {
+            vector
+        } else {
+            (order as f64 + 1.0) * (vector + order as f64 + 3.0)
+        };
+    }
+    if request.derivatives > 0 {
+        bytes += 16.0;
+    }
+    if request.normals {
+        bytes += 3.0 * NUMBER_BYTES + 12.0;
+    }
+    if request.curvature {
+        bytes += 12.0 * NUMBER_BYTES + 160.0;
+    }
+    bytes
+}
+
 /// Applies an operation to one entity (`entity = Some(id)`) or to all.
 pub fn apply(
     doc: &mut Document,
@@ -640,12 +793,24 @@ pub fn apply(
     if let Some(id) = entity {
         select(doc, Some(id))?;
     }
+    if let Operation::Elevate { by, direction } = op {
+        if (1..=settings.max_elevate_by).contains(&by) {
+            // The result's size is known before the work (A5.9): refuse a too large one now.
+            check_reply(
+                estimated_file_bytes(doc, Some((by, direction, entity))),
+                "elevated file",
+                "elevate fewer entities, one direction, or by less",
+                settings,
+            )?;
+        }
+    }
     for e in doc.entities.iter_mut() {
         if let Some(id) = entity {
-            if e.id != id && e.id.trim_start_matches(['#', 'D']) != id {
+            if !is_entity(e, id) {
                 continue;
             }
         }
+        settings.cancel.check()?;
         e.geometry = apply_one(&e.geometry, op, settings).map_err(|err| PipelineError {
             diagnostic: Diagnostic {
                 location: Location::at_entity(e.id.clone()),
@@ -820,11 +985,25 @@ fn snap_to_domain(t: f64, (start, end): (f64, f64)) -> f64 {
     }
 }
 
+/// Reply bytes per curve point at most: an OBJ `v` line and its index in the `l` line (SVG
+/// takes less).
+const CURVE_POINT_BYTES: f64 = 3.0 * NUMBER_BYTES + 16.0;
+
+/// Reply bytes per surface vertex at most: its `v` and `vn` lines and its share (two
+/// triangles) of the `f` lines.
+const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
+
 /// Tessellates one entity (or all with `entity = None`) under a chord tolerance (curves by
 /// the osculating-circle rule, surfaces to crack-free grids welded at seams and poles) and
 /// writes the result: OBJ, binary STL, binary glTF 2.0 or an SVG or PNG picture
 /// ([`super::mesh`], [`super::picture`]). What the format cannot hold is left out as
 /// [`super::mesh::plan`] says (call it first to report the warnings).
+///
+/// Before any mesh is built, the vertex count is estimated for every entity
+/// ([`crate::nurbs::NurbsCurve::tessellation_estimate`]) and the request refused when the
+/// sum exceeds [`Settings::max_mesh_vertices`] or its text would exceed
+/// [`Settings::max_reply_bytes`]; the same vertex limit bounds the work itself, and the
+/// stop signal is polled every [`crate::nurbs::tessellate::STOP_POLL`] steps.
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
@@ -840,12 +1019,50 @@ pub fn tessellate(
         ));
     }
     let plan = mesh::plan(doc, entity, format)?;
+    // The a-priori estimate, before any mesh is built.
+    let mut estimate = 0.0;
+    let mut reply = 0.0;
+    for e in &plan.entities {
+        settings.cancel.check()?;
+        let (n, bytes) = match &e.geometry {
+            Geometry::Curve(c) => (c.tessellation_estimate(tolerance), CURVE_POINT_BYTES),
+            Geometry::Surface(s) => (s.tessellation_estimate(tolerance), SURFACE_VERTEX_BYTES),
+        };
+        estimate += n;
+        reply += n * bytes;
+    }
+    if estimate > settings.max_mesh_vertices as f64 {
+        return Err(PipelineError::new(
+            ErrorKind::Limit,
+            "limit.mesh_vertices",
+            format!(
+                "the tessellation would need about {estimate:.3e} vertices (estimated from the \
+                 curvature before the work), above the limit of {} vertices; use a larger \
+                 tolerance",
+                settings.max_mesh_vertices
+            ),
+            Location::default(),
+        ));
+    }
+    check_reply(
+        reply,
+        "mesh text",
+        "use a larger tolerance or fewer entities",
+        settings,
+    )?;
     let (faces, curves) = mesh::tessellate_all(&plan, tolerance, settings)?;
-    Ok(match format {
+    let out = match format {
         MeshFormat::Obj => mesh::obj(&faces, &curves).into_bytes(),
         MeshFormat::Stl => mesh::stl(&faces),
         MeshFormat::Glb => mesh::glb(&faces, &curves),
         MeshFormat::Svg => picture::svg(&faces, &curves, doc.units.short_name()).into_bytes(),
         MeshFormat::Png => picture::png(&picture::svg(&faces, &curves, doc.units.short_name()))?,
-    })
+    };
+    check_reply(
+        out.len() as f64,
+        "mesh output",
+        "use a larger tolerance or fewer entities",
+        settings,
+    )?;
+    Ok(out)
 }

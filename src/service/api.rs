@@ -3,6 +3,7 @@
 //! (`pipeline::load`), so invalid geometry is a 422 from the same checks the CLI runs.
 
 use serde::Deserialize;
+use serde_json::value::RawValue;
 use utoipa::{IntoParams, ToSchema};
 
 use super::error::ApiError;
@@ -77,7 +78,7 @@ pub struct Input {
 impl Input {
     /// Exactly one of `geometry` and `file` must be given; `format` only with `file`.
     pub fn from_fields(
-        geometry: Option<serde_json::Value>,
+        geometry: Option<Box<RawValue>>,
         file: Option<String>,
         format: Option<FileFormat>,
     ) -> Result<Self, ApiError> {
@@ -89,12 +90,12 @@ impl Input {
                         "\"format\" names the format of \"file\"; model JSON in \"geometry\" needs none",
                     ));
                 }
-                let json_array = g.is_array();
-                let bytes = serde_json::to_vec(&g).map_err(|e| {
-                    ApiError::bad_request("request.invalid", format!("geometry: {e}"))
-                })?;
+                // The text as sent: no value tree is built for it here (the pipeline
+                // parses it once, into geometry).
+                let text = g.get();
+                let json_array = text.trim_start().starts_with('[');
                 Ok(Input {
-                    bytes,
+                    bytes: String::from(Box::<str>::from(g)).into_bytes(),
                     hint: Some(InputKind::Json),
                     json_array,
                 })
@@ -123,7 +124,7 @@ impl Input {
 pub struct EvaluateRequest {
     /// Model JSON: a curve or surface object, an array of them, or `{"geometry": ...}`.
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (instead of `geometry`).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -131,7 +132,8 @@ pub struct EvaluateRequest {
     /// Entity id (`#17`, `D5`, or the index for model JSON); default: the first entity.
     pub entity: Option<String>,
     /// `[[u], ...]` for a curve, `[[u, v], ...]` for a surface.
-    pub params: Vec<Vec<f64>>,
+    #[schema(value_type = Vec<Vec<f64>>)]
+    pub params: ParamList,
     /// Highest derivative order (0: points only).
     #[serde(default)]
     pub derivatives: usize,
@@ -143,13 +145,111 @@ pub struct EvaluateRequest {
     pub curvature: bool,
 }
 
+/// Evaluation parameters as they arrive: `[[u], ...]` or `[[u, v], ...]`, kept flat (8
+/// bytes per number instead of a vector per point, 56 bytes and more), so that a request
+/// is measured against the point and reply limits before it costs a vector per point.
+/// All tuples have the same length (else the request is malformed).
+#[derive(Debug, Default)]
+pub struct ParamList {
+    /// The numbers, tuple after tuple.
+    values: Vec<f64>,
+    /// The length of every tuple (0 when there are none).
+    arity: usize,
+}
+
+impl ParamList {
+    /// How many tuples.
+    pub fn len(&self) -> usize {
+        self.values.len().checked_div(self.arity).unwrap_or(0)
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// One vector per tuple, as the pipeline takes them.
+    pub fn into_vecs(self) -> Vec<Vec<f64>> {
+        if self.arity == 0 {
+            return Vec::new();
+        }
+        self.values
+            .chunks_exact(self.arity)
+            .map(<[f64]>::to_vec)
+            .collect()
+    }
+}
+
+impl<'de> Deserialize<'de> for ParamList {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Tuples;
+        /// One tuple appended to the flat list; its length.
+        struct Tuple<'a>(&'a mut Vec<f64>);
+        impl<'de> serde::de::DeserializeSeed<'de> for Tuple<'_> {
+            type Value = usize;
+            fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<usize, D::Error> {
+                d.deserialize_seq(self)
+            }
+        }
+        impl<'de> serde::de::Visitor<'de> for Tuple<'_> {
+            type Value = usize;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a parameter tuple [u] or [u, v]")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<usize, A::Error> {
+                let mut n = 0;
+                while let Some(x) = seq.next_element::<f64>()? {
+                    self.0.push(x);
+                    n += 1;
+                }
+                Ok(n)
+            }
+        }
+        impl<'de> serde::de::Visitor<'de> for Tuples {
+            type Value = ParamList;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a list of parameter tuples [[u], ...] or [[u, v], ...]")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<ParamList, A::Error> {
+                let mut list = ParamList::default();
+                let mut first = true;
+                while let Some(n) = seq.next_element_seed(Tuple(&mut list.values))? {
+                    if first {
+                        list.arity = n;
+                        first = false;
+                    } else if n != list.arity {
+                        return Err(serde::de::Error::custom(format!(
+                            "parameter tuples of different lengths ({} and {n}): give [u] for \
+                             every point of a curve, [u, v] for every point of a surface",
+                            list.arity
+                        )));
+                    }
+                }
+                if !first && list.arity == 0 {
+                    return Err(serde::de::Error::custom(
+                        "empty parameter tuple []: give [u] or [u, v]",
+                    ));
+                }
+                Ok(list)
+            }
+        }
+        d.deserialize_seq(Tuples)
+    }
+}
+
 /// `POST /v1/degree-elevate`.
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ElevateRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -169,7 +269,7 @@ pub struct ElevateRequest {
 pub struct KnotEndsRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (the reply is a file in the same format).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
@@ -207,7 +307,7 @@ impl From<MeshFormatName> for MeshFormat {
 pub struct TessellateRequest {
     /// Model JSON.
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
-    pub geometry: Option<serde_json::Value>,
+    pub geometry: Option<Box<RawValue>>,
     /// A STEP or IGES file's text (format sniffed).
     pub file: Option<String>,
     /// Only this entity (default: all).

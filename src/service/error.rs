@@ -22,6 +22,8 @@ pub struct ApiError {
     pub message: String,
     /// Where in the input, when the failure comes from the input.
     pub location: Option<Location>,
+    /// For a 503: the `Retry-After` seconds (1 unless the refusal knows better).
+    pub retry_after_s: u64,
 }
 
 /// The JSON body of every error reply.
@@ -52,6 +54,7 @@ impl ApiError {
             code: code.to_owned(),
             message: message.into(),
             location: None,
+            retry_after_s: 1,
         }
     }
 
@@ -105,11 +108,19 @@ pub fn status_of(kind: ErrorKind) -> StatusCode {
 
 impl From<PipelineError> for ApiError {
     fn from(e: PipelineError) -> Self {
+        // Stopped work: its request is gone (time limit) or the drain ended; either way the
+        // server, not the input, is the cause.
+        let status = if e.code() == crate::pipeline::cancelled().code() {
+            StatusCode::SERVICE_UNAVAILABLE
+        } else {
+            status_of(e.kind)
+        };
         ApiError {
-            status: status_of(e.kind),
+            status,
             code: e.diagnostic.code,
             message: e.diagnostic.message,
             location: Some(e.diagnostic.location),
+            retry_after_s: 1,
         }
     }
 }
@@ -121,7 +132,7 @@ impl IntoResponse for ApiError {
         } else {
             tracing::debug!(status = %self.status, code = %self.code, "{}", self.message);
         }
-        let retry = self.status == StatusCode::SERVICE_UNAVAILABLE;
+        let retry = (self.status == StatusCode::SERVICE_UNAVAILABLE).then_some(self.retry_after_s);
         let body = ErrorBody {
             error: ErrorDetail {
                 code: self.code,
@@ -130,10 +141,10 @@ impl IntoResponse for ApiError {
             },
         };
         let mut response = (self.status, Json(body)).into_response();
-        if retry {
+        if let Some(seconds) = retry {
             response
                 .headers_mut()
-                .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
+                .insert(header::RETRY_AFTER, HeaderValue::from(seconds.max(1)));
         }
         response
     }

@@ -1,29 +1,43 @@
-//! Bounded CPU work: admission, a short queue, and `spawn_blocking`.
+//! Bounded CPU work: admission, a queue, and `spawn_blocking`.
 //!
 //! Policy (documented in README "HTTP service"):
 //! - at most `max_concurrency` requests compute at once (a semaphore of that many permits);
-//! - up to [`QUEUE_FACTOR`] × `max_concurrency` more are admitted and wait for a permit,
-//!   each at most [`QUEUE_WAIT`];
-//! - a request beyond that, or one that waited [`QUEUE_WAIT`] without a permit, gets 503
-//!   `overloaded` with `Retry-After: 1` at once, before its body is read (so queued bodies
-//!   bound memory to about (1 + QUEUE_FACTOR) × max_concurrency × max_body_bytes);
-//! - the permit moves into the blocking task, so a request that timed out keeps its slot
-//!   until its computation really ends (CPU work cannot be cancelled), and the count of
-//!   busy slots never lies.
+//! - a request is admitted once its body has arrived ([`super::upload`] bounds the bodies
+//!   still arriving) and waits for a permit at most [`QUEUE_WAIT`]; it is refused at once
+//!   with 503 `overloaded` when
+//!   - [`QUEUE_FACTOR`] × `max_concurrency` requests already wait (besides those
+//!     computing), or
+//!   - the bodies of the admitted requests would pass the gate's byte budget (the service
+//!     sets 5 × `max_concurrency` × `max_body_bytes`), or
+//!   - at the measured pace the requests ahead would keep it waiting longer than
+//!     [`QUEUE_WAIT`] (waiting ahead × mean computing time / slots);
+//! - a request that waited [`QUEUE_WAIT`] without a permit gets 503 `overloaded` too; every
+//!   refusal carries `Retry-After` the time the queue takes to drain at the measured pace
+//!   ([`Gate::retry_after_s`], 1 to [`MAX_RETRY_AFTER_S`] seconds);
+//! - the permit moves into the blocking task with the request's stop signal
+//!   ([`crate::pipeline::Cancel`]): when the request's future is dropped (time limit,
+//!   connection closed) or [`Gate::stop_all`] is called, the computation stops at its next
+//!   poll and frees its slot; the count of busy slots never lies.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use tokio::sync::Semaphore;
 
 use super::error::ApiError;
+use crate::pipeline::Cancel;
 
-/// How many requests may wait per computing slot.
-pub const QUEUE_FACTOR: usize = 4;
+/// How many requests may wait per computing slot: enough for 32 keep-alive clients on 2
+/// slots (measured, README "HTTP service"); the byte budget and the predicted wait bound
+/// what a long queue may cost.
+pub const QUEUE_FACTOR: usize = 16;
 
 /// The longest a request waits for a computing slot before 503.
 pub const QUEUE_WAIT: Duration = Duration::from_secs(2);
+
+/// The longest `Retry-After` the gate advises, in seconds.
+pub const MAX_RETRY_AFTER_S: u64 = 60;
 
 /// The admission counter and the computing-slot semaphore.
 #[derive(Debug)]
@@ -32,43 +46,125 @@ pub struct Gate {
     slots: usize,
     admitted: AtomicUsize,
     max_admitted: usize,
+    admitted_bytes: AtomicUsize,
+    max_admitted_bytes: usize,
     shutting_down: AtomicBool,
+    stop_all: Arc<AtomicBool>,
+    /// Mean computing time of the recent requests, in microseconds (exponentially weighted,
+    /// 1/8 per request; 0 until the first one ends).
+    mean_work_us: Arc<AtomicU64>,
 }
 
-/// Holds one admission; dropping it frees the place.
+/// Sets a request's stop flag when the request's future goes away.
+struct StopOnDrop(Arc<AtomicBool>);
+
+impl Drop for StopOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
+}
+
+/// Holds one admission; dropping it frees the place and the body's bytes.
 #[derive(Debug)]
 pub struct Admission<'g> {
     gate: &'g Gate,
+    bytes: usize,
 }
 
 impl Drop for Admission<'_> {
     fn drop(&mut self) {
         self.gate.admitted.fetch_sub(1, Ordering::AcqRel);
+        self.gate
+            .admitted_bytes
+            .fetch_sub(self.bytes, Ordering::AcqRel);
     }
 }
 
 impl Gate {
-    /// A gate with `slots` computing slots (0 refuses all work: useful in tests).
+    /// A gate with `slots` computing slots (0 refuses all work: useful in tests) and no byte
+    /// budget.
     pub fn new(slots: usize) -> Self {
+        Gate::with_byte_budget(slots, usize::MAX)
+    }
+
+    /// A gate whose admitted requests' bodies hold at most `max_bytes` together.
+    pub fn with_byte_budget(slots: usize, max_bytes: usize) -> Self {
         Gate {
             permits: Arc::new(Semaphore::new(slots.min(Semaphore::MAX_PERMITS))),
             slots,
             admitted: AtomicUsize::new(0),
             max_admitted: slots.saturating_mul(1 + QUEUE_FACTOR),
+            admitted_bytes: AtomicUsize::new(0),
+            max_admitted_bytes: max_bytes,
             shutting_down: AtomicBool::new(false),
+            stop_all: Arc::new(AtomicBool::new(false)),
+            mean_work_us: Arc::new(AtomicU64::new(0)),
         }
     }
 
-    /// Admits a request, or refuses with 503 when computing and queue places are all taken.
-    pub fn admit(&self) -> Result<Admission<'_>, ApiError> {
-        let before = self.admitted.fetch_add(1, Ordering::AcqRel);
-        let admission = Admission { gate: self };
-        if before >= self.max_admitted {
-            return Err(ApiError::overloaded(format!(
+    /// Seconds for the admitted requests to drain at the measured pace: admitted × mean
+    /// computing time / slots, rounded up, from 1 to [`MAX_RETRY_AFTER_S`].
+    pub fn retry_after_s(&self) -> u64 {
+        let mean_us = self.mean_work_us.load(Ordering::Relaxed);
+        let admitted = u64::try_from(self.admitted()).unwrap_or(u64::MAX);
+        let slots = u64::try_from(self.slots.max(1)).unwrap_or(1);
+        admitted
+            .saturating_mul(mean_us)
+            .div_ceil(slots.saturating_mul(1_000_000))
+            .clamp(1, MAX_RETRY_AFTER_S)
+    }
+
+    /// An `overloaded` refusal with the drain-time `Retry-After`.
+    fn overloaded(&self, message: String) -> ApiError {
+        ApiError {
+            retry_after_s: self.retry_after_s(),
+            ..ApiError::overloaded(message)
+        }
+    }
+
+    /// Stops every computation at its next poll (the end of a shutdown's drain).
+    pub fn stop_all(&self) {
+        self.stop_all.store(true, Ordering::Release);
+    }
+
+    /// Admits a request whose body holds `body_bytes`, or refuses it with 503 (see the
+    /// module notes).
+    pub fn admit(&self, body_bytes: usize) -> Result<Admission<'_>, ApiError> {
+        let ahead = self.admitted.fetch_add(1, Ordering::AcqRel);
+        let held = self.admitted_bytes.fetch_add(body_bytes, Ordering::AcqRel);
+        let admission = Admission {
+            gate: self,
+            bytes: body_bytes,
+        };
+        let refusal = if ahead >= self.max_admitted {
+            Some(format!(
                 "all {} computing slots and {} queue places are taken; retry shortly",
                 self.slots,
                 self.max_admitted.saturating_sub(self.slots)
-            )));
+            ))
+        } else if held.saturating_add(body_bytes) > self.max_admitted_bytes {
+            Some(format!(
+                "the admitted requests' bodies would pass the server's {} bytes; retry shortly",
+                self.max_admitted_bytes
+            ))
+        } else {
+            let waiting = ahead.saturating_sub(self.slots.saturating_sub(1));
+            let wait_us = u64::try_from(waiting)
+                .unwrap_or(u64::MAX)
+                .saturating_mul(self.mean_work_us.load(Ordering::Relaxed))
+                / u64::try_from(self.slots.max(1)).unwrap_or(1);
+            (wait_us > u64::try_from(QUEUE_WAIT.as_micros()).unwrap_or(u64::MAX)).then(|| {
+                format!(
+                    "{waiting} requests wait ahead, about {} ms at the measured pace, more \
+                     than the {} ms a request may wait; retry shortly",
+                    wait_us / 1000,
+                    QUEUE_WAIT.as_millis()
+                )
+            })
+        };
+        if let Some(message) = refusal {
+            drop(admission);
+            return Err(self.overloaded(message));
         }
         Ok(admission)
     }
@@ -101,10 +197,11 @@ impl Gate {
     }
 
     /// Runs CPU-bound `work` on the blocking pool once a slot is free (waiting at most
-    /// [`QUEUE_WAIT`]). A panic in `work` becomes a logged 500 with a generic message.
+    /// [`QUEUE_WAIT`]), giving it the request's stop signal to poll. A panic in `work`
+    /// becomes a logged 500 with a generic message.
     pub async fn run<T, F>(&self, work: F) -> Result<T, ApiError>
     where
-        F: FnOnce() -> Result<T, ApiError> + Send + 'static,
+        F: FnOnce(Cancel) -> Result<T, ApiError> + Send + 'static,
         T: Send + 'static,
     {
         let permit = match tokio::time::timeout(QUEUE_WAIT, self.permits.clone().acquire_owned())
@@ -113,7 +210,7 @@ impl Gate {
             Ok(Ok(permit)) => permit,
             Ok(Err(_closed)) => return Err(ApiError::overloaded("the server is shutting down")),
             Err(_elapsed) => {
-                return Err(ApiError::overloaded(format!(
+                return Err(self.overloaded(format!(
                     "all {} computing slots stayed busy for {} ms; retry shortly",
                     self.slots,
                     QUEUE_WAIT.as_millis()
@@ -121,10 +218,27 @@ impl Gate {
             }
         };
         let span = tracing::Span::current();
+        let stop = Arc::new(AtomicBool::new(false));
+        let _stop_on_drop = StopOnDrop(stop.clone());
+        let all = self.stop_all.clone();
+        let cancel =
+            Cancel::new(move || stop.load(Ordering::Acquire) || all.load(Ordering::Acquire));
+        let mean = self.mean_work_us.clone();
         let handle = tokio::task::spawn_blocking(move || {
             let _permit = permit;
             let _entered = span.enter();
-            work()
+            let start = std::time::Instant::now();
+            let result = work(cancel);
+            let took = u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX);
+            // A lost update between two requests ending together only delays the average.
+            let old = mean.load(Ordering::Relaxed);
+            let new = if old == 0 {
+                took
+            } else {
+                old - old / 8 + took / 8
+            };
+            mean.store(new.max(1), Ordering::Relaxed);
+            result
         });
         match handle.await {
             Ok(result) => result,

@@ -5,10 +5,14 @@
 //! - `nurbsx_http_request_duration_seconds{route}`: histogram;
 //! - `nurbsx_http_requests_in_flight`: gauge;
 //! - `nurbsx_entities_converted_total`: counter of entities written by `/v1/convert`;
-//! - `nurbsx_compute_slots_busy` and `nurbsx_requests_admitted`: gauges of the work gate.
+//! - the service's gauges ([`Gauge`]: computing slots, admitted requests, bodies being
+//!   received and their bytes, open connections);
+//! - `nurbsx_build_info{version}` (always 1) and, on Linux, `process_resident_memory_bytes`,
+//!   `process_open_fds` and `process_cpu_seconds_total` read from `/proc/self`.
 //!
-//! Routes are the matched route templates (bounded), never raw paths, so a client cannot
-//! grow the label set.
+//! Label values are bounded whatever the clients send: routes are the matched route
+//! templates (`unmatched` for the rest), methods the nine of RFC 9110 and PATCH
+//! (`other` for the rest), statuses the ones the service answers.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -48,9 +52,10 @@ impl Metrics {
         self.in_flight.fetch_add(1, Ordering::Relaxed);
     }
 
-    /// Records a finished request.
+    /// Records a finished request (`method` is reduced to [`method_label`]).
     pub fn finish(&self, route: &str, method: &str, status: u16, elapsed: Duration) {
         self.in_flight.fetch_sub(1, Ordering::Relaxed);
+        let method = method_label(method);
         let seconds = elapsed.as_secs_f64();
         // A poisoned lock only means another request panicked while counting; the counts
         // are still usable.
@@ -75,8 +80,8 @@ impl Metrics {
             .fetch_add(u64::try_from(n).unwrap_or(u64::MAX), Ordering::Relaxed);
     }
 
-    /// The text exposition (format 0.0.4), with the gate's gauges.
-    pub fn render(&self, busy: usize, admitted: usize) -> String {
+    /// The text exposition (format 0.0.4), with the service's gauges.
+    pub fn render(&self, gauges: &[Gauge]) -> String {
         let t = self.tables.lock().unwrap_or_else(|p| p.into_inner());
         let mut out = String::new();
         // Writing to a String cannot fail; the results are ignored on purpose.
@@ -123,39 +128,124 @@ impl Metrics {
                 "nurbsx_http_request_duration_seconds_count{{route=\"{route}\"}} {total}"
             );
         }
-        let gauges = [
-            (
+        drop(t);
+        let own = [
+            Gauge::new(
                 "nurbsx_http_requests_in_flight",
-                "gauge",
                 "HTTP requests being served.",
-                self.in_flight.load(Ordering::Relaxed).max(0).unsigned_abs(),
+                self.in_flight.load(Ordering::Relaxed).max(0).unsigned_abs() as f64,
             ),
-            (
-                "nurbsx_entities_converted_total",
-                "counter",
-                "Entities written by /v1/convert.",
-                self.entities_converted.load(Ordering::Relaxed),
-            ),
-            (
-                "nurbsx_compute_slots_busy",
-                "gauge",
-                "Computing slots in use.",
-                u64::try_from(busy).unwrap_or(u64::MAX),
-            ),
-            (
-                "nurbsx_requests_admitted",
-                "gauge",
-                "Requests computing or queued for a slot.",
-                u64::try_from(admitted).unwrap_or(u64::MAX),
-            ),
+            Gauge {
+                kind: "counter",
+                ..Gauge::new(
+                    "nurbsx_entities_converted_total",
+                    "Entities written by /v1/convert.",
+                    self.entities_converted.load(Ordering::Relaxed) as f64,
+                )
+            },
         ];
-        for (name, kind, help, value) in gauges {
-            let _ = writeln!(out, "# HELP {name} {help}");
-            let _ = writeln!(out, "# TYPE {name} {kind}");
-            let _ = writeln!(out, "{name} {value}");
+        for g in own.iter().chain(gauges).chain(&process_gauges()) {
+            let _ = writeln!(out, "# HELP {} {}", g.name, g.help);
+            let _ = writeln!(out, "# TYPE {} {}", g.name, g.kind);
+            let _ = writeln!(out, "{} {}", g.name, g.value);
         }
+        let _ = writeln!(
+            out,
+            "# HELP nurbsx_build_info The running version (value always 1)."
+        );
+        let _ = writeln!(out, "# TYPE nurbsx_build_info gauge");
+        let _ = writeln!(
+            out,
+            "nurbsx_build_info{{version=\"{}\"}} 1",
+            escape(env!("CARGO_PKG_VERSION"))
+        );
         out
     }
+}
+
+/// One sample without labels: a gauge, or a counter with `kind: "counter"`.
+#[derive(Debug, Clone)]
+pub struct Gauge {
+    /// Metric name.
+    pub name: &'static str,
+    /// `gauge` or `counter`.
+    pub kind: &'static str,
+    /// The HELP text.
+    pub help: &'static str,
+    /// The value.
+    pub value: f64,
+}
+
+impl Gauge {
+    /// A gauge.
+    pub fn new(name: &'static str, help: &'static str, value: f64) -> Self {
+        Gauge {
+            name,
+            kind: "gauge",
+            help,
+            value,
+        }
+    }
+}
+
+/// The method label: the methods of RFC 9110 section 9 and PATCH as they are, `other` for
+/// anything else (a client can send any token as a method).
+pub fn method_label(method: &str) -> &'static str {
+    const KNOWN: [&str; 9] = [
+        "GET", "HEAD", "POST", "PUT", "DELETE", "CONNECT", "OPTIONS", "TRACE", "PATCH",
+    ];
+    KNOWN
+        .iter()
+        .find(|&&m| m == method)
+        .copied()
+        .unwrap_or("other")
+}
+
+/// Resident memory, open descriptors and CPU time of this process, from `/proc/self`
+/// (Linux; elsewhere none). CPU time is in clock ticks of 1/100 s, Linux's `USER_HZ`.
+fn process_gauges() -> Vec<Gauge> {
+    let mut out = Vec::new();
+    if let Ok(status) = std::fs::read_to_string("/proc/self/status") {
+        let rss_kb = status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok());
+        if let Some(kb) = rss_kb {
+            out.push(Gauge::new(
+                "process_resident_memory_bytes",
+                "Resident memory size in bytes.",
+                kb * 1024.0,
+            ));
+        }
+    }
+    if let Ok(dir) = std::fs::read_dir("/proc/self/fd") {
+        out.push(Gauge::new(
+            "process_open_fds",
+            "Open file descriptors.",
+            dir.count() as f64,
+        ));
+    }
+    if let Ok(stat) = std::fs::read_to_string("/proc/self/stat") {
+        // Fields after the command name (which may hold spaces, so split after its ')'):
+        // state is field 3, utime 14 and stime 15 (proc(5)).
+        let ticks: Option<f64> = stat.rsplit_once(')').and_then(|(_, rest)| {
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            let utime = f.get(11)?.parse::<f64>().ok()?;
+            let stime = f.get(12)?.parse::<f64>().ok()?;
+            Some(utime + stime)
+        });
+        if let Some(t) = ticks {
+            out.push(Gauge {
+                kind: "counter",
+                ..Gauge::new(
+                    "process_cpu_seconds_total",
+                    "User and system CPU time in seconds.",
+                    t / 100.0,
+                )
+            });
+        }
+    }
+    out
 }
 
 /// Escapes a label value (backslash, quote, newline), as the exposition format requires.
@@ -176,7 +266,7 @@ mod tests {
             m.start();
             m.finish("/r", "GET", 200, Duration::from_millis(ms));
         }
-        let text = m.render(0, 0);
+        let text = m.render(&[]);
         // 0 ms and the two 3 ms fall at or below 5 ms; 40 ms below 50 ms; 100 s only +Inf.
         assert!(
             text.contains("_bucket{route=\"/r\",le=\"0.001\"} 1\n"),
@@ -204,6 +294,30 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("status=\"200\"} 5\n"), "{text}");
+    }
+
+    #[test]
+    fn unknown_methods_collapse_to_other() {
+        let m = Metrics::default();
+        for method in ["GET", "POST", "BREW", "get", "X-ANYTHING"] {
+            m.start();
+            m.finish("unmatched", method, 405, Duration::ZERO);
+        }
+        let text = m.render(&[]);
+        assert!(
+            text.contains("method=\"GET\",status=\"405\"} 1\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("method=\"POST\",status=\"405\"} 1\n"),
+            "{text}"
+        );
+        // `get` is not the method GET (methods are case-sensitive, RFC 9110 9.1).
+        assert!(
+            text.contains("method=\"other\",status=\"405\"} 3\n"),
+            "{text}"
+        );
+        assert!(text.contains("nurbsx_build_info{version=\""), "{text}");
     }
 
     #[test]

@@ -7,11 +7,16 @@
 //!   `POST /v1/evaluate`, `/v1/degree-elevate`, `/v1/clamp`, `/v1/unclamp`, `/v1/tessellate`
 //!   take JSON with `geometry` (model JSON) or `file` (STEP/IGES text).
 //! - `GET /healthz`, `/readyz`, `/metrics` (Prometheus), `/openapi.json`, `/` (HTML).
-//! - Errors are `{"error":{"code","message","location"}}`: 400 malformed request, 413 too
-//!   large, 415 unknown format or Content-Type, 422 unreadable or invalid geometry, 503
-//!   overloaded / shutting down / over the time limit, 500 only for a bug (logged).
-//! - Work policy: see [`gate`]. Time limit: [`ServeConfig::request_timeout`] covers the whole
-//!   request (body upload included); past it the reply is 503 `timeout`.
+//! - Errors are `{"error":{"code","message","location"}}`: 400 malformed request, 408 body
+//!   too slow, 413 too large (body or reply), 415 unknown format or Content-Type, 422
+//!   unreadable or invalid geometry, 503 overloaded / shutting down / over the time limit,
+//!   500 only for a bug (logged).
+//! - Bodies: see [`upload`]; work: see [`gate`]. Time limit: [`ServeConfig::request_timeout`]
+//!   covers the whole request (body upload included); past it the reply is 503 `timeout`
+//!   and the computation stops at its next poll.
+//! - Connections ([`serve_on`]): HTTP/1.1; a connection must deliver a complete request
+//!   head within [`ServeConfig::header_timeout`] of opening and of the end of its previous
+//!   reply (so it is also the keep-alive idle timeout); on shutdown, see [`serve_on`].
 
 pub mod api;
 pub mod error;
@@ -21,16 +26,18 @@ pub mod metrics;
 pub mod openapi;
 pub mod pages;
 pub mod routes;
+pub mod upload;
 
 use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use axum::Router;
+use axum::body::Body;
 use axum::extract::{DefaultBodyLimit, MatchedPath, Request, State};
-use axum::http::{HeaderValue, StatusCode};
+use axum::http::{HeaderValue, StatusCode, header};
 use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
@@ -44,7 +51,8 @@ use tower_http::trace::{DefaultOnFailure, TraceLayer};
 use crate::pipeline::Settings;
 use error::ApiError;
 use gate::Gate;
-use metrics::Metrics;
+use metrics::{Gauge, Metrics};
+use upload::Uploads;
 
 /// Service configuration; the CLI fills it from flags and environment variables.
 #[derive(Debug, Clone)]
@@ -53,10 +61,25 @@ pub struct ServeConfig {
     pub addr: SocketAddr,
     /// Largest request body in bytes (default 64 MiB).
     pub max_body_bytes: usize,
+    /// Largest reply an operation may build, estimated before the work (default 64 MiB):
+    /// over it the reply is 413 `limit.reply_bytes`.
+    pub max_reply_bytes: usize,
     /// Per-request time limit (default 60 s).
     pub request_timeout: Duration,
     /// Most requests doing CPU work at once (default: the number of cores).
     pub max_concurrency: usize,
+    /// Most request bodies being received at once (default 256).
+    pub max_uploads: usize,
+    /// Most bytes the bodies being received hold together (default 256 MiB).
+    pub max_upload_bytes: usize,
+    /// Slowest average upload accepted after [`upload::UPLOAD_GRACE`], bytes per second
+    /// (default 16 KiB/s).
+    pub min_upload_rate: u64,
+    /// Time a connection has to deliver a request head, from opening or from the end of
+    /// its previous reply (default 10 s): the header-read and keep-alive idle timeout.
+    pub header_timeout: Duration,
+    /// How long the server keeps serving after SIGTERM with `/readyz` at 503 (default 5 s).
+    pub drain: Duration,
     /// Pipeline limits and policies.
     pub settings: Settings,
 }
@@ -66,8 +89,14 @@ impl Default for ServeConfig {
         ServeConfig {
             addr: SocketAddr::from(([127, 0, 0, 1], 8080)),
             max_body_bytes: 64 << 20,
+            max_reply_bytes: 64 << 20,
             request_timeout: Duration::from_secs(60),
             max_concurrency: std::thread::available_parallelism().map_or(2, |n| n.get()),
+            max_uploads: 256,
+            max_upload_bytes: 256 << 20,
+            min_upload_rate: 16 << 10,
+            header_timeout: Duration::from_secs(10),
+            drain: Duration::from_secs(5),
             settings: Settings::default(),
         }
     }
@@ -80,25 +109,77 @@ pub struct AppState {
     pub settings: Settings,
     /// Admission and computing slots.
     pub gate: Gate,
+    /// Bodies being received.
+    pub uploads: Uploads,
     /// Counters and histograms.
     pub metrics: Metrics,
+    /// Open connections (served by [`serve_on`]).
+    pub connections: AtomicUsize,
     /// The configured number of computing slots.
     pub max_concurrency: usize,
     /// The per-request time limit.
     pub request_timeout: Duration,
 }
 
+impl AppState {
+    /// The service's gauges for `/metrics`.
+    pub fn gauges(&self) -> Vec<Gauge> {
+        vec![
+            Gauge::new(
+                "nurbsx_compute_slots_busy",
+                "Computing slots in use.",
+                self.gate.busy() as f64,
+            ),
+            Gauge::new(
+                "nurbsx_requests_admitted",
+                "Requests computing or queued for a slot.",
+                self.gate.admitted() as f64,
+            ),
+            Gauge::new(
+                "nurbsx_uploads_receiving",
+                "Request bodies being received.",
+                self.uploads.receiving() as f64,
+            ),
+            Gauge::new(
+                "nurbsx_upload_bytes",
+                "Bytes held by request bodies being received.",
+                self.uploads.bytes() as f64,
+            ),
+            Gauge::new(
+                "nurbsx_http_connections_open",
+                "Open client connections.",
+                self.connections.load(Ordering::Acquire) as f64,
+            ),
+        ]
+    }
+}
+
 /// Builds the router (for in-process tests: drive it with `tower::ServiceExt::oneshot`).
 pub fn app(config: ServeConfig) -> Router {
-    build(config).0
+    build(&config).0
 }
 
 /// The router and its shared state (the state lets [`serve_on`] flag shutdown).
-fn build(config: ServeConfig) -> (Router, Arc<AppState>) {
+fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
+    let mut settings = config.settings.clone();
+    settings.max_reply_bytes = config.max_reply_bytes;
     let state = Arc::new(AppState {
-        settings: config.settings,
-        gate: Gate::new(config.max_concurrency),
+        settings,
+        gate: Gate::with_byte_budget(
+            config.max_concurrency,
+            config
+                .max_concurrency
+                .saturating_mul(5)
+                .saturating_mul(config.max_body_bytes),
+        ),
+        uploads: Uploads::new(
+            config.max_uploads,
+            config.max_upload_bytes,
+            config.max_body_bytes,
+            config.min_upload_rate,
+        ),
         metrics: Metrics::default(),
+        connections: AtomicUsize::new(0),
         max_concurrency: config.max_concurrency,
         request_timeout: config.request_timeout,
     });
@@ -111,8 +192,11 @@ fn build(config: ServeConfig) -> (Router, Arc<AppState>) {
         .route("/v1/clamp", post(routes::clamp))
         .route("/v1/unclamp", post(routes::unclamp))
         .route("/v1/tessellate", post(routes::tessellate))
-        // Admission runs before the body is read, so refused bodies are never buffered.
-        .route_layer(middleware::from_fn_with_state(state.clone(), admit));
+        // The body is received within the upload bounds first; admission follows.
+        .route_layer(middleware::from_fn_with_state(
+            state.clone(),
+            receive_then_admit,
+        ));
     let router = Router::new()
         .route("/", get(pages::landing))
         .route("/healthz", get(pages::healthz))
@@ -127,6 +211,7 @@ fn build(config: ServeConfig) -> (Router, Arc<AppState>) {
         .layer(middleware::from_fn_with_state(state.clone(), record))
         .layer(
             ServiceBuilder::new()
+                .layer(middleware::from_fn(screen_request_id))
                 .layer(SetRequestIdLayer::x_request_id(MakeId::default()))
                 .layer(
                     TraceLayer::new_for_http()
@@ -152,8 +237,21 @@ fn span_for(req: &Request) -> tracing::Span {
     tracing::info_span!("request", method = %req.method(), path = %req.uri().path(), request_id = %id)
 }
 
-/// Request ids for requests that come without `x-request-id`: the process start time in
-/// hex and a counter, unique per process and sortable.
+/// Longest client request id kept; longer ones are replaced by a generated id.
+pub const MAX_REQUEST_ID_LEN: usize = 64;
+
+/// Whether a client's `x-request-id` is kept: 1 to [`MAX_REQUEST_ID_LEN`] characters of
+/// `A-Z a-z 0-9 - _ . : /` (enough for UUIDs, trace ids and most gateway ids; nothing that
+/// could break a log line or a header).
+pub fn request_id_acceptable(id: &[u8]) -> bool {
+    (1..=MAX_REQUEST_ID_LEN).contains(&id.len())
+        && id
+            .iter()
+            .all(|b| b.is_ascii_alphanumeric() || matches!(b, b'-' | b'_' | b'.' | b':' | b'/'))
+}
+
+/// Request ids: the client's when acceptable ([`request_id_acceptable`]), otherwise the
+/// process start time in hex and a counter, unique per process and sortable.
 #[derive(Debug, Clone, Default)]
 struct MakeId {
     next: Arc<AtomicU64>,
@@ -174,11 +272,39 @@ impl MakeRequestId for MakeId {
     }
 }
 
-/// Admission to the `/v1` routes (see [`gate`]).
-async fn admit(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
-    match state.gate.admit() {
-        Ok(_admission) => next.run(req).await,
-        Err(e) => close_after(e.into_response()),
+/// Drops a client request id that [`request_id_acceptable`] refuses, so that
+/// [`SetRequestIdLayer`] generates one in its place.
+async fn screen_request_id(mut req: Request, next: Next) -> Response {
+    let refused = req
+        .headers()
+        .get_all("x-request-id")
+        .iter()
+        .any(|v| !request_id_acceptable(v.as_bytes()))
+        || req.headers().get_all("x-request-id").iter().count() > 1;
+    if refused {
+        req.headers_mut().remove("x-request-id");
+    }
+    next.run(req).await
+}
+
+/// Receives the body of a `/v1` request within the upload bounds ([`upload`]), then takes
+/// its admission ([`gate`]); the handler reads the body from memory.
+async fn receive_then_admit(
+    State(state): State<Arc<AppState>>,
+    req: Request,
+    next: Next,
+) -> Response {
+    let (parts, body) = req.into_parts();
+    let bytes = match state.uploads.receive(&parts.headers, body).await {
+        Ok(bytes) => bytes,
+        Err(e) => return close_after(e.into_response()),
+    };
+    match state.gate.admit(bytes.len()) {
+        Ok(_admission) => {
+            next.run(Request::from_parts(parts, Body::from(bytes)))
+                .await
+        }
+        Err(e) => e.into_response(),
     }
 }
 
@@ -200,30 +326,56 @@ async fn time_limit(State(state): State<Arc<AppState>>, req: Request, next: Next
     }
 }
 
-/// Marks a reply sent before the request body was read as the connection's last, so a
+/// Marks a reply as the connection's last: sent before the request body was read (so a
 /// keep-alive client reconnects instead of writing the rest of its body into a closed
-/// socket.
+/// socket), or while the server drains.
 fn close_after(mut response: Response) -> Response {
-    response.headers_mut().insert(
-        axum::http::header::CONNECTION,
-        HeaderValue::from_static("close"),
-    );
+    response
+        .headers_mut()
+        .insert(header::CONNECTION, HeaderValue::from_static("close"));
     response
 }
 
-/// Request counts, latency and the in-flight gauge, by matched route.
+/// Request counts, latency and the in-flight gauge, by matched route; refusals (408, 413,
+/// 503) logged at WARN with the request id, method and path; during the drain every reply
+/// closes its connection.
 async fn record(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
     let route = req
         .extensions()
         .get::<MatchedPath>()
         .map_or_else(|| "unmatched".to_owned(), |p| p.as_str().to_owned());
-    let method = req.method().as_str().to_owned();
+    let method = req.method().clone();
+    let path = req.uri().path().to_owned();
+    let id = req
+        .headers()
+        .get("x-request-id")
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("-")
+        .to_owned();
     let start = Instant::now();
     state.metrics.start();
-    let response = next.run(req).await;
+    let mut response = next.run(req).await;
+    let status = response.status();
     state
         .metrics
-        .finish(&route, &method, response.status().as_u16(), start.elapsed());
+        .finish(&route, method.as_str(), status.as_u16(), start.elapsed());
+    if matches!(
+        status,
+        StatusCode::REQUEST_TIMEOUT
+            | StatusCode::PAYLOAD_TOO_LARGE
+            | StatusCode::SERVICE_UNAVAILABLE
+    ) {
+        tracing::warn!(
+            request_id = %id,
+            method = %metrics::method_label(method.as_str()),
+            path = %path.chars().take(200).collect::<String>(),
+            status = status.as_u16(),
+            "request refused"
+        );
+    }
+    if state.gate.shutting_down() {
+        response = close_after(response);
+    }
     response
 }
 
@@ -255,23 +407,165 @@ async fn method_not_allowed() -> ApiError {
     )
 }
 
-/// Serves on a bound listener until `shutdown` completes, then finishes the requests in
-/// flight (graceful shutdown). `/readyz` answers 503 from the moment `shutdown` fires.
+/// One open connection in [`AppState::connections`], counted until dropped (also when
+/// its task is aborted at the end of a shutdown).
+struct OpenConnection(Arc<AppState>);
+
+impl OpenConnection {
+    fn count(state: Arc<AppState>) -> Self {
+        state.connections.fetch_add(1, Ordering::AcqRel);
+        OpenConnection(state)
+    }
+}
+
+impl Drop for OpenConnection {
+    fn drop(&mut self) {
+        self.0.connections.fetch_sub(1, Ordering::AcqRel);
+    }
+}
+
+/// After the drain, how long connections get to send the replies of stopped work before
+/// they are dropped.
+pub const CLOSE_GRACE: Duration = Duration::from_millis(300);
+
+/// Serves on a bound listener until `shutdown` completes, then drains:
+///
+/// 1. at once `/readyz` answers 503, and every reply from then on closes its connection
+///    (`Connection: close`), so keep-alive clients reconnect through their load balancer;
+/// 2. the listener keeps accepting and serving for [`ServeConfig::drain`], so a load
+///    balancer that still sends requests gets answers while it notices the 503;
+/// 3. then the listener closes, idle connections are closed, computations still running
+///    are stopped (their requests get 503 `cancelled`), and after [`CLOSE_GRACE`] every
+///    connection still open (slow uploads, half-sent heads, slow readers) is dropped.
+///
+/// So `serve_on` returns within `drain + CLOSE_GRACE` of `shutdown`, whatever the clients
+/// do.
 pub async fn serve_on(
     listener: tokio::net::TcpListener,
     config: ServeConfig,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    let (router, state) = build(config);
+    use hyper_util::rt::{TokioIo, TokioTimer};
+    use hyper_util::service::TowerToHyperService;
+    use tower::ServiceExt as _;
+
+    let (router, state) = build(&config);
     let local = listener.local_addr()?;
-    tracing::info!(addr = %local, "nurbsx service listening");
-    axum::serve(listener, router)
-        .with_graceful_shutdown(async move {
-            shutdown.await;
-            state.gate.begin_shutdown();
-            tracing::info!("shutting down: finishing requests in flight");
-        })
-        .await
+    tracing::info!(
+        addr = %local,
+        version = env!("CARGO_PKG_VERSION"),
+        compute_slots = config.max_concurrency,
+        queue = config.max_concurrency.saturating_mul(gate::QUEUE_FACTOR),
+        max_body_bytes = config.max_body_bytes,
+        max_reply_bytes = config.max_reply_bytes,
+        max_uploads = config.max_uploads,
+        max_upload_bytes = config.max_upload_bytes,
+        min_upload_rate = config.min_upload_rate,
+        request_timeout_ms = config.request_timeout.as_millis() as u64,
+        header_timeout_ms = config.header_timeout.as_millis() as u64,
+        drain_ms = config.drain.as_millis() as u64,
+        "nurbsx service listening"
+    );
+    let service = TowerToHyperService::new(
+        router.map_request(|req: Request<hyper::body::Incoming>| req.map(Body::new)),
+    );
+    let mut http = hyper::server::conn::http1::Builder::new();
+    http.timer(TokioTimer::new())
+        .header_read_timeout(config.header_timeout);
+    // Set at the end of the drain: every connection finishes its exchange and closes.
+    let (closing_tx, closing_rx) = tokio::sync::watch::channel(false);
+    let mut connections = tokio::task::JoinSet::new();
+    let mut listener = Some(listener);
+    let mut drain_end: Option<tokio::time::Instant> = None;
+    let shutdown = std::pin::pin!(shutdown);
+    let mut shutdown = Some(shutdown);
+    loop {
+        let accept = async {
+            match &listener {
+                Some(l) => l.accept().await,
+                None => std::future::pending().await,
+            }
+        };
+        let drained = async {
+            match drain_end {
+                Some(t) => tokio::time::sleep_until(t).await,
+                None => std::future::pending().await,
+            }
+        };
+        let signalled = async {
+            match shutdown.as_mut() {
+                Some(s) => s.as_mut().await,
+                None => std::future::pending().await,
+            }
+        };
+        tokio::select! {
+            () = signalled => {
+                shutdown = None;
+                state.gate.begin_shutdown();
+                drain_end = Some(tokio::time::Instant::now() + config.drain);
+                tracing::info!(drain_ms = config.drain.as_millis() as u64,
+                    "shutting down: /readyz is 503, serving until the drain ends");
+            }
+            () = drained => break,
+            accepted = accept => match accepted {
+                Ok((stream, _peer)) => {
+                    let conn = http.serve_connection(TokioIo::new(stream), service.clone());
+                    let mut closing = closing_rx.clone();
+                    let open = OpenConnection::count(state.clone());
+                    connections.spawn(async move {
+                        let _open = open;
+                        let mut conn = std::pin::pin!(conn);
+                        let mut told = false;
+                        loop {
+                            tokio::select! {
+                                result = conn.as_mut() => {
+                                    if let Err(e) = result {
+                                        tracing::debug!(error = %e, "connection ended with an error");
+                                    }
+                                    break;
+                                }
+                                changed = closing.changed(), if !told => {
+                                    told = changed.is_err() || *closing.borrow();
+                                    if told {
+                                        // Idle: closed now; mid-exchange: after its reply.
+                                        conn.as_mut().graceful_shutdown();
+                                    }
+                                }
+                            }
+                        }
+                    });
+                }
+                Err(e) => {
+                    // Out of descriptors or a connection reset before accept: go on.
+                    tracing::warn!(error = %e, "accept failed");
+                    tokio::time::sleep(Duration::from_millis(50)).await;
+                }
+            },
+            Some(_) = connections.join_next(), if !connections.is_empty() => {}
+        }
+        // Do not keep finished connection tasks around while serving.
+        while connections.try_join_next().is_some() {}
+    }
+    drop(listener.take());
+    state.gate.stop_all();
+    let _ = closing_tx.send(true);
+    let left = connections.len();
+    tracing::info!(
+        connections = left,
+        "drain over: listener closed, stopping work"
+    );
+    let closed = tokio::time::timeout(CLOSE_GRACE, async {
+        while connections.join_next().await.is_some() {}
+    })
+    .await;
+    if closed.is_err() {
+        tracing::info!(
+            connections = connections.len(),
+            "dropping connections still open"
+        );
+        connections.shutdown().await;
+    }
+    Ok(())
 }
 
 /// Completes on Ctrl-C or SIGTERM.
@@ -320,12 +614,12 @@ pub fn serve(config: ServeConfig) -> std::io::Result<()> {
         let listener = tokio::net::TcpListener::bind(config.addr).await?;
         serve_on(listener, config, shutdown_signal()).await
     });
-    // Every request has been answered by now; a computation that outlived its request
-    // (time limit) may still run on a blocking thread. Give it a moment, then exit anyway.
+    // Every connection is closed by now and every computation told to stop; one in a step
+    // that does not poll (parsing a file) may still run on a blocking thread. Exit anyway.
     runtime.shutdown_timeout(SHUTDOWN_GRACE);
     result
 }
 
-/// How long `serve` waits, after the last reply, for computations that outlived their
-/// requests before exiting.
-pub const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
+/// How long `serve` waits, after the connections are closed, for computations that have
+/// not yet seen their stop signal before exiting.
+pub const SHUTDOWN_GRACE: Duration = Duration::from_millis(300);

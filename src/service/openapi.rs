@@ -61,7 +61,13 @@ pub enum FileErrors {
     /// Malformed request: bad JSON, bad query, unknown entity, parameter outside the domain.
     #[response(status = 400)]
     BadRequest(ErrorBody),
-    /// The body or the work it asks for exceeds a limit (body size, points, degree).
+    /// The body arrived slower than the server's minimum upload rate
+    /// (`request.upload_too_slow`); the connection is closed.
+    #[response(status = 408)]
+    UploadTooSlow(ErrorBody),
+    /// The body or the work it asks for exceeds a limit: body size (`limit.body_bytes`),
+    /// the reply estimated before the work (`limit.reply_bytes`), points, mesh vertices
+    /// (estimated before the work), degree.
     #[response(status = 413)]
     TooLarge(ErrorBody),
     /// Unknown file format or unsupported Content-Type.
@@ -73,8 +79,10 @@ pub enum FileErrors {
     /// Internal error (a bug; the request id finds it in the log).
     #[response(status = 500)]
     Internal(ErrorBody),
-    /// Overloaded (all computing slots and queue places taken, `Retry-After: 1`), shutting
-    /// down, or the request exceeded the server's time limit.
+    /// `overloaded`: all computing slots and queue places taken, or the upload bounds
+    /// (bodies being received, their bytes) reached; `timeout`: over the server's time
+    /// limit (the computation is stopped); `cancelled`: stopped at the end of a shutdown's
+    /// drain. With `Retry-After` in seconds.
     #[response(status = 503)]
     Unavailable(ErrorBody),
 }

@@ -21,7 +21,8 @@ pub async fn healthz() -> Json<Health> {
     })
 }
 
-/// Readiness: 200 when not shutting down and a request would be admitted now.
+/// Readiness: 200 when not shutting down and a request would be admitted now; 503 from
+/// the moment SIGTERM arrives (the listener keeps serving during the drain).
 #[utoipa::path(get, path = "/readyz", tag = "operations",
     responses(
         (status = 200, description = "Ready", body = Health),
@@ -53,9 +54,7 @@ pub async fn readyz(State(state): State<Arc<AppState>>) -> Response {
     responses((status = 200, description = "Prometheus text exposition format 0.0.4",
         content_type = "text/plain; version=0.0.4", body = String)))]
 pub async fn metrics(State(state): State<Arc<AppState>>) -> Response {
-    let text = state
-        .metrics
-        .render(state.gate.busy(), state.gate.admitted());
+    let text = state.metrics.render(&state.gauges());
     (
         [(
             header::CONTENT_TYPE,

@@ -99,10 +99,11 @@ pub async fn convert(
         clamp: query.clamp.map(Into::into).unwrap_or_default(),
         verify: query.verify()?,
     };
-    let settings = state.settings.clone();
+    let mut settings = state.settings.clone();
     let output = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             pipeline::convert(&body.bytes, body.hint, &request, &settings).map_err(ApiError::from)
         })
         .await?;
@@ -144,10 +145,11 @@ pub async fn validate(
     ApiQuery(query): ApiQuery<ValidateQuery>,
     body: FileBody,
 ) -> Result<Response, ApiError> {
-    let settings = state.settings.clone();
+    let mut settings = state.settings.clone();
     let report = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             Ok(pipeline::validate(
                 &body.bytes,
                 body.hint,
@@ -174,11 +176,14 @@ pub async fn info(
     State(state): State<Arc<AppState>>,
     body: FileBody,
 ) -> Result<Response, ApiError> {
-    let settings = state.settings.clone();
+    let mut settings = state.settings.clone();
     let report = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             let loaded = pipeline::load(&body.bytes, body.hint, &settings)?;
+            // The report holds every entity's geometry: about a written file's size.
+            pipeline::check_file_reply(&loaded.document, &settings)?;
             Ok(pipeline::info(&loaded))
         })
         .await?;
@@ -198,18 +203,23 @@ pub async fn evaluate(
     ApiJson(req): ApiJson<EvaluateRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, req.format)?;
-    let request = EvalRequest {
+    let mut request = EvalRequest {
         entity: req.entity,
-        params: req.params,
+        params: Vec::new(),
         derivatives: req.derivatives,
         normals: req.normals,
         curvature: req.curvature,
     };
-    let settings = state.settings.clone();
+    let params = req.params;
+    let mut settings = state.settings.clone();
     let report = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
+            // Limits first, while the parameters are still flat.
+            pipeline::check_evaluation(&loaded.document, &request, params.len(), &settings)?;
+            request.params = params.into_vecs();
             Ok(pipeline::evaluate(&loaded.document, &request, &settings)?)
         })
         .await?;
@@ -224,14 +234,16 @@ async fn operate(
     op: Operation,
     entity: Option<String>,
 ) -> Result<Response, ApiError> {
-    let settings = state.settings.clone();
+    let mut settings = state.settings.clone();
     let json_array = input.json_array;
     let rendered = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             let Loaded { kind, mut document } =
                 pipeline::load(&input.bytes, input.hint, &settings)?;
             pipeline::apply(&mut document, op, entity.as_deref(), &settings)?;
+            pipeline::check_file_reply(&document, &settings)?;
             match kind.format() {
                 Some(format) => {
                     let text = pipeline::write(&document, format, &ExportOptions::default())?;
@@ -365,10 +377,11 @@ pub async fn tessellate(
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, None)?;
     let format = req.format;
-    let settings = state.settings.clone();
+    let mut settings = state.settings.clone();
     let text = state
         .gate
-        .run(move || {
+        .run(move |cancel| {
+            settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
             Ok(pipeline::tessellate(
                 &loaded.document,
