@@ -10,9 +10,7 @@ use std::collections::HashMap;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 use common::{Ends, arb_curve, arb_surface, bbox_diagonal, circle9, dist};
-use nurbsx::nurbs::tessellate::{
-    Mesh, Polyline, mesh_to_obj, point_segment_distance, polylines_to_obj, polylines_to_svg,
-};
+use nurbsx::nurbs::tessellate::{Mesh, Polyline, point_segment_distance};
 use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface, Point3};
 use proptest::prelude::*;
 
@@ -267,71 +265,6 @@ fn sphere_mesh_lies_within_tolerance() {
             .map(|(n, p)| (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]).signum())
             .collect();
         assert!(sign.iter().all(|s| *s == sign[0]), "normals not consistent");
-    }
-}
-
-#[test]
-fn obj_and_svg_writers_round_trip() {
-    let s = sphere(1.0);
-    let m = s.tessellate(5e-2).unwrap();
-    let obj = mesh_to_obj(&m);
-    let vs: Vec<Point3> = obj
-        .lines()
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|l| {
-            let x: Vec<f64> = l.split(' ').map(|t| t.parse().unwrap()).collect();
-            [x[0], x[1], x[2]]
-        })
-        .collect();
-    assert_eq!(vs, m.vertices, "OBJ coordinates round-trip exactly");
-    let faces: Vec<[usize; 3]> = obj
-        .lines()
-        .filter_map(|l| l.strip_prefix("f "))
-        .map(|l| {
-            let ix: Vec<usize> = l
-                .split(' ')
-                .map(|t| t.split("//").next().unwrap().parse::<usize>().unwrap() - 1)
-                .collect();
-            [ix[0], ix[1], ix[2]]
-        })
-        .collect();
-    assert_eq!(faces, m.triangles);
-    assert_eq!(
-        obj.lines().filter(|l| l.starts_with("vn ")).count(),
-        m.vertices.len()
-    );
-
-    let c1 = circle9(2.0).tessellate(1e-2).unwrap();
-    let c2 = circle9(1.0).tessellate(1e-2).unwrap();
-    let obj = polylines_to_obj(&[c1.clone(), c2.clone()]);
-    let ls: Vec<&str> = obj.lines().filter(|l| l.starts_with("l ")).collect();
-    assert_eq!(ls.len(), 2);
-    assert_eq!(
-        ls[1].split(' ').nth(1).unwrap().parse::<usize>().unwrap(),
-        c1.points.len() + 1
-    );
-    assert_eq!(
-        obj.lines().filter(|l| l.starts_with("v ")).count(),
-        c1.points.len() + c2.points.len()
-    );
-
-    let svg = polylines_to_svg(&[c1.clone(), c2], 400.0);
-    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-    assert_eq!(svg.matches("<polyline").count(), 2);
-    // The viewBox holds every projected point (y mirrored).
-    let vb: Vec<f64> = svg
-        .split("viewBox=\"")
-        .nth(1)
-        .unwrap()
-        .split('"')
-        .next()
-        .unwrap()
-        .split(' ')
-        .map(|t| t.parse().unwrap())
-        .collect();
-    for p in &c1.points {
-        assert!(p[0] >= vb[0] && p[0] <= vb[0] + vb[2]);
-        assert!(-p[1] >= vb[1] && -p[1] <= vb[1] + vb[3]);
     }
 }
 

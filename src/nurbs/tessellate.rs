@@ -1,6 +1,6 @@
 //! Adaptive tessellation under a chord tolerance: curves to polylines by the
-//! osculating-circle rule (seed 004), surfaces to conforming triangle meshes; plus tiny OBJ
-//! and SVG writers for the results.
+//! osculating-circle rule (seed 004), surfaces to conforming triangle meshes. Writing them
+//! out (OBJ, STL, glTF, pictures) is the pipeline's business (`pipeline::mesh`).
 //!
 //! ## Curves (seed 004)
 //! At a parameter `u` the osculating circle has radius `r = 1 / kappa`,
@@ -29,7 +29,6 @@
 //! every interior edge belongs to exactly two triangles).
 
 use std::collections::HashSet;
-use std::fmt::Write as _;
 
 use super::knots::{find_span, runs};
 use super::{GeometryError, NurbsCurve, NurbsSurface, Point3};
@@ -756,96 +755,4 @@ fn vertex_normals(vertices: &[Point3], triangles: &[[usize; 3]]) -> Vec<Point3> 
         }
     }
     acc
-}
-
-/// Wavefront OBJ text of a mesh (`v`, `vn`, `f a//a b//b c//c`, 1-based indices).
-pub fn mesh_to_obj(mesh: &Mesh) -> String {
-    let mut s = String::new();
-    for v in &mesh.vertices {
-        let _ = writeln!(s, "v {} {} {}", v[0], v[1], v[2]);
-    }
-    let with_normals = mesh.normals.len() == mesh.vertices.len();
-    if with_normals {
-        for n in &mesh.normals {
-            let _ = writeln!(s, "vn {} {} {}", n[0], n[1], n[2]);
-        }
-    }
-    for t in &mesh.triangles {
-        let [a, b, c] = [t[0] + 1, t[1] + 1, t[2] + 1];
-        if with_normals {
-            let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
-        } else {
-            let _ = writeln!(s, "f {a} {b} {c}");
-        }
-    }
-    s
-}
-
-/// Wavefront OBJ text of polylines (`v` lines, then one `l` element per polyline).
-pub fn polylines_to_obj(lines: &[Polyline]) -> String {
-    let mut s = String::new();
-    for l in lines {
-        for p in &l.points {
-            let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
-        }
-    }
-    let mut base = 1;
-    for l in lines {
-        if l.points.len() >= 2 {
-            s.push('l');
-            for k in 0..l.points.len() {
-                let _ = write!(s, " {}", base + k);
-            }
-            s.push('\n');
-        }
-        base += l.points.len();
-    }
-    s
-}
-
-/// SVG text of polylines projected on the XY plane (y up), scaled to a `width`-pixel-wide
-/// picture: the viewBox is the XY bounding box with a 2 % margin, strokes are one pixel
-/// wide whatever the scale.
-pub fn polylines_to_svg(lines: &[Polyline], width: f64) -> String {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in lines.iter().flat_map(|l| &l.points) {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
-        lo = [0.0; 2];
-        hi = [1.0; 2];
-    }
-    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
-    let margin = 0.02 * size;
-    let (w, h) = (hi[0] - lo[0] + 2.0 * margin, hi[1] - lo[1] + 2.0 * margin);
-    let width = if width.is_finite() && width > 0.0 {
-        width
-    } else {
-        800.0
-    };
-    let height = width * h / w;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"{} {} {w} {h}\">",
-        lo[0] - margin,
-        -hi[1] - margin,
-    );
-    for l in lines {
-        s.push_str("<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1\" vector-effect=\"non-scaling-stroke\" points=\"");
-        for (k, p) in l.points.iter().enumerate() {
-            if k > 0 {
-                s.push(' ');
-            }
-            // SVG's y axis points down: mirror.
-            let _ = write!(s, "{},{}", p[0], -p[1]);
-        }
-        s.push_str("\"/>\n");
-    }
-    s.push_str("</svg>\n");
-    s
 }
