@@ -6,7 +6,7 @@
 //! This module holds no conversion logic: it reads files, calls the pipeline, and prints.
 //!
 //! Output policy (also `nurbsx help output` and README.md): results on stdout; diagnostics,
-//! summaries and the final error line on stderr through [`report::Reporter`] (or inside the
+//! summaries and the final error line on stderr through `report::Reporter` (or inside the
 //! document when a JSON, JUnit or SARIF document is asked for), each once.
 //!
 //! Exit codes (also `nurbsx help exit-codes` and README.md):

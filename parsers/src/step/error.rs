@@ -173,7 +173,7 @@ fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
 ///
 /// The table is built on first use (files without errors and callers that never ask for a
 /// line pay nothing) and is indexed by *byte blocks*, not lines: for every
-/// [`LineIndex::BLOCK`]-byte block it stores the number of newlines before the block and
+/// `LineIndex::BLOCK`-byte (4 KiB) block it stores the number of newlines before the block and
 /// where the line containing the block's first byte starts. Building it is one SIMD count
 /// per block (no per-newline work, which is what dominated a per-line table on a
 /// 100 MB file with a million lines), it takes 16 bytes per 4 KiB of input (0.4 % of the
