@@ -433,14 +433,7 @@ fn write_curve(
     }
     let cid = *id;
     *id += 1;
-    let n = c.num_poles();
-    let subtype = if options.use_implicit_knot_subtypes {
-        implicit_subtype(c.degree(), n, c.knots())
-            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), n)]))
-    } else {
-        None
-    };
-    let knots = knot_spec(subtype, || {
+    let knots = knot_spec(curve_subtype(c, options), || {
         let (values, mults) = crate::nurbs::knots::to_distinct(c.knots());
         (
             vec![counts(&mults)],
@@ -473,7 +466,7 @@ fn write_surface(
     options: &ExportOptions,
 ) -> Result<(), NonFiniteReal> {
     let net = sf.control_points();
-    let (nu, nv) = (net.nu(), net.nv());
+    let nu = net.nu();
     let mut rows = Vec::with_capacity(nu);
     for i in 0..nu {
         let row_first = *id;
@@ -485,19 +478,7 @@ fn write_surface(
     }
     let sid = *id;
     *id += 1;
-    let subtype = if options.use_implicit_knot_subtypes {
-        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
-        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
-        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
-        if su == sv {
-            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
-        } else {
-            None
-        }
-    } else {
-        None
-    };
-    let knots = knot_spec(subtype, || {
+    let knots = knot_spec(surface_subtype(sf, options), || {
         let (ku, mu) = crate::nurbs::knots::to_distinct(sf.knots_u());
         let (kv, mv) = crate::nurbs::knots::to_distinct(sf.knots_v());
         let fu = knot_form(sf.degree_u(), sf.knots_u());
@@ -538,6 +519,34 @@ fn write_point(
         coordinates: Cow::Borrowed(scaled.get(..dim).unwrap_or(&scaled)),
     };
     write_cartesian_point(out, id, &point)
+}
+
+/// The implicit-knot subtype a curve is written as, if the options allow one and Open
+/// CASCADE translates it.
+fn curve_subtype(c: &NurbsCurve, options: &ExportOptions) -> Option<KnotForm> {
+    let n = c.num_poles();
+    if !options.use_implicit_knot_subtypes {
+        return None;
+    }
+    implicit_subtype(c.degree(), n, c.knots())
+        .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), n)]))
+}
+
+/// The implicit-knot subtype a surface is written as: the same one in both directions, if
+/// the options allow one and Open CASCADE translates it.
+fn surface_subtype(sf: &NurbsSurface, options: &ExportOptions) -> Option<KnotForm> {
+    if !options.use_implicit_knot_subtypes {
+        return None;
+    }
+    let (nu, nv) = (sf.control_points().nu(), sf.control_points().nv());
+    let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
+    let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
+    let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
+    if su == sv {
+        su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
+    } else {
+        None
+    }
 }
 
 /// The knot attributes: the implicit subtype's, else the explicit lists `explicit` makes.

@@ -87,9 +87,7 @@ fn curve(
         .map(|&p| point(b, p, dim, scale))
         .collect();
     let degree = i64::try_from(c.degree()).map_err(|_| "degree out of range".to_owned())?;
-    let (d0, d1) = c.domain();
-    let closed = distance(c.point_at_unchecked(d0), c.point_at_unchecked(d1))
-        <= closure_tolerance(c.control_points());
+    let closed = curve_closed(c);
     let bspline = vec![
         Parameter::Integer(degree),
         Parameter::refs(&pts),
@@ -97,12 +95,7 @@ fn curve(
         Parameter::logical(closed),
         Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
     ];
-    let subtype = if options.use_implicit_knot_subtypes {
-        implicit_subtype(c.degree(), c.num_poles(), c.knots())
-            .filter(|&f| occt_translates(f, c.is_rational(), &[(c.degree(), c.num_poles())]))
-    } else {
-        None
-    };
+    let subtype = curve_subtype(c, options);
     let (mults, knots) = knot_lists(c.knots());
     let spec = Parameter::Enumeration(knot_form(c.degree(), c.knots()));
     let (sub_keyword, sub_params) = match subtype {
@@ -140,7 +133,7 @@ fn surface(
 ) -> Result<u64, String> {
     let dim = sf.dimension();
     let net = sf.control_points();
-    let (nu, nv) = (net.nu(), net.nv());
+    let nu = net.nu();
     let rows: Vec<Parameter<'static>> = (0..nu)
         .map(|i| {
             let ids: Vec<u64> = net
@@ -153,44 +146,17 @@ fn surface(
         .collect();
     let du = i64::try_from(sf.degree_u()).map_err(|_| "degree out of range".to_owned())?;
     let dv = i64::try_from(sf.degree_v()).map_err(|_| "degree out of range".to_owned())?;
-    let tol = closure_tolerance(net.as_slice());
-    let ((u0, u1), (v0, v1)) = sf.domain();
-    let mut gap_u: f64 = 0.0;
-    let mut gap_v: f64 = 0.0;
-    for k in 0..=8 {
-        let t = k as f64 / 8.0;
-        let v = v0 + (v1 - v0) * t;
-        let u = u0 + (u1 - u0) * t;
-        gap_u = gap_u.max(distance(
-            sf.point_at_unchecked(u0, v),
-            sf.point_at_unchecked(u1, v),
-        ));
-        gap_v = gap_v.max(distance(
-            sf.point_at_unchecked(u, v0),
-            sf.point_at_unchecked(u, v1),
-        ));
-    }
+    let (closed_u, closed_v) = surface_closed(sf);
     let bspline = vec![
         Parameter::Integer(du),
         Parameter::Integer(dv),
         Parameter::List(rows),
         form_of(e.meta.form.as_ref(), SURFACE_FORMS),
-        Parameter::logical(gap_u <= tol),
-        Parameter::logical(gap_v <= tol),
+        Parameter::logical(closed_u),
+        Parameter::logical(closed_v),
         Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
     ];
-    let subtype = if options.use_implicit_knot_subtypes {
-        let su = implicit_subtype(sf.degree_u(), nu, sf.knots_u());
-        let sv = implicit_subtype(sf.degree_v(), nv, sf.knots_v());
-        let dims = [(sf.degree_u(), nu), (sf.degree_v(), nv)];
-        if su == sv {
-            su.filter(|&f| occt_translates(f, sf.is_rational(), &dims))
-        } else {
-            None
-        }
-    } else {
-        None
-    };
+    let subtype = surface_subtype(sf, options);
     let (mu, ku) = knot_lists(sf.knots_u());
     let (mv, kv) = knot_lists(sf.knots_v());
     let fu = knot_form(sf.degree_u(), sf.knots_u());
