@@ -839,9 +839,9 @@ async fn parameter_tuples_must_share_one_length() {
 }
 
 /// A mesh much finer than its a-priori estimate (the mesher refines a cylinder's straight
-/// direction too) stops at the point count the reply limit allows: 413
-/// `limit.reply_bytes` instead of writing the text out; with room, the same request is 200
-/// and its reply stays under the limit.
+/// direction too): with room the request is 200 and its reply stays under the limit; with a
+/// limit one byte below that reply's real size it is 413 `limit.reply_bytes`, not written
+/// out.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_mesh_finer_than_estimated_stops_at_the_reply_limit() {
     let w = std::f64::consts::FRAC_1_SQRT_2;
@@ -867,14 +867,6 @@ async fn a_mesh_finer_than_estimated_stops_at_the_reply_limit() {
         }).collect::<Vec<_>>()
     });
     let body = json!({ "geometry": cylinder, "tolerance": 1e-3 }).to_string();
-    let tight = start(ServeConfig {
-        max_reply_bytes: 200_000,
-        ..config()
-    })
-    .await;
-    let (status, reply, _) = request(tight.addr, "POST", "/v1/tessellate", &body).await;
-    assert_eq!(status, 413, "{reply}");
-    assert!(reply.contains("limit.reply_bytes"), "{reply}");
     let roomy = start(ServeConfig {
         max_reply_bytes: 2_000_000,
         ..config()
@@ -883,12 +875,20 @@ async fn a_mesh_finer_than_estimated_stops_at_the_reply_limit() {
     let (status, reply, _) = request(roomy.addr, "POST", "/v1/tessellate", &body).await;
     assert_eq!(status, 200);
     let vertices = reply.lines().filter(|l| l.starts_with("v ")).count();
-    // More vertices than the 200 KB reply could hold, fewer bytes than the 2 MB one.
     assert!(
         vertices > 662 && reply.len() < 2_000_000,
         "{vertices} {}",
         reply.len()
     );
+    // One byte below the mesh's real size: refused, whatever the estimate allowed.
+    let tight = start(ServeConfig {
+        max_reply_bytes: reply.len() - 1,
+        ..config()
+    })
+    .await;
+    let (status, refused, _) = request(tight.addr, "POST", "/v1/tessellate", &body).await;
+    assert_eq!(status, 413, "{refused}");
+    assert!(refused.contains("limit.reply_bytes"), "{refused}");
 }
 
 /// Degree elevation's output is estimated before the work from the A5.9 pole count: a
