@@ -14,6 +14,11 @@
 //!   Its decoders of raw instances, [`Scanned::bspline`] and [`Scanned::cartesian_point`],
 //!   read the shapes Open CASCADE, FreeCAD and nurbsx write straight from the body text in
 //!   one pass (a private fast path inside each) and everything else through the grammar.
+//! - [`geometry`]: typed records of the other ISO 10303-42 entities a B-rep's geometry is
+//!   made of (placements, lines, conics, polylines, trimmed and composite curves, surface
+//!   curves and pcurves, elementary and swept surfaces, rectangular trimmed surfaces) and of
+//!   the topology that bounds them (vertex points, edge curves, loops, faces), through the
+//!   same attribute tables; [`Scanned::geometry_item`] decodes one.
 //! - [`writer`]: Part 21 text from a tree; [`Builder`] creates instances with fresh ids.
 //!
 //! Errors: [`ParseError`] (syntax/structure: line, column, `#id`), [`SchemaError`] (a
@@ -22,6 +27,7 @@
 mod ast;
 mod bspline_text;
 mod error;
+pub mod geometry;
 mod grammar;
 mod scan;
 pub mod schema;

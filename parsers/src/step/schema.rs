@@ -94,6 +94,89 @@ pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
     ),
     ("GLOBAL_UNIT_ASSIGNED_CONTEXT", &["units"]),
     ("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT", &["uncertainty"]),
+    // ISO 10303-42 clause 4 (geometry): placements, directions and vectors.
+    ("PLACEMENT", &["location"]),
+    ("DIRECTION", &["direction_ratios"]),
+    ("VECTOR", &["orientation", "magnitude"]),
+    ("AXIS1_PLACEMENT", &["axis"]),
+    ("AXIS2_PLACEMENT_2D", &["ref_direction"]),
+    ("AXIS2_PLACEMENT_3D", &["axis", "ref_direction"]),
+    // ISO 10303-42 4.4.6-4.4.20: curves.
+    ("LINE", &["pnt", "dir"]),
+    ("CONIC", &["position"]),
+    ("CIRCLE", &["radius"]),
+    ("ELLIPSE", &["semi_axis_1", "semi_axis_2"]),
+    ("PARABOLA", &["focal_dist"]),
+    ("HYPERBOLA", &["semi_axis", "semi_imag_axis"]),
+    ("POLYLINE", &["points"]),
+    (
+        "TRIMMED_CURVE",
+        &[
+            "basis_curve",
+            "trim_1",
+            "trim_2",
+            "sense_agreement",
+            "master_representation",
+        ],
+    ),
+    ("COMPOSITE_CURVE", &["segments", "self_intersect"]),
+    ("FOUNDED_ITEM", &[]),
+    (
+        "COMPOSITE_CURVE_SEGMENT",
+        &["transition", "same_sense", "parent_curve"],
+    ),
+    (
+        "SURFACE_CURVE",
+        &["curve_3d", "associated_geometry", "master_representation"],
+    ),
+    ("SEAM_CURVE", &[]),
+    ("INTERSECTION_CURVE", &[]),
+    ("PCURVE", &["basis_surface", "reference_to_curve"]),
+    (
+        "OFFSET_CURVE_2D",
+        &["basis_curve", "distance", "self_intersect"],
+    ),
+    (
+        "OFFSET_CURVE_3D",
+        &["basis_curve", "distance", "self_intersect", "ref_direction"],
+    ),
+    // ISO 10303-43 representation (for the parameter-space curves of a PCURVE).
+    ("REPRESENTATION", &["name", "items", "context_of_items"]),
+    ("DEFINITIONAL_REPRESENTATION", &[]),
+    // ISO 10303-42 4.4.30-4.4.57: surfaces.
+    ("ELEMENTARY_SURFACE", &["position"]),
+    ("PLANE", &[]),
+    ("CYLINDRICAL_SURFACE", &["radius"]),
+    ("CONICAL_SURFACE", &["radius", "semi_angle"]),
+    ("SPHERICAL_SURFACE", &["radius"]),
+    ("TOROIDAL_SURFACE", &["major_radius", "minor_radius"]),
+    ("DEGENERATE_TOROIDAL_SURFACE", &["select_outer"]),
+    ("SWEPT_SURFACE", &["swept_curve"]),
+    ("SURFACE_OF_LINEAR_EXTRUSION", &["extrusion_axis"]),
+    ("SURFACE_OF_REVOLUTION", &["axis_position"]),
+    (
+        "RECTANGULAR_TRIMMED_SURFACE",
+        &["basis_surface", "u1", "u2", "v1", "v2", "usense", "vsense"],
+    ),
+    (
+        "OFFSET_SURFACE",
+        &["basis_surface", "distance", "self_intersect"],
+    ),
+    // ISO 10303-42 clause 5 (topology): what bounds an edge curve or a face surface.
+    ("TOPOLOGICAL_REPRESENTATION_ITEM", &[]),
+    ("VERTEX", &[]),
+    ("VERTEX_POINT", &["vertex_geometry"]),
+    ("EDGE", &["edge_start", "edge_end"]),
+    ("EDGE_CURVE", &["edge_geometry", "same_sense"]),
+    ("ORIENTED_EDGE", &["edge_element", "orientation"]),
+    ("LOOP", &[]),
+    ("PATH", &["edge_list"]),
+    ("EDGE_LOOP", &[]),
+    ("FACE_BOUND", &["bound", "orientation"]),
+    ("FACE_OUTER_BOUND", &[]),
+    ("FACE", &["bounds"]),
+    ("FACE_SURFACE", &["face_geometry", "same_sense"]),
+    ("ADVANCED_FACE", &[]),
 ];
 
 const CURVE_CHAIN: [&str; 5] = [
@@ -111,9 +194,145 @@ const SURFACE_CHAIN: [&str; 5] = [
     "B_SPLINE_SURFACE",
 ];
 
+const RI: &str = "REPRESENTATION_ITEM";
+const GRI: &str = "GEOMETRIC_REPRESENTATION_ITEM";
+const TRI: &str = "TOPOLOGICAL_REPRESENTATION_ITEM";
+
 /// The supertype chain (root first) of each entity that can appear as a simple instance;
 /// a simple instance's parameters are the own attributes of each, in this order.
 pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
+    // ISO 10303-42 geometry (clause 4) and topology (clause 5): the chains of the
+    // EXPRESS SUBTYPE OF clauses, root first.
+    ("DIRECTION", &[RI, GRI, "DIRECTION"]),
+    ("VECTOR", &[RI, GRI, "VECTOR"]),
+    (
+        "AXIS1_PLACEMENT",
+        &[RI, GRI, "PLACEMENT", "AXIS1_PLACEMENT"],
+    ),
+    (
+        "AXIS2_PLACEMENT_2D",
+        &[RI, GRI, "PLACEMENT", "AXIS2_PLACEMENT_2D"],
+    ),
+    (
+        "AXIS2_PLACEMENT_3D",
+        &[RI, GRI, "PLACEMENT", "AXIS2_PLACEMENT_3D"],
+    ),
+    ("LINE", &[RI, GRI, "CURVE", "LINE"]),
+    ("CIRCLE", &[RI, GRI, "CURVE", "CONIC", "CIRCLE"]),
+    ("ELLIPSE", &[RI, GRI, "CURVE", "CONIC", "ELLIPSE"]),
+    ("PARABOLA", &[RI, GRI, "CURVE", "CONIC", "PARABOLA"]),
+    ("HYPERBOLA", &[RI, GRI, "CURVE", "CONIC", "HYPERBOLA"]),
+    ("POLYLINE", &[RI, GRI, "CURVE", "BOUNDED_CURVE", "POLYLINE"]),
+    (
+        "TRIMMED_CURVE",
+        &[RI, GRI, "CURVE", "BOUNDED_CURVE", "TRIMMED_CURVE"],
+    ),
+    (
+        "COMPOSITE_CURVE",
+        &[RI, GRI, "CURVE", "BOUNDED_CURVE", "COMPOSITE_CURVE"],
+    ),
+    (
+        "COMPOSITE_CURVE_SEGMENT",
+        &["FOUNDED_ITEM", "COMPOSITE_CURVE_SEGMENT"],
+    ),
+    ("SURFACE_CURVE", &[RI, GRI, "CURVE", "SURFACE_CURVE"]),
+    (
+        "SEAM_CURVE",
+        &[RI, GRI, "CURVE", "SURFACE_CURVE", "SEAM_CURVE"],
+    ),
+    (
+        "INTERSECTION_CURVE",
+        &[RI, GRI, "CURVE", "SURFACE_CURVE", "INTERSECTION_CURVE"],
+    ),
+    ("PCURVE", &[RI, GRI, "CURVE", "PCURVE"]),
+    ("OFFSET_CURVE_2D", &[RI, GRI, "CURVE", "OFFSET_CURVE_2D"]),
+    ("OFFSET_CURVE_3D", &[RI, GRI, "CURVE", "OFFSET_CURVE_3D"]),
+    (
+        "DEFINITIONAL_REPRESENTATION",
+        &["REPRESENTATION", "DEFINITIONAL_REPRESENTATION"],
+    ),
+    (
+        "PLANE",
+        &[RI, GRI, "SURFACE", "ELEMENTARY_SURFACE", "PLANE"],
+    ),
+    (
+        "CYLINDRICAL_SURFACE",
+        &[
+            RI,
+            GRI,
+            "SURFACE",
+            "ELEMENTARY_SURFACE",
+            "CYLINDRICAL_SURFACE",
+        ],
+    ),
+    (
+        "CONICAL_SURFACE",
+        &[RI, GRI, "SURFACE", "ELEMENTARY_SURFACE", "CONICAL_SURFACE"],
+    ),
+    (
+        "SPHERICAL_SURFACE",
+        &[
+            RI,
+            GRI,
+            "SURFACE",
+            "ELEMENTARY_SURFACE",
+            "SPHERICAL_SURFACE",
+        ],
+    ),
+    (
+        "TOROIDAL_SURFACE",
+        &[RI, GRI, "SURFACE", "ELEMENTARY_SURFACE", "TOROIDAL_SURFACE"],
+    ),
+    (
+        "DEGENERATE_TOROIDAL_SURFACE",
+        &[
+            RI,
+            GRI,
+            "SURFACE",
+            "ELEMENTARY_SURFACE",
+            "TOROIDAL_SURFACE",
+            "DEGENERATE_TOROIDAL_SURFACE",
+        ],
+    ),
+    (
+        "SURFACE_OF_LINEAR_EXTRUSION",
+        &[
+            RI,
+            GRI,
+            "SURFACE",
+            "SWEPT_SURFACE",
+            "SURFACE_OF_LINEAR_EXTRUSION",
+        ],
+    ),
+    (
+        "SURFACE_OF_REVOLUTION",
+        &[RI, GRI, "SURFACE", "SWEPT_SURFACE", "SURFACE_OF_REVOLUTION"],
+    ),
+    (
+        "RECTANGULAR_TRIMMED_SURFACE",
+        &[
+            RI,
+            GRI,
+            "SURFACE",
+            "BOUNDED_SURFACE",
+            "RECTANGULAR_TRIMMED_SURFACE",
+        ],
+    ),
+    ("OFFSET_SURFACE", &[RI, GRI, "SURFACE", "OFFSET_SURFACE"]),
+    ("VERTEX_POINT", &[RI, TRI, "VERTEX", "VERTEX_POINT"]),
+    ("EDGE_CURVE", &[RI, TRI, "EDGE", "EDGE_CURVE"]),
+    ("ORIENTED_EDGE", &[RI, TRI, "EDGE", "ORIENTED_EDGE"]),
+    ("EDGE_LOOP", &[RI, TRI, "LOOP", "PATH", "EDGE_LOOP"]),
+    ("FACE_BOUND", &[RI, TRI, "FACE_BOUND"]),
+    (
+        "FACE_OUTER_BOUND",
+        &[RI, TRI, "FACE_BOUND", "FACE_OUTER_BOUND"],
+    ),
+    ("FACE_SURFACE", &[RI, TRI, "FACE", "FACE_SURFACE"]),
+    (
+        "ADVANCED_FACE",
+        &[RI, TRI, "FACE", "FACE_SURFACE", "ADVANCED_FACE"],
+    ),
     (
         "CARTESIAN_POINT",
         &[
@@ -477,6 +696,71 @@ impl<'i, 'a> Attributes<'i, 'a> {
         }
     }
 
+    /// A REAL attribute (an INTEGER accepted as a real; a typed value such as
+    /// `PLANE_ANGLE_MEASURE(0.5)` or `POSITIVE_LENGTH_MEASURE(2.)` unwrapped).
+    pub fn real(&self, entity: &str, name: &'static str) -> Result<f64, SchemaError> {
+        let s = self.slot(entity, name)?;
+        let v = match s.value {
+            Parameter::Typed(_, inner) => inner.as_real(),
+            other => other.as_real(),
+        };
+        v.ok_or_else(|| self.slot_error(&s, format!("expected a real, found {}", render(s.value))))
+    }
+
+    /// An entity reference attribute.
+    pub fn reference(&self, entity: &str, name: &'static str) -> Result<u64, SchemaError> {
+        let s = self.slot(entity, name)?;
+        s.value.as_reference().ok_or_else(|| {
+            self.slot_error(
+                &s,
+                format!("expected a reference, found {}", render(s.value)),
+            )
+        })
+    }
+
+    /// An OPTIONAL entity reference attribute: `None` for `$`.
+    pub fn optional_reference(
+        &self,
+        entity: &str,
+        name: &'static str,
+    ) -> Result<Option<u64>, SchemaError> {
+        let s = self.slot(entity, name)?;
+        match s.value {
+            Parameter::Null => Ok(None),
+            v => v.as_reference().map(Some).ok_or_else(|| {
+                self.slot_error(
+                    &s,
+                    format!("expected a reference or $, found {}", render(v)),
+                )
+            }),
+        }
+    }
+
+    /// A BOOLEAN attribute (`.T.` or `.F.`).
+    pub fn boolean(&self, entity: &str, name: &'static str) -> Result<bool, SchemaError> {
+        let s = self.slot(entity, name)?;
+        match s.value.as_enumeration() {
+            Some("T") => Ok(true),
+            Some("F") => Ok(false),
+            _ => Err(self.slot_error(
+                &s,
+                format!("expected .T. or .F., found {}", render(s.value)),
+            )),
+        }
+    }
+
+    /// An attribute whose values are checked by the caller: its raw parameter and a way to
+    /// report an error located at it.
+    pub fn checked<T>(
+        &self,
+        entity: &str,
+        name: &'static str,
+        f: impl FnOnce(&'i Parameter<'a>) -> Result<T, String>,
+    ) -> Result<T, SchemaError> {
+        let s = self.slot(entity, name)?;
+        f(s.value).map_err(|m| self.slot_error(&s, m))
+    }
+
     /// A STRING attribute.
     pub fn string(&self, entity: &str, name: &'static str) -> Result<StepString<'a>, SchemaError> {
         let s = self.slot(entity, name)?;
@@ -578,7 +862,7 @@ impl<'i, 'a> Attributes<'i, 'a> {
 }
 
 /// A short rendering of a parameter for messages.
-fn render(p: &Parameter<'_>) -> String {
+pub(crate) fn render(p: &Parameter<'_>) -> String {
     match p {
         Parameter::Integer(i) => i.to_string(),
         Parameter::Real(r) => format!("{r:?}"),
@@ -966,7 +1250,7 @@ pub enum DecodeError {
 
 impl<'a> Scanned<'a> {
     /// The location of an instance, for schema errors.
-    fn at(&self, raw: &RawInstance<'_>) -> At {
+    pub(crate) fn at(&self, raw: &RawInstance<'_>) -> At {
         let (line, column) = self.locate(raw.offset);
         At {
             id: raw.id,

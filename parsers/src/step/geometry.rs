@@ -1,0 +1,574 @@
+//! Typed records of the ISO 10303-42 geometry that is not a B-spline (placements,
+//! directions, vectors, the analytic and composite curves, the elementary and swept
+//! surfaces) and of the topology that bounds an edge curve or a face surface (clause 5).
+//!
+//! Attributes are read by name from the tables of [`super::schema`] (`OWN_ATTRIBUTES`,
+//! `SUPERTYPE_CHAINS`), so simple and complex instances read the same. A record checks
+//! what the EXPRESS *types* require (a REAL radius, a reference, a BOOLEAN); geometric
+//! rules (radius > 0, a non-zero direction) are the exchange layer's job.
+
+use super::ast::{Body, Instance, Parameter};
+use super::error::SchemaError;
+use super::scan::{RawInstance, Scanned};
+use super::schema::{At, Attributes, DecodeError, Logical, canonical_name, render};
+use super::string::StepString;
+
+/// `trimming_select` (ISO 10303-42 4.3.?, `SELECT (cartesian_point, parameter_value)`): one
+/// element of a TRIMMED_CURVE's `trim_1`/`trim_2`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TrimmingSelect {
+    /// `PARAMETER_VALUE(t)`: a value of the basis curve's parameter (an angle in the
+    /// file's plane-angle unit for a conic).
+    Parameter(f64),
+    /// A reference to a CARTESIAN_POINT on the basis curve.
+    Point(u64),
+}
+
+/// One ISO 10303-42 entity of those this module reads; each variant carries its explicit
+/// attributes under their EXPRESS names (inherited `position`/`location` included).
+#[derive(Debug, Clone, PartialEq)]
+pub enum GeometryRecord<'a> {
+    /// `direction` (4.4.3): `direction_ratios`, 2 or 3 of them.
+    Direction {
+        /// `direction_ratios`.
+        direction_ratios: Vec<f64>,
+    },
+    /// `vector` (4.4.4): `orientation` (a DIRECTION), `magnitude` (>= 0).
+    Vector {
+        /// `orientation`.
+        orientation: u64,
+        /// `magnitude`.
+        magnitude: f64,
+    },
+    /// `axis1_placement` (4.4.6): `location`, optional `axis`.
+    Axis1Placement {
+        /// `location` (a CARTESIAN_POINT).
+        location: u64,
+        /// `axis` (a DIRECTION), `None` for `$` (then (0,0,1)).
+        axis: Option<u64>,
+    },
+    /// `axis2_placement_2d` (4.4.7): `location`, optional `ref_direction`.
+    Axis2Placement2d {
+        /// `location`.
+        location: u64,
+        /// `ref_direction`.
+        ref_direction: Option<u64>,
+    },
+    /// `axis2_placement_3d` (4.4.8): `location`, optional `axis` and `ref_direction`.
+    Axis2Placement3d {
+        /// `location`.
+        location: u64,
+        /// `axis`.
+        axis: Option<u64>,
+        /// `ref_direction`.
+        ref_direction: Option<u64>,
+    },
+    /// `line` (4.4.11): `pnt`, `dir` (a VECTOR).
+    Line {
+        /// `pnt`.
+        pnt: u64,
+        /// `dir`.
+        dir: u64,
+    },
+    /// `circle` (4.4.14): `position`, `radius`.
+    Circle {
+        /// `position` (an AXIS2_PLACEMENT_2D or _3D).
+        position: u64,
+        /// `radius`.
+        radius: f64,
+    },
+    /// `ellipse` (4.4.15): `position`, `semi_axis_1`, `semi_axis_2`.
+    Ellipse {
+        /// `position`.
+        position: u64,
+        /// `semi_axis_1` (along the placement's x).
+        semi_axis_1: f64,
+        /// `semi_axis_2`.
+        semi_axis_2: f64,
+    },
+    /// `hyperbola` (4.4.16): `position`, `semi_axis`, `semi_imag_axis`.
+    Hyperbola {
+        /// `position`.
+        position: u64,
+        /// `semi_axis`.
+        semi_axis: f64,
+        /// `semi_imag_axis`.
+        semi_imag_axis: f64,
+    },
+    /// `parabola` (4.4.17): `position`, `focal_dist`.
+    Parabola {
+        /// `position`.
+        position: u64,
+        /// `focal_dist`.
+        focal_dist: f64,
+    },
+    /// `polyline` (4.4.19): `points`.
+    Polyline {
+        /// `points` (CARTESIAN_POINTs, at least 2).
+        points: Vec<u64>,
+    },
+    /// `trimmed_curve` (4.4.21).
+    TrimmedCurve {
+        /// `basis_curve`.
+        basis_curve: u64,
+        /// `trim_1`: one or two trimming selects (a point and/or a parameter).
+        trim_1: Vec<TrimmingSelect>,
+        /// `trim_2`.
+        trim_2: Vec<TrimmingSelect>,
+        /// `sense_agreement`.
+        sense_agreement: bool,
+        /// `master_representation` without dots (`PARAMETER`, `CARTESIAN`, `UNSPECIFIED`).
+        master_representation: &'a str,
+    },
+    /// `composite_curve` (4.4.22): `segments`, `self_intersect`.
+    CompositeCurve {
+        /// `segments` (COMPOSITE_CURVE_SEGMENTs).
+        segments: Vec<u64>,
+        /// `self_intersect`.
+        self_intersect: Logical,
+    },
+    /// `composite_curve_segment` (4.4.23): `transition`, `same_sense`, `parent_curve`.
+    CompositeCurveSegment {
+        /// `transition` without dots (`CONTINUOUS`, `DISCONTINUOUS`...).
+        transition: &'a str,
+        /// `same_sense`.
+        same_sense: bool,
+        /// `parent_curve`.
+        parent_curve: u64,
+    },
+    /// `surface_curve` (4.4.27) and its subtypes `seam_curve`, `intersection_curve`.
+    SurfaceCurve {
+        /// `curve_3d`.
+        curve_3d: u64,
+        /// `associated_geometry` (PCURVEs or surfaces, 1 or 2).
+        associated_geometry: Vec<u64>,
+        /// `master_representation` without dots (`CURVE_3D`, `PCURVE_S1`, `PCURVE_S2`).
+        master_representation: &'a str,
+    },
+    /// `pcurve` (4.4.26): `basis_surface`, `reference_to_curve`.
+    Pcurve {
+        /// `basis_surface`.
+        basis_surface: u64,
+        /// `reference_to_curve` (a DEFINITIONAL_REPRESENTATION).
+        reference_to_curve: u64,
+    },
+    /// `definitional_representation` (ISO 10303-43): `items`, `context_of_items`.
+    DefinitionalRepresentation {
+        /// `items`.
+        items: Vec<u64>,
+        /// `context_of_items`.
+        context_of_items: u64,
+    },
+    /// `plane` (4.4.32): `position`.
+    Plane {
+        /// `position` (an AXIS2_PLACEMENT_3D).
+        position: u64,
+    },
+    /// `cylindrical_surface` (4.4.33): `position`, `radius`.
+    CylindricalSurface {
+        /// `position`.
+        position: u64,
+        /// `radius`.
+        radius: f64,
+    },
+    /// `conical_surface` (4.4.34): `position`, `radius`, `semi_angle`.
+    ConicalSurface {
+        /// `position`.
+        position: u64,
+        /// `radius` at v = 0.
+        radius: f64,
+        /// `semi_angle`, in the file's plane-angle unit.
+        semi_angle: f64,
+    },
+    /// `spherical_surface` (4.4.35): `position`, `radius`.
+    SphericalSurface {
+        /// `position`.
+        position: u64,
+        /// `radius`.
+        radius: f64,
+    },
+    /// `toroidal_surface` (4.4.36) and `degenerate_toroidal_surface` (4.4.37).
+    ToroidalSurface {
+        /// `position`.
+        position: u64,
+        /// `major_radius`.
+        major_radius: f64,
+        /// `minor_radius`.
+        minor_radius: f64,
+        /// `select_outer` of a DEGENERATE_TOROIDAL_SURFACE, `None` for a plain torus.
+        select_outer: Option<bool>,
+    },
+    /// `surface_of_linear_extrusion` (4.4.40): `swept_curve`, `extrusion_axis`.
+    SurfaceOfLinearExtrusion {
+        /// `swept_curve`.
+        swept_curve: u64,
+        /// `extrusion_axis` (a VECTOR).
+        extrusion_axis: u64,
+    },
+    /// `surface_of_revolution` (4.4.41): `swept_curve`, `axis_position`.
+    SurfaceOfRevolution {
+        /// `swept_curve`.
+        swept_curve: u64,
+        /// `axis_position` (an AXIS1_PLACEMENT).
+        axis_position: u64,
+    },
+    /// `rectangular_trimmed_surface` (4.4.50).
+    RectangularTrimmedSurface {
+        /// `basis_surface`.
+        basis_surface: u64,
+        /// `u1`.
+        u1: f64,
+        /// `u2`.
+        u2: f64,
+        /// `v1`.
+        v1: f64,
+        /// `v2`.
+        v2: f64,
+        /// `usense`.
+        usense: bool,
+        /// `vsense`.
+        vsense: bool,
+    },
+    /// `offset_curve_2d`/`offset_curve_3d`/`offset_surface` (4.4.24, 4.4.25, 4.4.46): no
+    /// exact rational form in general; read so the reader can name what it refuses.
+    Offset {
+        /// `basis_curve` or `basis_surface`.
+        basis: u64,
+    },
+    /// `vertex_point` (5.4.3): `vertex_geometry`.
+    VertexPoint {
+        /// `vertex_geometry` (a POINT).
+        vertex_geometry: u64,
+    },
+    /// `edge_curve` (5.4.6): `edge_start`, `edge_end`, `edge_geometry`, `same_sense`.
+    EdgeCurve {
+        /// `edge_start` (a VERTEX).
+        edge_start: u64,
+        /// `edge_end`.
+        edge_end: u64,
+        /// `edge_geometry`.
+        edge_geometry: u64,
+        /// `same_sense`.
+        same_sense: bool,
+    },
+    /// `oriented_edge` (5.4.7): `edge_element`, `orientation`.
+    OrientedEdge {
+        /// `edge_element`.
+        edge_element: u64,
+        /// `orientation`.
+        orientation: bool,
+    },
+    /// `edge_loop` (5.4.15): `edge_list` (of PATH).
+    EdgeLoop {
+        /// `edge_list` (ORIENTED_EDGEs).
+        edge_list: Vec<u64>,
+    },
+    /// `face_bound` (5.4.19) and `face_outer_bound` (5.4.20): `bound`, `orientation`.
+    FaceBound {
+        /// `bound` (a LOOP).
+        bound: u64,
+        /// `orientation`.
+        orientation: bool,
+    },
+    /// `face_surface` (5.4.22) and `advanced_face` (5.4.23): `bounds`, `face_geometry`,
+    /// `same_sense`.
+    FaceSurface {
+        /// `bounds` (FACE_BOUNDs).
+        bounds: Vec<u64>,
+        /// `face_geometry`.
+        face_geometry: u64,
+        /// `same_sense`.
+        same_sense: bool,
+    },
+}
+
+/// A decoded geometry item: its record, `name` and the entity type as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeometryItem<'a> {
+    /// `name` of REPRESENTATION_ITEM (or REPRESENTATION), when present.
+    pub name: Option<StepString<'a>>,
+    /// The most specific entity type read (`CIRCLE`, `SEAM_CURVE`, `ADVANCED_FACE`...).
+    pub entity: &'static str,
+    /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance).
+    pub entity_type: String,
+    /// The attributes.
+    pub record: GeometryRecord<'a>,
+}
+
+/// The entity types this module reads, most specific first (a complex instance is read as
+/// the first one it contains).
+pub const GEOMETRY_ENTITIES: &[&str] = &[
+    "DIRECTION",
+    "VECTOR",
+    "AXIS1_PLACEMENT",
+    "AXIS2_PLACEMENT_2D",
+    "AXIS2_PLACEMENT_3D",
+    "LINE",
+    "CIRCLE",
+    "ELLIPSE",
+    "HYPERBOLA",
+    "PARABOLA",
+    "POLYLINE",
+    "TRIMMED_CURVE",
+    "COMPOSITE_CURVE",
+    "COMPOSITE_CURVE_SEGMENT",
+    "SEAM_CURVE",
+    "INTERSECTION_CURVE",
+    "SURFACE_CURVE",
+    "PCURVE",
+    "DEFINITIONAL_REPRESENTATION",
+    "PLANE",
+    "CYLINDRICAL_SURFACE",
+    "CONICAL_SURFACE",
+    "SPHERICAL_SURFACE",
+    "DEGENERATE_TOROIDAL_SURFACE",
+    "TOROIDAL_SURFACE",
+    "SURFACE_OF_LINEAR_EXTRUSION",
+    "SURFACE_OF_REVOLUTION",
+    "RECTANGULAR_TRIMMED_SURFACE",
+    "OFFSET_CURVE_2D",
+    "OFFSET_CURVE_3D",
+    "OFFSET_SURFACE",
+    "VERTEX_POINT",
+    "EDGE_CURVE",
+    "ORIENTED_EDGE",
+    "EDGE_LOOP",
+    "FACE_OUTER_BOUND",
+    "FACE_BOUND",
+    "ADVANCED_FACE",
+    "FACE_SURFACE",
+];
+
+/// Whether an entity name (long or short form) is one this module reads.
+pub fn is_geometry_entity(keyword: &str) -> bool {
+    GEOMETRY_ENTITIES.contains(&canonical_name(keyword))
+}
+
+fn trimming_selects(p: &Parameter<'_>) -> Result<Vec<TrimmingSelect>, String> {
+    let Some(list) = p.as_list() else {
+        return Err(format!(
+            "expected a list of trimming selects, found {}",
+            render(p)
+        ));
+    };
+    if list.is_empty() || list.len() > 2 {
+        return Err(format!(
+            "expected 1 or 2 trimming selects, found {}",
+            list.len()
+        ));
+    }
+    list.iter()
+        .enumerate()
+        .map(|(i, e)| match e {
+            Parameter::Reference(id) => Ok(TrimmingSelect::Point(*id)),
+            Parameter::Typed(k, v) if canonical_name(k) == "PARAMETER_VALUE" => v
+                .as_real()
+                .map(TrimmingSelect::Parameter)
+                .ok_or_else(|| {
+                    format!(
+                        "element {}: PARAMETER_VALUE needs a real, found {}",
+                        i + 1,
+                        render(v)
+                    )
+                }),
+            other => Err(format!(
+                "element {}: expected a CARTESIAN_POINT reference or PARAMETER_VALUE(real), found {}",
+                i + 1,
+                render(other)
+            )),
+        })
+        .collect()
+}
+
+impl<'a> GeometryItem<'a> {
+    /// Reads an instance of one of [`GEOMETRY_ENTITIES`] (simple or complex); `Ok(None)`
+    /// when it is none of them.
+    pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Option<Self>, SchemaError> {
+        if let Body::Simple(r) = &inst.body {
+            if !is_geometry_entity(r.keyword) {
+                return Ok(None);
+            }
+        }
+        let a = Attributes::of(inst, at)?;
+        let Some(&entity) = GEOMETRY_ENTITIES.iter().find(|e| a.has(e)) else {
+            return Ok(None);
+        };
+        use GeometryRecord as R;
+        let record = match entity {
+            "DIRECTION" => R::Direction {
+                direction_ratios: a.reals(entity, "direction_ratios")?,
+            },
+            "VECTOR" => R::Vector {
+                orientation: a.reference(entity, "orientation")?,
+                magnitude: a.real(entity, "magnitude")?,
+            },
+            "AXIS1_PLACEMENT" => R::Axis1Placement {
+                location: a.reference("PLACEMENT", "location")?,
+                axis: a.optional_reference(entity, "axis")?,
+            },
+            "AXIS2_PLACEMENT_2D" => R::Axis2Placement2d {
+                location: a.reference("PLACEMENT", "location")?,
+                ref_direction: a.optional_reference(entity, "ref_direction")?,
+            },
+            "AXIS2_PLACEMENT_3D" => R::Axis2Placement3d {
+                location: a.reference("PLACEMENT", "location")?,
+                axis: a.optional_reference(entity, "axis")?,
+                ref_direction: a.optional_reference(entity, "ref_direction")?,
+            },
+            "LINE" => R::Line {
+                pnt: a.reference(entity, "pnt")?,
+                dir: a.reference(entity, "dir")?,
+            },
+            "CIRCLE" => R::Circle {
+                position: a.reference("CONIC", "position")?,
+                radius: a.real(entity, "radius")?,
+            },
+            "ELLIPSE" => R::Ellipse {
+                position: a.reference("CONIC", "position")?,
+                semi_axis_1: a.real(entity, "semi_axis_1")?,
+                semi_axis_2: a.real(entity, "semi_axis_2")?,
+            },
+            "HYPERBOLA" => R::Hyperbola {
+                position: a.reference("CONIC", "position")?,
+                semi_axis: a.real(entity, "semi_axis")?,
+                semi_imag_axis: a.real(entity, "semi_imag_axis")?,
+            },
+            "PARABOLA" => R::Parabola {
+                position: a.reference("CONIC", "position")?,
+                focal_dist: a.real(entity, "focal_dist")?,
+            },
+            "POLYLINE" => R::Polyline {
+                points: a.references(entity, "points")?,
+            },
+            "TRIMMED_CURVE" => R::TrimmedCurve {
+                basis_curve: a.reference(entity, "basis_curve")?,
+                trim_1: a.checked(entity, "trim_1", trimming_selects)?,
+                trim_2: a.checked(entity, "trim_2", trimming_selects)?,
+                sense_agreement: a.boolean(entity, "sense_agreement")?,
+                master_representation: a.enumeration(entity, "master_representation")?,
+            },
+            "COMPOSITE_CURVE" => R::CompositeCurve {
+                segments: a.references(entity, "segments")?,
+                self_intersect: a.logical(entity, "self_intersect")?,
+            },
+            "COMPOSITE_CURVE_SEGMENT" => R::CompositeCurveSegment {
+                transition: a.enumeration(entity, "transition")?,
+                same_sense: a.boolean(entity, "same_sense")?,
+                parent_curve: a.reference(entity, "parent_curve")?,
+            },
+            "SEAM_CURVE" | "INTERSECTION_CURVE" | "SURFACE_CURVE" => R::SurfaceCurve {
+                curve_3d: a.reference("SURFACE_CURVE", "curve_3d")?,
+                associated_geometry: a.references("SURFACE_CURVE", "associated_geometry")?,
+                master_representation: a.enumeration("SURFACE_CURVE", "master_representation")?,
+            },
+            "PCURVE" => R::Pcurve {
+                basis_surface: a.reference(entity, "basis_surface")?,
+                reference_to_curve: a.reference(entity, "reference_to_curve")?,
+            },
+            "DEFINITIONAL_REPRESENTATION" => R::DefinitionalRepresentation {
+                items: a.references("REPRESENTATION", "items")?,
+                context_of_items: a.reference("REPRESENTATION", "context_of_items")?,
+            },
+            "PLANE" => R::Plane {
+                position: a.reference("ELEMENTARY_SURFACE", "position")?,
+            },
+            "CYLINDRICAL_SURFACE" => R::CylindricalSurface {
+                position: a.reference("ELEMENTARY_SURFACE", "position")?,
+                radius: a.real(entity, "radius")?,
+            },
+            "CONICAL_SURFACE" => R::ConicalSurface {
+                position: a.reference("ELEMENTARY_SURFACE", "position")?,
+                radius: a.real(entity, "radius")?,
+                semi_angle: a.real(entity, "semi_angle")?,
+            },
+            "SPHERICAL_SURFACE" => R::SphericalSurface {
+                position: a.reference("ELEMENTARY_SURFACE", "position")?,
+                radius: a.real(entity, "radius")?,
+            },
+            "DEGENERATE_TOROIDAL_SURFACE" | "TOROIDAL_SURFACE" => R::ToroidalSurface {
+                position: a.reference("ELEMENTARY_SURFACE", "position")?,
+                major_radius: a.real("TOROIDAL_SURFACE", "major_radius")?,
+                minor_radius: a.real("TOROIDAL_SURFACE", "minor_radius")?,
+                select_outer: if entity == "DEGENERATE_TOROIDAL_SURFACE" {
+                    Some(a.boolean(entity, "select_outer")?)
+                } else {
+                    None
+                },
+            },
+            "SURFACE_OF_LINEAR_EXTRUSION" => R::SurfaceOfLinearExtrusion {
+                swept_curve: a.reference("SWEPT_SURFACE", "swept_curve")?,
+                extrusion_axis: a.reference(entity, "extrusion_axis")?,
+            },
+            "SURFACE_OF_REVOLUTION" => R::SurfaceOfRevolution {
+                swept_curve: a.reference("SWEPT_SURFACE", "swept_curve")?,
+                axis_position: a.reference(entity, "axis_position")?,
+            },
+            "RECTANGULAR_TRIMMED_SURFACE" => R::RectangularTrimmedSurface {
+                basis_surface: a.reference(entity, "basis_surface")?,
+                u1: a.real(entity, "u1")?,
+                u2: a.real(entity, "u2")?,
+                v1: a.real(entity, "v1")?,
+                v2: a.real(entity, "v2")?,
+                usense: a.boolean(entity, "usense")?,
+                vsense: a.boolean(entity, "vsense")?,
+            },
+            "OFFSET_CURVE_2D" | "OFFSET_CURVE_3D" => R::Offset {
+                basis: a.reference(entity, "basis_curve")?,
+            },
+            "OFFSET_SURFACE" => R::Offset {
+                basis: a.reference(entity, "basis_surface")?,
+            },
+            "VERTEX_POINT" => R::VertexPoint {
+                vertex_geometry: a.reference(entity, "vertex_geometry")?,
+            },
+            "EDGE_CURVE" => R::EdgeCurve {
+                edge_start: a.reference("EDGE", "edge_start")?,
+                edge_end: a.reference("EDGE", "edge_end")?,
+                edge_geometry: a.reference(entity, "edge_geometry")?,
+                same_sense: a.boolean(entity, "same_sense")?,
+            },
+            "ORIENTED_EDGE" => R::OrientedEdge {
+                edge_element: a.reference(entity, "edge_element")?,
+                orientation: a.boolean(entity, "orientation")?,
+            },
+            "EDGE_LOOP" => R::EdgeLoop {
+                edge_list: a.references("PATH", "edge_list")?,
+            },
+            "FACE_OUTER_BOUND" | "FACE_BOUND" => R::FaceBound {
+                bound: a.reference("FACE_BOUND", "bound")?,
+                orientation: a.boolean("FACE_BOUND", "orientation")?,
+            },
+            _ => R::FaceSurface {
+                bounds: a.references("FACE", "bounds")?,
+                face_geometry: a.reference("FACE_SURFACE", "face_geometry")?,
+                same_sense: a.boolean("FACE_SURFACE", "same_sense")?,
+            },
+        };
+        let name = a
+            .string("REPRESENTATION_ITEM", "name")
+            .or_else(|_| a.string("REPRESENTATION", "name"))
+            .ok();
+        Ok(Some(GeometryItem {
+            name,
+            entity,
+            entity_type: a.entity_type().to_owned(),
+            record,
+        }))
+    }
+}
+
+impl<'a> Scanned<'a> {
+    /// Decodes instance `raw` as one of [`GEOMETRY_ENTITIES`]; `Ok(None)` when it is
+    /// another entity.
+    pub fn geometry_item(
+        &self,
+        raw: &RawInstance<'a>,
+    ) -> Result<Option<GeometryItem<'a>>, DecodeError> {
+        let inst = self.decode(raw)?;
+        Ok(GeometryItem::from_instance(&inst, self.at(raw))?)
+    }
+}
+
+#[cfg(test)]
+#[path = "geometry_tests.rs"]
+mod tests;
