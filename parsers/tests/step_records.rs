@@ -169,6 +169,7 @@ fn points_units_and_contexts() {
         name,
         conversion_factor,
         length,
+        ..
     } = Unit::from_instance(&insts[3], at(4)).unwrap()
     else {
         panic!()

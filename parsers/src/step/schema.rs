@@ -83,6 +83,7 @@ pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
     ("CONVERSION_BASED_UNIT", &["name", "conversion_factor"]),
     ("MEASURE_WITH_UNIT", &["value_component", "unit_component"]),
     ("LENGTH_MEASURE_WITH_UNIT", &[]),
+    ("PLANE_ANGLE_MEASURE_WITH_UNIT", &[]),
     ("UNCERTAINTY_MEASURE_WITH_UNIT", &["name", "description"]),
     (
         "REPRESENTATION_CONTEXT",
@@ -445,6 +446,10 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
     (
         "UNCERTAINTY_MEASURE_WITH_UNIT",
         &["MEASURE_WITH_UNIT", "UNCERTAINTY_MEASURE_WITH_UNIT"],
+    ),
+    (
+        "PLANE_ANGLE_MEASURE_WITH_UNIT",
+        &["MEASURE_WITH_UNIT", "PLANE_ANGLE_MEASURE_WITH_UNIT"],
     ),
     ("REPRESENTATION_CONTEXT", &["REPRESENTATION_CONTEXT"]),
     (
@@ -1250,7 +1255,7 @@ pub enum DecodeError {
 
 impl<'a> Scanned<'a> {
     /// The location of an instance, for schema errors.
-    pub(crate) fn at(&self, raw: &RawInstance<'_>) -> At {
+    pub fn at(&self, raw: &RawInstance<'_>) -> At {
         let (line, column) = self.locate(raw.offset);
         At {
             id: raw.id,
@@ -1325,6 +1330,8 @@ pub enum Unit<'a> {
         conversion_factor: u64,
         /// Whether it is a LENGTH_UNIT.
         length: bool,
+        /// Whether it is a PLANE_ANGLE_UNIT.
+        plane_angle: bool,
     },
     /// Any other named unit (`length` tells whether LENGTH_UNIT is among its partials).
     Other {
@@ -1365,6 +1372,7 @@ impl<'a> Unit<'a> {
                 name: a.string("CONVERSION_BASED_UNIT", "name")?,
                 conversion_factor,
                 length: length_partial,
+                plane_angle: a.has("PLANE_ANGLE_UNIT"),
             })
         } else {
             Ok(Unit::Other {

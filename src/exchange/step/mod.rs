@@ -25,6 +25,7 @@
 //! | `units_converted` | info | coordinates scaled to the requested unit |
 //! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units |
 
+mod geometry;
 mod implicit;
 mod read;
 mod units;

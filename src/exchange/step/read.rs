@@ -10,9 +10,14 @@ use nurbsx_parsers::step::{
 
 use rayon::prelude::*;
 
+use std::collections::HashMap;
+
+use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity};
+
 use super::closure_tolerance;
+use super::geometry::Converter;
 use super::implicit::{KnotForm, implicit_knots};
-use super::units::{FileUnit, context_units};
+use super::units::{FileUnit, context_plane_angle, context_units};
 use crate::exchange::{
     Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta, Source,
 };
@@ -44,16 +49,86 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // the unit context is.
     let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut complex: Vec<&RawInstance<'_>> = Vec::new();
+    let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
     for raw in &scanned.instances {
         if raw.keyword_initial().is_none() {
             complex.push(raw);
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
-        if maybe_bspline(raw) && scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset) {
-            candidates.push(raw);
+        let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
+        if maybe_bspline(raw) {
+            if indexed() {
+                candidates.push(raw);
+            }
+        } else if maybe_geometry(raw) && indexed() {
+            geometry_candidates.push(raw);
         }
     }
     let scale = file_units(&scanned, &complex, options, &mut doc);
+
+    // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
+    // then converted (geometry.rs), which also says which B-splines it built into other
+    // entities (trimmed, composite, swept): those are not converted again below.
+    let decoded: Vec<(u64, Result<Option<GeometryItem<'_>>, DecodeError>)> = geometry_candidates
+        .par_iter()
+        .map(|raw| (raw.id, scanned.geometry_item(raw)))
+        .collect();
+    let mut items: HashMap<u64, GeometryItem<'_>> = HashMap::with_capacity(decoded.len());
+    for (id, r) in decoded {
+        match r {
+            Ok(Some(item)) => {
+                items.insert(id, item);
+            }
+            Ok(None) => {}
+            Err(DecodeError::Syntax(e)) => doc.diagnostics.push(parse_diagnostic(&e)),
+            Err(DecodeError::Schema(e)) => doc.diagnostics.push(Diagnostic::error(
+                "step.schema",
+                e.detail(),
+                Location {
+                    line: Some(e.line),
+                    column: Some(e.column),
+                    entity: Some(format!("#{}", e.entity)),
+                    ..Location::default()
+                },
+            )),
+        }
+    }
+    let radians = if items.is_empty() {
+        1.0
+    } else {
+        plane_angle(&scanned, &complex, &mut doc)
+    };
+    let bspline = |raw: &RawInstance<'_>| -> Result<Option<Geometry>, Diagnostic> {
+        let ctx = Ctx {
+            s: &scanned,
+            raw,
+            options,
+            scale,
+        };
+        let mut ignored = Vec::new();
+        match scanned.bspline(raw) {
+            Ok(Some(BSpline::Curve(r))) => {
+                ctx.curve_record(r, &mut ignored).map(|e| Some(e.geometry))
+            }
+            Ok(Some(BSpline::Surface(r))) => ctx
+                .surface_record(r, &mut ignored)
+                .map(|e| Some(e.geometry)),
+            Ok(None) => Ok(None),
+            Err(DecodeError::Syntax(e)) => Err(parse_diagnostic(&e)),
+            Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+        }
+    };
+    let converted = Converter {
+        s: &scanned,
+        items: &items,
+        scale,
+        radians,
+        bspline: &bspline,
+    }
+    .run();
+    doc.diagnostics.extend(converted.diagnostics);
+    let consumed = converted.consumed_bsplines;
+    candidates.retain(|raw| !consumed.contains(&raw.id));
 
     // Each B-spline is independent once the file is scanned: decode them in parallel
     // (rayon keeps the file order in `collect`), then append results in order.
@@ -83,10 +158,14 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             }
         })
         .collect();
-    for (entity, diags) in results {
+    let mut placed: Vec<(usize, Entity)> = converted.entities;
+    for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
         doc.diagnostics.extend(diags);
-        doc.entities.extend(entity);
+        placed.extend(entity.map(|e| (raw.offset, e)));
     }
+    // File order (a stable sort: entities of one instance keep their order).
+    placed.sort_by_key(|(offset, _)| *offset);
+    doc.entities.extend(placed.into_iter().map(|(_, e)| e));
     Ok(doc)
 }
 
@@ -123,6 +202,58 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
         None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK", "b_spline_"]
             .iter()
             .any(|n| raw.body.contains(n)),
+    }
+}
+
+/// Cheap keyword test for the other geometry and topology entities (`geometry.rs`):
+/// simple instances by keyword, every complex instance (few, and the decoder ignores those
+/// without a geometry partial).
+fn maybe_geometry(raw: &RawInstance<'_>) -> bool {
+    match raw.keyword() {
+        Some(k) => is_geometry_entity(k),
+        None => !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT"),
+    }
+}
+
+/// Radians per unit of the file's plane angle (ISO 10303-41 plane_angle_unit of the
+/// representation context), recorded in `doc`'s diagnostics; radians when none is declared.
+fn plane_angle(s: &Scanned<'_>, complex: &[&RawInstance<'_>], doc: &mut Document) -> f64 {
+    let (found, problems) = context_plane_angle(s, complex);
+    for (id, offset, m) in problems {
+        let (line, column) = s.locate(offset);
+        doc.diagnostics.push(Diagnostic::warning(
+            "units_unknown",
+            m,
+            Location {
+                line: Some(line),
+                column: Some(column),
+                entity: Some(format!("#{id}")),
+                ..Location::default()
+            },
+        ));
+    }
+    match found {
+        Some((_, a)) => {
+            if a.radians != 1.0 {
+                doc.diagnostics.push(Diagnostic::info(
+                    "units",
+                    format!(
+                        "plane-angle unit {} ({} rad): angles converted to radians",
+                        a.label, a.radians
+                    ),
+                    Location::default(),
+                ));
+            }
+            a.radians
+        }
+        None => {
+            doc.diagnostics.push(Diagnostic::warning(
+                "units_missing",
+                "no representation context assigns a plane-angle unit; radians assumed for conic parameters and angles",
+                Location::default(),
+            ));
+            1.0
+        }
     }
 }
 

@@ -125,9 +125,8 @@ pub(super) fn resolve_length(
             Unit::ConversionBased {
                 name,
                 conversion_factor,
-                length,
+                ..
             } => {
-                let _ = length;
                 names.push(name.decode_lossy().into_owned());
                 let mraw = s.get(conversion_factor).ok_or_else(|| {
                     format!("conversion factor #{conversion_factor} of #{current} is not defined")
@@ -226,4 +225,111 @@ pub(super) fn context_units(
         }
     }
     (found, problems)
+}
+
+/// A plane-angle unit found in a file: radians per unit and how the file names it.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct AngleUnit {
+    /// Radians per unit (1 for `SI_UNIT($,.RADIAN.)`).
+    pub radians: f64,
+    /// How the file names it (`RADIAN`, `DEGREE`).
+    pub label: String,
+}
+
+/// Resolves unit `#id` as a plane-angle unit (ISO 10303-41 `plane_angle_unit`):
+/// `SI_UNIT($,.RADIAN.)`, or a `CONVERSION_BASED_UNIT('DEGREE', #m)` with `#m =
+/// PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925), #rad)`. `Ok(None)` when
+/// it is another kind of unit.
+///
+/// A conversion-based unit named `DEGREE` whose factor is pi/180 to 1e-6 is taken as exactly
+/// pi/180 radians (files print the factor to 10-12 digits; ISO 10303-41 defines the degree
+/// as pi/180 rad); any other factor is used as written.
+pub(super) fn resolve_plane_angle(
+    s: &Scanned<'_>,
+    id: u64,
+    referrer: &RawInstance<'_>,
+) -> Result<Option<AngleUnit>, String> {
+    let mut factor = 1.0;
+    let mut first_name: Option<String> = None;
+    let mut current = id;
+    for _ in 0..8 {
+        let raw = s
+            .get(current)
+            .ok_or_else(|| format!("unit #{current} (from #{}) is not defined", referrer.id))?;
+        let inst = s.decode(raw).map_err(|e| e.to_string())?;
+        match Unit::from_instance(&inst, s.at(raw)).map_err(|e| e.to_string())? {
+            Unit::Si { prefix, name, .. } => {
+                if name != "RADIAN" {
+                    return Ok(None);
+                }
+                if let Some(p) = prefix {
+                    return Err(format!("plane-angle unit #{current} has a prefix .{p}."));
+                }
+                let label = first_name.clone().unwrap_or_else(|| "RADIAN".to_owned());
+                let degree = std::f64::consts::PI / 180.0;
+                let radians = if label.eq_ignore_ascii_case("DEGREE")
+                    && (factor - degree).abs() <= 1e-6 * degree
+                {
+                    degree
+                } else {
+                    factor
+                };
+                return Ok(Some(AngleUnit { radians, label }));
+            }
+            Unit::ConversionBased {
+                name,
+                conversion_factor,
+                plane_angle,
+                ..
+            } => {
+                if !plane_angle && first_name.is_none() {
+                    return Ok(None);
+                }
+                first_name.get_or_insert_with(|| name.decode_lossy().into_owned());
+                let mraw = s.get(conversion_factor).ok_or_else(|| {
+                    format!("conversion factor #{conversion_factor} of #{current} is not defined")
+                })?;
+                let minst = s.decode(mraw).map_err(|e| e.to_string())?;
+                let m = MeasureWithUnit::from_instance(&minst, s.at(mraw))
+                    .map_err(|e| e.to_string())?;
+                if !(m.value.is_finite() && m.value > 0.0) {
+                    return Err(format!(
+                        "conversion factor #{conversion_factor} is {} (must be > 0)",
+                        m.value
+                    ));
+                }
+                factor *= m.value;
+                current = m.unit;
+            }
+            Unit::Other { .. } => return Ok(None),
+        }
+    }
+    Err(format!("plane-angle unit #{id} is nested too deep"))
+}
+
+/// The plane-angle unit of the first context that assigns one (with its context id), and
+/// messages for plane-angle units that could not be understood.
+pub(super) fn context_plane_angle(
+    s: &Scanned<'_>,
+    complex: &[&RawInstance<'_>],
+) -> (Option<(u64, AngleUnit)>, Vec<UnitProblem>) {
+    let mut problems = Vec::new();
+    let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
+    for &raw in complex {
+        if finder.find(raw.body.as_bytes()).is_none() {
+            continue;
+        }
+        let Ok(inst) = s.decode(raw) else { continue };
+        let Ok(Some(ctx)) = RepresentationContext::from_instance(&inst, s.at(raw)) else {
+            continue;
+        };
+        for u in ctx.units {
+            match resolve_plane_angle(s, u, raw) {
+                Ok(Some(a)) => return (Some((raw.id, a)), problems),
+                Ok(None) => {}
+                Err(m) => problems.push((raw.id, raw.offset, m)),
+            }
+        }
+    }
+    (None, problems)
 }

@@ -1,0 +1,1719 @@
+//! STEP geometry other than B-splines -> exact NURBS entities: lines, conics, polylines,
+//! trimmed and composite curves, surface curves, the elementary and swept surfaces and
+//! rectangular trimmed surfaces (ISO 10303-42 4.4), bounded by their use (edges by their
+//! vertices, faces by their edges, trims by their trim values).
+//!
+//! Parameters (the policy README's parameterisation table states):
+//! - lines, parabolas, polylines, plane and axial directions: the NURBS parameter is the
+//!   ISO 10303-42 parameter (identity);
+//! - circles, ellipses, hyperbolas and every angular direction (cylinder, cone, sphere,
+//!   torus, revolution): the NURBS parameter equals the ISO angle (or hyperbolic parameter)
+//!   at every knot and is related to it in between by the exact [`ArcMap`] of
+//!   [`conic_arc`] (the NURBS Book A7.1 arcs);
+//! - B-splines keep their own parameter; a trimmed or split piece keeps it too (A5.1 knot
+//!   insertion does not move parameters); a piece wrapped over the seam of a closed curve
+//!   continues past its end (`t + period`);
+//! - `sense_agreement = .F.` (and `usense`/`vsense = .F.`) reverses: `u' = a + b - u` on the
+//!   piece's domain `[a, b]`;
+//! - a composite curve's segments follow each other: segment i is shifted to start where
+//!   segment i - 1 ends, the first starts at 0 (ISO 10303-42 composite_curve).
+//!
+//! Angles in the file (conic trims, `semi_angle`, rectangular trims of angular directions)
+//! are in the file's plane-angle unit and are converted to radians exactly once, here, by
+//! [`Converter::angle`].
+
+use std::collections::{HashMap, HashSet};
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+use nurbsx_parsers::step::geometry::{GeometryItem, GeometryRecord as R, TrimmingSelect};
+use nurbsx_parsers::step::{RawInstance, Scanned};
+
+use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
+use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
+use crate::nurbs::sweep::{self, Frame};
+use crate::nurbs::{
+    Geometry, GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal,
+};
+
+/// Deepest chain of curves built on curves (trimmed over composite over trimmed...) that is
+/// followed; files nest two or three. Deeper input is refused with a located error (no
+/// input-controlled recursion depth).
+const MAX_NESTING: usize = 16;
+
+fn add(a: Point3, b: Point3) -> Point3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn mul(a: Point3, s: f64) -> Point3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm(a: Point3) -> f64 {
+    dot(a, a).sqrt()
+}
+/// ISO 10303-42 `normalise`: `None` for a zero (or non-finite) vector.
+fn normalise(a: Point3) -> Option<Point3> {
+    let n = norm(a);
+    (n > 0.0 && n.is_finite()).then(|| mul(a, 1.0 / n))
+}
+
+/// ISO 10303-42 function `first_proj_axis(z_axis, arg)`: the projection of `arg` (default
+/// (1,0,0), or (0,1,0) when z is +-(1,0,0)) onto the plane normal to z, normalised. `None`
+/// when `arg` is parallel to z.
+pub(super) fn first_proj_axis(z: Point3, arg: Option<Point3>) -> Option<Point3> {
+    let v = match arg {
+        None => {
+            if z != [1.0, 0.0, 0.0] && z != [-1.0, 0.0, 0.0] {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            }
+        }
+        Some(a) => {
+            if norm(cross(a, z)) == 0.0 {
+                return None;
+            }
+            normalise(a)?
+        }
+    };
+    normalise(sub(v, mul(z, dot(v, z))))
+}
+
+/// ISO 10303-42 function `build_axes(axis, ref_direction)`: `[x, y, z]` with
+/// `z = NVL(normalise(axis), (0,0,1))`, `x = first_proj_axis(z, ref_direction)`,
+/// `y = normalise(z x x)`.
+pub(super) fn build_axes(axis: Option<Point3>, ref_direction: Option<Point3>) -> Option<Frame> {
+    let z = match axis {
+        Some(a) => normalise(a)?,
+        None => [0.0, 0.0, 1.0],
+    };
+    let x = first_proj_axis(z, ref_direction)?;
+    let y = normalise(cross(z, x))?;
+    Some(Frame {
+        origin: [0.0; 3],
+        x,
+        y,
+        z,
+    })
+}
+
+/// A curve in ISO 10303-42 terms, before it is bounded.
+#[derive(Debug, Clone)]
+pub(super) enum Basis {
+    /// `P(t) = p + t d` (d with its magnitude).
+    Line { p: Point3, d: Point3 },
+    /// `C + cos t X + sin t Y` (elliptic) or `C + cosh t X + sinh t Y` (hyperbolic).
+    Conic {
+        kind: ConicKind,
+        c: Point3,
+        x: Point3,
+        y: Point3,
+        shape: Shape,
+    },
+    /// `V + t^2 X + 2 t Y`.
+    Parabola { v: Point3, x: Point3, y: Point3 },
+    /// A curve that is already a NURBS (B-spline, polyline, trimmed, composite): its
+    /// parameter is the NURBS parameter.
+    Nurbs {
+        curve: NurbsCurve,
+        shape: Option<Shape>,
+        /// The B-spline instance itself, when the basis is one (not built here).
+        bspline: bool,
+    },
+}
+
+impl Basis {
+    fn shape(&self) -> Option<Shape> {
+        match self {
+            Basis::Line { .. } => Some(Shape::Line),
+            Basis::Conic { shape, .. } => Some(*shape),
+            Basis::Parabola { .. } => Some(Shape::ParabolicArc),
+            Basis::Nurbs { shape, .. } => *shape,
+        }
+    }
+
+    /// The parameter range of the whole curve, `None` when unbounded.
+    fn natural_range(&self) -> Option<(f64, f64)> {
+        match self {
+            Basis::Conic {
+                kind: ConicKind::Elliptic,
+                ..
+            } => Some((0.0, TAU)),
+            Basis::Nurbs { curve, .. } => Some(curve.domain()),
+            _ => None,
+        }
+    }
+
+    /// The period of a closed curve (circle, ellipse, a NURBS whose ends meet).
+    fn period(&self) -> Option<f64> {
+        match self {
+            Basis::Conic {
+                kind: ConicKind::Elliptic,
+                ..
+            } => Some(TAU),
+            Basis::Nurbs { curve, .. } => {
+                let (a, b) = curve.domain();
+                let gap = norm(sub(
+                    curve.point_at_unchecked(a),
+                    curve.point_at_unchecked(b),
+                ));
+                (gap <= super::closure_tolerance(curve.control_points())).then_some(b - a)
+            }
+            _ => None,
+        }
+    }
+
+    /// The point at ISO parameter `t`.
+    fn point(&self, t: f64) -> Point3 {
+        match self {
+            Basis::Line { p, d } => add(*p, mul(*d, t)),
+            Basis::Conic { kind, c, x, y, .. } => {
+                let (a, b) = match kind {
+                    ConicKind::Elliptic => (t.cos(), t.sin()),
+                    ConicKind::Hyperbolic => (t.cosh(), t.sinh()),
+                };
+                add(*c, add(mul(*x, a), mul(*y, b)))
+            }
+            Basis::Parabola { v, x, y } => add(*v, add(mul(*x, t * t), mul(*y, 2.0 * t))),
+            Basis::Nurbs { curve, .. } => curve.point_at_unchecked(t),
+        }
+    }
+
+    /// The exact inverse of the parameterisation at a point of the curve (lines and conics;
+    /// X and Y are orthogonal here, built from an orthonormal placement). `None` for a NURBS.
+    fn inverse(&self, q: Point3) -> Option<f64> {
+        match self {
+            Basis::Line { p, d } => Some(dot(sub(q, *p), *d) / dot(*d, *d)),
+            Basis::Conic { kind, c, x, y, .. } => {
+                let r = sub(q, *c);
+                let cx = dot(r, *x) / dot(*x, *x);
+                let sy = dot(r, *y) / dot(*y, *y);
+                Some(match kind {
+                    ConicKind::Elliptic => sy.atan2(cx),
+                    ConicKind::Hyperbolic => sy.asinh(),
+                })
+            }
+            Basis::Parabola { v, y, .. } => Some(dot(sub(q, *v), *y) / (2.0 * dot(*y, *y))),
+            Basis::Nurbs { .. } => None,
+        }
+    }
+
+    /// The curve on ISO parameters `[a, b]`, `a < b` (for a closed curve `b - a` at most one
+    /// period; `a` and `b` may lie past the seam).
+    fn bounded(&self, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
+        match self {
+            Basis::Line { p, d } => line_segment(add(*p, mul(*d, a)), add(*p, mul(*d, b)), a, b),
+            Basis::Conic { kind, c, x, y, .. } => Ok(conic_arc(*kind, *c, *x, *y, a, b)?.0),
+            Basis::Parabola { v, x, y } => parabola_arc(*v, *x, *y, a, b),
+            Basis::Nurbs { curve, .. } => {
+                let (s, e) = curve.domain();
+                match self.period() {
+                    Some(p) => {
+                        // Bring a into [s, e) (b follows), then wrap over the seam if needed.
+                        let k = ((a - s) / p).floor();
+                        let (a, b) = (a - k * p, b - k * p);
+                        if b <= e + 1e-12 * p {
+                            sub_curve(curve, a, b.min(e))
+                        } else {
+                            let first = sub_curve(curve, a, e)?;
+                            let second = sub_curve(curve, s, b - p)?;
+                            first.join(&second, super::closure_tolerance(curve.control_points()))
+                        }
+                    }
+                    None => sub_curve(curve, a, b),
+                }
+            }
+        }
+    }
+}
+
+/// The piece of a NURBS on `[a, b]` inside its domain, by exact splitting (A5.1 knot
+/// insertion): parameters unchanged.
+fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
+    let (s, e) = c.domain();
+    if !(a >= s && b <= e && a < b) {
+        return Err(GeometryError::InvalidArgument(format!(
+            "range [{a}, {b}] is not inside the curve's domain [{s}, {e}]"
+        )));
+    }
+    let mut out = c.clone();
+    if a > s {
+        out = out.split_at(a)?.1;
+    }
+    if b < e {
+        out = out.split_at(b)?.0;
+    }
+    Ok(out)
+}
+
+/// `[lo, hi]` of a range running from `from` to `to` along increasing parameter: for a
+/// closed curve or angular direction (period `p`) the end is moved by whole periods to lie
+/// in `(from, from + p]` (equal values mean the whole period).
+fn forward_range(from: f64, to: f64, period: Option<f64>) -> Option<(f64, f64)> {
+    match period {
+        Some(p) => {
+            let mut d = (to - from).rem_euclid(p);
+            if d <= 1e-12 * p {
+                d = p;
+            }
+            Some((from, from + d))
+        }
+        None => (to > from).then_some((from, to)),
+    }
+}
+
+/// A parameter range in u and in v, `None` where a direction has none.
+type Box2 = (Option<(f64, f64)>, Option<(f64, f64)>);
+
+/// A surface in ISO 10303-42 terms, before it is bounded.
+#[derive(Debug, Clone)]
+enum SurfaceBasis {
+    Plane(Frame),
+    Cylinder(Frame, f64),
+    Cone(Frame, f64, f64),
+    Sphere(Frame, f64),
+    Torus(Frame, f64, f64, (f64, f64)),
+    Revolution {
+        profile: Basis,
+        point: Point3,
+        axis: Point3,
+    },
+    Extrusion {
+        profile: Basis,
+        d: Point3,
+    },
+    Nurbs(NurbsSurface),
+}
+
+impl SurfaceBasis {
+    fn shape(&self) -> Option<Shape> {
+        Some(match self {
+            SurfaceBasis::Plane(_) => Shape::Plane,
+            SurfaceBasis::Cylinder(..) => Shape::Cylinder,
+            SurfaceBasis::Cone(..) => Shape::Cone,
+            SurfaceBasis::Sphere(..) => Shape::Sphere,
+            SurfaceBasis::Torus(..) => Shape::Torus,
+            SurfaceBasis::Revolution { .. } => Shape::Revolution,
+            SurfaceBasis::Extrusion { .. } => Shape::Extrusion,
+            SurfaceBasis::Nurbs(_) => return None,
+        })
+    }
+
+    /// Ranges of the whole surface in u and v (`None` = unbounded direction).
+    fn natural(&self) -> Box2 {
+        let turn = Some((0.0, TAU));
+        match self {
+            SurfaceBasis::Plane(_) => (None, None),
+            SurfaceBasis::Cylinder(..) | SurfaceBasis::Cone(..) => (turn, None),
+            SurfaceBasis::Sphere(..) => (turn, Some((-FRAC_PI_2, FRAC_PI_2))),
+            SurfaceBasis::Torus(_, _, _, v) => (turn, Some(*v)),
+            SurfaceBasis::Revolution { profile, .. } => (turn, profile.natural_range()),
+            SurfaceBasis::Extrusion { profile, .. } => (profile.natural_range(), None),
+            SurfaceBasis::Nurbs(s) => {
+                let (u, v) = s.domain();
+                (Some(u), Some(v))
+            }
+        }
+    }
+
+    /// Periods of the u and v directions (angles, closed profiles).
+    fn periods(&self) -> (Option<f64>, Option<f64>) {
+        match self {
+            SurfaceBasis::Plane(_) | SurfaceBasis::Nurbs(_) => (None, None),
+            SurfaceBasis::Cylinder(..) | SurfaceBasis::Cone(..) | SurfaceBasis::Sphere(..) => {
+                (Some(TAU), None)
+            }
+            SurfaceBasis::Torus(_, big, small, _) => (Some(TAU), (big >= small).then_some(TAU)),
+            SurfaceBasis::Revolution { profile, .. } => (Some(TAU), profile.period()),
+            SurfaceBasis::Extrusion { profile, .. } => (profile.period(), None),
+        }
+    }
+
+    /// Which ISO 10303-42 parameters are lengths (scaled with the length unit) and which
+    /// are angles (in the plane-angle unit), for a rectangular trim.
+    fn units(&self) -> (Param, Param) {
+        match self {
+            SurfaceBasis::Plane(_) => (Param::Length, Param::Length),
+            SurfaceBasis::Cylinder(..) | SurfaceBasis::Cone(..) => (Param::Angle, Param::Length),
+            SurfaceBasis::Sphere(..) | SurfaceBasis::Torus(..) => (Param::Angle, Param::Angle),
+            SurfaceBasis::Revolution { profile, .. } => (Param::Angle, curve_param(profile)),
+            SurfaceBasis::Extrusion { profile, .. } => (curve_param(profile), Param::Plain),
+            SurfaceBasis::Nurbs(_) => (Param::Plain, Param::Plain),
+        }
+    }
+
+    fn build(&self, u: (f64, f64), v: (f64, f64)) -> Result<NurbsSurface, GeometryError> {
+        match self {
+            SurfaceBasis::Plane(f) => sweep::plane(f, u, v),
+            SurfaceBasis::Cylinder(f, r) => Ok(sweep::cylinder(f, *r, u, v)?.0),
+            SurfaceBasis::Cone(f, r, a) => Ok(sweep::cone(f, *r, *a, u, v)?.0),
+            SurfaceBasis::Sphere(f, r) => Ok(sweep::sphere(f, *r, u, v)?.0),
+            SurfaceBasis::Torus(f, big, small, _) => Ok(sweep::torus(f, *big, *small, u, v)?.0),
+            SurfaceBasis::Revolution {
+                profile,
+                point,
+                axis,
+            } => Ok(sweep::revolve(&profile.bounded(v.0, v.1)?, *point, *axis, u.0, u.1)?.0),
+            SurfaceBasis::Extrusion { profile, d } => {
+                sweep::extrude(&profile.bounded(u.0, u.1)?, *d, v.0, v.1)
+            }
+            SurfaceBasis::Nurbs(s) => {
+                let ((u0, u1), (v0, v1)) = s.domain();
+                let mut out = s.clone();
+                if u.0 > u0 {
+                    out = out.split_at_u(u.0)?.1;
+                }
+                if u.1 < u1 {
+                    out = out.split_at_u(u.1)?.0;
+                }
+                if v.0 > v0 {
+                    out = out.split_at_v(v.0)?.1;
+                }
+                if v.1 < v1 {
+                    out = out.split_at_v(v.1)?.0;
+                }
+                Ok(out)
+            }
+        }
+    }
+}
+
+/// What kind of value an ISO parameter is, for unit conversion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Param {
+    /// A length (scaled by the length factor).
+    Length,
+    /// A plane angle (converted to radians).
+    Angle,
+    /// A pure number (B-spline, line and parabola parameters).
+    Plain,
+}
+
+fn curve_param(b: &Basis) -> Param {
+    match b {
+        Basis::Conic {
+            kind: ConicKind::Elliptic,
+            ..
+        } => Param::Angle,
+        _ => Param::Plain,
+    }
+}
+
+/// One converted entity with the byte offset of its instance (for file order).
+pub(super) type Placed = (usize, Entity);
+
+/// Turns the decoded geometry items into entities.
+pub(super) struct Converter<'m, 's, 'a> {
+    pub s: &'s Scanned<'a>,
+    pub items: &'m HashMap<u64, GeometryItem<'a>>,
+    /// Length factor applied to coordinates.
+    pub scale: f64,
+    /// Radians per unit of the file's plane angle.
+    pub radians: f64,
+    /// Converts a B-spline instance (the reader's own B-spline path).
+    pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Geometry>, Diagnostic> + Sync),
+}
+
+/// What a conversion run produced.
+#[derive(Default)]
+pub(super) struct Output {
+    /// Entities with the offsets of their instances.
+    pub entities: Vec<Placed>,
+    /// Diagnostics, in no particular order (the reader sorts them by line).
+    pub diagnostics: Vec<Diagnostic>,
+    /// B-spline instances that became part of another entity (a trimmed or composite curve,
+    /// a swept or rectangular trimmed surface): not converted again on their own.
+    pub consumed_bsplines: HashSet<u64>,
+}
+
+type Res<T> = Result<T, Diagnostic>;
+
+impl<'a> Converter<'_, '_, 'a> {
+    fn location(&self, id: u64) -> Location {
+        let (line, column) = self
+            .s
+            .get(id)
+            .map_or((0, 0), |raw| self.s.locate(raw.offset));
+        Location {
+            line: (line > 0).then_some(line),
+            column: (column > 0).then_some(column),
+            entity: Some(format!("#{id}")),
+            ..Location::default()
+        }
+    }
+
+    fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
+        Diagnostic::error(code, message, self.location(id))
+    }
+
+    fn geometry_error(&self, id: u64, e: GeometryError) -> Diagnostic {
+        self.error(id, "geometry.invalid", e.to_string())
+    }
+
+    /// A plane angle of the file in radians (the one conversion of the file's unit).
+    fn angle(&self, value: f64) -> f64 {
+        value * self.radians
+    }
+
+    fn convert_param(&self, kind: Param, value: f64) -> f64 {
+        match kind {
+            Param::Length => value * self.scale,
+            Param::Angle => self.angle(value),
+            Param::Plain => value,
+        }
+    }
+
+    fn item(&self, id: u64, from: u64, what: &str) -> Res<&GeometryItem<'a>> {
+        self.items.get(&id).ok_or_else(|| {
+            self.error(
+                from,
+                "step.reference",
+                format!("#{from} references #{id}, which is not a usable {what}"),
+            )
+        })
+    }
+
+    fn point(&self, id: u64, from: u64) -> Res<Point3> {
+        let raw = self
+            .s
+            .get(id)
+            .ok_or_else(|| self.error(from, "step.reference", format!("#{id} is not defined")))?;
+        let (c, _) = self.s.cartesian_point(raw).map_err(|e| {
+            self.error(
+                from,
+                "step.reference",
+                format!("#{id} is not a usable CARTESIAN_POINT: {e}"),
+            )
+        })?;
+        Ok(mul(c, self.scale))
+    }
+
+    fn direction(&self, id: u64, from: u64) -> Res<Point3> {
+        match &self.item(id, from, "DIRECTION")?.record {
+            R::Direction { direction_ratios } if (2..=3).contains(&direction_ratios.len()) => {
+                let mut d = [0.0; 3];
+                d[..direction_ratios.len()].copy_from_slice(direction_ratios);
+                normalise(d)
+                    .ok_or_else(|| self.error(id, "geometry.invalid", "direction has zero length"))
+            }
+            _ => Err(self.error(
+                from,
+                "step.reference",
+                format!("#{id} is not a DIRECTION of 2 or 3 ratios"),
+            )),
+        }
+    }
+
+    /// A VECTOR as `orientation * magnitude` (magnitude a length).
+    fn vector(&self, id: u64, from: u64) -> Res<Point3> {
+        match &self.item(id, from, "VECTOR")?.record {
+            R::Vector {
+                orientation,
+                magnitude,
+            } => {
+                if !(magnitude.is_finite() && *magnitude > 0.0) {
+                    return Err(self.error(
+                        id,
+                        "geometry.invalid",
+                        format!("vector magnitude {magnitude} must be > 0"),
+                    ));
+                }
+                Ok(mul(
+                    self.direction(*orientation, id)?,
+                    magnitude * self.scale,
+                ))
+            }
+            _ => Err(self.error(from, "step.reference", format!("#{id} is not a VECTOR"))),
+        }
+    }
+
+    /// An AXIS2_PLACEMENT_3D (ISO 10303-42 `build_axes`) or _2D (`build_2axes`, in z = 0).
+    fn frame(&self, id: u64, from: u64) -> Res<Frame> {
+        let item = self.item(id, from, "AXIS2_PLACEMENT")?;
+        let (location, frame) = match &item.record {
+            R::Axis2Placement3d {
+                location,
+                axis,
+                ref_direction,
+            } => {
+                let axis = axis.map(|a| self.direction(a, id)).transpose()?;
+                let refd = ref_direction.map(|a| self.direction(a, id)).transpose()?;
+                (*location, build_axes(axis, refd))
+            }
+            R::Axis2Placement2d {
+                location,
+                ref_direction,
+            } => {
+                // build_2axes: d = NVL(normalise(ref_direction), (1,0)), (d, (-d2, d1)).
+                let d = match ref_direction {
+                    Some(r) => self.direction(*r, id)?,
+                    None => [1.0, 0.0, 0.0],
+                };
+                (
+                    *location,
+                    Some(Frame {
+                        origin: [0.0; 3],
+                        x: d,
+                        y: [-d[1], d[0], 0.0],
+                        z: [0.0, 0.0, 1.0],
+                    }),
+                )
+            }
+            _ => {
+                return Err(self.error(
+                    from,
+                    "step.reference",
+                    format!("#{id} is not an AXIS2_PLACEMENT_3D or _2D"),
+                ));
+            }
+        };
+        let mut frame = frame.ok_or_else(|| {
+            self.error(
+                id,
+                "geometry.invalid",
+                "ref_direction is parallel to axis (ISO 10303-42 build_axes is undefined)",
+            )
+        })?;
+        frame.origin = self.point(location, id)?;
+        Ok(frame)
+    }
+
+    fn positive(&self, id: u64, what: &str, v: f64) -> Res<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v * self.scale)
+        } else {
+            Err(self.error(id, "geometry.invalid", format!("{what} {v} must be > 0")))
+        }
+    }
+
+    /// The ISO 10303-42 curve `#id` (following surface curves to their 3-D curve).
+    pub(super) fn basis(&self, id: u64, from: u64, depth: usize) -> Res<Basis> {
+        if depth > MAX_NESTING {
+            return Err(self.error(
+                from,
+                "limit.nesting_depth",
+                format!("curves nested deeper than {MAX_NESTING} levels at #{id}"),
+            ));
+        }
+        let Some(item) = self.items.get(&id) else {
+            return self.bspline_basis(id, from);
+        };
+        Ok(match &item.record {
+            R::Line { pnt, dir } => Basis::Line {
+                p: self.point(*pnt, id)?,
+                d: self.vector(*dir, id)?,
+            },
+            R::Circle { position, radius } => {
+                let f = self.frame(*position, id)?;
+                let r = self.positive(id, "radius", *radius)?;
+                Basis::Conic {
+                    kind: ConicKind::Elliptic,
+                    c: f.origin,
+                    x: mul(f.x, r),
+                    y: mul(f.y, r),
+                    shape: Shape::CircularArc,
+                }
+            }
+            R::Ellipse {
+                position,
+                semi_axis_1,
+                semi_axis_2,
+            } => {
+                let f = self.frame(*position, id)?;
+                Basis::Conic {
+                    kind: ConicKind::Elliptic,
+                    c: f.origin,
+                    x: mul(f.x, self.positive(id, "semi_axis_1", *semi_axis_1)?),
+                    y: mul(f.y, self.positive(id, "semi_axis_2", *semi_axis_2)?),
+                    shape: Shape::EllipticArc,
+                }
+            }
+            R::Hyperbola {
+                position,
+                semi_axis,
+                semi_imag_axis,
+            } => {
+                let f = self.frame(*position, id)?;
+                Basis::Conic {
+                    kind: ConicKind::Hyperbolic,
+                    c: f.origin,
+                    x: mul(f.x, self.positive(id, "semi_axis", *semi_axis)?),
+                    y: mul(f.y, self.positive(id, "semi_imag_axis", *semi_imag_axis)?),
+                    shape: Shape::HyperbolicArc,
+                }
+            }
+            R::Parabola {
+                position,
+                focal_dist,
+            } => {
+                let f = self.frame(*position, id)?;
+                let a = if focal_dist.is_finite() && *focal_dist != 0.0 {
+                    focal_dist * self.scale
+                } else {
+                    return Err(self.error(
+                        id,
+                        "geometry.invalid",
+                        format!("focal_dist {focal_dist} must be non-zero"),
+                    ));
+                };
+                Basis::Parabola {
+                    v: f.origin,
+                    x: mul(f.x, a),
+                    y: mul(f.y, a),
+                }
+            }
+            R::Polyline { points } => {
+                // ISO 10303-42 polyline: segment i runs over parameters [i - 1, i].
+                let pts = points
+                    .iter()
+                    .map(|&p| self.point(p, id))
+                    .collect::<Res<Vec<_>>>()?;
+                let params: Vec<f64> = (0..pts.len()).map(|i| i as f64).collect();
+                Basis::Nurbs {
+                    curve: polyline(&pts, &params).map_err(|e| self.geometry_error(id, e))?,
+                    shape: Some(Shape::Polyline),
+                    bspline: false,
+                }
+            }
+            R::TrimmedCurve { .. } => {
+                let (curve, shape) = self.trimmed(id, item, depth)?;
+                Basis::Nurbs {
+                    curve,
+                    shape,
+                    bspline: false,
+                }
+            }
+            R::CompositeCurve { segments, .. } => Basis::Nurbs {
+                curve: self.composite(id, segments, depth)?,
+                shape: None,
+                bspline: false,
+            },
+            R::SurfaceCurve { curve_3d, .. } => self.basis(*curve_3d, id, depth + 1)?,
+            R::Offset { .. } => {
+                return Err(self.error(
+                    id,
+                    "geometry.unsupported",
+                    format!(
+                        "{} has no exact rational form; not represented",
+                        item.entity
+                    ),
+                ));
+            }
+            _ => {
+                return Err(self.error(
+                    from,
+                    "step.reference",
+                    format!("#{id} ({}) is not a curve", item.entity),
+                ));
+            }
+        })
+    }
+
+    fn bspline_basis(&self, id: u64, from: u64) -> Res<Basis> {
+        let raw = self
+            .s
+            .get(id)
+            .ok_or_else(|| self.error(from, "step.reference", format!("#{id} is not defined")))?;
+        match (self.bspline)(raw)? {
+            Some(Geometry::Curve(curve)) => Ok(Basis::Nurbs {
+                curve,
+                shape: None,
+                bspline: true,
+            }),
+            _ => Err(self.error(
+                from,
+                "step.reference",
+                format!("#{from} references #{id}, which is not a usable curve"),
+            )),
+        }
+    }
+
+    /// A TRIMMED_CURVE (ISO 10303-42 4.4.21) as the exact piece of its basis curve.
+    fn trimmed(
+        &self,
+        id: u64,
+        item: &GeometryItem<'a>,
+        depth: usize,
+    ) -> Res<(NurbsCurve, Option<Shape>)> {
+        let R::TrimmedCurve {
+            basis_curve,
+            trim_1,
+            trim_2,
+            sense_agreement,
+            master_representation,
+        } = &item.record
+        else {
+            return Err(self.error(id, "step.reference", "not a TRIMMED_CURVE"));
+        };
+        let basis = self.basis(*basis_curve, id, depth + 1)?;
+        let t1 = self.trim_value(id, &basis, trim_1, master_representation)?;
+        let t2 = self.trim_value(id, &basis, trim_2, master_representation)?;
+        let (from, to) = if *sense_agreement { (t1, t2) } else { (t2, t1) };
+        let (a, b) = forward_range(from, to, basis.period()).ok_or_else(|| {
+            self.error(
+                id,
+                "geometry.invalid",
+                format!("trim values {t1} and {t2} do not bound a piece of the open basis curve #{basis_curve} in the sense given"),
+            )
+        })?;
+        let mut curve = basis
+            .bounded(a, b)
+            .map_err(|e| self.geometry_error(id, e))?;
+        if !sense_agreement {
+            curve = curve.reverse().map_err(|e| self.geometry_error(id, e))?;
+        }
+        Ok((curve, basis.shape()))
+    }
+
+    /// One trim's value as an ISO parameter of the basis (radians for circles and ellipses):
+    /// the parameter value when the master representation is PARAMETER or UNSPECIFIED (or
+    /// when only a parameter is given), else the exact inverse of the point.
+    fn trim_value(
+        &self,
+        id: u64,
+        basis: &Basis,
+        trim: &[TrimmingSelect],
+        master: &str,
+    ) -> Res<f64> {
+        let param = trim.iter().find_map(|t| match t {
+            TrimmingSelect::Parameter(v) => Some(*v),
+            TrimmingSelect::Point(_) => None,
+        });
+        let point = trim.iter().find_map(|t| match t {
+            TrimmingSelect::Point(p) => Some(*p),
+            TrimmingSelect::Parameter(_) => None,
+        });
+        let from_point = |p: u64| -> Res<Option<f64>> {
+            let q = self.point(p, id)?;
+            Ok(basis.inverse(q))
+        };
+        let from_param = |v: f64| self.convert_param(curve_param(basis), v);
+        match (master, param, point) {
+            ("CARTESIAN", _, Some(p)) => {
+                if let Some(t) = from_point(p)? {
+                    return Ok(t);
+                }
+                param.map(from_param).ok_or_else(|| {
+                    self.error(
+                        id,
+                        "geometry.unsupported",
+                        format!("trim by point #{p} on a B-spline basis needs a parameter value (no exact inverse)"),
+                    )
+                })
+            }
+            (_, Some(v), _) => Ok(from_param(v)),
+            (_, None, Some(p)) => from_point(p)?.ok_or_else(|| {
+                self.error(
+                    id,
+                    "geometry.unsupported",
+                    format!("trim by point #{p} on a B-spline basis needs a parameter value (no exact inverse)"),
+                )
+            }),
+            _ => Err(self.error(id, "geometry.invalid", "empty trim")),
+        }
+    }
+
+    /// A COMPOSITE_CURVE (ISO 10303-42 4.4.22): the segments joined end to end, each in its
+    /// `same_sense`, the first starting at parameter 0 and each next one continuing where
+    /// the previous one ends. Segments of lower degree are elevated (A5.9), polynomial
+    /// segments made rational with unit weights, so that all can be joined exactly.
+    fn composite(&self, id: u64, segments: &[u64], depth: usize) -> Res<NurbsCurve> {
+        let mut pieces = Vec::with_capacity(segments.len());
+        for &seg in segments {
+            let item = self.item(seg, id, "COMPOSITE_CURVE_SEGMENT")?;
+            let R::CompositeCurveSegment {
+                same_sense,
+                parent_curve,
+                ..
+            } = item.record
+            else {
+                return Err(self.error(
+                    id,
+                    "step.reference",
+                    format!("segment #{seg} is not a COMPOSITE_CURVE_SEGMENT"),
+                ));
+            };
+            let basis = self.basis(parent_curve, seg, depth + 1)?;
+            let (a, b) = basis.natural_range().ok_or_else(|| {
+                self.error(
+                    seg,
+                    "geometry.invalid",
+                    format!("parent curve #{parent_curve} is unbounded"),
+                )
+            })?;
+            let mut c = basis
+                .bounded(a, b)
+                .map_err(|e| self.geometry_error(seg, e))?;
+            if !same_sense {
+                c = c.reverse().map_err(|e| self.geometry_error(seg, e))?;
+            }
+            pieces.push(c);
+        }
+        let degree = pieces.iter().map(NurbsCurve::degree).max().unwrap_or(1);
+        let rational = pieces.iter().any(NurbsCurve::is_rational);
+        let mut joined: Option<NurbsCurve> = None;
+        for c in pieces {
+            let mut c = if c.degree() < degree {
+                c.elevate(degree - c.degree())
+                    .map_err(|e| self.geometry_error(id, e))?
+            } else {
+                c
+            };
+            if rational && !c.is_rational() {
+                let (p, k, pts, _, dim) = c.into_parts();
+                let w = vec![1.0; pts.len()];
+                c = NurbsCurve::with_dimension(p, k, pts, Some(w), dim)
+                    .map_err(|e| self.geometry_error(id, e))?;
+            }
+            joined = Some(match joined {
+                None => {
+                    let (a, b) = c.domain();
+                    c.reparameterize(0.0, b - a)
+                        .map_err(|e| self.geometry_error(id, e))?
+                }
+                Some(prev) => {
+                    let tol = super::closure_tolerance(prev.control_points())
+                        .max(super::closure_tolerance(c.control_points()));
+                    prev.join(&c, tol).map_err(|e| self.geometry_error(id, e))?
+                }
+            });
+        }
+        joined.ok_or_else(|| self.error(id, "geometry.invalid", "composite curve has no segments"))
+    }
+
+    /// The ISO 10303-42 surface `#id`.
+    fn surface_basis(&self, id: u64, from: u64, depth: usize) -> Res<SurfaceBasis> {
+        if depth > MAX_NESTING {
+            return Err(self.error(
+                from,
+                "limit.nesting_depth",
+                format!("surfaces nested deeper than {MAX_NESTING} levels at #{id}"),
+            ));
+        }
+        let Some(item) = self.items.get(&id) else {
+            let raw = self.s.get(id).ok_or_else(|| {
+                self.error(from, "step.reference", format!("#{id} is not defined"))
+            })?;
+            return match (self.bspline)(raw)? {
+                Some(Geometry::Surface(s)) => Ok(SurfaceBasis::Nurbs(s)),
+                _ => Err(self.error(
+                    from,
+                    "step.reference",
+                    format!("#{from} references #{id}, which is not a usable surface"),
+                )),
+            };
+        };
+        Ok(match &item.record {
+            R::Plane { position } => SurfaceBasis::Plane(self.frame(*position, id)?),
+            R::CylindricalSurface { position, radius } => SurfaceBasis::Cylinder(
+                self.frame(*position, id)?,
+                self.positive(id, "radius", *radius)?,
+            ),
+            R::ConicalSurface {
+                position,
+                radius,
+                semi_angle,
+            } => {
+                let r = radius * self.scale;
+                if !(r.is_finite() && r >= 0.0) {
+                    return Err(self.error(
+                        id,
+                        "geometry.invalid",
+                        format!("radius {radius} must be >= 0"),
+                    ));
+                }
+                SurfaceBasis::Cone(self.frame(*position, id)?, r, self.angle(*semi_angle))
+            }
+            R::SphericalSurface { position, radius } => SurfaceBasis::Sphere(
+                self.frame(*position, id)?,
+                self.positive(id, "radius", *radius)?,
+            ),
+            R::ToroidalSurface {
+                position,
+                major_radius,
+                minor_radius,
+                select_outer,
+            } => {
+                let big = self.positive(id, "major_radius", *major_radius)?;
+                let small = self.positive(id, "minor_radius", *minor_radius)?;
+                // ISO 10303-42 degenerate_toroidal_surface: with R < r the tube crosses the
+                // axis where R + r cos v = 0; select_outer keeps |v| <= acos(-R/r) (the
+                // outer, apple-shaped part), else the inner (lemon-shaped) part.
+                let v = match select_outer {
+                    Some(outer) if big < small => {
+                        let c = (-big / small).acos();
+                        if *outer { (-c, c) } else { (c, TAU - c) }
+                    }
+                    _ => (0.0, TAU),
+                };
+                SurfaceBasis::Torus(self.frame(*position, id)?, big, small, v)
+            }
+            R::SurfaceOfRevolution {
+                swept_curve,
+                axis_position,
+            } => {
+                let R::Axis1Placement { location, axis } =
+                    self.item(*axis_position, id, "AXIS1_PLACEMENT")?.record
+                else {
+                    return Err(self.error(
+                        id,
+                        "step.reference",
+                        format!("#{axis_position} is not an AXIS1_PLACEMENT"),
+                    ));
+                };
+                let axis = match axis {
+                    Some(a) => self.direction(a, *axis_position)?,
+                    None => [0.0, 0.0, 1.0],
+                };
+                SurfaceBasis::Revolution {
+                    profile: self.basis(*swept_curve, id, depth + 1)?,
+                    point: self.point(location, *axis_position)?,
+                    axis,
+                }
+            }
+            R::SurfaceOfLinearExtrusion {
+                swept_curve,
+                extrusion_axis,
+            } => SurfaceBasis::Extrusion {
+                profile: self.basis(*swept_curve, id, depth + 1)?,
+                d: self.vector(*extrusion_axis, id)?,
+            },
+            R::RectangularTrimmedSurface { .. } => {
+                SurfaceBasis::Nurbs(self.rectangular_trimmed(id, item, depth)?.0)
+            }
+            R::Offset { .. } => {
+                return Err(self.error(
+                    id,
+                    "geometry.unsupported",
+                    format!(
+                        "{} has no exact rational form; not represented",
+                        item.entity
+                    ),
+                ));
+            }
+            _ => {
+                return Err(self.error(
+                    from,
+                    "step.reference",
+                    format!("#{id} ({}) is not a surface", item.entity),
+                ));
+            }
+        })
+    }
+
+    /// A RECTANGULAR_TRIMMED_SURFACE (ISO 10303-42 4.4.50): the basis on `u1..u2 x v1..v2`
+    /// (angles in the plane-angle unit, lengths in the length unit); `usense`/`vsense` false
+    /// reverses that direction.
+    fn rectangular_trimmed(
+        &self,
+        id: u64,
+        item: &GeometryItem<'a>,
+        depth: usize,
+    ) -> Res<(NurbsSurface, Option<Shape>)> {
+        let R::RectangularTrimmedSurface {
+            basis_surface,
+            u1,
+            u2,
+            v1,
+            v2,
+            usense,
+            vsense,
+        } = item.record
+        else {
+            return Err(self.error(id, "step.reference", "not a RECTANGULAR_TRIMMED_SURFACE"));
+        };
+        let basis = self.surface_basis(basis_surface, id, depth + 1)?;
+        let (ku, kv) = basis.units();
+        let (pu, pv) = basis.periods();
+        let range = |a: f64, b: f64, sense: bool, kind: Param, period: Option<f64>| {
+            let (a, b) = (self.convert_param(kind, a), self.convert_param(kind, b));
+            let (from, to) = if sense { (a, b) } else { (b, a) };
+            forward_range(from, to, period).ok_or_else(|| {
+                self.error(
+                    id,
+                    "geometry.invalid",
+                    format!("trim range {a}..{b} is empty in the sense given"),
+                )
+            })
+        };
+        let ur = range(u1, u2, usense, ku, pu)?;
+        let vr = range(v1, v2, vsense, kv, pv)?;
+        let mut s = basis
+            .build(ur, vr)
+            .map_err(|e| self.geometry_error(id, e))?;
+        if !usense {
+            s = s.reverse_u().map_err(|e| self.geometry_error(id, e))?;
+        }
+        if !vsense {
+            s = s.reverse_v().map_err(|e| self.geometry_error(id, e))?;
+        }
+        Ok((s, basis.shape()))
+    }
+
+    fn entity(
+        &self,
+        id: u64,
+        label: String,
+        geometry: Geometry,
+        shape: Option<Shape>,
+        used_by: Vec<String>,
+    ) -> Placed {
+        let raw = self.s.get(id);
+        let item = self.items.get(&id);
+        let offset = raw.map_or(0, |r| r.offset);
+        (
+            offset,
+            Entity {
+                id: label,
+                geometry,
+                source: Source {
+                    entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                    line: raw.map(|r| self.s.locate(r.offset).0),
+                },
+                meta: Meta {
+                    name: item
+                        .and_then(|i| i.name.as_ref())
+                        .map(|n| n.decode_lossy().into_owned())
+                        .filter(|n| !n.is_empty()),
+                    shape,
+                    used_by,
+                    ..Meta::default()
+                },
+            },
+        )
+    }
+}
+
+/// An edge's curve after bounding: the NURBS, the curve instance it came from, and whether
+/// that instance is a B-spline the reader's B-spline path converts on its own.
+#[derive(Clone)]
+struct EdgeOut {
+    curve: NurbsCurve,
+    curve_id: u64,
+    shape: Option<Shape>,
+    bspline: bool,
+    /// Start and end vertex are the same (the edge closes on itself).
+    closed: bool,
+}
+
+impl<'a> Converter<'_, '_, 'a> {
+    /// The curve instance under an edge's geometry (through surface curves).
+    fn edge_curve_id(&self, mut id: u64) -> u64 {
+        for _ in 0..MAX_NESTING {
+            match self.items.get(&id).map(|i| &i.record) {
+                Some(R::SurfaceCurve { curve_3d, .. }) => id = *curve_3d,
+                _ => break,
+            }
+        }
+        id
+    }
+
+    /// An EDGE_CURVE's geometry bounded by its vertices (ISO 10303-42 5.4.6): lines and
+    /// conics between the exact inverse parameters of the two vertex points, in the
+    /// curve's own direction (the arc from start to end vertex when `same_sense`, from end
+    /// to start otherwise); a closed conic whose edge starts and ends at one vertex is the
+    /// whole conic from that vertex. Other curves (B-splines, polylines, trimmed and
+    /// composite curves) are bounded already and are taken whole.
+    fn edge(&self, id: u64) -> Res<EdgeOut> {
+        let item = self.item(id, id, "EDGE_CURVE")?;
+        let R::EdgeCurve {
+            edge_start,
+            edge_end,
+            edge_geometry,
+            same_sense,
+        } = item.record
+        else {
+            return Err(self.error(id, "step.reference", "not an EDGE_CURVE"));
+        };
+        let curve_id = self.edge_curve_id(edge_geometry);
+        let basis = self.basis(edge_geometry, id, 0)?;
+        let closed = edge_start == edge_end;
+        let shape = basis.shape();
+        if let Basis::Nurbs { curve, bspline, .. } = basis {
+            return Ok(EdgeOut {
+                curve,
+                curve_id,
+                shape,
+                bspline,
+                closed,
+            });
+        }
+        let vertex = |v: u64| -> Res<Point3> {
+            match self.item(v, id, "VERTEX_POINT")?.record {
+                R::VertexPoint { vertex_geometry } => self.point(vertex_geometry, v),
+                _ => Err(self.error(id, "step.reference", format!("#{v} is not a VERTEX_POINT"))),
+            }
+        };
+        let (p0, p1) = (vertex(edge_start)?, vertex(edge_end)?);
+        let (t0, t1) = match (basis.inverse(p0), basis.inverse(p1)) {
+            (Some(a), Some(b)) => (a, b),
+            _ => return Err(self.error(id, "geometry.invalid", "no inverse for the edge curve")),
+        };
+        // The vertices must lie on the curve for the inverse to be the exact parameter.
+        let size = norm(sub(p0, p1)).max(norm(basis.point(0.0)));
+        let tol = (size * 1e-7).max(1e-9);
+        let mut diags = Vec::new();
+        for (v, p, t) in [(edge_start, p0, t0), (edge_end, p1, t1)] {
+            let off = norm(sub(basis.point(t), p));
+            if off > tol {
+                diags.push(format!("vertex #{v} is {off:e} off the curve"));
+            }
+        }
+        if !diags.is_empty() {
+            return Err(self.error(
+                id,
+                "geometry.invalid",
+                format!("{}; the edge is not bounded exactly", diags.join(", ")),
+            ));
+        }
+        let (from, to) = if same_sense { (t0, t1) } else { (t1, t0) };
+        let range = if closed && basis.period().is_some() {
+            Some((from, from + TAU))
+        } else {
+            forward_range(from, to, basis.period())
+        };
+        let (a, b) = range.ok_or_else(|| {
+            self.error(
+                id,
+                "geometry.invalid",
+                format!("vertices at parameters {t0} and {t1} do not bound the open curve in the sense given"),
+            )
+        })?;
+        Ok(EdgeOut {
+            curve: basis
+                .bounded(a, b)
+                .map_err(|e| self.geometry_error(id, e))?,
+            curve_id,
+            shape,
+            bspline: false,
+            closed,
+        })
+    }
+
+    /// The edges of a face (all its bounds), each with whether it is a seam (used twice in
+    /// the face) or closed.
+    fn face_edges(&self, face: u64) -> Res<Vec<u64>> {
+        let Some(R::FaceSurface { bounds, .. }) = self.items.get(&face).map(|i| &i.record) else {
+            return Err(self.error(face, "step.reference", "not a FACE_SURFACE"));
+        };
+        let mut edges = Vec::new();
+        for &b in bounds {
+            let R::FaceBound { bound, .. } = self.item(b, face, "FACE_BOUND")?.record else {
+                return Err(self.error(
+                    face,
+                    "step.reference",
+                    format!("#{b} is not a FACE_BOUND"),
+                ));
+            };
+            // A VERTEX_LOOP (a single point, e.g. a sphere's pole) adds no edge.
+            let Some(R::EdgeLoop { edge_list }) = self.items.get(&bound).map(|i| &i.record) else {
+                continue;
+            };
+            for &oe in edge_list {
+                match self.item(oe, bound, "ORIENTED_EDGE")?.record {
+                    R::OrientedEdge { edge_element, .. } => edges.push(edge_element),
+                    _ => {
+                        return Err(self.error(
+                            bound,
+                            "step.reference",
+                            format!("#{oe} is not an ORIENTED_EDGE"),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(edges)
+    }
+}
+
+/// The smallest angular interval holding `angles` (radians, any representatives): the
+/// complement of the largest gap between neighbours on the circle.
+fn angular_extent(mut angles: Vec<f64>) -> Option<(f64, f64)> {
+    for a in &mut angles {
+        *a = a.rem_euclid(TAU);
+    }
+    angles.sort_by(f64::total_cmp);
+    let (first, last) = (*angles.first()?, *angles.last()?);
+    let mut gap = first + TAU - last;
+    let mut start = first;
+    for w in angles.windows(2) {
+        if w[1] - w[0] > gap {
+            gap = w[1] - w[0];
+            start = w[1];
+        }
+    }
+    Some((start, start + TAU - gap))
+}
+
+/// Parameter box of a surface's faces from the poles of their edge curves, under the exact
+/// inverse of the surface's parameterisation; `None` in a direction the poles do not
+/// bound (the caller keeps the natural range there).
+///
+/// Why the box contains the faces: each edge curve lies in the convex hull of its poles
+/// (NURBS Book P4.x, convex hull property, weights > 0). The plane coordinates and the
+/// axial coordinate of a cylinder or cone are affine functions of the point, so their
+/// extreme values over a convex hull are taken at poles. The angle about an axis of a point
+/// of a convex set that does not reach the axis lies within the angular span of the set's
+/// vertices; the edge curves here are conic arcs of at most 90 degrees per segment and lines,
+/// whose control polygons sweep monotonically, so the span of the poles holds the edges.
+/// A face whose edges go all the way round (a closed edge about the axis, or a seam used
+/// twice) takes the full turn.
+fn face_box(
+    basis: &SurfaceBasis,
+    poles: &[Point3],
+    full_turn: bool,
+    sizes: f64,
+) -> Box2 {
+    let span = |f: &dyn Fn(Point3) -> f64| -> Option<(f64, f64)> {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for &p in poles {
+            let v = f(p);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        (lo < hi).then_some((lo, hi))
+    };
+    let around = |o: Point3, x: Point3, y: Point3, z: Point3| -> Option<(f64, f64)> {
+        if full_turn {
+            return Some((0.0, TAU));
+        }
+        let angles: Vec<f64> = poles
+            .iter()
+            .filter_map(|&p| {
+                let r = sub(p, o);
+                let radial = sub(r, mul(z, dot(r, z)));
+                (norm(radial) > sizes * 1e-9).then(|| dot(r, y).atan2(dot(r, x)))
+            })
+            .collect();
+        angular_extent(angles)
+    };
+    match basis {
+        SurfaceBasis::Plane(f) => (
+            span(&|p| dot(sub(p, f.origin), f.x)),
+            span(&|p| dot(sub(p, f.origin), f.y)),
+        ),
+        SurfaceBasis::Cylinder(f, _) | SurfaceBasis::Cone(f, _, _) => (
+            around(f.origin, f.x, f.y, f.z),
+            span(&|p| dot(sub(p, f.origin), f.z)),
+        ),
+        SurfaceBasis::Revolution {
+            profile,
+            point,
+            axis,
+        } => {
+            // The revolution's u = 0 is the profile itself: angles are measured from the
+            // radial direction of the profile's first pole off the axis.
+            let q = match profile {
+                Basis::Nurbs { curve, .. } => curve.control_points().to_vec(),
+                other => match other
+                    .natural_range()
+                    .and_then(|(a, b)| other.bounded(a, b).ok())
+                {
+                    Some(c) => c.control_points().to_vec(),
+                    None => return (None, None),
+                },
+            };
+            let x = q.iter().find_map(|&p| {
+                let r = sub(p, *point);
+                let radial = sub(r, mul(*axis, dot(r, *axis)));
+                (norm(radial) > sizes * 1e-9)
+                    .then(|| normalise(radial))
+                    .flatten()
+            });
+            let Some(x) = x else { return (None, None) };
+            let y = cross(*axis, x);
+            (around(*point, x, y, *axis), None)
+        }
+        SurfaceBasis::Extrusion { profile, d } => {
+            let q: Vec<Point3> = match profile {
+                Basis::Nurbs { curve, .. } => curve.control_points().to_vec(),
+                other => match other
+                    .natural_range()
+                    .and_then(|(a, b)| other.bounded(a, b).ok())
+                {
+                    Some(c) => c.control_points().to_vec(),
+                    None => return (None, None),
+                },
+            };
+            let dd = dot(*d, *d);
+            let (pl, ph) = match span(&|p| dot(p, *d)) {
+                Some(s) => s,
+                None => return (None, None),
+            };
+            let (ql, qh) = q
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &p| {
+                    let v = dot(p, *d);
+                    (l.min(v), h.max(v))
+                });
+            (None, Some(((pl - qh) / dd, (ph - ql) / dd)))
+        }
+        _ => (None, None),
+    }
+}
+
+impl<'a> Converter<'_, '_, 'a> {
+    /// Converts every curve and surface item of the file into entities (see the module
+    /// documentation for what is emitted where).
+    pub(super) fn run(&self) -> Output {
+        use rayon::prelude::*;
+        let mut out = Output::default();
+        // Uses: which instances are parts of other ones.
+        let mut consumed: HashSet<u64> = HashSet::new();
+        let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::new();
+        let mut pcurve_items: Vec<u64> = Vec::new();
+        let mut edges: Vec<u64> = Vec::new();
+        let mut order: Vec<u64> = self.items.keys().copied().collect();
+        order.sort_unstable();
+        for &id in &order {
+            let item = &self.items[&id];
+            match &item.record {
+                R::TrimmedCurve { basis_curve, .. } => {
+                    consumed.insert(*basis_curve);
+                    out.consumed_bsplines.insert(*basis_curve);
+                }
+                R::CompositeCurveSegment { parent_curve, .. } => {
+                    consumed.insert(*parent_curve);
+                    out.consumed_bsplines.insert(*parent_curve);
+                }
+                R::SurfaceCurve { curve_3d, .. } => {
+                    consumed.insert(*curve_3d);
+                }
+                R::EdgeCurve { edge_geometry, .. } => {
+                    consumed.insert(*edge_geometry);
+                    edges.push(id);
+                }
+                R::SurfaceOfRevolution { swept_curve, .. }
+                | R::SurfaceOfLinearExtrusion { swept_curve, .. } => {
+                    consumed.insert(*swept_curve);
+                    out.consumed_bsplines.insert(*swept_curve);
+                }
+                R::RectangularTrimmedSurface { basis_surface, .. } => {
+                    consumed.insert(*basis_surface);
+                    out.consumed_bsplines.insert(*basis_surface);
+                }
+                R::Offset { basis } => {
+                    consumed.insert(*basis);
+                }
+                R::DefinitionalRepresentation { items, .. } => {
+                    for i in items {
+                        consumed.insert(*i);
+                        if self.items.contains_key(i) {
+                            pcurve_items.push(*i);
+                        }
+                    }
+                }
+                R::FaceSurface { face_geometry, .. } => {
+                    consumed.insert(*face_geometry);
+                    faces_of.entry(*face_geometry).or_default().push(id);
+                }
+                _ => {}
+            }
+        }
+        // B-splines are consumed only where this module builds them into something else.
+        out.consumed_bsplines
+            .retain(|id| !self.items.contains_key(id) && self.s.get(*id).is_some());
+
+        // Edges, in parallel (each independent), kept for the faces' boxes.
+        let edge_results: Vec<(u64, Res<EdgeOut>)> =
+            edges.par_iter().map(|&e| (e, self.edge(e))).collect();
+        let mut edge_map: HashMap<u64, EdgeOut> = HashMap::new();
+        let mut uses: HashMap<u64, usize> = HashMap::new();
+        for (e, r) in edge_results {
+            match r {
+                Ok(o) => {
+                    if !o.bspline {
+                        let n = uses.entry(o.curve_id).or_insert(0);
+                        *n += 1;
+                        let label = if *n == 1 {
+                            format!("#{}", o.curve_id)
+                        } else {
+                            format!("#{}@#{e}", o.curve_id)
+                        };
+                        out.entities.push(self.entity(
+                            o.curve_id,
+                            label,
+                            Geometry::Curve(o.curve.clone()),
+                            o.shape,
+                            vec![format!("#{e}")],
+                        ));
+                    }
+                    edge_map.insert(e, o);
+                }
+                Err(d) => out.diagnostics.push(d),
+            }
+        }
+
+        // Free-standing curves and every surface, in parallel.
+        let jobs: Vec<u64> = order
+            .iter()
+            .copied()
+            .filter(|id| !consumed.contains(id))
+            .collect();
+        let results: Vec<(Option<Placed>, Option<Diagnostic>)> = jobs
+            .par_iter()
+            .map(|&id| self.free_item(id, &faces_of))
+            .collect();
+        for (e, d) in results {
+            out.entities.extend(e);
+            out.diagnostics.extend(d);
+        }
+        // Surfaces used by faces are consumed above but converted here, bounded by them.
+        let mut face_surfaces: Vec<u64> = faces_of.keys().copied().collect();
+        face_surfaces.sort_unstable();
+        let results: Vec<Res<Option<Placed>>> = face_surfaces
+            .par_iter()
+            .map(|&sid| self.face_surface(sid, &faces_of[&sid], &edge_map))
+            .collect();
+        for r in results {
+            match r {
+                Ok(e) => out.entities.extend(e),
+                Err(d) => out.diagnostics.push(d),
+            }
+        }
+        // Parameter-space curves of analytic type are not carried yet: say so once.
+        let analytic: Vec<u64> = pcurve_items
+            .iter()
+            .copied()
+            .filter(|i| {
+                !matches!(
+                    self.items.get(i).map(|x| &x.record),
+                    Some(R::Axis2Placement2d { .. } | R::Axis2Placement3d { .. })
+                )
+            })
+            .collect();
+        if let Some(&first) = analytic.first() {
+            let list: Vec<String> = analytic.iter().take(8).map(|i| format!("#{i}")).collect();
+            out.diagnostics.push(Diagnostic::warning(
+                "pcurve.not_converted",
+                format!(
+                    "{} parameter-space curve(s) of PCURVEs are lines or conics in a surface's parameter plane ({}{}); they are not represented (the 3-D edge curves are)",
+                    analytic.len(),
+                    list.join(", "),
+                    if analytic.len() > 8 { ", ..." } else { "" }
+                ),
+                self.location(first),
+            ));
+        }
+        out
+    }
+
+    /// A curve or surface item that nothing else uses.
+    fn free_item(
+        &self,
+        id: u64,
+        faces_of: &HashMap<u64, Vec<u64>>,
+    ) -> (Option<Placed>, Option<Diagnostic>) {
+        let item = &self.items[&id];
+        let label = format!("#{id}");
+        let unbounded = |what: &str| {
+            Diagnostic::warning(
+                "geometry.unbounded",
+                format!(
+                    "{what} #{id} is unbounded and nothing in the file bounds it (no trim, edge or face uses it); it is not represented"
+                ),
+                self.location(id),
+            )
+        };
+        match &item.record {
+            R::Line { .. } | R::Hyperbola { .. } | R::Parabola { .. } => {
+                (None, Some(unbounded(item.entity)))
+            }
+            R::Circle { .. }
+            | R::Ellipse { .. }
+            | R::Polyline { .. }
+            | R::TrimmedCurve { .. }
+            | R::CompositeCurve { .. }
+            | R::SurfaceCurve { .. } => {
+                let b = match self.basis(id, id, 0) {
+                    Ok(b) => b,
+                    Err(d) => return (None, Some(d)),
+                };
+                let shape = b.shape();
+                let curve = match b {
+                    Basis::Nurbs { bspline: true, .. } => return (None, None),
+                    Basis::Nurbs { curve, .. } => Ok(curve),
+                    other => match other.natural_range() {
+                        Some((a, c)) => other.bounded(a, c).map_err(|e| self.geometry_error(id, e)),
+                        None => return (None, Some(unbounded(item.entity))),
+                    },
+                };
+                match curve {
+                    Ok(c) => (
+                        Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new())),
+                        None,
+                    ),
+                    Err(d) => (None, Some(d)),
+                }
+            }
+            R::Plane { .. }
+            | R::CylindricalSurface { .. }
+            | R::ConicalSurface { .. }
+            | R::SphericalSurface { .. }
+            | R::ToroidalSurface { .. }
+            | R::SurfaceOfRevolution { .. }
+            | R::SurfaceOfLinearExtrusion { .. }
+            | R::RectangularTrimmedSurface { .. } => {
+                if faces_of.contains_key(&id) {
+                    return (None, None);
+                }
+                let r = if let R::RectangularTrimmedSurface { .. } = item.record {
+                    self.rectangular_trimmed(id, item, 0)
+                } else {
+                    self.surface_basis(id, id, 0).and_then(|b| {
+                        let (u, v) = b.natural();
+                        match (u, v) {
+                            (Some(u), Some(v)) => b
+                                .build(u, v)
+                                .map(|s| (s, b.shape()))
+                                .map_err(|e| self.geometry_error(id, e)),
+                            _ => Err(unbounded(item.entity)),
+                        }
+                    })
+                };
+                match r {
+                    Ok((s, shape)) => (
+                        Some(self.entity(id, label, Geometry::Surface(s), shape, Vec::new())),
+                        None,
+                    ),
+                    Err(d) => (None, Some(d)),
+                }
+            }
+            R::Offset { .. } => (
+                None,
+                Some(self.error(
+                    id,
+                    "geometry.unsupported",
+                    format!(
+                        "{} has no exact rational form; not represented",
+                        item.entity
+                    ),
+                )),
+            ),
+            _ => (None, None),
+        }
+    }
+
+    /// A surface used by faces: bounded in each unbounded (or angular) direction by the
+    /// parameter box of the faces' edges ([`face_box`]).
+    fn face_surface(
+        &self,
+        id: u64,
+        faces: &[u64],
+        edges: &HashMap<u64, EdgeOut>,
+    ) -> Res<Option<Placed>> {
+        let basis = self.surface_basis(id, id, 0)?;
+        if let SurfaceBasis::Nurbs(_) = basis {
+            if !matches!(
+                self.items.get(&id).map(|i| &i.record),
+                Some(R::RectangularTrimmedSurface { .. })
+            ) {
+                // A B-spline surface: the reader's B-spline path converts it.
+                return Ok(None);
+            }
+        }
+        let mut poles: Vec<Point3> = Vec::new();
+        let mut full_turn = false;
+        let mut seen: HashSet<u64> = HashSet::new();
+        for &f in faces {
+            for e in self.face_edges(f)? {
+                let Some(o) = edges.get(&e) else {
+                    return Err(self.error(
+                        f,
+                        "geometry.invalid",
+                        format!("edge #{e} of face #{f} could not be converted, so the face's surface #{id} cannot be bounded"),
+                    ));
+                };
+                // A seam (the same edge twice in one face) or an edge closed on itself
+                // goes all the way round.
+                if !seen.insert(e) || o.closed {
+                    full_turn = true;
+                }
+                poles.extend_from_slice(o.curve.control_points());
+            }
+        }
+        let size = bounding_box_diagonal(&poles);
+        let (nu, nv) = basis.natural();
+        let (bu, bv) = face_box(&basis, &poles, full_turn, size);
+        let angular_u = matches!(
+            basis,
+            SurfaceBasis::Cylinder(..) | SurfaceBasis::Cone(..) | SurfaceBasis::Revolution { .. }
+        );
+        let u = if angular_u { bu.or(nu) } else { nu.or(bu) };
+        let v = nv.or(bv);
+        let (Some(u), Some(v)) = (u, v) else {
+            return Err(Diagnostic::warning(
+                "geometry.unbounded",
+                format!(
+                    "surface #{id} is unbounded and its faces' edges do not bound it; it is not represented"
+                ),
+                self.location(id),
+            ));
+        };
+        let surface = if let R::RectangularTrimmedSurface { .. } = self.items[&id].record {
+            self.rectangular_trimmed(id, &self.items[&id], 0)?.0
+        } else {
+            basis.build(u, v).map_err(|e| self.geometry_error(id, e))?
+        };
+        Ok(Some(self.entity(
+            id,
+            format!("#{id}"),
+            Geometry::Surface(surface),
+            basis.shape(),
+            faces.iter().map(|f| format!("#{f}")).collect(),
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn build_axes_follows_iso_10303_42() {
+        // Defaults: z = (0,0,1), x = (1,0,0), y = (0,1,0).
+        let f = build_axes(None, None).unwrap();
+        assert_eq!((f.x, f.y, f.z), ([1., 0., 0.], [0., 1., 0.], [0., 0., 1.]));
+        // z along x: first_proj_axis takes (0,1,0).
+        let f = build_axes(Some([2.0, 0.0, 0.0]), None).unwrap();
+        assert_eq!((f.x, f.y, f.z), ([0., 1., 0.], [0., 0., 1.], [1., 0., 0.]));
+        // A ref_direction not normal to z is projected: (1,0,1) with z = (0,0,1) -> (1,0,0).
+        let f = build_axes(Some([0.0, 0.0, 1.0]), Some([1.0, 0.0, 1.0])).unwrap();
+        assert!((f.x[0] - 1.0).abs() < 1e-15 && f.x[2].abs() < 1e-15);
+        // Parallel ref_direction: undefined.
+        assert!(build_axes(Some([0.0, 0.0, 1.0]), Some([0.0, 0.0, -3.0])).is_none());
+    }
+
+    #[test]
+    fn angular_extent_is_the_complement_of_the_largest_gap() {
+        let (a, b) = angular_extent(vec![3.0, -3.0, 3.1]).unwrap();
+        // Points near pi on both sides: the extent runs over pi, not through 0.
+        assert!(
+            (a - 3.0).abs() < 1e-12 && (b - (TAU - 3.0)).abs() < 1e-12,
+            "{a} {b}"
+        );
+        let (a, b) = angular_extent(vec![0.1, 1.0, 0.5]).unwrap();
+        assert!((a - 0.1).abs() < 1e-12 && (b - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn forward_ranges() {
+        assert_eq!(forward_range(1.0, 2.0, None), Some((1.0, 2.0)));
+        assert_eq!(forward_range(2.0, 1.0, None), None);
+        let (a, b) = forward_range(6.0, 1.0, Some(TAU)).unwrap();
+        assert!((a - 6.0).abs() < 1e-15 && (b - (1.0 + TAU)).abs() < 1e-12);
+        assert_eq!(forward_range(1.0, 1.0, Some(TAU)), Some((1.0, 1.0 + TAU)));
+    }
+}
