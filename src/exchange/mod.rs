@@ -27,6 +27,10 @@ mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
 pub use document::{Document, Entity, Meta, ParameterRange, Shape, Source};
+/// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
+pub use nurbsx_parsers::signature::{
+    CODES as NOT_EXCHANGE_CODES, NotExchange, describe as describe_content,
+};
 pub use options::{ExportOptions, ImportOptions, StepSchema};
 pub use units::LengthUnit;
 
@@ -48,11 +52,8 @@ pub fn read(bytes: &[u8], options: &ImportOptions) -> Result<Document, Diagnosti
         ));
     }
     let format = Format::sniff(bytes).ok_or_else(|| {
-        Diagnostic::error(
-            "format.unknown",
-            "neither a STEP file (ISO-10303-21;) nor an IGES file (S/G in column 73)",
-            Location::at_line(1),
-        )
+        let not = describe_content(bytes);
+        Diagnostic::error(not.code, not.what, Location::at_line(1))
     })?;
     let text = text_of(bytes)?;
     match format {
