@@ -1269,12 +1269,7 @@ fn angular_extent(mut angles: Vec<f64>) -> Option<(f64, f64)> {
 /// whose control polygons sweep monotonically, so the span of the poles holds the edges.
 /// A face whose edges go all the way round (a closed edge about the axis, or a seam used
 /// twice) takes the full turn.
-fn face_box(
-    basis: &SurfaceBasis,
-    poles: &[Point3],
-    full_turn: bool,
-    sizes: f64,
-) -> Box2 {
+fn face_box(basis: &SurfaceBasis, poles: &[Point3], full_turn: bool, sizes: f64) -> Box2 {
     let span = |f: &dyn Fn(Point3) -> f64| -> Option<(f64, f64)> {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
