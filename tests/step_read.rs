@@ -136,8 +136,11 @@ fn freecad_curves_match_their_construction() {
     )
     .unwrap();
     assert_same_curve(&cub, cs[1], 1e-12);
-    assert_eq!(d.entities[0].id, "#17");
-    assert_eq!(d.entities[0].source.line, Some(29));
+    // B-spline #17 is the basis of TRIMMED_CURVE #16, trimmed at its domain ends: the entity
+    // is the trimmed curve (the B-spline unchanged, with the B-spline's metadata).
+    assert_eq!(d.entities[0].id, "#16");
+    assert_eq!(d.entities[0].source.entity, "TRIMMED_CURVE");
+    assert_eq!(d.entities[0].source.line, Some(27));
     assert_eq!(
         d.entities[0].meta.knot_spec.as_deref(),
         Some("piecewise_bezier_knots")

@@ -457,6 +457,7 @@ SIGNS = {
     "u_reversed": {"su": -1, "suv": -1, "normal": -1},
     "v_reversed": {"sv": -1, "suv": -1, "normal": -1},
     "uv_reversed": {"su": -1, "sv": -1},
+    "trimmed": {},
 }
 # Maps tried in stand-in mode after "identity"; those marked partial accept evaluations of
 # S that lie outside every candidate (OUT holds only a segment of S's geometry).
@@ -559,12 +560,17 @@ def summarise(results, partial=False):
     return ok, worst, sorted(used), uncovered
 
 
-def match_item(kind, item, cands, tol, size, allow_remap):
+def match_item(kind, item, cands, tol, size, allow_remap, allow_trimmed=False):
     """Match one S.json item against OUT geometry; returns a result dict (with 'ok').
 
-    Real mode (allow_remap False): only the identity map, every evaluation covered.
+    Real mode (allow_remap False): only the identity map, every evaluation covered; with
+    allow_trimmed (S is a STEP file with TRIMMED_CURVEs, which nurbsx reads as the trimmed
+    piece while FreeCAD's reading evaluates the untrimmed basis), then the identity map on
+    the evaluations inside a candidate's range (at least two, every one reproduced).
     Stand-in mode: then the reversals / segments of REMAPS, then point projection."""
     tries = [("identity", False)]
+    if allow_trimmed and kind == "curve":
+        tries.append(("trimmed", True))
     if allow_remap:
         tries += REMAPS[kind]
     first = None
@@ -710,6 +716,8 @@ def check_conversion(binary, samples, src, reading, fmt, work):
                 % (what, predicted, os.path.basename(src), found_curves))
     size = model_size(reading)
     rec["model_size"] = size
+    with open(src, encoding="utf-8", errors="replace") as f:
+        trimmed_source = sext == ".step" and "TRIMMED_CURVE(" in f.read()
     items = []
     # Real mode: S's curves are matched first against the curves nurbsx wrote (loose edges);
     # a curve OCCT built itself for S (e.g. the sphere's seam: an iso-curve of a face with no
@@ -722,7 +730,8 @@ def check_conversion(binary, samples, src, reading, fmt, work):
         for item in src_items:
             res = None
             for n, cands in enumerate(cand_sets):
-                r = match_item(kind, item, cands, tol, size, allow_remap=copy_mode)
+                r = match_item(kind, item, cands, tol, size, allow_remap=copy_mode,
+                               allow_trimmed=trimmed_source)
                 if n > 0:
                     r["via"] = "face boundary (no curve entity written for it)"
                 if res is None or r["ok"]:

@@ -128,8 +128,9 @@ pub(super) enum Basis {
     Nurbs {
         curve: NurbsCurve,
         shape: Option<Shape>,
-        /// The B-spline instance itself, when the basis is one (not built here).
-        bspline: bool,
+        /// The metadata of the B-spline instance as read, when the basis is one (not built
+        /// here; the reader's B-spline path converts it).
+        bspline: Option<Box<Meta>>,
     },
 }
 
@@ -205,7 +206,18 @@ impl Basis {
                 })
             }
             Basis::Parabola { v, y, .. } => Some(dot(sub(q, *v), *y) / (2.0 * dot(*y, *y))),
-            Basis::Nurbs { .. } => None,
+            // No exact inverse inside a B-spline; its end points are its domain ends.
+            Basis::Nurbs { curve, .. } => {
+                let (a, b) = curve.domain();
+                let tol = super::closure_tolerance(curve.control_points());
+                if norm(sub(q, curve.point_at_unchecked(a))) <= tol {
+                    Some(a)
+                } else if norm(sub(q, curve.point_at_unchecked(b))) <= tol {
+                    Some(b)
+                } else {
+                    None
+                }
+            }
         }
     }
 
@@ -422,7 +434,9 @@ pub(super) struct Converter<'m, 's, 'a> {
     /// Radians per unit of the file's plane angle.
     pub radians: f64,
     /// Converts a B-spline instance (the reader's own B-spline path).
-    pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Geometry>, Diagnostic> + Sync),
+    pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Entity>, Diagnostic> + Sync),
+    /// Warnings found while converting (parallel workers push here).
+    pub warnings: std::sync::Mutex<Vec<Diagnostic>>,
 }
 
 /// What a conversion run produced.
@@ -683,21 +697,21 @@ impl<'a> Converter<'_, '_, 'a> {
                 Basis::Nurbs {
                     curve: polyline(&pts, &params).map_err(|e| self.geometry_error(id, e))?,
                     shape: Some(Shape::Polyline),
-                    bspline: false,
+                    bspline: None,
                 }
             }
             R::TrimmedCurve { .. } => {
-                let (curve, shape) = self.trimmed(id, item, depth)?;
+                let (curve, shape, _) = self.trimmed(id, item, depth)?;
                 Basis::Nurbs {
                     curve,
                     shape,
-                    bspline: false,
+                    bspline: None,
                 }
             }
             R::CompositeCurve { segments, .. } => Basis::Nurbs {
                 curve: self.composite(id, segments, depth)?,
                 shape: None,
-                bspline: false,
+                bspline: None,
             },
             R::SurfaceCurve { curve_3d, .. } => self.basis(*curve_3d, id, depth + 1)?,
             R::Offset { .. } => {
@@ -726,10 +740,14 @@ impl<'a> Converter<'_, '_, 'a> {
             .get(id)
             .ok_or_else(|| self.error(from, "step.reference", format!("#{id} is not defined")))?;
         match (self.bspline)(raw)? {
-            Some(Geometry::Curve(curve)) => Ok(Basis::Nurbs {
+            Some(Entity {
+                geometry: Geometry::Curve(curve),
+                meta,
+                ..
+            }) => Ok(Basis::Nurbs {
                 curve,
                 shape: None,
-                bspline: true,
+                bspline: Some(Box::new(meta)),
             }),
             _ => Err(self.error(
                 from,
@@ -739,13 +757,14 @@ impl<'a> Converter<'_, '_, 'a> {
         }
     }
 
-    /// A TRIMMED_CURVE (ISO 10303-42 4.4.21) as the exact piece of its basis curve.
+    /// A TRIMMED_CURVE (ISO 10303-42 4.4.21) as the exact piece of its basis curve, with
+    /// the basis B-spline's metadata when the piece is that whole B-spline unchanged.
     fn trimmed(
         &self,
         id: u64,
         item: &GeometryItem<'a>,
         depth: usize,
-    ) -> Res<(NurbsCurve, Option<Shape>)> {
+    ) -> Res<(NurbsCurve, Option<Shape>, Option<Meta>)> {
         let R::TrimmedCurve {
             basis_curve,
             trim_1,
@@ -773,7 +792,15 @@ impl<'a> Converter<'_, '_, 'a> {
         if !sense_agreement {
             curve = curve.reverse().map_err(|e| self.geometry_error(id, e))?;
         }
-        Ok((curve, basis.shape()))
+        let meta = match &basis {
+            Basis::Nurbs {
+                curve: whole,
+                bspline: Some(meta),
+                ..
+            } if *whole == curve => Some(meta.as_ref().clone()),
+            _ => None,
+        };
+        Ok((curve, basis.shape(), meta))
     }
 
     /// One trim's value as an ISO parameter of the basis (radians for circles and ellipses):
@@ -812,7 +839,35 @@ impl<'a> Converter<'_, '_, 'a> {
                     )
                 })
             }
-            (_, Some(v), _) => Ok(from_param(v)),
+            (_, Some(v), point) => {
+                let t = from_param(v);
+                // A parameter outside an open B-spline basis's domain cannot be a value of
+                // its parameter (files that re-parameterised the basis but kept old trims);
+                // a trim point at one of its ends is exact and used instead, and said.
+                // Otherwise the value is clamped to the domain, and said.
+                if let (Basis::Nurbs { curve, .. }, None) = (basis, basis.period()) {
+                    let (a, b) = curve.domain();
+                    let slack = 1e-9 * (b - a);
+                    if t < a - slack || t > b + slack {
+                        let (e, how) = match point.map(from_point).transpose()?.flatten() {
+                            Some(e) => (e, format!("trim point #{} (the basis end at {e}) is used", point.unwrap_or_default())),
+                            None => {
+                                let e = t.clamp(a, b);
+                                (e, format!("it is clamped to {e}"))
+                            }
+                        };
+                        if let Ok(mut w) = self.warnings.lock() {
+                            w.push(Diagnostic::warning(
+                                "trim.parameter_outside",
+                                format!("trim parameter {v} is outside the basis curve's domain [{a}, {b}]; {how}"),
+                                self.location(id),
+                            ));
+                        }
+                        return Ok(e);
+                    }
+                }
+                Ok(t)
+            }
             (_, None, Some(p)) => from_point(p)?.ok_or_else(|| {
                 self.error(
                     id,
@@ -906,7 +961,10 @@ impl<'a> Converter<'_, '_, 'a> {
                 self.error(from, "step.reference", format!("#{id} is not defined"))
             })?;
             return match (self.bspline)(raw)? {
-                Some(Geometry::Surface(s)) => Ok(SurfaceBasis::Nurbs(s)),
+                Some(Entity {
+                    geometry: Geometry::Surface(s),
+                    ..
+                }) => Ok(SurfaceBasis::Nurbs(s)),
                 _ => Err(self.error(
                     from,
                     "step.reference",
@@ -1068,10 +1126,21 @@ impl<'a> Converter<'_, '_, 'a> {
         geometry: Geometry,
         shape: Option<Shape>,
         used_by: Vec<String>,
+        base: Option<Meta>,
     ) -> Placed {
         let raw = self.s.get(id);
         let item = self.items.get(&id);
         let offset = raw.map_or(0, |r| r.offset);
+        let mut meta = base.unwrap_or_default();
+        if let Some(name) = item
+            .and_then(|i| i.name.as_ref())
+            .map(|n| n.decode_lossy().into_owned())
+            .filter(|n| !n.is_empty())
+        {
+            meta.name = Some(name);
+        }
+        meta.shape = shape;
+        meta.used_by = used_by;
         (
             offset,
             Entity {
@@ -1081,15 +1150,7 @@ impl<'a> Converter<'_, '_, 'a> {
                     entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
                     line: raw.map(|r| self.s.locate(r.offset).0),
                 },
-                meta: Meta {
-                    name: item
-                        .and_then(|i| i.name.as_ref())
-                        .map(|n| n.decode_lossy().into_owned())
-                        .filter(|n| !n.is_empty()),
-                    shape,
-                    used_by,
-                    ..Meta::default()
-                },
+                meta,
             },
         )
     }
@@ -1145,7 +1206,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 curve,
                 curve_id,
                 shape,
-                bspline,
+                bspline: bspline.is_some(),
                 closed,
             });
         }
@@ -1443,6 +1504,7 @@ impl<'a> Converter<'_, '_, 'a> {
                             Geometry::Curve(o.curve.clone()),
                             o.shape,
                             vec![format!("#{e}")],
+                            None,
                         ));
                     }
                     edge_map.insert(e, o);
@@ -1477,6 +1539,9 @@ impl<'a> Converter<'_, '_, 'a> {
                 Ok(e) => out.entities.extend(e),
                 Err(d) => out.diagnostics.push(d),
             }
+        }
+        if let Ok(mut w) = self.warnings.lock() {
+            out.diagnostics.append(&mut w);
         }
         // Parameter-space curves of analytic type are not carried yet: say so once.
         let analytic: Vec<u64> = pcurve_items
@@ -1526,10 +1591,16 @@ impl<'a> Converter<'_, '_, 'a> {
             R::Line { .. } | R::Hyperbola { .. } | R::Parabola { .. } => {
                 (None, Some(unbounded(item.entity)))
             }
+            R::TrimmedCurve { .. } => match self.trimmed(id, item, 0) {
+                Ok((c, shape, meta)) => (
+                    Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new(), meta)),
+                    None,
+                ),
+                Err(d) => (None, Some(d)),
+            },
             R::Circle { .. }
             | R::Ellipse { .. }
             | R::Polyline { .. }
-            | R::TrimmedCurve { .. }
             | R::CompositeCurve { .. }
             | R::SurfaceCurve { .. } => {
                 let b = match self.basis(id, id, 0) {
@@ -1538,7 +1609,9 @@ impl<'a> Converter<'_, '_, 'a> {
                 };
                 let shape = b.shape();
                 let curve = match b {
-                    Basis::Nurbs { bspline: true, .. } => return (None, None),
+                    Basis::Nurbs {
+                        bspline: Some(_), ..
+                    } => return (None, None),
                     Basis::Nurbs { curve, .. } => Ok(curve),
                     other => match other.natural_range() {
                         Some((a, c)) => other.bounded(a, c).map_err(|e| self.geometry_error(id, e)),
@@ -1547,7 +1620,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 };
                 match curve {
                     Ok(c) => (
-                        Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new())),
+                        Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new(), None)),
                         None,
                     ),
                     Err(d) => (None, Some(d)),
@@ -1580,7 +1653,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 };
                 match r {
                     Ok((s, shape)) => (
-                        Some(self.entity(id, label, Geometry::Surface(s), shape, Vec::new())),
+                        Some(self.entity(id, label, Geometry::Surface(s), shape, Vec::new(), None)),
                         None,
                     ),
                     Err(d) => (None, Some(d)),
@@ -1668,6 +1741,7 @@ impl<'a> Converter<'_, '_, 'a> {
             Geometry::Surface(surface),
             basis.shape(),
             faces.iter().map(|f| format!("#{f}")).collect(),
+            None,
         )))
     }
 }

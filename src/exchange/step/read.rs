@@ -98,25 +98,30 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     } else {
         plane_angle(&scanned, &complex, &mut doc)
     };
-    let bspline = |raw: &RawInstance<'_>| -> Result<Option<Geometry>, Diagnostic> {
+    // What the B-spline path notices about B-splines converted inside other entities is kept
+    // for the ones built into those (the others are converted again below and say it then).
+    let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
+    let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
         let ctx = Ctx {
             s: &scanned,
             raw,
             options,
             scale,
         };
-        let mut ignored = Vec::new();
-        match scanned.bspline(raw) {
-            Ok(Some(BSpline::Curve(r))) => {
-                ctx.curve_record(r, &mut ignored).map(|e| Some(e.geometry))
-            }
-            Ok(Some(BSpline::Surface(r))) => ctx
-                .surface_record(r, &mut ignored)
-                .map(|e| Some(e.geometry)),
+        let mut diags = Vec::new();
+        let r = match scanned.bspline(raw) {
+            Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags).map(Some),
+            Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags).map(Some),
             Ok(None) => Ok(None),
             Err(DecodeError::Syntax(e)) => Err(parse_diagnostic(&e)),
             Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+        };
+        if !diags.is_empty() {
+            if let Ok(mut all) = bspline_notes.lock() {
+                all.push((raw.id, diags));
+            }
         }
+        r
     };
     let converted = Converter {
         s: &scanned,
@@ -124,10 +129,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         scale,
         radians,
         bspline: &bspline,
+        warnings: std::sync::Mutex::new(Vec::new()),
     }
     .run();
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
+    if let Ok(mut notes) = bspline_notes.lock() {
+        notes.sort_by_key(|(id, _)| *id);
+        notes.dedup_by_key(|(id, _)| *id);
+        for (id, d) in notes.drain(..) {
+            if consumed.contains(&id) {
+                doc.diagnostics.extend(d);
+            }
+        }
+    }
     candidates.retain(|raw| !consumed.contains(&raw.id));
 
     // Each B-spline is independent once the file is scanned: decode them in parallel
