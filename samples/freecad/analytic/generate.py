@@ -72,6 +72,11 @@ def _frame_of_rotation(g):
     return rot.multVec(V(1, 0, 0)), rot.multVec(V(0, 1, 0)), V(g.Axis)
 
 
+# Trimmed conics (Geom_TrimmedCurve over a conic) and the FreeCAD attribute of their basis.
+ARCS = {Part.ArcOfCircle: "Circle", Part.ArcOfEllipse: "Ellipse",
+        Part.ArcOfHyperbola: "Hyperbola", Part.ArcOfParabola: "Parabola"}
+
+
 def describe_curve_geometry(c):
     """The defining data of one curve (README: edges[].curve)."""
     vec = evaluate._vec
@@ -88,6 +93,17 @@ def describe_curve_geometry(c):
     elif isinstance(c, Part.Parabola):
         d.update(vertex=vec(c.Location), axis=vec(c.Axis), x_axis=vec(c.XAxis),
                  y_axis=vec(c.YAxis), focal=float(c.Focal))
+    elif isinstance(c, Part.LineSegment):
+        # OCCT's trimmed line; its basis line is not exposed by FreeCAD, but a trimmed curve
+        # evaluates through its basis at any parameter, so location = value(0).
+        d.update(first_parameter=float(c.FirstParameter), last_parameter=float(c.LastParameter),
+                 start_point=vec(c.StartPoint), end_point=vec(c.EndPoint),
+                 basis_curve={"type": "Part.Line", "location": vec(c.value(0.0)),
+                              "direction": vec(c.getDN(float(c.FirstParameter), 1))})
+    elif isinstance(c, tuple(ARCS)):
+        basis = getattr(c, ARCS[type(c)])
+        d.update(first_parameter=float(c.FirstParameter), last_parameter=float(c.LastParameter),
+                 basis_curve=describe_curve_geometry(basis))
     elif isinstance(c, Part.BSplineCurve):
         b = evaluate.describe_curve(c)
         del b["evaluations"]
@@ -184,6 +200,8 @@ def _cross(a, b):
 def curve_formula(d, t, geom=None):
     """Point of the documented parameterisation; None for types without a closed form."""
     ty = d["type"]
+    if ty == "Part.LineSegment" or ty.startswith("Part.ArcOf"):
+        return curve_formula(d["basis_curve"], t)
     if ty == "Part.Line":
         return _add(d["location"], _mul(t, d["direction"]))
     if ty == "Part.Circle":
