@@ -108,13 +108,6 @@ def describe_curve_geometry(c):
         b = evaluate.describe_curve(c)
         del b["evaluations"]
         d.update(b)
-    elif isinstance(c, Part.BezierCurve):
-        d.update(degree=int(c.Degree), rational=bool(c.isRational()),
-                 poles=[vec(p) for p in c.getPoles()],
-                 weights=[float(w) for w in c.getWeights()])
-    elif isinstance(c, Part.OffsetCurve):
-        d.update(offset=float(c.OffsetValue), direction=vec(c.OffsetDirection),
-                 basis_curve=describe_curve_geometry(c.BasisCurve))
     else:
         d.update(first_parameter=float(c.FirstParameter), last_parameter=float(c.LastParameter))
     return d
@@ -155,11 +148,6 @@ def describe_surface_geometry(s):
         b = evaluate.describe_surface(s)
         del b["evaluations"]
         d.update(b)
-    elif isinstance(s, Part.OffsetSurface):
-        d.update(offset=float(s.OffsetValue), basis_surface=describe_surface_geometry(s.BasisSurface))
-    elif isinstance(s, Part.RectangularTrimmedSurface):
-        d.update(bounds=[float(b) for b in s.bounds()],
-                 basis_surface=describe_surface_geometry(s.BasisSurface))
     else:
         d.update(bounds=[float(b) for b in s.bounds()])
     return d
@@ -469,6 +457,14 @@ def ruled():
     return Part.makeRuledSurface(line, arc)
 
 
+def placed_compound():
+    cyl = Part.makeCylinder(3.0, 8.0)
+    a, b = cyl.copy(False), cyl.copy(False)
+    a.Placement = FreeCAD.Placement(V(10, 0, 0), FreeCAD.Rotation(V(1, 1, 0), 30.0))
+    b.Placement = FreeCAD.Placement(V(-5, 4, 2), FreeCAD.Rotation(V(1, 0, 0), 90.0))
+    return Part.Compound([a, b])
+
+
 def periodic_trimmed_edge():
     builders = {c[0]: c[2] for c in corpus.case_curves()}
     return builders["curve_deg3_periodic_trimmed_edge"]()
@@ -536,6 +532,10 @@ def cases():
          lambda: Part.makeCylinder(5.0, 12.0, V(0, 0, 0), V(0, 0, 1), 120.0), {"units": "INCH"}),
         ("units_metre", "the same sector exported with Part.exportUnits('M')",
          lambda: Part.makeCylinder(5.0, 12.0, V(0, 0, 0), V(0, 0, 1), 120.0), {"units": "M"}),
+        # Appended last: the STEP PRODUCT counter of the cases above stays as it was.
+        ("placed_compound", "one solid cylinder r=3 h=8 placed twice in a compound: "
+         "Placement((10,0,0), 30 deg about (1,1,0)) and Placement((-5,4,2), 90 deg about x) "
+         "(two copies sharing the geometry, each with its own location)", placed_compound, {"brep": 1}),
     ]
 
 
