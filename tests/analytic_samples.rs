@@ -26,6 +26,9 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
+mod common;
+use common::{cross, dot, norm, sub};
+
 const SCHEMA: &str = "nurbsx-freecad-analytic/1";
 /// Points and derivatives: FreeCAD and the formula here differ only by rounding.
 const EVAL_TOL: f64 = 1e-11;
@@ -75,24 +78,8 @@ fn f(v: &Value, key: &str) -> f64 {
 fn add(a: V3, b: V3) -> V3 {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
 fn mul(s: f64, a: V3) -> V3 {
     [s * a[0], s * a[1], s * a[2]]
-}
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
 }
 fn lin(terms: &[(f64, V3)]) -> V3 {
     terms
