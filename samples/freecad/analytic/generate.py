@@ -115,7 +115,7 @@ def describe_curve_geometry(c):
 
 def describe_surface_geometry(s):
     """The defining data of one surface (README: faces[].surface); frame handedness decided
-    by the surface's own value (see check_surface_sample)."""
+    by the surface's own value (_frame_matches)."""
     vec = evaluate._vec
     d = {"type": _type(s)}
     elementary = (Part.Plane, Part.Cylinder, Part.Cone, Part.Sphere, Part.Toroid)
@@ -185,7 +185,7 @@ def _cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
-def curve_formula(d, t, geom=None):
+def curve_formula(d, t):
     """Point of the documented parameterisation; None for types without a closed form."""
     ty = d["type"]
     if ty == "Part.LineSegment" or ty.startswith("Part.ArcOf"):
@@ -328,8 +328,9 @@ def step_entities(text):
         if m.group(1) != "(":
             name = m.group(1)
         else:
-            # names at depth 1 of a complex instance; OCCT writes no ')' or '(' in strings
-            # of these files (checked: a complex instance holds units and B-spline data only)
+            # names at depth 1 of a complex instance (ISO 10303-21 external mapping); the
+            # complex instances of these files are contexts and units, their strings (unit
+            # names) hold no parentheses
             depth, j, names = 1, m.end(), []
             while depth > 0:
                 ch = data[j]
@@ -396,7 +397,7 @@ def declared_unit(path):
         flat = re.sub(r"\s+", " ", text)
         m = re.search(r"\( *CONVERSION_BASED_UNIT *\( *'([^']*)'[^;]*LENGTH_UNIT[^;]*;", flat)
         if m:
-            name = {"INCH": "INCH"}.get(m.group(1).upper(), m.group(1))
+            name = m.group(1).upper()
             return {"name": name, "mm_per_unit": UNIT_MM.get(name), "evidence": m.group(0)}
         m = re.search(r"\( *LENGTH_UNIT *\( *\) *NAMED_UNIT *\( *\* *\) *SI_UNIT *\( *"
                       r"(\.MILLI\.|\$) *, *\.METRE\. *\) *\) *;", flat)
@@ -404,7 +405,7 @@ def declared_unit(path):
         return {"name": name, "mm_per_unit": UNIT_MM[name], "evidence": m.group(0)}
     g = iges_global(text)
     flag, uname = int(g[13]), g[14]
-    # IGES 5.3 Table 3 (units flag): 1 = inch, 2 = mm, 6 = m
+    # IGES 5.3 section 2.2.4.3.14, units flag: 1 = inch, 2 = mm, 6 = m
     name = {1: "INCH", 2: "MM", 6: "M"}[flag]
     return {"name": name, "mm_per_unit": UNIT_MM[name],
             "evidence": f"Global 14 (units flag) = {flag}, Global 15 (units name) = {uname}"}
@@ -417,9 +418,9 @@ def file_entities(path):
 
 
 # ----------------------------------------------------------------------------- cases
-def placed(geom, base, axis_angle=None):
+def placed(geom, base, axis_angle):
     """geom moved by the placement (translation base, rotation (axis, degrees))."""
-    rot = FreeCAD.Rotation(V(*axis_angle[0]), axis_angle[1]) if axis_angle else FreeCAD.Rotation()
+    rot = FreeCAD.Rotation(V(*axis_angle[0]), axis_angle[1])
     geom.transform(FreeCAD.Placement(V(*base), rot).toMatrix())
     return geom
 
