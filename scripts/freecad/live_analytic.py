@@ -1,5 +1,5 @@
 # Live FreeCAD check of the analytic samples (samples/freecad/analytic): nurbsx converts
-# every file across formats twice (STEP -> IGES -> STEP, IGES -> STEP -> IGES), FreeCAD /
+# every file across formats (STEP -> IGES -> STEP, IGES -> STEP -> IGES -> STEP), FreeCAD /
 # Open CASCADE re-imports the final file, and its geometry is compared with FreeCAD's own
 # reading of the SOURCE file, independently of any parameterisation:
 #   - every re-imported curve lies on a source edge's curve and every re-imported surface on a
@@ -110,23 +110,32 @@ def check(case, src, out, source_shape):
                 worst_point = max(worst_point, d)
     if worst_point > tol:
         problems.append("a point is %.3e from the source geometry (limit %.3e)" % (worst_point, tol))
-    # Lengths: each free curve nurbsx wrote equals the source edge it lies on.
-    for e in free:
-        mids = [e.valueAt(e.FirstParameter + (e.LastParameter - e.FirstParameter) * t) for t in (0.0, 0.5, 1.0)]
-        match = None
-        for s in source_shape.Edges:
-            if s.Degenerated:
-                continue
-            if all(s.distToShape(Part.Vertex(m))[0] <= tol for m in mids) and abs(s.Length - e.Length) <= 1e-6 * max(s.Length, 1e-300):
-                match = s
-                break
-        if match is None:
-            problems.append("a curve of length %.15g matches no source edge" % e.Length)
+    # Lengths: each free curve nurbsx wrote has the length of the source edges it runs
+    # along (one edge, or a chain of them when nurbsx joined an IGES 102 composite into one
+    # curve); source edges that OCCT duplicated (IGES faces share no edges) count once.
+    sources = []
+    for s_edge in source_shape.Edges:
+        if s_edge.Degenerated:
             continue
-        rel = abs(match.Length - e.Length) / match.Length
+        a, b = s_edge.FirstParameter, s_edge.LastParameter
+        key = [s_edge.valueAt(a + (b - a) * t) for t in (0.0, 0.5, 1.0)]
+        def same(o, k):
+            if abs(o.Length - s_edge.Length) > 1e-9 * max(o.Length, 1e-300):
+                return False
+            return any(all((p - q).Length <= tol for p, q in zip(k, order)) for order in (key, key[::-1]))
+
+        if not any(same(o, k) for o, k in sources):
+            sources.append((s_edge, key))
+    for e in free:
+        along = [s_edge for s_edge, key in sources if all(e.distToShape(Part.Vertex(p))[0] <= tol for p in key)]
+        total = sum(s_edge.Length for s_edge in along)
+        if not along:
+            problems.append("a curve of length %.15g runs along no source edge" % e.Length)
+            continue
+        rel = abs(total - e.Length) / total
         worst_length = max(worst_length, rel)
         if rel > REL:
-            problems.append("curve length %.17g vs source edge %.17g (relative %.2e)" % (e.Length, match.Length, rel))
+            problems.append("curve length %.17g vs its %d source edge(s) %.17g (relative %.2e)" % (e.Length, len(along), total, rel))
     return problems, worst_point / size, worst_length, len(free), len(got.Faces)
 
 
@@ -142,10 +151,13 @@ def main():
         for entry in case["files"]:
             src = os.path.join(SAMPLES, entry["file"])
             stem = os.path.join(WORK, entry["file"].replace(".", "_"))
+            # Every chain crosses formats and ends in STEP: Open CASCADE's IGES reader splits
+            # a 126 curve at its C0 knots (a NURBS circle's double knots), which would make
+            # the curve count and lengths OCCT's choice rather than nurbsx's output.
             if src.endswith(".step"):
                 hops = [stem + ".igs", stem + ".back.step"]
             else:
-                hops = [stem + ".step", stem + ".back.igs"]
+                hops = [stem + ".step", stem + ".igs", stem + ".back.step"]
             problems = []
             prev = src
             for h in hops:
