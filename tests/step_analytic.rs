@@ -395,3 +395,189 @@ fn periodic_trimmed_edge_is_exactly_its_range() {
     assert_eq!(curves[0].domain(), (1.0, 4.0));
     assert_eq!(doc.entities[0].source.entity, "TRIMMED_CURVE");
 }
+
+/// The STEP writer labels a curve or surface with its kind only when the geometry agrees:
+/// each kind built exactly (nurbs::conic / nurbs::sweep) is written with its form, and the
+/// same geometry with one pole moved by 1e-6 of its size is written `.UNSPECIFIED.` with a
+/// warning.
+#[test]
+fn writer_forms_follow_a_check_of_the_geometry() {
+    use nurbsx::exchange::{Entity, ExportOptions, Meta, Source, shape_check::check_shape};
+    use nurbsx::nurbs::conic::parabola_arc;
+    use nurbsx::nurbs::sweep::{self, Frame};
+    let f = Frame {
+        origin: [1.0, 2.0, 3.0],
+        x: [0.0, 1.0, 0.0],
+        y: [0.0, 0.0, 1.0],
+        z: [1.0, 0.0, 0.0],
+    };
+    let circle = conic_arc(
+        ConicKind::Elliptic,
+        [1.0, 2.0, 3.0],
+        [0.0, 4.0, 0.0],
+        [0.0, 0.0, 4.0],
+        0.3,
+        5.0,
+    )
+    .unwrap()
+    .0;
+    let ellipse = conic_arc(
+        ConicKind::Elliptic,
+        [0.0; 3],
+        [5.0, 0.0, 0.0],
+        [0.0, 2.0, 1.0],
+        -1.0,
+        2.0,
+    )
+    .unwrap()
+    .0;
+    let hyperbola = conic_arc(
+        ConicKind::Hyperbolic,
+        [0.0; 3],
+        [3.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        -1.0,
+        1.5,
+    )
+    .unwrap()
+    .0;
+    let parabola = parabola_arc([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], -2.0, 3.0).unwrap();
+    // A line with a pole in the middle (a 2-pole line moved is still a line).
+    let line = nurbsx::nurbs::conic::polyline(
+        &[[0.0, 0.0, 0.0], [0.5, 1.0, 1.5], [1.0, 2.0, 3.0]],
+        &[0.0, 0.5, 1.0],
+    )
+    .unwrap();
+    let cases: Vec<(Shape, Geometry, &str)> = vec![
+        (
+            Shape::CircularArc,
+            Geometry::Curve(circle.clone()),
+            "CIRCULAR_ARC",
+        ),
+        (Shape::EllipticArc, Geometry::Curve(ellipse), "ELLIPTIC_ARC"),
+        (
+            Shape::HyperbolicArc,
+            Geometry::Curve(hyperbola),
+            "HYPERBOLIC_ARC",
+        ),
+        (
+            Shape::ParabolicArc,
+            Geometry::Curve(parabola),
+            "PARABOLIC_ARC",
+        ),
+        (Shape::Line, Geometry::Curve(line), "POLYLINE_FORM"),
+        (
+            Shape::Plane,
+            Geometry::Surface(sweep::plane(&f, (0.0, 2.0), (-1.0, 1.0)).unwrap()),
+            "PLANE_SURF",
+        ),
+        (
+            Shape::Cylinder,
+            Geometry::Surface(sweep::cylinder(&f, 2.0, (0.5, 4.0), (0.0, 3.0)).unwrap().0),
+            "CYLINDRICAL_SURF",
+        ),
+        (
+            Shape::Cone,
+            Geometry::Surface(
+                sweep::cone(&f, 2.0, 0.3, (0.0, TAU), (-1.0, 3.0))
+                    .unwrap()
+                    .0,
+            ),
+            "CONICAL_SURF",
+        ),
+        (
+            Shape::Sphere,
+            Geometry::Surface(
+                sweep::sphere(
+                    &f,
+                    2.0,
+                    (0.0, TAU),
+                    (-1.5707963267948966, 1.5707963267948966),
+                )
+                .unwrap()
+                .0,
+            ),
+            "SPHERICAL_SURF",
+        ),
+        (
+            Shape::Torus,
+            Geometry::Surface(
+                sweep::torus(&f, 5.0, 1.0, (0.0, 3.0), (0.0, TAU))
+                    .unwrap()
+                    .0,
+            ),
+            "TOROIDAL_SURF",
+        ),
+        (
+            Shape::Revolution,
+            Geometry::Surface(
+                sweep::revolve(&circle, [0.0; 3], [0.0, 0.0, 1.0], 0.0, 2.0)
+                    .unwrap()
+                    .0,
+            ),
+            "SURF_OF_REVOLUTION",
+        ),
+        (
+            Shape::Extrusion,
+            Geometry::Surface(sweep::extrude(&circle, [1.0, 1.0, 0.0], 0.0, 2.0).unwrap()),
+            "SURF_OF_LINEAR_EXTRUSION",
+        ),
+    ];
+    let entity = |shape: Shape, g: Geometry| Entity {
+        id: "#1".into(),
+        geometry: g,
+        source: Source::default(),
+        meta: Meta {
+            shape: Some(shape),
+            ..Meta::default()
+        },
+    };
+    for (shape, g, form) in cases {
+        assert_eq!(check_shape(shape, &g), Ok(()), "{shape:?}");
+        let mut doc = Document::new(nurbsx::exchange::Format::Step, LengthUnit::Mm);
+        doc.entities.push(entity(shape, g.clone()));
+        let text = exchange::step::write(&doc, &ExportOptions::default()).unwrap();
+        assert!(text.contains(&format!(".{form}.")), "{shape:?}: {text}");
+        assert!(exchange::step::form_warnings(&doc).is_empty());
+        // One pole moved by 1e-6 of the size: no longer that kind. (Any planar polynomial
+        // quadratic is a parabola: the parabola gets a middle weight 1 + 1e-6 instead.)
+        let moved = match g {
+            Geometry::Curve(c) if shape == Shape::ParabolicArc => {
+                let (p, k, pts, _, dim) = c.into_parts();
+                let w = vec![1.0, 1.0 + 1e-6, 1.0];
+                Geometry::Curve(NurbsCurve::with_dimension(p, k, pts, Some(w), dim).unwrap())
+            }
+            Geometry::Curve(c) => {
+                let size = nurbsx::nurbs::bounding_box_diagonal(c.control_points());
+                let (p, k, mut pts, w, dim) = c.into_parts();
+                let i = pts.len() / 2;
+                pts[i][2] += 1e-6 * size;
+                pts[i][0] += 1e-6 * size;
+                Geometry::Curve(NurbsCurve::with_dimension(p, k, pts, w, dim).unwrap())
+            }
+            Geometry::Surface(s) => {
+                let size = nurbsx::nurbs::bounding_box_diagonal(s.control_points().as_slice());
+                let (pu, pv, ku, kv, net, w, dim) = s.into_parts();
+                let mut flat = net.as_slice().to_vec();
+                let i = flat.len() / 2 + 1;
+                flat[i][0] += 1e-6 * size;
+                flat[i][1] += 1e-6 * size;
+                flat[i][2] += 1e-6 * size;
+                let net = nurbsx::nurbs::Grid::from_u_major(net.nu(), net.nv(), flat).unwrap();
+                Geometry::Surface(
+                    NurbsSurface::with_dimension(pu, pv, ku, kv, net, w, dim).unwrap(),
+                )
+            }
+        };
+        assert!(
+            check_shape(shape, &moved).is_err(),
+            "{shape:?} moved still passes"
+        );
+        doc.entities[0] = entity(shape, moved);
+        let text = exchange::step::write(&doc, &ExportOptions::default()).unwrap();
+        assert!(!text.contains(&format!(".{form}.")), "{shape:?}");
+        let w = exchange::step::form_warnings(&doc);
+        assert_eq!(w.len(), 1, "{shape:?}");
+        assert_eq!(w[0].code, "step.form_unspecified");
+    }
+}

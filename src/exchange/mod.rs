@@ -18,6 +18,7 @@ mod diagnostic;
 mod document;
 pub mod iges;
 mod options;
+pub mod shape_check;
 pub mod step;
 #[cfg(test)]
 pub(crate) mod test_documents;

@@ -271,7 +271,15 @@ pub fn write(
 /// a model-space curve in the plane z = 0, i.e. as stray geometry. So 2-D curves are not
 /// written to IGES (warning `pcurve_not_written`). STEP keeps them, in a separate 2-D
 /// representation that nurbsx reads back and CAD systems ignore.
+///
+/// STEP: an entity whose declared kind (a circle, a cylinder...) its geometry does not
+/// agree with is written with `.UNSPECIFIED.` form, with a warning each
+/// (`exchange::step::form_warnings`).
 pub fn drop_unwritable(doc: &mut Document, format: Format) {
+    if format == Format::Step {
+        let warnings = crate::exchange::step::form_warnings(doc);
+        doc.diagnostics.extend(warnings);
+    }
     if format != Format::Iges {
         return;
     }

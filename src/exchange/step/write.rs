@@ -31,8 +31,9 @@ use nurbsx_parsers::step::{Body, Builder, Parameter, Record, StepString};
 
 use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
+use crate::exchange::shape_check::check_shape;
 use crate::exchange::{
-    Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, StepSchema,
+    Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, Shape, StepSchema,
 };
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
 
@@ -445,7 +446,7 @@ fn write_curve(
         name: Some(StepString::from_text(e.meta.name.as_deref().unwrap_or(""))),
         degree: i64::try_from(c.degree()).unwrap_or(i64::MAX),
         control_points: (first..cid).collect(),
-        curve_form: form_name(e.meta.form.as_ref(), CURVE_FORMS),
+        curve_form: checked_form(e).unwrap_or("UNSPECIFIED"),
         closed_curve: curve_closed(c).into(),
         self_intersect: e.meta.self_intersect.unwrap_or(false).into(),
         knots,
@@ -492,7 +493,7 @@ fn write_surface(
         u_degree: i64::try_from(sf.degree_u()).unwrap_or(i64::MAX),
         v_degree: i64::try_from(sf.degree_v()).unwrap_or(i64::MAX),
         control_points: rows,
-        surface_form: form_name(e.meta.form.as_ref(), SURFACE_FORMS),
+        surface_form: checked_form(e).unwrap_or("UNSPECIFIED"),
         u_closed: closed_u.into(),
         v_closed: closed_v.into(),
         self_intersect: e.meta.self_intersect.unwrap_or(false).into(),
@@ -729,37 +730,82 @@ fn occt_translates(form: KnotForm, rational: bool, dims: &[(usize, usize)]) -> b
     }
 }
 
-/// An enumeration value from metadata when it is one of `allowed`, else `UNSPECIFIED`.
-fn form_name(meta: Option<&String>, allowed: &[&'static str]) -> &'static str {
-    let upper = meta.map(|m| m.to_ascii_uppercase()).unwrap_or_default();
-    allowed
+/// The kind an entity is labelled with: `meta.shape`, else the `curve_form`/`surface_form`
+/// it was read with (`meta.form`).
+fn declared_shape(e: &Entity) -> Option<Shape> {
+    if e.meta.shape.is_some() {
+        return e.meta.shape;
+    }
+    let form = e.meta.form.as_deref()?.to_ascii_lowercase();
+    FORMS
         .iter()
-        .find(|a| **a == upper)
-        .copied()
-        .unwrap_or("UNSPECIFIED")
+        .find(|(_, name)| name.eq_ignore_ascii_case(&form))
+        .map(|(shape, _)| *shape)
 }
 
-const CURVE_FORMS: &[&str] = &[
-    "POLYLINE_FORM",
-    "CIRCULAR_ARC",
-    "ELLIPTIC_ARC",
-    "PARABOLIC_ARC",
-    "HYPERBOLIC_ARC",
-    "UNSPECIFIED",
+/// ISO 10303-42 `b_spline_curve_form` / `b_spline_surface_form` of each [`Shape`].
+const FORMS: &[(Shape, &str)] = &[
+    (Shape::Line, "POLYLINE_FORM"),
+    (Shape::Polyline, "POLYLINE_FORM"),
+    (Shape::CircularArc, "CIRCULAR_ARC"),
+    (Shape::EllipticArc, "ELLIPTIC_ARC"),
+    (Shape::ParabolicArc, "PARABOLIC_ARC"),
+    (Shape::HyperbolicArc, "HYPERBOLIC_ARC"),
+    (Shape::Plane, "PLANE_SURF"),
+    (Shape::Cylinder, "CYLINDRICAL_SURF"),
+    (Shape::Cone, "CONICAL_SURF"),
+    (Shape::Sphere, "SPHERICAL_SURF"),
+    (Shape::Torus, "TOROIDAL_SURF"),
+    (Shape::Revolution, "SURF_OF_REVOLUTION"),
+    (Shape::Extrusion, "SURF_OF_LINEAR_EXTRUSION"),
+    (Shape::Ruled, "RULED_SURF"),
 ];
-const SURFACE_FORMS: &[&str] = &[
-    "PLANE_SURF",
-    "CYLINDRICAL_SURF",
-    "CONICAL_SURF",
-    "SPHERICAL_SURF",
-    "TOROIDAL_SURF",
-    "SURF_OF_REVOLUTION",
-    "RULED_SURF",
-    "GENERALISED_CONE",
-    "QUADRIC_SURF",
-    "SURF_OF_LINEAR_EXTRUSION",
-    "UNSPECIFIED",
-];
+
+/// The form to write: the declared kind's form when the geometry check
+/// ([`check_shape`]) agrees; `Err` with the reason when a kind is declared and the
+/// geometry disagrees; `Ok("UNSPECIFIED")` when nothing is declared.
+fn form_of(e: &Entity) -> Result<&'static str, String> {
+    let declared = match declared_shape(e) {
+        Some(s) => s,
+        None => {
+            return match e.meta.form.as_deref() {
+                Some(f) if !f.eq_ignore_ascii_case("unspecified") => Err(format!(
+                    "form .{}. has no check in nurbsx",
+                    f.to_ascii_uppercase()
+                )),
+                _ => Ok("UNSPECIFIED"),
+            };
+        }
+    };
+    check_shape(declared, &e.geometry)?;
+    FORMS
+        .iter()
+        .find(|(s, _)| *s == declared)
+        .map(|(_, f)| *f)
+        .ok_or_else(|| format!("{declared:?} has no STEP form"))
+}
+
+fn checked_form(e: &Entity) -> Option<&'static str> {
+    form_of(e).ok()
+}
+
+/// One warning per entity whose declared kind (`meta.shape`, or the form it was read with)
+/// the geometry does not agree with: the STEP writer writes `.UNSPECIFIED.` for it.
+pub fn form_warnings(document: &Document) -> Vec<Diagnostic> {
+    document
+        .entities
+        .iter()
+        .filter_map(|e| {
+            form_of(e).err().map(|why| {
+                Diagnostic::warning(
+                    "step.form_unspecified",
+                    format!("curve_form/surface_form written as .UNSPECIFIED.: {why}"),
+                    Location::at_entity(e.id.clone()),
+                )
+            })
+        })
+        .collect()
+}
 
 /// The current UTC time as `YYYY-MM-DDTHH:MM:SS` (civil-from-days, H. Hinnant's algorithm).
 fn now_iso8601() -> String {
