@@ -64,8 +64,8 @@ fn knot_lists(knots: &[f64]) -> (Parameter<'static>, Parameter<'static>) {
     (Parameter::integers(&mults), Parameter::reals(&values))
 }
 
-fn form_of(meta: Option<&String>, allowed: &[&'static str]) -> Parameter<'static> {
-    Parameter::Enumeration(form_name(meta, allowed))
+fn form_param(e: &Entity) -> Parameter<'static> {
+    Parameter::Enumeration(checked_form(e).unwrap_or("UNSPECIFIED"))
 }
 
 fn name_of(e: &Entity) -> Parameter<'static> {
@@ -91,7 +91,7 @@ fn curve(
     let bspline = vec![
         Parameter::Integer(degree),
         Parameter::refs(&pts),
-        form_of(e.meta.form.as_ref(), CURVE_FORMS),
+        form_param(e),
         Parameter::logical(closed),
         Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
     ];
@@ -151,7 +151,7 @@ fn surface(
         Parameter::Integer(du),
         Parameter::Integer(dv),
         Parameter::List(rows),
-        form_of(e.meta.form.as_ref(), SURFACE_FORMS),
+        form_param(e),
         Parameter::logical(closed_u),
         Parameter::logical(closed_v),
         Parameter::logical(e.meta.self_intersect.unwrap_or(false)),
