@@ -581,3 +581,246 @@ fn writer_forms_follow_a_check_of_the_geometry() {
         assert_eq!(w[0].code, "step.form_unspecified");
     }
 }
+
+/// A STEP file around `data` with a millimetre length unit and, when `degrees`, a DEGREE
+/// plane-angle unit (ISO 10303-41 conversion_based_unit), else RADIAN.
+fn step_text(data: &str, degrees: bool) -> String {
+    let angle = if degrees {
+        "#902=( CONVERSION_BASED_UNIT('DEGREE',#903) NAMED_UNIT(#905) PLANE_ANGLE_UNIT() );\n\
+         #903=PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925199433),#904);\n\
+         #904=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );\n\
+         #905=DIMENSIONAL_EXPONENTS(0.,0.,0.,0.,0.,0.,0.);\n"
+    } else {
+        "#902=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );\n"
+    };
+    format!(
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n{data}\n\
+         #900=( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNIT_ASSIGNED_CONTEXT((#901,#902)) REPRESENTATION_CONTEXT('','') );\n\
+         #901=( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\n{angle}ENDSEC;\nEND-ISO-10303-21;\n"
+    )
+}
+
+fn read_text(text: &str) -> Document {
+    exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap()
+}
+
+fn only_curve(doc: &Document) -> &NurbsCurve {
+    let cs: Vec<&NurbsCurve> = doc
+        .entities
+        .iter()
+        .filter_map(|e| match &e.geometry {
+            Geometry::Curve(c) => Some(c),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(cs.len(), 1, "{:?}", doc.diagnostics);
+    cs[0]
+}
+
+fn close(a: Point3, b: Point3, tol: f64) -> bool {
+    norm(sub(a, b)) <= tol
+}
+
+/// Circle of radius 2 about (1, 0, 0) in the xy plane: `C + 2 (cos t, sin t, 0)`.
+const CIRCLE: &str = "#1=CARTESIAN_POINT('',(1.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CIRCLE('',#4,2.);\n";
+
+fn on_circle(t: f64) -> Point3 {
+    [1.0 + 2.0 * t.cos(), 2.0 * t.sin(), 0.0]
+}
+
+#[test]
+fn circle_trimmed_in_degrees_is_exactly_its_arc() {
+    let doc = read_text(&step_text(
+        &format!(
+            "{CIRCLE}#6=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(30.)),(PARAMETER_VALUE(300.)),.T.,.PARAMETER.);"
+        ),
+        true,
+    ));
+    let c = only_curve(&doc);
+    let (a, b) = c.domain();
+    assert!(
+        (a - 30f64.to_radians()).abs() < 1e-15 && (b - 300f64.to_radians()).abs() < 1e-14,
+        "{a} {b}"
+    );
+    let m = conic_arc(
+        ConicKind::Elliptic,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        a,
+        b,
+    )
+    .unwrap()
+    .1;
+    for k in 0..=20 {
+        let t = a + (b - a) * k as f64 / 20.0;
+        assert!(
+            close(c.point_at(m.to_nurbs(t)).unwrap(), on_circle(t), 1e-14),
+            "t = {t}"
+        );
+    }
+    assert_eq!(doc.entities[0].meta.shape, Some(Shape::CircularArc));
+}
+
+/// sense_agreement .F.: the arc from trim_1 backwards to trim_2, i.e. 300 -> 390 degrees
+/// traversed from 30 down to -60.
+#[test]
+fn sense_agreement_false_runs_backwards_over_the_seam() {
+    let doc = read_text(&step_text(
+        &format!(
+            "{CIRCLE}#6=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(30.)),(PARAMETER_VALUE(300.)),.F.,.PARAMETER.);"
+        ),
+        true,
+    ));
+    let c = only_curve(&doc);
+    let (a, b) = c.domain();
+    assert!((b - a - 90f64.to_radians()).abs() < 1e-14);
+    assert!(close(
+        c.point_at(a).unwrap(),
+        on_circle(30f64.to_radians()),
+        1e-14
+    ));
+    assert!(close(
+        c.point_at(b).unwrap(),
+        on_circle(-60f64.to_radians()),
+        1e-14
+    ));
+    // u' = a + b - u: the middle of the domain is the middle of the arc (one symmetric
+    // 90-degree segment), at -15 degrees.
+    assert!(close(
+        c.point_at(0.5 * (a + b)).unwrap(),
+        on_circle(-15f64.to_radians()),
+        1e-14
+    ));
+}
+
+/// A line trimmed by points only (master CARTESIAN): the exact inverse `t = (P - pnt).dir /
+/// |dir|^2` with a vector of magnitude 2.
+#[test]
+fn line_trimmed_by_points_uses_the_exact_inverse() {
+    let doc = read_text(&step_text(
+        "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(1.,0.,0.));\n#3=VECTOR('',#2,2.);\n#4=LINE('',#1,#3);\n#5=CARTESIAN_POINT('',(2.,0.,0.));\n#7=CARTESIAN_POINT('',(6.,0.,0.));\n#6=TRIMMED_CURVE('',#4,(#5),(#7),.T.,.CARTESIAN.);",
+        false,
+    ));
+    let c = only_curve(&doc);
+    assert_eq!(c.domain(), (1.0, 3.0));
+    assert_eq!(c.point_at(1.0).unwrap(), [2.0, 0.0, 0.0]);
+    assert_eq!(c.point_at(3.0).unwrap(), [6.0, 0.0, 0.0]);
+    assert_eq!(c.point_at(2.0).unwrap(), [4.0, 0.0, 0.0]);
+}
+
+/// A composite of a line segment and a quarter circle: one NURBS on [0, 2 + pi/2] (the
+/// segments' parameter lengths), continuous, through both pieces' points.
+#[test]
+fn composite_curve_joins_its_segments_in_sequence() {
+    let doc = read_text(&step_text(
+        &format!(
+            "{CIRCLE}#10=CARTESIAN_POINT('',(3.,-2.,0.));\n#11=DIRECTION('',(0.,1.,0.));\n#12=VECTOR('',#11,1.);\n#13=LINE('',#10,#12);\n\
+         #14=TRIMMED_CURVE('',#13,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(2.)),.T.,.PARAMETER.);\n\
+         #15=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.5707963267948966)),.T.,.PARAMETER.);\n\
+         #16=COMPOSITE_CURVE_SEGMENT(.CONTINUOUS.,.T.,#14);\n#17=COMPOSITE_CURVE_SEGMENT(.CONTINUOUS.,.T.,#15);\n\
+         #18=COMPOSITE_CURVE('',(#16,#17),.F.);"
+        ),
+        false,
+    ));
+    let c = only_curve(&doc);
+    let (a, b) = c.domain();
+    assert_eq!(a, 0.0);
+    assert!((b - (2.0 + std::f64::consts::FRAC_PI_2)).abs() < 1e-15);
+    assert!(close(c.point_at(0.0).unwrap(), [3.0, -2.0, 0.0], 1e-15));
+    assert!(close(c.point_at(1.0).unwrap(), [3.0, -1.0, 0.0], 1e-15));
+    assert!(close(c.point_at(2.0).unwrap(), on_circle(0.0), 1e-15));
+    assert!(close(
+        c.point_at(b).unwrap(),
+        on_circle(std::f64::consts::FRAC_PI_2),
+        1e-14
+    ));
+    assert_eq!(doc.entities[0].source.entity, "COMPOSITE_CURVE");
+}
+
+/// A rectangular trim of a cylinder in degrees: u 0..90 degrees, v 0..5.
+#[test]
+fn rectangular_trimmed_cylinder_in_degrees() {
+    let doc = read_text(&step_text(
+        "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=DIRECTION('',(1.,0.,0.));\n#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);\n#5=CYLINDRICAL_SURFACE('',#4,3.);\n#6=RECTANGULAR_TRIMMED_SURFACE('',#5,0.,90.,0.,5.,.T.,.T.);",
+        true,
+    ));
+    let s: Vec<&NurbsSurface> = doc
+        .entities
+        .iter()
+        .filter_map(|e| match &e.geometry {
+            Geometry::Surface(s) => Some(s),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(s.len(), 1, "{:?}", doc.diagnostics);
+    let ((u0, u1), (v0, v1)) = s[0].domain();
+    assert_eq!((u0, v0, v1), (0.0, 0.0, 5.0));
+    assert!((u1 - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    assert!(close(
+        s[0].point_at(u1, 5.0).unwrap(),
+        [0.0, 3.0, 5.0],
+        1e-14
+    ));
+    assert_eq!(doc.entities[0].meta.shape, Some(Shape::Cylinder));
+}
+
+/// An unbounded line nothing uses: one warning naming it, no entity, no invented extent.
+/// An offset curve: one error naming it.
+#[test]
+fn unbounded_and_unrepresentable_geometry_is_reported_per_entity() {
+    let doc = read_text(&step_text(
+        &format!(
+            "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(1.,0.,0.));\n#3=VECTOR('',#2,1.);\n#4=LINE('',#1,#3);\n{}\
+         #20=OFFSET_CURVE_3D('',#5,1.,.F.,#2);",
+            CIRCLE
+                .replace("#1=", "#21=")
+                .replace("(#1,", "(#21,")
+                .replace("#4=AXIS", "#24=AXIS")
+                .replace("#5=CIRCLE('',#4", "#5=CIRCLE('',#24")
+        ),
+        false,
+    ));
+    assert!(doc.entities.iter().all(|e| e.source.entity != "LINE"));
+    let unbounded: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "geometry.unbounded")
+        .collect();
+    assert_eq!(unbounded.len(), 1, "{:?}", doc.diagnostics);
+    assert_eq!(unbounded[0].severity, Severity::Warning);
+    assert_eq!(unbounded[0].location.entity.as_deref(), Some("#4"));
+    let offset: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "geometry.unsupported")
+        .collect();
+    assert_eq!(offset.len(), 1, "{:?}", doc.diagnostics);
+    assert_eq!(offset[0].location.entity.as_deref(), Some("#20"));
+}
+
+/// An edge over an unbounded line with same_sense .F.: the segment between the vertices
+/// in the line's own direction (from the end vertex to the start vertex).
+#[test]
+fn edge_over_a_line_is_bounded_by_its_vertices() {
+    let doc = read_text(&step_text(
+        "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,1.,0.));\n#3=VECTOR('',#2,1.);\n#4=LINE('',#1,#3);\n\
+         #5=CARTESIAN_POINT('',(0.,7.,0.));\n#6=CARTESIAN_POINT('',(0.,-2.,0.));\n#7=VERTEX_POINT('',#5);\n#8=VERTEX_POINT('',#6);\n\
+         #9=EDGE_CURVE('',#7,#8,#4,.F.);",
+        false,
+    ));
+    let c = only_curve(&doc);
+    assert_eq!(c.domain(), (-2.0, 7.0));
+    assert_eq!(doc.entities[0].meta.used_by, vec!["#9".to_owned()]);
+}
+
+/// A trimmed curve whose basis is itself (a reference cycle): a located error, no hang.
+#[test]
+fn self_referencing_trim_is_refused() {
+    let doc = read_text(&step_text(
+        "#6=TRIMMED_CURVE('',#6,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.)),.T.,.PARAMETER.);",
+        false,
+    ));
+    assert!(doc.entities.is_empty());
+    assert!(doc.has_errors());
+}

@@ -1478,6 +1478,42 @@ impl<'a> Converter<'_, '_, 'a> {
                 _ => {}
             }
         }
+        // A curve or surface built on itself (directly or through others) would be
+        // consumed and never converted: such reference cycles are reported (the ones through
+        // trimmed, composite and rectangular trimmed entities, followed by the scanner's
+        // iterative search; a surface curve on itself is a self-reference, converted and
+        // refused by the nesting limit).
+        consumed.retain(|id| {
+            !matches!(
+                self.items.get(id).map(|i| &i.record),
+                Some(R::TrimmedCurve { basis_curve: c, .. } | R::SurfaceCurve { curve_3d: c, .. }) if c == id
+            )
+        });
+        let builders: Vec<u64> = order
+            .iter()
+            .copied()
+            .filter(|id| {
+                matches!(
+                    self.items[id].record,
+                    R::TrimmedCurve { .. }
+                        | R::CompositeCurve { .. }
+                        | R::CompositeCurveSegment { .. }
+                        | R::RectangularTrimmedSurface { .. }
+                )
+            })
+            .collect();
+        for e in self.s.find_cycles(builders) {
+            out.diagnostics.push(Diagnostic::error(
+                "step.reference_cycle",
+                e.kind.to_string(),
+                Location {
+                    line: Some(e.line),
+                    column: Some(e.column),
+                    entity: e.entity.map(|id| format!("#{id}")),
+                    ..Location::default()
+                },
+            ));
+        }
         // B-splines are consumed only where this module builds them into something else.
         out.consumed_bsplines
             .retain(|id| !self.items.contains_key(id) && self.s.get(*id).is_some());
