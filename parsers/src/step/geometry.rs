@@ -384,13 +384,21 @@ impl<'a> GeometryItem<'a> {
     /// Reads an instance of one of [`GEOMETRY_ENTITIES`] (simple or complex); `Ok(None)`
     /// when it is none of them.
     pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Option<Self>, SchemaError> {
-        if let Body::Simple(r) = &inst.body {
-            if !is_geometry_entity(r.keyword) {
-                return Ok(None);
+        // A simple instance is its keyword's entity; a complex one the most specific
+        // geometry partial it holds.
+        let simple = match &inst.body {
+            Body::Simple(r) => {
+                let name = canonical_name(r.keyword);
+                match GEOMETRY_ENTITIES.iter().find(|e| **e == name) {
+                    Some(e) => Some(*e),
+                    None => return Ok(None),
+                }
             }
-        }
+            Body::Complex(_) => None,
+        };
         let a = Attributes::of(inst, at)?;
-        let Some(&entity) = GEOMETRY_ENTITIES.iter().find(|e| a.has(e)) else {
+        let Some(entity) = simple.or_else(|| GEOMETRY_ENTITIES.iter().copied().find(|e| a.has(e)))
+        else {
             return Ok(None);
         };
         use GeometryRecord as R;
@@ -565,7 +573,17 @@ impl<'a> Scanned<'a> {
         raw: &RawInstance<'a>,
     ) -> Result<Option<GeometryItem<'a>>, DecodeError> {
         let inst = self.decode(raw)?;
-        Ok(GeometryItem::from_instance(&inst, self.at(raw))?)
+        // The line and column are looked up only for an error (finding them counts the
+        // lines before the instance, a visible cost when every instance is decoded).
+        let at = At {
+            id: raw.id,
+            line: 0,
+            column: 0,
+        };
+        GeometryItem::from_instance(&inst, at).map_err(|e| {
+            let (line, column) = self.locate(raw.offset);
+            DecodeError::Schema(SchemaError { line, column, ..e })
+        })
     }
 }
 

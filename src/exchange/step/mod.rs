@@ -2,8 +2,11 @@
 //!
 //! [`read()`] turns every ISO 10303-42 B-spline curve and surface of an AP203/AP214/AP242
 //! file (any subtype, rational or not, simple or complex instances, 2-D pcurves included)
-//! into [`Entity`](super::Entity)s, with the file's length unit; [`write()`] produces a file
-//! Open CASCADE / FreeCAD imports (spec.md c.5).
+//! and every line, conic, polyline, trimmed, composite and surface curve, elementary and
+//! swept surface and rectangular trimmed surface (`geometry`: exact NURBS, bounded by their
+//! use, parameter maps in README) into [`Entity`](super::Entity)s, with the file's length
+//! and plane-angle units; [`write()`] produces a file Open CASCADE / FreeCAD imports
+//! (spec.md c.5), labelling each entity's form only when [`form_warnings`]'s check agrees.
 //!
 //! Diagnostic codes emitted here:
 //!
@@ -23,7 +26,13 @@
 //! | `flag_mismatch` | warning (info for `.F.` on closed geometry) | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
 //! | `units` | info | the file's length unit |
 //! | `units_converted` | info | coordinates scaled to the requested unit |
-//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units |
+//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units; no plane-angle unit (radians assumed) |
+//! | `geometry.unbounded` | warning | an unbounded line, parabola, hyperbola or surface that no trim, edge or face bounds: not represented |
+//! | `geometry.unsupported` | error | an OFFSET_CURVE/OFFSET_SURFACE (no exact rational form), or a point trim on a B-spline without a parameter |
+//! | `pcurve.not_converted` | warning | analytic parameter-space curves of PCURVEs (one diagnostic listing them) |
+//! | `trim.parameter_outside` | warning | a trim parameter outside an open B-spline basis's domain (the trim point at a basis end, or the clamped value, is used) |
+//! | `limit.nesting_depth` | error | curves or surfaces built on each other more than 16 levels deep |
+//! | `step.form_unspecified` | warning (writer) | an entity's declared kind disagrees with its geometry: written `.UNSPECIFIED.` |
 
 mod geometry;
 mod implicit;

@@ -1,5 +1,6 @@
-//! STEP file -> [`Document`]: every B-spline curve and surface, the length unit, and
-//! located diagnostics (module table in [`super`]).
+//! STEP file -> [`Document`]: every B-spline curve and surface, the other ISO 10303-42
+//! geometry through `geometry.rs`, the length and plane-angle units, and located
+//! diagnostics (module table in [`super`]).
 
 use nurbsx_parsers::step::schema::{
     BSpline, BSplineCurve, BSplineSurface, DecodeError, KnotSpec, Logical, canonical_name,
@@ -10,12 +11,10 @@ use nurbsx_parsers::step::{
 
 use rayon::prelude::*;
 
-use std::collections::HashMap;
-
 use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity};
 
 use super::closure_tolerance;
-use super::geometry::Converter;
+use super::geometry::{Converter, Items};
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_plane_angle, context_units};
 use crate::exchange::{
@@ -23,10 +22,12 @@ use crate::exchange::{
 };
 use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 
-/// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42).
+/// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42) and
+/// its analytic, trimmed, composite and swept geometry.
 ///
 /// Per-entity problems give an error diagnostic and the entity is skipped; the rest of the
-/// file is ignored without comment. `Err` only when the file structure is broken (no
+/// file (products, presentation, topology beyond what bounds the geometry) is ignored
+/// without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
@@ -73,7 +74,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         .par_iter()
         .map(|raw| (raw.id, scanned.geometry_item(raw)))
         .collect();
-    let mut items: HashMap<u64, GeometryItem<'_>> = HashMap::with_capacity(decoded.len());
+    let mut items: Items<'_> = Items::default();
+    items.reserve(decoded.len());
     for (id, r) in decoded {
         match r {
             Ok(Some(item)) => {
@@ -226,7 +228,9 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
 fn maybe_geometry(raw: &RawInstance<'_>) -> bool {
     match raw.keyword() {
         Some(k) => is_geometry_entity(k),
-        None => !raw.body.contains("GLOBAL_UNIT_ASSIGNED_CONTEXT"),
+        // Complex instances that are contexts or units (most of a B-rep's: one per pcurve)
+        // hold no geometry partial.
+        None => !(raw.body.contains("REPRESENTATION_CONTEXT") || raw.body.contains("_UNIT")),
     }
 }
 
