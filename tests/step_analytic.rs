@@ -492,7 +492,7 @@ fn writer_forms_follow_a_check_of_the_geometry() {
                     &f,
                     2.0,
                     (0.0, TAU),
-                    (-1.5707963267948966, 1.5707963267948966),
+                    (-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2),
                 )
                 .unwrap()
                 .0,

@@ -377,11 +377,12 @@ fn sphere(s: &NurbsSurface) -> Result<(), String> {
         if a[col][col].abs() < f64::MIN_POSITIVE {
             return Err("degenerate point set".into());
         }
-        for r in 0..4 {
+        let pivot_row = a[col];
+        for (r, row) in a.iter_mut().enumerate() {
             if r != col {
-                let f = a[r][col] / a[col][col];
-                for c in col..5 {
-                    a[r][c] -= f * a[col][c];
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row.iter_mut().zip(pivot_row.iter()).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
