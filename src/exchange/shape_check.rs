@@ -25,23 +25,11 @@
 //! - `Ruled`: degree 1 in v.
 
 use super::Shape;
+use crate::nurbs::derivatives::{cross, dot, norm};
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
 
 fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Relative tolerance of every check.

@@ -30,6 +30,7 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
+use crate::nurbs::derivatives::{cross, dot, norm, scale as mul};
 use crate::nurbs::sweep::{self, Frame};
 use crate::nurbs::{
     Geometry, GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal,
@@ -45,22 +46,6 @@ fn add(a: Point3, b: Point3) -> Point3 {
 }
 fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn mul(a: Point3, s: f64) -> Point3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
 }
 /// ISO 10303-42 `normalise`: `None` for a zero (or non-finite) vector.
 fn normalise(a: Point3) -> Option<Point3> {
@@ -494,6 +479,18 @@ impl<'a> Converter<'_, '_, 'a> {
         Diagnostic::error(code, message, self.location(id))
     }
 
+    /// An OFFSET_CURVE/OFFSET_SURFACE: refused, located at the entity.
+    fn unsupported(&self, id: u64, item: &GeometryItem<'_>) -> Diagnostic {
+        self.error(
+            id,
+            "geometry.unsupported",
+            format!(
+                "{} has no exact rational form; not represented",
+                item.entity
+            ),
+        )
+    }
+
     fn geometry_error(&self, id: u64, e: GeometryError) -> Diagnostic {
         self.error(id, "geometry.invalid", e.to_string())
     }
@@ -737,16 +734,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 bspline: None,
             },
             R::SurfaceCurve { curve_3d, .. } => self.basis(*curve_3d, id, depth + 1)?,
-            R::Offset { .. } => {
-                return Err(self.error(
-                    id,
-                    "geometry.unsupported",
-                    format!(
-                        "{} has no exact rational form; not represented",
-                        item.entity
-                    ),
-                ));
-            }
+            R::Offset { .. } => return Err(self.unsupported(id, item)),
             _ => {
                 return Err(self.error(
                     from,
@@ -1073,16 +1061,7 @@ impl<'a> Converter<'_, '_, 'a> {
             R::RectangularTrimmedSurface { .. } => {
                 SurfaceBasis::Nurbs(self.rectangular_trimmed(id, item, depth)?.0)
             }
-            R::Offset { .. } => {
-                return Err(self.error(
-                    id,
-                    "geometry.unsupported",
-                    format!(
-                        "{} has no exact rational form; not represented",
-                        item.entity
-                    ),
-                ));
-            }
+            R::Offset { .. } => return Err(self.unsupported(id, item)),
             _ => {
                 return Err(self.error(
                     from,
@@ -1718,17 +1697,7 @@ impl<'a> Converter<'_, '_, 'a> {
                     Err(d) => (None, Some(d)),
                 }
             }
-            R::Offset { .. } => (
-                None,
-                Some(self.error(
-                    id,
-                    "geometry.unsupported",
-                    format!(
-                        "{} has no exact rational form; not represented",
-                        item.entity
-                    ),
-                )),
-            ),
+            R::Offset { .. } => (None, Some(self.unsupported(id, item))),
             _ => (None, None),
         }
     }

@@ -128,28 +128,9 @@ pub(super) fn resolve_length(
                 ..
             } => {
                 names.push(name.decode_lossy().into_owned());
-                let mraw = s.get(conversion_factor).ok_or_else(|| {
-                    format!("conversion factor #{conversion_factor} of #{current} is not defined")
-                })?;
-                let minst = s.decode(mraw).map_err(|e| e.to_string())?;
-                let (line, column) = s.locate(mraw.offset);
-                let m = MeasureWithUnit::from_instance(
-                    &minst,
-                    At {
-                        id: conversion_factor,
-                        line,
-                        column,
-                    },
-                )
-                .map_err(|e| e.to_string())?;
-                if !(m.value.is_finite() && m.value > 0.0) {
-                    return Err(format!(
-                        "conversion factor #{conversion_factor} is {} (must be > 0)",
-                        m.value
-                    ));
-                }
-                factor *= m.value;
-                current = m.unit;
+                let (value, unit) = conversion(s, conversion_factor, current)?;
+                factor *= value;
+                current = unit;
             }
             Unit::Other {
                 length,
@@ -164,6 +145,23 @@ pub(super) fn resolve_length(
             }
         }
     }
+}
+
+/// The factor and the base unit of a conversion-based unit's `conversion_factor` (a
+/// MEASURE_WITH_UNIT, ISO 10303-41); the factor must be > 0.
+fn conversion(s: &Scanned<'_>, id: u64, of: u64) -> Result<(f64, u64), String> {
+    let mraw = s
+        .get(id)
+        .ok_or_else(|| format!("conversion factor #{id} of #{of} is not defined"))?;
+    let minst = s.decode(mraw).map_err(|e| e.to_string())?;
+    let m = MeasureWithUnit::from_instance(&minst, s.at(mraw)).map_err(|e| e.to_string())?;
+    if !(m.value.is_finite() && m.value > 0.0) {
+        return Err(format!(
+            "conversion factor #{id} is {} (must be > 0)",
+            m.value
+        ));
+    }
+    Ok((m.value, m.unit))
 }
 
 /// A unit problem: the context's id, its byte offset, and the message.
@@ -286,20 +284,9 @@ pub(super) fn resolve_plane_angle(
                     return Ok(None);
                 }
                 first_name.get_or_insert_with(|| name.decode_lossy().into_owned());
-                let mraw = s.get(conversion_factor).ok_or_else(|| {
-                    format!("conversion factor #{conversion_factor} of #{current} is not defined")
-                })?;
-                let minst = s.decode(mraw).map_err(|e| e.to_string())?;
-                let m = MeasureWithUnit::from_instance(&minst, s.at(mraw))
-                    .map_err(|e| e.to_string())?;
-                if !(m.value.is_finite() && m.value > 0.0) {
-                    return Err(format!(
-                        "conversion factor #{conversion_factor} is {} (must be > 0)",
-                        m.value
-                    ));
-                }
-                factor *= m.value;
-                current = m.unit;
+                let (value, unit) = conversion(s, conversion_factor, current)?;
+                factor *= value;
+                current = unit;
             }
             Unit::Other { .. } => return Ok(None),
         }
