@@ -278,6 +278,35 @@ fn every_analytic_step_sample_matches_freecad() {
                 _ => None,
             })
             .collect();
+        // Every curve bounded by nurbsx (a trim or an edge's vertices) ends where one of
+        // FreeCAD's edges ends: the bounds were applied exactly, not only the shape.
+        let ends: Vec<Point3> = reading["edges"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|e| e["vertices"].as_array().unwrap().iter().map(v3))
+            .collect();
+        for e in &doc.entities {
+            let Geometry::Curve(c) = &e.geometry else {
+                continue;
+            };
+            if c.dimension() != 3 || e.source.entity.starts_with("B_SPLINE") {
+                continue;
+            }
+            let (a, b) = c.domain();
+            for p in [c.point_at(a).unwrap(), c.point_at(b).unwrap()] {
+                let d = ends
+                    .iter()
+                    .map(|q| norm(sub(p, *q)))
+                    .fold(f64::INFINITY, f64::min);
+                if d > 1e-9 * size {
+                    failures.push(format!(
+                        "{name}: {} ({}) ends {d:e} away from every FreeCAD vertex",
+                        e.id, e.source.entity
+                    ));
+                }
+            }
+        }
         let mut worst = [0.0f64; 3];
         for e in reading["edges"].as_array().unwrap() {
             if e["degenerated"].as_bool() == Some(true) {

@@ -852,6 +852,24 @@ impl<'a> Converter<'_, '_, 'a> {
             }
             (_, Some(v), point) => {
                 let t = from_param(v);
+                // Both given and the parameter's point is not the trim point: writers
+                // differ on parameter conventions (Open CASCADE writes a parabola's trims in
+                // its own parameter, 2 f times ISO 10303-42's), a point is unambiguous. The
+                // exact inverse of the point is used, and said.
+                if let (Some(p), false) = (point, matches!(basis, Basis::Nurbs { .. })) {
+                    let q = self.point(p, id)?;
+                    let off = norm(sub(basis.point(t), q));
+                    if let (true, Some(e)) = (off > 1e-7 * (1.0 + norm(q)), basis.inverse(q)) {
+                        if let Ok(mut w) = self.warnings.lock() {
+                            w.push(Diagnostic::warning(
+                                "trim.parameter_mismatch",
+                                format!("trim parameter {v} gives a point {off:e} away from trim point #{p}; the point's exact parameter {e} is used"),
+                                self.location(id),
+                            ));
+                        }
+                        return Ok(e);
+                    }
+                }
                 // A parameter outside an open B-spline basis's domain cannot be a value of
                 // its parameter (files that re-parameterised the basis but kept old trims);
                 // a trim point at one of its ends is exact and used instead, and said.
