@@ -109,6 +109,11 @@ pub struct Meta {
     /// subtype the knots were synthesised for (`bezier`, `uniform`, `quasi_uniform`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub knot_spec: Option<String>,
+    /// What the geometry was in the source file (a circle, a cylinder ...), kept through
+    /// conversion; writers map it to STEP `curve_form`/`surface_form` and to IGES 126 forms
+    /// 1-5 / 128 forms 1-8 when the geometry agrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Shape>,
     /// IGES 126 `V(0), V(1)` / 128 `U(0), U(1), V(0), V(1)`: the parameter range the file
     /// declares (kept; geometry is trimmed to it only on request).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -133,4 +138,38 @@ pub struct ParameterRange {
     /// `(start, end)` in v, for surfaces.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub v: Option<(f64, f64)>,
+}
+
+/// The format-neutral kind of a source curve or surface that nurbsx converted to NURBS.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// A line segment.
+    Line,
+    /// A polyline.
+    Polyline,
+    /// A circle or circular arc.
+    CircularArc,
+    /// An ellipse or elliptic arc.
+    EllipticArc,
+    /// A parabolic arc.
+    ParabolicArc,
+    /// A hyperbolic arc.
+    HyperbolicArc,
+    /// A plane.
+    Plane,
+    /// A right circular cylinder.
+    Cylinder,
+    /// A right circular cone.
+    Cone,
+    /// A sphere.
+    Sphere,
+    /// A torus.
+    Torus,
+    /// A surface of revolution.
+    Revolution,
+    /// A surface of linear extrusion (tabulated cylinder).
+    Extrusion,
+    /// A ruled surface.
+    Ruled,
 }

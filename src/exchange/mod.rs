@@ -26,7 +26,7 @@ pub(crate) mod test_files;
 mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
-pub use document::{Document, Entity, Meta, ParameterRange, Source};
+pub use document::{Document, Entity, Meta, ParameterRange, Shape, Source};
 pub use options::{ExportOptions, ImportOptions, StepSchema};
 pub use units::LengthUnit;
 

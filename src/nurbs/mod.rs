@@ -27,6 +27,9 @@
 //!   periodic <-> open.
 //! - [`elevate`], [`reduce`]: degree elevation (A5.9, A5.10) and reduction (A5.11).
 //! - [`transform`]: affine maps (IGES 124), reversal, reparameterisation, isoparametric curves.
+//! - [`conic`], [`sweep`]: exact constructions: lines, polylines, conic arcs (A7.1) with the
+//!   exact map between the conic's parameter and the NURBS parameter; surfaces of revolution
+//!   (A8.1), extrusions, ruled surfaces and the ISO 10303-42 quadrics.
 //! - [`tessellate`]: adaptive tessellation of curves (osculating-circle rule, seed 004) and
 //!   surfaces.
 
@@ -35,6 +38,7 @@ pub mod batch;
 pub mod bernstein;
 pub mod bezier;
 pub mod clamp;
+pub mod conic;
 pub mod curve;
 pub mod derivatives;
 pub mod differential;
@@ -51,6 +55,7 @@ pub mod remove;
 pub mod serde_form;
 pub mod split;
 pub mod surface;
+pub mod sweep;
 pub mod tessellate;
 pub mod transform;
 
