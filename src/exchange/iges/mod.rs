@@ -18,7 +18,10 @@
 
 mod analysis;
 mod chain;
+mod curves;
 mod read;
+mod surfaces;
+mod vector;
 mod write;
 
 pub use read::read;
