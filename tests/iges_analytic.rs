@@ -313,3 +313,238 @@ fn circles_conics_and_lines_match_freecad() {
         assert_eq!(check_curves(name, entity), 1, "{name}");
     }
 }
+
+/// The largest point error (absolute) and derivative error (relative) of `s` against
+/// FreeCAD's samples of one face under the maps `mu`, `mv`.
+fn surface_errors(
+    s: &NurbsSurface,
+    samples: &[Value],
+    mu: &Map,
+    mv: &Map,
+    size: f64,
+) -> (f64, f64) {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (mut ep, mut ed) = (0.0f64, 0.0f64);
+    for x in samples {
+        let (u, du, ddu) = mu.apply(f(&x["u"]));
+        let (v, dv, ddv) = mv.apply(f(&x["v"]));
+        let eps = 1e-9 * (u1 - u0).abs().max(v1 - v0).max(1.0);
+        if !(u0 - eps..=u1 + eps).contains(&u) || !(v0 - eps..=v1 + eps).contains(&v) {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        let d = s.derivatives(u.clamp(u0, u1), v.clamp(v0, v1), 2).unwrap();
+        ep = ep.max(norm(sub(d[0][0], p3(&x["point"]))));
+        // Relative to the larger vector, or to the model size where a derivative vanishes
+        // (the u derivatives at a cone's apex or a sphere's poles).
+        let floor = size;
+        let want = [
+            (lin(d[1][0], du, [0.0; 3], 0.0), "su"),
+            (lin(d[0][1], dv, [0.0; 3], 0.0), "sv"),
+            (lin(d[2][0], du * du, d[1][0], ddu), "suu"),
+            (lin(d[1][1], du * dv, [0.0; 3], 0.0), "suv"),
+            (lin(d[0][2], dv * dv, d[0][1], ddv), "svv"),
+        ];
+        for (mine, key) in want {
+            ed = ed.max(rel(mine, p3(&x[key]), floor));
+        }
+    }
+    (ep, ed)
+}
+
+/// Angle maps `t = sigma x + delta`: both orientations, origins a multiple of a quarter
+/// turn apart, or at either end of nurbsx's range (Open CASCADE starts a surface of
+/// revolution's angle at its start angle).
+fn angle_maps(ends: &[f64], period: f64) -> Vec<Map> {
+    let mut out = Vec::new();
+    let (lo, hi) = (ends[0], ends[ends.len() - 1]);
+    for sigma in [1.0, -1.0] {
+        for base in [0.0, lo, hi] {
+            for k in -4..=4 {
+                out.push(Map {
+                    sigma,
+                    delta: base + f64::from(k) * std::f64::consts::FRAC_PI_2,
+                    arc: Some(ends.to_vec()),
+                    hyperbolic: false,
+                    period,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Candidate maps of a FreeCAD profile (generatrix / directrix) parameter onto nurbsx's.
+fn profile_maps(curve: &Value, ends: &[f64]) -> Vec<Map> {
+    match curve["type"].as_str().unwrap_or("") {
+        "Part.LineSegment" => {
+            // 110: nurbsx's [0, 1] from P1 to P2; Open CASCADE's t is the arc length from P1.
+            let (a, b) = (f(&curve["first_parameter"]), f(&curve["last_parameter"]));
+            vec![Map::affine(1.0 / (b - a), -a / (b - a))]
+        }
+        "Part.ArcOfCircle" | "Part.Circle" => angle_maps(ends, std::f64::consts::TAU),
+        _ => vec![Map::affine(1.0, 0.0)],
+    }
+}
+
+/// Every FreeCAD face of the given types matches a nurbsx surface of `entity` type; planes
+/// are checked for lying in nurbsx's plane (their frames are chosen independently).
+fn check_faces(name: &str, entity: &str, types: &[&str]) -> usize {
+    let (doc, json, defect) = load(name);
+    let size = size_of(&json);
+    let mine: Vec<&NurbsSurface> = doc
+        .entities
+        .iter()
+        .filter(|e| e.source.entity == entity)
+        .filter_map(|e| match &e.geometry {
+            Geometry::Surface(s) => Some(s),
+            Geometry::Curve(_) => None,
+        })
+        .collect();
+    let (tp, td) = ((1e-12 + 10.0 * defect) * size, 1e-9 + 10.0 * defect);
+    let mut checked = 0;
+    for face in json["faces"].as_array().unwrap() {
+        let surf = &face["surface"];
+        let ty = surf["type"].as_str().unwrap_or("");
+        if !types.contains(&ty) {
+            continue;
+        }
+        let samples = face["samples"].as_array().unwrap();
+        let mut best = (f64::INFINITY, f64::INFINITY);
+        for s in &mine {
+            let eu = segment_ends(s.knots_u());
+            let ev = segment_ends(s.knots_v());
+            let tau = std::f64::consts::TAU;
+            let (mus, mvs): (Vec<Map>, Vec<Map>) = match ty {
+                "Part.Cylinder" => (angle_maps(&eu, tau), vec![Map::affine(1.0, 0.0)]),
+                "Part.Cone" => {
+                    // Open CASCADE's v runs along the generatrix; ISO 10303-42's (nurbsx's)
+                    // along the axis: v' = v cos(semi-angle).
+                    let c = f(&surf["semi_angle"]).cos();
+                    (angle_maps(&eu, tau), vec![Map::affine(c, 0.0)])
+                }
+                "Part.Sphere" => (angle_maps(&eu, tau), angle_maps(&ev, 0.0)),
+                "Part.Toroid" => (angle_maps(&eu, tau), angle_maps(&ev, tau)),
+                "Part.SurfaceOfRevolution" => (
+                    angle_maps(&eu, tau),
+                    profile_maps(&surf["basis_curve"], &ev),
+                ),
+                "Part.SurfaceOfExtrusion" => {
+                    // nurbsx's v in [0, 1] along L - C(start); FreeCAD's v is a length.
+                    let r = face["range"].as_array().unwrap();
+                    let len = f(&r[3]) - f(&r[2]);
+                    (
+                        vec![Map::affine(1.0, 0.0)],
+                        vec![Map::affine(1.0 / len, 0.0)],
+                    )
+                }
+                "Part.Plane" => {
+                    // Distance of every sample from nurbsx's plane, and FreeCAD's tangents
+                    // in it.
+                    let ((u0, _), (v0, _)) = s.domain();
+                    let d = s.derivatives(u0, v0, 1).unwrap();
+                    let n = {
+                        let (a, b) = (d[1][0], d[0][1]);
+                        let c = [
+                            a[1] * b[2] - a[2] * b[1],
+                            a[2] * b[0] - a[0] * b[2],
+                            a[0] * b[1] - a[1] * b[0],
+                        ];
+                        lin(c, 1.0 / norm(c), [0.0; 3], 0.0)
+                    };
+                    let dot = |a: Point3, b: Point3| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+                    let mut e = (0.0f64, 0.0f64);
+                    for x in samples {
+                        e.0 = e.0.max(dot(sub(p3(&x["point"]), d[0][0]), n).abs());
+                        for key in ["su", "sv"] {
+                            e.1 = e.1.max(dot(p3(&x[key]), n).abs() / norm(p3(&x[key])));
+                        }
+                    }
+                    if e.0 < best.0 {
+                        best = e;
+                    }
+                    continue;
+                }
+                _ => continue,
+            };
+            for mu in &mus {
+                for mv in &mvs {
+                    let e = surface_errors(s, samples, mu, mv, size);
+                    if e.0 < best.0 || (e.0 == best.0 && e.1 < best.1) {
+                        best = e;
+                    }
+                }
+            }
+        }
+        assert!(
+            best.0 <= tp && best.1 <= td,
+            "{name}: {ty} face {}: point error {:e} (size {size}, 124 defect {defect:e}), derivative error {:e}",
+            face["index"],
+            best.0,
+            best.1
+        );
+        eprintln!(
+            "{name}: {ty}: point error {:.1e} x size, derivative error {:.1e} (124 defect {defect:.1e})",
+            best.0 / size,
+            best.1
+        );
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn quadrics_revolutions_extrusions_and_planes_match_freecad() {
+    let cases: [(&str, &str, &[&str], usize); 12] = [
+        ("cylinder_full_brep.igs", "192", &["Part.Cylinder"], 1),
+        ("cylinder_full_brep.igs", "190", &["Part.Plane"], 2),
+        ("cone_brep.igs", "194", &["Part.Cone"], 1),
+        ("cone_frustum_brep.igs", "194", &["Part.Cone"], 1),
+        ("sphere_brep.igs", "196", &["Part.Sphere"], 1),
+        ("torus_brep.igs", "198", &["Part.Toroid"], 1),
+        (
+            "revolution_bspline.igs",
+            "120",
+            &["Part.SurfaceOfRevolution"],
+            1,
+        ),
+        ("cylinder_full.igs", "120", &["Part.SurfaceOfRevolution"], 1),
+        ("cylinder_full.igs", "108", &["Part.Plane"], 2),
+        ("sphere.igs", "120", &["Part.SurfaceOfRevolution"], 1),
+        ("torus.igs", "120", &["Part.SurfaceOfRevolution"], 1),
+        (
+            "extrusion_ellipse.igs",
+            "122",
+            &["Part.SurfaceOfExtrusion"],
+            1,
+        ),
+    ];
+    for (name, entity, types, n) in cases {
+        assert_eq!(check_faces(name, entity, types), n, "{name}");
+    }
+}
+
+/// The part of the issue: a box with fillets and a hole (planes, cylinders, spheres) in both
+/// IGES modes converts without errors, with one surface per FreeCAD face.
+#[test]
+fn filleted_box_with_hole_converts() {
+    for (name, faces) in [
+        ("filleted_box_with_hole.igs", 27),
+        ("filleted_box_with_hole_brep.igs", 27),
+    ] {
+        let (doc, json, _) = load(name);
+        assert_eq!(json["faces"].as_array().unwrap().len(), faces);
+        let surfaces = doc
+            .entities
+            .iter()
+            .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
+            .count();
+        assert_eq!(surfaces, faces, "{name}");
+        assert!(
+            !doc.diagnostics
+                .iter()
+                .any(|d| d.severity == Severity::Warning),
+            "{name}: {:#?}",
+            doc.diagnostics
+        );
+    }
+}
