@@ -548,3 +548,556 @@ fn filleted_box_with_hole_converts() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Hand-made entities: expected geometry from the entity's own definition.
+
+const GLOBAL: &str = ",,4Htest,8Hfile.igs,6Hnurbsx,3H0.1,32,38,6,308,15,,1.,2,2HMM,1,0.01,15H20260101.120000,1.E-7,100.,,,11,0,15H20260101.120000,;";
+
+fn de(ty: i64, form: i64) -> De<'static> {
+    De {
+        ty,
+        form,
+        ..De::default()
+    }
+}
+
+fn read(text: &str, options: &ImportOptions) -> Document {
+    exchange::iges::read(text, options).unwrap()
+}
+
+fn entity<'d>(doc: &'d Document, id: &str) -> &'d exchange::Entity {
+    doc.entities
+        .iter()
+        .find(|e| e.id == id)
+        .unwrap_or_else(|| panic!("no {id}: {:#?}", doc.diagnostics))
+}
+
+fn curve_of<'d>(doc: &'d Document, id: &str) -> &'d NurbsCurve {
+    match &entity(doc, id).geometry {
+        Geometry::Curve(c) => c,
+        Geometry::Surface(_) => panic!("{id} is a surface"),
+    }
+}
+
+fn surface_of<'d>(doc: &'d Document, id: &str) -> &'d NurbsSurface {
+    match &entity(doc, id).geometry {
+        Geometry::Surface(s) => s,
+        Geometry::Curve(_) => panic!("{id} is a curve"),
+    }
+}
+
+fn diag<'d>(doc: &'d Document, code: &str, id: &str) -> &'d exchange::Diagnostic {
+    doc.diagnostics
+        .iter()
+        .find(|d| d.code == code && d.location.entity.as_deref() == Some(id))
+        .unwrap_or_else(|| panic!("no {code} on {id}: {:#?}", doc.diagnostics))
+}
+
+/// `sum c[k] s^k` and its first two derivatives.
+fn poly(c: &[f64], s: f64) -> (f64, f64, f64) {
+    let mut v = (0.0, 0.0, 0.0);
+    for (k, &a) in c.iter().enumerate() {
+        let k = k as i32;
+        v.0 += a * s.powi(k);
+        if k >= 1 {
+            v.1 += f64::from(k) * a * s.powi(k - 1);
+        }
+        if k >= 2 {
+            v.2 += f64::from(k * (k - 1)) * a * s.powi(k - 2);
+        }
+    }
+    v
+}
+
+/// 112: the NURBS equals the power series evaluated directly, with its first and second
+/// derivatives, at the IGES parameter itself (identity map), on both segments.
+#[test]
+fn parametric_spline_curve_112_is_its_power_series() {
+    let t = [0.0, 1.5, 4.0];
+    let seg: [[[f64; 4]; 3]; 2] = [
+        [
+            [1.0, 2.0, -0.5, 0.25],
+            [0.0, 1.0, 0.5, -0.125],
+            [3.0, 0.0, 0.0, 0.0],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [3.0, 0.5, 0.0, 0.0],
+        ],
+    ];
+    // The second segment starts where the first ends (C0 at least): fill its constants and
+    // first derivatives from the first segment at s = 1.5, then add its own curvature.
+    let mut seg = seg;
+    for axis in 0..2 {
+        let (v, d, _) = poly(&seg[0][axis], 1.5);
+        seg[1][axis] = [v, d, 0.3 * (axis as f64 + 1.0), -0.05];
+    }
+    let end: Vec<f64> = (0..3).map(|a| poly(&seg[1][a], 2.5).0).collect();
+    let coeffs: Vec<String> = seg
+        .iter()
+        .flatten()
+        .flatten()
+        .map(|x| format!("{x:e}"))
+        .collect();
+    let params = format!(
+        "112,3,1,3,2,{},{},{},{},{:e},0.,0.,0.,{:e},0.,0.,0.,{:e},0.,0.,0.;",
+        t[0],
+        t[1],
+        t[2],
+        coeffs.join(","),
+        end[0],
+        end[1],
+        end[2]
+    )
+    .replace("112,3,1,3,2,0,1.5,4,", "112,3,1,3,2,0.,1.5,4.,");
+    let mut b = Builder::new(GLOBAL);
+    b.entity(de(112, 0), &params);
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let c = curve_of(&doc, "D1");
+    assert_eq!(c.domain(), (0.0, 4.0));
+    for k in 0..=40 {
+        let u = 4.0 * f64::from(k) / 40.0;
+        let i = usize::from(u >= 1.5);
+        let s = u - t[i];
+        let d = c.derivatives(u, 2).unwrap();
+        for axis in 0..3 {
+            let (v, d1, d2) = poly(&seg[i][axis], s);
+            assert!(
+                (d[0][axis] - v).abs() <= 1e-13 * 10.0,
+                "u={u} axis {axis}: {} vs {v}",
+                d[0][axis]
+            );
+            assert!(
+                (d[1][axis] - d1).abs() <= 1e-12 * 10.0,
+                "u={u}: d1 {} vs {d1}",
+                d[1][axis]
+            );
+            if k % 10 != 6 {
+                // (u = 1.5 is the break point: the second derivative may jump there)
+                assert!(
+                    (d[2][axis] - d2).abs() <= 1e-11 * 10.0,
+                    "u={u}: d2 {} vs {d2}",
+                    d[2][axis]
+                );
+            }
+        }
+    }
+    assert!(!doc.diagnostics.iter().any(|d| d.code == "spline_terminate"));
+}
+
+/// 114: the NURBS equals the bicubic power series of each patch, evaluated directly.
+#[test]
+fn parametric_spline_surface_114_is_its_power_series() {
+    // M = 2 patches in u (break points 0, 1, 3), N = 1 in v (0, 2). Patch 1 is a general
+    // bicubic; patch 2 has its own coefficients (a jump at u = 1 is allowed, and the
+    // shared boundary is taken from patch 1, so patch 2 is made to continue it in value).
+    let tu = [0.0, 1.0, 3.0];
+    let tv = [0.0, 2.0];
+    let mut p1 = [[0.0f64; 16]; 3];
+    for (axis, c) in p1.iter_mut().enumerate() {
+        for (k, x) in c.iter_mut().enumerate() {
+            *x = ((k * 7 + axis * 3) % 11) as f64 / 10.0 - 0.4;
+        }
+    }
+    // Patch 2 at s = 0 must equal patch 1 at s = 1 for every t: its t-polynomial
+    // coefficients (a = 0) are patch 1's summed over a; the rest is its own.
+    let mut p2 = [[0.0f64; 16]; 3];
+    for axis in 0..3 {
+        for bt in 0..4 {
+            p2[axis][4 * bt] = (0..4).map(|a| p1[axis][4 * bt + a]).sum();
+            for a in 1..4 {
+                p2[axis][4 * bt + a] = 0.1 * (a + bt + axis) as f64;
+            }
+        }
+    }
+    let eval = |c: &[f64; 16], s: f64, t: f64| -> f64 {
+        (0..16)
+            .map(|k| c[k] * s.powi((k % 4) as i32) * t.powi((k / 4) as i32))
+            .sum()
+    };
+    let mut values = vec![format!("114,3,1,2,1,0.,1.,3.,0.,2.")];
+    for p in [p1, p2] {
+        for axis in p {
+            values.extend(axis.iter().map(|x| format!("{x:e}")));
+        }
+        values.extend(std::iter::repeat_n("0.".to_owned(), 48)); // the arbitrary patch (i, N+1)
+    }
+    values.extend(std::iter::repeat_n("0.".to_owned(), 96)); // the arbitrary row M + 1
+    let params = values.join(",") + ";";
+    let mut b = Builder::new(GLOBAL);
+    b.entity(de(114, 0), &params);
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let s = surface_of(&doc, "D1");
+    assert_eq!(s.domain(), ((0.0, 3.0), (0.0, 2.0)));
+    for i in 0..=12 {
+        for j in 0..=6 {
+            let (u, v) = (3.0 * f64::from(i) / 12.0, 2.0 * f64::from(j) / 6.0);
+            let (patch, su) = if u < 1.0 {
+                (&p1, u - tu[0])
+            } else {
+                (&p2, u - tu[1])
+            };
+            let p = s.point_at(u, v).unwrap();
+            for axis in 0..3 {
+                let want = eval(&patch[axis], su, v - tv[0]);
+                assert!(
+                    (p[axis] - want).abs() <= 1e-12 * 10.0,
+                    "({u}, {v}) axis {axis}: {} vs {want}",
+                    p[axis]
+                );
+            }
+        }
+    }
+}
+
+/// 104 in general position (rotated, translated): every point of the NURBS satisfies the
+/// file's implicit equation, the ends are the file's points, and a form number that
+/// contradicts the coefficients is reported.
+#[test]
+fn conic_104_in_general_position_satisfies_its_equation() {
+    // Ellipse (x'/3)^2 + (y'/2)^2 = 1 rotated by 0.4 rad about (1, -2).
+    let (a2, b2, th, cx, cy) = (9.0f64, 4.0f64, 0.4f64, 1.0f64, -2.0f64);
+    let (c, s) = (th.cos(), th.sin());
+    // x' = c (x - cx) + s (y - cy), y' = -s (x - cx) + c (y - cy).
+    let qa = c * c / a2 + s * s / b2;
+    let qb = 2.0 * c * s * (1.0 / a2 - 1.0 / b2);
+    let qc = s * s / a2 + c * c / b2;
+    let qd = -2.0 * qa * cx - qb * cy;
+    let qe = -2.0 * qc * cy - qb * cx;
+    let qf = qa * cx * cx + qb * cx * cy + qc * cy * cy - 1.0;
+    let at = |t: f64| {
+        let (xp, yp) = (3.0 * t.cos(), 2.0 * t.sin());
+        (cx + c * xp - s * yp, cy + s * xp + c * yp)
+    };
+    let (p0, p1) = (at(0.3), at(2.5));
+    let coeff = [qa, qb, qc, qd, qe, qf];
+    let body = |form_pts: (f64, f64, f64, f64)| {
+        let v: Vec<String> = coeff.iter().map(|x| format!("{x:e}")).collect();
+        format!(
+            "104,{},0.5,{:e},{:e},{:e},{:e};",
+            v.join(","),
+            form_pts.0,
+            form_pts.1,
+            form_pts.2,
+            form_pts.3
+        )
+    };
+    let mut b = Builder::new(GLOBAL);
+    b.entity(de(104, 1), &body((p0.0, p0.1, p1.0, p1.1)));
+    b.entity(de(104, 2), &body((p0.0, p0.1, p1.0, p1.1))); // wrong form: 2 = hyperbola
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    for id in ["D1", "D3"] {
+        let curve = curve_of(&doc, id);
+        let (d0, d1) = curve.domain();
+        for k in 0..=50 {
+            let u = d0 + (d1 - d0) * f64::from(k) / 50.0;
+            let p = curve.point_at(u).unwrap();
+            let (x, y) = (p[0], p[1]);
+            let implicit = qa * x * x + qb * x * y + qc * y * y + qd * x + qe * y + qf;
+            assert!(implicit.abs() <= 1e-13, "{id} u={u}: {implicit:e}");
+            assert_eq!(p[2], 0.5);
+        }
+        let (s0, s1) = (curve.point_at(d0).unwrap(), curve.point_at(d1).unwrap());
+        assert!(
+            (s0[0] - p0.0).abs() < 1e-13 && (s0[1] - p0.1).abs() < 1e-13,
+            "{s0:?}"
+        );
+        assert!(
+            (s1[0] - p1.0).abs() < 1e-13 && (s1[1] - p1.1).abs() < 1e-13,
+            "{s1:?}"
+        );
+        // Counterclockwise from the start: the NURBS passes the conic's point at t = 1.4.
+        let mid = at(1.4);
+        let hit = (0..=2000).any(|k| {
+            let p = curve
+                .point_at(d0 + (d1 - d0) * f64::from(k) / 2000.0)
+                .unwrap();
+            (p[0] - mid.0).hypot(p[1] - mid.1) < 1e-2
+        });
+        assert!(
+            hit,
+            "{id}: the arc does not run counterclockwise from the start"
+        );
+    }
+    assert!(
+        diag(&doc, "form_mismatch", "D3")
+            .message
+            .contains("ellipse")
+    );
+    assert_eq!(
+        entity(&doc, "D1").meta.shape,
+        Some(exchange::Shape::EllipticArc)
+    );
+}
+
+/// 118 form 1 with two lines is the bilinear patch `(1 - v) L1(u) + v L2(u)` (L2 reversed
+/// when DIRFLG = 1); form 0 over B-spline rails and a line paired with an arc are refused
+/// with a located error.
+#[test]
+fn ruled_surface_118() {
+    let mut b = Builder::new(GLOBAL);
+    let l1 = b.entity(de(110, 0), "110,0.,0.,0.,4.,0.,0.;"); // D1
+    let l2 = b.entity(de(110, 0), "110,0.,3.,1.,6.,3.,1.;"); // D3
+    let r1 = b.entity(de(118, 1), &format!("118,{l1},{l2},0,0;")); // D5
+    let r2 = b.entity(de(118, 1), &format!("118,{l1},{l2},1,0;")); // D7
+    let arc = b.entity(de(100, 0), "100,0.,0.,0.,1.,0.,0.,1.;"); // D9
+    let r3 = b.entity(de(118, 1), &format!("118,{l1},{arc},0,0;")); // D11
+    let bs = b.entity(
+        de(126, 0),
+        "126,1,1,0,0,1,0,0.,0.,1.,1.,1.,1.,0.,0.,0.,1.,1.,0.,0.,1.;",
+    ); // D13
+    let r4 = b.entity(de(118, 0), &format!("118,{bs},{l2},0,0;")); // D15
+    let r5 = b.entity(de(118, 0), &format!("118,{l1},{l2},0,0;")); // D17: lines, form 0
+    let doc = read(&b.build(), &ImportOptions::default());
+    let line = |a: Point3, b: Point3, t: f64| lin(a, 1.0 - t, b, t);
+    let (a1, b1, a2, b2) = (
+        [0.0, 0.0, 0.0],
+        [4.0, 0.0, 0.0],
+        [0.0, 3.0, 1.0],
+        [6.0, 3.0, 1.0],
+    );
+    for (id, reversed) in [(r1, false), (r2, true), (r5, false)] {
+        let s = surface_of(&doc, &format!("D{id}"));
+        for i in 0..=4 {
+            for j in 0..=4 {
+                let (u, v) = (f64::from(i) / 4.0, f64::from(j) / 4.0);
+                let q1 = line(a1, b1, u);
+                let q2 = if reversed {
+                    line(a2, b2, 1.0 - u)
+                } else {
+                    line(a2, b2, u)
+                };
+                let want = lin(q1, 1.0 - v, q2, v);
+                assert!(
+                    norm(sub(s.point_at(u, v).unwrap(), want)) < 1e-14,
+                    "D{id} ({u}, {v})"
+                );
+            }
+        }
+    }
+    assert_eq!(
+        diag(&doc, "ruled.parameterisation", &format!("D{r3}")).severity,
+        Severity::Error
+    );
+    assert_eq!(
+        diag(&doc, "ruled.arc_length", &format!("D{r4}")).severity,
+        Severity::Error
+    );
+}
+
+/// Unbounded and inexact entities are never silent: one located diagnostic each.
+#[test]
+fn unbounded_and_inexact_entities_are_reported() {
+    let mut b = Builder::new(GLOBAL);
+    let p = b.entity(de(116, 0), "116,0.,0.,0.;"); // D1
+    let z = b.entity(de(123, 0), "123,0.,0.,1.;"); // D3
+    let cyl = b.entity(de(192, 0), &format!("192,{p},{z},2.;")); // D5: no use
+    let ray = b.entity(de(110, 1), "110,0.,0.,0.,1.,0.,0.;"); // D7
+    let flash = b.entity(de(125, 0), "125,0.,0.,1.,1.,0.,0,0;"); // D9
+    let offset = b.entity(de(130, 0), "130,7,1,0,0,0,1.,0.,0.,0.,0.,0.,0.,1.,0.,1.;"); // D11
+    let points = b.entity(de(106, 1), "106,1,2,0.,1.,2.,3.,4.;"); // D13
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(doc.entities.is_empty(), "{:#?}", doc.entities);
+    for (code, id) in [
+        ("unbounded.not_represented", cyl),
+        ("unbounded.not_represented", ray),
+        ("no_exact_form", flash),
+        ("no_exact_form", offset),
+        ("points.not_represented", points),
+    ] {
+        assert_eq!(
+            diag(&doc, code, &format!("D{id}")).severity,
+            Severity::Warning
+        );
+    }
+}
+
+/// A cylinder used by a 144 whose boundaries are two full circles: bounded to the full turn
+/// and exactly the axial range of the circles; the NURBS is the cylinder
+/// `O + r (cos t x + sin t y) + h z` (points on radius 2 about the z axis).
+#[test]
+fn cylinder_192_is_bounded_by_its_use() {
+    let mut b = Builder::new(GLOBAL);
+    let p = b.entity(de(116, 0), "116,0.,0.,0.;"); // D1
+    let z = b.entity(de(123, 0), "123,0.,0.,1.;"); // D3
+    let x = b.entity(de(123, 0), "123,1.,0.,0.;"); // D5
+    let cyl = b.entity(de(192, 1), &format!("192,{p},{z},2.,{x};")); // D7
+    let c0 = b.entity(de(100, 0), "100,-1.,0.,0.,2.,0.,2.,0.;"); // D9: z = -1
+    let c1 = b.entity(de(100, 0), "100,4.,0.,0.,2.,0.,2.,0.;"); // D11: z = 4
+    let k0 = b.entity(de(142, 0), &format!("142,0,{cyl},0,{c0},2;")); // D13
+    let k1 = b.entity(de(142, 0), &format!("142,0,{cyl},0,{c1},2;")); // D15
+    b.entity(de(144, 0), &format!("144,{cyl},1,1,{k0},{k1};"));
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let s = surface_of(&doc, &format!("D{cyl}"));
+    let ((u0, u1), (v0, v1)) = s.domain();
+    assert_eq!((u0, u1), (0.0, std::f64::consts::TAU));
+    assert_eq!((v0, v1), (-1.0, 4.0));
+    for i in 0..=16 {
+        for j in 0..=4 {
+            let (u, v) = (
+                u0 + (u1 - u0) * f64::from(i) / 16.0,
+                v0 + (v1 - v0) * f64::from(j) / 4.0,
+            );
+            let q = s.point_at(u, v).unwrap();
+            assert!(
+                (q[0].hypot(q[1]) - 2.0).abs() < 1e-14 && (q[2] - v).abs() < 1e-14,
+                "{q:?}"
+            );
+        }
+    }
+    // At the knots (multiples of a quarter turn) the NURBS parameter is the angle.
+    let q = s.point_at(std::f64::consts::FRAC_PI_2, 0.0).unwrap();
+    assert!(norm(sub(q, [0.0, 2.0, 0.0])) < 1e-15, "{q:?}");
+    assert_eq!(
+        entity(&doc, &format!("D{cyl}")).meta.shape,
+        Some(exchange::Shape::Cylinder)
+    );
+}
+
+/// A 102 of a line and an arc that join is one curve; its constituents are not emitted on
+/// their own. One that does not join gives its pieces, each once.
+#[test]
+fn composite_102_joins_or_gives_its_pieces_once() {
+    let mut b = Builder::new(GLOBAL);
+    let l = b.entity(de(110, 0), "110,0.,0.,0.,2.,0.,0.;"); // D1
+    let a = b.entity(de(100, 0), "100,0.,2.,1.,2.,0.,3.,1.;"); // D3: quarter arc from (2, 0)
+    let joined = b.entity(de(102, 0), &format!("102,2,{l},{a};")); // D5
+    let l2 = b.entity(de(110, 0), "110,10.,0.,0.,12.,0.,0.;"); // D7
+    let l3 = b.entity(de(110, 0), "110,20.,0.,0.,22.,0.,0.;"); // D9
+    let apart = b.entity(de(102, 0), &format!("102,2,{l2},{l3};")); // D11
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let ids: Vec<&str> = doc.entities.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(
+        ids,
+        vec![format!("D{joined}"), format!("D{l2}"), format!("D{l3}")]
+    );
+    let c = curve_of(&doc, &format!("D{joined}"));
+    let (d0, d1) = c.domain();
+    assert_eq!(c.point_at(d0).unwrap(), [0.0, 0.0, 0.0]);
+    let end = c.point_at(d1).unwrap();
+    assert!(norm(sub(end, [3.0, 1.0, 0.0])) < 1e-15, "{end:?}");
+    // The line's piece keeps its parameter [0, 1]; the arc continues after it.
+    assert_eq!(c.point_at(0.5).unwrap(), [1.0, 0.0, 0.0]);
+    assert!(
+        entity(&doc, &format!("D{l2}"))
+            .meta
+            .used_by
+            .contains(&format!("D{apart}"))
+    );
+    assert!(doc.diagnostics.iter().any(|d| d.code == "composite_pieces"));
+}
+
+/// Cox-de Boor evaluation of a rational B-spline from the file's data (independent of the
+/// library): `sum N_i,p(u) w_i P_i / sum N_i,p(u) w_i`.
+fn de_boor(p: usize, knots: &[f64], poles: &[Point3], weights: &[f64], u: f64) -> Point3 {
+    let n = poles.len();
+    let basis = |i: usize, u: f64| -> f64 {
+        // N_{i,0} with the last span closed at the domain end.
+        let mut nk: Vec<f64> = (0..=p)
+            .map(|j| {
+                let (a, b) = (knots[i + j], knots[i + j + 1]);
+                let last = u == knots[n] && b == knots[n] && a < b;
+                f64::from(u8::from((a <= u && u < b) || last))
+            })
+            .collect();
+        for k in 1..=p {
+            for j in 0..=p - k {
+                let (a, b) = (knots[i + j], knots[i + j + k]);
+                let (c, d) = (knots[i + j + 1], knots[i + j + k + 1]);
+                let left = if b > a {
+                    (u - a) / (b - a) * nk[j]
+                } else {
+                    0.0
+                };
+                let right = if d > c {
+                    (d - u) / (d - c) * nk[j + 1]
+                } else {
+                    0.0
+                };
+                nk[j] = left + right;
+            }
+        }
+        nk[0]
+    };
+    let mut num = [0.0; 3];
+    let mut den = 0.0;
+    for i in 0..n {
+        let b = basis(i, u) * weights[i];
+        den += b;
+        for k in 0..3 {
+            num[k] += b * poles[i][k];
+        }
+    }
+    num.map(|x| x / den)
+}
+
+/// `--trim-to-range`: a 126 with V(0), V(1) inside its domain comes out on exactly
+/// `[V(0), V(1)]` and equals the untrimmed B-spline (evaluated independently) there; a 128
+/// likewise on `U(0)..U(1) x V(0)..V(1)`.
+#[test]
+fn trim_to_range_is_exact() {
+    // Cubic rational curve, 6 poles, knots 0 0 0 0 1 2 3 3 3 3; V = [0.4, 2.7].
+    let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0];
+    let poles: [Point3; 6] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 2.0, 0.5],
+        [3.0, 2.5, -1.0],
+        [4.0, -1.0, 0.0],
+        [6.0, 0.5, 2.0],
+        [7.0, 3.0, 1.0],
+    ];
+    let weights = [1.0, 0.8, 1.5, 1.0, 0.6, 1.0];
+    let mut params = vec!["126,5,3,0,0,0,0".to_owned()];
+    params.extend(knots.iter().map(|k| format!("{k:?}")));
+    params.extend(weights.iter().map(|w| format!("{w:?}")));
+    params.extend(poles.iter().flatten().map(|x| format!("{x:?}")));
+    params.extend(["0.4", "2.7", "0.", "0.", "0."].map(str::to_owned));
+    let curve_params = params.join(",") + ";";
+    let surface_params = "128,2,1,2,1,0,0,1,0,0,0.,0.,0.,1.,1.,1.,0.,0.,1.,1.,1.,1.,1.,1.,1.,1.,0.,0.,0.,1.,0.,1.,2.,0.,0.,0.,1.,0.,1.,1.,1.,2.,1.,0.,0.25,0.75,0.2,0.9;";
+    let mut b = Builder::new(GLOBAL);
+    b.entity(de(126, 0), &curve_params);
+    b.entity(de(128, 0), surface_params);
+    let text = b.build();
+    let trim = ImportOptions {
+        trim_to_parameter_range: true,
+        ..ImportOptions::default()
+    };
+    let doc = read(&text, &trim);
+    let whole = read(&text, &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let c = curve_of(&doc, "D1");
+    assert_eq!(c.domain(), (0.4, 2.7));
+    assert_eq!(curve_of(&whole, "D1").domain(), (0.0, 3.0));
+    for k in 0..=46 {
+        let u = 0.4 + 2.3 * f64::from(k) / 46.0;
+        let want = de_boor(3, &knots, &poles, &weights, u);
+        assert!(norm(sub(c.point_at(u).unwrap(), want)) < 1e-13, "u={u}");
+    }
+    let s = surface_of(&doc, "D3");
+    assert_eq!(s.domain(), ((0.25, 0.75), (0.2, 0.9)));
+    let sw = surface_of(&whole, "D3");
+    for i in 0..=5 {
+        for j in 0..=7 {
+            let (u, v) = (
+                (0.25 + 0.1 * f64::from(i)).min(0.75),
+                (0.2 + 0.1 * f64::from(j)).min(0.9),
+            );
+            let d = norm(sub(s.point_at(u, v).unwrap(), sw.point_at(u, v).unwrap()));
+            assert!(d < 1e-14, "({u}, {v}): {d:e}");
+        }
+    }
+    assert!(
+        doc.diagnostics
+            .iter()
+            .filter(|d| d.code == "trimmed_to_range")
+            .count()
+            == 2
+    );
+}
