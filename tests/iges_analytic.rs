@@ -1101,3 +1101,56 @@ fn trim_to_range_is_exact() {
             == 2
     );
 }
+
+/// The forms written for each kind (IGES 5.3 sections 4.23, 4.24), read back from the
+/// written Directory Entries; a kind whose geometry fails its check is written as form 0
+/// with a warning.
+#[test]
+fn writer_labels_each_kind_with_its_checked_form() {
+    let cases: [(&str, &str, i64); 14] = [
+        ("line_segment.igs", "110", 1),
+        ("circle_full.igs", "100", 2),
+        ("circle_arc_tilted.igs", "100", 2),
+        ("ellipse_arc.igs", "104", 3),
+        ("parabola_arc.igs", "104", 4),
+        ("hyperbola_arc.igs", "104", 5),
+        ("cylinder_full_brep.igs", "190", 1),
+        ("cylinder_full_brep.igs", "192", 2),
+        ("cone_brep.igs", "194", 3),
+        ("sphere_brep.igs", "196", 4),
+        ("torus_brep.igs", "198", 5),
+        ("revolution_bspline.igs", "120", 6),
+        ("extrusion_ellipse.igs", "122", 7),
+        ("cylinder_full.igs", "108", 1),
+    ];
+    for (name, entity, form) in cases {
+        let (doc, _, _) = load(name);
+        let mut one = doc.clone();
+        one.entities.retain(|e| e.source.entity == entity);
+        assert!(!one.entities.is_empty(), "{name}");
+        assert!(exchange::iges::form_warnings(&one).is_empty(), "{name}");
+        let text = exchange::iges::write(&one, &exchange::ExportOptions::default()).unwrap();
+        let file = nurbsx_parsers::iges::parse(&text).unwrap();
+        for e in file.entries.iter().flatten() {
+            assert_eq!(e.form, form, "{name}: {entity}");
+        }
+    }
+    // A ruled surface of two lines (form 8), and a plane labelled as a cylinder (form 0 and
+    // a warning).
+    let mut b = Builder::new(GLOBAL);
+    b.entity(de(110, 0), "110,0.,0.,0.,4.,0.,0.;");
+    b.entity(de(110, 0), "110,0.,3.,1.,6.,3.,1.;");
+    b.entity(de(118, 1), "118,1,3,0,0;");
+    let mut doc = read(&b.build(), &ImportOptions::default());
+    doc.entities.retain(|e| e.source.entity == "118");
+    doc.entities.push(doc.entities[0].clone());
+    doc.entities[1].id = "fake".to_owned();
+    doc.entities[1].meta.shape = Some(exchange::Shape::Cylinder);
+    let warnings = exchange::iges::form_warnings(&doc);
+    assert_eq!(warnings.len(), 1);
+    assert_eq!(warnings[0].location.entity.as_deref(), Some("fake"));
+    let text = exchange::iges::write(&doc, &exchange::ExportOptions::default()).unwrap();
+    let file = nurbsx_parsers::iges::parse(&text).unwrap();
+    let forms: Vec<i64> = file.entries.iter().flatten().map(|e| e.form).collect();
+    assert_eq!(forms, vec![8, 0]);
+}

@@ -19,10 +19,12 @@
 mod analysis;
 mod chain;
 mod curves;
+mod forms;
 mod read;
 mod surfaces;
 mod vector;
 mod write;
 
+pub use forms::form_warnings;
 pub use read::read;
 pub use write::write;
