@@ -9,11 +9,13 @@
 //!
 //! ```text
 //! cli ─┐
-//!      ├─> pipeline ─> exchange ─> nurbs
+//!      ├─> pipeline ─> exchange ─> topology ─> nurbs
 //! service ┘                 └──> nurbsx_parsers (format syntax, separate crate)
 //! ```
 //!
 //! - [`nurbs`]: the model and the algorithms (no formats, no I/O).
+//! - [`topology`]: vertices, edges, loops, faces, shells, solids and assemblies over the
+//!   NURBS geometry, built through checked constructors (no formats, no I/O).
 //! - [`exchange`]: format records <-> model, units, diagnostics, import/export policies.
 //! - [`pipeline`]: the one conversion pipeline that both front ends call.
 //! - [`cli`] and [`service`]: argument parsing and printing; HTTP routing. No logic of their own.
@@ -23,3 +25,4 @@ pub mod exchange;
 pub mod nurbs;
 pub mod pipeline;
 pub mod service;
+pub mod topology;

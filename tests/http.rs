@@ -426,6 +426,19 @@ async fn unknown_formats_and_content_types_are_415() {
         "format.unknown",
     )
     .await;
+    // Content that is recognisably something else is named by what it is.
+    let e = expect_error(
+        app(),
+        post_raw(
+            "/v1/info",
+            Some("application/octet-stream"),
+            "%PDF-1.7\n1 0 obj\n",
+        ),
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "format.other",
+    )
+    .await;
+    assert!(e.to_string().contains("PDF document"), "{e}");
     expect_error(
         app(),
         post_raw("/v1/convert?to=step", Some("image/png"), "\u{89}PNG"),

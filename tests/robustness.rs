@@ -699,3 +699,62 @@ fn every_limit_is_a_flag_and_an_environment_variable() {
     assert_eq!(status, Some(2), "{text}");
     let _ = std::fs::remove_dir_all(&out_dir);
 }
+
+/// Bytes that are neither ASCII nor UTF-8 inside names (a SolidWorks GBK name in STEP, a
+/// Latin-1 author in an IGES Global string) are errors at their line and column, and the
+/// geometry is read all the same, bit for bit equal to the clean file's.
+#[test]
+fn legacy_encoded_names_are_located_errors_and_keep_the_geometry() {
+    let gbk: &[u8] = b"\xd2\xc6\xb6\xaf\xc3\xe6";
+    for (name, needle, column) in [
+        (
+            "curve_deg2_clamped.step",
+            &b"#17 = B_SPLINE_CURVE_WITH_KNOTS('"[..],
+            34,
+        ),
+        ("curve_deg2_clamped.igs", &b"13HFilename.iges"[..], 0),
+    ] {
+        let clean = sample(name);
+        let at = clean
+            .windows(needle.len())
+            .position(|w| w == needle)
+            .unwrap();
+        let mut dirty = clean.clone();
+        let (line, col) = if name.ends_with(".step") {
+            let p = at + needle.len();
+            dirty.splice(p..p, gbk.iter().copied());
+            (30, column)
+        } else {
+            // Same length: three Latin-1 letters over "Fil" keep the 13H count and columns.
+            let p = at + 3;
+            dirty.splice(p..p + 3, b"\xc9\xe9\xe8".iter().copied());
+            let line = clean[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+            (
+                line,
+                p - clean[..p]
+                    .iter()
+                    .rposition(|&b| b == b'\n')
+                    .map_or(0, |q| q + 1)
+                    + 1,
+            )
+        };
+        let (a, b) = (read_doc(&clean), read_doc(&dirty));
+        assert!(!a.entities.is_empty(), "{name}");
+        assert_eq!(a.entities.len(), b.entities.len(), "{name}");
+        for (x, y) in a.entities.iter().zip(&b.entities) {
+            assert_eq!(x.geometry, y.geometry, "{name}");
+        }
+        let d = b
+            .diagnostics
+            .iter()
+            .find(|d| d.code == "encoding.not_utf8")
+            .unwrap_or_else(|| panic!("{name}: {:?}", b.diagnostics));
+        assert_eq!(d.severity, exchange::Severity::Error, "{name}");
+        assert_eq!(
+            (d.location.line, d.location.column),
+            (Some(line), Some(col)),
+            "{name}"
+        );
+        assert!(!a.diagnostics.iter().any(|d| d.code == "encoding.not_utf8"));
+    }
+}

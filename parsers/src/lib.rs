@@ -46,6 +46,7 @@ pub mod grammar;
 pub mod iges;
 pub mod limits;
 pub mod real;
+pub mod signature;
 pub mod step;
 
 pub use limits::Limits;

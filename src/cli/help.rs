@@ -22,7 +22,10 @@ Error codes (in `error[code]` and in JSON as \"code\"), by family:
   insert_knot.multiplicity     2     -     the knot cannot be inserted that often
   io                           2     -     missing file, unreadable or unwritable path
   limit.*                      1     413   a --max-* limit was exceeded (nurbsx help limits)
-  format.unknown               1     415   not STEP, IGES or model JSON
+  format.unknown               1     415   not STEP, IGES or model JSON (says what it starts with)
+  format.empty, format.binary  1     415   an empty file; binary data
+  format.other                 1     415   another format: PDF, DXF, STL, ZIP, gzip, STEP-XML ...
+  encoding.utf16, .utf32       1     415   UTF-16/UTF-32 text (STEP and IGES are 8-bit text)
   format.mismatch, *.syntax,   1     422   unreadable file or invalid geometry
     geometry.invalid, ...
   verify.*                     1     422   the re-read output deviates from the input

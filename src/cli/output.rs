@@ -538,6 +538,14 @@ pub fn rule_description(code: &str) -> String {
     let known = match code {
         "io" => "The file could not be read (missing, unreadable or a folder).",
         "format.unknown" => "The content is neither STEP (ISO 10303-21), IGES 5.3 nor model JSON.",
+        "format.empty" => "The file is empty or holds only whitespace.",
+        "format.binary" => "The file is binary data, not STEP (ISO 10303-21) or IGES 5.3 text.",
+        "format.other" => {
+            "The file is another format (PDF, DXF, STL, ZIP, gzip, STEP-XML ...), named in the message."
+        }
+        "encoding.utf16" | "encoding.utf32" => {
+            "The file is UTF-16/UTF-32 text; STEP (ISO 10303-21 clause 5) and IGES (5.3 section 1.4) are 8-bit text."
+        }
         "format.mismatch" => "The file's declared format contradicts its content.",
         "format.extension" => {
             "The file's extension names another format than its content; it was read by its content."

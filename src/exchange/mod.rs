@@ -27,6 +27,10 @@ mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
 pub use document::{Document, Entity, Meta, ParameterRange, Shape, Source};
+/// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
+pub use nurbsx_parsers::signature::{
+    CODES as NOT_EXCHANGE_CODES, NotExchange, describe as describe_content,
+};
 pub use options::{ExportOptions, ImportOptions, StepSchema};
 pub use units::LengthUnit;
 
@@ -48,17 +52,18 @@ pub fn read(bytes: &[u8], options: &ImportOptions) -> Result<Document, Diagnosti
         ));
     }
     let format = Format::sniff(bytes).ok_or_else(|| {
-        Diagnostic::error(
-            "format.unknown",
-            "neither a STEP file (ISO-10303-21;) nor an IGES file (S/G in column 73)",
-            Location::at_line(1),
-        )
+        let not = describe_content(bytes);
+        Diagnostic::error(not.code, not.what, Location::at_line(1))
     })?;
-    let text = text_of(bytes)?;
-    match format {
-        Format::Step => step::read(text, options),
-        Format::Iges => iges::read(text, options),
+    let (text, encoding) = text_of(bytes);
+    let mut document = match format {
+        Format::Step => step::read(&text, options),
+        Format::Iges => iges::read(&text, options),
+    }?;
+    if !encoding.is_empty() {
+        document.diagnostics.splice(0..0, encoding);
     }
+    Ok(document)
 }
 
 /// Writes a document in the given format.
@@ -73,23 +78,65 @@ pub fn write(
     }
 }
 
-/// Checks that input bytes are UTF-8 text, naming the line and column of the first bad byte.
-pub fn text_of(bytes: &[u8]) -> Result<&str, Diagnostic> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let good = &bytes[..e.valid_up_to()];
-        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
-        let column = good.len() - good.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
-        Diagnostic::error(
+/// Most byte-level encoding diagnostics reported one by one; the rest are counted.
+const MAX_ENCODING_DIAGNOSTICS: usize = 20;
+
+/// The input as text. ISO 10303-21 clause 5 and IGES 5.3 section 1.4 make both formats
+/// 7/8-bit text whose strings carry other characters only through escapes (Part 21
+/// `\X\`, `\X2\`) or Hollerith bytes; raw bytes that are not UTF-8 (a SolidWorks name in
+/// GBK, a Latin-1 label) violate that, but they never decide geometry. Each such byte is
+/// read as `?` (one byte for one, so every later line, column and Hollerith count stays
+/// right), and each line holding some gets an error diagnostic at its first one: `validate`
+/// fails, the geometry is still read.
+pub fn text_of(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Diagnostic>) {
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        return (std::borrow::Cow::Borrowed(text), Vec::new());
+    }
+    let mut text = String::with_capacity(bytes.len());
+    let mut diagnostics = Vec::new();
+    let (mut line, mut line_start, mut reported_line, mut masked) = (1, 0, 0, 0usize);
+    for chunk in bytes.utf8_chunks() {
+        let valid = chunk.valid();
+        for (i, b) in valid.bytes().enumerate() {
+            if b == b'\n' {
+                line += 1;
+                line_start = text.len() + i + 1;
+            }
+        }
+        text.push_str(valid);
+        let bad = chunk.invalid();
+        if bad.is_empty() {
+            continue;
+        }
+        masked += bad.len();
+        if reported_line != line {
+            reported_line = line;
+            if diagnostics.len() < MAX_ENCODING_DIAGNOSTICS {
+                diagnostics.push(Diagnostic::error(
+                    "encoding.not_utf8",
+                    format!(
+                        "byte 0x{:02X} at offset {} is not ASCII or UTF-8 (a name in a legacy encoding?); read as '?'",
+                        bad[0],
+                        text.len()
+                    ),
+                    Location {
+                        line: Some(line),
+                        column: Some(text.len() - line_start + 1),
+                        ..Location::default()
+                    },
+                ));
+            }
+        }
+        text.extend(std::iter::repeat_n('?', bad.len()));
+    }
+    if diagnostics.len() == MAX_ENCODING_DIAGNOSTICS {
+        diagnostics.push(Diagnostic::error(
             "encoding.not_utf8",
             format!(
-                "byte {} is not valid UTF-8/ASCII text (NUL bytes, UTF-16 and binary data are refused)",
-                e.valid_up_to()
+                "{masked} bytes in all are not ASCII or UTF-8; only the first {MAX_ENCODING_DIAGNOSTICS} lines holding them are listed"
             ),
-            Location {
-                line: Some(line),
-                column: Some(column),
-                ..Location::default()
-            },
-        )
-    })
+            Location::default(),
+        ));
+    }
+    (std::borrow::Cow::Owned(text), diagnostics)
 }

@@ -53,7 +53,7 @@ impl PipelineError {
 
     /// Wraps an exchange-layer diagnostic, classifying it by its code.
     pub fn from_exchange(d: Diagnostic) -> Self {
-        let kind = if d.code == "format.unknown" {
+        let kind = if crate::exchange::NOT_EXCHANGE_CODES.contains(&d.code.as_ref()) {
             ErrorKind::UnknownFormat
         } else if d.code.starts_with("limit") {
             ErrorKind::Limit

@@ -132,22 +132,31 @@ pub fn load(
         (Some(found), _) => found,
         (None, Some(InputKind::Json)) => InputKind::Json,
         (None, Some(h)) => {
+            // Plain text declared STEP or IGES is a mismatch; content that is recognisably
+            // something else (empty, UTF-16, a PDF ...) gets that more precise code.
+            let not = exchange::describe_content(bytes);
+            let code = if not.code == "format.unknown" {
+                "format.mismatch"
+            } else {
+                not.code
+            };
             return Err(PipelineError::new(
                 ErrorKind::Invalid,
-                "format.mismatch",
+                code,
                 format!(
-                    "the input was declared {} but does not start like a {} file",
+                    "declared {} (by its name or content type), but {}",
                     h.name(),
-                    h.name()
+                    not.what
                 ),
                 crate::exchange::Location::at_line(1),
             ));
         }
         (None, None) => {
+            let not = exchange::describe_content(bytes);
             return Err(PipelineError::new(
                 ErrorKind::UnknownFormat,
-                "format.unknown",
-                "not a STEP file (ISO-10303-21;), an IGES file (S/G in column 73) or model JSON",
+                not.code,
+                format!("{} (nor model JSON)", not.what),
                 crate::exchange::Location::at_line(1),
             ));
         }

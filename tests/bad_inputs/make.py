@@ -73,9 +73,22 @@ def step_cases():
 
     # --- whole-file damage
     # Not recognisable as STEP at all: refused before parsing, at line 1.
-    emit("step_empty", ".step", b"", code="format", line=1)
-    emit("step_binary_garbage", ".step", bytes((i * 131 + 7) % 256 for i in range(4096)), code="format", line=1)
-    emit("step_utf16", ".step", c2.decode("latin-1").encode("utf-16"), code="format", line=1)
+    emit("step_empty", ".step", b"", code="format.empty", line=1)
+    emit("step_binary_garbage", ".step", bytes((i * 131 + 7) % 256 for i in range(4096)), code="format.binary", line=1)
+    emit("step_utf16", ".step", c2.decode("latin-1").encode("utf-16"), code="encoding.utf16", line=1)
+    # What the file is instead, named at line 1 (ISO 10303-21 clause 5: 8-bit text that
+    # starts with ISO-10303-21;).
+    emit("step_utf16be_no_bom", ".step", c2.decode("latin-1").encode("utf-16-be"), code="encoding.utf16", line=1)
+    emit("step_utf32", ".step", c2.decode("latin-1").encode("utf-32"), code="encoding.utf32", line=1)
+    emit("step_whitespace_only", ".step", b" \r\n\t\n", code="format.empty", line=1)
+    emit("step_is_pdf", ".step", b"%PDF-1.7\n%\xe2\xe3\xcf\xd3\n1 0 obj\n<<>>\nendobj\n", code="format.other", line=1)
+    emit("step_is_dxf", ".step", b"  0\r\nSECTION\r\n  2\r\nHEADER\r\n  0\r\nENDSEC\r\n  0\r\nEOF\r\n", code="format.other", line=1)
+    emit("step_is_ascii_stl", ".step", b"solid part\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid part\n", code="format.other", line=1)
+    emit("step_is_binary_stl", ".step", b"binary stl".ljust(80, b" ") + (1).to_bytes(4, "little") + bytes(50), code="format.other", line=1)
+    emit("step_is_zip", ".step", b"PK\x03\x04\x14\x00\x00\x00\x08\x00" + bytes(20), code="format.other", line=1)
+    emit("step_is_gzip", ".step", b"\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03" + bytes(20), code="format.other", line=1)
+    emit("step_is_step_xml", ".step", b'<?xml version="1.0" encoding="UTF-8"?>\n<iso_10303_28 version="2.0"></iso_10303_28>\n', code="format.other", line=1)
+    emit("step_is_html", ".step", b"<!DOCTYPE html>\n<html><body>404 Not Found</body></html>\n", code="format.other", line=1)
     # Truncation at several offsets inside DATA: the instance cut short is unterminated.
     data_at = c2.index(b"DATA;")
     for frac in (10, 35, 60, 85, 99):
@@ -249,9 +262,13 @@ def iges_cases():
         setp(recs, i, (new + recs[i][len("128,3,2,3,2,"):64]).rstrip()[:64])
         emit(f"iges_surface_{name}", ".igs", join(recs), code="iges.entity", section="P", sequence=2, entity="D3")
 
-    emit("iges_empty", ".igs", b"", code="format", line=1)
-    emit("iges_binary_garbage", ".igs", bytes((i * 197 + 3) % 256 for i in range(8192)), code="format", line=1)
-    emit("iges_utf16", ".igs", c2.decode("latin-1").encode("utf-16"), code="format", line=1)
+    emit("iges_empty", ".igs", b"", code="format.empty", line=1)
+    emit("iges_binary_garbage", ".igs", bytes((i * 197 + 3) % 256 for i in range(8192)), code="format.binary", line=1)
+    emit("iges_utf16", ".igs", c2.decode("latin-1").encode("utf-16"), code="encoding.utf16", line=1)
+    # IGES 5.3 section 2.1: 80-column records, section letter in column 73; the compressed
+    # form (C, appendix B) is not read.
+    emit("iges_79_columns", ".igs", b"".join(l[:71] + l[72:] for l in c2.splitlines(keepends=True)), code="format.mismatch", line=1)
+    emit("iges_compressed_form", ".igs", c2.replace(b"S0000001", b"C0000001", 1), code="format.mismatch", line=1)
     emit("iges_nul_bytes", ".igs", c2.replace(b"1.070586,2.325594", b"1.070586\x00\x00325594"), code="iges", section="P", sequence=2, entity="D1")
     # truncations: whole records cut off and a record cut in half
     for keep in (3, 6, 9, 14):

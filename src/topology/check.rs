@@ -1,0 +1,175 @@
+//! The checks of the constructors in [`super::Model`].
+
+use std::collections::BTreeMap;
+
+use super::{EdgeId, FaceId, Loop, Model, ShellId, TopologyError, VertexId};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+fn dist(a: Point3, b: Point3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn vertex(m: &Model, v: VertexId) -> Result<&super::Vertex, TopologyError> {
+    m.vertices.get(v.0).ok_or(TopologyError::Missing {
+        what: "vertex",
+        index: v.0,
+    })
+}
+
+/// ISO 10303-42 clause 5, edge_curve: the curve passes through both vertices.
+pub(super) fn edge(
+    m: &Model,
+    id: EdgeId,
+    curve: &NurbsCurve,
+    range: (f64, f64),
+    start: VertexId,
+    end: VertexId,
+    tolerance: f64,
+) -> Result<(), TopologyError> {
+    let domain = curve.domain();
+    let ok = range.0.is_finite()
+        && range.1.is_finite()
+        && range.0 < range.1
+        && domain.0 <= range.0
+        && range.1 <= domain.1;
+    if !ok {
+        return Err(TopologyError::EdgeRange {
+            edge: id,
+            range,
+            domain,
+        });
+    }
+    for (v, t, which) in [(start, range.0, "start"), (end, range.1, "end")] {
+        let vx = vertex(m, v)?;
+        let allowed = tolerance.max(vx.tolerance);
+        let d = dist(curve.point_at_unchecked(t), vx.point);
+        if d.is_nan() || d > allowed {
+            return Err(TopologyError::EdgeMissesVertex {
+                edge: id,
+                vertex: v,
+                end: which,
+                distance: d,
+                tolerance: allowed,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Samples per edge span for the pcurve check.
+const PCURVE_SAMPLES: usize = 16;
+
+/// ISO 10303-42 clause 5, edge_loop (closure through shared vertices) and the pcurve /
+/// 3-D curve agreement of every coedge that has one.
+pub(super) fn face_loop(
+    m: &Model,
+    face: FaceId,
+    index: usize,
+    surface: &NurbsSurface,
+    l: &mut Loop,
+) -> Result<(), TopologyError> {
+    let n = l.coedges.len();
+    if n == 0 {
+        return Err(TopologyError::LoopOpen {
+            face,
+            index,
+            coedge: 0,
+            end: None,
+            next: None,
+        });
+    }
+    let mut ends = Vec::with_capacity(n);
+    for c in &l.coedges {
+        ends.push(m.coedge_ends(c).ok_or(TopologyError::Missing {
+            what: "edge",
+            index: c.edge.0,
+        })?);
+    }
+    for i in 0..n {
+        let (end, next) = (ends[i].1, ends[(i + 1) % n].0);
+        if end != next {
+            return Err(TopologyError::LoopOpen {
+                face,
+                index,
+                coedge: i,
+                end: Some(end),
+                next: Some(next),
+            });
+        }
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    for (k, c) in l.coedges.iter_mut().enumerate() {
+        let Some(p) = &c.pcurve else { continue };
+        let e = &m.edges[c.edge.0];
+        let (pa, pb) = p.domain();
+        let mut worst: f64 = 0.0;
+        for s in 0..=PCURVE_SAMPLES {
+            let t = if s == PCURVE_SAMPLES {
+                e.range.1
+            } else {
+                e.range.0 + (e.range.1 - e.range.0) * (s as f64 / PCURVE_SAMPLES as f64)
+            };
+            // Evaluated at the nearest parameters inside the pcurve's and the surface's
+            // domains: a pcurve that leaves them shows as the distance it causes.
+            let [u, v, _] = p.point_at_unchecked(t.clamp(pa, pb));
+            let on = surface.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1));
+            let d = dist(on, e.curve.point_at_unchecked(t));
+            worst = worst.max(d);
+        }
+        if worst.is_nan() || worst > e.tolerance {
+            return Err(TopologyError::PcurveDeviates {
+                face,
+                index,
+                coedge: k,
+                deviation: worst,
+                tolerance: e.tolerance,
+            });
+        }
+        c.pcurve_deviation = Some(worst);
+    }
+    Ok(())
+}
+
+/// How many edges a `ShellNotClosed` error lists.
+const LISTED_EDGES: usize = 8;
+
+/// Whether the faces use every edge exactly twice in opposite directions (ISO 10303-42
+/// closed_shell); with `declared_closed`, anything else is an error.
+pub(super) fn shell(
+    m: &Model,
+    id: ShellId,
+    faces: &[(FaceId, bool)],
+    declared_closed: bool,
+) -> Result<bool, TopologyError> {
+    let mut uses: BTreeMap<EdgeId, (usize, usize)> = BTreeMap::new();
+    for &(f, orientation) in faces {
+        let face = m.faces.get(f.0).ok_or(TopologyError::Missing {
+            what: "face",
+            index: f.0,
+        })?;
+        for l in &face.loops {
+            for c in &l.coedges {
+                let u = uses.entry(c.edge).or_default();
+                if c.forward == orientation {
+                    u.0 += 1;
+                } else {
+                    u.1 += 1;
+                }
+            }
+        }
+    }
+    let bad: Vec<EdgeId> = uses
+        .iter()
+        .filter(|(_, u)| **u != (1, 1))
+        .map(|(&e, _)| e)
+        .collect();
+    let closed = bad.is_empty() && !uses.is_empty();
+    if declared_closed && !closed {
+        return Err(TopologyError::ShellNotClosed {
+            shell: id,
+            count: bad.len(),
+            edges: bad.into_iter().take(LISTED_EDGES).collect(),
+        });
+    }
+    Ok(closed)
+}

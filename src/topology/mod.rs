@@ -1,0 +1,258 @@
+//! # The topology of a part: vertices, edges, loops, faces, shells, solids, assemblies
+//!
+//! The boundary representation of ISO 10303-42 clause 5 (topology: vertex, edge, oriented
+//! edge, loop, face, shell, solid) and of IGES 5.3 section 4.32 (186 manifold solid B-rep
+//! with 502/504/508/510/514), over the exact NURBS geometry of [`crate::nurbs`]: every edge
+//! carries a NURBS curve, every face a NURBS surface. Readers of both formats build a
+//! [`Model`]; writers walk it.
+//!
+//! **Layering:** imports only [`crate::nurbs`]; `exchange` imports this module and turns its
+//! [`TopologyError`]s into located diagnostics (the ids here are indices; the reader knows
+//! which file entity each came from).
+//!
+//! Everything is built through checked constructors, so a [`Model`] never holds a loop that
+//! does not close, an edge whose curve misses its vertices, or a shell that claims to be
+//! closed and is not:
+//! - [`Model::add_edge`]: the curve at the ends of the edge's range lies within tolerance of
+//!   its vertices (ISO 10303-42 clause 5, edge_curve: `edge_start`/`edge_end` lie on `edge_geometry`).
+//! - [`Model::add_face`]: each loop's oriented edges chain head to tail through shared
+//!   vertices (clause 5, edge_loop: each edge ends where the next starts), and each parameter-space curve
+//!   agrees with its 3-D edge curve (clause 4, surface_curve / pcurve: surface(pcurve(t)) =
+//!   curve(t) within the edge's tolerance; the deviation found is kept).
+//! - [`Model::add_shell`]: a shell declared closed uses every edge exactly twice, once in
+//!   each direction (clause 5, closed_shell: a connected face set without
+//!   boundary, every oriented edge matched by its reverse).
+//! - [`Model::add_solid`]: the outer shell and the voids are closed shells.
+//! - [`Assembly`]: instances of parts under affine placements; [`Model::flatten`] composes the
+//!   placements without recursion and refuses cycles.
+
+mod assembly;
+mod check;
+mod error;
+
+pub use assembly::{Assembly, IDENTITY, Instance, Part, Placed, compose};
+pub use error::TopologyError;
+
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+/// Index of a vertex in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VertexId(pub usize);
+/// Index of an edge in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct EdgeId(pub usize);
+/// Index of a face in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct FaceId(pub usize);
+/// Index of a shell in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ShellId(pub usize);
+/// Index of a solid in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SolidId(pub usize);
+/// Index of an assembly in its [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct AssemblyId(pub usize);
+
+/// A point of the boundary (ISO 10303-42 vertex_point).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Vertex {
+    /// Where it is.
+    pub point: Point3,
+    /// How far the geometry meeting here may be from `point`.
+    pub tolerance: f64,
+}
+
+/// A bounded piece of a curve between two vertices (ISO 10303-42 edge_curve; IGES 504).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Edge {
+    /// The exact 3-D curve.
+    pub curve: NurbsCurve,
+    /// The part of the curve's parameter range the edge uses, `start < end`; the edge runs
+    /// from `curve(range.0)` at `start` to `curve(range.1)` at `end`.
+    pub range: (f64, f64),
+    /// Vertex at `range.0`.
+    pub start: VertexId,
+    /// Vertex at `range.1`.
+    pub end: VertexId,
+    /// How far the curve may be from its vertices (and its pcurves from it).
+    pub tolerance: f64,
+}
+
+/// An edge as a loop uses it (ISO 10303-42 oriented_edge; IGES 508 edge with its
+/// orientation flag), with the edge's curve in the face's parameter space when known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coedge {
+    /// The edge.
+    pub edge: EdgeId,
+    /// `true`: the loop runs from the edge's start to its end.
+    pub forward: bool,
+    /// The edge in the face surface's `(u, v)` space, parameterised like the edge's curve
+    /// (ISO 10303-42 surface_curve: the associated geometry shares the curve's parameter).
+    pub pcurve: Option<NurbsCurve>,
+    /// Largest distance found between `surface(pcurve(t))` and `curve(t)` when checked.
+    pub pcurve_deviation: Option<f64>,
+}
+
+/// A closed chain of coedges (ISO 10303-42 edge_loop / face_bound; IGES 508).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loop {
+    /// The coedges, head to tail.
+    pub coedges: Vec<Coedge>,
+    /// `true` for the outer boundary (face_outer_bound), `false` for a hole.
+    pub outer: bool,
+}
+
+/// A bounded region of a surface (ISO 10303-42 advanced_face / face_surface; IGES 510 or
+/// 144).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Face {
+    /// The exact surface.
+    pub surface: NurbsSurface,
+    /// Its boundaries; none for a face bounded by its surface's own domain.
+    pub loops: Vec<Loop>,
+    /// `true` when the face normal is the surface normal (ISO 10303-42 `same_sense`).
+    pub same_sense: bool,
+}
+
+/// A connected set of faces (ISO 10303-42 open_shell / closed_shell; IGES 514).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shell {
+    /// Faces with their orientation in the shell (`true` = as the face is).
+    pub faces: Vec<(FaceId, bool)>,
+    /// Whether every edge is used exactly twice in opposite directions (checked).
+    pub closed: bool,
+}
+
+/// A solid bounded by a closed outer shell and closed voids (ISO 10303-42
+/// manifold_solid_brep / brep_with_voids; IGES 186).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solid {
+    /// The outer boundary.
+    pub outer: ShellId,
+    /// Inner boundaries (cavities).
+    pub voids: Vec<ShellId>,
+}
+
+/// Everything a file's boundary representation holds.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Model {
+    /// All vertices.
+    pub vertices: Vec<Vertex>,
+    /// All edges.
+    pub edges: Vec<Edge>,
+    /// All faces.
+    pub faces: Vec<Face>,
+    /// All shells.
+    pub shells: Vec<Shell>,
+    /// All solids.
+    pub solids: Vec<Solid>,
+    /// All assemblies.
+    pub assemblies: Vec<Assembly>,
+}
+
+impl Model {
+    /// An empty model.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a vertex. Refuses a non-finite point or a negative/non-finite tolerance.
+    pub fn add_vertex(&mut self, point: Point3, tolerance: f64) -> Result<VertexId, TopologyError> {
+        if !(point.iter().all(|c| c.is_finite()) && tolerance >= 0.0 && tolerance.is_finite()) {
+            return Err(TopologyError::BadVertex { point, tolerance });
+        }
+        self.vertices.push(Vertex { point, tolerance });
+        Ok(VertexId(self.vertices.len() - 1))
+    }
+
+    /// Adds an edge after checking that its range lies in the curve's domain and that the
+    /// curve at the range's ends is within tolerance of the vertices (the larger of the
+    /// edge's and the vertex's tolerance).
+    pub fn add_edge(
+        &mut self,
+        curve: NurbsCurve,
+        range: (f64, f64),
+        start: VertexId,
+        end: VertexId,
+        tolerance: f64,
+    ) -> Result<EdgeId, TopologyError> {
+        let id = EdgeId(self.edges.len());
+        check::edge(self, id, &curve, range, start, end, tolerance)?;
+        self.edges.push(Edge {
+            curve,
+            range,
+            start,
+            end,
+            tolerance,
+        });
+        Ok(id)
+    }
+
+    /// The vertices an edge is traversed from and to by a coedge.
+    pub fn coedge_ends(&self, c: &Coedge) -> Option<(VertexId, VertexId)> {
+        let e = self.edges.get(c.edge.0)?;
+        Some(if c.forward {
+            (e.start, e.end)
+        } else {
+            (e.end, e.start)
+        })
+    }
+
+    /// Adds a face after checking every loop (closure through shared vertices, pcurves
+    /// against their edges); the pcurve deviations found are stored on the coedges.
+    pub fn add_face(
+        &mut self,
+        surface: NurbsSurface,
+        mut loops: Vec<Loop>,
+        same_sense: bool,
+    ) -> Result<FaceId, TopologyError> {
+        let id = FaceId(self.faces.len());
+        for (index, l) in loops.iter_mut().enumerate() {
+            check::face_loop(self, id, index, &surface, l)?;
+        }
+        self.faces.push(Face {
+            surface,
+            loops,
+            same_sense,
+        });
+        Ok(id)
+    }
+
+    /// Adds a shell; when `declared_closed` the shell must use every edge exactly twice in
+    /// opposite directions, else the error names the edges that break it.
+    pub fn add_shell(
+        &mut self,
+        faces: Vec<(FaceId, bool)>,
+        declared_closed: bool,
+    ) -> Result<ShellId, TopologyError> {
+        let id = ShellId(self.shells.len());
+        let closed = check::shell(self, id, &faces, declared_closed)?;
+        self.shells.push(Shell { faces, closed });
+        Ok(id)
+    }
+
+    /// Adds a solid; every shell must exist and be closed.
+    pub fn add_solid(
+        &mut self,
+        outer: ShellId,
+        voids: Vec<ShellId>,
+    ) -> Result<SolidId, TopologyError> {
+        for &s in std::iter::once(&outer).chain(&voids) {
+            match self.shells.get(s.0) {
+                None => {
+                    return Err(TopologyError::Missing {
+                        what: "shell",
+                        index: s.0,
+                    });
+                }
+                Some(shell) if !shell.closed => {
+                    return Err(TopologyError::SolidShellOpen { shell: s });
+                }
+                Some(_) => {}
+            }
+        }
+        self.solids.push(Solid { outer, voids });
+        Ok(SolidId(self.solids.len() - 1))
+    }
+}

@@ -1,0 +1,344 @@
+//! The topology layer's checked constructors on a cube built by hand (vertices, line edges,
+//! plane faces with exact pcurves): closure of loops, vertex/edge/pcurve agreement, closed
+//! shells by the oriented-edge condition (cross-checked with Euler's V - E + F = 2),
+//! solids, and assemblies flattened without recursion.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::collections::HashMap;
+
+use nurbsx::nurbs::conic::line_segment;
+use nurbsx::nurbs::sweep::{self, Frame};
+use nurbsx::nurbs::transform::{Affine, apply};
+use nurbsx::nurbs::{NurbsCurve, Point3};
+use nurbsx::topology::{
+    Assembly, Coedge, EdgeId, FaceId, Instance, Loop, Model, Part, TopologyError, VertexId,
+};
+
+const A: f64 = 3.5;
+
+fn unit(k: usize) -> Point3 {
+    let mut e = [0.0; 3];
+    e[k % 3] = 1.0;
+    e
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+struct Cube {
+    model: Model,
+    faces: Vec<FaceId>,
+    vertices: Vec<VertexId>,
+}
+
+/// Corner `bits` (x = bit 0, y = bit 1, z = bit 2) of the cube [0, A]^3.
+fn corner(bits: usize) -> Point3 {
+    std::array::from_fn(|k| if bits >> k & 1 == 1 { A } else { 0.0 })
+}
+
+fn bits_of(p: Point3) -> usize {
+    (0..3).map(|k| usize::from(p[k] > 0.5 * A) << k).sum()
+}
+
+/// The cube with outward faces: face (k, s) has normal (2s - 1) e_k, frame x, y with
+/// x cross y = that normal, and its loop runs counter-clockwise about it. `shift` moves the
+/// pcurves of the first face off their edges.
+fn cube(shift: f64) -> Result<Cube, TopologyError> {
+    let mut model = Model::new();
+    let vertices: Vec<VertexId> = (0..8)
+        .map(|b| model.add_vertex(corner(b), 1e-9).unwrap())
+        .collect();
+    let mut edges: HashMap<(usize, usize), EdgeId> = HashMap::new();
+    let mut faces = Vec::new();
+    for k in 0..3 {
+        for s in 0..2 {
+            let (x, y) = if s == 1 {
+                (unit(k + 1), unit(k + 2))
+            } else {
+                (unit(k + 2), unit(k + 1))
+            };
+            let mut origin = [0.0; 3];
+            origin[k] = s as f64 * A;
+            let frame = Frame {
+                origin,
+                x,
+                y,
+                z: if s == 1 {
+                    unit(k)
+                } else {
+                    [-unit(k)[0], -unit(k)[1], -unit(k)[2]]
+                },
+            };
+            let surface = sweep::plane(&frame, (0.0, A), (0.0, A)).unwrap();
+            let uv = [[0.0, 0.0], [A, 0.0], [A, A], [0.0, A]];
+            let at = |q: [f64; 2]| -> Point3 {
+                std::array::from_fn(|c| origin[c] + q[0] * x[c] + q[1] * y[c])
+            };
+            let mut coedges = Vec::new();
+            for i in 0..4 {
+                let (pa, pb) = (uv[i], uv[(i + 1) % 4]);
+                let (ba, bb) = (bits_of(at(pa)), bits_of(at(pb)));
+                let key = (ba.min(bb), ba.max(bb));
+                let edge = *edges.entry(key).or_insert_with(|| {
+                    let c = line_segment(corner(key.0), corner(key.1), 0.0, 1.0).unwrap();
+                    model
+                        .add_edge(c, (0.0, 1.0), vertices[key.0], vertices[key.1], 1e-9)
+                        .unwrap()
+                });
+                let forward = ba == key.0;
+                // The pcurve runs like the edge's curve: from the edge's start to its end.
+                let (from, to) = if forward { (pa, pb) } else { (pb, pa) };
+                let off = if faces.is_empty() { shift } else { 0.0 };
+                let pcurve = NurbsCurve::with_dimension(
+                    1,
+                    vec![0.0, 0.0, 1.0, 1.0],
+                    vec![[from[0] + off, from[1], 0.0], [to[0] + off, to[1], 0.0]],
+                    None,
+                    2,
+                )
+                .unwrap();
+                coedges.push(Coedge {
+                    edge,
+                    forward,
+                    pcurve: Some(pcurve),
+                    pcurve_deviation: None,
+                });
+            }
+            let lp = Loop {
+                coedges,
+                outer: true,
+            };
+            faces.push(model.add_face(surface, vec![lp], true)?);
+        }
+    }
+    Ok(Cube {
+        model,
+        faces,
+        vertices,
+    })
+}
+
+#[test]
+fn a_cube_is_a_closed_shell_and_a_solid() {
+    let mut c = cube(0.0).unwrap();
+    let m = &c.model;
+    // Euler: V - E + F = 2 for a closed genus-0 shell, counted independently of the check.
+    assert_eq!(
+        m.vertices.len() as i64 - m.edges.len() as i64 + m.faces.len() as i64,
+        2
+    );
+    // Every exact pcurve agrees with its edge to rounding.
+    for f in &m.faces {
+        for cd in &f.loops[0].coedges {
+            assert!(cd.pcurve_deviation.unwrap() <= 1e-15 * A);
+        }
+        // Outward: the surface normal at the middle points away from the centre.
+        let n = f.surface.normal(0.5 * A, 0.5 * A).unwrap();
+        let p = f.surface.point_at(0.5 * A, 0.5 * A).unwrap();
+        let out = [p[0] - 0.5 * A, p[1] - 0.5 * A, p[2] - 0.5 * A];
+        assert!(dot(n, out) > 0.0);
+    }
+    let all: Vec<_> = c.faces.iter().map(|&f| (f, true)).collect();
+    let shell = c.model.add_shell(all, true).unwrap();
+    assert!(c.model.shells[shell.0].closed);
+    c.model.add_solid(shell, vec![]).unwrap();
+}
+
+#[test]
+fn open_or_misoriented_shells_are_named() {
+    let mut c = cube(0.0).unwrap();
+    let five: Vec<_> = c.faces[..5].iter().map(|&f| (f, true)).collect();
+    match c.model.add_shell(five.clone(), true) {
+        Err(TopologyError::ShellNotClosed { count, .. }) => assert_eq!(count, 4),
+        other => panic!("{other:?}"),
+    }
+    let open = c.model.add_shell(five, false).unwrap();
+    assert!(!c.model.shells[open.0].closed);
+    assert!(matches!(
+        c.model.add_solid(open, vec![]),
+        Err(TopologyError::SolidShellOpen { .. })
+    ));
+    let mut flipped: Vec<_> = c.faces.iter().map(|&f| (f, true)).collect();
+    flipped[2].1 = false;
+    match c.model.add_shell(flipped, true) {
+        Err(TopologyError::ShellNotClosed { count, .. }) => assert_eq!(count, 4),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn loops_edges_and_pcurves_are_checked() {
+    // A pcurve 0.01 off its edge is refused with the deviation found.
+    match cube(0.01) {
+        Err(TopologyError::PcurveDeviates { deviation, .. }) => {
+            assert!((deviation - 0.01).abs() < 1e-12, "{deviation}")
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("the shifted pcurve must be refused"),
+    }
+    let mut c = cube(0.0).unwrap();
+    // A loop whose edges do not chain: two opposite edges of the bottom face.
+    let f0 = &c.model.faces[c.faces[0].0];
+    let (a, b) = (
+        f0.loops[0].coedges[0].clone(),
+        f0.loops[0].coedges[2].clone(),
+    );
+    let surface = f0.surface.clone();
+    let bad = Loop {
+        coedges: vec![a, b],
+        outer: true,
+    };
+    assert!(matches!(
+        c.model.add_face(surface.clone(), vec![bad], true),
+        Err(TopologyError::LoopOpen { coedge: 0, .. })
+    ));
+    assert!(matches!(
+        c.model.add_face(
+            surface,
+            vec![Loop {
+                coedges: vec![],
+                outer: true
+            }],
+            true
+        ),
+        Err(TopologyError::LoopOpen { .. })
+    ));
+    // An edge whose curve misses its end vertex by 1e-3.
+    let v = c.model.add_vertex([A, 1e-3, 0.0], 1e-9).unwrap();
+    let curve = line_segment([0.0; 3], [A, 0.0, 0.0], 0.0, 1.0).unwrap();
+    match c
+        .model
+        .add_edge(curve.clone(), (0.0, 1.0), c.vertices[0], v, 1e-7)
+    {
+        Err(TopologyError::EdgeMissesVertex { distance, end, .. }) => {
+            assert_eq!(end, "end");
+            assert!((distance - 1e-3).abs() < 1e-12);
+        }
+        other => panic!("{other:?}"),
+    }
+    // A range outside the curve's domain, and a missing vertex.
+    assert!(matches!(
+        c.model.add_edge(
+            curve.clone(),
+            (0.0, 1.5),
+            c.vertices[0],
+            c.vertices[1],
+            1e-7
+        ),
+        Err(TopologyError::EdgeRange { .. })
+    ));
+    assert!(matches!(
+        c.model
+            .add_edge(curve, (0.0, 1.0), c.vertices[0], VertexId(99), 1e-7),
+        Err(TopologyError::Missing { what: "vertex", .. })
+    ));
+}
+
+fn translate(t: Point3) -> Affine {
+    [
+        [1.0, 0.0, 0.0, t[0]],
+        [0.0, 1.0, 0.0, t[1]],
+        [0.0, 0.0, 1.0, t[2]],
+    ]
+}
+
+fn rot_z(t: f64) -> Affine {
+    let (s, c) = t.sin_cos();
+    [[c, -s, 0.0, 0.0], [s, c, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
+}
+
+#[test]
+fn assemblies_compose_placements_and_refuse_cycles() {
+    let c = cube(0.0).unwrap();
+    let mut m = c.model;
+    let all: Vec<_> = c.faces.iter().map(|&f| (f, true)).collect();
+    let shell = m.add_shell(all, true).unwrap();
+    let solid = m.add_solid(shell, vec![]).unwrap();
+    let inst = |placement, part| Instance {
+        name: None,
+        placement,
+        part,
+    };
+    let sub = m.add_assembly(Assembly {
+        name: "pair".into(),
+        instances: vec![
+            inst(translate([10.0, 0.0, 0.0]), Part::Solid(solid)),
+            inst(translate([0.0, 0.0, 5.0]), Part::Solid(solid)),
+        ],
+    });
+    let top = m.add_assembly(Assembly {
+        name: "top".into(),
+        instances: vec![
+            inst(rot_z(std::f64::consts::FRAC_PI_2), Part::Assembly(sub)),
+            inst(translate([-1.0, -2.0, -3.0]), Part::Face(c.faces[0])),
+        ],
+    });
+    let leaves = m.flatten(top, 8, 100).unwrap();
+    assert_eq!(leaves.len(), 3);
+    assert_eq!(leaves[0].path, vec![0, 0]);
+    assert_eq!(leaves[1].path, vec![0, 1]);
+    assert_eq!(leaves[2].path, vec![1]);
+    // Independent: apply the placements one after the other to a point.
+    let p = [1.0, 2.0, 3.0];
+    let want = [
+        apply(
+            &rot_z(std::f64::consts::FRAC_PI_2),
+            apply(&translate([10.0, 0.0, 0.0]), p),
+        ),
+        apply(
+            &rot_z(std::f64::consts::FRAC_PI_2),
+            apply(&translate([0.0, 0.0, 5.0]), p),
+        ),
+        apply(&translate([-1.0, -2.0, -3.0]), p),
+    ];
+    for (leaf, w) in leaves.iter().zip(want) {
+        let got = apply(&leaf.placement, p);
+        assert!(
+            (0..3).all(|k| (got[k] - w[k]).abs() < 1e-13),
+            "{got:?} vs {w:?}"
+        );
+    }
+    // A cycle through two assemblies.
+    let a = m.add_assembly(Assembly {
+        name: "a".into(),
+        instances: vec![],
+    });
+    let b = m.add_assembly(Assembly {
+        name: "b".into(),
+        instances: vec![inst(translate([0.0; 3]), Part::Assembly(a))],
+    });
+    m.assemblies[a.0]
+        .instances
+        .push(inst(translate([0.0; 3]), Part::Assembly(b)));
+    assert!(matches!(
+        m.flatten(a, 8, 100),
+        Err(TopologyError::AssemblyCycle { .. })
+    ));
+    // A shared sub-assembly doubling at each of 30 levels stops at the instance limit,
+    // quickly, instead of expanding 2^30 leaves.
+    let mut level = m.add_assembly(Assembly {
+        name: "leaf".into(),
+        instances: vec![inst(translate([0.0; 3]), Part::Solid(solid))],
+    });
+    for _ in 0..30 {
+        level = m.add_assembly(Assembly {
+            name: "twice".into(),
+            instances: vec![
+                inst(translate([1.0, 0.0, 0.0]), Part::Assembly(level)),
+                inst(translate([0.0, 1.0, 0.0]), Part::Assembly(level)),
+            ],
+        });
+    }
+    assert!(matches!(
+        m.flatten(level, 64, 10_000),
+        Err(TopologyError::AssemblyTooLarge {
+            what: "instances",
+            ..
+        })
+    ));
+    assert!(matches!(
+        m.flatten(level, 8, 10_000),
+        Err(TopologyError::AssemblyTooLarge { what: "levels", .. })
+    ));
+}
