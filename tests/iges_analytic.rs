@@ -630,9 +630,10 @@ fn parametric_spline_curve_112_is_its_power_series() {
     // The second segment starts where the first ends (C0 at least): fill its constants and
     // first derivatives from the first segment at s = 1.5, then add its own curvature.
     let mut seg = seg;
-    for axis in 0..2 {
-        let (v, d, _) = poly(&seg[0][axis], 1.5);
-        seg[1][axis] = [v, d, 0.3 * (axis as f64 + 1.0), -0.05];
+    let first = seg[0];
+    for (axis, row) in seg[1].iter_mut().take(2).enumerate() {
+        let (v, d, _) = poly(&first[axis], 1.5);
+        *row = [v, d, 0.3 * (axis as f64 + 1.0), -0.05];
     }
     let end: Vec<f64> = (0..3).map(|a| poly(&seg[1][a], 2.5).0).collect();
     let coeffs: Vec<String> = seg

@@ -557,7 +557,7 @@ fn spline(
     let rec = decoded(cx.file.decode::<SplineCurve112>(entry), diags)?;
     let loc = entity_location(entry);
     let t = &rec.breakpoints;
-    if t.windows(2).any(|w| !(w[1] > w[0])) || t.iter().any(|x| !x.is_finite()) {
+    if !t.windows(2).all(|w| w[1] > w[0]) || t.iter().any(|x| !x.is_finite()) {
         diags.push(invalid(
             entry,
             "the break points T(1)..T(N+1) do not increase",
@@ -597,8 +597,8 @@ fn spline(
             .iter()
             .map(|c| power_to_bernstein(c, h, degree))
             .collect();
-        for j in 0..=degree {
-            let p = [coords[0][j], coords[1][j], coords[2][j]];
+        for (j, ((&x, &y), &z)) in coords[0].iter().zip(&coords[1]).zip(&coords[2]).enumerate() {
+            let p = [x, y, z];
             if j == 0 && i > 0 {
                 // The previous segment's end: the joint is the earlier segment's value.
                 if let Some(&q) = points.last() {
@@ -649,7 +649,7 @@ fn spline(
 
 /// The outcome of a 102: one NURBS when the pieces join, else the pieces.
 pub(super) enum Composite {
-    Joined(CurveOut),
+    Joined(Box<CurveOut>),
     Pieces(Vec<(DirectoryEntry, CurveOut)>),
 }
 
@@ -740,12 +740,12 @@ pub(super) fn composite(
                     None
                 };
                 meta.shape = shape;
-                return Some(Composite::Joined(CurveOut {
+                return Some(Composite::Joined(Box::new(CurveOut {
                     curve,
                     shape,
                     map: ParamMap::Identity,
                     meta,
-                }));
+                })));
             }
             Err(why) => diags.push(Diagnostic::info(
                 "composite_pieces",

@@ -156,9 +156,12 @@ pub fn curve_form(c: &NurbsCurve, shape: Option<Shape>) -> Result<i64, String> {
     }
 }
 
+/// A point of an axis, its unit direction, and `(axial position, radius)` of sampled circles.
+type Axis = (Point3, Point3, Vec<(f64, f64)>);
+
 /// The axis of a surface whose u-direction curves are circles about one line:
 /// `(point, unit direction, [(axial position, radius)] at the sampled v)`.
-fn rotation_axis(s: &NurbsSurface, tol: f64) -> Option<(Point3, Point3, Vec<(f64, f64)>)> {
+fn rotation_axis(s: &NurbsSurface, tol: f64) -> Option<Axis> {
     let (_, (v0, v1)) = s.domain();
     let mut circles = Vec::new();
     for j in 0..5 {

@@ -127,7 +127,7 @@ fn curve_ref(
     let mut scratch = Vec::new();
     let out = if target.entity_type == 102 {
         match curves::composite(cx, target, &mut scratch) {
-            Some(curves::Composite::Joined(c)) => Some(c),
+            Some(curves::Composite::Joined(c)) => Some(*c),
             _ => None,
         }
     } else {
@@ -411,7 +411,7 @@ fn use_poles(
         };
         let out = if target.entity_type == 102 {
             match curves::composite(cx, target, &mut scratch) {
-                Some(curves::Composite::Joined(c)) => vec![c],
+                Some(curves::Composite::Joined(c)) => vec![*c],
                 Some(curves::Composite::Pieces(p)) => p.into_iter().map(|(_, c)| c).collect(),
                 None => Vec::new(),
             }
