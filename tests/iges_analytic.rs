@@ -962,7 +962,7 @@ fn cylinder_192_is_bounded_by_its_use() {
 }
 
 /// A 102 of a line and an arc that join is one curve; its constituents are not emitted on
-/// their own. One that does not join gives its pieces, each once.
+/// their own. One that does not join, or that bounds a face, gives its pieces, each once.
 #[test]
 fn composite_102_joins_or_gives_its_pieces_once() {
     let mut b = Builder::new(GLOBAL);
@@ -972,13 +972,26 @@ fn composite_102_joins_or_gives_its_pieces_once() {
     let l2 = b.entity(de(110, 0), "110,10.,0.,0.,12.,0.,0.;"); // D7
     let l3 = b.entity(de(110, 0), "110,20.,0.,0.,22.,0.,0.;"); // D9
     let apart = b.entity(de(102, 0), &format!("102,2,{l2},{l3};")); // D11
+    // A 102 that bounds a face (the C(t) of a 142) keeps its constituents: they are the
+    // boundary's edges.
+    let e1 = b.entity(de(110, 0), "110,0.,5.,0.,2.,5.,0.;"); // D13
+    let e2 = b.entity(de(110, 0), "110,2.,5.,0.,2.,7.,0.;"); // D15
+    let chain = b.entity(de(102, 0), &format!("102,2,{e1},{e2};")); // D17
+    b.entity(de(142, 0), &format!("142,0,0,0,{chain},2;")); // D19
     let doc = read(&b.build(), &ImportOptions::default());
     assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
     let ids: Vec<&str> = doc.entities.iter().map(|e| e.id.as_str()).collect();
     assert_eq!(
         ids,
-        vec![format!("D{joined}"), format!("D{l2}"), format!("D{l3}")]
+        vec![
+            format!("D{joined}"),
+            format!("D{l2}"),
+            format!("D{l3}"),
+            format!("D{e1}"),
+            format!("D{e2}")
+        ]
     );
+    assert!(doc.diagnostics.iter().any(|d| d.code == "composite_edges"));
     let c = curve_of(&doc, &format!("D{joined}"));
     let (d0, d1) = c.domain();
     assert_eq!(c.point_at(d0).unwrap(), [0.0, 0.0, 0.0]);

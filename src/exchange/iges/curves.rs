@@ -654,15 +654,16 @@ pub(super) enum Composite {
 }
 
 /// 102 (IGES 5.3 section 4.4): the constituents, in order, each converted with its own
-/// chain, then the 102's chain. When every piece converts and each ends where the next
-/// starts (within the model's tolerance), they are joined into one NURBS (degrees raised
-/// to the highest by A5.9, polynomial pieces given unit weights, each piece's parameter
-/// shifted to continue the previous one: the concatenation IGES 5.3 defines); otherwise
-/// the converted pieces are returned separately. A constituent that is itself a 102 is
-/// refused (IGES 5.3 does not nest composites).
+/// chain, then the 102's chain. With `join`, when every piece converts and each ends where
+/// the next starts (within the model's tolerance), they are joined into one NURBS (degrees
+/// raised to the highest by A5.9, polynomial pieces given unit weights, each piece's
+/// parameter shifted to continue the previous one: the concatenation IGES 5.3 defines);
+/// otherwise the converted pieces are returned separately. A constituent that is itself a
+/// 102 is refused (IGES 5.3 does not nest composites).
 pub(super) fn composite(
     cx: &Context<'_, '_>,
     entry: &DirectoryEntry,
+    join_pieces: bool,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Composite> {
     let rec = decoded(cx.file.decode::<CompositeCurve102>(entry), diags)?;
@@ -724,7 +725,16 @@ pub(super) fn composite(
         ));
         return None;
     }
-    if all {
+    if all && !join_pieces {
+        diags.push(Diagnostic::info(
+            "composite_edges",
+            format!(
+                "a face boundary (used by a 142, 504 or 508): its {} constituents are kept as separate curves, the edges of that boundary",
+                pieces.len()
+            ),
+            loc,
+        ));
+    } else if all {
         match join(pieces.iter().map(|(_, p)| &p.curve), cx) {
             Ok((curve, gap)) => {
                 if gap > 0.0 {

@@ -24,28 +24,9 @@
 //! with a warning naming the failed check.
 
 use super::analysis;
+use super::vector::{cross, dot, norm, sub};
 use crate::exchange::{Diagnostic, Document, Location, Shape};
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
-}
 
 /// `n` samples of the curve over its domain, ends included.
 fn samples(c: &NurbsCurve, n: usize) -> Vec<Point3> {

@@ -50,6 +50,9 @@ pub(super) struct Context<'f, 'a> {
     pub parametric: &'f BTreeSet<usize>,
     /// Surface DE -> the model-space boundary curves of the 144s and 510s that use it.
     pub boundaries: &'f BTreeMap<usize, Vec<i64>>,
+    /// The 102s that are face boundaries (named by a 142, 504 or 508): their constituents
+    /// are that boundary's edges and stay separate curves.
+    pub edge_chains: &'f BTreeSet<usize>,
 }
 
 impl Context<'_, '_> {
@@ -123,12 +126,14 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let parametric = parameter_space_curves(&file);
     let boundaries = boundaries(&file);
     let members = composite_members(&file);
+    let edge_chains = edge_chains(&file);
     let cx = Context {
         file: &file,
         options,
         factor,
         parametric: &parametric,
         boundaries: &boundaries,
+        edge_chains: &edge_chains,
     };
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
@@ -220,18 +225,20 @@ fn read_entry(
             };
             pieces.push((entry.clone(), Geometry::Curve(c.curve), c.meta));
         }
-        102 => match curves::composite(cx, entry, diags) {
-            Some(Composite::Joined(c)) => {
-                pieces.push((entry.clone(), Geometry::Curve(c.curve), c.meta));
-            }
-            Some(Composite::Pieces(list)) => {
-                for (member, mut c) in list {
-                    c.meta.used_by.push(format!("D{}", entry.pointer));
-                    pieces.push((member, Geometry::Curve(c.curve), c.meta));
+        102 => {
+            match curves::composite(cx, entry, !cx.edge_chains.contains(&entry.pointer), diags) {
+                Some(Composite::Joined(c)) => {
+                    pieces.push((entry.clone(), Geometry::Curve(c.curve), c.meta));
                 }
+                Some(Composite::Pieces(list)) => {
+                    for (member, mut c) in list {
+                        c.meta.used_by.push(format!("D{}", entry.pointer));
+                        pieces.push((member, Geometry::Curve(c.curve), c.meta));
+                    }
+                }
+                None => return Outcome::Nothing,
             }
-            None => return Outcome::Nothing,
-        },
+        }
         t if SURFACE_TYPES.contains(&t) => {
             let Some(s) = surfaces::surface(cx, entry, diags) else {
                 return Outcome::Nothing;
@@ -357,6 +364,42 @@ fn finish(
         },
         meta,
     })
+}
+
+/// The 102 Composite Curves that bound faces: named by a 142 (C(t) or B(t); IGES 5.3
+/// section 4.22), a 504 edge (section 4.147) or a 508 loop's parameter-space curves
+/// (section 4.152).
+fn edge_chains(file: &IgesFile<'_>) -> BTreeSet<usize> {
+    let mut out = BTreeSet::new();
+    let mut add = |p: i64| {
+        if let Some(e) = file.entry(p).filter(|e| e.entity_type == 102) {
+            out.insert(e.pointer);
+        }
+    };
+    for entry in file.entries.iter().flatten() {
+        match entry.entity_type {
+            142 => {
+                if let Ok(c) = file.decode::<CurveOnSurface142>(entry).record {
+                    add(c.model_curve);
+                    add(c.parameter_curve);
+                }
+            }
+            504 => {
+                if let Ok(l) = file.decode::<EdgeList504>(entry).record {
+                    l.edges.iter().for_each(|e| add(e.curve));
+                }
+            }
+            508 => {
+                if let Ok(l) = file.decode::<Loop508>(entry).record {
+                    for (_, c) in l.edges.iter().flat_map(|e| &e.parameter_curves) {
+                        add(*c);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The DE pointers of the constituents of every readable 102 Composite Curve.

@@ -126,7 +126,7 @@ fn curve_ref(
     };
     let mut scratch = Vec::new();
     let out = if target.entity_type == 102 {
-        match curves::composite(cx, target, &mut scratch) {
+        match curves::composite(cx, target, true, &mut scratch) {
             Some(curves::Composite::Joined(c)) => Some(*c),
             _ => None,
         }
@@ -410,7 +410,7 @@ fn use_poles(
             continue;
         };
         let out = if target.entity_type == 102 {
-            match curves::composite(cx, target, &mut scratch) {
+            match curves::composite(cx, target, false, &mut scratch) {
                 Some(curves::Composite::Joined(c)) => vec![*c],
                 Some(curves::Composite::Pieces(p)) => p.into_iter().map(|(_, c)| c).collect(),
                 None => Vec::new(),
@@ -573,84 +573,50 @@ fn analytic19x(
             loc.clone(),
         ));
     };
-    let refd = |p: i64, diags: &mut Vec<Diagnostic>| {
-        if p == 0 {
-            None
-        } else {
-            direction_of(cx, p, diags)
-        }
-    };
-    // (origin, axis, reference, shape parameters)
-    let (origin, axis, reference, kind) = match entry.entity_type {
+    // The pointers (DELOC, DEAXIS or DENRML, DEREFD) and the kind with its sizes.
+    let (location, axis, reference, kind) = match entry.entity_type {
         190 => {
             let r = decoded(cx.file.decode::<PlaneSurface190>(entry), diags)?;
-            let Some(o) = point_of(cx, r.location, diags) else {
-                bad(diags, "DELOC (a 116 point)");
-                return None;
-            };
-            let Some(n) = direction_of(cx, r.normal, diags) else {
-                bad(diags, "DENRML (a 123 direction)");
-                return None;
-            };
-            (o, n, refd(r.reference, diags), Kind::Plane)
+            (r.location, r.normal, r.reference, Kind::Plane)
         }
         192 => {
             let r = decoded(cx.file.decode::<Cylinder192>(entry), diags)?;
-            let (Some(o), Some(a)) = (
-                point_of(cx, r.location, diags),
-                direction_of(cx, r.axis, diags),
-            ) else {
-                bad(diags, "DELOC or DEAXIS");
-                return None;
-            };
-            (o, a, refd(r.reference, diags), Kind::Cylinder(r.radius))
+            (r.location, r.axis, r.reference, Kind::Cylinder(r.radius))
         }
         194 => {
             let r = decoded(cx.file.decode::<Cone194>(entry), diags)?;
-            let (Some(o), Some(a)) = (
-                point_of(cx, r.location, diags),
-                direction_of(cx, r.axis, diags),
-            ) else {
-                bad(diags, "DELOC or DEAXIS");
-                return None;
-            };
             let semi = r.semi_angle_degrees.to_radians();
-            (o, a, refd(r.reference, diags), Kind::Cone(r.radius, semi))
+            (r.location, r.axis, r.reference, Kind::Cone(r.radius, semi))
         }
         196 => {
             let r = decoded(cx.file.decode::<Sphere196>(entry), diags)?;
-            let Some(o) = point_of(cx, r.location, diags) else {
-                bad(diags, "DELOC (a 116 point)");
-                return None;
-            };
-            let a = if r.axis == 0 {
-                Some([0.0, 0.0, 1.0])
-            } else {
-                direction_of(cx, r.axis, diags)
-            };
-            let Some(a) = a else {
-                bad(diags, "DEAXIS");
-                return None;
-            };
-            (o, a, refd(r.reference, diags), Kind::Sphere(r.radius))
+            (r.location, r.axis, r.reference, Kind::Sphere(r.radius))
         }
         198 => {
             let r = decoded(cx.file.decode::<Torus198>(entry), diags)?;
-            let (Some(o), Some(a)) = (
-                point_of(cx, r.location, diags),
-                direction_of(cx, r.axis, diags),
-            ) else {
-                bad(diags, "DELOC or DEAXIS");
-                return None;
-            };
-            (
-                o,
-                a,
-                refd(r.reference, diags),
-                Kind::Torus(r.radii[0], r.radii[1]),
-            )
+            let [major, minor] = r.radii;
+            (r.location, r.axis, r.reference, Kind::Torus(major, minor))
         }
         _ => return None,
+    };
+    let Some(origin) = point_of(cx, location, diags) else {
+        bad(diags, "DELOC (a 116 point)");
+        return None;
+    };
+    // A form 0 sphere has no axis: the definition space's z.
+    let axis = if axis == 0 && entry.entity_type == 196 {
+        Some([0.0, 0.0, 1.0])
+    } else {
+        direction_of(cx, axis, diags)
+    };
+    let Some(axis) = axis else {
+        bad(diags, "DEAXIS / DENRML (a 123 direction)");
+        return None;
+    };
+    let reference = if reference == 0 {
+        None
+    } else {
+        direction_of(cx, reference, diags)
     };
     let Some(f) = frame(origin, axis, reference) else {
         diags.push(refused(
