@@ -95,7 +95,7 @@ impl Context<'_, '_> {
 /// (`form_mismatch`, `conic.degenerate`, `conic_point_off`, `arc_radius_mismatch`,
 /// `unbounded.not_represented`, `points.not_represented`, `annotation.not_represented`,
 /// `vectors_dropped`, `spline_gap`, `spline_terminate`, `composite_gap`,
-/// `composite_pieces`, `composite.nested`, `composite.empty`, `ruled.arc_length`,
+/// `composite_pieces`, `composite_edges`, `construction_curve`, `composite.nested`, `composite.empty`, `ruled.arc_length`,
 /// `ruled.parameterisation`, `pointer.invalid`, `reference.unreadable`), and the parser's
 /// warnings (`crlf`, `short_line`, `sequence`, `terminate_count`, `param_line_count`,
 /// `delimiter_form`, `global_field`, `missing_start`...).
@@ -204,6 +204,16 @@ fn read_entry(
         // Read with its 102 (joined into it or emitted as one of its pieces).
         return Outcome::Nothing;
     }
+    if let Some(parents) = construction_of(entry, users) {
+        diags.push(Diagnostic::info(
+            "construction_curve",
+            format!(
+                "physically dependent on {parents}: read as part of that surface (its axis, generatrix, directrix or rail), not as a curve of its own"
+            ),
+            entity_location(entry),
+        ));
+        return Outcome::Nothing;
+    }
     let t = entry.entity_type;
     let mut pieces: Vec<(DirectoryEntry, Geometry, Meta)> = Vec::new();
     match t {
@@ -273,6 +283,27 @@ fn read_entry(
         }
     }
     Outcome::Entities(out)
+}
+
+/// The surfaces (120, 122, 118) an entity is the construction curve of, when it is
+/// physically dependent (DE status subordinate switch 01 or 03, IGES 5.3 section 2.2.4.4.9.2)
+/// and has no other user: such a curve exists only as part of its parent.
+fn construction_of(
+    entry: &DirectoryEntry,
+    users: &BTreeMap<usize, Vec<(usize, i64)>>,
+) -> Option<String> {
+    if entry.status.subordinate & 1 == 0 {
+        return None;
+    }
+    let list = users.get(&entry.pointer)?;
+    list.iter()
+        .all(|&(_, ty)| matches!(ty, 118 | 120 | 122))
+        .then(|| {
+            list.iter()
+                .map(|(de, ty)| format!("D{de} ({ty})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
 }
 
 /// The entity of a converted curve or surface: the unit factor applied (`scale`: when the
