@@ -1168,3 +1168,41 @@ fn writer_labels_each_kind_with_its_checked_form() {
     let forms: Vec<i64> = file.entries.iter().flatten().map(|e| e.form).collect();
     assert_eq!(forms, vec![8, 0]);
 }
+
+/// A 120's axis and generatrix that are physically dependent (status 01) and used by
+/// nothing else are part of the surface: not emitted as curves, one info each; an
+/// independent generatrix is still a curve of its own.
+#[test]
+fn construction_curves_of_a_revolution_are_part_of_it() {
+    let dependent = |ty| De {
+        ty,
+        status: "00010000",
+        ..De::default()
+    };
+    let mut b = Builder::new(GLOBAL);
+    let axis = b.entity(dependent(110), "110,0.,0.,0.,0.,0.,1.;"); // D1
+    let profile = b.entity(dependent(110), "110,2.,0.,0.,2.,0.,3.;"); // D3
+    let rev = b.entity(de(120, 0), &format!("120,{axis},{profile},0.,3.;")); // D5
+    let free = b.entity(de(110, 0), "110,5.,0.,0.,5.,0.,3.;"); // D7
+    b.entity(de(120, 0), &format!("120,{axis},{free},0.,1.;")); // D9
+    let doc = read(&b.build(), &ImportOptions::default());
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let ids: Vec<&str> = doc.entities.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(
+        ids,
+        vec![format!("D{rev}"), format!("D{free}"), "D9".to_owned()]
+    );
+    for id in [axis, profile] {
+        assert_eq!(
+            diag(&doc, "construction_curve", &format!("D{id}")).severity,
+            Severity::Info
+        );
+    }
+    // The revolution itself: radius 2 about z, heights 0..3, angle 0..3 rad.
+    let s = surface_of(&doc, &format!("D{rev}"));
+    let ((u0, u1), (v0, v1)) = s.domain();
+    assert_eq!((u0, u1, v0, v1), (0.0, 3.0, 0.0, 1.0));
+    let q = s.point_at(3.0, 0.5).unwrap();
+    let want = [2.0 * 3.0f64.cos(), 2.0 * 3.0f64.sin(), 1.5];
+    assert!(norm(sub(q, want)) < 1e-14, "{q:?}");
+}
