@@ -515,6 +515,11 @@ fn boundaries(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<i64>> {
             _ => {}
         }
     }
+    // A curve bounding several faces of one surface is projected once.
+    for list in map.values_mut() {
+        list.sort_unstable();
+        list.dedup();
+    }
     map
 }
 
