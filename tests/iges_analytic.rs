@@ -212,6 +212,22 @@ fn size_of(json: &Value) -> f64 {
     m
 }
 
+/// The best (point error, derivative error) of an item is within 1e-12 of the model size and
+/// 1e-9 relative, widened by the file's 124 defect (see [`load`]); printed for the record.
+fn agrees(what: &str, best: (f64, f64), size: f64, defect: f64) {
+    assert!(
+        best.0 <= (1e-12 + 10.0 * defect) * size && best.1 <= 1e-9 + 10.0 * defect,
+        "{what}: point error {:e} (size {size}, 124 defect {defect:e}), derivative error {:e}",
+        best.0,
+        best.1
+    );
+    eprintln!(
+        "{what}: point error {:.1e} x size, derivative error {:.1e} (124 defect {defect:.1e})",
+        best.0 / size,
+        best.1
+    );
+}
+
 /// The candidate maps of a curve edge of FreeCAD type `ty` onto `c`.
 fn curve_maps(ty: &str, c: &NurbsCurve, edge: &Value) -> Vec<Map> {
     let ends = segment_ends(c.knots());
@@ -283,17 +299,11 @@ fn check_curves(name: &str, entity: &str) -> usize {
                 }
             }
         }
-        assert!(
-            best.0 <= (1e-12 + 10.0 * defect) * size && best.1 <= 1e-9 + 10.0 * defect,
-            "{name}: {ty} edge {}: point error {:e} (size {size}, 124 defect {defect:e}), derivative error {:e}",
-            edge["index"],
-            best.0,
-            best.1
-        );
-        eprintln!(
-            "{name}: {ty}: point error {:.1e} x size, derivative error {:.1e} (124 defect {defect:.1e})",
-            best.0 / size,
-            best.1
+        agrees(
+            &format!("{name}: {ty} edge {}", edge["index"]),
+            best,
+            size,
+            defect,
         );
         checked += 1;
     }
@@ -400,7 +410,6 @@ fn check_faces(name: &str, entity: &str, types: &[&str]) -> usize {
             Geometry::Curve(_) => None,
         })
         .collect();
-    let (tp, td) = ((1e-12 + 10.0 * defect) * size, 1e-9 + 10.0 * defect);
     let mut checked = 0;
     for face in json["faces"].as_array().unwrap() {
         let surf = &face["surface"];
@@ -475,17 +484,11 @@ fn check_faces(name: &str, entity: &str, types: &[&str]) -> usize {
                 }
             }
         }
-        assert!(
-            best.0 <= tp && best.1 <= td,
-            "{name}: {ty} face {}: point error {:e} (size {size}, 124 defect {defect:e}), derivative error {:e}",
-            face["index"],
-            best.0,
-            best.1
-        );
-        eprintln!(
-            "{name}: {ty}: point error {:.1e} x size, derivative error {:.1e} (124 defect {defect:.1e})",
-            best.0 / size,
-            best.1
+        agrees(
+            &format!("{name}: {ty} face {}", face["index"]),
+            best,
+            size,
+            defect,
         );
         checked += 1;
     }
