@@ -456,7 +456,7 @@ pub(super) fn axis_line(
 
 /// 106 (IGES 5.3 section 4.6): forms 11, 12 and 13 (linear paths) and 63 (closed planar
 /// curve) are polylines through the points, the parameter being the point index
-/// `0, 1, ..` (IGES 5.3 defines none; Open CASCADE also steps one unit a point); form 63
+/// `0, 1, ..` (IGES 5.3 defines no parameter for it); form 63
 /// is closed by repeating the first point when the last differs. Forms 1-3 are point
 /// sets, not curves: not represented (a warning). Form 13's vectors are not carried (an
 /// info). Other forms are annotation: not represented.
