@@ -284,7 +284,9 @@ mod tests {
                 .contains("ISO 10303-28")
         );
         assert!(describe(b"<!DOCTYPE html><html>").what.contains("HTML"));
-        let binary: Vec<u8> = (0..4096u32).map(|i| (i * 131 % 256) as u8).collect();
+        let binary: Vec<u8> = (0..4096u32)
+            .map(|i| (i * 131 % 256).to_le_bytes()[0])
+            .collect();
         assert_eq!(code(&binary), "format.binary");
         let d = describe(b"hello, this is not CAD data\n");
         assert_eq!(d.code, "format.unknown");

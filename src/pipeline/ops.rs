@@ -283,6 +283,10 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
     if format != Format::Iges {
         return;
     }
+    // Kinds (a circle, a cylinder ...) whose geometry fails the form check are written as
+    // form 0: say so.
+    let forms = exchange::iges::form_warnings(doc);
+    doc.diagnostics.extend(forms);
     let (dropped, kept): (Vec<Entity>, Vec<Entity>) = std::mem::take(&mut doc.entities)
         .into_iter()
         .partition(|e| e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)));

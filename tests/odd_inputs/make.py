@@ -2,7 +2,7 @@
 """Derive valid but unusual STEP and IGES files from samples/freecad, deterministically.
 
 Run from the repository root: `python3 tests/odd_inputs/make.py`. Every `<name>.step|.igs`
-must validate (exit 0); `<name>.expect` holds `entities: N`, the number of B-spline curves
+must validate (exit 0); `<name>.expect` holds `entities: N`, the number of curves
 and surfaces it must read. tests/robustness.rs (odd_inputs_read) replays them.
 """
 import os
@@ -156,7 +156,7 @@ def iges_cases():
     emit("iges_comment_after_terminator", ".igs", "\n".join(recs) + "\n", 1, "curve_deg2_clamped.igs")
     # A surface, a rational curve and the trimmed face, untouched but with CRLF and
     # trailing blanks removed (short lines).
-    for name, n in (("surf_poles4x3.igs", 5), ("curve_deg2_rational_clamped.igs", 1)):
+    for name, n in (("surf_poles4x3.igs", 9), ("curve_deg2_rational_clamped.igs", 1)):
         t = read(name)
         emit("iges_short_lines_" + name[:-4], ".igs", "\n".join(r.rstrip() if r[72:73] != "P" else r for r in t.splitlines()) + "\n", n, name)
 

@@ -7,8 +7,10 @@
 //!   Entry's twenty fields, free-format parameter data with both delimiters and `E`/`D`
 //!   exponents. The fast leaves (the SWAR sequence-number reader, the one-pass real reader
 //!   of the P section) are rules of that one grammar.
-//! - [`records`]: one declaration per entity nurbsx reads (124, 126, 128 and the 102, 142,
-//!   144, 504, 508, 510 whose pointers it follows) and the typed record built from it;
+//! - [`records`]: one declaration per entity nurbsx reads (the curves 100-112 and 126, the
+//!   surfaces 108, 114-122, 128 and 190-198, the 116 points and 123 directions they name, 124,
+//!   and the 102, 142, 144, 504, 508, 510 whose pointers it follows) and the typed record
+//!   built from it;
 //!   [`IgesFile::decode`] is the one decoder of every declared entity.
 //! - [`writer`]: typed records in, 80-column text out.
 //!

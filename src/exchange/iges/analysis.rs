@@ -14,9 +14,12 @@ const KNOT_TOL: f64 = 1e-8;
 
 /// A distance tolerance scaled to the size of a point set (its largest coordinate).
 pub fn tolerance<'a>(points: impl Iterator<Item = &'a Point3>) -> f64 {
-    let m = points
-        .flat_map(|p| p.iter())
-        .fold(0.0f64, |m, &x| m.max(x.abs()));
+    tolerance_of(points.flat_map(|p| p.iter().copied()))
+}
+
+/// [`tolerance`] of coordinates given one by one.
+pub fn tolerance_of(values: impl Iterator<Item = f64>) -> f64 {
+    let m = values.fold(0.0f64, |m, x| m.max(x.abs()));
     REL_TOL * m.max(1.0)
 }
 

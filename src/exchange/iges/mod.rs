@@ -1,25 +1,33 @@
-//! IGES 5.3 entities 126/128 <-> the NURBS model (spec.md b, d; pitfalls.md A4, B9, B11, D18-22).
+//! IGES 5.3 curves and surfaces <-> the NURBS model (spec.md b, d; pitfalls.md A4, B9, B11,
+//! D18-22).
 //!
 //! - [`read()`]: every 126 Rational B-Spline Curve and 128 Rational B-Spline Surface of a file
-//!   becomes an [`Entity`](super::Entity) with id `D<n>` (its DE pointer). Flags are kept in
-//!   [`Meta`](super::Meta) and *checked* against the data, never used to rewrite it
-//!   (PROP3 vs weights: `prop3_inconsistent`; PROP2/PROP4 vs knots and end points:
-//!   `flag_mismatch`). 124 transformation chains are applied to the Euclidean poles;
-//!   Global units (flag wins over name, `unit_conflict`) are reported and, on request,
-//!   converted. Entities used by 142/144 (trims) or 102/186/5xx (topology) are read alone and
-//!   a `trim_ignored` / `topology_ignored` diagnostic says so. One bad entity gives a
-//!   located error diagnostic; the others still load.
+//!   becomes an [`Entity`](super::Entity) with id `D<n>` (its DE pointer), and so does every
+//!   analytic curve and surface with an exact rational form (`curves`: 100, 102, 104, 106,
+//!   110, 112; `surfaces`: 108, 114, 118, 120, 122, 190-198; parameter maps in README,
+//!   "IGES entities and their parameterisation"). Flags are kept in [`Meta`](super::Meta) and
+//!   *checked* against the data, never used to rewrite it (PROP3 vs weights:
+//!   `prop3_inconsistent`; PROP2/PROP4 vs knots and end points: `flag_mismatch`). 124
+//!   transformation chains are applied to the Euclidean poles of every entity; Global units
+//!   (flag wins over name, `unit_conflict`) are reported and, on request, converted; on
+//!   request ([`ImportOptions::trim_to_parameter_range`](super::ImportOptions)) 126/128 are
+//!   trimmed exactly to their declared ranges. Entities used by 142/144 (trims) or 186/5xx
+//!   (topology) are read alone and a `trim_ignored` / `topology_ignored` diagnostic says so.
+//!   One bad entity gives a located error diagnostic; the others still load.
 //! - [`write()`]: every curve and surface of a document as 126/128 with PROP flags computed
-//!   from the data, `V(0)`, `V(1)` and the plane normal, and a Global section declaring the
-//!   unit the numbers are in.
-//!
-//! Not implemented here: [`ImportOptions::trim_to_parameter_range`](super::ImportOptions)
-//! (the range is kept in `Meta::parameter_range`; trimming is wired by the pipeline).
+//!   from the data, `V(0)`, `V(1)`, the plane normal and the form number of its kind when
+//!   the geometry passes that kind's check ([`form_warnings`] lists those that do not), and a
+//!   Global section declaring the unit the numbers are in.
 
 mod analysis;
 mod chain;
+mod curves;
+mod forms;
 mod read;
+mod surfaces;
+mod vector;
 mod write;
 
+pub use forms::form_warnings;
 pub use read::read;
 pub use write::write;

@@ -1,23 +1,87 @@
-//! IGES file -> [`Document`]: entities 126 and 128 with their flags checked, 124 chains
-//! applied, units reported or converted (spec.md a.2, b.1-b.4; pitfalls.md A4, B11, D20-22).
+//! IGES file -> [`Document`]: every curve and surface entity with an exact NURBS form
+//! (126, 128 with their flags checked; the analytic entities of [`super::curves`] and
+//! [`super::surfaces`]), 124 chains applied to all of them, units reported or converted
+//! (spec.md a.2, b.1-b.4; pitfalls.md A4, B11, D20-22).
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use nurbsx_parsers::iges::records::{
-    CompositeCurve102, Curve126, CurveOnSurface142, Loop508, Surface128, Transform124,
+    CompositeCurve102, Curve126, CurveOnSurface142, EdgeList504, Face510, Loop508, Surface128,
+    Transform124, TrimmedSurface144,
 };
 use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
 use rayon::prelude::*;
 
 use super::analysis;
 use super::chain::{self, ChainError};
+use super::curves::{self, Composite};
+use super::surfaces;
+use super::vector::compose;
 use crate::exchange::{
     Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta,
     ParameterRange, Source,
 };
+use crate::nurbs::transform::Affine;
 use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 
-/// Reads every 126 and 128 entity of an IGES file.
+/// Curve entity types converted (IGES 5.3 sections 4.3-4.14, 4.23).
+const CURVE_TYPES: [i64; 7] = [100, 102, 104, 106, 110, 112, 126];
+
+/// Surface entity types converted (sections 4.12, 4.15-4.19, 4.24, 4.161-4.165).
+const SURFACE_TYPES: [i64; 11] = [108, 114, 118, 120, 122, 128, 190, 192, 194, 196, 198];
+
+/// Entity types with no exact rational form: one located diagnostic each.
+fn inexact(t: i64) -> Option<&'static str> {
+    match t {
+        125 => Some("a flash (a 2-D shape referenced by a point) is annotation"),
+        130 => Some("an offset curve has no exact rational form in general"),
+        140 => Some("an offset surface has no exact rational form in general"),
+        _ => None,
+    }
+}
+
+/// What every conversion of one file shares: the file, the options, the unit factor and
+/// the maps computed once (parameter-space curves, the faces' boundary curves per surface).
+pub(super) struct Context<'f, 'a> {
+    pub file: &'f IgesFile<'a>,
+    pub options: &'f ImportOptions,
+    /// Scale from the file's unit to the document's (`None`: the same unit).
+    pub factor: Option<f64>,
+    pub parametric: &'f BTreeSet<usize>,
+    /// Surface DE -> the model-space boundary curves of the 144s and 510s that use it.
+    pub boundaries: &'f BTreeMap<usize, Vec<i64>>,
+    /// The 102s that are face boundaries (named by a 142, 504 or 508): their constituents
+    /// are that boundary's edges and stay separate curves.
+    pub edge_chains: &'f BTreeSet<usize>,
+}
+
+impl Context<'_, '_> {
+    /// The entity's 124 chain composed into one map (`None` when it has none), with
+    /// `meta.transforms_applied` set; `None` with a `transform.invalid` error when the
+    /// chain cannot be resolved.
+    pub fn transforms(
+        &self,
+        entry: &DirectoryEntry,
+        meta: &mut Meta,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<Option<Affine>> {
+        let ts = transforms(self.file, entry, self.options, meta, diags)?;
+        Some(
+            ts.iter()
+                .map(|t| t.rows)
+                .reduce(|inner, outer| compose(&outer, &inner)),
+        )
+    }
+
+    /// A distance tolerance for values of this size: the relative tolerance of
+    /// [`analysis::tolerance`], at least the file's resolution (Global parameter 19).
+    pub fn tolerance(&self, values: &[f64]) -> f64 {
+        analysis::tolerance_of(values.iter().copied())
+            .max(self.file.global.resolution.unwrap_or(0.0))
+    }
+}
+
+/// Reads every curve and surface entity of an IGES file.
 ///
 /// Returns `Err` only when the file as a whole cannot be read (sections, Global section,
 /// directory structure); per-entity problems are error diagnostics in the document, and
@@ -26,21 +90,19 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 /// `limit.poles`, `transform.invalid`, `prop3_inconsistent`, `prop3_rational_equal_weights`,
 /// `flag_mismatch`, `flag_invalid`, `missing_param_range`, `param_range_outside`,
 /// `missing_normal`, `unit_conflict`, `unit_unknown`, `unit_default`, `units_converted`,
-/// `model_scale_ignored`, `trim_not_applied`, `trim_ignored`, `topology_ignored`, `entities_skipped`, and the
-/// parser's warnings (`crlf`, `short_line`, `sequence`, `terminate_count`,
-/// `param_line_count`, `delimiter_form`, `global_field`, `missing_start`...).
+/// `model_scale_ignored`, `trimmed_to_range`, `trim_not_applied`, `trim_ignored`,
+/// `topology_ignored`, `entities_skipped`, `no_exact_form`, the conversions' codes
+/// (`form_mismatch`, `conic.degenerate`, `conic_point_off`, `arc_radius_mismatch`,
+/// `unbounded.not_represented`, `points.not_represented`, `annotation.not_represented`,
+/// `vectors_dropped`, `spline_gap`, `spline_terminate`, `composite_gap`,
+/// `composite_pieces`, `composite_edges`, `construction_curve`, `composite.nested`, `composite.empty`, `ruled.arc_length`,
+/// `ruled.parameterisation`, `pointer.invalid`, `reference.unreadable`), and the parser's
+/// warnings (`crlf`, `short_line`, `sequence`, `terminate_count`, `param_line_count`,
+/// `delimiter_form`, `global_field`, `missing_start`...).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     let file =
         iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
-    if options.trim_to_parameter_range {
-        // Trimming to V(0)..V(1) needs knot insertion (nurbs::split), wired by the pipeline.
-        diags.push(Diagnostic::warning(
-            "trim_not_applied",
-            "trimming to the declared parameter ranges is not done by the IGES reader; the ranges are kept in meta.parameter_range",
-            Location::default(),
-        ));
-    }
     let file_unit = units(&file, &mut diags);
     let units = options.target_units.unwrap_or(file_unit);
     if units != file_unit {
@@ -62,9 +124,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     };
     let users = users(&file);
     let parametric = parameter_space_curves(&file);
+    let boundaries = boundaries(&file);
+    let members = composite_members(&file);
+    let edge_chains = edge_chains(&file);
+    let cx = Context {
+        file: &file,
+        options,
+        factor,
+        parametric: &parametric,
+        boundaries: &boundaries,
+        edge_chains: &edge_chains,
+    };
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
-    // Entities decode independently once the file is split and the users are known:
+    // Entities decode independently once the file is split and the maps are known:
     // decode them on the rayon threads (`collect` keeps file order), then append the
     // results and their diagnostics in that order, as a sequential loop would.
     let results: Vec<(Outcome, Vec<Diagnostic>)> = file
@@ -72,15 +145,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         .par_iter()
         .map(|entry| {
             let mut diags = Vec::new();
-            let outcome = read_entry(
-                &file,
-                entry,
-                &users,
-                &parametric,
-                options,
-                factor,
-                &mut diags,
-            );
+            let outcome = read_entry(&cx, entry, &users, &members, &mut diags);
             (outcome, diags)
         })
         .collect();
@@ -88,7 +153,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     for (outcome, entry_diags) in results {
         diags.extend(entry_diags);
         match outcome {
-            Outcome::Entity(e) => doc.entities.push(*e),
+            Outcome::Entities(e) => doc.entities.extend(e),
             Outcome::Skipped(t) => *skipped.entry(t).or_default() += 1,
             Outcome::Nothing => {}
         }
@@ -98,7 +163,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         diags.push(Diagnostic::info(
             "entities_skipped",
             format!(
-                "entities other than 124/126/128 are not converted: {}",
+                "entities that are neither curves nor surfaces (structure, points, annotation) are not converted: {}",
                 list.join(", ")
             ),
             Location::default(),
@@ -110,23 +175,22 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 
 /// What one directory entry gave.
 enum Outcome {
-    /// A curve or surface.
-    Entity(Box<Entity>),
+    /// Curves or surfaces (several for a 102 whose pieces do not join).
+    Entities(Vec<Entity>),
     /// An entity type that is not converted (counted in `entities_skipped`).
     Skipped(i64),
-    /// Nothing (a 124 transform, or an entity that failed with a diagnostic).
+    /// Nothing (a 124 transform, a 102's constituent, or an entity that failed with a
+    /// diagnostic).
     Nothing,
 }
 
-/// Reads one directory entry (126, 128; others are counted or ignored), pushing its
-/// diagnostics in the order the sequential reader reported them.
+/// Reads one directory entry, pushing its diagnostics in the order the sequential reader
+/// reported them.
 fn read_entry(
-    file: &IgesFile<'_>,
+    cx: &Context<'_, '_>,
     entry: &Result<DirectoryEntry, ParseError>,
     users: &BTreeMap<usize, Vec<(usize, i64)>>,
-    parametric: &BTreeSet<usize>,
-    options: &ImportOptions,
-    factor: Option<f64>,
+    members: &BTreeSet<usize>,
     diags: &mut Vec<Diagnostic>,
 ) -> Outcome {
     let entry = match entry {
@@ -136,22 +200,155 @@ fn read_entry(
             return Outcome::Nothing;
         }
     };
-    let result = match entry.entity_type {
-        126 => read_curve(
-            file,
-            entry,
-            parametric.contains(&entry.pointer),
-            options,
-            factor,
-            diags,
-        ),
-        128 => read_surface(file, entry, options, factor, diags),
-        124 => return Outcome::Nothing,
-        t => return Outcome::Skipped(t),
-    };
-    let Some((geometry, mut meta)) = result else {
+    if members.contains(&entry.pointer) {
+        // Read with its 102 (joined into it or emitted as one of its pieces).
         return Outcome::Nothing;
+    }
+    if let Some(parents) = construction_of(entry, users) {
+        diags.push(Diagnostic::info(
+            "construction_curve",
+            format!(
+                "physically dependent on {parents}: read as part of that surface (its axis, generatrix, directrix or rail), not as a curve of its own"
+            ),
+            entity_location(entry),
+        ));
+        return Outcome::Nothing;
+    }
+    let t = entry.entity_type;
+    let mut pieces: Vec<(DirectoryEntry, Geometry, Meta)> = Vec::new();
+    match t {
+        126 => {
+            let Some((g, m)) = read_curve(cx, entry, cx.factor, diags) else {
+                return Outcome::Nothing;
+            };
+            pieces.push((entry.clone(), g, m));
+        }
+        128 => {
+            let Some((g, m)) = read_surface(cx, entry, cx.factor, diags) else {
+                return Outcome::Nothing;
+            };
+            pieces.push((entry.clone(), g, m));
+        }
+        100 | 104 | 106 | 110 | 112 => {
+            let Some(c) = curves::simple_curve(cx, entry, diags) else {
+                return Outcome::Nothing;
+            };
+            pieces.push((entry.clone(), Geometry::Curve(c.curve), c.meta));
+        }
+        102 => {
+            match curves::composite(cx, entry, !cx.edge_chains.contains(&entry.pointer), diags) {
+                Some(Composite::Joined(c)) => {
+                    pieces.push((entry.clone(), Geometry::Curve(c.curve), c.meta));
+                }
+                Some(Composite::Pieces(list)) => {
+                    for (member, mut c) in list {
+                        c.meta.used_by.push(format!("D{}", entry.pointer));
+                        pieces.push((member, Geometry::Curve(c.curve), c.meta));
+                    }
+                }
+                None => return Outcome::Nothing,
+            }
+        }
+        t if SURFACE_TYPES.contains(&t) => {
+            let Some(s) = surfaces::surface(cx, entry, diags) else {
+                return Outcome::Nothing;
+            };
+            pieces.push((entry.clone(), Geometry::Surface(s.surface), s.meta));
+        }
+        124 => return Outcome::Nothing,
+        t => {
+            if let Some(why) = inexact(t) {
+                diags.push(Diagnostic::warning(
+                    "no_exact_form",
+                    format!("{t} entity: {why}; not represented"),
+                    entity_location(entry),
+                ));
+                return Outcome::Nothing;
+            }
+            return Outcome::Skipped(t);
+        }
+    }
+    let mut out = Vec::with_capacity(pieces.len());
+    for (source, geometry, meta) in pieces {
+        if let Some(e) = finish(
+            cx,
+            &source,
+            geometry,
+            meta,
+            users,
+            t != 126 && t != 128,
+            diags,
+        ) {
+            out.push(e);
+        }
+    }
+    Outcome::Entities(out)
+}
+
+/// The surfaces (120, 122, 118) an entity is the construction curve of, when it is
+/// physically dependent (DE status subordinate switch 01 or 03, IGES 5.3 section 2.2.4.4.9.2)
+/// and has no other user: such a curve exists only as part of its parent.
+fn construction_of(
+    entry: &DirectoryEntry,
+    users: &BTreeMap<usize, Vec<(usize, i64)>>,
+) -> Option<String> {
+    if entry.status.subordinate & 1 == 0 {
+        return None;
+    }
+    let list = users.get(&entry.pointer)?;
+    list.iter()
+        .all(|&(_, ty)| matches!(ty, 118 | 120 | 122))
+        .then(|| {
+            list.iter()
+                .map(|(de, ty)| format!("D{de} ({ty})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+}
+
+/// The entity of a converted curve or surface: the unit factor applied (`scale`: when the
+/// conversion did not apply it), parameter-space curves made 2-D, its users listed (and
+/// the trims and topology that are not applied reported).
+fn finish(
+    cx: &Context<'_, '_>,
+    entry: &DirectoryEntry,
+    geometry: Geometry,
+    mut meta: Meta,
+    users: &BTreeMap<usize, Vec<(usize, i64)>>,
+    scale: bool,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Entity> {
+    let f = cx.factor.filter(|_| scale);
+    let m: Option<Affine> = f.map(|f| [[f, 0.0, 0.0, 0.0], [0.0, f, 0.0, 0.0], [0.0, 0.0, f, 0.0]]);
+    let scaled = match (geometry, m) {
+        (g, None) => Ok(g),
+        (Geometry::Curve(c), Some(m)) => c.transform(&m).map(Geometry::Curve),
+        (Geometry::Surface(s), Some(m)) => s.transform(&m).map(Geometry::Surface),
     };
+    let mut geometry = match scaled {
+        Ok(g) => g,
+        Err(e) => {
+            diags.push(Diagnostic::error(
+                "geometry.invalid",
+                format!("{e}; entity not loaded"),
+                entity_location(entry),
+            ));
+            return None;
+        }
+    };
+    // Parameter-space curves (use flag 05, or the role of a 142's B(t) / a 508 loop's
+    // curve) stay 2-D when every z is 0; 126 decides this itself.
+    if let Geometry::Curve(c) = &geometry
+        && entry.entity_type != 126
+        && c.dimension() == 3
+        && (cx.parametric.contains(&entry.pointer) || entry.status.use_flag == 5)
+        && c.control_points().iter().all(|p| p[2] == 0.0)
+    {
+        let (p, k, pts, w, _) = c.clone().into_parts();
+        if let Ok(c2) = NurbsCurve::with_dimension(p, k, pts, w, 2) {
+            geometry = Geometry::Curve(c2);
+        }
+    }
     if let Some(list) = users.get(&entry.pointer) {
         let mut trim = Vec::new();
         let mut topo = Vec::new();
@@ -159,7 +356,7 @@ fn read_entry(
             meta.used_by.push(format!("D{de}"));
             if matches!(ty, 141..=144) {
                 trim.push(format!("D{de} ({ty})"));
-            } else {
+            } else if matches!(ty, 186 | 502..=514) {
                 topo.push(format!("D{de} ({ty})"));
             }
         }
@@ -169,7 +366,7 @@ fn read_entry(
                 format!(
                     "used by {}; the trim is not applied, the untrimmed {} is returned",
                     trim.join(", "),
-                    if entry.entity_type == 126 {
+                    if matches!(geometry, Geometry::Curve(_)) {
                         "curve"
                     } else {
                         "surface"
@@ -182,14 +379,14 @@ fn read_entry(
             diags.push(Diagnostic::info(
                 "topology_ignored",
                 format!(
-                    "used by {}; that topology (composite curve, B-rep edge or face) is not converted",
+                    "used by {}; that topology (B-rep edge, loop or face) is not converted",
                     topo.join(", ")
                 ),
                 entity_location(entry),
             ));
         }
     }
-    Outcome::Entity(Box::new(Entity {
+    Some(Entity {
         id: format!("D{}", entry.pointer),
         geometry,
         source: Source {
@@ -197,7 +394,133 @@ fn read_entry(
             line: Some(entry.line),
         },
         meta,
-    }))
+    })
+}
+
+/// The 102 Composite Curves that bound faces: named by a 142 (C(t) or B(t); IGES 5.3
+/// section 4.22), a 504 edge (section 4.147) or a 508 loop's parameter-space curves
+/// (section 4.152).
+fn edge_chains(file: &IgesFile<'_>) -> BTreeSet<usize> {
+    let mut out = BTreeSet::new();
+    let mut add = |p: i64| {
+        if let Some(e) = file.entry(p).filter(|e| e.entity_type == 102) {
+            out.insert(e.pointer);
+        }
+    };
+    for entry in file.entries.iter().flatten() {
+        match entry.entity_type {
+            142 => {
+                if let Ok(c) = file.decode::<CurveOnSurface142>(entry).record {
+                    add(c.model_curve);
+                    add(c.parameter_curve);
+                }
+            }
+            504 => {
+                if let Ok(l) = file.decode::<EdgeList504>(entry).record {
+                    l.edges.iter().for_each(|e| add(e.curve));
+                }
+            }
+            508 => {
+                if let Ok(l) = file.decode::<Loop508>(entry).record {
+                    for (_, c) in l.edges.iter().flat_map(|e| &e.parameter_curves) {
+                        add(*c);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The DE pointers of the constituents of every readable 102 Composite Curve.
+fn composite_members(file: &IgesFile<'_>) -> BTreeSet<usize> {
+    let mut out = BTreeSet::new();
+    for entry in file.entries.iter().flatten() {
+        if entry.entity_type != 102 {
+            continue;
+        }
+        if let Ok(c) = file.decode::<CompositeCurve102>(entry).record {
+            out.extend(
+                c.members
+                    .iter()
+                    .filter_map(|&m| file.entry(m))
+                    .filter(|m| m.entity_type != 102)
+                    .map(|m| m.pointer),
+            );
+        }
+    }
+    out
+}
+
+/// For every surface named by a 144 Trimmed Surface (IGES 5.3 section 4.34) or a 510 Face
+/// (section 4.153), the model-space curves that bound those faces: the C(t) of the 142
+/// boundaries (section 4.22) and the 504 edge curves of the 508 loops (sections 4.147,
+/// 4.152).
+fn boundaries(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<i64>> {
+    let mut map: BTreeMap<usize, Vec<i64>> = BTreeMap::new();
+    let mut edge_lists: BTreeMap<usize, Option<EdgeList504>> = BTreeMap::new();
+    for entry in file.entries.iter().flatten() {
+        match entry.entity_type {
+            144 => {
+                let Ok(t) = file.decode::<TrimmedSurface144>(entry).record else {
+                    continue;
+                };
+                let Some(s) = file.entry(t.surface) else {
+                    continue;
+                };
+                let list = map.entry(s.pointer).or_default();
+                for b in std::iter::once(t.outer).chain(t.inner.iter().copied()) {
+                    if let Some(c) = file
+                        .entry(b)
+                        .filter(|e| e.entity_type == 142)
+                        .and_then(|e| file.decode::<CurveOnSurface142>(e).record.ok())
+                        && c.model_curve != 0
+                    {
+                        list.push(c.model_curve);
+                    }
+                }
+            }
+            510 => {
+                let Ok(f) = file.decode::<Face510>(entry).record else {
+                    continue;
+                };
+                let Some(s) = file.entry(f.surface) else {
+                    continue;
+                };
+                let surface = s.pointer;
+                for l in f.loops.iter().filter_map(|&l| file.entry(l)) {
+                    let Ok(lp) = file.decode::<Loop508>(l).record else {
+                        continue;
+                    };
+                    for e in lp.edges.iter().filter(|e| e.kind == 0) {
+                        let Some(list_entry) = file.entry(e.edge) else {
+                            continue;
+                        };
+                        let list = edge_lists
+                            .entry(list_entry.pointer)
+                            .or_insert_with(|| file.decode::<EdgeList504>(list_entry).record.ok());
+                        let curve = list.as_ref().and_then(|l| {
+                            usize::try_from(e.index - 1)
+                                .ok()
+                                .and_then(|i| l.edges.get(i))
+                                .map(|edge| edge.curve)
+                        });
+                        if let Some(c) = curve {
+                            map.entry(surface).or_default().push(c);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    // A curve bounding several faces of one surface is projected once.
+    for list in map.values_mut() {
+        list.sort_unstable();
+        list.dedup();
+    }
+    map
 }
 
 /// The unit of the file (flag wins over name); a model-space scale other than 1 is reported.
@@ -271,14 +594,14 @@ fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> LengthUnit {
     unit
 }
 
-/// For every entity, the entities that reference it as a trim, composite member or B-rep
-/// element: `(user DE, user type)`. Follows the DE pointers the 102, 142, 144, 504 and 510
-/// declarations name (their other pointers name 142s, 502s and 508s, never a 126 or 128).
+/// For every curve and surface, the entities that reference it: trims (142, 144), composite
+/// curves (102), the surfaces built from curves (108, 118, 120, 122) and B-rep elements
+/// (504, 510): `(user DE, user type)`, by the DE pointers their declarations name.
 fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
     let mut map: BTreeMap<usize, Vec<(usize, i64)>> = BTreeMap::new();
     for entry in file.entries.iter().flatten() {
         let ty = entry.entity_type;
-        if !matches!(ty, 102 | 142 | 144 | 504 | 510) {
+        if !matches!(ty, 102 | 108 | 118 | 120 | 122 | 142 | 144 | 504 | 510) {
             continue;
         }
         let Some(Ok(references)) = file.references(entry) else {
@@ -286,7 +609,8 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
         };
         for (_, pointer, _) in references {
             if let Some(target) = file.entry(pointer)
-                && matches!(target.entity_type, 126 | 128)
+                && (CURVE_TYPES.contains(&target.entity_type)
+                    || SURFACE_TYPES.contains(&target.entity_type))
             {
                 map.entry(target.pointer)
                     .or_default()
@@ -297,10 +621,9 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
     map
 }
 
-/// The DE pointers of the 126 curves that live in a surface's parameter space: the B(t)
-/// curve of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.22), directly or as
-/// members of a 102 Composite Curve, and the parameter-space curves of a 508 Loop (section
-/// 4.152).
+/// The DE pointers of the curves that live in a surface's parameter space: the B(t) curve
+/// of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.22), directly or as members
+/// of a 102 Composite Curve, and the parameter-space curves of a 508 Loop (section 4.152).
 fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let add = |ptr: i64, out: &mut BTreeSet<usize>| {
@@ -308,20 +631,21 @@ fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
             return;
         };
         match target.entity_type {
-            126 => {
-                out.insert(target.pointer);
-            }
             102 => {
+                out.insert(target.pointer);
                 let Ok(composite) = file.decode::<CompositeCurve102>(target).record else {
                     return;
                 };
                 for member in composite.members {
                     if let Some(m) = file.entry(member)
-                        && m.entity_type == 126
+                        && CURVE_TYPES.contains(&m.entity_type)
                     {
                         out.insert(m.pointer);
                     }
                 }
+            }
+            t if CURVE_TYPES.contains(&t) => {
+                out.insert(target.pointer);
             }
             _ => {}
         }
@@ -355,7 +679,7 @@ fn global_location() -> Location {
 }
 
 /// The location of an entity: its first DE line.
-fn entity_location(e: &DirectoryEntry) -> Location {
+pub(super) fn entity_location(e: &DirectoryEntry) -> Location {
     Location {
         line: Some(e.line),
         column: None,
@@ -532,7 +856,7 @@ fn weights_policy(
     }
 }
 
-fn name_of(entry: &DirectoryEntry) -> Option<String> {
+pub(super) fn name_of(entry: &DirectoryEntry) -> Option<String> {
     (!entry.label.is_empty()).then(|| entry.label.clone())
 }
 
@@ -563,21 +887,23 @@ fn from_file_order(w: &[f64], nu: usize, nv: usize) -> Grid<f64> {
 
 /// Passes the decoded entity's warnings on and returns its record; a failure becomes an
 /// `iges.entity` error diagnostic and `None`, so the other entities still load.
-fn decoded<T>(d: iges::Decoded<T>, diags: &mut Vec<Diagnostic>) -> Option<T> {
+pub(super) fn decoded<T>(d: iges::Decoded<T>, diags: &mut Vec<Diagnostic>) -> Option<T> {
     diags.extend(d.warnings.iter().map(warning_diag));
     d.record
         .map_err(|e| diags.push(parse_diag("iges.entity", &e)))
         .ok()
 }
 
-fn read_curve(
-    file: &IgesFile<'_>,
+/// A 126 (IGES 5.3 section 4.23) with its flags checked, its 124 chain and the unit
+/// `factor` applied, trimmed to `V(0)..V(1)` when the options ask.
+pub(super) fn read_curve(
+    cx: &Context<'_, '_>,
     entry: &DirectoryEntry,
-    parametric: bool,
-    options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
+    let (file, options) = (cx.file, cx.options);
+    let parametric = cx.parametric.contains(&entry.pointer);
     let rec = decoded(file.decode::<Curve126>(entry), diags)?;
     if !check_limits(entry, &[rec.degree], rec.points.len(), options, diags) {
         return None;
@@ -692,16 +1018,109 @@ fn read_curve(
             )),
         }
     }
+    let curve = if options.trim_to_parameter_range {
+        let range = match (rec.v0, rec.v1) {
+            (Some(a), Some(b)) if a >= d0 && b <= d1 && a < b => Some((a, b)),
+            _ => None,
+        };
+        let trimmed = range.map(|(a, b)| trim_curve(&curve, a, b));
+        match trimmed {
+            Some(Ok(c)) => {
+                if c.domain() != (d0, d1) {
+                    diags.push(trimmed_diag(&loc, "V(0)..V(1)", c.domain(), None));
+                }
+                c
+            }
+            Some(Err(e)) => {
+                diags.push(Diagnostic::error(
+                    "geometry.invalid",
+                    format!("trimming to V(0)..V(1) failed: {e}; entity not loaded"),
+                    loc,
+                ));
+                return None;
+            }
+            None => {
+                diags.push(not_trimmed(&loc, (d0, d1), None));
+                curve
+            }
+        }
+    } else {
+        curve
+    };
     Some((Geometry::Curve(curve), meta))
 }
 
+/// The curve on exactly `[a, b]` (inside its domain): split at `a` and at `b` by knot
+/// insertion to full multiplicity (NURBS Book A5.1, [`NurbsCurve::split_at`]); the pieces
+/// keep their parameters, so the trimmed curve is the untrimmed one on `[a, b]`.
+fn trim_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, crate::nurbs::GeometryError> {
+    let (d0, d1) = c.domain();
+    let mut c = c.clone();
+    if a > d0 {
+        c = c.split_at(a)?.1;
+    }
+    if b < d1 {
+        c = c.split_at(b)?.0;
+    }
+    Ok(c)
+}
+
+/// The surface on exactly `[a, b] x [c, d]`: [`trim_curve`]'s splits in u, then in v.
+fn trim_surface(
+    s: &NurbsSurface,
+    (a, b): (f64, f64),
+    (c, d): (f64, f64),
+) -> Result<NurbsSurface, crate::nurbs::GeometryError> {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let mut s = s.clone();
+    if a > u0 {
+        s = s.split_at_u(a)?.1;
+    }
+    if b < u1 {
+        s = s.split_at_u(b)?.0;
+    }
+    if c > v0 {
+        s = s.split_at_v(c)?.1;
+    }
+    if d < v1 {
+        s = s.split_at_v(d)?.0;
+    }
+    Ok(s)
+}
+
+fn trimmed_diag(loc: &Location, what: &str, u: (f64, f64), v: Option<(f64, f64)>) -> Diagnostic {
+    let v = v.map_or(String::new(), |(c, d)| format!(" x [{c}, {d}]"));
+    Diagnostic::info(
+        "trimmed_to_range",
+        format!(
+            "trimmed exactly to the declared {what}: [{}, {}]{v} (knot insertion, NURBS Book A5.1)",
+            u.0, u.1
+        ),
+        loc.clone(),
+    )
+}
+
+fn not_trimmed(loc: &Location, u: (f64, f64), v: Option<(f64, f64)>) -> Diagnostic {
+    let v = v.map_or(String::new(), |(c, d)| format!(" x [{c}, {d}]"));
+    Diagnostic::warning(
+        "trim_not_applied",
+        format!(
+            "trimming to the declared parameter range was asked, but the entity declares no increasing range inside its knot domain; the whole domain [{}, {}]{v} is kept",
+            u.0, u.1
+        ),
+        loc.clone(),
+    )
+}
+
+/// A 128 (IGES 5.3 section 4.24) with its flags checked, its 124 chain and the unit
+/// `factor` applied, trimmed to `U(0)..U(1) x V(0)..V(1)` when the options ask.
 fn read_surface(
-    file: &IgesFile<'_>,
+    cx: &Context<'_, '_>,
     entry: &DirectoryEntry,
-    options: &ImportOptions,
     factor: Option<f64>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(Geometry, Meta)> {
+    let (file, options) = (cx.file, cx.options);
     let rec = decoded(file.decode::<Surface128>(entry), diags)?;
     if !check_limits(entry, &rec.degree, rec.points.len(), options, diags) {
         return None;
@@ -802,8 +1221,39 @@ fn read_surface(
         None => diags.push(Diagnostic::warning(
             "missing_param_range",
             format!("U(0)..V(1) absent: the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
-            loc,
+            loc.clone(),
         )),
     }
+    let surface = if options.trim_to_parameter_range {
+        let range = match rec.range {
+            Some([a, b, c, d]) if a >= u0 && b <= u1 && a < b && c >= v0 && d <= v1 && c < d => {
+                Some(((a, b), (c, d)))
+            }
+            _ => None,
+        };
+        match range.map(|(u, v)| trim_surface(&surface, u, v)) {
+            Some(Ok(s)) => {
+                let (u, v) = s.domain();
+                if (u, v) != ((u0, u1), (v0, v1)) {
+                    diags.push(trimmed_diag(&loc, "U(0)..U(1) x V(0)..V(1)", u, Some(v)));
+                }
+                s
+            }
+            Some(Err(e)) => {
+                diags.push(Diagnostic::error(
+                    "geometry.invalid",
+                    format!("trimming to U(0)..V(1) failed: {e}; entity not loaded"),
+                    loc,
+                ));
+                return None;
+            }
+            None => {
+                diags.push(not_trimmed(&loc, (u0, u1), Some((v0, v1))));
+                surface
+            }
+        }
+    } else {
+        surface
+    };
     Some((Geometry::Surface(surface), meta))
 }

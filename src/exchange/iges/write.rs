@@ -13,7 +13,10 @@
 //! - PROP4/PROP5: 1 only when the knots and poles have the periodic layout.
 //! - `V(0), V(1)` (`U(0)..V(1)`): the entity's declared parameter range when it lies in the
 //!   knot domain, else the domain.
-//! - DE status `00000000`, or `00000500` (use flag 05, 2-D parametric) for 2-D curves; form 0.
+//! - DE status `00000000`, or `00000500` (use flag 05, 2-D parametric) for 2-D curves; the
+//!   form number of the entity's kind (`Meta::shape`: 126 forms 1-5, 128 forms 1-8) when the
+//!   geometry passes that kind's check ([`forms`]), else 0 ([`form_warnings`](super::form_warnings)
+//!   reports the entities that fail).
 //! - Global: units flag and name of the unit the numbers are in (poles are scaled once when
 //!   `ExportOptions::units` differs from the document's unit), resolution, maximum
 //!   coordinate, dates from `ExportOptions::timestamp` (deterministic when given).
@@ -22,7 +25,7 @@ use nurbsx_parsers::iges::records::{Curve126, Surface128};
 use nurbsx_parsers::iges::writer::{self, WriteParams};
 use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
 
-use super::analysis;
+use super::{analysis, forms};
 use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 
@@ -44,7 +47,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         let plan = match &e.geometry {
             Geometry::Curve(c) => {
                 let use_flag = if c.dimension() == 2 { 5 } else { 0 };
-                des.push(de(126, &e.meta, use_flag));
+                des.push(de(126, &e.meta, use_flag, &e.geometry));
                 max_coord = c
                     .control_points()
                     .iter()
@@ -53,7 +56,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
                 Plan::Curve(curve_plan(c, &e.meta))
             }
             Geometry::Surface(s) => {
-                des.push(de(128, &e.meta, 0));
+                des.push(de(128, &e.meta, 0, &e.geometry));
                 let net = s.control_points().as_slice();
                 max_coord = net
                     .iter()
@@ -264,7 +267,9 @@ fn scaled(p: Point3, factor: Option<f64>) -> Point3 {
     }
 }
 
-fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
+/// The Directory Entry: type, use flag, label, and the form number of the entity's kind
+/// when its geometry passes the kind's check ([`forms::form`]; form 0 otherwise).
+fn de(entity_type: i64, meta: &Meta, use_flag: u8, geometry: &Geometry) -> DirectoryEntry {
     let label = meta
         .name
         .as_deref()
@@ -280,6 +285,7 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8) -> DirectoryEntry {
             ..Status::default()
         },
         label,
+        form: forms::form(geometry, meta.shape).unwrap_or(0),
         ..DirectoryEntry::default()
     }
 }

@@ -9,23 +9,49 @@
 //! before anything is allocated) and the pointer walk ([`Values::pointers`]) come from the
 //! declaration too. Adding an entity is one declaration plus its record type.
 
+mod analytic_surfaces190_198;
+mod circular_arc100;
 mod composite102;
+mod conic_arc104;
+mod copious_data106;
 mod curve126;
 mod curve_on_surface142;
+mod direction123;
 mod edge_list504;
 mod face510;
+mod line110;
 mod loop508;
+mod plane108;
+mod point116;
+mod revolution120;
+mod ruled_surface118;
+mod spline_curve112;
+mod spline_surface114;
 mod surface128;
+mod tabulated_cylinder122;
 mod transform124;
 mod trimmed_surface144;
 
+pub use analytic_surfaces190_198::{Cone194, Cylinder192, PlaneSurface190, Sphere196, Torus198};
+pub use circular_arc100::CircularArc100;
 pub use composite102::CompositeCurve102;
+pub use conic_arc104::ConicArc104;
+pub use copious_data106::CopiousData106;
 pub use curve_on_surface142::CurveOnSurface142;
 pub use curve126::Curve126;
+pub use direction123::Direction123;
 pub use edge_list504::{Edge, EdgeList504};
 pub use face510::Face510;
+pub use line110::Line110;
 pub use loop508::{Loop508, LoopEdge};
+pub use plane108::Plane108;
+pub use point116::Point116;
+pub use revolution120::Revolution120;
+pub use ruled_surface118::RuledSurface118;
+pub use spline_curve112::SplineCurve112;
+pub use spline_surface114::SplineSurface114;
 pub use surface128::Surface128;
+pub use tabulated_cylinder122::TabulatedCylinder122;
 pub use transform124::Transform124;
 pub use trimmed_surface144::TrimmedSurface144;
 
@@ -43,7 +69,19 @@ pub const SURFACES: &[i64] = &[
 
 /// Every declared entity.
 pub const SCHEMAS: &[Schema] = &[
+    circular_arc100::SCHEMA,
     composite102::SCHEMA,
+    conic_arc104::SCHEMA,
+    copious_data106::SCHEMA,
+    plane108::SCHEMA,
+    line110::SCHEMA,
+    spline_curve112::SCHEMA,
+    spline_surface114::SCHEMA,
+    point116::SCHEMA,
+    ruled_surface118::SCHEMA,
+    revolution120::SCHEMA,
+    tabulated_cylinder122::SCHEMA,
+    direction123::SCHEMA,
     transform124::SCHEMA,
     curve126::SCHEMA,
     surface128::SCHEMA,
@@ -52,6 +90,11 @@ pub const SCHEMAS: &[Schema] = &[
     edge_list504::SCHEMA,
     loop508::SCHEMA,
     face510::SCHEMA,
+    analytic_surfaces190_198::PLANE_SCHEMA,
+    analytic_surfaces190_198::CYLINDER_SCHEMA,
+    analytic_surfaces190_198::CONE_SCHEMA,
+    analytic_surfaces190_198::SPHERE_SCHEMA,
+    analytic_surfaces190_198::TORUS_SCHEMA,
 ];
 
 /// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).
