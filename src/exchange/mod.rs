@@ -18,7 +18,6 @@ mod diagnostic;
 mod document;
 pub mod iges;
 mod options;
-pub mod shape_check;
 pub mod step;
 #[cfg(test)]
 pub(crate) mod test_documents;

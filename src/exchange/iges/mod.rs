@@ -28,6 +28,6 @@ mod surfaces;
 mod vector;
 mod write;
 
-pub use forms::form_warnings;
+pub use forms::{form, form_warnings};
 pub use read::read;
 pub use write::write;

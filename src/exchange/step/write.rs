@@ -31,7 +31,6 @@ use nurbsx_parsers::step::{Body, Builder, Parameter, Record, StepString};
 
 use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
-use crate::exchange::shape_check::check_shape;
 use crate::exchange::{
     Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, Shape, StepSchema,
 };
@@ -762,7 +761,7 @@ const FORMS: &[(Shape, &str)] = &[
 ];
 
 /// The form to write: the declared kind's form when the geometry check
-/// ([`check_shape`]) agrees; `Err` with the reason when a kind is declared and the
+/// (`exchange::iges::form`) agrees; `Err` with the reason when a kind is declared and the
 /// geometry disagrees; `Ok("UNSPECIFIED")` when nothing is declared.
 fn form_of(e: &Entity) -> Result<&'static str, String> {
     let declared = match declared_shape(e) {
@@ -777,7 +776,14 @@ fn form_of(e: &Entity) -> Result<&'static str, String> {
             };
         }
     };
-    check_shape(declared, &e.geometry)?;
+    // The kind's check is the one the IGES writer uses for its form numbers (one check per
+    // kind, `exchange::iges::form`); a polyline label also needs degree 1.
+    crate::exchange::iges::form(&e.geometry, Some(declared))?;
+    if let (Shape::Polyline, Geometry::Curve(c)) = (declared, &e.geometry) {
+        if c.degree() != 1 {
+            return Err("a polyline is degree 1".to_owned());
+        }
+    }
     FORMS
         .iter()
         .find(|(s, _)| *s == declared)
