@@ -31,6 +31,7 @@
 //! | `geometry.unsupported` | error | an OFFSET_CURVE/OFFSET_SURFACE (no exact rational form), or a point trim on a B-spline without a parameter |
 //! | `pcurve.not_converted` | warning | analytic parameter-space curves of PCURVEs (one diagnostic listing them) |
 //! | `trim.parameter_outside` | warning | a trim parameter outside an open B-spline basis's domain (the trim point at a basis end, or the clamped value, is used) |
+//! | `trim.parameter_mismatch` | warning | a trim's parameter and point disagree (Open CASCADE writes parabola trims in its own parameter): the point's exact inverse is used |
 //! | `limit.nesting_depth` | error | curves or surfaces built on each other more than 16 levels deep |
 //! | `step.form_unspecified` | warning (writer) | an entity's declared kind disagrees with its geometry: written `.UNSPECIFIED.` |
 
