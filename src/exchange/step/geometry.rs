@@ -1282,8 +1282,7 @@ impl<'a> Converter<'_, '_, 'a> {
         })
     }
 
-    /// The edges of a face (all its bounds), each with whether it is a seam (used twice in
-    /// the face) or closed.
+    /// The edges of a face (all its bounds, in order; a seam appears twice).
     fn face_edges(&self, face: u64) -> Res<Vec<u64>> {
         let Some(R::FaceSurface { bounds, .. }) = self.items.get(&face).map(|i| &i.record) else {
             return Err(self.error(face, "step.reference", "not a FACE_SURFACE"));
