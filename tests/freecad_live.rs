@@ -72,3 +72,46 @@ fn freecad_reimports_every_conversion() {
     );
     let _ = std::fs::remove_dir_all(&work);
 }
+
+/// The analytic samples (lines, conics, quadrics, swept surfaces, the filleted box with a
+/// hole; `samples/freecad/analytic/`) through nurbsx across formats and back into FreeCAD,
+/// checked by `scripts/freecad/live_analytic.py`: every re-imported curve and surface lies on
+/// FreeCAD's reading of the source file (OCCT's own point projection, 1e-9 of the part's
+/// size), every curve has the length of the source edges it runs along (1e-9 relative), and
+/// FreeCAD finds as many curves and surfaces as nurbsx wrote.
+#[test]
+fn freecad_reimports_the_analytic_samples() {
+    let Some(freecadcmd) = find_freecadcmd() else {
+        if env::var("NURBSX_REQUIRE_FREECAD").as_deref() == Ok("1") {
+            panic!("FreeCAD required (NURBSX_REQUIRE_FREECAD=1) but freecadcmd is not on PATH");
+        }
+        eprintln!("SKIPPED freecad_live analytic: freecadcmd not on PATH");
+        return;
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = env::temp_dir().join(format!("nurbsx-freecad-analytic-{}", std::process::id()));
+    std::fs::create_dir_all(&work).unwrap();
+    let out = Command::new(&freecadcmd)
+        .arg(root.join("scripts/freecad/live_analytic.py"))
+        .current_dir(root)
+        .env("NURBSX_BIN", env!("CARGO_BIN_EXE_nurbsx"))
+        .env("NURBSX_SAMPLES", root.join("samples/freecad/analytic"))
+        .env("NURBSX_WORK", &work)
+        .env("NURBSX_REPORT", work.join("report.json"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    eprintln!("{}", String::from_utf8_lossy(&out.stderr));
+    let summary = stdout
+        .lines()
+        .find(|l| l.starts_with("live_analytic:") && l.contains("conversions checked"))
+        .unwrap_or_else(|| panic!("live_analytic.py printed no summary"));
+    assert!(out.status.success(), "{}", out.status);
+    assert!(summary.contains(" 0 failed"), "{summary}");
+    assert!(
+        !summary.starts_with("live_analytic: 0 conversions"),
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&work);
+}

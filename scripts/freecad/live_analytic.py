@@ -1,7 +1,8 @@
 # Live FreeCAD check of the analytic samples (samples/freecad/analytic): nurbsx converts
 # every file across formats (STEP -> IGES -> STEP, IGES -> STEP -> IGES -> STEP), FreeCAD /
 # Open CASCADE re-imports the final file, and its geometry is compared with FreeCAD's own
-# reading of the SOURCE file, independently of any parameterisation:
+# reading of the source file or of the case's STEP file (the same part; see main() for why
+# agreement with one of the two is required), independently of any parameterisation:
 #   - every re-imported curve lies on a source edge's curve and every re-imported surface on a
 #     source face's surface (sampled points projected with OCCT's own projection,
 #     Curve.parameter / Surface.parameter): distance <= 1e-9 of the part's size;
@@ -148,6 +149,8 @@ def main():
         name = case["case"]
         if ONLY and name not in ONLY:
             continue
+        steps = [f["file"] for f in case["files"] if f["file"].endswith(".step")]
+        reference = os.path.join(SAMPLES, steps[0])
         for entry in case["files"]:
             src = os.path.join(SAMPLES, entry["file"])
             stem = os.path.join(WORK, entry["file"].replace(".", "_"))
@@ -168,16 +171,31 @@ def main():
                 prev = h
             row = {"case": name, "file": entry["file"]}
             if not problems:
-                source_shape = Part.read(src)
-                p, dev, dlen, ne, nf = check(name, src, prev, source_shape)
+                # Two readings of the same part are references, both independent of nurbsx:
+                # FreeCAD's reading of this very file, and of the case's STEP file (exact
+                # analytic geometry, 13 significant digits). The output must agree with at
+                # least one of them. Neither alone is exact: Open CASCADE's IGES reader
+                # approximates boundary curves under a 124 whose rotation is orthonormal only
+                # to its printed digits (torus.igs: 6.7e-6 off the exact torus, where
+                # nurbsx's curves stay within 6.3e-9), and an IGES file in inches carries
+                # about 10 digits (units_inch.igs: 1.1e-9 off the STEP file).
+                refs = [src] + ([reference] if reference != src else [])
+                best = None
+                for ref in refs:
+                    got = check(name, src, prev, Part.read(ref))
+                    if best is None or len(got[0]) < len(best[0]):
+                        best = got + (os.path.basename(ref),)
+                    if not got[0]:
+                        break
+                p, dev, dlen, ne, nf, against = best
                 problems += p
-                row.update({"relative_point_deviation": dev, "relative_length_deviation": dlen, "edges": ne, "faces": nf})
+                row.update({"reference": against, "relative_point_deviation": dev, "relative_length_deviation": dlen, "edges": ne, "faces": nf})
             row["problems"] = problems
             results.append(row)
             status = "ok  " if not problems else "FAIL"
             failed += bool(problems)
             print("%s %-34s %s" % (status, entry["file"], "; ".join(problems) if problems else
-                  "points %.1e of size, lengths %.1e, %d curves, %d surfaces" % (row["relative_point_deviation"], row["relative_length_deviation"], row["edges"], row["faces"])))
+                  "points %.1e of size, lengths %.1e, %d curves, %d surfaces (against %s)" % (row["relative_point_deviation"], row["relative_length_deviation"], row["edges"], row["faces"], row["reference"])))
     if REPORT:
         json.dump(results, open(REPORT, "w"), indent=1)
     print("live_analytic: %d conversions checked, %d failed" % (len(results), failed))
