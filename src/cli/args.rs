@@ -289,7 +289,7 @@ pub enum Command {
     ))]
     Elevate(ElevateArgs),
     /// Make every knot vector clamped (open) without changing the shape.
-    #[command(after_help = concat!(
+    #[command(visible_alias = "open", after_help = concat!(
         "Examples:\n",
         "  nurbsx clamp periodic.igs -o clamped.igs\n",
         "  nurbsx clamp curve.json -o clamped.json\n\n",
@@ -320,6 +320,159 @@ pub enum Command {
         "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
+    /// Insert several knots at once without changing the shape (NURBS Book A5.4).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx refine curve.json -o refined.json --knots 0.25,0.5,0.75\n",
+        "  nurbsx refine part.step -o refined.step --entity '#17' --knots 0.5 --direction v\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (knot outside the domain or inserted too often)"
+    ))]
+    Refine(RefineArgs),
+    /// Lower the degree by one when the shape moves by at most --tolerance (A5.11).
+    #[command(
+        long_about = "Lower the degree by one (NURBS Book A5.11) when an upper bound of the \
+                      deviation stays within --tolerance (model units); the bound reached is \
+                      printed per entity. A curve that came from degree elevation comes back \
+                      exactly.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx reduce elevated.json -o reduced.json --tolerance 1e-9\n",
+            "  nurbsx reduce part.step -o reduced.step --tolerance 0.01 --direction u\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  the input is invalid, or the deviation bound exceeds the tolerance\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Reduce(ReduceArgs),
+    /// Remove every interior knot that can go with a change of at most --tolerance (A5.8).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx remove-knots refined.json -o lean.json --tolerance 1e-9\n",
+        "  nurbsx remove-knots part.igs -o lean.igs --tolerance 0.001 --entity D5\n\n",
+        "Exit codes:\n",
+        "  0  written (the number removed is printed per entity)\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    RemoveKnots(ToleranceOpArgs),
+    /// Split into Bezier segments (curves) or patches (surfaces), exactly (A5.6/A5.7).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx decompose curve.json -o segments.json\n",
+        "  nurbsx decompose part.step -o patches.step --entity '#17'\n\n",
+        "Entity k of entity ID is named ID.k (patches in u-major order).\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    Decompose(EntityOpArgs),
+    /// Split at a parameter into two pieces, exactly.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx split curve.json -o halves.json --at 0.5\n",
+        "  nurbsx split part.step -o halves.step --entity '#17' --at 0.3 --direction v\n\n",
+        "The pieces of entity ID are named ID.1 and ID.2.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (parameter not strictly inside the domain)"
+    ))]
+    Split(SplitArgs),
+    /// Join all curves of the input, in order, into one curve.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx join pieces.json -o joined.json\n",
+        "  nurbsx join pieces.igs -o joined.igs --tolerance 1e-6\n\n",
+        "Each end must meet the next start within --tolerance; the junction pole is the \n",
+        "midpoint of the two ends. Degrees, rationality and dimension must agree.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, or a gap exceeds the tolerance\n",
+        "  2  usage or I/O error (fewer than two curves)"
+    ))]
+    Join(JoinArgs),
+    /// Reverse the parameter direction (shape unchanged).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx reverse curve.json -o reversed.json\n",
+        "  nurbsx reverse part.step -o flipped.step --direction u\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    Reverse(SimpleOpArgs),
+    /// Map the parameter domain affinely onto [A, B] (shape unchanged).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx reparameterize curve.json -o unit.json --to 0,1\n",
+        "  nurbsx reparameterize part.step -o unit.step --to 0,1 --direction v\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (A >= B)"
+    ))]
+    Reparameterize(ReparameterizeArgs),
+    /// Move, rotate and scale (or apply a 3x4 matrix x' = R x + T).
+    #[command(
+        long_about = "Apply an affine map to the control points (exact for NURBS). Either \
+                      --matrix with 12 numbers (rows of [R | T], the IGES 124 layout), or \
+                      any of --scale, --rotate and --translate, applied in that order \
+                      (scale about the origin, rotation about an axis through the origin \
+                      by degrees, right-handed, then translation).",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx transform part.step -o moved.step --translate 10,0,0\n",
+            "  nurbsx transform curve.json -o turned.json --rotate 0,0,1,90 --scale 2\n",
+            "  nurbsx transform part.igs -o out.igs --matrix 1,0,0,5,0,1,0,0,0,0,1,0\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  the input is invalid or over a limit\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Transform(TransformArgs),
+    /// Extract the isoparametric curve u = U or v = V of a surface (exact).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx iso surface.json -o curve.json --u 0.5\n",
+        "  nurbsx iso part.step -o edge.step --entity '#17' --v 0\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (a curve given, parameter outside the domain)"
+    ))]
+    Iso(IsoArgs),
+    /// Convert closed curves/surfaces to the periodic form (wrapped poles).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx periodic closed.json -o periodic.json\n",
+        "  nurbsx periodic part.igs -o periodic.igs --direction u --tolerance 1e-7\n\n",
+        "The seam must be C^(p-1) (homogeneously). `nurbsx clamp` (alias `open`) goes back.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, not closed, or not smooth enough at the seam\n",
+        "  2  usage or I/O error"
+    ))]
+    Periodic(PeriodicArgs),
+    /// The k-th derivative of a polynomial curve as a B-spline curve (A3.3).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx derivative-curve curve.json -o hodograph.json\n",
+        "  nurbsx derivative-curve part.step -o d2.step --order 2 --entity '#17'\n\n",
+        "The result has degree p - k, the knots without the first and last k, and the \n",
+        "control points of seed 000 eq. 2-103; rational curves are refused.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (order not below the degree, rational curve, surface)"
+    ))]
+    DerivativeCurve(DerivativeCurveArgs),
     /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
@@ -699,6 +852,216 @@ pub struct InsertKnotArgs {
     pub entity: Option<String>,
 }
 
+/// `nurbsx refine`.
+#[derive(Debug, Args)]
+pub struct RefineArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The knots to insert, comma-separated (a value given twice is inserted twice).
+    #[arg(long, value_name = "U,...", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub knots: NumberList,
+    /// Surface direction (u or v); curves ignore it.
+    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
+    pub direction: KnotDirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx reduce`.
+#[derive(Debug, Args)]
+pub struct ReduceArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted deviation (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx remove-knots`.
+#[derive(Debug, Args)]
+pub struct ToleranceOpArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted change of the shape (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx decompose`.
+#[derive(Debug, Args)]
+pub struct EntityOpArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx split`.
+#[derive(Debug, Args)]
+pub struct SplitArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The parameter, strictly inside the domain.
+    #[arg(long, value_name = "T", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub at: f64,
+    /// Surface direction (u or v); curves ignore it.
+    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
+    pub direction: KnotDirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx join`.
+#[derive(Debug, Args)]
+pub struct JoinArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted gap between a curve's end and the next curve's start.
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+}
+
+/// `nurbsx reparameterize`.
+#[derive(Debug, Args)]
+pub struct ReparameterizeArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The new domain `A,B` (A < B).
+    #[arg(long, value_name = "A,B", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub to: NumberList,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx transform`.
+#[derive(Debug, Args)]
+pub struct TransformArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// 12 numbers: the rows of [R | T] (x' = R x + T).
+    #[arg(long, value_name = "R11,R12,R13,T1,...", value_parser = parse_numbers,
+          allow_hyphen_values = true, conflicts_with_all = ["translate", "rotate", "scale"])]
+    pub matrix: Option<NumberList>,
+    /// Translation `X,Y,Z` (applied last).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub translate: Option<NumberList>,
+    /// Rotation `AX,AY,AZ,DEGREES` about an axis through the origin (right-handed).
+    #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub rotate: Option<NumberList>,
+    /// Uniform scale about the origin (applied first).
+    #[arg(long, value_name = "S", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub scale: Option<f64>,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx iso`.
+#[derive(Debug, Args)]
+pub struct IsoArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The curve at u = U (running along v).
+    #[arg(long, value_name = "U", value_parser = parse_finite, allow_negative_numbers = true,
+          required_unless_present = "v", conflicts_with = "v")]
+    pub u: Option<f64>,
+    /// The curve at v = V (running along u).
+    #[arg(long, value_name = "V", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub v: Option<f64>,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx periodic`.
+#[derive(Debug, Args)]
+pub struct PeriodicArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted difference of the wrapped poles (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx derivative-curve`.
+#[derive(Debug, Args)]
+pub struct DerivativeCurveArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Derivative order k (1 <= k < degree).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub order: usize,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
 /// A tessellation output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MeshFormatArg {
@@ -835,6 +1198,30 @@ pub fn parse_tuple(s: &str) -> Result<Vec<f64>, String> {
         return Err("empty parameter tuple".to_owned());
     }
     Ok(values)
+}
+
+/// A comma-separated list of numbers on the command line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumberList(pub Vec<f64>);
+
+/// Parses comma- (or space-) separated finite numbers (at most 4096).
+pub fn parse_numbers(s: &str) -> Result<NumberList, String> {
+    let tokens: Vec<&str> = s
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .take(4097)
+        .collect();
+    if tokens.len() > 4096 {
+        return Err("more than 4096 numbers".to_owned());
+    }
+    if tokens.is_empty() {
+        return Err("empty list of numbers".to_owned());
+    }
+    tokens
+        .into_iter()
+        .map(parse_finite)
+        .collect::<Result<_, _>>()
+        .map(NumberList)
 }
 
 /// The first 40 characters of a value for a message.

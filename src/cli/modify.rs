@@ -1,5 +1,7 @@
-//! `nurbsx elevate`, `clamp`, `unclamp`, `insert-knot` and `tessellate`: read, apply one
-//! pipeline operation, write in the input's form unless told otherwise.
+//! `nurbsx elevate`, `clamp`, `unclamp`, `insert-knot`, `refine`, `reduce`, `remove-knots`,
+//! `decompose`, `split`, `join`, `reverse`, `reparameterize`, `transform`, `iso`,
+//! `periodic`, `derivative-curve` and `tessellate`: read, apply one pipeline operation,
+//! write in the input's form unless told otherwise.
 
 use std::path::Path;
 
@@ -7,14 +9,16 @@ use crate::exchange::ExportOptions;
 use crate::pipeline::{self, InputKind, Loaded, MeshFormat, Operation};
 
 use super::args::{
-    ElevateArgs, InsertKnotArgs, MeshFormatArg, ModelFormatArg, OutputArgs, SimpleOpArgs,
-    TessellateArgs,
+    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, InsertKnotArgs, IsoArgs, JoinArgs,
+    MeshFormatArg, ModelFormatArg, OutputArgs, PeriodicArgs, ReduceArgs, RefineArgs,
+    ReparameterizeArgs, SimpleOpArgs, SplitArgs, TessellateArgs, ToleranceOpArgs, TransformArgs,
 };
 use super::inspect::no_bspline_warning;
 use super::{
     CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, reader_error,
     write_bytes, write_output,
 };
+use crate::pipeline::Direction;
 
 /// `nurbsx elevate`.
 pub fn elevate(ctx: &Context, a: ElevateArgs) -> Result<Outcome, CliError> {
@@ -49,6 +53,170 @@ pub fn insert_knot(ctx: &Context, a: InsertKnotArgs) -> Result<Outcome, CliError
         times: a.times,
         direction: a.direction.into(),
     };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx refine`.
+pub fn refine(ctx: &Context, a: RefineArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Refine {
+        knots: a.knots.0,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx reduce`.
+pub fn reduce(ctx: &Context, a: ReduceArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Reduce {
+        tolerance: a.tolerance,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx remove-knots`.
+pub fn remove_knots(ctx: &Context, a: ToleranceOpArgs) -> Result<Outcome, CliError> {
+    let op = Operation::RemoveKnots {
+        tolerance: a.tolerance,
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx decompose`.
+pub fn decompose(ctx: &Context, a: EntityOpArgs) -> Result<Outcome, CliError> {
+    modify(
+        ctx,
+        &a.input,
+        &a.out,
+        Operation::Decompose,
+        a.entity.as_deref(),
+    )
+}
+
+/// `nurbsx split`.
+pub fn split(ctx: &Context, a: SplitArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Split {
+        at: a.at,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx join`.
+pub fn join(ctx: &Context, a: JoinArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Join {
+        tolerance: a.tolerance,
+    };
+    modify(ctx, &a.input, &a.out, op, None)
+}
+
+/// `nurbsx reverse`.
+pub fn reverse(ctx: &Context, a: SimpleOpArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Reverse {
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx reparameterize`.
+pub fn reparameterize(ctx: &Context, a: ReparameterizeArgs) -> Result<Outcome, CliError> {
+    let [start, end] = a.to.0[..] else {
+        return Err(CliError::Usage(format!(
+            "--to takes two numbers A,B, got {}",
+            a.to.0.len()
+        )));
+    };
+    let op = Operation::Reparameterize {
+        start,
+        end,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx transform`.
+pub fn transform(ctx: &Context, a: TransformArgs) -> Result<Outcome, CliError> {
+    let matrix = match &a.matrix {
+        Some(m) => {
+            let [r11, r12, r13, t1, r21, r22, r23, t2, r31, r32, r33, t3] = m.0[..] else {
+                return Err(CliError::Usage(format!(
+                    "--matrix takes 12 numbers (the rows of [R | T]), got {}",
+                    m.0.len()
+                )));
+            };
+            [
+                [r11, r12, r13, t1],
+                [r21, r22, r23, t2],
+                [r31, r32, r33, t3],
+            ]
+        }
+        None => {
+            let rotate = match a.rotate.as_ref().map(|r| &r.0[..]) {
+                None => None,
+                Some(&[x, y, z, deg]) => Some(([x, y, z], deg)),
+                Some(other) => {
+                    return Err(CliError::Usage(format!(
+                        "--rotate takes 4 numbers AX,AY,AZ,DEGREES, got {}",
+                        other.len()
+                    )));
+                }
+            };
+            let translate = match a.translate.as_ref().map(|t| &t.0[..]) {
+                None => None,
+                Some(&[x, y, z]) => Some([x, y, z]),
+                Some(other) => {
+                    return Err(CliError::Usage(format!(
+                        "--translate takes 3 numbers X,Y,Z, got {}",
+                        other.len()
+                    )));
+                }
+            };
+            if a.scale.is_none() && rotate.is_none() && translate.is_none() {
+                return Err(CliError::Usage(
+                    "give --matrix, or at least one of --scale, --rotate, --translate".into(),
+                ));
+            }
+            pipeline::affine(a.scale, rotate, translate)
+                .map_err(|e| CliError::pipeline(&a.input, e))?
+        }
+    };
+    modify(
+        ctx,
+        &a.input,
+        &a.out,
+        Operation::Transform { matrix },
+        a.entity.as_deref(),
+    )
+}
+
+/// `nurbsx iso`.
+pub fn iso(ctx: &Context, a: IsoArgs) -> Result<Outcome, CliError> {
+    let op = match (a.u, a.v) {
+        (Some(at), None) => Operation::Iso {
+            at,
+            direction: Direction::U,
+        },
+        (None, Some(at)) => Operation::Iso {
+            at,
+            direction: Direction::V,
+        },
+        _ => return Err(CliError::Usage("give exactly one of --u and --v".into())),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx periodic`.
+pub fn periodic(ctx: &Context, a: PeriodicArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Periodic {
+        tolerance: a.tolerance,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx derivative-curve`.
+pub fn derivative_curve(ctx: &Context, a: DerivativeCurveArgs) -> Result<Outcome, CliError> {
+    let op = Operation::DerivativeCurve { order: a.order };
     modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
 }
 
@@ -94,7 +262,7 @@ fn modify(
         return Ok(outcome);
     }
     ctx.report.diagnostics(&name, &document.diagnostics);
-    pipeline::apply(&mut document, op, entity, &ctx.settings)
+    let notes = pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     let text = pipeline::write_as(&document, target, &export_options(&out.output))
         .map_err(|e| CliError::pipeline(&out.output, e))?;
@@ -110,6 +278,9 @@ fn modify(
             ", left out {} (2-D parameter-space curves: see the pcurve_not_written warning)",
             read - written
         ));
+    }
+    for note in &notes {
+        summary.push_str(&format!("\n  {}: {}", note.entity, note.message));
     }
     ctx.report.summary(&summary);
     Ok(outcome_of(&document.diagnostics))

@@ -8,7 +8,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::error::ApiError;
 use crate::exchange::{LengthUnit, StepSchema};
-use crate::pipeline::{ClampPolicy, Direction, InputKind, MeshFormat};
+use crate::pipeline::{ClampPolicy, Direction, InputKind, MeshFormat, Operation};
 
 /// The relative tolerance `verify=true` uses: 1e-9 of the entity's control-box size, far
 /// below any modelling tolerance and far above `f64` round-off of the written digits.
@@ -425,3 +425,292 @@ pub struct ValidateQuery {
     #[serde(default)]
     pub strict: bool,
 }
+
+/// A request of a geometric operation: its input, the entity it names, and the operation.
+pub trait OperationRequest {
+    /// Splits the request; a malformed combination of fields is a 400.
+    fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError>;
+}
+
+/// Declares the request of a geometric operation: the input fields every operation takes
+/// (`geometry` or `file` with `format`, and `entity`), then its own.
+macro_rules! operation_request {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty),* $(,)? }) => {
+        $(#[$m])*
+        #[derive(Debug, Deserialize, ToSchema)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            /// Model JSON (the reply is model JSON).
+            #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+            pub geometry: Option<Box<RawValue>>,
+            /// A STEP or IGES file's text (the reply is a file in the same format).
+            pub file: Option<String>,
+            /// The format of `file` (sniffed when absent).
+            pub format: Option<FileFormat>,
+            /// Only this entity (default: all).
+            pub entity: Option<String>,
+            $($(#[$fm])* pub $field: $ty,)*
+        }
+    };
+}
+
+fn one() -> usize {
+    1
+}
+
+fn default_tolerance() -> f64 {
+    1e-9
+}
+
+operation_request!(
+    /// `POST /v1/insert-knot`.
+    InsertKnotRequest {
+        /// The parameter value of the new knot (A5.1).
+        at: f64,
+        /// How many times to insert it (default 1).
+        #[serde(default = "one")]
+        times: usize,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/refine`.
+    RefineRequest {
+        /// The knots to insert (A5.4; a value given twice is inserted twice).
+        knots: Vec<f64>,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reduce`.
+    ReduceRequest {
+        /// Largest accepted deviation bound (model units) of the reduction by one degree
+        /// (A5.11).
+        tolerance: f64,
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/remove-knots`.
+    RemoveKnotsRequest {
+        /// Largest accepted change of the shape (model units; A5.8).
+        tolerance: f64,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/decompose`: Bezier segments or patches (A5.6/A5.7).
+    DecomposeRequest {}
+);
+
+operation_request!(
+    /// `POST /v1/split`.
+    SplitRequest {
+        /// The parameter, strictly inside the domain.
+        at: f64,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/join`: all curves, in order, into one (`entity` is refused).
+    JoinRequest {
+        /// Largest accepted gap between an end and the next start (default 1e-9).
+        #[serde(default = "default_tolerance")]
+        tolerance: f64,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reverse`.
+    ReverseRequest {
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reparameterize`.
+    ReparameterizeRequest {
+        /// The new domain `[a, b]`, `a < b`.
+        to: [f64; 2],
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+/// A rotation about an axis through the origin.
+#[derive(Debug, Clone, Copy, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Rotation {
+    /// The axis (need not be unit length).
+    pub axis: [f64; 3],
+    /// The angle in degrees, right-handed about the axis.
+    pub degrees: f64,
+}
+
+operation_request!(
+    /// `POST /v1/transform`: either `matrix`, or any of `scale`, `rotate`, `translate`
+    /// (applied in that order).
+    TransformRequest {
+        /// The rows of `[R | T]` (`x' = R x + T`, the IGES 124 layout).
+        matrix: Option<[[f64; 4]; 3]>,
+        /// Uniform scale about the origin.
+        scale: Option<f64>,
+        /// Rotation about an axis through the origin.
+        rotate: Option<Rotation>,
+        /// Translation.
+        translate: Option<[f64; 3]>,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/iso`: exactly one of `u` and `v`.
+    IsoRequest {
+        /// The curve at u = this value (running along v).
+        u: Option<f64>,
+        /// The curve at v = this value (running along u).
+        v: Option<f64>,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/periodic`.
+    PeriodicRequest {
+        /// Largest accepted difference of the wrapped poles (default 1e-9).
+        #[serde(default = "default_tolerance")]
+        tolerance: f64,
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/derivative-curve`.
+    DerivativeCurveRequest {
+        /// The derivative order k, 1 <= k < degree (default 1).
+        #[serde(default = "one")]
+        order: usize,
+    }
+);
+
+impl OperationRequest for ElevateRequest {
+    fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError> {
+        let op = Operation::Elevate {
+            by: self.by,
+            direction: self.direction.into(),
+        };
+        Ok((
+            Input::from_fields(self.geometry, self.file, self.format)?,
+            self.entity,
+            op,
+        ))
+    }
+}
+
+/// `impl OperationRequest` for a request whose operation is built from its own fields
+/// alone: `$op` is a closure from the request to the operation.
+macro_rules! plain_operation {
+    ($name:ident, $op:expr) => {
+        impl OperationRequest for $name {
+            fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError> {
+                let make: fn(&$name) -> Result<Operation, ApiError> = $op;
+                let op = make(&self)?;
+                Ok((
+                    Input::from_fields(self.geometry, self.file, self.format)?,
+                    self.entity,
+                    op,
+                ))
+            }
+        }
+    };
+}
+
+plain_operation!(InsertKnotRequest, |r| Ok(Operation::InsertKnot {
+    u: r.at,
+    times: r.times,
+    direction: r.direction.into(),
+}));
+plain_operation!(RefineRequest, |r| Ok(Operation::Refine {
+    knots: r.knots.clone(),
+    direction: r.direction.into(),
+}));
+plain_operation!(ReduceRequest, |r| Ok(Operation::Reduce {
+    tolerance: r.tolerance,
+    direction: r.direction.into(),
+}));
+plain_operation!(RemoveKnotsRequest, |r| Ok(Operation::RemoveKnots {
+    tolerance: r.tolerance,
+}));
+plain_operation!(DecomposeRequest, |_| Ok(Operation::Decompose));
+plain_operation!(SplitRequest, |r| Ok(Operation::Split {
+    at: r.at,
+    direction: r.direction.into(),
+}));
+plain_operation!(JoinRequest, |r| Ok(Operation::Join {
+    tolerance: r.tolerance,
+}));
+plain_operation!(ReverseRequest, |r| Ok(Operation::Reverse {
+    direction: r.direction.into(),
+}));
+plain_operation!(ReparameterizeRequest, |r| Ok(Operation::Reparameterize {
+    start: r.to[0],
+    end: r.to[1],
+    direction: r.direction.into(),
+}));
+plain_operation!(TransformRequest, |r| {
+    let matrix = match (r.matrix, r.scale, r.rotate, r.translate) {
+        (Some(m), None, None, None) => m,
+        (Some(_), ..) => {
+            return Err(ApiError::bad_request(
+                "transform.arguments",
+                "give `matrix` or `scale`/`rotate`/`translate`, not both",
+            ));
+        }
+        (None, None, None, None) => {
+            return Err(ApiError::bad_request(
+                "transform.arguments",
+                "give `matrix`, or at least one of `scale`, `rotate`, `translate`",
+            ));
+        }
+        (None, scale, rotate, translate) => {
+            crate::pipeline::affine(scale, rotate.map(|r| (r.axis, r.degrees)), translate)?
+        }
+    };
+    Ok(Operation::Transform { matrix })
+});
+plain_operation!(IsoRequest, |r| match (r.u, r.v) {
+    (Some(at), None) => Ok(Operation::Iso {
+        at,
+        direction: Direction::U,
+    }),
+    (None, Some(at)) => Ok(Operation::Iso {
+        at,
+        direction: Direction::V,
+    }),
+    _ => Err(ApiError::bad_request(
+        "iso.arguments",
+        "give exactly one of `u` and `v`"
+    )),
+});
+plain_operation!(PeriodicRequest, |r| Ok(Operation::Periodic {
+    tolerance: r.tolerance,
+    direction: r.direction.into(),
+}));
+plain_operation!(DerivativeCurveRequest, |r| Ok(Operation::DerivativeCurve {
+    order: r.order,
+}));
