@@ -411,7 +411,8 @@ impl NurbsCurve {
     /// unclamped knot vectors alike; the domain is unchanged.
     ///
     /// Errors ([`GeometryError::InvalidArgument`]): `k == 0` or `k >= p` (the result needs
-    /// degree >= 1), a rational curve (its derivative is rational of another degree, not of
+    /// degree >= 1), an interior knot of multiplicity above `p - k` (the `k`-th
+    /// derivative jumps there; the model allows interior multiplicity up to the degree), a rational curve (its derivative is rational of another degree, not of
     /// this form), or an overflowing control point.
     pub fn derivative_curve(&self, k: usize) -> Result<NurbsCurve, GeometryError> {
         let p = self.degree();
@@ -430,6 +431,17 @@ impl NurbsCurve {
             ));
         }
         let u = self.knots();
+        let (a, b) = self.domain();
+        if let Some((_, t, m)) =
+            super::knots::runs(u).find(|&(_, t, m)| t > a && t < b && m > p - k)
+        {
+            return Err(GeometryError::InvalidArgument(format!(
+                "derivative curve of order {k}: the interior knot {t} has multiplicity {m}, \
+                 above p - k = {} (the k-th derivative jumps there, which a B-spline of \
+                 degree p - k cannot hold)",
+                p - k
+            )));
+        }
         let mut pk: Vec<Point3> = self.control_points().to_vec();
         for level in 1..=k {
             let f = (p - level + 1) as f64;
@@ -446,6 +458,17 @@ impl NurbsCurve {
         }
         check_finite(pk.iter().copied(), "derivative control point")?;
         let knots = u[k..u.len() - k].to_vec();
-        NurbsCurve::with_dimension(p - k, knots, pk, None, self.dimension())
+        match NurbsCurve::with_dimension(p - k, knots, pk, None, self.dimension()) {
+            // An unclamped vector whose domain end is a knot of multiplicity p - k + 1 or
+            // more with knots outside it gives a derivative vector the model refuses (full
+            // multiplicity away from the vector's ends); the clamped form (A5.1, exact, same
+            // domain) has its ends at the vector's ends.
+            Err(GeometryError::Multiplicity { .. })
+                if !(self.is_clamped_start() && self.is_clamped_end()) =>
+            {
+                self.clamp()?.derivative_curve(k)
+            }
+            other => other,
+        }
     }
 }
