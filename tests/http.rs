@@ -710,7 +710,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 13] = [
+const ROUTES: [(&str, &str); 26] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -718,6 +718,19 @@ const ROUTES: [(&str, &str); 13] = [
     ("post", "/v1/degree-elevate"),
     ("post", "/v1/clamp"),
     ("post", "/v1/unclamp"),
+    ("post", "/v1/insert-knot"),
+    ("post", "/v1/refine"),
+    ("post", "/v1/reduce"),
+    ("post", "/v1/remove-knots"),
+    ("post", "/v1/decompose"),
+    ("post", "/v1/split"),
+    ("post", "/v1/join"),
+    ("post", "/v1/reverse"),
+    ("post", "/v1/reparameterize"),
+    ("post", "/v1/transform"),
+    ("post", "/v1/iso"),
+    ("post", "/v1/periodic"),
+    ("post", "/v1/derivative-curve"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -760,6 +773,20 @@ async fn openapi_documents_every_route_and_error() {
         "ErrorBody",
         "EvaluateRequest",
         "ElevateRequest",
+        "InsertKnotRequest",
+        "RefineRequest",
+        "ReduceRequest",
+        "RemoveKnotsRequest",
+        "DecomposeRequest",
+        "SplitRequest",
+        "JoinRequest",
+        "ReverseRequest",
+        "ReparameterizeRequest",
+        "TransformRequest",
+        "IsoRequest",
+        "PeriodicRequest",
+        "DerivativeCurveRequest",
+        "OpNote",
         "TessellateRequest",
         "Geometry",
         "EvalReport",
@@ -1249,6 +1276,289 @@ async fn first_derivatives_match_central_differences() {
         assert!(
             close(d1, &fd, 1e-6 * (1.0 + fd[0].hypot(fd[1]))),
             "{d1} vs {fd:?}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The geometric operations: each reply is checked against the schema and its geometry,
+// evaluated here (A2.2 on the returned knots and poles), against the circle's Bernstein
+// form at the parameter the operation maps to, or against hand-computed values.
+
+/// POSTs an operation on model JSON; checks 200 and the `GeometryReply` schema.
+async fn operation(path: &str, body: &Value) -> Value {
+    let (_, bytes) = ok(app(), post_json(path, body)).await;
+    let v = json_of(&bytes);
+    let doc = openapi().await;
+    conforms(&v, &schema_ref("GeometryReply"), &doc, "$").unwrap_or_else(|e| panic!("{path}: {e}"));
+    v
+}
+
+fn curve_of(v: &Value) -> nurbsx::nurbs::NurbsCurve {
+    serde_json::from_value(v.clone()).unwrap_or_else(|e| panic!("not a curve ({e}): {v}"))
+}
+
+/// Asserts `got(s)` equals the circle at `map(s)` for 33 parameters of `got`'s domain.
+fn same_as_circle(got: &nurbsx::nurbs::NurbsCurve, map: impl Fn(f64) -> f64, tol: f64, what: &str) {
+    let (a, b) = got.domain();
+    for i in 0..=32 {
+        let s = a + (b - a) * f64::from(i) / 32.0;
+        let p = got.point_at(s).unwrap();
+        let want = circle_bernstein(map(s));
+        assert!(
+            (p[0] - want[0]).abs() <= tol && (p[1] - want[1]).abs() <= tol && p[2].abs() <= tol,
+            "{what}: s = {s}: {p:?} vs {want:?}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn shape_preserving_operations_keep_the_circle() {
+    let v = operation(
+        "/v1/insert-knot",
+        &json!({ "geometry": circle(), "at": 0.3, "times": 2 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.num_poles(), 11);
+    same_as_circle(&c, |s| s, 1e-12, "insert-knot");
+
+    let v = operation(
+        "/v1/refine",
+        &json!({ "geometry": circle(), "knots": [0.6, 0.1, 0.6] }),
+    )
+    .await;
+    let refined = curve_of(&v["geometry"]);
+    assert_eq!(refined.num_poles(), 12);
+    same_as_circle(&refined, |s| s, 1e-12, "refine");
+
+    // Knot removal takes the refined circle back to its 9 poles (the removed knots were
+    // inserted, so they go within rounding).
+    let v = operation(
+        "/v1/remove-knots",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let lean = curve_of(&v["geometry"]);
+    assert_eq!(lean.num_poles(), 9, "{v}");
+    same_as_circle(&lean, |s| s, 1e-9, "remove-knots");
+    assert!(
+        v["notes"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("removed 3"),
+        "{v}"
+    );
+
+    let v = operation("/v1/reverse", &json!({ "geometry": circle() })).await;
+    same_as_circle(&curve_of(&v["geometry"]), |s| 1.0 - s, 1e-12, "reverse");
+
+    let v = operation(
+        "/v1/reparameterize",
+        &json!({ "geometry": circle(), "to": [2.0, 6.0] }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.domain(), (2.0, 6.0));
+    same_as_circle(&c, |s| (s - 2.0) / 4.0, 1e-12, "reparameterize");
+
+    // Bezier decomposition: 4 quarter arcs, piece k on [k/4, (k+1)/4].
+    let v = operation("/v1/decompose", &json!({ "geometry": circle() })).await;
+    let pieces = v["geometry"].as_array().unwrap();
+    assert_eq!(pieces.len(), 4);
+    for (k, piece) in pieces.iter().enumerate() {
+        let c = curve_of(piece);
+        assert_eq!(c.num_poles(), 3);
+        assert_eq!(c.domain(), (k as f64 / 4.0, (k + 1) as f64 / 4.0));
+        same_as_circle(&c, |s| s, 1e-12, "decompose");
+    }
+
+    // Split at 0.3, then join the pieces back.
+    let v = operation("/v1/split", &json!({ "geometry": circle(), "at": 0.3 })).await;
+    let halves = v["geometry"].as_array().unwrap().clone();
+    assert_eq!(halves.len(), 2);
+    assert_eq!(curve_of(&halves[0]).domain(), (0.0, 0.3));
+    assert_eq!(curve_of(&halves[1]).domain(), (0.3, 1.0));
+    for h in &halves {
+        same_as_circle(&curve_of(h), |s| s, 1e-12, "split");
+    }
+    let v = operation("/v1/join", &json!({ "geometry": halves })).await;
+    let joined = &v["geometry"].as_array().unwrap()[0];
+    same_as_circle(&curve_of(joined), |s| s, 1e-12, "join");
+    assert!(
+        v["notes"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("joined 2 curves"),
+        "{v}"
+    );
+}
+
+#[tokio::test]
+async fn reduction_reports_its_bound_for_json_and_files() {
+    let v = operation(
+        "/v1/degree-elevate",
+        &json!({ "geometry": circle(), "by": 1 }),
+    )
+    .await;
+    let v = operation(
+        "/v1/reduce",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.degree(), 2);
+    same_as_circle(&c, |s| s, 1e-12, "reduce");
+    let bound = v["notes"][0]["error_bound"].as_f64().unwrap();
+    assert!((0.0..=1e-9).contains(&bound), "{v}");
+    // The bound is refused above the tolerance: the circle itself is not a parabola.
+    expect_error(
+        app(),
+        post_json(
+            "/v1/reduce",
+            &json!({ "geometry": circle(), "tolerance": 1e-6 }),
+        ),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
+    // A file: elevated, then reduced; the bound comes in a header.
+    let (_, step) = ok(
+        app(),
+        post_json("/v1/degree-elevate", &json!({ "file": STEP_ARC, "by": 1 })),
+    )
+    .await;
+    let (headers, step) = ok(
+        app(),
+        post_json(
+            "/v1/reduce",
+            &json!({ "file": String::from_utf8(step.to_vec()).unwrap(), "tolerance": 1e-9 }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    let bound: f64 = headers["x-nurbsx-error-bound"]
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((0.0..=1e-9).contains(&bound));
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), step)).await;
+    assert_eq!(json_of(&body)["entities"][0]["degree"], json!([2]));
+}
+
+#[tokio::test]
+async fn transform_iso_periodic_and_derivative_curves() {
+    // Rotation by 90 degrees about z, then translation: (x, y, z) -> (-y + 1, x + 2, z + 3).
+    let v = operation(
+        "/v1/transform",
+        &json!({ "geometry": circle(), "rotate": { "axis": [0, 0, 2], "degrees": 90 },
+                 "translate": [1, 2, 3] }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    for i in 0..=16 {
+        let u = f64::from(i) / 16.0;
+        let p = c.point_at(u).unwrap();
+        let q = circle_bernstein(u);
+        let want = [1.0 - q[1], 2.0 + q[0], 3.0];
+        assert!(
+            (0..3).all(|k| (p[k] - want[k]).abs() < 1e-12),
+            "{p:?} vs {want:?}"
+        );
+    }
+    let m = operation(
+        "/v1/transform",
+        &json!({ "geometry": circle(), "matrix": [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3]] }),
+    )
+    .await;
+    let cm = curve_of(&m["geometry"]);
+    for i in 0..=16 {
+        let u = f64::from(i) / 16.0;
+        let (p, q) = (c.point_at(u).unwrap(), cm.point_at(u).unwrap());
+        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-12));
+    }
+    expect_error(
+        app(),
+        post_json("/v1/transform", &json!({ "geometry": circle() })),
+        StatusCode::BAD_REQUEST,
+        "transform.arguments",
+    )
+    .await;
+
+    // The iso-curve u = 1/4 of S(u, v) = (2u, 3v, 1 + u v) is v -> (1/2, 3v, 1 + v/4).
+    let v = operation("/v1/iso", &json!({ "geometry": bilinear(), "u": 0.25 })).await;
+    let iso = curve_of(&v["geometry"]);
+    for i in 0..=8 {
+        let t = f64::from(i) / 8.0;
+        let p = iso.point_at(t).unwrap();
+        let want = [0.5, 3.0 * t, 1.0 + t / 4.0];
+        assert!(
+            (0..3).all(|k| (p[k] - want[k]).abs() < 1e-14),
+            "{p:?} vs {want:?}"
+        );
+    }
+
+    // Seed 000 section 2-19: the quadratic on {0,0,0,1/2,1,1,1} has the derivative curve of
+    // degree 1 on {0,0,1/2,1,1} with Q = 4 (P1 - P0), 2 (P2 - P1), 4 (P3 - P2).
+    let quad = json!({ "degree": 2, "knots": [0, 0, 0, 0.5, 1, 1, 1],
+                       "control_points": [[0, 0, 0], [1, 2, 0], [3, 2, 0], [4, 0, 0]] });
+    let v = operation("/v1/derivative-curve", &json!({ "geometry": quad })).await;
+    assert_eq!(v["geometry"]["degree"], 1);
+    assert!(close(
+        &v["geometry"]["knots"],
+        &[0.0, 0.0, 0.5, 1.0, 1.0],
+        0.0
+    ));
+    let q: Vec<Vec<f64>> = serde_json::from_value(v["geometry"]["control_points"].clone()).unwrap();
+    assert_eq!(
+        q,
+        vec![
+            vec![4.0, 8.0, 0.0],
+            vec![4.0, 0.0, 0.0],
+            vec![4.0, -8.0, 0.0]
+        ]
+    );
+    expect_error(
+        app(),
+        post_json("/v1/derivative-curve", &json!({ "geometry": circle() })),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
+
+    // A uniform periodic cubic (poles wrapped: P7..P9 = P0..P2), clamped, comes back to
+    // a periodic form with the same points.
+    let ring: Vec<[f64; 3]> = (0..7)
+        .map(|i| {
+            let a = f64::from(i) * std::f64::consts::TAU / 7.0;
+            [a.cos() * (2.0 + f64::from(i % 2)), a.sin(), 0.0]
+        })
+        .collect();
+    let mut poles = ring.clone();
+    poles.extend_from_slice(&ring[..3]);
+    let knots: Vec<f64> = (0..14).map(f64::from).collect();
+    let periodic = json!({ "degree": 3, "knots": knots, "control_points": poles });
+    let original = curve_of(&periodic);
+    let v = operation("/v1/clamp", &json!({ "geometry": periodic })).await;
+    let v = operation(
+        "/v1/periodic",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let back = curve_of(&v["geometry"]);
+    let k = back.knots();
+    assert!(
+        k[0] < k[1] && k[k.len() - 2] < k[k.len() - 1],
+        "unclamped: {k:?}"
+    );
+    assert_eq!(back.domain(), original.domain());
+    for i in 0..=40 {
+        let u = 3.0 + 7.0 * f64::from(i) / 40.0;
+        let (p, q) = (back.point_at(u).unwrap(), original.point_at(u).unwrap());
+        assert!(
+            (0..3).all(|k| (p[k] - q[k]).abs() < 1e-12),
+            "u = {u}: {p:?} vs {q:?}"
         );
     }
 }
