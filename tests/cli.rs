@@ -2510,3 +2510,168 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The geometric operations on the command line
+
+/// Evaluates `file` (model JSON) at `u` with `nurbsx evaluate --json`.
+fn point_of(file: &Path, u: f64) -> Vec<f64> {
+    let o = nurbsx([
+        "evaluate".as_ref(),
+        file.as_os_str(),
+        "--at".as_ref(),
+        format!("{u}").as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    floats(&json(&o)["results"][0]["point"])
+}
+
+#[test]
+fn reduce_prints_the_bound_and_gives_back_the_circle() {
+    let dir = temp_dir("reduce");
+    let (up, down) = (dir.join("up.json"), dir.join("down.json"));
+    let circle = data("circle.json");
+    assert_exit(
+        &nurbsx([
+            "elevate".as_ref(),
+            circle.as_os_str(),
+            "-o".as_ref(),
+            up.as_os_str(),
+            "--by".as_ref(),
+            "1".as_ref(),
+        ]),
+        0,
+    );
+    let o = nurbsx([
+        "reduce".as_ref(),
+        up.as_os_str(),
+        "-o".as_ref(),
+        down.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-9".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("degree 3 -> 2, deviation at most"),
+        "{}",
+        stderr(&o)
+    );
+    for u in [0.1, 0.37, 0.8] {
+        let p = point_of(&down, u);
+        let want = circle_by_bernstein(u);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+    // The circle is no quadratic polynomial... nor a reducible one: refused, exit 1.
+    let o = nurbsx([
+        "reduce".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        down.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-6".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+}
+
+#[test]
+fn transform_split_reverse_and_join_move_the_circle_as_asked() {
+    let dir = temp_dir("ops");
+    let circle = data("circle.json");
+    let moved = dir.join("moved.json");
+    let o = nurbsx([
+        "transform".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        moved.as_os_str(),
+        "--scale".as_ref(),
+        "2".as_ref(),
+        "--rotate".as_ref(),
+        "0,0,1,180".as_ref(),
+        "--translate".as_ref(),
+        "1,0,0".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    for u in [0.0, 0.3, 0.55] {
+        let p = point_of(&moved, u);
+        let q = circle_by_bernstein(u);
+        // Scale 2, half turn about z, then x + 1: (x, y) -> (1 - 2x, -2y).
+        assert!((p[0] - (1.0 - 2.0 * q[0])).abs() < 1e-12, "{p:?}");
+        assert!((p[1] + 2.0 * q[1]).abs() < 1e-12, "{p:?}");
+    }
+    let halves = dir.join("halves.json");
+    let o = nurbsx([
+        "split".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        halves.as_os_str(),
+        "--at".as_ref(),
+        "0.4".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&halves).unwrap()).unwrap();
+    assert_eq!(v.as_array().map(Vec::len), Some(2), "{v}");
+    let joined = dir.join("joined.json");
+    assert_exit(
+        &nurbsx([
+            "join".as_ref(),
+            halves.as_os_str(),
+            "-o".as_ref(),
+            joined.as_os_str(),
+        ]),
+        0,
+    );
+    let reversed = dir.join("reversed.json");
+    assert_exit(
+        &nurbsx([
+            "reverse".as_ref(),
+            joined.as_os_str(),
+            "-o".as_ref(),
+            reversed.as_os_str(),
+        ]),
+        0,
+    );
+    for u in [0.1, 0.4, 0.9] {
+        let p = point_of(&reversed, u);
+        let want = circle_by_bernstein(1.0 - u);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+    // One curve cannot be joined (usage, exit 2); --matrix needs 12 numbers.
+    let one = nurbsx([
+        "join".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        joined.as_os_str(),
+    ]);
+    assert_exit(&one, 2);
+    let bad = nurbsx([
+        "transform".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        moved.as_os_str(),
+        "--matrix".as_ref(),
+        "1,0,0".as_ref(),
+    ]);
+    assert_exit(&bad, 2);
+}
+
+#[test]
+fn reparameterize_maps_the_domain() {
+    let dir = temp_dir("reparam");
+    let out = dir.join("r.json");
+    let circle = data("circle.json");
+    let o = nurbsx([
+        "reparameterize".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--to".as_ref(),
+        "-1,3".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    for s in [-1.0, 0.2, 2.5] {
+        let p = point_of(&out, s);
+        let want = circle_by_bernstein((s + 1.0) / 4.0);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+}

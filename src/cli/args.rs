@@ -957,15 +957,16 @@ pub struct JoinArgs {
     pub tolerance: f64,
 }
 
-/// `nurbsx reparameterize`.
+/// `nurbsx reparameterize` (`--to` is the domain here, so the output format comes from
+/// OUT's extension, else the input's).
 #[derive(Debug, Args)]
 pub struct ReparameterizeArgs {
     /// Input file (STEP, IGES or model JSON).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Output.
-    #[command(flatten)]
-    pub out: OutputArgs,
+    /// Output file (format from its extension, else the input's); `-` writes standard output.
+    #[arg(short, long, value_name = "OUT", required = true)]
+    pub output: PathBuf,
     /// The new domain `A,B` (A < B).
     #[arg(long, value_name = "A,B", value_parser = parse_numbers, allow_hyphen_values = true)]
     pub to: NumberList,

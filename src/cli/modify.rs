@@ -131,7 +131,11 @@ pub fn reparameterize(ctx: &Context, a: ReparameterizeArgs) -> Result<Outcome, C
         end,
         direction: a.direction.into(),
     };
-    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+    let out = OutputArgs {
+        output: a.output,
+        to: None,
+    };
+    modify(ctx, &a.input, &out, op, a.entity.as_deref())
 }
 
 /// `nurbsx transform`.
