@@ -2675,3 +2675,54 @@ fn reparameterize_maps_the_domain() {
         assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
     }
 }
+
+#[test]
+fn make_writes_a_circle_on_its_radius_and_refuses_missing_numbers() {
+    let dir = temp_dir("make");
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "make".as_ref(),
+        "circle".as_ref(),
+        "--radius".as_ref(),
+        "3".as_ref(),
+        "--axis".as_ref(),
+        "0,1,0".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    // Angle parameter: a full turn on [0, 2 pi], in the plane y = 0.
+    for k in 0..16 {
+        let t = std::f64::consts::TAU * f64::from(k) / 16.0;
+        let p = point_of(&out, t);
+        assert!((p[0].hypot(p[2]) - 3.0).abs() <= 3e-15, "{p:?}");
+        assert!(p[1].abs() <= 1e-15, "{p:?}");
+    }
+    let step = dir.join("s.step");
+    let o = nurbsx([
+        "make".as_ref(),
+        "cone".as_ref(),
+        "--radius".as_ref(),
+        "2".as_ref(),
+        "--semi-angle".as_ref(),
+        "30".as_ref(),
+        "--height".as_ref(),
+        "4".as_ref(),
+        "-o".as_ref(),
+        step.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        std::fs::read_to_string(&step)
+            .unwrap()
+            .contains("B_SPLINE_SURFACE")
+    );
+    let o = nurbsx([
+        "make".as_ref(),
+        "sphere".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("--radius"), "{}", stderr(&o));
+}

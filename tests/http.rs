@@ -710,7 +710,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 26] = [
+const ROUTES: [(&str, &str); 27] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -731,6 +731,7 @@ const ROUTES: [(&str, &str); 26] = [
     ("post", "/v1/iso"),
     ("post", "/v1/periodic"),
     ("post", "/v1/derivative-curve"),
+    ("post", "/v1/make"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -787,6 +788,7 @@ async fn openapi_documents_every_route_and_error() {
         "PeriodicRequest",
         "DerivativeCurveRequest",
         "OpNote",
+        "MakeRequest",
         "TessellateRequest",
         "Geometry",
         "EvalReport",
@@ -1561,4 +1563,151 @@ async fn transform_iso_periodic_and_derivative_curves() {
             "u = {u}: {p:?} vs {q:?}"
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// /v1/make: exact constructions, checked against the analytic shapes
+
+fn surface_of(v: &Value) -> nurbsx::nurbs::NurbsSurface {
+    serde_json::from_value(v.clone()).unwrap_or_else(|e| panic!("not a surface ({e}): {v}"))
+}
+
+#[tokio::test]
+async fn make_builds_circles_arcs_and_quadrics_on_their_analytic_shapes() {
+    // Seed 000 section 2-23: the full circle is four 90-degree arcs, nine poles, knots
+    // {0,0,0,1/4,1/4,...} (here in angle: multiples of pi/2), weights 1, sqrt(2)/2, ...
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "circle", "centre": [1, 2, 3], "radius": 2 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.num_poles(), 9);
+    let w = c.weights().unwrap();
+    for (i, wi) in w.iter().enumerate() {
+        let want = if i % 2 == 0 { 1.0 } else { W };
+        assert!((wi - want).abs() <= 1e-16, "w{i} = {wi}");
+    }
+    let (a, b) = c.domain();
+    for i in 0..=400 {
+        let p = c.point_at(a + (b - a) * f64::from(i) / 400.0).unwrap();
+        let r = (p[0] - 1.0).hypot(p[1] - 2.0);
+        assert!((r - 2.0).abs() <= 2.0 * 1e-15, "radius {r}");
+        assert!((p[2] - 3.0).abs() <= 3.0 * 1e-15, "z {}", p[2]);
+    }
+
+    // Seed 000 section 2-23: the 240-degree arc of the unit circle from 150 degrees (through
+    // 270) to 30 degrees is, in the seed, U = {0,0,0,1/2,1,1,1}, w = {1,1/4,1/4,1},
+    // Q = {(a,1/2),(2a,-1),(-2a,-1),(-a,1/2)}, a = cos 30 (run from 30 degrees backwards).
+    // make builds the same point set with the fewest segments of A7.1 (3 x 80 degrees).
+    let a3 = 3f64.sqrt() / 2.0;
+    let seed = nurbsx::nurbs::NurbsCurve::new(
+        2,
+        vec![0., 0., 0., 0.5, 1., 1., 1.],
+        vec![
+            [a3, 0.5, 0.],
+            [2. * a3, -1., 0.],
+            [-2. * a3, -1., 0.],
+            [-a3, 0.5, 0.],
+        ],
+        Some(vec![1., 0.25, 0.25, 1.]),
+    )
+    .unwrap();
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "arc", "radius": 1, "start": 150, "end": 390 }),
+    )
+    .await;
+    let arc = curve_of(&v["geometry"]);
+    assert_eq!(arc.num_poles(), 7);
+    let (a, b) = arc.domain();
+    let (s0, s1) = (seed.point_at(0.0).unwrap(), seed.point_at(1.0).unwrap());
+    let (m0, m1) = (arc.point_at(a).unwrap(), arc.point_at(b).unwrap());
+    for k in 0..3 {
+        assert!((m0[k] - s1[k]).abs() < 1e-15 && (m1[k] - s0[k]).abs() < 1e-15);
+    }
+    let in_arc = |p: [f64; 3]| {
+        let deg = p[1].atan2(p[0]).to_degrees().rem_euclid(360.0);
+        (p[0].hypot(p[1]) - 1.0).abs() <= 1e-15 && (deg >= 150.0 - 1e-9 || deg <= 30.0 + 1e-9)
+    };
+    for i in 0..=200 {
+        let t = f64::from(i) / 200.0;
+        assert!(in_arc(seed.point_at(t).unwrap()), "seed t = {t}");
+        assert!(
+            in_arc(arc.point_at((a + (b - a) * t).min(b)).unwrap()),
+            "make t = {t}"
+        );
+    }
+
+    // A cylinder of radius 5 and height 20 about the x axis, and a sphere of radius 3.
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "cylinder", "axis": [1, 0, 0], "radius": 5, "height": 20 }),
+    )
+    .await;
+    let s = surface_of(&v["geometry"]);
+    let ((u0, u1), (v0, v1)) = s.domain();
+    for i in 0..=20 {
+        for j in 0..=4 {
+            let (u, w) = (
+                u0 + (u1 - u0) * f64::from(i) / 20.0,
+                v0 + (v1 - v0) * f64::from(j) / 4.0,
+            );
+            let p = s.point_at(u, w).unwrap();
+            assert!((p[1].hypot(p[2]) - 5.0).abs() < 1e-14, "{p:?}");
+            assert!(p[0] > -1e-12 && p[0] < 20.0 + 1e-12);
+        }
+    }
+    let v = operation("/v1/make", &json!({ "shape": "sphere", "radius": 3 })).await;
+    let s = surface_of(&v["geometry"]);
+    let ((u0, u1), (v0, v1)) = s.domain();
+    for i in 0..=12 {
+        for j in 0..=12 {
+            let p = s
+                .point_at(
+                    u0 + (u1 - u0) * f64::from(i) / 12.0,
+                    v0 + (v1 - v0) * f64::from(j) / 12.0,
+                )
+                .unwrap();
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            assert!((r - 3.0).abs() < 1e-14, "{p:?}");
+        }
+    }
+    // As a STEP file; missing numbers are a 400.
+    let (headers, _) = ok(
+        app(),
+        post_json(
+            "/v1/make",
+            &json!({ "shape": "torus", "major": 5, "minor": 1, "format": "step" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    expect_error(
+        app(),
+        post_json("/v1/make", &json!({ "shape": "circle" })),
+        StatusCode::BAD_REQUEST,
+        "make.arguments",
+    )
+    .await;
+    expect_error(
+        app(),
+        post_json(
+            "/v1/make",
+            &json!({ "shape": "torus", "major": 1, "minor": 2 }),
+        ),
+        StatusCode::BAD_REQUEST,
+        "make.arguments",
+    )
+    .await;
+    // The entity names its shape.
+    let doc = nurbsx::pipeline::construct::make(&nurbsx::pipeline::construct::MakeShape::Line {
+        from: [0.0; 3],
+        to: [1.0, 2.0, 3.0],
+    })
+    .unwrap();
+    assert_eq!(
+        doc.entities[0].meta.shape,
+        Some(nurbsx::exchange::Shape::Line)
+    );
 }

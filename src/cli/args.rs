@@ -473,6 +473,35 @@ pub enum Command {
         "  2  usage or I/O error (order not below the degree, rational curve, surface)"
     ))]
     DerivativeCurve(DerivativeCurveArgs),
+    /// Build an exact curve or surface: circle, arc, ellipse, line, cylinder, cone, sphere,
+    /// torus, or a revolution, extrusion or ruled surface of curves read from files.
+    #[command(
+        long_about = "Build an exact NURBS curve or surface from its defining numbers (conic \
+                      arcs with the fewest segments, NURBS Book A7.1; revolution A8.1; the \
+                      ISO 10303-42 quadrics) and write it as STEP, IGES or model JSON. Lengths \
+                      are in millimetres, angles in degrees; --axis is the normal of circles \
+                      and ellipses and the axis of the surfaces; --reference is the direction \
+                      of angle 0 (default: perpendicular to the axis).",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx make circle --radius 2 -o circle.step\n",
+            "  nurbsx make arc --centre 1,0,0 --radius 1 --start 0 --end 240 -o arc.json\n",
+            "  nurbsx make ellipse --major 3 --minor 1 -o ellipse.igs\n",
+            "  nurbsx make line --p0 0,0,0 --p1 1,2,3 -o line.json\n",
+            "  nurbsx make cylinder --radius 5 --height 20 --axis 0,0,1 -o cyl.step\n",
+            "  nurbsx make cone --radius 5 --semi-angle 30 --height 4 -o cone.step\n",
+            "  nurbsx make sphere --radius 3 -o ball.igs\n",
+            "  nurbsx make torus --major 5 --minor 1 -o ring.step\n",
+            "  nurbsx make revolve profile.json --axis 0,0,1 --angle 180 -o half.step\n",
+            "  nurbsx make extrude curve.json --direction 0,0,10 -o wall.step\n",
+            "  nurbsx make ruled rail1.json rail2.json -o ruled.step\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  an input curve file is invalid or over a limit\n",
+            "  2  usage or I/O error (missing or out-of-range numbers)"
+        )
+    )]
+    Make(MakeArgs),
     /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
@@ -1061,6 +1090,95 @@ pub struct DerivativeCurveArgs {
     /// Only this entity (default: all).
     #[arg(long, value_name = "ID")]
     pub entity: Option<String>,
+}
+
+/// What `nurbsx make` builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MakeKind {
+    /// A full circle (--centre, --axis, --radius).
+    Circle,
+    /// A circular arc (--centre, --axis, --radius, --start, --end).
+    Arc,
+    /// An ellipse or elliptic arc (--centre, --axis, --reference, --major, --minor, --start, --end).
+    Ellipse,
+    /// A line segment (--p0, --p1).
+    Line,
+    /// A cylinder (--centre of the base, --axis, --radius, --height, --sweep).
+    Cylinder,
+    /// A cone (--centre of the base, --axis, --radius, --semi-angle, --height, --sweep).
+    Cone,
+    /// A sphere (--centre, --axis, --radius).
+    Sphere,
+    /// A torus (--centre, --axis, --major, --minor).
+    Torus,
+    /// The first curve of CURVE revolved (--axis-point, --axis, --angle).
+    Revolve,
+    /// The first curve of CURVE swept along --direction.
+    Extrude,
+    /// The ruled surface between the first curves of two files.
+    Ruled,
+}
+
+/// `nurbsx make`.
+#[derive(Debug, Args)]
+pub struct MakeArgs {
+    /// What to build.
+    #[arg(value_enum, value_name = "SHAPE")]
+    pub shape: MakeKind,
+    /// Curve file(s) for revolve, extrude (one) and ruled (two): STEP, IGES or model JSON.
+    #[arg(value_name = "CURVE")]
+    pub curves: Vec<PathBuf>,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Centre (circles, ellipses, sphere, torus) or base centre (cylinder, cone).
+    #[arg(long, visible_alias = "center", value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub centre: Option<NumberList>,
+    /// Normal of circles and ellipses, axis of the surfaces (default 0,0,1).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub axis: Option<NumberList>,
+    /// Direction of angle 0 (default: perpendicular to the axis).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub reference: Option<NumberList>,
+    /// Radius.
+    #[arg(long, value_name = "R", value_parser = parse_finite)]
+    pub radius: Option<f64>,
+    /// Start angle of arcs (degrees, default 0).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true, default_value_t = 0.0)]
+    pub start: f64,
+    /// End angle of arcs (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true, default_value_t = 360.0)]
+    pub end: f64,
+    /// Major semi-axis (ellipse) or major radius (torus).
+    #[arg(long, value_name = "A", value_parser = parse_finite)]
+    pub major: Option<f64>,
+    /// Minor semi-axis (ellipse) or tube radius (torus).
+    #[arg(long, value_name = "B", value_parser = parse_finite)]
+    pub minor: Option<f64>,
+    /// Start point of a line.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub p0: Option<NumberList>,
+    /// End point of a line.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub p1: Option<NumberList>,
+    /// Height along the axis (cylinder, cone).
+    #[arg(long, value_name = "H", value_parser = parse_finite)]
+    pub height: Option<f64>,
+    /// Semi-angle of a cone (degrees).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub semi_angle: Option<f64>,
+    /// Sweep of a cylinder or cone (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, default_value_t = 360.0)]
+    pub sweep: f64,
+    /// A point of the revolution axis (default the origin).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub axis_point: Option<NumberList>,
+    /// Revolution angle (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, default_value_t = 360.0)]
+    pub angle: f64,
+    /// Extrusion vector.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub direction: Option<NumberList>,
 }
 
 /// A tessellation output format.

@@ -239,6 +239,7 @@ fn run(cli: Cli, reporter: &Reporter) -> Result<Outcome, CliError> {
         Command::Iso(a) => modify::iso(&ctx, a),
         Command::Periodic(a) => modify::periodic(&ctx, a),
         Command::DerivativeCurve(a) => modify::derivative_curve(&ctx, a),
+        Command::Make(a) => modify::make(&ctx, a),
         Command::Tessellate(a) => modify::tessellate(&ctx, a),
         Command::Serve(a) => serve(&ctx, a),
         Command::Help(a) => help::help(&ctx, a),

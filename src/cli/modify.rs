@@ -9,9 +9,10 @@ use crate::exchange::ExportOptions;
 use crate::pipeline::{self, InputKind, Loaded, MeshFormat, Operation};
 
 use super::args::{
-    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, InsertKnotArgs, IsoArgs, JoinArgs,
-    MeshFormatArg, ModelFormatArg, OutputArgs, PeriodicArgs, ReduceArgs, RefineArgs,
-    ReparameterizeArgs, SimpleOpArgs, SplitArgs, TessellateArgs, ToleranceOpArgs, TransformArgs,
+    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, InsertKnotArgs, IsoArgs, JoinArgs, MakeArgs,
+    MakeKind, MeshFormatArg, ModelFormatArg, NumberList, OutputArgs, PeriodicArgs, ReduceArgs,
+    RefineArgs, ReparameterizeArgs, SimpleOpArgs, SplitArgs, TessellateArgs, ToleranceOpArgs,
+    TransformArgs,
 };
 use super::inspect::no_bspline_warning;
 use super::{
@@ -222,6 +223,155 @@ pub fn periodic(ctx: &Context, a: PeriodicArgs) -> Result<Outcome, CliError> {
 pub fn derivative_curve(ctx: &Context, a: DerivativeCurveArgs) -> Result<Outcome, CliError> {
     let op = Operation::DerivativeCurve { order: a.order };
     modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// A point or vector option: 3 numbers, or the default.
+fn point(
+    v: &Option<NumberList>,
+    name: &str,
+    default: Option<[f64; 3]>,
+) -> Result<[f64; 3], CliError> {
+    match (v.as_ref().map(|l| &l.0[..]), default) {
+        (Some(&[x, y, z]), _) => Ok([x, y, z]),
+        (Some(other), _) => Err(CliError::Usage(format!(
+            "--{name} takes 3 numbers X,Y,Z, got {}",
+            other.len()
+        ))),
+        (None, Some(d)) => Ok(d),
+        (None, None) => Err(CliError::Usage(format!("this shape needs --{name} X,Y,Z"))),
+    }
+}
+
+/// A required number option.
+fn needed(v: Option<f64>, name: &str) -> Result<f64, CliError> {
+    v.ok_or_else(|| CliError::Usage(format!("this shape needs --{name}")))
+}
+
+/// The first curve of a file.
+fn curve_file(ctx: &Context, path: &Path) -> Result<crate::nurbs::NurbsCurve, CliError> {
+    let Loaded { document, .. } = load_file(ctx, path)?;
+    ctx.report
+        .diagnostics(&display_name(path), &document.diagnostics);
+    document
+        .entities
+        .into_iter()
+        .find_map(|e| match e.geometry {
+            crate::nurbs::Geometry::Curve(c) => Some(c),
+            crate::nurbs::Geometry::Surface(_) => None,
+        })
+        .ok_or_else(|| CliError::Usage(format!("{} holds no curve", path.display())))
+}
+
+/// `nurbsx make`.
+pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
+    use crate::pipeline::construct::{MakeShape, make};
+    let origin = [0.0; 3];
+    let z = Some([0.0, 0.0, 1.0]);
+    let centre = point(&a.centre, "centre", Some(origin))?;
+    let axis = point(&a.axis, "axis", z)?;
+    let reference = match &a.reference {
+        None => None,
+        some => Some(point(some, "reference", None)?),
+    };
+    let wanted = match a.shape {
+        MakeKind::Revolve | MakeKind::Extrude => 1,
+        MakeKind::Ruled => 2,
+        _ => 0,
+    };
+    if a.curves.len() != wanted {
+        return Err(CliError::Usage(format!(
+            "this shape takes {wanted} curve file(s), got {}",
+            a.curves.len()
+        )));
+    }
+    let shape = match a.shape {
+        MakeKind::Circle | MakeKind::Arc => MakeShape::Arc {
+            centre,
+            normal: axis,
+            reference,
+            radius: needed(a.radius, "radius")?,
+            start: if a.shape == MakeKind::Circle {
+                0.0
+            } else {
+                a.start
+            },
+            end: if a.shape == MakeKind::Circle {
+                360.0
+            } else {
+                a.end
+            },
+        },
+        MakeKind::Ellipse => MakeShape::Ellipse {
+            centre,
+            normal: axis,
+            reference,
+            major: needed(a.major, "major")?,
+            minor: needed(a.minor, "minor")?,
+            start: a.start,
+            end: a.end,
+        },
+        MakeKind::Line => MakeShape::Line {
+            from: point(&a.p0, "p0", None)?,
+            to: point(&a.p1, "p1", None)?,
+        },
+        MakeKind::Cylinder => MakeShape::Cylinder {
+            origin: centre,
+            axis,
+            reference,
+            radius: needed(a.radius, "radius")?,
+            height: needed(a.height, "height")?,
+            sweep: a.sweep,
+        },
+        MakeKind::Cone => MakeShape::Cone {
+            origin: centre,
+            axis,
+            reference,
+            radius: needed(a.radius, "radius")?,
+            semi_angle: needed(a.semi_angle, "semi-angle")?,
+            height: needed(a.height, "height")?,
+            sweep: a.sweep,
+        },
+        MakeKind::Sphere => MakeShape::Sphere {
+            centre,
+            axis,
+            reference,
+            radius: needed(a.radius, "radius")?,
+        },
+        MakeKind::Torus => MakeShape::Torus {
+            centre,
+            axis,
+            reference,
+            major: needed(a.major, "major")?,
+            minor: needed(a.minor, "minor")?,
+        },
+        MakeKind::Revolve => MakeShape::Revolve {
+            profile: curve_file(ctx, &a.curves[0])?,
+            axis_point: point(&a.axis_point, "axis-point", Some(origin))?,
+            axis,
+            angle: a.angle,
+        },
+        MakeKind::Extrude => MakeShape::Extrude {
+            curve: curve_file(ctx, &a.curves[0])?,
+            direction: point(&a.direction, "direction", None)?,
+        },
+        MakeKind::Ruled => MakeShape::Ruled {
+            first: curve_file(ctx, &a.curves[0])?,
+            second: curve_file(ctx, &a.curves[1])?,
+        },
+    };
+    let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
+    let target = output_kind(&a.out, InputKind::Json)?;
+    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
+        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    write_output(&a.out.output, &text)?;
+    let name = clap::ValueEnum::to_possible_value(&a.shape)
+        .map_or_else(String::new, |v| v.get_name().to_owned());
+    ctx.report.summary(&format!(
+        "made a {name} -> {} as {}",
+        display_name(&a.out.output),
+        target.name().to_ascii_uppercase()
+    ));
+    Ok(outcome_of(&document.diagnostics))
 }
 
 /// The output form of a modify command: `--to`, else OUT's extension, else the input's.

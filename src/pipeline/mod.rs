@@ -8,6 +8,7 @@
 //! Everything here is synchronous and CPU-bound; the service runs it off the async threads.
 
 mod cancel;
+pub mod construct;
 mod error;
 mod export;
 mod input;

@@ -714,3 +714,188 @@ plain_operation!(PeriodicRequest, |r| Ok(Operation::Periodic {
 plain_operation!(DerivativeCurveRequest, |r| Ok(Operation::DerivativeCurve {
     order: r.order,
 }));
+
+/// `POST /v1/make`: what to build (`shape`) and its numbers. Lengths in millimetres,
+/// angles in degrees; `axis` is the normal of circles and ellipses.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MakeRequest {
+    /// `circle`, `arc`, `ellipse`, `line`, `cylinder`, `cone`, `sphere`, `torus`, `revolve`,
+    /// `extrude` or `ruled`.
+    pub shape: MakeName,
+    /// The reply: model JSON (default) or a STEP/IGES file.
+    pub format: Option<FileFormat>,
+    /// Centre, or base centre of cylinders and cones (default the origin).
+    pub centre: Option<[f64; 3]>,
+    /// Normal or axis (default `[0, 0, 1]`).
+    pub axis: Option<[f64; 3]>,
+    /// Direction of angle 0 (default: perpendicular to the axis).
+    pub reference: Option<[f64; 3]>,
+    /// Radius (circle, arc, cylinder, cone, sphere).
+    pub radius: Option<f64>,
+    /// Arc start angle (default 0).
+    pub start: Option<f64>,
+    /// Arc end angle (default 360).
+    pub end: Option<f64>,
+    /// Major semi-axis (ellipse) or major radius (torus).
+    pub major: Option<f64>,
+    /// Minor semi-axis (ellipse) or tube radius (torus).
+    pub minor: Option<f64>,
+    /// Line start.
+    pub p0: Option<[f64; 3]>,
+    /// Line end.
+    pub p1: Option<[f64; 3]>,
+    /// Height of cylinders and cones.
+    pub height: Option<f64>,
+    /// Semi-angle of cones.
+    pub semi_angle: Option<f64>,
+    /// Sweep of cylinders and cones, or revolution angle (default 360).
+    pub sweep: Option<f64>,
+    /// A point of the revolution axis (default the origin).
+    pub axis_point: Option<[f64; 3]>,
+    /// Extrusion vector.
+    pub direction: Option<[f64; 3]>,
+    /// The curves of `revolve`, `extrude` (one) and `ruled` (two), in model JSON.
+    #[schema(value_type = Option<Vec<crate::service::openapi::CurveDoc>>)]
+    pub curves: Option<Vec<crate::nurbs::NurbsCurve>>,
+}
+
+/// The shapes of `POST /v1/make`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum MakeName {
+    /// A full circle.
+    Circle,
+    /// A circular arc.
+    Arc,
+    /// An ellipse or elliptic arc.
+    Ellipse,
+    /// A line segment.
+    Line,
+    /// A cylinder.
+    Cylinder,
+    /// A cone.
+    Cone,
+    /// A sphere.
+    Sphere,
+    /// A torus.
+    Torus,
+    /// A revolved curve.
+    Revolve,
+    /// An extruded curve.
+    Extrude,
+    /// A ruled surface.
+    Ruled,
+}
+
+impl MakeRequest {
+    /// The shape to build; a missing number or curve is a 400.
+    pub fn shape(self) -> Result<crate::pipeline::construct::MakeShape, ApiError> {
+        use crate::pipeline::construct::MakeShape;
+        let need = |v: Option<f64>, name: &str| {
+            v.ok_or_else(|| {
+                ApiError::bad_request("make.arguments", format!("this shape needs `{name}`"))
+            })
+        };
+        let need_point = |v: Option<[f64; 3]>, name: &str| {
+            v.ok_or_else(|| {
+                ApiError::bad_request("make.arguments", format!("this shape needs `{name}`"))
+            })
+        };
+        let centre = self.centre.unwrap_or([0.0; 3]);
+        let axis = self.axis.unwrap_or([0.0, 0.0, 1.0]);
+        let reference = self.reference;
+        let sweep = self.sweep.unwrap_or(360.0);
+        let wanted = match self.shape {
+            MakeName::Revolve | MakeName::Extrude => 1,
+            MakeName::Ruled => 2,
+            _ => 0,
+        };
+        let mut curves = self.curves.unwrap_or_default();
+        if curves.len() != wanted {
+            return Err(ApiError::bad_request(
+                "make.arguments",
+                format!("this shape takes {wanted} curve(s), got {}", curves.len()),
+            ));
+        }
+        let mut next = || curves.remove(0);
+        Ok(match self.shape {
+            MakeName::Circle => MakeShape::Arc {
+                centre,
+                normal: axis,
+                reference,
+                radius: need(self.radius, "radius")?,
+                start: 0.0,
+                end: 360.0,
+            },
+            MakeName::Arc => MakeShape::Arc {
+                centre,
+                normal: axis,
+                reference,
+                radius: need(self.radius, "radius")?,
+                start: self.start.unwrap_or(0.0),
+                end: self.end.unwrap_or(360.0),
+            },
+            MakeName::Ellipse => MakeShape::Ellipse {
+                centre,
+                normal: axis,
+                reference,
+                major: need(self.major, "major")?,
+                minor: need(self.minor, "minor")?,
+                start: self.start.unwrap_or(0.0),
+                end: self.end.unwrap_or(360.0),
+            },
+            MakeName::Line => MakeShape::Line {
+                from: need_point(self.p0, "p0")?,
+                to: need_point(self.p1, "p1")?,
+            },
+            MakeName::Cylinder => MakeShape::Cylinder {
+                origin: centre,
+                axis,
+                reference,
+                radius: need(self.radius, "radius")?,
+                height: need(self.height, "height")?,
+                sweep,
+            },
+            MakeName::Cone => MakeShape::Cone {
+                origin: centre,
+                axis,
+                reference,
+                radius: need(self.radius, "radius")?,
+                semi_angle: need(self.semi_angle, "semi_angle")?,
+                height: need(self.height, "height")?,
+                sweep,
+            },
+            MakeName::Sphere => MakeShape::Sphere {
+                centre,
+                axis,
+                reference,
+                radius: need(self.radius, "radius")?,
+            },
+            MakeName::Torus => MakeShape::Torus {
+                centre,
+                axis,
+                reference,
+                major: need(self.major, "major")?,
+                minor: need(self.minor, "minor")?,
+            },
+            MakeName::Revolve => MakeShape::Revolve {
+                profile: next(),
+                axis_point: self.axis_point.unwrap_or([0.0; 3]),
+                axis,
+                angle: sweep,
+            },
+            MakeName::Extrude => MakeShape::Extrude {
+                curve: next(),
+                direction: need_point(self.direction, "direction")?,
+            },
+            MakeName::Ruled => {
+                let first = next();
+                MakeShape::Ruled {
+                    first,
+                    second: next(),
+                }
+            }
+        })
+    }
+}

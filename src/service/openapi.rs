@@ -47,6 +47,7 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::iso,
         super::routes::periodic,
         super::routes::derivative_curve,
+        super::routes::make,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -63,7 +64,7 @@ use super::error::{ErrorBody, ErrorDetail};
         GeometryReply, OpNoteDoc, Health, InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
-        DerivativeCurveRequest,
+        DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),

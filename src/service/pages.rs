@@ -113,6 +113,7 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/decompose</code>, <code>/v1/split</code>, <code>/v1/join</code></td><td>Bezier pieces, split at a parameter, join curves</td></tr>
 <tr><td><code>POST /v1/reverse</code>, <code>/v1/reparameterize</code>, <code>/v1/transform</code></td><td>direction, domain, affine map</td></tr>
 <tr><td><code>POST /v1/iso</code>, <code>/v1/periodic</code>, <code>/v1/derivative-curve</code></td><td>iso-curves, periodic form, derivative curves (A3.3)</td></tr>
+<tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
 <tr><td><code>POST /v1/tessellate</code></td><td>OBJ or SVG under a chord tolerance</td></tr>
 <tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code></td><td>liveness, readiness, Prometheus metrics</td></tr>
 </table>

@@ -513,3 +513,66 @@ pub async fn tessellate(
     };
     Ok(([(header::CONTENT_TYPE, media)], text).into_response())
 }
+
+/// Builds an exact curve or surface (A7.1 arcs, A8.1 revolution, ISO 10303-42 quadrics).
+#[utoipa::path(
+    post,
+    path = "/v1/make",
+    tag = "geometry",
+    request_body = super::api::MakeRequest,
+    responses(
+        (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
+                                      file with `format`",
+            content(
+                (GeometryReply = "application/json"),
+                (String = "model/step"),
+                (String = "model/iges")
+            )),
+        FileErrors
+    )
+)]
+pub async fn make(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::MakeRequest>,
+) -> Result<Response, ApiError> {
+    let format = req.format;
+    let shape = req.shape()?;
+    let mut settings = state.settings.clone();
+    let (document, text) = state
+        .gate
+        .run(move |cancel| {
+            settings.cancel = cancel;
+            let document = pipeline::construct::make(&shape)?;
+            pipeline::check_file_reply(&document, &settings)?;
+            let text = match format {
+                Some(f) => Some(pipeline::write(
+                    &document,
+                    f.kind().format().unwrap_or(Format::Step),
+                    &ExportOptions::default(),
+                )?),
+                None => None,
+            };
+            Ok((document, text))
+        })
+        .await?;
+    match (format, text) {
+        (Some(f), Some(text)) => Ok(file_reply(
+            f.kind().format().unwrap_or(Format::Step),
+            text,
+            document.entities.len(),
+            document.diagnostics.len(),
+        )),
+        _ => {
+            let geometry = document
+                .entities
+                .first()
+                .map(|e| serde_json::to_value(&e.geometry))
+                .transpose()
+                .map_err(|e| {
+                    tracing::error!(error = %e, "serialising geometry failed");
+                    ApiError::internal()
+                })?;
+            Ok(Json(serde_json::json!({ "geometry": geometry })).into_response())
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! `make`: exact curves and surfaces built from their defining numbers, on top of the core's
+//! constructions (`nurbs::conic`: A7.1 arcs with the fewest segments, lines; `nurbs::sweep`:
+//! A8.1 revolution, extrusion, ruled surfaces and the ISO 10303-42 quadrics). The entity's
+//! `meta.shape` names what was built, so the STEP/IGES writers can record it.
+
+use crate::exchange::{Document, Entity, Format, LengthUnit, Meta, Shape, Source};
+use crate::nurbs::conic::{ConicKind, conic_arc, line_segment};
+use crate::nurbs::sweep::{self, Frame};
+use crate::nurbs::{Geometry, NurbsCurve, Point3};
+
+use super::PipelineError;
+
+/// What to build. Angles are in degrees; axes need not be unit vectors; `reference` (the
+/// direction of angle 0) defaults to a direction perpendicular to the axis.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MakeShape {
+    /// A circular arc (a full circle for 0..360) about `normal` through `centre`.
+    Arc {
+        /// Centre.
+        centre: Point3,
+        /// Plane normal (rotation axis, right-handed).
+        normal: Point3,
+        /// Direction of angle 0.
+        reference: Option<Point3>,
+        /// Radius (> 0).
+        radius: f64,
+        /// Start angle (degrees).
+        start: f64,
+        /// End angle (degrees), `start < end <= start + 360`.
+        end: f64,
+    },
+    /// An elliptic arc: semi-axis `major` along `reference`, `minor` across.
+    Ellipse {
+        /// Centre.
+        centre: Point3,
+        /// Plane normal.
+        normal: Point3,
+        /// Direction of the major semi-axis.
+        reference: Option<Point3>,
+        /// Semi-axis along `reference` (> 0).
+        major: f64,
+        /// The other semi-axis (> 0).
+        minor: f64,
+        /// Start angle (degrees, the ellipse's parameter).
+        start: f64,
+        /// End angle (degrees).
+        end: f64,
+    },
+    /// The segment from `from` to `to` on [0, 1].
+    Line {
+        /// Start point.
+        from: Point3,
+        /// End point.
+        to: Point3,
+    },
+    /// A right circular cylinder: radius, height along the axis, sweep angle.
+    Cylinder {
+        /// A point of the axis (the base centre).
+        origin: Point3,
+        /// Axis direction.
+        axis: Point3,
+        /// Direction of angle 0.
+        reference: Option<Point3>,
+        /// Radius (> 0).
+        radius: f64,
+        /// Height along the axis (> 0).
+        height: f64,
+        /// Sweep (degrees, 0 < sweep <= 360).
+        sweep: f64,
+    },
+    /// A right circular cone: base radius, semi-angle (degrees), height along the axis.
+    Cone {
+        /// The base centre.
+        origin: Point3,
+        /// Axis direction.
+        axis: Point3,
+        /// Direction of angle 0.
+        reference: Option<Point3>,
+        /// Radius at the base (>= 0).
+        radius: f64,
+        /// Semi-angle (degrees, |a| < 90; negative narrows along the axis).
+        semi_angle: f64,
+        /// Height along the axis (> 0).
+        height: f64,
+        /// Sweep (degrees).
+        sweep: f64,
+    },
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        centre: Point3,
+        /// Polar axis.
+        axis: Point3,
+        /// Direction of longitude 0.
+        reference: Option<Point3>,
+        /// Radius (> 0).
+        radius: f64,
+    },
+    /// A torus.
+    Torus {
+        /// Centre.
+        centre: Point3,
+        /// Axis.
+        axis: Point3,
+        /// Direction of angle 0.
+        reference: Option<Point3>,
+        /// Distance from the axis to the tube's centre (> minor).
+        major: f64,
+        /// Tube radius (> 0).
+        minor: f64,
+    },
+    /// A profile curve revolved about an axis (A8.1).
+    Revolve {
+        /// The profile.
+        profile: NurbsCurve,
+        /// A point of the axis.
+        axis_point: Point3,
+        /// Axis direction.
+        axis: Point3,
+        /// Sweep (degrees, 0 < angle <= 360).
+        angle: f64,
+    },
+    /// A curve swept along a vector: `S(u, v) = C(u) + v d`, v in [0, 1].
+    Extrude {
+        /// The curve.
+        curve: NurbsCurve,
+        /// The sweep vector.
+        direction: Point3,
+    },
+    /// The ruled surface between two curves (v = 0 on the first).
+    Ruled {
+        /// First rail.
+        first: NurbsCurve,
+        /// Second rail.
+        second: NurbsCurve,
+    },
+}
+
+fn invalid(message: impl Into<String>) -> PipelineError {
+    PipelineError::usage("make.arguments", message)
+}
+
+fn norm(a: Point3) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn unit(a: Point3, what: &str) -> Result<Point3, PipelineError> {
+    let n = norm(a);
+    if !(n.is_finite() && n > 0.0) {
+        return Err(invalid(format!(
+            "the {what} must be a non-zero finite vector"
+        )));
+    }
+    Ok(a.map(|c| c / n))
+}
+
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The right-handed orthonormal frame at `origin` with z along `axis` and x along the
+/// part of `reference` perpendicular to it (default: the coordinate axis least aligned with
+/// `axis`, made perpendicular), as ISO 10303-42 builds an axis2_placement_3d's axes.
+pub fn frame(
+    origin: Point3,
+    axis: Point3,
+    reference: Option<Point3>,
+) -> Result<Frame, PipelineError> {
+    if !origin.iter().all(|c| c.is_finite()) {
+        return Err(invalid("the origin must be finite"));
+    }
+    let z = unit(axis, "axis")?;
+    let r = match reference {
+        Some(r) => r,
+        None => {
+            let k = (0..3)
+                .min_by(|&a, &b| z[a].abs().total_cmp(&z[b].abs()))
+                .unwrap_or(0);
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            e
+        }
+    };
+    let along = r[0] * z[0] + r[1] * z[1] + r[2] * z[2];
+    let x = unit(
+        [
+            r[0] - along * z[0],
+            r[1] - along * z[1],
+            r[2] - along * z[2],
+        ],
+        "reference direction (perpendicular to the axis)",
+    )?;
+    let y = cross(z, x);
+    Ok(Frame { origin, x, y, z })
+}
+
+fn positive(x: f64, what: &str) -> Result<(), PipelineError> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "the {what} must be a positive number, got {x}"
+        )))
+    }
+}
+
+/// Degrees to radians for an angular range `[start, end]`, `0 < end - start <= 360`.
+fn angle_range(start: f64, end: f64) -> Result<(f64, f64), PipelineError> {
+    if !(start.is_finite() && end.is_finite() && start < end && end - start <= 360.0) {
+        return Err(invalid(format!(
+            "the angles must satisfy start < end <= start + 360, got {start}..{end}"
+        )));
+    }
+    Ok((start.to_radians(), end.to_radians()))
+}
+
+/// Builds the shape as one entity of a new document (`id` "0", `meta.shape` set).
+pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let scaled = |f: &Frame, a: f64, b: f64| -> (Point3, Point3) {
+        (f.x.map(|c| c * a), f.y.map(|c| c * b))
+    };
+    let (geometry, kind) = match *shape {
+        MakeShape::Arc {
+            centre,
+            normal,
+            reference,
+            radius,
+            start,
+            end,
+        } => {
+            positive(radius, "radius")?;
+            let f = frame(centre, normal, reference)?;
+            let (t0, t1) = angle_range(start, end)?;
+            let (x, y) = scaled(&f, radius, radius);
+            let (c, _) = conic_arc(ConicKind::Elliptic, centre, x, y, t0, t1)?;
+            (Geometry::Curve(c), Shape::CircularArc)
+        }
+        MakeShape::Ellipse {
+            centre,
+            normal,
+            reference,
+            major,
+            minor,
+            start,
+            end,
+        } => {
+            positive(major, "major semi-axis")?;
+            positive(minor, "minor semi-axis")?;
+            let f = frame(centre, normal, reference)?;
+            let (t0, t1) = angle_range(start, end)?;
+            let (x, y) = scaled(&f, major, minor);
+            let (c, _) = conic_arc(ConicKind::Elliptic, centre, x, y, t0, t1)?;
+            (Geometry::Curve(c), Shape::EllipticArc)
+        }
+        MakeShape::Line { from, to } => {
+            if from == to {
+                return Err(invalid("a line needs two different points"));
+            }
+            (
+                Geometry::Curve(line_segment(from, to, 0.0, 1.0)?),
+                Shape::Line,
+            )
+        }
+        MakeShape::Cylinder {
+            origin,
+            axis,
+            reference,
+            radius,
+            height,
+            sweep: angle,
+        } => {
+            positive(radius, "radius")?;
+            positive(height, "height")?;
+            let f = frame(origin, axis, reference)?;
+            let u = angle_range(0.0, angle)?;
+            let (s, _) = sweep::cylinder(&f, radius, u, (0.0, height))?;
+            (Geometry::Surface(s), Shape::Cylinder)
+        }
+        MakeShape::Cone {
+            origin,
+            axis,
+            reference,
+            radius,
+            semi_angle,
+            height,
+            sweep: angle,
+        } => {
+            positive(height, "height")?;
+            if !(radius.is_finite() && radius >= 0.0) {
+                return Err(invalid(format!("the radius must be >= 0, got {radius}")));
+            }
+            if !(semi_angle.is_finite() && semi_angle.abs() < 90.0) {
+                return Err(invalid(format!(
+                    "the semi-angle must lie strictly between -90 and 90 degrees, got {semi_angle}"
+                )));
+            }
+            let f = frame(origin, axis, reference)?;
+            let u = angle_range(0.0, angle)?;
+            let (s, _) = sweep::cone(&f, radius, semi_angle.to_radians(), u, (0.0, height))?;
+            (Geometry::Surface(s), Shape::Cone)
+        }
+        MakeShape::Sphere {
+            centre,
+            axis,
+            reference,
+            radius,
+        } => {
+            positive(radius, "radius")?;
+            let f = frame(centre, axis, reference)?;
+            let (s, _, _) = sweep::sphere(&f, radius, (0.0, TAU), (-FRAC_PI_2, FRAC_PI_2))?;
+            (Geometry::Surface(s), Shape::Sphere)
+        }
+        MakeShape::Torus {
+            centre,
+            axis,
+            reference,
+            major,
+            minor,
+        } => {
+            positive(minor, "minor radius")?;
+            positive(major - minor, "major radius minus the minor radius")?;
+            let f = frame(centre, axis, reference)?;
+            let (s, _, _) = sweep::torus(&f, major, minor, (0.0, TAU), (0.0, TAU))?;
+            (Geometry::Surface(s), Shape::Torus)
+        }
+        MakeShape::Revolve {
+            ref profile,
+            axis_point,
+            axis,
+            angle,
+        } => {
+            let (t0, t1) = angle_range(0.0, angle)?;
+            let (s, _) = sweep::revolve(profile, axis_point, unit(axis, "axis")?, t0, t1)?;
+            (Geometry::Surface(s), Shape::Revolution)
+        }
+        MakeShape::Extrude {
+            ref curve,
+            direction,
+        } => {
+            unit(direction, "extrusion direction")?;
+            let s = sweep::extrude(curve, direction, 0.0, 1.0)?;
+            (Geometry::Surface(s), Shape::Extrusion)
+        }
+        MakeShape::Ruled {
+            ref first,
+            ref second,
+        } => (
+            Geometry::Surface(sweep::ruled(first, second)?),
+            Shape::Ruled,
+        ),
+    };
+    let mut doc = Document::new(Format::Step, LengthUnit::Mm);
+    doc.entities.push(Entity {
+        id: "0".to_owned(),
+        geometry,
+        source: Source {
+            entity: "make".to_owned(),
+            line: None,
+        },
+        meta: Meta {
+            shape: Some(kind),
+            ..Meta::default()
+        },
+    });
+    Ok(doc)
+}
