@@ -1700,6 +1700,30 @@ async fn make_builds_circles_arcs_and_quadrics_on_their_analytic_shapes() {
         "make.arguments",
     )
     .await;
+    // The Coons patch of the four edges of S(u, v) = (2u, 3v, 1 + u v) is that patch.
+    let line = |a: [f64; 3], b: [f64; 3]| json!({ "degree": 1, "knots": [0, 0, 1, 1], "control_points": [a, b] });
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "coons", "curves": [
+            line([0., 0., 1.], [2., 0., 1.]),
+            line([0., 3., 1.], [2., 3., 2.]),
+            line([0., 0., 1.], [0., 3., 1.]),
+            line([2., 0., 1.], [2., 3., 2.]),
+        ] }),
+    )
+    .await;
+    let s = surface_of(&v["geometry"]);
+    for i in 0..=8 {
+        for j in 0..=8 {
+            let (u, w) = (f64::from(i) / 8.0, f64::from(j) / 8.0);
+            let p = s.point_at(u, w).unwrap();
+            let want = [2.0 * u, 3.0 * w, 1.0 + u * w];
+            assert!(
+                (0..3).all(|k| (p[k] - want[k]).abs() < 1e-14),
+                "{p:?} vs {want:?}"
+            );
+        }
+    }
     // The entity names its shape.
     let doc = nurbsx::pipeline::construct::make(&nurbsx::pipeline::construct::MakeShape::Line {
         from: [0.0; 3],

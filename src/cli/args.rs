@@ -474,7 +474,7 @@ pub enum Command {
     ))]
     DerivativeCurve(DerivativeCurveArgs),
     /// Build an exact curve or surface: circle, arc, ellipse, line, cylinder, cone, sphere,
-    /// torus, or a revolution, extrusion or ruled surface of curves read from files.
+    /// torus, or a revolution, extrusion, ruled surface or Coons patch of curves from files.
     #[command(
         long_about = "Build an exact NURBS curve or surface from its defining numbers (conic \
                       arcs with the fewest segments, NURBS Book A7.1; revolution A8.1; the \
@@ -494,7 +494,8 @@ pub enum Command {
             "  nurbsx make torus --major 5 --minor 1 -o ring.step\n",
             "  nurbsx make revolve profile.json --axis 0,0,1 --angle 180 -o half.step\n",
             "  nurbsx make extrude curve.json --direction 0,0,10 -o wall.step\n",
-            "  nurbsx make ruled rail1.json rail2.json -o ruled.step\n\n",
+            "  nurbsx make ruled rail1.json rail2.json -o ruled.step\n",
+            "  nurbsx make coons bottom.json top.json left.json right.json -o patch.step\n\n",
             "Exit codes:\n",
             "  0  written\n",
             "  1  an input curve file is invalid or over a limit\n",
@@ -1117,6 +1118,9 @@ pub enum MakeKind {
     Extrude,
     /// The ruled surface between the first curves of two files.
     Ruled,
+    /// The bilinearly blended Coons patch of four boundary curves (files): S(u,0), S(u,1),
+    /// S(0,v), S(1,v); polynomial curves whose corners meet within --tolerance.
+    Coons,
 }
 
 /// `nurbsx make`.
@@ -1125,7 +1129,8 @@ pub struct MakeArgs {
     /// What to build.
     #[arg(value_enum, value_name = "SHAPE")]
     pub shape: MakeKind,
-    /// Curve file(s) for revolve, extrude (one) and ruled (two): STEP, IGES or model JSON.
+    /// Curve file(s) for revolve, extrude (one), ruled (two) and coons (four: S(u,0), S(u,1),
+    /// S(0,v), S(1,v)): STEP, IGES or model JSON.
     #[arg(value_name = "CURVE")]
     pub curves: Vec<PathBuf>,
     /// Output.
@@ -1179,6 +1184,9 @@ pub struct MakeArgs {
     /// Extrusion vector.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
     pub direction: Option<NumberList>,
+    /// Largest accepted gap between the corners of Coons boundaries.
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
 }
 
 /// A tessellation output format.

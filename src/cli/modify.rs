@@ -276,6 +276,7 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
     let wanted = match a.shape {
         MakeKind::Revolve | MakeKind::Extrude => 1,
         MakeKind::Ruled => 2,
+        MakeKind::Coons => 4,
         _ => 0,
     };
     if a.curves.len() != wanted {
@@ -357,6 +358,15 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
         MakeKind::Ruled => MakeShape::Ruled {
             first: curve_file(ctx, &a.curves[0])?,
             second: curve_file(ctx, &a.curves[1])?,
+        },
+        MakeKind::Coons => MakeShape::Coons {
+            boundaries: Box::new([
+                curve_file(ctx, &a.curves[0])?,
+                curve_file(ctx, &a.curves[1])?,
+                curve_file(ctx, &a.curves[2])?,
+                curve_file(ctx, &a.curves[3])?,
+            ]),
+            tolerance: a.tolerance,
         },
     };
     let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;

@@ -1,6 +1,7 @@
 //! `make`: exact curves and surfaces built from their defining numbers, on top of the core's
 //! constructions (`nurbs::conic`: A7.1 arcs with the fewest segments, lines; `nurbs::sweep`:
-//! A8.1 revolution, extrusion, ruled surfaces and the ISO 10303-42 quadrics). The entity's
+//! A8.1 revolution, extrusion, ruled surfaces and the ISO 10303-42 quadrics; `nurbs::coons`:
+//! Coons patches). The entity's
 //! `meta.shape` names what was built, so the STEP/IGES writers can record it.
 
 use crate::exchange::{Document, Entity, Format, LengthUnit, Meta, Shape, Source};
@@ -133,6 +134,14 @@ pub enum MakeShape {
         first: NurbsCurve,
         /// Second rail.
         second: NurbsCurve,
+    },
+    /// The bilinearly blended Coons patch of four polynomial boundaries, `[S(u,0), S(u,1),
+    /// S(0,v), S(1,v)]`, whose corners meet within `tolerance`.
+    Coons {
+        /// The boundaries.
+        boundaries: Box<[NurbsCurve; 4]>,
+        /// Largest accepted corner gap.
+        tolerance: f64,
     },
 }
 
@@ -353,7 +362,21 @@ pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
             Geometry::Surface(sweep::ruled(first, second)?),
             Shape::Ruled,
         ),
+        MakeShape::Coons {
+            ref boundaries,
+            tolerance,
+        } => {
+            let [c0, c1, d0, d1] = &**boundaries;
+            let s = crate::nurbs::coons::coons(c0, c1, d0, d1, tolerance)?;
+            // A Coons patch has no ISO 10303-42 form of its own: no shape.
+            return Ok(document(Geometry::Surface(s), None));
+        }
     };
+    Ok(document(geometry, Some(kind)))
+}
+
+/// A new document (millimetres) holding `geometry` as entity "0".
+fn document(geometry: Geometry, shape: Option<Shape>) -> Document {
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     doc.entities.push(Entity {
         id: "0".to_owned(),
@@ -363,9 +386,9 @@ pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
             line: None,
         },
         meta: Meta {
-            shape: Some(kind),
+            shape,
             ..Meta::default()
         },
     });
-    Ok(doc)
+    doc
 }

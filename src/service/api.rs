@@ -721,7 +721,7 @@ plain_operation!(DerivativeCurveRequest, |r| Ok(Operation::DerivativeCurve {
 #[serde(deny_unknown_fields)]
 pub struct MakeRequest {
     /// `circle`, `arc`, `ellipse`, `line`, `cylinder`, `cone`, `sphere`, `torus`, `revolve`,
-    /// `extrude` or `ruled`.
+    /// `extrude`, `ruled` or `coons`.
     pub shape: MakeName,
     /// The reply: model JSON (default) or a STEP/IGES file.
     pub format: Option<FileFormat>,
@@ -755,7 +755,10 @@ pub struct MakeRequest {
     pub axis_point: Option<[f64; 3]>,
     /// Extrusion vector.
     pub direction: Option<[f64; 3]>,
-    /// The curves of `revolve`, `extrude` (one) and `ruled` (two), in model JSON.
+    /// Largest accepted corner gap of `coons` boundaries (default 1e-9).
+    pub tolerance: Option<f64>,
+    /// The curves of `revolve`, `extrude` (one), `ruled` (two) and `coons` (four: S(u,0),
+    /// S(u,1), S(0,v), S(1,v)), in model JSON.
     #[schema(value_type = Option<Vec<crate::service::openapi::CurveDoc>>)]
     pub curves: Option<Vec<crate::nurbs::NurbsCurve>>,
 }
@@ -786,6 +789,8 @@ pub enum MakeName {
     Extrude,
     /// A ruled surface.
     Ruled,
+    /// A bilinearly blended Coons patch.
+    Coons,
 }
 
 impl MakeRequest {
@@ -809,6 +814,7 @@ impl MakeRequest {
         let wanted = match self.shape {
             MakeName::Revolve | MakeName::Extrude => 1,
             MakeName::Ruled => 2,
+            MakeName::Coons => 4,
             _ => 0,
         };
         let mut curves = self.curves.unwrap_or_default();
@@ -894,6 +900,13 @@ impl MakeRequest {
                 MakeShape::Ruled {
                     first,
                     second: next(),
+                }
+            }
+            MakeName::Coons => {
+                let (c0, c1, d0, d1) = (next(), next(), next(), next());
+                MakeShape::Coons {
+                    boundaries: Box::new([c0, c1, d0, d1]),
+                    tolerance: self.tolerance.unwrap_or(1e-9),
                 }
             }
         })
