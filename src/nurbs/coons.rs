@@ -25,12 +25,12 @@ fn greville(knots: &[f64], p: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Degree, knots and the two pole rows of a compatible pair of curves.
+type CompatiblePair = (usize, Vec<f64>, Vec<Point3>, Vec<Point3>);
+
 /// The two compatible pole rows of a pair of opposite boundaries on `[0, 1]`, with their
 /// degree and knots (through [`ruled`], which elevates and refines them).
-fn compatible(
-    a: &NurbsCurve,
-    b: &NurbsCurve,
-) -> Result<(usize, Vec<f64>, Vec<Point3>, Vec<Point3>), GeometryError> {
+fn compatible(a: &NurbsCurve, b: &NurbsCurve) -> Result<CompatiblePair, GeometryError> {
     let r = ruled(&a.reparameterize(0.0, 1.0)?, &b.reparameterize(0.0, 1.0)?)?;
     let net = r.control_points();
     let first = (0..net.nu()).map(|i| *net.get(i, 0)).collect();
@@ -81,7 +81,8 @@ pub fn coons(
         ("S(1,1)", c11, d11),
     ] {
         let gap = distance(p, q);
-        if !(gap <= tolerance) {
+        // A NaN gap (non-finite poles) is refused as well.
+        if gap.is_nan() || gap > tolerance {
             return Err(GeometryError::InvalidArgument(format!(
                 "Coons patch: the boundaries miss each other at the corner {name} by {gap:e}, \
                  above the tolerance {tolerance:e}"
