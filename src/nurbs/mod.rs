@@ -31,6 +31,8 @@
 //!   exact map between the conic's parameter and the NURBS parameter; surfaces of revolution
 //!   (A8.1), extrusions, ruled surfaces and the ISO 10303-42 quadrics; [`coons`]: bilinearly
 //!   blended Coons patches on common bases.
+//! - [`fit`]: global curve interpolation (A9.1) with uniform, chord-length and centripetal
+//!   parameters and averaged knots.
 //! - [`tessellate`]: adaptive tessellation of curves (osculating-circle rule, seed 004) and
 //!   surfaces.
 
@@ -46,6 +48,7 @@ pub mod derivatives;
 pub mod differential;
 pub mod elevate;
 mod error;
+pub mod fit;
 pub mod grid;
 pub mod insert;
 mod kernels;
