@@ -2726,3 +2726,51 @@ fn make_writes_a_circle_on_its_radius_and_refuses_missing_numbers() {
     assert_exit(&o, 2);
     assert!(stderr(&o).contains("--radius"), "{}", stderr(&o));
 }
+
+#[test]
+fn fit_passes_through_the_points_of_a_text_file() {
+    let dir = temp_dir("fit");
+    let points = dir.join("p.csv");
+    // A helix sampled at 30 points.
+    let q: Vec<[f64; 3]> = (0..30)
+        .map(|k| {
+            let t = f64::from(k) * 0.4;
+            [t.cos(), t.sin(), 0.1 * t]
+        })
+        .collect();
+    let text: String = q
+        .iter()
+        .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+        .collect();
+    std::fs::write(&points, format!("# x,y,z\n{text}")).unwrap();
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        points.as_os_str(),
+        "--degree".as_ref(),
+        "4".as_ref(),
+        "--params".as_ref(),
+        "uniform".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    // Uniform parameters: point k at k / 29.
+    for (k, p) in q.iter().enumerate() {
+        let got = point_of(&out, k as f64 / 29.0);
+        assert!(
+            (0..3).all(|i| (got[i] - p[i]).abs() < 1e-12 * 4.0),
+            "{k}: {got:?} vs {p:?}"
+        );
+    }
+    std::fs::write(&points, "0,0\n1,x\n").unwrap();
+    assert_exit(
+        &nurbsx([
+            "fit".as_ref(),
+            points.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]),
+        2,
+    );
+}

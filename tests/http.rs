@@ -710,7 +710,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 27] = [
+const ROUTES: [(&str, &str); 28] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -732,6 +732,7 @@ const ROUTES: [(&str, &str); 27] = [
     ("post", "/v1/periodic"),
     ("post", "/v1/derivative-curve"),
     ("post", "/v1/make"),
+    ("post", "/v1/fit"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -789,6 +790,7 @@ async fn openapi_documents_every_route_and_error() {
         "DerivativeCurveRequest",
         "OpNote",
         "MakeRequest",
+        "FitRequest",
         "TessellateRequest",
         "Geometry",
         "EvalReport",
@@ -1734,4 +1736,56 @@ async fn make_builds_circles_arcs_and_quadrics_on_their_analytic_shapes() {
         doc.entities[0].meta.shape,
         Some(nurbsx::exchange::Shape::Line)
     );
+}
+
+#[tokio::test]
+async fn fit_interpolates_the_points_of_example_9_1() {
+    // NURBS Book example 9.1: chord-length parameters 0, 5/17, 9/17, 14/17, 1 and the
+    // cubic knots {0,0,0,0,28/51,1,1,1,1}; the curve passes through every point.
+    let q = [
+        [0.0, 0.0],
+        [3.0, 4.0],
+        [-1.0, 4.0],
+        [-4.0, 0.0],
+        [-4.0, -3.0],
+    ];
+    let v = operation("/v1/fit", &json!({ "points": q, "degree": 3 })).await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.dimension(), 2);
+    let want = [0., 0., 0., 0., 28.0 / 51.0, 1., 1., 1., 1.];
+    assert!(
+        c.knots()
+            .iter()
+            .zip(want)
+            .all(|(a, b)| (a - b).abs() < 1e-15)
+    );
+    for (t, p) in [0.0, 5.0 / 17.0, 9.0 / 17.0, 14.0 / 17.0, 1.0]
+        .iter()
+        .zip(q)
+    {
+        let got = c.point_at(*t).unwrap();
+        assert!(
+            (got[0] - p[0]).abs() < 1e-12 && (got[1] - p[1]).abs() < 1e-12,
+            "{got:?}"
+        );
+    }
+    let (headers, _) = ok(
+        app(),
+        post_json(
+            "/v1/fit",
+            &json!({ "points": q, "params": "centripetal", "format": "iges" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/iges");
+    expect_error(
+        app(),
+        post_json(
+            "/v1/fit",
+            &json!({ "points": [[0, 0], [0, 0], [1, 1], [2, 0]] }),
+        ),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
 }

@@ -7,14 +7,26 @@ use nurbsx::nurbs::fit::{ParamMethod, averaged_knots, interpolate, parameters};
 
 #[test]
 fn example_9_1_parameters_and_knots() {
-    let q = [[0., 0., 0.], [3., 4., 0.], [-1., 4., 0.], [-4., 0., 0.], [-4., -3., 0.]];
+    let q = [
+        [0., 0., 0.],
+        [3., 4., 0.],
+        [-1., 4., 0.],
+        [-4., 0., 0.],
+        [-4., -3., 0.],
+    ];
     // Chords 5, 4, 5, 3: total 17.
     let t = parameters(&q, ParamMethod::ChordLength).unwrap();
     let want = [0.0, 5.0 / 17.0, 9.0 / 17.0, 14.0 / 17.0, 1.0];
-    assert!(t.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-15), "{t:?}");
+    assert!(
+        t.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-15),
+        "{t:?}"
+    );
     let u = averaged_knots(&t, 3);
     let want = [0., 0., 0., 0., 28.0 / 51.0, 1., 1., 1., 1.];
-    assert!(u.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-15), "{u:?}");
+    assert!(
+        u.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-15),
+        "{u:?}"
+    );
     let c = parameters(&q, ParamMethod::Centripetal).unwrap();
     let s = 5f64.sqrt() * 2.0 + 2.0 + 3f64.sqrt();
     assert!((c[1] - 5f64.sqrt() / s).abs() < 1e-15);
@@ -27,12 +39,18 @@ fn the_interpolant_passes_through_every_point() {
     // A deterministic scatter (a linear congruential sequence) of 40 points.
     let mut seed: u64 = 12345;
     let mut next = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0
     };
     let q: Vec<[f64; 3]> = (0..40).map(|_| [next(), next(), next()]).collect();
     let size = 20.0;
-    for method in [ParamMethod::Uniform, ParamMethod::ChordLength, ParamMethod::Centripetal] {
+    for method in [
+        ParamMethod::Uniform,
+        ParamMethod::ChordLength,
+        ParamMethod::Centripetal,
+    ] {
         let t = parameters(&q, method).unwrap();
         for p in 1..=5 {
             let c = interpolate(&q, p, method, 3).unwrap();

@@ -503,6 +503,25 @@ pub enum Command {
         )
     )]
     Make(MakeArgs),
+    /// Fit a curve through points: global interpolation (NURBS Book A9.1).
+    #[command(
+        long_about = "Interpolate a polynomial B-spline curve of --degree through every point \
+                      of POINTS (NURBS Book A9.1): parameters by --params (uniform, chord or \
+                      centripetal), knots by averaging, the linear system solved by LU with \
+                      partial pivoting (a singular system is refused). POINTS is a JSON array \
+                      of [x, y] or [x, y, z], or text with one point per line (commas or \
+                      spaces; `#` comments). At most 2000 points.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx fit points.csv --degree 3 -o curve.step\n",
+            "  nurbsx fit points.json --degree 5 --params centripetal -o curve.json\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  over the point limit, coincident points or a singular system\n",
+            "  2  usage or I/O error (unreadable points, too few points for the degree)"
+        )
+    )]
+    Fit(FitArgs),
     /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
@@ -1187,6 +1206,34 @@ pub struct MakeArgs {
     /// Largest accepted gap between the corners of Coons boundaries.
     #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
     pub tolerance: f64,
+}
+
+/// The parameter method of `nurbsx fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ParamsArg {
+    /// Equally spaced.
+    Uniform,
+    /// Proportional to the chord lengths.
+    Chord,
+    /// Proportional to the square roots of the chord lengths.
+    Centripetal,
+}
+
+/// `nurbsx fit`.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// The points (JSON array or text, one point per line).
+    #[arg(value_name = "POINTS")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Degree of the curve.
+    #[arg(long, value_name = "P", default_value_t = 3)]
+    pub degree: usize,
+    /// How the points get their parameters.
+    #[arg(long, value_enum, default_value_t = ParamsArg::Chord)]
+    pub params: ParamsArg,
 }
 
 /// A tessellation output format.

@@ -240,6 +240,7 @@ fn run(cli: Cli, reporter: &Reporter) -> Result<Outcome, CliError> {
         Command::Periodic(a) => modify::periodic(&ctx, a),
         Command::DerivativeCurve(a) => modify::derivative_curve(&ctx, a),
         Command::Make(a) => modify::make(&ctx, a),
+        Command::Fit(a) => modify::fit(&ctx, a),
         Command::Tessellate(a) => modify::tessellate(&ctx, a),
         Command::Serve(a) => serve(&ctx, a),
         Command::Help(a) => help::help(&ctx, a),

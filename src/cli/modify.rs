@@ -9,10 +9,10 @@ use crate::exchange::ExportOptions;
 use crate::pipeline::{self, InputKind, Loaded, MeshFormat, Operation};
 
 use super::args::{
-    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, InsertKnotArgs, IsoArgs, JoinArgs, MakeArgs,
-    MakeKind, MeshFormatArg, ModelFormatArg, NumberList, OutputArgs, PeriodicArgs, ReduceArgs,
-    RefineArgs, ReparameterizeArgs, SimpleOpArgs, SplitArgs, TessellateArgs, ToleranceOpArgs,
-    TransformArgs,
+    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, FitArgs, InsertKnotArgs, IsoArgs, JoinArgs,
+    MakeArgs, MakeKind, MeshFormatArg, ModelFormatArg, NumberList, OutputArgs, ParamsArg,
+    PeriodicArgs, ReduceArgs, RefineArgs, ReparameterizeArgs, SimpleOpArgs, SplitArgs,
+    TessellateArgs, ToleranceOpArgs, TransformArgs,
 };
 use super::inspect::no_bspline_warning;
 use super::{
@@ -379,6 +379,36 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
     ctx.report.summary(&format!(
         "made a {name} -> {} as {}",
         display_name(&a.out.output),
+        target.name().to_ascii_uppercase()
+    ));
+    Ok(outcome_of(&document.diagnostics))
+}
+
+/// `nurbsx fit`.
+pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
+    use crate::nurbs::fit::ParamMethod;
+    use crate::pipeline::construct::{fit, read_points};
+    let (bytes, _) = super::read_input(&a.input, &ctx.settings)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| CliError::Usage(format!("{} is not UTF-8 text", a.input.display())))?;
+    let (points, dimension) = read_points(&text).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let method = match a.params {
+        ParamsArg::Uniform => ParamMethod::Uniform,
+        ParamsArg::Chord => ParamMethod::ChordLength,
+        ParamsArg::Centripetal => ParamMethod::Centripetal,
+    };
+    let document =
+        fit(&points, dimension, a.degree, method).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let target = output_kind(&a.out, InputKind::Json)?;
+    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
+        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    write_output(&a.out.output, &text)?;
+    ctx.report.summary(&format!(
+        "{} -> {}: interpolated {} points by a curve of degree {} as {}",
+        display_name(&a.input),
+        display_name(&a.out.output),
+        points.len(),
+        a.degree,
         target.name().to_ascii_uppercase()
     ));
     Ok(outcome_of(&document.diagnostics))

@@ -392,3 +392,80 @@ fn document(geometry: Geometry, shape: Option<Shape>) -> Document {
     });
     doc
 }
+
+/// Reads fit points: a JSON array of `[x, y]` or `[x, y, z]`, or text with one point per
+/// line (numbers separated by commas or white space; empty lines and lines starting with
+/// `#` skipped). At most [`crate::nurbs::fit::MAX_FIT_POINTS`] points, counted while
+/// reading. Returns the points and their dimension (2 when every point has 2 numbers).
+pub fn read_points(text: &str) -> Result<(Vec<Point3>, usize), PipelineError> {
+    use crate::nurbs::fit::MAX_FIT_POINTS;
+    let too_many = || {
+        PipelineError::new(
+            super::ErrorKind::Limit,
+            "limit.fit_points",
+            format!("more than {MAX_FIT_POINTS} points to fit"),
+            crate::exchange::Location::default(),
+        )
+    };
+    let rows: Vec<Vec<f64>> = if text.trim_start().starts_with('[') {
+        let rows: Vec<Vec<f64>> = serde_json::from_str(text).map_err(|e| {
+            PipelineError::usage(
+                "fit.points",
+                format!("the points are not a JSON array of [x, y(, z)]: {e}"),
+            )
+        })?;
+        if rows.len() > MAX_FIT_POINTS {
+            return Err(too_many());
+        }
+        rows
+    } else {
+        let mut rows = Vec::new();
+        for (n, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            if rows.len() == MAX_FIT_POINTS {
+                return Err(too_many());
+            }
+            let row = line
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|t| !t.is_empty())
+                .take(4)
+                .map(|t| t.parse::<f64>())
+                .collect::<Result<Vec<f64>, _>>()
+                .map_err(|e| PipelineError::usage("fit.points", format!("line {}: {e}", n + 1)))?;
+            rows.push(row);
+        }
+        rows
+    };
+    let dimension = if rows.iter().all(|r| r.len() == 2) {
+        2
+    } else {
+        3
+    };
+    let points = rows
+        .iter()
+        .enumerate()
+        .map(|(k, r)| match r[..] {
+            [x, y] if x.is_finite() && y.is_finite() => Ok([x, y, 0.0]),
+            [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok([x, y, z]),
+            _ => Err(PipelineError::usage(
+                "fit.points",
+                format!("point {k} must be 2 or 3 finite numbers, got {r:?}"),
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((points, dimension))
+}
+
+/// The curve of degree `degree` through `points` (A9.1, `crate::nurbs::fit`) as a document.
+pub fn fit(
+    points: &[Point3],
+    dimension: usize,
+    degree: usize,
+    method: crate::nurbs::fit::ParamMethod,
+) -> Result<Document, PipelineError> {
+    let c = crate::nurbs::fit::interpolate(points, degree, method, dimension)?;
+    Ok(document(Geometry::Curve(c), None))
+}

@@ -912,3 +912,47 @@ impl MakeRequest {
         })
     }
 }
+
+/// `POST /v1/fit`: global interpolation (NURBS Book A9.1).
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FitRequest {
+    /// The points: `[[x, y], ...]` or `[[x, y, z], ...]` (at most 2000).
+    #[schema(value_type = Vec<Vec<f64>>)]
+    pub points: Box<RawValue>,
+    /// Degree (default 3).
+    #[serde(default = "three")]
+    pub degree: usize,
+    /// Parameter method (default `chord`).
+    #[serde(default)]
+    pub params: ParamsName,
+    /// The reply: model JSON (default) or a STEP/IGES file.
+    pub format: Option<FileFormat>,
+}
+
+fn three() -> usize {
+    3
+}
+
+/// The parameter methods of `POST /v1/fit` (eqs. 2-125 .. 2-127).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ParamsName {
+    /// Equally spaced.
+    Uniform,
+    /// Proportional to the chord lengths.
+    #[default]
+    Chord,
+    /// Proportional to the square roots of the chord lengths.
+    Centripetal,
+}
+
+impl From<ParamsName> for crate::nurbs::fit::ParamMethod {
+    fn from(p: ParamsName) -> Self {
+        match p {
+            ParamsName::Uniform => Self::Uniform,
+            ParamsName::Chord => Self::ChordLength,
+            ParamsName::Centripetal => Self::Centripetal,
+        }
+    }
+}

@@ -48,6 +48,7 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::periodic,
         super::routes::derivative_curve,
         super::routes::make,
+        super::routes::fit,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -65,6 +66,7 @@ use super::error::{ErrorBody, ErrorDetail};
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
+        super::api::FitRequest, super::api::ParamsName,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),

@@ -114,6 +114,7 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/reverse</code>, <code>/v1/reparameterize</code>, <code>/v1/transform</code></td><td>direction, domain, affine map</td></tr>
 <tr><td><code>POST /v1/iso</code>, <code>/v1/periodic</code>, <code>/v1/derivative-curve</code></td><td>iso-curves, periodic form, derivative curves (A3.3)</td></tr>
 <tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
+<tr><td><code>POST /v1/fit</code></td><td>a curve interpolating points (A9.1)</td></tr>
 <tr><td><code>POST /v1/tessellate</code></td><td>OBJ or SVG under a chord tolerance</td></tr>
 <tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code></td><td>liveness, readiness, Prometheus metrics</td></tr>
 </table>

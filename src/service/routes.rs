@@ -537,12 +537,54 @@ pub async fn make(
 ) -> Result<Response, ApiError> {
     let format = req.format;
     let shape = req.shape()?;
+    built(state, format, move || pipeline::construct::make(&shape)).await
+}
+
+/// Interpolates a curve through points (NURBS Book A9.1).
+#[utoipa::path(
+    post,
+    path = "/v1/fit",
+    tag = "geometry",
+    request_body = super::api::FitRequest,
+    responses(
+        (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
+                                      file with `format`",
+            content(
+                (GeometryReply = "application/json"),
+                (String = "model/step"),
+                (String = "model/iges")
+            )),
+        FileErrors
+    )
+)]
+pub async fn fit(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::FitRequest>,
+) -> Result<Response, ApiError> {
+    let format = req.format;
+    let method = req.params.into();
+    let degree = req.degree;
+    let points = req.points;
+    built(state, format, move || {
+        let (points, dimension) = pipeline::construct::read_points(points.get())?;
+        pipeline::construct::fit(&points, dimension, degree, method)
+    })
+    .await
+}
+
+/// Runs `build` on a computing slot and replies with the document: model JSON
+/// `{"geometry": ...}`, or a file in `format`.
+async fn built(
+    state: Arc<AppState>,
+    format: Option<super::api::FileFormat>,
+    build: impl FnOnce() -> Result<crate::exchange::Document, pipeline::PipelineError> + Send + 'static,
+) -> Result<Response, ApiError> {
     let mut settings = state.settings.clone();
     let (document, text) = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
-            let document = pipeline::construct::make(&shape)?;
+            let document = build()?;
             pipeline::check_file_reply(&document, &settings)?;
             let text = match format {
                 Some(f) => Some(pipeline::write(
