@@ -85,7 +85,8 @@ fn solve(mut a: Vec<f64>, mut b: Vec<Point3>) -> Result<Vec<Point3>, GeometryErr
         let (piv, big) = (k..n)
             .map(|r| (r, a[r * n + k].abs()))
             .fold((k, -1.0), |best, c| if c.1 > best.1 { c } else { best });
-        if !(big > n as f64 * f64::EPSILON * scale) {
+        // A NaN pivot is refused as well.
+        if big.is_nan() || big <= n as f64 * f64::EPSILON * scale {
             return Err(GeometryError::InvalidArgument(format!(
                 "the interpolation system is singular (pivot {big:e} in column {k}): choose \
                  other parameters or points"
