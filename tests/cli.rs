@@ -2724,7 +2724,7 @@ fn make_writes_a_circle_on_its_radius_and_refuses_missing_numbers() {
         out.as_os_str(),
     ]);
     assert_exit(&o, 2);
-    assert!(stderr(&o).contains("--radius"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("`radius`"), "{}", stderr(&o));
 }
 
 #[test]

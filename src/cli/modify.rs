@@ -242,11 +242,6 @@ fn point(
     }
 }
 
-/// A required number option.
-fn needed(v: Option<f64>, name: &str) -> Result<f64, CliError> {
-    v.ok_or_else(|| CliError::Usage(format!("this shape needs --{name}")))
-}
-
 /// The first curve of a file.
 fn curve_file(ctx: &Context, path: &Path) -> Result<crate::nurbs::NurbsCurve, CliError> {
     let Loaded { document, .. } = load_file(ctx, path)?;
@@ -264,111 +259,56 @@ fn curve_file(ctx: &Context, path: &Path) -> Result<crate::nurbs::NurbsCurve, Cl
 
 /// `nurbsx make`.
 pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
-    use crate::pipeline::construct::{MakeShape, make};
-    let origin = [0.0; 3];
-    let z = Some([0.0, 0.0, 1.0]);
-    let centre = point(&a.centre, "centre", Some(origin))?;
-    let axis = point(&a.axis, "axis", z)?;
-    let reference = match &a.reference {
-        None => None,
-        some => Some(point(some, "reference", None)?),
+    use crate::pipeline::construct::{self, MakeSpec, make};
+    let optional = |v: &Option<NumberList>, name: &str| -> Result<Option<[f64; 3]>, CliError> {
+        match v {
+            None => Ok(None),
+            some => point(some, name, None).map(Some),
+        }
     };
-    let wanted = match a.shape {
-        MakeKind::Revolve | MakeKind::Extrude => 1,
-        MakeKind::Ruled => 2,
-        MakeKind::Coons => 4,
-        _ => 0,
+    let kind = match a.shape {
+        MakeKind::Circle => construct::MakeKind::Circle,
+        MakeKind::Arc => construct::MakeKind::Arc,
+        MakeKind::Ellipse => construct::MakeKind::Ellipse,
+        MakeKind::Line => construct::MakeKind::Line,
+        MakeKind::Cylinder => construct::MakeKind::Cylinder,
+        MakeKind::Cone => construct::MakeKind::Cone,
+        MakeKind::Sphere => construct::MakeKind::Sphere,
+        MakeKind::Torus => construct::MakeKind::Torus,
+        MakeKind::Revolve => construct::MakeKind::Revolve,
+        MakeKind::Extrude => construct::MakeKind::Extrude,
+        MakeKind::Ruled => construct::MakeKind::Ruled,
+        MakeKind::Coons => construct::MakeKind::Coons,
     };
-    if a.curves.len() != wanted {
-        return Err(CliError::Usage(format!(
-            "this shape takes {wanted} curve file(s), got {}",
-            a.curves.len()
-        )));
-    }
-    let shape = match a.shape {
-        MakeKind::Circle | MakeKind::Arc => MakeShape::Arc {
-            centre,
-            normal: axis,
-            reference,
-            radius: needed(a.radius, "radius")?,
-            start: if a.shape == MakeKind::Circle {
-                0.0
-            } else {
-                a.start
-            },
-            end: if a.shape == MakeKind::Circle {
-                360.0
-            } else {
-                a.end
-            },
-        },
-        MakeKind::Ellipse => MakeShape::Ellipse {
-            centre,
-            normal: axis,
-            reference,
-            major: needed(a.major, "major")?,
-            minor: needed(a.minor, "minor")?,
-            start: a.start,
-            end: a.end,
-        },
-        MakeKind::Line => MakeShape::Line {
-            from: point(&a.p0, "p0", None)?,
-            to: point(&a.p1, "p1", None)?,
-        },
-        MakeKind::Cylinder => MakeShape::Cylinder {
-            origin: centre,
-            axis,
-            reference,
-            radius: needed(a.radius, "radius")?,
-            height: needed(a.height, "height")?,
-            sweep: a.sweep,
-        },
-        MakeKind::Cone => MakeShape::Cone {
-            origin: centre,
-            axis,
-            reference,
-            radius: needed(a.radius, "radius")?,
-            semi_angle: needed(a.semi_angle, "semi-angle")?,
-            height: needed(a.height, "height")?,
-            sweep: a.sweep,
-        },
-        MakeKind::Sphere => MakeShape::Sphere {
-            centre,
-            axis,
-            reference,
-            radius: needed(a.radius, "radius")?,
-        },
-        MakeKind::Torus => MakeShape::Torus {
-            centre,
-            axis,
-            reference,
-            major: needed(a.major, "major")?,
-            minor: needed(a.minor, "minor")?,
-        },
-        MakeKind::Revolve => MakeShape::Revolve {
-            profile: curve_file(ctx, &a.curves[0])?,
-            axis_point: point(&a.axis_point, "axis-point", Some(origin))?,
-            axis,
-            angle: a.angle,
-        },
-        MakeKind::Extrude => MakeShape::Extrude {
-            curve: curve_file(ctx, &a.curves[0])?,
-            direction: point(&a.direction, "direction", None)?,
-        },
-        MakeKind::Ruled => MakeShape::Ruled {
-            first: curve_file(ctx, &a.curves[0])?,
-            second: curve_file(ctx, &a.curves[1])?,
-        },
-        MakeKind::Coons => MakeShape::Coons {
-            boundaries: Box::new([
-                curve_file(ctx, &a.curves[0])?,
-                curve_file(ctx, &a.curves[1])?,
-                curve_file(ctx, &a.curves[2])?,
-                curve_file(ctx, &a.curves[3])?,
-            ]),
-            tolerance: a.tolerance,
-        },
+    let spec = MakeSpec {
+        centre: optional(&a.centre, "centre")?,
+        axis: optional(&a.axis, "axis")?,
+        reference: optional(&a.reference, "reference")?,
+        radius: a.radius,
+        start: Some(a.start),
+        end: Some(a.end),
+        major: a.major,
+        minor: a.minor,
+        p0: optional(&a.p0, "p0")?,
+        p1: optional(&a.p1, "p1")?,
+        height: a.height,
+        semi_angle: a.semi_angle,
+        sweep: Some(if kind == construct::MakeKind::Revolve {
+            a.angle
+        } else {
+            a.sweep
+        }),
+        axis_point: optional(&a.axis_point, "axis-point")?,
+        direction: optional(&a.direction, "direction")?,
+        tolerance: Some(a.tolerance),
+        curves: a
+            .curves
+            .iter()
+            .map(|path| curve_file(ctx, path))
+            .collect::<Result<_, _>>()?,
     };
+    let shape =
+        construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
     let text = pipeline::write_as(&document, target, &export_options(&a.out.output))

@@ -469,3 +469,179 @@ pub fn fit(
     let c = crate::nurbs::fit::interpolate(points, degree, method, dimension)?;
     Ok(document(Geometry::Curve(c), None))
 }
+
+/// The kinds `make` builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MakeKind {
+    /// A full circle.
+    Circle,
+    /// A circular arc.
+    Arc,
+    /// An ellipse or elliptic arc.
+    Ellipse,
+    /// A line segment.
+    Line,
+    /// A cylinder.
+    Cylinder,
+    /// A cone.
+    Cone,
+    /// A sphere.
+    Sphere,
+    /// A torus.
+    Torus,
+    /// A revolved curve.
+    Revolve,
+    /// An extruded curve.
+    Extrude,
+    /// A ruled surface.
+    Ruled,
+    /// A Coons patch.
+    Coons,
+}
+
+/// The numbers and curves of a `make` request as the front ends collect them (every field
+/// optional); [`shape`] checks that the kind has what it needs and fills the defaults.
+#[derive(Debug, Clone, Default)]
+pub struct MakeSpec {
+    /// Centre (default the origin).
+    pub centre: Option<Point3>,
+    /// Normal or axis (default z).
+    pub axis: Option<Point3>,
+    /// Direction of angle 0.
+    pub reference: Option<Point3>,
+    /// Radius.
+    pub radius: Option<f64>,
+    /// Arc start angle (default 0).
+    pub start: Option<f64>,
+    /// Arc end angle (default 360).
+    pub end: Option<f64>,
+    /// Major semi-axis or radius.
+    pub major: Option<f64>,
+    /// Minor semi-axis or radius.
+    pub minor: Option<f64>,
+    /// Line start.
+    pub p0: Option<Point3>,
+    /// Line end.
+    pub p1: Option<Point3>,
+    /// Height.
+    pub height: Option<f64>,
+    /// Cone semi-angle.
+    pub semi_angle: Option<f64>,
+    /// Sweep or revolution angle (default 360).
+    pub sweep: Option<f64>,
+    /// A point of the revolution axis (default the origin).
+    pub axis_point: Option<Point3>,
+    /// Extrusion vector.
+    pub direction: Option<Point3>,
+    /// Corner tolerance of Coons boundaries (default 1e-9).
+    pub tolerance: Option<f64>,
+    /// The curves of revolve/extrude (1), ruled (2), coons (4).
+    pub curves: Vec<NurbsCurve>,
+}
+
+/// The shape of `kind` from `spec`: a missing number, or the wrong number of curves, is a
+/// usage error (`make.arguments`) naming the field.
+pub fn shape(kind: MakeKind, spec: MakeSpec) -> Result<MakeShape, PipelineError> {
+    let need =
+        |v: Option<f64>, name: &str| v.ok_or_else(|| invalid(format!("this shape needs `{name}`")));
+    let need_point = |v: Option<Point3>, name: &str| {
+        v.ok_or_else(|| invalid(format!("this shape needs `{name}` (3 numbers)")))
+    };
+    let centre = spec.centre.unwrap_or([0.0; 3]);
+    let axis = spec.axis.unwrap_or([0.0, 0.0, 1.0]);
+    let reference = spec.reference;
+    let sweep = spec.sweep.unwrap_or(360.0);
+    let wanted = match kind {
+        MakeKind::Revolve | MakeKind::Extrude => 1,
+        MakeKind::Ruled => 2,
+        MakeKind::Coons => 4,
+        _ => 0,
+    };
+    if spec.curves.len() != wanted {
+        return Err(invalid(format!(
+            "this shape takes {wanted} curve(s), got {}",
+            spec.curves.len()
+        )));
+    }
+    let mut curves = spec.curves.into_iter();
+    let mut next = || curves.next().ok_or_else(|| invalid("a curve is missing"));
+    Ok(match kind {
+        MakeKind::Circle | MakeKind::Arc => MakeShape::Arc {
+            centre,
+            normal: axis,
+            reference,
+            radius: need(spec.radius, "radius")?,
+            start: if kind == MakeKind::Circle {
+                0.0
+            } else {
+                spec.start.unwrap_or(0.0)
+            },
+            end: if kind == MakeKind::Circle {
+                360.0
+            } else {
+                spec.end.unwrap_or(360.0)
+            },
+        },
+        MakeKind::Ellipse => MakeShape::Ellipse {
+            centre,
+            normal: axis,
+            reference,
+            major: need(spec.major, "major")?,
+            minor: need(spec.minor, "minor")?,
+            start: spec.start.unwrap_or(0.0),
+            end: spec.end.unwrap_or(360.0),
+        },
+        MakeKind::Line => MakeShape::Line {
+            from: need_point(spec.p0, "p0")?,
+            to: need_point(spec.p1, "p1")?,
+        },
+        MakeKind::Cylinder => MakeShape::Cylinder {
+            origin: centre,
+            axis,
+            reference,
+            radius: need(spec.radius, "radius")?,
+            height: need(spec.height, "height")?,
+            sweep,
+        },
+        MakeKind::Cone => MakeShape::Cone {
+            origin: centre,
+            axis,
+            reference,
+            radius: need(spec.radius, "radius")?,
+            semi_angle: need(spec.semi_angle, "semi-angle")?,
+            height: need(spec.height, "height")?,
+            sweep,
+        },
+        MakeKind::Sphere => MakeShape::Sphere {
+            centre,
+            axis,
+            reference,
+            radius: need(spec.radius, "radius")?,
+        },
+        MakeKind::Torus => MakeShape::Torus {
+            centre,
+            axis,
+            reference,
+            major: need(spec.major, "major")?,
+            minor: need(spec.minor, "minor")?,
+        },
+        MakeKind::Revolve => MakeShape::Revolve {
+            profile: next()?,
+            axis_point: spec.axis_point.unwrap_or([0.0; 3]),
+            axis,
+            angle: sweep,
+        },
+        MakeKind::Extrude => MakeShape::Extrude {
+            curve: next()?,
+            direction: need_point(spec.direction, "direction")?,
+        },
+        MakeKind::Ruled => MakeShape::Ruled {
+            first: next()?,
+            second: next()?,
+        },
+        MakeKind::Coons => MakeShape::Coons {
+            boundaries: Box::new([next()?, next()?, next()?, next()?]),
+            tolerance: spec.tolerance.unwrap_or(1e-9),
+        },
+    })
+}

@@ -794,122 +794,43 @@ pub enum MakeName {
 }
 
 impl MakeRequest {
-    /// The shape to build; a missing number or curve is a 400.
+    /// The shape to build (a missing number or curve is a 400 `make.arguments`).
     pub fn shape(self) -> Result<crate::pipeline::construct::MakeShape, ApiError> {
-        use crate::pipeline::construct::MakeShape;
-        let need = |v: Option<f64>, name: &str| {
-            v.ok_or_else(|| {
-                ApiError::bad_request("make.arguments", format!("this shape needs `{name}`"))
-            })
+        use crate::pipeline::construct::{MakeKind, MakeSpec, shape};
+        let kind = match self.shape {
+            MakeName::Circle => MakeKind::Circle,
+            MakeName::Arc => MakeKind::Arc,
+            MakeName::Ellipse => MakeKind::Ellipse,
+            MakeName::Line => MakeKind::Line,
+            MakeName::Cylinder => MakeKind::Cylinder,
+            MakeName::Cone => MakeKind::Cone,
+            MakeName::Sphere => MakeKind::Sphere,
+            MakeName::Torus => MakeKind::Torus,
+            MakeName::Revolve => MakeKind::Revolve,
+            MakeName::Extrude => MakeKind::Extrude,
+            MakeName::Ruled => MakeKind::Ruled,
+            MakeName::Coons => MakeKind::Coons,
         };
-        let need_point = |v: Option<[f64; 3]>, name: &str| {
-            v.ok_or_else(|| {
-                ApiError::bad_request("make.arguments", format!("this shape needs `{name}`"))
-            })
+        let spec = MakeSpec {
+            centre: self.centre,
+            axis: self.axis,
+            reference: self.reference,
+            radius: self.radius,
+            start: self.start,
+            end: self.end,
+            major: self.major,
+            minor: self.minor,
+            p0: self.p0,
+            p1: self.p1,
+            height: self.height,
+            semi_angle: self.semi_angle,
+            sweep: self.sweep,
+            axis_point: self.axis_point,
+            direction: self.direction,
+            tolerance: self.tolerance,
+            curves: self.curves.unwrap_or_default(),
         };
-        let centre = self.centre.unwrap_or([0.0; 3]);
-        let axis = self.axis.unwrap_or([0.0, 0.0, 1.0]);
-        let reference = self.reference;
-        let sweep = self.sweep.unwrap_or(360.0);
-        let wanted = match self.shape {
-            MakeName::Revolve | MakeName::Extrude => 1,
-            MakeName::Ruled => 2,
-            MakeName::Coons => 4,
-            _ => 0,
-        };
-        let mut curves = self.curves.unwrap_or_default();
-        if curves.len() != wanted {
-            return Err(ApiError::bad_request(
-                "make.arguments",
-                format!("this shape takes {wanted} curve(s), got {}", curves.len()),
-            ));
-        }
-        let mut next = || curves.remove(0);
-        Ok(match self.shape {
-            MakeName::Circle => MakeShape::Arc {
-                centre,
-                normal: axis,
-                reference,
-                radius: need(self.radius, "radius")?,
-                start: 0.0,
-                end: 360.0,
-            },
-            MakeName::Arc => MakeShape::Arc {
-                centre,
-                normal: axis,
-                reference,
-                radius: need(self.radius, "radius")?,
-                start: self.start.unwrap_or(0.0),
-                end: self.end.unwrap_or(360.0),
-            },
-            MakeName::Ellipse => MakeShape::Ellipse {
-                centre,
-                normal: axis,
-                reference,
-                major: need(self.major, "major")?,
-                minor: need(self.minor, "minor")?,
-                start: self.start.unwrap_or(0.0),
-                end: self.end.unwrap_or(360.0),
-            },
-            MakeName::Line => MakeShape::Line {
-                from: need_point(self.p0, "p0")?,
-                to: need_point(self.p1, "p1")?,
-            },
-            MakeName::Cylinder => MakeShape::Cylinder {
-                origin: centre,
-                axis,
-                reference,
-                radius: need(self.radius, "radius")?,
-                height: need(self.height, "height")?,
-                sweep,
-            },
-            MakeName::Cone => MakeShape::Cone {
-                origin: centre,
-                axis,
-                reference,
-                radius: need(self.radius, "radius")?,
-                semi_angle: need(self.semi_angle, "semi_angle")?,
-                height: need(self.height, "height")?,
-                sweep,
-            },
-            MakeName::Sphere => MakeShape::Sphere {
-                centre,
-                axis,
-                reference,
-                radius: need(self.radius, "radius")?,
-            },
-            MakeName::Torus => MakeShape::Torus {
-                centre,
-                axis,
-                reference,
-                major: need(self.major, "major")?,
-                minor: need(self.minor, "minor")?,
-            },
-            MakeName::Revolve => MakeShape::Revolve {
-                profile: next(),
-                axis_point: self.axis_point.unwrap_or([0.0; 3]),
-                axis,
-                angle: sweep,
-            },
-            MakeName::Extrude => MakeShape::Extrude {
-                curve: next(),
-                direction: need_point(self.direction, "direction")?,
-            },
-            MakeName::Ruled => {
-                let first = next();
-                MakeShape::Ruled {
-                    first,
-                    second: next(),
-                }
-            }
-            MakeName::Coons => {
-                let (c0, c1, d0, d1) = (next(), next(), next(), next());
-                MakeShape::Coons {
-                    boundaries: Box::new([c0, c1, d0, d1]),
-                    tolerance: self.tolerance.unwrap_or(1e-9),
-                }
-            }
-        })
+        Ok(shape(kind, spec)?)
     }
 }
 
