@@ -961,9 +961,11 @@ pub fn apply(
     }
     let mut notes = Vec::new();
     let mut out = Vec::with_capacity(doc.entities.len());
-    for e in std::mem::take(&mut doc.entities) {
-        if entity.is_some_and(|id| !is_entity(&e, id)) {
-            out.push(e);
+    // The document is replaced only when every entity succeeded: an error leaves it as
+    // it was.
+    for e in &doc.entities {
+        if entity.is_some_and(|id| !is_entity(e, id)) {
+            out.push(e.clone());
             continue;
         }
         settings.cancel.check()?;
