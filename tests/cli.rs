@@ -2516,3 +2516,267 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The geometric operations on the command line
+
+/// Evaluates `file` (model JSON) at `u` with `nurbsx evaluate --json`.
+fn point_of(file: &Path, u: f64) -> Vec<f64> {
+    let o = nurbsx([
+        "evaluate".as_ref(),
+        file.as_os_str(),
+        "--at".as_ref(),
+        format!("{u}").as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    floats(&json(&o)["results"][0]["point"])
+}
+
+#[test]
+fn reduce_prints_the_bound_and_gives_back_the_circle() {
+    let dir = temp_dir("reduce");
+    let (up, down) = (dir.join("up.json"), dir.join("down.json"));
+    let circle = data("circle.json");
+    assert_exit(
+        &nurbsx([
+            "elevate".as_ref(),
+            circle.as_os_str(),
+            "-o".as_ref(),
+            up.as_os_str(),
+            "--by".as_ref(),
+            "1".as_ref(),
+        ]),
+        0,
+    );
+    let o = nurbsx([
+        "reduce".as_ref(),
+        up.as_os_str(),
+        "-o".as_ref(),
+        down.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-9".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("degree 3 -> 2, deviation at most"),
+        "{}",
+        stderr(&o)
+    );
+    for u in [0.1, 0.37, 0.8] {
+        let p = point_of(&down, u);
+        let want = circle_by_bernstein(u);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+    // The circle is no quadratic polynomial... nor a reducible one: refused, exit 1.
+    let o = nurbsx([
+        "reduce".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        down.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-6".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+}
+
+#[test]
+fn transform_split_reverse_and_join_move_the_circle_as_asked() {
+    let dir = temp_dir("ops");
+    let circle = data("circle.json");
+    let moved = dir.join("moved.json");
+    let o = nurbsx([
+        "transform".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        moved.as_os_str(),
+        "--scale".as_ref(),
+        "2".as_ref(),
+        "--rotate".as_ref(),
+        "0,0,1,180".as_ref(),
+        "--translate".as_ref(),
+        "1,0,0".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    for u in [0.0, 0.3, 0.55] {
+        let p = point_of(&moved, u);
+        let q = circle_by_bernstein(u);
+        // Scale 2, half turn about z, then x + 1: (x, y) -> (1 - 2x, -2y).
+        assert!((p[0] - (1.0 - 2.0 * q[0])).abs() < 1e-12, "{p:?}");
+        assert!((p[1] + 2.0 * q[1]).abs() < 1e-12, "{p:?}");
+    }
+    let halves = dir.join("halves.json");
+    let o = nurbsx([
+        "split".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        halves.as_os_str(),
+        "--at".as_ref(),
+        "0.4".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&halves).unwrap()).unwrap();
+    assert_eq!(v.as_array().map(Vec::len), Some(2), "{v}");
+    let joined = dir.join("joined.json");
+    assert_exit(
+        &nurbsx([
+            "join".as_ref(),
+            halves.as_os_str(),
+            "-o".as_ref(),
+            joined.as_os_str(),
+        ]),
+        0,
+    );
+    let reversed = dir.join("reversed.json");
+    assert_exit(
+        &nurbsx([
+            "reverse".as_ref(),
+            joined.as_os_str(),
+            "-o".as_ref(),
+            reversed.as_os_str(),
+        ]),
+        0,
+    );
+    for u in [0.1, 0.4, 0.9] {
+        let p = point_of(&reversed, u);
+        let want = circle_by_bernstein(1.0 - u);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+    // One curve cannot be joined (usage, exit 2); --matrix needs 12 numbers.
+    let one = nurbsx([
+        "join".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        joined.as_os_str(),
+    ]);
+    assert_exit(&one, 2);
+    let bad = nurbsx([
+        "transform".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        moved.as_os_str(),
+        "--matrix".as_ref(),
+        "1,0,0".as_ref(),
+    ]);
+    assert_exit(&bad, 2);
+}
+
+#[test]
+fn reparameterize_maps_the_domain() {
+    let dir = temp_dir("reparam");
+    let out = dir.join("r.json");
+    let circle = data("circle.json");
+    let o = nurbsx([
+        "reparameterize".as_ref(),
+        circle.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--to".as_ref(),
+        "-1,3".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    for s in [-1.0, 0.2, 2.5] {
+        let p = point_of(&out, s);
+        let want = circle_by_bernstein((s + 1.0) / 4.0);
+        assert!((p[0] - want[0]).abs() < 1e-12 && (p[1] - want[1]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn make_writes_a_circle_on_its_radius_and_refuses_missing_numbers() {
+    let dir = temp_dir("make");
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "make".as_ref(),
+        "circle".as_ref(),
+        "--radius".as_ref(),
+        "3".as_ref(),
+        "--axis".as_ref(),
+        "0,1,0".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    // Angle parameter: a full turn on [0, 2 pi], in the plane y = 0.
+    for k in 0..16 {
+        let t = std::f64::consts::TAU * f64::from(k) / 16.0;
+        let p = point_of(&out, t);
+        assert!((p[0].hypot(p[2]) - 3.0).abs() <= 3e-15, "{p:?}");
+        assert!(p[1].abs() <= 1e-15, "{p:?}");
+    }
+    let step = dir.join("s.step");
+    let o = nurbsx([
+        "make".as_ref(),
+        "cone".as_ref(),
+        "--radius".as_ref(),
+        "2".as_ref(),
+        "--semi-angle".as_ref(),
+        "30".as_ref(),
+        "--height".as_ref(),
+        "4".as_ref(),
+        "-o".as_ref(),
+        step.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        std::fs::read_to_string(&step)
+            .unwrap()
+            .contains("B_SPLINE_SURFACE")
+    );
+    let o = nurbsx([
+        "make".as_ref(),
+        "sphere".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("`radius`"), "{}", stderr(&o));
+}
+
+#[test]
+fn fit_passes_through_the_points_of_a_text_file() {
+    let dir = temp_dir("fit");
+    let points = dir.join("p.csv");
+    // A helix sampled at 30 points.
+    let q: Vec<[f64; 3]> = (0..30)
+        .map(|k| {
+            let t = f64::from(k) * 0.4;
+            [t.cos(), t.sin(), 0.1 * t]
+        })
+        .collect();
+    let text: String = q
+        .iter()
+        .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+        .collect();
+    std::fs::write(&points, format!("# x,y,z\n{text}")).unwrap();
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        points.as_os_str(),
+        "--degree".as_ref(),
+        "4".as_ref(),
+        "--params".as_ref(),
+        "uniform".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    // Uniform parameters: point k at k / 29.
+    for (k, p) in q.iter().enumerate() {
+        let got = point_of(&out, k as f64 / 29.0);
+        assert!(
+            (0..3).all(|i| (got[i] - p[i]).abs() < 1e-12 * 4.0),
+            "{k}: {got:?} vs {p:?}"
+        );
+    }
+    std::fs::write(&points, "0,0\n1,x\n").unwrap();
+    assert_exit(
+        &nurbsx([
+            "fit".as_ref(),
+            points.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]),
+        2,
+    );
+}

@@ -723,7 +723,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 13] = [
+const ROUTES: [(&str, &str); 28] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -731,6 +731,21 @@ const ROUTES: [(&str, &str); 13] = [
     ("post", "/v1/degree-elevate"),
     ("post", "/v1/clamp"),
     ("post", "/v1/unclamp"),
+    ("post", "/v1/insert-knot"),
+    ("post", "/v1/refine"),
+    ("post", "/v1/reduce"),
+    ("post", "/v1/remove-knots"),
+    ("post", "/v1/decompose"),
+    ("post", "/v1/split"),
+    ("post", "/v1/join"),
+    ("post", "/v1/reverse"),
+    ("post", "/v1/reparameterize"),
+    ("post", "/v1/transform"),
+    ("post", "/v1/iso"),
+    ("post", "/v1/periodic"),
+    ("post", "/v1/derivative-curve"),
+    ("post", "/v1/make"),
+    ("post", "/v1/fit"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -773,6 +788,22 @@ async fn openapi_documents_every_route_and_error() {
         "ErrorBody",
         "EvaluateRequest",
         "ElevateRequest",
+        "InsertKnotRequest",
+        "RefineRequest",
+        "ReduceRequest",
+        "RemoveKnotsRequest",
+        "DecomposeRequest",
+        "SplitRequest",
+        "JoinRequest",
+        "ReverseRequest",
+        "ReparameterizeRequest",
+        "TransformRequest",
+        "IsoRequest",
+        "PeriodicRequest",
+        "DerivativeCurveRequest",
+        "OpNote",
+        "MakeRequest",
+        "FitRequest",
         "TessellateRequest",
         "Geometry",
         "EvalReport",
@@ -1264,4 +1295,510 @@ async fn first_derivatives_match_central_differences() {
             "{d1} vs {fd:?}"
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// The geometric operations: each reply is checked against the schema and its geometry,
+// evaluated here (A2.2 on the returned knots and poles), against the circle's Bernstein
+// form at the parameter the operation maps to, or against hand-computed values.
+
+/// POSTs an operation on model JSON; checks 200 and the `GeometryReply` schema.
+async fn operation(path: &str, body: &Value) -> Value {
+    let (_, bytes) = ok(app(), post_json(path, body)).await;
+    let v = json_of(&bytes);
+    let doc = openapi().await;
+    conforms(&v, &schema_ref("GeometryReply"), &doc, "$").unwrap_or_else(|e| panic!("{path}: {e}"));
+    v
+}
+
+fn curve_of(v: &Value) -> nurbsx::nurbs::NurbsCurve {
+    serde_json::from_value(v.clone()).unwrap_or_else(|e| panic!("not a curve ({e}): {v}"))
+}
+
+/// Asserts `got(s)` equals the circle at `map(s)` for 33 parameters of `got`'s domain.
+fn same_as_circle(got: &nurbsx::nurbs::NurbsCurve, map: impl Fn(f64) -> f64, tol: f64, what: &str) {
+    let (a, b) = got.domain();
+    for i in 0..=32 {
+        let s = a + (b - a) * f64::from(i) / 32.0;
+        let p = got.point_at(s).unwrap();
+        let want = circle_bernstein(map(s));
+        assert!(
+            (p[0] - want[0]).abs() <= tol && (p[1] - want[1]).abs() <= tol && p[2].abs() <= tol,
+            "{what}: s = {s}: {p:?} vs {want:?}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn shape_preserving_operations_keep_the_circle() {
+    let v = operation(
+        "/v1/insert-knot",
+        &json!({ "geometry": circle(), "at": 0.3, "times": 2 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.num_poles(), 11);
+    same_as_circle(&c, |s| s, 1e-12, "insert-knot");
+
+    let v = operation(
+        "/v1/refine",
+        &json!({ "geometry": circle(), "knots": [0.6, 0.1, 0.6] }),
+    )
+    .await;
+    let refined = curve_of(&v["geometry"]);
+    assert_eq!(refined.num_poles(), 12);
+    same_as_circle(&refined, |s| s, 1e-12, "refine");
+
+    // Knot removal takes the refined circle back to its 9 poles (the removed knots were
+    // inserted, so they go within rounding).
+    let v = operation(
+        "/v1/remove-knots",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let lean = curve_of(&v["geometry"]);
+    assert_eq!(lean.num_poles(), 9, "{v}");
+    same_as_circle(&lean, |s| s, 1e-9, "remove-knots");
+    assert!(
+        v["notes"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("removed 3"),
+        "{v}"
+    );
+
+    let v = operation("/v1/reverse", &json!({ "geometry": circle() })).await;
+    same_as_circle(&curve_of(&v["geometry"]), |s| 1.0 - s, 1e-12, "reverse");
+
+    let v = operation(
+        "/v1/reparameterize",
+        &json!({ "geometry": circle(), "to": [2.0, 6.0] }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.domain(), (2.0, 6.0));
+    same_as_circle(&c, |s| (s - 2.0) / 4.0, 1e-12, "reparameterize");
+
+    // Bezier decomposition: 4 quarter arcs, piece k on [k/4, (k+1)/4].
+    let v = operation("/v1/decompose", &json!({ "geometry": circle() })).await;
+    let pieces = v["geometry"].as_array().unwrap();
+    assert_eq!(pieces.len(), 4);
+    for (k, piece) in pieces.iter().enumerate() {
+        let c = curve_of(piece);
+        assert_eq!(c.num_poles(), 3);
+        assert_eq!(c.domain(), (k as f64 / 4.0, (k + 1) as f64 / 4.0));
+        same_as_circle(&c, |s| s, 1e-12, "decompose");
+    }
+
+    // Split at 0.3, then join the pieces back.
+    let v = operation("/v1/split", &json!({ "geometry": circle(), "at": 0.3 })).await;
+    let halves = v["geometry"].as_array().unwrap().clone();
+    assert_eq!(halves.len(), 2);
+    assert_eq!(curve_of(&halves[0]).domain(), (0.0, 0.3));
+    assert_eq!(curve_of(&halves[1]).domain(), (0.3, 1.0));
+    for h in &halves {
+        same_as_circle(&curve_of(h), |s| s, 1e-12, "split");
+    }
+    let v = operation("/v1/join", &json!({ "geometry": halves })).await;
+    let joined = &v["geometry"].as_array().unwrap()[0];
+    same_as_circle(&curve_of(joined), |s| s, 1e-12, "join");
+    assert!(
+        v["notes"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("joined 2 curves"),
+        "{v}"
+    );
+}
+
+#[tokio::test]
+async fn reduction_reports_its_bound_for_json_and_files() {
+    let v = operation(
+        "/v1/degree-elevate",
+        &json!({ "geometry": circle(), "by": 1 }),
+    )
+    .await;
+    let v = operation(
+        "/v1/reduce",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.degree(), 2);
+    same_as_circle(&c, |s| s, 1e-12, "reduce");
+    let bound = v["notes"][0]["error_bound"].as_f64().unwrap();
+    assert!((0.0..=1e-9).contains(&bound), "{v}");
+    // The bound is refused above the tolerance: the circle itself is not a parabola.
+    expect_error(
+        app(),
+        post_json(
+            "/v1/reduce",
+            &json!({ "geometry": circle(), "tolerance": 1e-6 }),
+        ),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
+    // A file: elevated, then reduced; the bound comes in a header.
+    let (_, step) = ok(
+        app(),
+        post_json("/v1/degree-elevate", &json!({ "file": STEP_ARC, "by": 1 })),
+    )
+    .await;
+    let (headers, step) = ok(
+        app(),
+        post_json(
+            "/v1/reduce",
+            &json!({ "file": String::from_utf8(step.to_vec()).unwrap(), "tolerance": 1e-9 }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    let bound: f64 = headers["x-nurbsx-error-bound"]
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((0.0..=1e-9).contains(&bound));
+    let (_, body) = ok(app(), post_raw("/v1/info", Some("model/step"), step)).await;
+    assert_eq!(json_of(&body)["entities"][0]["degree"], json!([2]));
+}
+
+#[tokio::test]
+async fn transform_iso_periodic_and_derivative_curves() {
+    // Rotation by 90 degrees about z, then translation: (x, y, z) -> (-y + 1, x + 2, z + 3).
+    let v = operation(
+        "/v1/transform",
+        &json!({ "geometry": circle(), "rotate": { "axis": [0, 0, 2], "degrees": 90 },
+                 "translate": [1, 2, 3] }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    for i in 0..=16 {
+        let u = f64::from(i) / 16.0;
+        let p = c.point_at(u).unwrap();
+        let q = circle_bernstein(u);
+        let want = [1.0 - q[1], 2.0 + q[0], 3.0];
+        assert!(
+            (0..3).all(|k| (p[k] - want[k]).abs() < 1e-12),
+            "{p:?} vs {want:?}"
+        );
+    }
+    let m = operation(
+        "/v1/transform",
+        &json!({ "geometry": circle(), "matrix": [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3]] }),
+    )
+    .await;
+    let cm = curve_of(&m["geometry"]);
+    for i in 0..=16 {
+        let u = f64::from(i) / 16.0;
+        let (p, q) = (c.point_at(u).unwrap(), cm.point_at(u).unwrap());
+        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-12));
+    }
+    expect_error(
+        app(),
+        post_json("/v1/transform", &json!({ "geometry": circle() })),
+        StatusCode::BAD_REQUEST,
+        "transform.arguments",
+    )
+    .await;
+
+    // The iso-curve u = 1/4 of S(u, v) = (2u, 3v, 1 + u v) is v -> (1/2, 3v, 1 + v/4).
+    let v = operation("/v1/iso", &json!({ "geometry": bilinear(), "u": 0.25 })).await;
+    let iso = curve_of(&v["geometry"]);
+    for i in 0..=8 {
+        let t = f64::from(i) / 8.0;
+        let p = iso.point_at(t).unwrap();
+        let want = [0.5, 3.0 * t, 1.0 + t / 4.0];
+        assert!(
+            (0..3).all(|k| (p[k] - want[k]).abs() < 1e-14),
+            "{p:?} vs {want:?}"
+        );
+    }
+
+    // Seed 000 section 2-19: the quadratic on {0,0,0,1/2,1,1,1} has the derivative curve of
+    // degree 1 on {0,0,1/2,1,1} with Q = 4 (P1 - P0), 2 (P2 - P1), 4 (P3 - P2).
+    let quad = json!({ "degree": 2, "knots": [0, 0, 0, 0.5, 1, 1, 1],
+                       "control_points": [[0, 0, 0], [1, 2, 0], [3, 2, 0], [4, 0, 0]] });
+    let v = operation("/v1/derivative-curve", &json!({ "geometry": quad })).await;
+    assert_eq!(v["geometry"]["degree"], 1);
+    assert!(close(
+        &v["geometry"]["knots"],
+        &[0.0, 0.0, 0.5, 1.0, 1.0],
+        0.0
+    ));
+    let q: Vec<Vec<f64>> = serde_json::from_value(v["geometry"]["control_points"].clone()).unwrap();
+    assert_eq!(
+        q,
+        vec![
+            vec![4.0, 8.0, 0.0],
+            vec![4.0, 0.0, 0.0],
+            vec![4.0, -8.0, 0.0]
+        ]
+    );
+    expect_error(
+        app(),
+        post_json("/v1/derivative-curve", &json!({ "geometry": circle() })),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
+
+    // A uniform periodic cubic (poles wrapped: P7..P9 = P0..P2), clamped, comes back to
+    // a periodic form with the same points.
+    let ring: Vec<[f64; 3]> = (0..7)
+        .map(|i| {
+            let a = f64::from(i) * std::f64::consts::TAU / 7.0;
+            [a.cos() * (2.0 + f64::from(i % 2)), a.sin(), 0.0]
+        })
+        .collect();
+    let mut poles = ring.clone();
+    poles.extend_from_slice(&ring[..3]);
+    let knots: Vec<f64> = (0..14).map(f64::from).collect();
+    let periodic = json!({ "degree": 3, "knots": knots, "control_points": poles });
+    let original = curve_of(&periodic);
+    let v = operation("/v1/clamp", &json!({ "geometry": periodic })).await;
+    let v = operation(
+        "/v1/periodic",
+        &json!({ "geometry": v["geometry"], "tolerance": 1e-9 }),
+    )
+    .await;
+    let back = curve_of(&v["geometry"]);
+    let k = back.knots();
+    assert!(
+        k[0] < k[1] && k[k.len() - 2] < k[k.len() - 1],
+        "unclamped: {k:?}"
+    );
+    assert_eq!(back.domain(), original.domain());
+    for i in 0..=40 {
+        let u = 3.0 + 7.0 * f64::from(i) / 40.0;
+        let (p, q) = (back.point_at(u).unwrap(), original.point_at(u).unwrap());
+        assert!(
+            (0..3).all(|k| (p[k] - q[k]).abs() < 1e-12),
+            "u = {u}: {p:?} vs {q:?}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// /v1/make: exact constructions, checked against the analytic shapes
+
+fn surface_of(v: &Value) -> nurbsx::nurbs::NurbsSurface {
+    serde_json::from_value(v.clone()).unwrap_or_else(|e| panic!("not a surface ({e}): {v}"))
+}
+
+#[tokio::test]
+async fn make_builds_circles_arcs_and_quadrics_on_their_analytic_shapes() {
+    // Seed 000 section 2-23: the full circle is four 90-degree arcs, nine poles, knots
+    // {0,0,0,1/4,1/4,...} (here in angle: multiples of pi/2), weights 1, sqrt(2)/2, ...
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "circle", "centre": [1, 2, 3], "radius": 2 }),
+    )
+    .await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.num_poles(), 9);
+    let w = c.weights().unwrap();
+    for (i, wi) in w.iter().enumerate() {
+        let want = if i % 2 == 0 { 1.0 } else { W };
+        assert!((wi - want).abs() <= 1e-16, "w{i} = {wi}");
+    }
+    let (a, b) = c.domain();
+    for i in 0..=400 {
+        let p = c.point_at(a + (b - a) * f64::from(i) / 400.0).unwrap();
+        let r = (p[0] - 1.0).hypot(p[1] - 2.0);
+        assert!((r - 2.0).abs() <= 2.0 * 1e-15, "radius {r}");
+        assert!((p[2] - 3.0).abs() <= 3.0 * 1e-15, "z {}", p[2]);
+    }
+
+    // Seed 000 section 2-23: the 240-degree arc of the unit circle from 150 degrees (through
+    // 270) to 30 degrees is, in the seed, U = {0,0,0,1/2,1,1,1}, w = {1,1/4,1/4,1},
+    // Q = {(a,1/2),(2a,-1),(-2a,-1),(-a,1/2)}, a = cos 30 (run from 30 degrees backwards).
+    // make builds the same point set with the fewest segments of A7.1 (3 x 80 degrees).
+    let a3 = 3f64.sqrt() / 2.0;
+    let seed = nurbsx::nurbs::NurbsCurve::new(
+        2,
+        vec![0., 0., 0., 0.5, 1., 1., 1.],
+        vec![
+            [a3, 0.5, 0.],
+            [2. * a3, -1., 0.],
+            [-2. * a3, -1., 0.],
+            [-a3, 0.5, 0.],
+        ],
+        Some(vec![1., 0.25, 0.25, 1.]),
+    )
+    .unwrap();
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "arc", "radius": 1, "start": 150, "end": 390 }),
+    )
+    .await;
+    let arc = curve_of(&v["geometry"]);
+    assert_eq!(arc.num_poles(), 7);
+    let (a, b) = arc.domain();
+    let (s0, s1) = (seed.point_at(0.0).unwrap(), seed.point_at(1.0).unwrap());
+    let (m0, m1) = (arc.point_at(a).unwrap(), arc.point_at(b).unwrap());
+    for k in 0..3 {
+        assert!((m0[k] - s1[k]).abs() < 1e-15 && (m1[k] - s0[k]).abs() < 1e-15);
+    }
+    let in_arc = |p: [f64; 3]| {
+        let deg = p[1].atan2(p[0]).to_degrees().rem_euclid(360.0);
+        (p[0].hypot(p[1]) - 1.0).abs() <= 1e-15 && (deg >= 150.0 - 1e-9 || deg <= 30.0 + 1e-9)
+    };
+    for i in 0..=200 {
+        let t = f64::from(i) / 200.0;
+        assert!(in_arc(seed.point_at(t).unwrap()), "seed t = {t}");
+        assert!(
+            in_arc(arc.point_at((a + (b - a) * t).min(b)).unwrap()),
+            "make t = {t}"
+        );
+    }
+
+    // A cylinder of radius 5 and height 20 about the x axis, and a sphere of radius 3.
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "cylinder", "axis": [1, 0, 0], "radius": 5, "height": 20 }),
+    )
+    .await;
+    let s = surface_of(&v["geometry"]);
+    let ((u0, u1), (v0, v1)) = s.domain();
+    for i in 0..=20 {
+        for j in 0..=4 {
+            let (u, w) = (
+                u0 + (u1 - u0) * f64::from(i) / 20.0,
+                v0 + (v1 - v0) * f64::from(j) / 4.0,
+            );
+            let p = s.point_at(u, w).unwrap();
+            assert!((p[1].hypot(p[2]) - 5.0).abs() < 1e-14, "{p:?}");
+            assert!(p[0] > -1e-12 && p[0] < 20.0 + 1e-12);
+        }
+    }
+    let v = operation("/v1/make", &json!({ "shape": "sphere", "radius": 3 })).await;
+    let s = surface_of(&v["geometry"]);
+    let ((u0, u1), (v0, v1)) = s.domain();
+    for i in 0..=12 {
+        for j in 0..=12 {
+            let p = s
+                .point_at(
+                    u0 + (u1 - u0) * f64::from(i) / 12.0,
+                    v0 + (v1 - v0) * f64::from(j) / 12.0,
+                )
+                .unwrap();
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            assert!((r - 3.0).abs() < 1e-14, "{p:?}");
+        }
+    }
+    // As a STEP file; missing numbers are a 400.
+    let (headers, _) = ok(
+        app(),
+        post_json(
+            "/v1/make",
+            &json!({ "shape": "torus", "major": 5, "minor": 1, "format": "step" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    expect_error(
+        app(),
+        post_json("/v1/make", &json!({ "shape": "circle" })),
+        StatusCode::BAD_REQUEST,
+        "make.arguments",
+    )
+    .await;
+    expect_error(
+        app(),
+        post_json(
+            "/v1/make",
+            &json!({ "shape": "torus", "major": 1, "minor": 2 }),
+        ),
+        StatusCode::BAD_REQUEST,
+        "make.arguments",
+    )
+    .await;
+    // The Coons patch of the four edges of S(u, v) = (2u, 3v, 1 + u v) is that patch.
+    let line = |a: [f64; 3], b: [f64; 3]| json!({ "degree": 1, "knots": [0, 0, 1, 1], "control_points": [a, b] });
+    let v = operation(
+        "/v1/make",
+        &json!({ "shape": "coons", "curves": [
+            line([0., 0., 1.], [2., 0., 1.]),
+            line([0., 3., 1.], [2., 3., 2.]),
+            line([0., 0., 1.], [0., 3., 1.]),
+            line([2., 0., 1.], [2., 3., 2.]),
+        ] }),
+    )
+    .await;
+    let s = surface_of(&v["geometry"]);
+    for i in 0..=8 {
+        for j in 0..=8 {
+            let (u, w) = (f64::from(i) / 8.0, f64::from(j) / 8.0);
+            let p = s.point_at(u, w).unwrap();
+            let want = [2.0 * u, 3.0 * w, 1.0 + u * w];
+            assert!(
+                (0..3).all(|k| (p[k] - want[k]).abs() < 1e-14),
+                "{p:?} vs {want:?}"
+            );
+        }
+    }
+    // The entity names its shape.
+    let doc = nurbsx::pipeline::construct::make(&nurbsx::pipeline::construct::MakeShape::Line {
+        from: [0.0; 3],
+        to: [1.0, 2.0, 3.0],
+    })
+    .unwrap();
+    assert_eq!(
+        doc.entities[0].meta.shape,
+        Some(nurbsx::exchange::Shape::Line)
+    );
+}
+
+#[tokio::test]
+async fn fit_interpolates_the_points_of_example_9_1() {
+    // NURBS Book example 9.1: chord-length parameters 0, 5/17, 9/17, 14/17, 1 and the
+    // cubic knots {0,0,0,0,28/51,1,1,1,1}; the curve passes through every point.
+    let q = [
+        [0.0, 0.0],
+        [3.0, 4.0],
+        [-1.0, 4.0],
+        [-4.0, 0.0],
+        [-4.0, -3.0],
+    ];
+    let v = operation("/v1/fit", &json!({ "points": q, "degree": 3 })).await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.dimension(), 2);
+    let want = [0., 0., 0., 0., 28.0 / 51.0, 1., 1., 1., 1.];
+    assert!(
+        c.knots()
+            .iter()
+            .zip(want)
+            .all(|(a, b)| (a - b).abs() < 1e-15)
+    );
+    for (t, p) in [0.0, 5.0 / 17.0, 9.0 / 17.0, 14.0 / 17.0, 1.0]
+        .iter()
+        .zip(q)
+    {
+        let got = c.point_at(*t).unwrap();
+        assert!(
+            (got[0] - p[0]).abs() < 1e-12 && (got[1] - p[1]).abs() < 1e-12,
+            "{got:?}"
+        );
+    }
+    let (headers, _) = ok(
+        app(),
+        post_json(
+            "/v1/fit",
+            &json!({ "points": q, "params": "centripetal", "format": "iges" }),
+        ),
+    )
+    .await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/iges");
+    expect_error(
+        app(),
+        post_json(
+            "/v1/fit",
+            &json!({ "points": [[0, 0], [0, 0], [1, 1], [2, 0]] }),
+        ),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
 }

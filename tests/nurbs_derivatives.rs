@@ -637,3 +637,83 @@ fn large_grids_cross_block_boundaries() {
         bits(s.point_at(us[2], vs[j]).unwrap())
     );
 }
+
+/// Seed 000 section 2-19 (eqs. 2-102 .. 2-104): the quadratic on U = {0,0,0,1/2,1,1,1} has
+/// the first-derivative curve of degree 1 on U' = {0,0,1/2,1,1} with
+/// Q0 = 2 (P1 - P0) / (1/2), Q1 = 2 (P2 - P1) / 1, Q2 = 2 (P3 - P2) / (1/2), worked by hand.
+#[test]
+fn derivative_curve_of_the_seed_example() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [3.0, 2.0, 0.0],
+        [4.0, 0.0, 0.0],
+    ];
+    let c = NurbsCurve::new(2, vec![0., 0., 0., 0.5, 1., 1., 1.], p.to_vec(), None).unwrap();
+    let d = c.derivative_curve(1).unwrap();
+    assert_eq!(d.degree(), 1);
+    assert_eq!(d.knots(), &[0., 0., 0.5, 1., 1.]);
+    assert_eq!(
+        d.control_points(),
+        &[[4.0, 8.0, 0.0], [4.0, 0.0, 0.0], [4.0, -8.0, 0.0]]
+    );
+    // Order >= degree, rational curves and order 0 are refused.
+    assert!(c.derivative_curve(2).is_err());
+    assert!(c.derivative_curve(0).is_err());
+    let r = NurbsCurve::new(
+        2,
+        c.knots().to_vec(),
+        p.to_vec(),
+        Some(vec![1., 2., 1., 1.]),
+    );
+    assert!(r.unwrap().derivative_curve(1).is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The k-th derivative curve (A3.3) evaluated at u equals the k-th derivative of the
+    /// curve by basis-function derivatives (A2.3/A3.2), and its first derivative curve the
+    /// Richardson central difference of the points, for clamped and unclamped curves.
+    #[test]
+    fn derivative_curves_match_evaluated_derivatives_and_differences(
+        c in arb_curve(6, false, Ends::Any),
+        t in 0.0f64..1.0,
+    ) {
+        prop_assume!(c.degree() >= 2);
+        let (a, b) = c.domain();
+        let u = a + (b - a) * (0.05 + 0.9 * t);
+        let size = c
+            .control_points()
+            .iter()
+            .map(|q| norm(*q))
+            .fold(1.0, f64::max);
+        // Interior multiplicity above p - k (a jump of the k-th derivative) is refused.
+        let (lo, hi) = c.domain();
+        let top = nurbsx::nurbs::knots::runs(c.knots())
+            .filter(|&(_, t, _)| t > lo && t < hi)
+            .map(|(_, _, m)| m)
+            .max()
+            .unwrap_or(0);
+        for k in 1..c.degree() {
+            if top > c.degree() - k {
+                prop_assert!(c.derivative_curve(k).is_err());
+                continue;
+            }
+            let d = c.derivative_curve(k).unwrap();
+            prop_assert_eq!(d.domain(), c.domain());
+            let got = d.point_at(u).unwrap();
+            let want = c.derivatives(u, k).unwrap()[k];
+            let scale = size * (1.0 + norm(want));
+            prop_assert!(norm(sub(got, want)) <= 1e-9 * scale, "k={} {:?} {:?}", k, got, want);
+        }
+        let h = 1e-3 * (b - a);
+        if top < c.degree() && u - 4.0 * h > a && u + 4.0 * h < b {
+            let d1 = c.derivative_curve(1).unwrap();
+            let fd = richardson(|s| c.point_at(s).unwrap(), u, h);
+            let got = d1.point_at(u).unwrap();
+            prop_assert!(norm(sub(got, fd)) <= 1e-5 * size * (1.0 + norm(fd)) / (b - a).min(1.0),
+                "{:?} {:?}", got, fd);
+        }
+    }
+}

@@ -219,6 +219,16 @@ proptest! {
         prop_assert!(curve_deviation(&c, &u, 1000) < REL);
     }
 
+    /// Unclamping a curve that is already unclamped at both ends (such as the unclamped,
+    /// pole-wrapped form of a periodic rational curve) returns it unchanged, where
+    /// re-deriving it from its clamped form could refuse with a non-positive weight.
+    #[test]
+    fn unclamping_an_unclamped_curve_returns_it_unchanged(c in arb_curve(4, true, Ends::Unclamped)) {
+        prop_assert_eq!(c.unclamp().unwrap(), c.clone());
+        prop_assert_eq!(c.unclamp_start().unwrap(), c.clone());
+        prop_assert_eq!(c.unclamp_end().unwrap(), c);
+    }
+
     #[test]
     fn unclamping_each_end_of_any_curve(c in arb_curve(4, false, Ends::Any)) {
         // One end unclamped, the other left exactly as it was.

@@ -289,7 +289,7 @@ pub enum Command {
     ))]
     Elevate(ElevateArgs),
     /// Make every knot vector clamped (open) without changing the shape.
-    #[command(after_help = concat!(
+    #[command(visible_alias = "open", after_help = concat!(
         "Examples:\n",
         "  nurbsx clamp periodic.igs -o clamped.igs\n",
         "  nurbsx clamp curve.json -o clamped.json\n\n",
@@ -320,6 +320,208 @@ pub enum Command {
         "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
+    /// Insert several knots at once without changing the shape (NURBS Book A5.4).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx refine curve.json -o refined.json --knots 0.25,0.5,0.75\n",
+        "  nurbsx refine part.step -o refined.step --entity '#17' --knots 0.5 --direction v\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (knot outside the domain or inserted too often)"
+    ))]
+    Refine(RefineArgs),
+    /// Lower the degree by one when the shape moves by at most --tolerance (A5.11).
+    #[command(
+        long_about = "Lower the degree by one (NURBS Book A5.11) when an upper bound of the \
+                      deviation stays within --tolerance (model units); the bound reached is \
+                      printed per entity. A curve that came from degree elevation comes back \
+                      exactly.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx reduce elevated.json -o reduced.json --tolerance 1e-9\n",
+            "  nurbsx reduce part.step -o reduced.step --tolerance 0.01 --direction u\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  the input is invalid, or the deviation bound exceeds the tolerance\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Reduce(ReduceArgs),
+    /// Remove every interior knot that can go with a change of at most --tolerance (A5.8).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx remove-knots refined.json -o lean.json --tolerance 1e-9\n",
+        "  nurbsx remove-knots part.igs -o lean.igs --tolerance 0.001 --entity D5\n\n",
+        "Exit codes:\n",
+        "  0  written (the number removed is printed per entity)\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    RemoveKnots(ToleranceOpArgs),
+    /// Split into Bezier segments (curves) or patches (surfaces), exactly (A5.6/A5.7).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx decompose curve.json -o segments.json\n",
+        "  nurbsx decompose part.step -o patches.step --entity '#17'\n\n",
+        "Entity k of entity ID is named ID.k (patches in u-major order).\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    Decompose(EntityOpArgs),
+    /// Split at a parameter into two pieces, exactly.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx split curve.json -o halves.json --at 0.5\n",
+        "  nurbsx split part.step -o halves.step --entity '#17' --at 0.3 --direction v\n\n",
+        "The pieces of entity ID are named ID.1 and ID.2.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (parameter not strictly inside the domain)"
+    ))]
+    Split(SplitArgs),
+    /// Join all curves of the input, in order, into one curve.
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx join pieces.json -o joined.json\n",
+        "  nurbsx join pieces.igs -o joined.igs --tolerance 1e-6\n\n",
+        "Each end must meet the next start within --tolerance; the junction pole is the \n",
+        "midpoint of the two ends. Degrees, rationality and dimension must agree.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, or a gap exceeds the tolerance\n",
+        "  2  usage or I/O error (fewer than two curves)"
+    ))]
+    Join(JoinArgs),
+    /// Reverse the parameter direction (shape unchanged).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx reverse curve.json -o reversed.json\n",
+        "  nurbsx reverse part.step -o flipped.step --direction u\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error"
+    ))]
+    Reverse(SimpleOpArgs),
+    /// Map the parameter domain affinely onto [A, B] (shape unchanged).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx reparameterize curve.json -o unit.json --to 0,1\n",
+        "  nurbsx reparameterize part.step -o unit.step --to 0,1 --direction v\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (A >= B)"
+    ))]
+    Reparameterize(ReparameterizeArgs),
+    /// Move, rotate and scale (or apply a 3x4 matrix x' = R x + T).
+    #[command(
+        long_about = "Apply an affine map to the control points (exact for NURBS). Either \
+                      --matrix with 12 numbers (rows of [R | T], the IGES 124 layout), or \
+                      any of --scale, --rotate and --translate, applied in that order \
+                      (scale about the origin, rotation about an axis through the origin \
+                      by degrees, right-handed, then translation).",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx transform part.step -o moved.step --translate 10,0,0\n",
+            "  nurbsx transform curve.json -o turned.json --rotate 0,0,1,90 --scale 2\n",
+            "  nurbsx transform part.igs -o out.igs --matrix 1,0,0,5,0,1,0,0,0,0,1,0\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  the input is invalid or over a limit\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Transform(TransformArgs),
+    /// Extract the isoparametric curve u = U or v = V of a surface (exact).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx iso surface.json -o curve.json --u 0.5\n",
+        "  nurbsx iso part.step -o edge.step --entity '#17' --v 0\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (a curve given, parameter outside the domain)"
+    ))]
+    Iso(IsoArgs),
+    /// Convert closed curves/surfaces to the periodic form (wrapped poles).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx periodic closed.json -o periodic.json\n",
+        "  nurbsx periodic part.igs -o periodic.igs --direction u --tolerance 1e-7\n\n",
+        "The seam must be C^(p-1) (homogeneously). `nurbsx clamp` (alias `open`) goes back.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid, not closed, or not smooth enough at the seam\n",
+        "  2  usage or I/O error"
+    ))]
+    Periodic(PeriodicArgs),
+    /// The k-th derivative of a polynomial curve as a B-spline curve (A3.3).
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  nurbsx derivative-curve curve.json -o hodograph.json\n",
+        "  nurbsx derivative-curve part.step -o d2.step --order 2 --entity '#17'\n\n",
+        "The result has degree p - k, the knots without the first and last k, and the \n",
+        "control points of seed 000 eq. 2-103; rational curves are refused.\n\n",
+        "Exit codes:\n",
+        "  0  written\n",
+        "  1  the input is invalid or over a limit\n",
+        "  2  usage or I/O error (order not below the degree, rational curve, surface)"
+    ))]
+    DerivativeCurve(DerivativeCurveArgs),
+    /// Build an exact curve or surface: circle, arc, ellipse, line, cylinder, cone, sphere,
+    /// torus, or a revolution, extrusion, ruled surface or Coons patch of curves from files.
+    #[command(
+        long_about = "Build an exact NURBS curve or surface from its defining numbers (conic \
+                      arcs with the fewest segments, NURBS Book A7.1; revolution A8.1; the \
+                      ISO 10303-42 quadrics) and write it as STEP, IGES or model JSON. Lengths \
+                      are in millimetres, angles in degrees; --axis is the normal of circles \
+                      and ellipses and the axis of the surfaces; --reference is the direction \
+                      of angle 0 (default: perpendicular to the axis).",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx make circle --radius 2 -o circle.step\n",
+            "  nurbsx make arc --centre 1,0,0 --radius 1 --start 0 --end 240 -o arc.json\n",
+            "  nurbsx make ellipse --major 3 --minor 1 -o ellipse.igs\n",
+            "  nurbsx make line --p0 0,0,0 --p1 1,2,3 -o line.json\n",
+            "  nurbsx make cylinder --radius 5 --height 20 --axis 0,0,1 -o cyl.step\n",
+            "  nurbsx make cone --radius 5 --semi-angle 30 --height 4 -o cone.step\n",
+            "  nurbsx make sphere --radius 3 -o ball.igs\n",
+            "  nurbsx make torus --major 5 --minor 1 -o ring.step\n",
+            "  nurbsx make revolve profile.json --axis 0,0,1 --angle 180 -o half.step\n",
+            "  nurbsx make extrude curve.json --direction 0,0,10 -o wall.step\n",
+            "  nurbsx make ruled rail1.json rail2.json -o ruled.step\n",
+            "  nurbsx make coons bottom.json top.json left.json right.json -o patch.step\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  an input curve file is invalid or over a limit\n",
+            "  2  usage or I/O error (missing or out-of-range numbers)"
+        )
+    )]
+    Make(MakeArgs),
+    /// Fit a curve through points: global interpolation (NURBS Book A9.1).
+    #[command(
+        long_about = "Interpolate a polynomial B-spline curve of --degree through every point \
+                      of POINTS (NURBS Book A9.1): parameters by --params (uniform, chord or \
+                      centripetal), knots by averaging, the linear system solved by LU with \
+                      partial pivoting (a singular system is refused). POINTS is a JSON array \
+                      of [x, y] or [x, y, z], or text with one point per line (commas or \
+                      spaces; `#` comments). At most 2000 points.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx fit points.csv --degree 3 -o curve.step\n",
+            "  nurbsx fit points.json --degree 5 --params centripetal -o curve.json\n\n",
+            "Exit codes:\n",
+            "  0  written\n",
+            "  1  over the point limit, coincident points or a singular system\n",
+            "  2  usage or I/O error (unreadable points, too few points for the degree)"
+        )
+    )]
+    Fit(FitArgs),
     /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
@@ -699,6 +901,341 @@ pub struct InsertKnotArgs {
     pub entity: Option<String>,
 }
 
+/// `nurbsx refine`.
+#[derive(Debug, Args)]
+pub struct RefineArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The knots to insert, comma-separated (a value given twice is inserted twice).
+    #[arg(long, value_name = "U,...", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub knots: NumberList,
+    /// Surface direction (u or v); curves ignore it.
+    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
+    pub direction: KnotDirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx reduce`.
+#[derive(Debug, Args)]
+pub struct ReduceArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted deviation (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx remove-knots`.
+#[derive(Debug, Args)]
+pub struct ToleranceOpArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted change of the shape (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: f64,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx decompose`.
+#[derive(Debug, Args)]
+pub struct EntityOpArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx split`.
+#[derive(Debug, Args)]
+pub struct SplitArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The parameter, strictly inside the domain.
+    #[arg(long, value_name = "T", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub at: f64,
+    /// Surface direction (u or v); curves ignore it.
+    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
+    pub direction: KnotDirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx join`.
+#[derive(Debug, Args)]
+pub struct JoinArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted gap between a curve's end and the next curve's start.
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+}
+
+/// `nurbsx reparameterize` (`--to` is the domain here, so the output format comes from
+/// OUT's extension, else the input's).
+#[derive(Debug, Args)]
+pub struct ReparameterizeArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file (format from its extension, else the input's); `-` writes standard output.
+    #[arg(short, long, value_name = "OUT", required = true)]
+    pub output: PathBuf,
+    /// The new domain `A,B` (A < B).
+    #[arg(long, value_name = "A,B", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub to: NumberList,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx transform`.
+#[derive(Debug, Args)]
+pub struct TransformArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// 12 numbers: the rows of [R | T] (x' = R x + T).
+    #[arg(long, value_name = "R11,R12,R13,T1,...", value_parser = parse_numbers,
+          allow_hyphen_values = true, conflicts_with_all = ["translate", "rotate", "scale"])]
+    pub matrix: Option<NumberList>,
+    /// Translation `X,Y,Z` (applied last).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub translate: Option<NumberList>,
+    /// Rotation `AX,AY,AZ,DEGREES` about an axis through the origin (right-handed).
+    #[arg(long, value_name = "AX,AY,AZ,DEG", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub rotate: Option<NumberList>,
+    /// Uniform scale about the origin (applied first).
+    #[arg(long, value_name = "S", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub scale: Option<f64>,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx iso`.
+#[derive(Debug, Args)]
+pub struct IsoArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// The curve at u = U (running along v).
+    #[arg(long, value_name = "U", value_parser = parse_finite, allow_negative_numbers = true,
+          required_unless_present = "v", conflicts_with = "v")]
+    pub u: Option<f64>,
+    /// The curve at v = V (running along u).
+    #[arg(long, value_name = "V", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub v: Option<f64>,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx periodic`.
+#[derive(Debug, Args)]
+pub struct PeriodicArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Largest accepted difference of the wrapped poles (model units).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+    /// Surface direction(s).
+    #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
+    pub direction: DirectionArg,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// `nurbsx derivative-curve`.
+#[derive(Debug, Args)]
+pub struct DerivativeCurveArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Derivative order k (1 <= k < degree).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub order: usize,
+    /// Only this entity (default: all).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+}
+
+/// What `nurbsx make` builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MakeKind {
+    /// A full circle (--centre, --axis, --radius).
+    Circle,
+    /// A circular arc (--centre, --axis, --radius, --start, --end).
+    Arc,
+    /// An ellipse or elliptic arc (--centre, --axis, --reference, --major, --minor, --start, --end).
+    Ellipse,
+    /// A line segment (--p0, --p1).
+    Line,
+    /// A cylinder (--centre of the base, --axis, --radius, --height, --sweep).
+    Cylinder,
+    /// A cone (--centre of the base, --axis, --radius, --semi-angle, --height, --sweep).
+    Cone,
+    /// A sphere (--centre, --axis, --radius).
+    Sphere,
+    /// A torus (--centre, --axis, --major, --minor).
+    Torus,
+    /// The first curve of CURVE revolved (--axis-point, --axis, --angle).
+    Revolve,
+    /// The first curve of CURVE swept along --direction.
+    Extrude,
+    /// The ruled surface between the first curves of two files.
+    Ruled,
+    /// The bilinearly blended Coons patch of four boundary curves (files): S(u,0), S(u,1),
+    /// S(0,v), S(1,v); polynomial curves whose corners meet within --tolerance.
+    Coons,
+}
+
+/// `nurbsx make`.
+#[derive(Debug, Args)]
+pub struct MakeArgs {
+    /// What to build.
+    #[arg(value_enum, value_name = "SHAPE")]
+    pub shape: MakeKind,
+    /// Curve file(s) for revolve, extrude (one), ruled (two) and coons (four: S(u,0), S(u,1),
+    /// S(0,v), S(1,v)): STEP, IGES or model JSON.
+    #[arg(value_name = "CURVE")]
+    pub curves: Vec<PathBuf>,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Centre (circles, ellipses, sphere, torus) or base centre (cylinder, cone).
+    #[arg(long, visible_alias = "center", value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub centre: Option<NumberList>,
+    /// Normal of circles and ellipses, axis of the surfaces (default 0,0,1).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub axis: Option<NumberList>,
+    /// Direction of angle 0 (default: perpendicular to the axis).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub reference: Option<NumberList>,
+    /// Radius.
+    #[arg(long, value_name = "R", value_parser = parse_finite)]
+    pub radius: Option<f64>,
+    /// Start angle of arcs (degrees, default 0).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true, default_value_t = 0.0)]
+    pub start: f64,
+    /// End angle of arcs (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true, default_value_t = 360.0)]
+    pub end: f64,
+    /// Major semi-axis (ellipse) or major radius (torus).
+    #[arg(long, value_name = "A", value_parser = parse_finite)]
+    pub major: Option<f64>,
+    /// Minor semi-axis (ellipse) or tube radius (torus).
+    #[arg(long, value_name = "B", value_parser = parse_finite)]
+    pub minor: Option<f64>,
+    /// Start point of a line.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub p0: Option<NumberList>,
+    /// End point of a line.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub p1: Option<NumberList>,
+    /// Height along the axis (cylinder, cone).
+    #[arg(long, value_name = "H", value_parser = parse_finite)]
+    pub height: Option<f64>,
+    /// Semi-angle of a cone (degrees).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, allow_negative_numbers = true)]
+    pub semi_angle: Option<f64>,
+    /// Sweep of a cylinder or cone (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, default_value_t = 360.0)]
+    pub sweep: f64,
+    /// A point of the revolution axis (default the origin).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub axis_point: Option<NumberList>,
+    /// Revolution angle (degrees, default 360).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite, default_value_t = 360.0)]
+    pub angle: f64,
+    /// Extrusion vector.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub direction: Option<NumberList>,
+    /// Largest accepted gap between the corners of Coons boundaries.
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+}
+
+/// The parameter method of `nurbsx fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ParamsArg {
+    /// Equally spaced.
+    Uniform,
+    /// Proportional to the chord lengths.
+    Chord,
+    /// Proportional to the square roots of the chord lengths.
+    Centripetal,
+}
+
+/// `nurbsx fit`.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// The points (JSON array or text, one point per line).
+    #[arg(value_name = "POINTS")]
+    pub input: PathBuf,
+    /// Output.
+    #[command(flatten)]
+    pub out: OutputArgs,
+    /// Degree of the curve.
+    #[arg(long, value_name = "P", default_value_t = 3)]
+    pub degree: usize,
+    /// How the points get their parameters.
+    #[arg(long, value_enum, default_value_t = ParamsArg::Chord)]
+    pub params: ParamsArg,
+}
+
 /// A tessellation output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MeshFormatArg {
@@ -835,6 +1372,30 @@ pub fn parse_tuple(s: &str) -> Result<Vec<f64>, String> {
         return Err("empty parameter tuple".to_owned());
     }
     Ok(values)
+}
+
+/// A comma-separated list of numbers on the command line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumberList(pub Vec<f64>);
+
+/// Parses comma- (or space-) separated finite numbers (at most 4096).
+pub fn parse_numbers(s: &str) -> Result<NumberList, String> {
+    let tokens: Vec<&str> = s
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .take(4097)
+        .collect();
+    if tokens.len() > 4096 {
+        return Err("more than 4096 numbers".to_owned());
+    }
+    if tokens.is_empty() {
+        return Err("empty list of numbers".to_owned());
+    }
+    tokens
+        .into_iter()
+        .map(parse_finite)
+        .collect::<Result<_, _>>()
+        .map(NumberList)
 }
 
 /// The first 40 characters of a value for a message.

@@ -1,5 +1,7 @@
-//! `nurbsx elevate`, `clamp`, `unclamp`, `insert-knot` and `tessellate`: read, apply one
-//! pipeline operation, write in the input's form unless told otherwise.
+//! `nurbsx elevate`, `clamp`, `unclamp`, `insert-knot`, `refine`, `reduce`, `remove-knots`,
+//! `decompose`, `split`, `join`, `reverse`, `reparameterize`, `transform`, `iso`,
+//! `periodic`, `derivative-curve` and `tessellate`: read, apply one pipeline operation,
+//! write in the input's form unless told otherwise.
 
 use std::path::Path;
 
@@ -7,14 +9,17 @@ use crate::exchange::ExportOptions;
 use crate::pipeline::{self, InputKind, Loaded, MeshFormat, Operation};
 
 use super::args::{
-    ElevateArgs, InsertKnotArgs, MeshFormatArg, ModelFormatArg, OutputArgs, SimpleOpArgs,
-    TessellateArgs,
+    DerivativeCurveArgs, ElevateArgs, EntityOpArgs, FitArgs, InsertKnotArgs, IsoArgs, JoinArgs,
+    MakeArgs, MakeKind, MeshFormatArg, ModelFormatArg, NumberList, OutputArgs, ParamsArg,
+    PeriodicArgs, ReduceArgs, RefineArgs, ReparameterizeArgs, SimpleOpArgs, SplitArgs,
+    TessellateArgs, ToleranceOpArgs, TransformArgs,
 };
 use super::inspect::no_bspline_warning;
 use super::{
     CliError, Context, Outcome, display_name, is_dash, load_file, outcome_of, reader_error,
     write_bytes, write_output,
 };
+use crate::pipeline::Direction;
 
 /// `nurbsx elevate`.
 pub fn elevate(ctx: &Context, a: ElevateArgs) -> Result<Outcome, CliError> {
@@ -50,6 +55,303 @@ pub fn insert_knot(ctx: &Context, a: InsertKnotArgs) -> Result<Outcome, CliError
         direction: a.direction.into(),
     };
     modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx refine`.
+pub fn refine(ctx: &Context, a: RefineArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Refine {
+        knots: a.knots.0,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx reduce`.
+pub fn reduce(ctx: &Context, a: ReduceArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Reduce {
+        tolerance: a.tolerance,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx remove-knots`.
+pub fn remove_knots(ctx: &Context, a: ToleranceOpArgs) -> Result<Outcome, CliError> {
+    let op = Operation::RemoveKnots {
+        tolerance: a.tolerance,
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx decompose`.
+pub fn decompose(ctx: &Context, a: EntityOpArgs) -> Result<Outcome, CliError> {
+    modify(
+        ctx,
+        &a.input,
+        &a.out,
+        Operation::Decompose,
+        a.entity.as_deref(),
+    )
+}
+
+/// `nurbsx split`.
+pub fn split(ctx: &Context, a: SplitArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Split {
+        at: a.at,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx join`.
+pub fn join(ctx: &Context, a: JoinArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Join {
+        tolerance: a.tolerance,
+    };
+    modify(ctx, &a.input, &a.out, op, None)
+}
+
+/// `nurbsx reverse`.
+pub fn reverse(ctx: &Context, a: SimpleOpArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Reverse {
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx reparameterize`.
+pub fn reparameterize(ctx: &Context, a: ReparameterizeArgs) -> Result<Outcome, CliError> {
+    let [start, end] = a.to.0[..] else {
+        return Err(CliError::Usage(format!(
+            "--to takes two numbers A,B, got {}",
+            a.to.0.len()
+        )));
+    };
+    let op = Operation::Reparameterize {
+        start,
+        end,
+        direction: a.direction.into(),
+    };
+    let out = OutputArgs {
+        output: a.output,
+        to: None,
+    };
+    modify(ctx, &a.input, &out, op, a.entity.as_deref())
+}
+
+/// `nurbsx transform`.
+pub fn transform(ctx: &Context, a: TransformArgs) -> Result<Outcome, CliError> {
+    let matrix = match &a.matrix {
+        Some(m) => {
+            let [r11, r12, r13, t1, r21, r22, r23, t2, r31, r32, r33, t3] = m.0[..] else {
+                return Err(CliError::Usage(format!(
+                    "--matrix takes 12 numbers (the rows of [R | T]), got {}",
+                    m.0.len()
+                )));
+            };
+            [
+                [r11, r12, r13, t1],
+                [r21, r22, r23, t2],
+                [r31, r32, r33, t3],
+            ]
+        }
+        None => {
+            let rotate = match a.rotate.as_ref().map(|r| &r.0[..]) {
+                None => None,
+                Some(&[x, y, z, deg]) => Some(([x, y, z], deg)),
+                Some(other) => {
+                    return Err(CliError::Usage(format!(
+                        "--rotate takes 4 numbers AX,AY,AZ,DEGREES, got {}",
+                        other.len()
+                    )));
+                }
+            };
+            let translate = match a.translate.as_ref().map(|t| &t.0[..]) {
+                None => None,
+                Some(&[x, y, z]) => Some([x, y, z]),
+                Some(other) => {
+                    return Err(CliError::Usage(format!(
+                        "--translate takes 3 numbers X,Y,Z, got {}",
+                        other.len()
+                    )));
+                }
+            };
+            if a.scale.is_none() && rotate.is_none() && translate.is_none() {
+                return Err(CliError::Usage(
+                    "give --matrix, or at least one of --scale, --rotate, --translate".into(),
+                ));
+            }
+            pipeline::affine(a.scale, rotate, translate)
+                .map_err(|e| CliError::pipeline(&a.input, e))?
+        }
+    };
+    modify(
+        ctx,
+        &a.input,
+        &a.out,
+        Operation::Transform { matrix },
+        a.entity.as_deref(),
+    )
+}
+
+/// `nurbsx iso`.
+pub fn iso(ctx: &Context, a: IsoArgs) -> Result<Outcome, CliError> {
+    let op = match (a.u, a.v) {
+        (Some(at), None) => Operation::Iso {
+            at,
+            direction: Direction::U,
+        },
+        (None, Some(at)) => Operation::Iso {
+            at,
+            direction: Direction::V,
+        },
+        _ => return Err(CliError::Usage("give exactly one of --u and --v".into())),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx periodic`.
+pub fn periodic(ctx: &Context, a: PeriodicArgs) -> Result<Outcome, CliError> {
+    let op = Operation::Periodic {
+        tolerance: a.tolerance,
+        direction: a.direction.into(),
+    };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// `nurbsx derivative-curve`.
+pub fn derivative_curve(ctx: &Context, a: DerivativeCurveArgs) -> Result<Outcome, CliError> {
+    let op = Operation::DerivativeCurve { order: a.order };
+    modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
+}
+
+/// A point or vector option: 3 numbers, or the default.
+fn point(
+    v: &Option<NumberList>,
+    name: &str,
+    default: Option<[f64; 3]>,
+) -> Result<[f64; 3], CliError> {
+    match (v.as_ref().map(|l| &l.0[..]), default) {
+        (Some(&[x, y, z]), _) => Ok([x, y, z]),
+        (Some(other), _) => Err(CliError::Usage(format!(
+            "--{name} takes 3 numbers X,Y,Z, got {}",
+            other.len()
+        ))),
+        (None, Some(d)) => Ok(d),
+        (None, None) => Err(CliError::Usage(format!("this shape needs --{name} X,Y,Z"))),
+    }
+}
+
+/// The first curve of a file.
+fn curve_file(ctx: &Context, path: &Path) -> Result<crate::nurbs::NurbsCurve, CliError> {
+    let Loaded { document, .. } = load_file(ctx, path)?;
+    ctx.report
+        .diagnostics(&display_name(path), &document.diagnostics);
+    document
+        .entities
+        .into_iter()
+        .find_map(|e| match e.geometry {
+            crate::nurbs::Geometry::Curve(c) => Some(c),
+            crate::nurbs::Geometry::Surface(_) => None,
+        })
+        .ok_or_else(|| CliError::Usage(format!("{} holds no curve", path.display())))
+}
+
+/// `nurbsx make`.
+pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
+    use crate::pipeline::construct::{self, MakeSpec, make};
+    let optional = |v: &Option<NumberList>, name: &str| -> Result<Option<[f64; 3]>, CliError> {
+        match v {
+            None => Ok(None),
+            some => point(some, name, None).map(Some),
+        }
+    };
+    let kind = match a.shape {
+        MakeKind::Circle => construct::MakeKind::Circle,
+        MakeKind::Arc => construct::MakeKind::Arc,
+        MakeKind::Ellipse => construct::MakeKind::Ellipse,
+        MakeKind::Line => construct::MakeKind::Line,
+        MakeKind::Cylinder => construct::MakeKind::Cylinder,
+        MakeKind::Cone => construct::MakeKind::Cone,
+        MakeKind::Sphere => construct::MakeKind::Sphere,
+        MakeKind::Torus => construct::MakeKind::Torus,
+        MakeKind::Revolve => construct::MakeKind::Revolve,
+        MakeKind::Extrude => construct::MakeKind::Extrude,
+        MakeKind::Ruled => construct::MakeKind::Ruled,
+        MakeKind::Coons => construct::MakeKind::Coons,
+    };
+    let spec = MakeSpec {
+        centre: optional(&a.centre, "centre")?,
+        axis: optional(&a.axis, "axis")?,
+        reference: optional(&a.reference, "reference")?,
+        radius: a.radius,
+        start: Some(a.start),
+        end: Some(a.end),
+        major: a.major,
+        minor: a.minor,
+        p0: optional(&a.p0, "p0")?,
+        p1: optional(&a.p1, "p1")?,
+        height: a.height,
+        semi_angle: a.semi_angle,
+        sweep: Some(if kind == construct::MakeKind::Revolve {
+            a.angle
+        } else {
+            a.sweep
+        }),
+        axis_point: optional(&a.axis_point, "axis-point")?,
+        direction: optional(&a.direction, "direction")?,
+        tolerance: Some(a.tolerance),
+        curves: a
+            .curves
+            .iter()
+            .map(|path| curve_file(ctx, path))
+            .collect::<Result<_, _>>()?,
+    };
+    let shape =
+        construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
+    let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
+    let target = output_kind(&a.out, InputKind::Json)?;
+    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
+        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    write_output(&a.out.output, &text)?;
+    let name = clap::ValueEnum::to_possible_value(&a.shape)
+        .map_or_else(String::new, |v| v.get_name().to_owned());
+    ctx.report.summary(&format!(
+        "made a {name} -> {} as {}",
+        display_name(&a.out.output),
+        target.name().to_ascii_uppercase()
+    ));
+    Ok(outcome_of(&document.diagnostics))
+}
+
+/// `nurbsx fit`.
+pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
+    use crate::nurbs::fit::ParamMethod;
+    use crate::pipeline::construct::{fit, read_points};
+    let (bytes, _) = super::read_input(&a.input, &ctx.settings)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| CliError::Usage(format!("{} is not UTF-8 text", a.input.display())))?;
+    let (points, dimension) = read_points(&text).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let method = match a.params {
+        ParamsArg::Uniform => ParamMethod::Uniform,
+        ParamsArg::Chord => ParamMethod::ChordLength,
+        ParamsArg::Centripetal => ParamMethod::Centripetal,
+    };
+    let document =
+        fit(&points, dimension, a.degree, method).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let target = output_kind(&a.out, InputKind::Json)?;
+    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
+        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    write_output(&a.out.output, &text)?;
+    ctx.report.summary(&format!(
+        "{} -> {}: interpolated {} points by a curve of degree {} as {}",
+        display_name(&a.input),
+        display_name(&a.out.output),
+        points.len(),
+        a.degree,
+        target.name().to_ascii_uppercase()
+    ));
+    Ok(outcome_of(&document.diagnostics))
 }
 
 /// The output form of a modify command: `--to`, else OUT's extension, else the input's.
@@ -94,7 +396,7 @@ fn modify(
         return Ok(outcome);
     }
     ctx.report.diagnostics(&name, &document.diagnostics);
-    pipeline::apply(&mut document, op, entity, &ctx.settings)
+    let notes = pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     let text = pipeline::write_as(&document, target, &export_options(&out.output))
         .map_err(|e| CliError::pipeline(&out.output, e))?;
@@ -110,6 +412,9 @@ fn modify(
             ", left out {} (2-D parameter-space curves: see the pcurve_not_written warning)",
             read - written
         ));
+    }
+    for note in &notes {
+        summary.push_str(&format!("\n  {}: {}", note.entity, note.message));
     }
     ctx.report.summary(&summary);
     Ok(outcome_of(&document.diagnostics))

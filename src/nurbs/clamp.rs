@@ -159,21 +159,42 @@ fn end_spacing(clamped: &Bundle) -> Vec<f64> {
     (0..p).map(|i| u[p + i + 1] - u[p + i]).collect()
 }
 
-/// Unclamps the start of every row (see the module documentation).
+/// Unclamps the start of every row (see the module documentation); an unclamped start is
+/// kept as it is (it already is an unclamped form; re-deriving its outer poles could only
+/// change them, and for rational data can give non-positive weights).
 pub(super) fn unclamp_start_bundle(b: &Bundle) -> Bundle {
+    if !start_clamped(b.degree, &b.knots) {
+        return b.clone();
+    }
     let spacing = start_spacing(&clamp_bundle(b));
     unclamp_start_with(b, &spacing)
 }
 
-/// Unclamps the end of every row.
+/// Unclamps the end of every row; an unclamped end is kept as it is.
 pub(super) fn unclamp_end_bundle(b: &Bundle) -> Bundle {
+    if !end_clamped(b.degree, &b.knots) {
+        return b.clone();
+    }
     let spacing = end_spacing(&clamp_bundle(b));
     unclamp_end_with(b, &spacing)
 }
 
 /// Unclamps both ends with the spacings of the doubly clamped vector (so, for a closed
 /// C^(p-1) curve, the knots wrap: figure 2-125c).
+///
+/// Ends that are already unclamped are kept as they are: unclamping the unclamped form of
+/// a periodic rational curve returns it unchanged (re-deriving it from the clamped form
+/// could give non-positive weights).
 pub(super) fn unclamp_bundle(b: &Bundle) -> Bundle {
+    match (
+        start_clamped(b.degree, &b.knots),
+        end_clamped(b.degree, &b.knots),
+    ) {
+        (false, false) => return b.clone(),
+        (true, false) => return unclamp_start_bundle(b),
+        (false, true) => return unclamp_end_bundle(b),
+        (true, true) => {}
+    }
     let clamped = clamp_bundle(b);
     let (s0, s1) = (start_spacing(&clamped), end_spacing(&clamped));
     unclamp_end_with(&unclamp_start_with(&clamped, &s0), &s1)
@@ -211,24 +232,35 @@ impl NurbsCurve {
 
     /// Unclamps the start (NURBS Book A12.1 left end, knots by seed formula 2-168; see the
     /// module documentation). Exact up to rounding; same domain. An unclamped start is
-    /// first clamped, so its outer knots are replaced.
+    /// returned as it is.
     ///
     /// Rational curves: the new end poles are extrapolated in homogeneous space and their
     /// weights can become non-positive; then [`GeometryError::InvalidArgument`] says so
     /// (polynomial curves always succeed).
     pub fn unclamp_start(&self) -> Result<NurbsCurve, GeometryError> {
+        if !self.is_clamped_start() {
+            // Bit for bit: no round trip through homogeneous poles.
+            return Ok(self.clone());
+        }
         self.with_bundle(unclamp_start_bundle(&self.to_bundle()))
             .map_err(explain_unclamp)
     }
 
     /// Unclamps the end (A12.1 right end, knots by seed formula 2-169).
     pub fn unclamp_end(&self) -> Result<NurbsCurve, GeometryError> {
+        if !self.is_clamped_end() {
+            return Ok(self.clone());
+        }
         self.with_bundle(unclamp_end_bundle(&self.to_bundle()))
             .map_err(explain_unclamp)
     }
 
-    /// Unclamps both ends (A12.1).
+    /// Unclamps both ends (A12.1); ends already unclamped are kept, so an unclamped curve
+    /// comes back unchanged.
     pub fn unclamp(&self) -> Result<NurbsCurve, GeometryError> {
+        if !self.is_clamped_start() && !self.is_clamped_end() {
+            return Ok(self.clone());
+        }
         self.with_bundle(unclamp_bundle(&self.to_bundle()))
             .map_err(explain_unclamp)
     }

@@ -401,3 +401,74 @@ pub(crate) fn norm(a: Point3) -> f64 {
 pub(crate) fn scale(a: Point3, f: f64) -> Point3 {
     [a[0] * f, a[1] * f, a[2] * f]
 }
+
+impl NurbsCurve {
+    /// The `k`-th derivative of a polynomial (non-rational) curve as a B-spline curve
+    /// (NURBS Book A3.3 CurveDerivCpts; seed 000 eqs. 2-102 .. 2-104): degree `p - k`, knots
+    /// `U` without its first and last `k` entries, control points
+    /// `P^(k)_i = (p - k + 1) (P^(k-1)_{i+1} - P^(k-1)_i) / (u_{i+p+1} - u_{i+k})`
+    /// (0 where the denominator is 0: that basis function vanishes). Works for clamped and
+    /// unclamped knot vectors alike; the domain is unchanged.
+    ///
+    /// Errors ([`GeometryError::InvalidArgument`]): `k == 0` or `k >= p` (the result needs
+    /// degree >= 1), an interior knot of multiplicity above `p - k` (the `k`-th
+    /// derivative jumps there; the model allows interior multiplicity up to the degree), a rational curve (its derivative is rational of another degree, not of
+    /// this form), or an overflowing control point.
+    pub fn derivative_curve(&self, k: usize) -> Result<NurbsCurve, GeometryError> {
+        let p = self.degree();
+        if k == 0 || k >= p {
+            return Err(GeometryError::InvalidArgument(format!(
+                "derivative curve of order {k}: the order must be 1..={} for degree {p} \
+                 (the result has degree p - k >= 1)",
+                p.saturating_sub(1)
+            )));
+        }
+        if self.is_rational() {
+            return Err(GeometryError::InvalidArgument(
+                "derivative curve: the derivative of a rational curve is not a B-spline of \
+                 degree p - k (A3.3 applies to polynomial curves only)"
+                    .into(),
+            ));
+        }
+        let u = self.knots();
+        let (a, b) = self.domain();
+        if let Some((_, t, m)) =
+            super::knots::runs(u).find(|&(_, t, m)| t > a && t < b && m > p - k)
+        {
+            return Err(GeometryError::InvalidArgument(format!(
+                "derivative curve of order {k}: the interior knot {t} has multiplicity {m}, \
+                 above p - k = {} (the k-th derivative jumps there, which a B-spline of \
+                 degree p - k cannot hold)",
+                p - k
+            )));
+        }
+        let mut pk: Vec<Point3> = self.control_points().to_vec();
+        for level in 1..=k {
+            let f = (p - level + 1) as f64;
+            pk = (0..pk.len() - 1)
+                .map(|i| {
+                    let den = u[i + p + 1] - u[i + level];
+                    if den > 0.0 {
+                        std::array::from_fn(|c| f * (pk[i + 1][c] - pk[i][c]) / den)
+                    } else {
+                        [0.0; 3]
+                    }
+                })
+                .collect();
+        }
+        check_finite(pk.iter().copied(), "derivative control point")?;
+        let knots = u[k..u.len() - k].to_vec();
+        match NurbsCurve::with_dimension(p - k, knots, pk, None, self.dimension()) {
+            // An unclamped vector whose domain end is a knot of multiplicity p - k + 1 or
+            // more with knots outside it gives a derivative vector the model refuses (full
+            // multiplicity away from the vector's ends); the clamped form (A5.1, exact, same
+            // domain) has its ends at the vector's ends.
+            Err(GeometryError::Multiplicity { .. })
+                if !(self.is_clamped_start() && self.is_clamped_end()) =>
+            {
+                self.clamp()?.derivative_curve(k)
+            }
+            other => other,
+        }
+    }
+}

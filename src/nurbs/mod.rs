@@ -29,7 +29,10 @@
 //! - [`transform`]: affine maps (IGES 124), reversal, reparameterisation, isoparametric curves.
 //! - [`conic`], [`sweep`]: exact constructions: lines, polylines, conic arcs (A7.1) with the
 //!   exact map between the conic's parameter and the NURBS parameter; surfaces of revolution
-//!   (A8.1), extrusions, ruled surfaces and the ISO 10303-42 quadrics.
+//!   (A8.1), extrusions, ruled surfaces and the ISO 10303-42 quadrics; [`coons`]: bilinearly
+//!   blended Coons patches on common bases.
+//! - [`fit`]: global curve interpolation (A9.1) with uniform, chord-length and centripetal
+//!   parameters and averaged knots.
 //! - [`tessellate`]: adaptive tessellation of curves (osculating-circle rule, seed 004) and
 //!   surfaces.
 
@@ -39,11 +42,13 @@ pub mod bernstein;
 pub mod bezier;
 pub mod clamp;
 pub mod conic;
+pub mod coons;
 pub mod curve;
 pub mod derivatives;
 pub mod differential;
 pub mod elevate;
 mod error;
+pub mod fit;
 pub mod grid;
 pub mod insert;
 mod kernels;

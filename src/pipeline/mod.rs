@@ -8,6 +8,7 @@
 //! Everything here is synchronous and CPU-bound; the service runs it off the async threads.
 
 mod cancel;
+pub mod construct;
 mod error;
 mod export;
 mod input;
@@ -21,9 +22,9 @@ pub use error::{ErrorKind, PipelineError};
 pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
-    ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, Operation,
-    apply, check_evaluation, check_file_reply, convert, drop_unwritable, evaluate, info, select,
-    tessellate, validate, write,
+    ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, OpNote,
+    Operation, affine, apply, check_evaluation, check_file_reply, convert, drop_unwritable,
+    evaluate, info, select, tessellate, validate, write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,

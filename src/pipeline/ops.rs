@@ -159,8 +159,10 @@ pub enum Direction {
     Both,
 }
 
-/// A shape-preserving (or, for reduction, tolerance-bounded) geometric operation.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A geometric operation on the entities of a document: shape-preserving (elevation,
+/// insertion, refinement, clamping, splitting ...), tolerance-bounded (reduction, knot
+/// removal), or making new geometry from the old (iso-curves, derivative curves).
+#[derive(Debug, Clone, PartialEq)]
 pub enum Operation {
     /// Degree elevation by `by` (NURBS Book A5.9/A5.10).
     Elevate {
@@ -188,6 +190,143 @@ pub enum Operation {
         /// Surface direction (U or V; Both is refused for surfaces).
         direction: Direction,
     },
+    /// Knot refinement: insert every knot of `knots` (A5.4).
+    Refine {
+        /// The knots to insert (any order; repeated values insert repeatedly).
+        knots: Vec<f64>,
+        /// Surface direction (U or V; Both is refused for surfaces).
+        direction: Direction,
+    },
+    /// Degree reduction by one (A5.11) when the deviation bound stays within `tolerance`;
+    /// the bound reached is reported.
+    Reduce {
+        /// Largest accepted deviation (model units).
+        tolerance: f64,
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Removal of every removable interior knot within `tolerance` (A5.8).
+    RemoveKnots {
+        /// Largest accepted total change (model units).
+        tolerance: f64,
+    },
+    /// Bezier decomposition (A5.6/A5.7): one entity per segment or patch.
+    Decompose,
+    /// Split at a parameter into two entities (exact).
+    Split {
+        /// The parameter, strictly inside the domain.
+        at: f64,
+        /// Surface direction (U or V).
+        direction: Direction,
+    },
+    /// Join all curves of the document, in order, into one (ends meeting within `tolerance`).
+    Join {
+        /// Largest accepted gap between an end and the next start.
+        tolerance: f64,
+    },
+    /// Reverse the parameter direction (shape unchanged).
+    Reverse {
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Affine change of parameter onto `[start, end]` (shape unchanged).
+    Reparameterize {
+        /// New domain start.
+        start: f64,
+        /// New domain end (> start).
+        end: f64,
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// Affine map of the poles `x' = R x + T` (IGES 5.3 entity 124 layout).
+    Transform {
+        /// The 3x4 matrix.
+        matrix: crate::nurbs::transform::Affine,
+    },
+    /// The isoparametric curve of a surface at `u = at` (direction U) or `v = at` (V).
+    Iso {
+        /// The fixed parameter.
+        at: f64,
+        /// Which parameter is fixed (U or V).
+        direction: Direction,
+    },
+    /// The periodic form (wrapped poles) of closed curves/surfaces whose seam is C^(p-1).
+    Periodic {
+        /// Largest accepted difference of the wrapped poles.
+        tolerance: f64,
+        /// Surface direction(s).
+        direction: Direction,
+    },
+    /// The `order`-th derivative of a polynomial curve as a B-spline curve (A3.3).
+    DerivativeCurve {
+        /// Derivative order, 1..degree-1.
+        order: usize,
+    },
+}
+
+impl Operation {
+    /// The surface direction(s) the operation works on (`Both` for the others).
+    fn direction(&self) -> Direction {
+        match self {
+            Operation::Elevate { direction, .. }
+            | Operation::Clamp { direction }
+            | Operation::Unclamp { direction }
+            | Operation::InsertKnot { direction, .. }
+            | Operation::Refine { direction, .. }
+            | Operation::Reduce { direction, .. }
+            | Operation::Split { direction, .. }
+            | Operation::Reverse { direction }
+            | Operation::Reparameterize { direction, .. }
+            | Operation::Iso { direction, .. }
+            | Operation::Periodic { direction, .. } => *direction,
+            Operation::RemoveKnots { .. }
+            | Operation::Decompose
+            | Operation::Join { .. }
+            | Operation::Transform { .. }
+            | Operation::DerivativeCurve { .. } => Direction::Both,
+        }
+    }
+
+    /// Whether the result keeps the source's format metadata (flags, form, declared
+    /// parameter range): only for operations that keep the geometry and its domain.
+    fn keeps_meta(&self) -> bool {
+        matches!(
+            self,
+            Operation::Elevate { .. }
+                | Operation::Clamp { .. }
+                | Operation::Unclamp { .. }
+                | Operation::InsertKnot { .. }
+                | Operation::Refine { .. }
+                | Operation::Periodic { .. }
+        )
+    }
+
+    /// Whether the result is still the kind of shape the source was (a circle stays a
+    /// circle when split, reversed or moved; an iso-curve or a reduced curve is not).
+    fn keeps_shape(&self) -> bool {
+        self.keeps_meta()
+            || matches!(
+                self,
+                Operation::Decompose
+                    | Operation::Split { .. }
+                    | Operation::Reverse { .. }
+                    | Operation::Reparameterize { .. }
+            )
+    }
+}
+
+/// What an operation reports about one entity beyond the geometry: the deviation bound of
+/// a reduction, the number of knots removed, the curves joined.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct OpNote {
+    /// The entity (its id before the operation).
+    pub entity: String,
+    /// What was done, in words.
+    pub message: String,
+    /// The bound of the geometric deviation the operation guarantees (model units), for
+    /// the tolerance-bounded operations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_bound: Option<f64>,
 }
 
 /// An output format for tessellation.
@@ -795,13 +934,19 @@ fn eval_result_bytes(g: &Geometry, request: &EvalRequest) -> f64 {
     bytes
 }
 
-/// Applies an operation to one entity (`entity = Some(id)`) or to all.
+/// Applies an operation to one entity (`entity = Some(id)`) or to all, and says what it
+/// did beyond the geometry ([`OpNote`]: the bound of a reduction, the knots removed ...).
+///
+/// An operation that makes several entities of one (decompose, split) names them
+/// `<id>.1`, `<id>.2`, ...; [`Operation::Join`] replaces all curves by one (named after the
+/// first) and refuses `entity`. Operations that do not keep the domain or the geometry
+/// drop the source's format flags, keeping the name (and the shape kind where it holds).
 pub fn apply(
     doc: &mut Document,
     op: Operation,
     entity: Option<&str>,
     settings: &Settings,
-) -> Result<(), PipelineError> {
+) -> Result<Vec<OpNote>, PipelineError> {
     if let Some(id) = entity {
         select(doc, Some(id))?;
     }
@@ -816,25 +961,202 @@ pub fn apply(
             )?;
         }
     }
-    for e in doc.entities.iter_mut() {
-        if let Some(id) = entity {
-            if !is_entity(e, id) {
-                continue;
-            }
+    check_growth(doc, &op, entity, settings)?;
+    if let Operation::Join { tolerance } = op {
+        if entity.is_some() {
+            return Err(PipelineError::usage(
+                "join.entity",
+                "join works on all curves of the input, in order; it takes no entity",
+            ));
+        }
+        return join_curves(doc, tolerance).map(|note| vec![note]);
+    }
+    let mut notes = Vec::new();
+    let mut out = Vec::with_capacity(doc.entities.len());
+    // The document is replaced only when every entity succeeded: an error leaves it as
+    // it was.
+    for e in &doc.entities {
+        if entity.is_some_and(|id| !is_entity(e, id)) {
+            out.push(e.clone());
+            continue;
         }
         settings.cancel.check()?;
-        e.geometry = apply_one(&e.geometry, op, settings).map_err(|err| PipelineError {
-            diagnostic: Diagnostic {
-                location: Location::at_entity(e.id.clone()),
-                ..err.diagnostic
-            },
-            ..err
-        })?;
+        let (geometries, note) =
+            apply_one(&e.geometry, &op, settings).map_err(|err| PipelineError {
+                diagnostic: Diagnostic {
+                    location: Location::at_entity(e.id.clone()),
+                    ..err.diagnostic
+                },
+                ..err
+            })?;
+        if let Some((message, error_bound)) = note {
+            notes.push(OpNote {
+                entity: e.id.clone(),
+                message,
+                error_bound,
+            });
+        }
+        let meta = if op.keeps_meta() {
+            e.meta.clone()
+        } else {
+            exchange::Meta {
+                name: e.meta.name.clone(),
+                shape: e.meta.shape.filter(|_| op.keeps_shape()),
+                ..Default::default()
+            }
+        };
+        let several = geometries.len() > 1;
+        for (k, geometry) in geometries.into_iter().enumerate() {
+            out.push(Entity {
+                id: if several {
+                    format!("{}.{}", e.id, k + 1)
+                } else {
+                    e.id.clone()
+                },
+                geometry,
+                source: e.source.clone(),
+                meta: meta.clone(),
+            });
+        }
     }
-    Ok(())
+    doc.entities = out;
+    Ok(notes)
 }
 
-fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometry, PipelineError> {
+/// Refuses, before the work, an operation whose result would exceed the reply limit:
+/// Bezier decomposition (each of the `s` spans gets `p + 1` poles per direction) and
+/// refinement (one pole per inserted knot and row).
+fn check_growth(
+    doc: &Document,
+    op: &Operation,
+    entity: Option<&str>,
+    settings: &Settings,
+) -> Result<(), PipelineError> {
+    let spans = |knots: &[f64], p: usize| -> f64 {
+        knots
+            .get(p..knots.len().saturating_sub(p))
+            .map_or(0, |d| d.windows(2).filter(|w| w[1] > w[0]).count()) as f64
+    };
+    let per_pole = 4.0 * NUMBER_BYTES + 30.0;
+    let bytes: f64 = match op {
+        Operation::Decompose => doc
+            .entities
+            .iter()
+            .filter(|e| entity.is_none_or(|id| is_entity(e, id)))
+            .map(|e| match &e.geometry {
+                Geometry::Curve(c) => {
+                    let s = spans(c.knots(), c.degree());
+                    s * (256.0 + (c.degree() + 1) as f64 * (per_pole + 2.0 * NUMBER_BYTES))
+                }
+                Geometry::Surface(s) => {
+                    let (su, sv) = (
+                        spans(s.knots_u(), s.degree_u()),
+                        spans(s.knots_v(), s.degree_v()),
+                    );
+                    let poles = ((s.degree_u() + 1) * (s.degree_v() + 1)) as f64;
+                    su * sv * (256.0 + poles * per_pole)
+                }
+            })
+            .sum(),
+        Operation::Refine { knots, .. } => {
+            let rows: f64 = doc
+                .entities
+                .iter()
+                .filter(|e| entity.is_none_or(|id| is_entity(e, id)))
+                .map(|e| match &e.geometry {
+                    Geometry::Curve(_) => 1.0,
+                    Geometry::Surface(s) => {
+                        s.control_points().nu().max(s.control_points().nv()) as f64
+                    }
+                })
+                .sum();
+            estimated_file_bytes(doc, None) + knots.len() as f64 * (rows * per_pole + NUMBER_BYTES)
+        }
+        _ => return Ok(()),
+    };
+    check_reply(
+        bytes,
+        "result",
+        "work on fewer or smaller entities",
+        settings,
+    )
+}
+
+/// Joins every curve of the document, in order, into one (A5.1 clamping at the junctions,
+/// see [`crate::nurbs::NurbsCurve::join`]); surfaces are kept as they are.
+fn join_curves(doc: &mut Document, tolerance: f64) -> Result<OpNote, PipelineError> {
+    let curves: Vec<usize> = doc
+        .entities
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| matches!(e.geometry, Geometry::Curve(_)))
+        .map(|(i, _)| i)
+        .collect();
+    let [first, rest @ ..] = curves.as_slice() else {
+        return Err(PipelineError::usage(
+            "join.count",
+            "join needs at least two curves; the input holds none",
+        ));
+    };
+    if rest.is_empty() {
+        return Err(PipelineError::usage(
+            "join.count",
+            "join needs at least two curves; the input holds one",
+        ));
+    }
+    let Geometry::Curve(mut joined) = doc.entities[*first].geometry.clone() else {
+        return Err(PipelineError::usage("join.count", "join needs curves"));
+    };
+    for &i in rest {
+        if let Geometry::Curve(next) = &doc.entities[i].geometry {
+            joined = joined.join(next, tolerance).map_err(|err| {
+                let err = PipelineError::from(err);
+                PipelineError {
+                    diagnostic: Diagnostic {
+                        location: Location::at_entity(doc.entities[i].id.clone()),
+                        ..err.diagnostic
+                    },
+                    ..err
+                }
+            })?;
+        }
+    }
+    let ids = id_list(curves.iter().map(|&i| &doc.entities[i]));
+    let first_id = doc.entities[*first].id.clone();
+    let name = doc.entities[*first].meta.name.clone();
+    let source = doc.entities[*first].source.clone();
+    let mut kept = Vec::with_capacity(doc.entities.len() - rest.len());
+    for (i, e) in std::mem::take(&mut doc.entities).into_iter().enumerate() {
+        if i == *first {
+            kept.push(Entity {
+                id: first_id.clone(),
+                geometry: Geometry::Curve(joined.clone()),
+                source: source.clone(),
+                meta: exchange::Meta {
+                    name: name.clone(),
+                    ..Default::default()
+                },
+            });
+        } else if !curves.contains(&i) {
+            kept.push(e);
+        }
+    }
+    doc.entities = kept;
+    Ok(OpNote {
+        entity: first_id,
+        message: format!("joined {} curves ({ids}) into one", curves.len()),
+        error_bound: None,
+    })
+}
+
+/// A note of [`apply_one`]: the message and, for tolerance-bounded operations, the bound.
+type Note = Option<(String, Option<f64>)>;
+
+fn apply_one(
+    g: &Geometry,
+    op: &Operation,
+    settings: &Settings,
+) -> Result<(Vec<Geometry>, Note), PipelineError> {
     use crate::nurbs::clamp::End;
     let check_degree = |d: usize| -> Result<(), PipelineError> {
         if d > settings.max_degree {
@@ -850,18 +1172,17 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
         }
         Ok(())
     };
-    let (u, v) = match op {
-        Operation::Elevate { direction, .. }
-        | Operation::Clamp { direction }
-        | Operation::Unclamp { direction }
-        | Operation::InsertKnot { direction, .. } => (
-            matches!(direction, Direction::U | Direction::Both),
-            matches!(direction, Direction::V | Direction::Both),
-        ),
-    };
-    Ok(match (g, op) {
-        (_, Operation::Elevate { by, .. }) if by == 0 || by > settings.max_elevate_by => {
-            return Err(PipelineError::new(
+    let direction = op.direction();
+    let (u, v) = (
+        matches!(direction, Direction::U | Direction::Both),
+        matches!(direction, Direction::V | Direction::Both),
+    );
+    let one = |g: Geometry| Ok((vec![g], None));
+    let curve = |c: crate::nurbs::NurbsCurve| Ok((vec![Geometry::Curve(c)], None));
+    let surface = |s: crate::nurbs::NurbsSurface| Ok((vec![Geometry::Surface(s)], None));
+    match (g, op) {
+        (_, &Operation::Elevate { by, .. }) if by == 0 || by > settings.max_elevate_by => {
+            Err(PipelineError::new(
                 if by == 0 {
                     ErrorKind::Usage
                 } else {
@@ -874,13 +1195,13 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
                 },
                 format!("elevation by {by}: must be 1..={}", settings.max_elevate_by),
                 Location::default(),
-            ));
+            ))
         }
-        (Geometry::Curve(c), Operation::Elevate { by, .. }) => {
+        (Geometry::Curve(c), &Operation::Elevate { by, .. }) => {
             check_degree(c.degree() + by)?;
-            Geometry::Curve(c.elevate(by)?)
+            curve(c.elevate(by)?)
         }
-        (Geometry::Surface(s), Operation::Elevate { by, .. }) => {
+        (Geometry::Surface(s), &Operation::Elevate { by, .. }) => {
             let mut s = s.clone();
             if u {
                 check_degree(s.degree_u() + by)?;
@@ -890,10 +1211,10 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
                 check_degree(s.degree_v() + by)?;
                 s = s.elevate_v(by)?;
             }
-            Geometry::Surface(s)
+            surface(s)
         }
-        (Geometry::Curve(c), Operation::Clamp { .. }) => Geometry::Curve(c.clamp()?),
-        (Geometry::Curve(c), Operation::Unclamp { .. }) => Geometry::Curve(c.unclamp()?),
+        (Geometry::Curve(c), Operation::Clamp { .. }) => curve(c.clamp()?),
+        (Geometry::Curve(c), Operation::Unclamp { .. }) => curve(c.unclamp()?),
         (Geometry::Surface(s), Operation::Clamp { .. } | Operation::Unclamp { .. }) => {
             let un = matches!(op, Operation::Unclamp { .. });
             let mut s = s.clone();
@@ -911,36 +1232,195 @@ fn apply_one(g: &Geometry, op: Operation, settings: &Settings) -> Result<Geometr
                     s.clamp_v(End::Both)?
                 };
             }
-            Geometry::Surface(s)
+            surface(s)
         }
-        (Geometry::Curve(c), Operation::InsertKnot { u: t, times, .. }) => {
+        (Geometry::Curve(c), &Operation::InsertKnot { u: t, times, .. }) => {
             check_knot_insertion(c.knots(), c.degree(), c.domain(), t, times, "")?;
-            Geometry::Curve(c.insert_knot(t, times)?)
+            curve(c.insert_knot(t, times)?)
         }
-        (
-            Geometry::Surface(s),
-            Operation::InsertKnot {
-                u: t,
-                times,
-                direction,
-            },
-        ) => match direction {
+        (Geometry::Surface(s), &Operation::InsertKnot { u: t, times, .. }) => match direction {
             Direction::U => {
                 check_knot_insertion(s.knots_u(), s.degree_u(), s.domain().0, t, times, " in u")?;
-                Geometry::Surface(s.insert_knot_u(t, times)?)
+                surface(s.insert_knot_u(t, times)?)
             }
             Direction::V => {
                 check_knot_insertion(s.knots_v(), s.degree_v(), s.domain().1, t, times, " in v")?;
-                Geometry::Surface(s.insert_knot_v(t, times)?)
+                surface(s.insert_knot_v(t, times)?)
             }
-            Direction::Both => {
-                return Err(PipelineError::usage(
-                    "insert_knot.direction",
-                    "knot insertion into a surface needs a direction (u or v)",
-                ));
-            }
+            Direction::Both => Err(needs_direction("insert_knot", "knot insertion")),
         },
-    })
+        (Geometry::Curve(c), Operation::Refine { knots, .. }) => {
+            check_refinement(c.knots(), c.degree(), c.domain(), knots, "")?;
+            curve(c.refine(&sorted(knots))?)
+        }
+        (Geometry::Surface(s), Operation::Refine { knots, .. }) => match direction {
+            Direction::U => {
+                check_refinement(s.knots_u(), s.degree_u(), s.domain().0, knots, " in u")?;
+                surface(s.refine_u(&sorted(knots))?)
+            }
+            Direction::V => {
+                check_refinement(s.knots_v(), s.degree_v(), s.domain().1, knots, " in v")?;
+                surface(s.refine_v(&sorted(knots))?)
+            }
+            Direction::Both => Err(needs_direction("refine", "knot refinement")),
+        },
+        (Geometry::Curve(c), &Operation::Reduce { tolerance, .. }) => {
+            let (r, bound) = c.reduce(tolerance)?;
+            let message = format!(
+                "degree {} -> {}, deviation at most {bound:e}",
+                c.degree(),
+                r.degree()
+            );
+            Ok((vec![Geometry::Curve(r)], Some((message, Some(bound)))))
+        }
+        (Geometry::Surface(s), &Operation::Reduce { tolerance, .. }) => {
+            // The bounds of the two directions add up: the v reduction moves the already
+            // u-reduced surface by at most its own bound.
+            let mut r = s.clone();
+            let mut bound = 0.0;
+            let mut steps = Vec::new();
+            if u {
+                let (next, b) = r.reduce_u(tolerance)?;
+                steps.push(format!("u {} -> {}", r.degree_u(), next.degree_u()));
+                r = next;
+                bound += b;
+            }
+            if v {
+                let (next, b) = r.reduce_v(tolerance - bound)?;
+                steps.push(format!("v {} -> {}", r.degree_v(), next.degree_v()));
+                r = next;
+                bound += b;
+            }
+            let message = format!("degree {}, deviation at most {bound:e}", steps.join(", "));
+            Ok((vec![Geometry::Surface(r)], Some((message, Some(bound)))))
+        }
+        (Geometry::Curve(c), &Operation::RemoveKnots { tolerance }) => {
+            let (r, n) = c.remove_all_removable(tolerance)?;
+            let message = format!("removed {n} knot(s) within {tolerance:e}");
+            Ok((vec![Geometry::Curve(r)], Some((message, Some(tolerance)))))
+        }
+        (Geometry::Surface(s), &Operation::RemoveKnots { tolerance }) => {
+            let (r, n) = s.remove_all_removable(tolerance)?;
+            let message = format!("removed {n} knot(s) within {tolerance:e}");
+            Ok((vec![Geometry::Surface(r)], Some((message, Some(tolerance)))))
+        }
+        (Geometry::Curve(c), Operation::Decompose) => Ok((
+            c.bezier_segments()?
+                .into_iter()
+                .map(Geometry::Curve)
+                .collect(),
+            None,
+        )),
+        (Geometry::Surface(s), Operation::Decompose) => {
+            // u-major: patch (i, j) is entity i * nv + j + 1.
+            let patches = s.bezier_patches()?.into_vec();
+            Ok((patches.into_iter().map(Geometry::Surface).collect(), None))
+        }
+        (Geometry::Curve(c), &Operation::Split { at, .. }) => {
+            let (a, b) = c.split_at(at)?;
+            Ok((vec![Geometry::Curve(a), Geometry::Curve(b)], None))
+        }
+        (Geometry::Surface(s), &Operation::Split { at, .. }) => {
+            let (a, b) = match direction {
+                Direction::U => s.split_at_u(at)?,
+                Direction::V => s.split_at_v(at)?,
+                Direction::Both => return Err(needs_direction("split", "splitting")),
+            };
+            Ok((vec![Geometry::Surface(a), Geometry::Surface(b)], None))
+        }
+        (Geometry::Curve(c), Operation::Reverse { .. }) => curve(c.reverse()?),
+        (Geometry::Surface(s), Operation::Reverse { .. }) => {
+            let mut s = s.clone();
+            if u {
+                s = s.reverse_u()?;
+            }
+            if v {
+                s = s.reverse_v()?;
+            }
+            surface(s)
+        }
+        (Geometry::Curve(c), &Operation::Reparameterize { start, end, .. }) => {
+            curve(c.reparameterize(start, end)?)
+        }
+        (Geometry::Surface(s), &Operation::Reparameterize { start, end, .. }) => {
+            let mut s = s.clone();
+            if u {
+                s = s.reparameterize_u(start, end)?;
+            }
+            if v {
+                s = s.reparameterize_v(start, end)?;
+            }
+            surface(s)
+        }
+        (Geometry::Curve(c), Operation::Transform { matrix }) => curve(c.transform(matrix)?),
+        (Geometry::Surface(s), Operation::Transform { matrix }) => surface(s.transform(matrix)?),
+        (Geometry::Curve(_), Operation::Iso { .. }) => Err(PipelineError::usage(
+            "iso.curve",
+            "iso-curves are taken from surfaces; this entity is a curve",
+        )),
+        (Geometry::Surface(s), &Operation::Iso { at, .. }) => match direction {
+            Direction::U => curve(s.iso_u(at)?),
+            Direction::V => curve(s.iso_v(at)?),
+            Direction::Both => Err(needs_direction("iso", "an iso-curve")),
+        },
+        (Geometry::Curve(c), &Operation::Periodic { tolerance, .. }) => {
+            curve(c.to_periodic(tolerance)?)
+        }
+        (Geometry::Surface(s), &Operation::Periodic { tolerance, .. }) => {
+            let mut s = s.clone();
+            if u {
+                s = s.to_periodic_u(tolerance)?;
+            }
+            if v {
+                s = s.to_periodic_v(tolerance)?;
+            }
+            surface(s)
+        }
+        (Geometry::Curve(c), &Operation::DerivativeCurve { order }) => {
+            curve(c.derivative_curve(order)?)
+        }
+        (Geometry::Surface(_), Operation::DerivativeCurve { .. }) => Err(PipelineError::usage(
+            "derivative_curve.surface",
+            "derivative curves are taken from curves; this entity is a surface",
+        )),
+        (_, Operation::Join { .. }) => one(g.clone()),
+    }
+}
+
+/// The usage error of an operation on a surface that needs one direction (u or v).
+fn needs_direction(code: &str, what: &str) -> PipelineError {
+    PipelineError::usage(
+        &format!("{code}.direction"),
+        format!("{what} on a surface needs a direction (u or v)"),
+    )
+}
+
+/// The knots in ascending order (A5.4 wants them sorted).
+fn sorted(knots: &[f64]) -> Vec<f64> {
+    let mut x = knots.to_vec();
+    x.sort_by(f64::total_cmp);
+    x
+}
+
+/// Checks a knot refinement as [`check_knot_insertion`] checks each of its knots (the
+/// multiplicity counts the knots already there and every copy in the list).
+fn check_refinement(
+    knots: &[f64],
+    degree: usize,
+    domain: (f64, f64),
+    x: &[f64],
+    which: &str,
+) -> Result<(), PipelineError> {
+    if x.is_empty() {
+        return Err(PipelineError::usage(
+            "refine.empty",
+            "knot refinement needs at least one knot",
+        ));
+    }
+    for (distinct, times) in crate::nurbs::knots::runs(&sorted(x)).map(|(_, t, m)| (t, m)) {
+        check_knot_insertion(knots, degree, domain, distinct, times, which)?;
+    }
+    Ok(())
 }
 
 /// Checks a knot insertion in the user's terms before the algorithm (NURBS Book A5.1) runs:
@@ -1077,4 +1557,56 @@ pub fn tessellate(
         settings,
     )?;
     Ok(out)
+}
+
+/// The affine matrix of `scale`, then a rotation by `degrees` about the axis `axis`
+/// through the origin (Rodrigues' formula, right-handed), then `translate`; each optional.
+/// Errors: a zero or non-finite axis, non-finite numbers.
+pub fn affine(
+    scale: Option<f64>,
+    rotate: Option<(Point3, f64)>,
+    translate: Option<Point3>,
+) -> Result<crate::nurbs::transform::Affine, PipelineError> {
+    let s = scale.unwrap_or(1.0);
+    let mut r = [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]];
+    if let Some((axis, degrees)) = rotate {
+        let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+        if !(len.is_finite() && len > 0.0 && degrees.is_finite()) {
+            return Err(PipelineError::usage(
+                "transform.rotate",
+                "the rotation needs a non-zero finite axis and a finite angle",
+            ));
+        }
+        let k = axis.map(|a| a / len);
+        let (sin, cos) = degrees.to_radians().sin_cos();
+        // R = cos I + sin [k]x + (1 - cos) k k^T
+        let rot: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let cross = match (i, j) {
+                    (0, 1) => -k[2],
+                    (0, 2) => k[1],
+                    (1, 0) => k[2],
+                    (1, 2) => -k[0],
+                    (2, 0) => -k[1],
+                    (2, 1) => k[0],
+                    _ => 0.0,
+                };
+                let id = if i == j { cos } else { 0.0 };
+                id + sin * cross + (1.0 - cos) * k[i] * k[j]
+            })
+        });
+        r = std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..3).map(|m| rot[i][m] * r[m][j]).sum())
+        });
+    }
+    let t = translate.unwrap_or([0.0; 3]);
+    let m: crate::nurbs::transform::Affine =
+        std::array::from_fn(|i| [r[i][0], r[i][1], r[i][2], t[i]]);
+    if !m.iter().flatten().all(|x| x.is_finite()) {
+        return Err(PipelineError::usage(
+            "transform.matrix",
+            "the transform's entries must be finite",
+        ));
+    }
+    Ok(m)
 }

@@ -8,7 +8,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::error::ApiError;
 use crate::exchange::{LengthUnit, StepSchema};
-use crate::pipeline::{ClampPolicy, Direction, InputKind, MeshFormat};
+use crate::pipeline::{ClampPolicy, Direction, InputKind, MeshFormat, Operation};
 
 /// The relative tolerance `verify=true` uses: 1e-9 of the entity's control-box size, far
 /// below any modelling tolerance and far above `f64` round-off of the written digits.
@@ -424,4 +424,456 @@ pub struct ValidateQuery {
     /// Warnings fail validation too.
     #[serde(default)]
     pub strict: bool,
+}
+
+/// A request of a geometric operation: its input, the entity it names, and the operation.
+pub trait OperationRequest {
+    /// Splits the request; a malformed combination of fields is a 400.
+    fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError>;
+}
+
+/// Declares the request of a geometric operation: the input fields every operation takes
+/// (`geometry` or `file` with `format`, and `entity`), then its own.
+macro_rules! operation_request {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty),* $(,)? }) => {
+        $(#[$m])*
+        #[derive(Debug, Deserialize, ToSchema)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            /// Model JSON (the reply is model JSON).
+            #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+            pub geometry: Option<Box<RawValue>>,
+            /// A STEP or IGES file's text (the reply is a file in the same format).
+            pub file: Option<String>,
+            /// The format of `file` (sniffed when absent).
+            pub format: Option<FileFormat>,
+            /// Only this entity (default: all).
+            pub entity: Option<String>,
+            $($(#[$fm])* pub $field: $ty,)*
+        }
+    };
+}
+
+fn one() -> usize {
+    1
+}
+
+fn default_tolerance() -> f64 {
+    1e-9
+}
+
+operation_request!(
+    /// `POST /v1/insert-knot`.
+    InsertKnotRequest {
+        /// The parameter value of the new knot (A5.1).
+        at: f64,
+        /// How many times to insert it (default 1).
+        #[serde(default = "one")]
+        times: usize,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/refine`.
+    RefineRequest {
+        /// The knots to insert (A5.4; a value given twice is inserted twice).
+        knots: Vec<f64>,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reduce`.
+    ReduceRequest {
+        /// Largest accepted deviation bound (model units) of the reduction by one degree
+        /// (A5.11).
+        tolerance: f64,
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/remove-knots`.
+    RemoveKnotsRequest {
+        /// Largest accepted change of the shape (model units; A5.8).
+        tolerance: f64,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/decompose`: Bezier segments or patches (A5.6/A5.7).
+    DecomposeRequest {}
+);
+
+operation_request!(
+    /// `POST /v1/split`.
+    SplitRequest {
+        /// The parameter, strictly inside the domain.
+        at: f64,
+        /// Surface direction: `u` or `v` (required for surfaces).
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/join`: all curves, in order, into one (`entity` is refused).
+    JoinRequest {
+        /// Largest accepted gap between an end and the next start (default 1e-9).
+        #[serde(default = "default_tolerance")]
+        tolerance: f64,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reverse`.
+    ReverseRequest {
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/reparameterize`.
+    ReparameterizeRequest {
+        /// The new domain `[a, b]`, `a < b`.
+        to: [f64; 2],
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+/// A rotation about an axis through the origin.
+#[derive(Debug, Clone, Copy, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Rotation {
+    /// The axis (need not be unit length).
+    pub axis: [f64; 3],
+    /// The angle in degrees, right-handed about the axis.
+    pub degrees: f64,
+}
+
+operation_request!(
+    /// `POST /v1/transform`: either `matrix`, or any of `scale`, `rotate`, `translate`
+    /// (applied in that order).
+    TransformRequest {
+        /// The rows of `[R | T]` (`x' = R x + T`, the IGES 124 layout).
+        matrix: Option<[[f64; 4]; 3]>,
+        /// Uniform scale about the origin.
+        scale: Option<f64>,
+        /// Rotation about an axis through the origin.
+        rotate: Option<Rotation>,
+        /// Translation.
+        translate: Option<[f64; 3]>,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/iso`: exactly one of `u` and `v`.
+    IsoRequest {
+        /// The curve at u = this value (running along v).
+        u: Option<f64>,
+        /// The curve at v = this value (running along u).
+        v: Option<f64>,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/periodic`.
+    PeriodicRequest {
+        /// Largest accepted difference of the wrapped poles (default 1e-9).
+        #[serde(default = "default_tolerance")]
+        tolerance: f64,
+        /// Surface direction(s); default `both`.
+        #[serde(default)]
+        direction: DirectionName,
+    }
+);
+
+operation_request!(
+    /// `POST /v1/derivative-curve`.
+    DerivativeCurveRequest {
+        /// The derivative order k, 1 <= k < degree (default 1).
+        #[serde(default = "one")]
+        order: usize,
+    }
+);
+
+impl OperationRequest for ElevateRequest {
+    fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError> {
+        let op = Operation::Elevate {
+            by: self.by,
+            direction: self.direction.into(),
+        };
+        Ok((
+            Input::from_fields(self.geometry, self.file, self.format)?,
+            self.entity,
+            op,
+        ))
+    }
+}
+
+/// `impl OperationRequest` for a request whose operation is built from its own fields
+/// alone: `$op` is a closure from the request to the operation.
+macro_rules! plain_operation {
+    ($name:ident, $op:expr) => {
+        impl OperationRequest for $name {
+            fn parts(self) -> Result<(Input, Option<String>, Operation), ApiError> {
+                let make: fn(&$name) -> Result<Operation, ApiError> = $op;
+                let op = make(&self)?;
+                Ok((
+                    Input::from_fields(self.geometry, self.file, self.format)?,
+                    self.entity,
+                    op,
+                ))
+            }
+        }
+    };
+}
+
+plain_operation!(InsertKnotRequest, |r| Ok(Operation::InsertKnot {
+    u: r.at,
+    times: r.times,
+    direction: r.direction.into(),
+}));
+plain_operation!(RefineRequest, |r| Ok(Operation::Refine {
+    knots: r.knots.clone(),
+    direction: r.direction.into(),
+}));
+plain_operation!(ReduceRequest, |r| Ok(Operation::Reduce {
+    tolerance: r.tolerance,
+    direction: r.direction.into(),
+}));
+plain_operation!(RemoveKnotsRequest, |r| Ok(Operation::RemoveKnots {
+    tolerance: r.tolerance,
+}));
+plain_operation!(DecomposeRequest, |_| Ok(Operation::Decompose));
+plain_operation!(SplitRequest, |r| Ok(Operation::Split {
+    at: r.at,
+    direction: r.direction.into(),
+}));
+plain_operation!(JoinRequest, |r| Ok(Operation::Join {
+    tolerance: r.tolerance,
+}));
+plain_operation!(ReverseRequest, |r| Ok(Operation::Reverse {
+    direction: r.direction.into(),
+}));
+plain_operation!(ReparameterizeRequest, |r| Ok(Operation::Reparameterize {
+    start: r.to[0],
+    end: r.to[1],
+    direction: r.direction.into(),
+}));
+plain_operation!(TransformRequest, |r| {
+    let matrix = match (r.matrix, r.scale, r.rotate, r.translate) {
+        (Some(m), None, None, None) => m,
+        (Some(_), ..) => {
+            return Err(ApiError::bad_request(
+                "transform.arguments",
+                "give `matrix` or `scale`/`rotate`/`translate`, not both",
+            ));
+        }
+        (None, None, None, None) => {
+            return Err(ApiError::bad_request(
+                "transform.arguments",
+                "give `matrix`, or at least one of `scale`, `rotate`, `translate`",
+            ));
+        }
+        (None, scale, rotate, translate) => {
+            crate::pipeline::affine(scale, rotate.map(|r| (r.axis, r.degrees)), translate)?
+        }
+    };
+    Ok(Operation::Transform { matrix })
+});
+plain_operation!(IsoRequest, |r| match (r.u, r.v) {
+    (Some(at), None) => Ok(Operation::Iso {
+        at,
+        direction: Direction::U,
+    }),
+    (None, Some(at)) => Ok(Operation::Iso {
+        at,
+        direction: Direction::V,
+    }),
+    _ => Err(ApiError::bad_request(
+        "iso.arguments",
+        "give exactly one of `u` and `v`"
+    )),
+});
+plain_operation!(PeriodicRequest, |r| Ok(Operation::Periodic {
+    tolerance: r.tolerance,
+    direction: r.direction.into(),
+}));
+plain_operation!(DerivativeCurveRequest, |r| Ok(Operation::DerivativeCurve {
+    order: r.order,
+}));
+
+/// `POST /v1/make`: what to build (`shape`) and its numbers. Lengths in millimetres,
+/// angles in degrees; `axis` is the normal of circles and ellipses.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MakeRequest {
+    /// `circle`, `arc`, `ellipse`, `line`, `cylinder`, `cone`, `sphere`, `torus`, `revolve`,
+    /// `extrude`, `ruled` or `coons`.
+    pub shape: MakeName,
+    /// The reply: model JSON (default) or a STEP/IGES file.
+    pub format: Option<FileFormat>,
+    /// Centre, or base centre of cylinders and cones (default the origin).
+    pub centre: Option<[f64; 3]>,
+    /// Normal or axis (default `[0, 0, 1]`).
+    pub axis: Option<[f64; 3]>,
+    /// Direction of angle 0 (default: perpendicular to the axis).
+    pub reference: Option<[f64; 3]>,
+    /// Radius (circle, arc, cylinder, cone, sphere).
+    pub radius: Option<f64>,
+    /// Arc start angle (default 0).
+    pub start: Option<f64>,
+    /// Arc end angle (default 360).
+    pub end: Option<f64>,
+    /// Major semi-axis (ellipse) or major radius (torus).
+    pub major: Option<f64>,
+    /// Minor semi-axis (ellipse) or tube radius (torus).
+    pub minor: Option<f64>,
+    /// Line start.
+    pub p0: Option<[f64; 3]>,
+    /// Line end.
+    pub p1: Option<[f64; 3]>,
+    /// Height of cylinders and cones.
+    pub height: Option<f64>,
+    /// Semi-angle of cones.
+    pub semi_angle: Option<f64>,
+    /// Sweep of cylinders and cones, or revolution angle (default 360).
+    pub sweep: Option<f64>,
+    /// A point of the revolution axis (default the origin).
+    pub axis_point: Option<[f64; 3]>,
+    /// Extrusion vector.
+    pub direction: Option<[f64; 3]>,
+    /// Largest accepted corner gap of `coons` boundaries (default 1e-9).
+    pub tolerance: Option<f64>,
+    /// The curves of `revolve`, `extrude` (one), `ruled` (two) and `coons` (four: S(u,0),
+    /// S(u,1), S(0,v), S(1,v)), in model JSON.
+    #[schema(value_type = Option<Vec<crate::service::openapi::CurveDoc>>)]
+    pub curves: Option<Vec<crate::nurbs::NurbsCurve>>,
+}
+
+/// The shapes of `POST /v1/make`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum MakeName {
+    /// A full circle.
+    Circle,
+    /// A circular arc.
+    Arc,
+    /// An ellipse or elliptic arc.
+    Ellipse,
+    /// A line segment.
+    Line,
+    /// A cylinder.
+    Cylinder,
+    /// A cone.
+    Cone,
+    /// A sphere.
+    Sphere,
+    /// A torus.
+    Torus,
+    /// A revolved curve.
+    Revolve,
+    /// An extruded curve.
+    Extrude,
+    /// A ruled surface.
+    Ruled,
+    /// A bilinearly blended Coons patch.
+    Coons,
+}
+
+impl MakeRequest {
+    /// The shape to build (a missing number or curve is a 400 `make.arguments`).
+    pub fn shape(self) -> Result<crate::pipeline::construct::MakeShape, ApiError> {
+        use crate::pipeline::construct::{MakeKind, MakeSpec, shape};
+        let kind = match self.shape {
+            MakeName::Circle => MakeKind::Circle,
+            MakeName::Arc => MakeKind::Arc,
+            MakeName::Ellipse => MakeKind::Ellipse,
+            MakeName::Line => MakeKind::Line,
+            MakeName::Cylinder => MakeKind::Cylinder,
+            MakeName::Cone => MakeKind::Cone,
+            MakeName::Sphere => MakeKind::Sphere,
+            MakeName::Torus => MakeKind::Torus,
+            MakeName::Revolve => MakeKind::Revolve,
+            MakeName::Extrude => MakeKind::Extrude,
+            MakeName::Ruled => MakeKind::Ruled,
+            MakeName::Coons => MakeKind::Coons,
+        };
+        let spec = MakeSpec {
+            centre: self.centre,
+            axis: self.axis,
+            reference: self.reference,
+            radius: self.radius,
+            start: self.start,
+            end: self.end,
+            major: self.major,
+            minor: self.minor,
+            p0: self.p0,
+            p1: self.p1,
+            height: self.height,
+            semi_angle: self.semi_angle,
+            sweep: self.sweep,
+            axis_point: self.axis_point,
+            direction: self.direction,
+            tolerance: self.tolerance,
+            curves: self.curves.unwrap_or_default(),
+        };
+        Ok(shape(kind, spec)?)
+    }
+}
+
+/// `POST /v1/fit`: global interpolation (NURBS Book A9.1).
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FitRequest {
+    /// The points: `[[x, y], ...]` or `[[x, y, z], ...]` (at most 2000).
+    #[schema(value_type = Vec<Vec<f64>>)]
+    pub points: Box<RawValue>,
+    /// Degree (default 3).
+    #[serde(default = "three")]
+    pub degree: usize,
+    /// Parameter method (default `chord`).
+    #[serde(default)]
+    pub params: ParamsName,
+    /// The reply: model JSON (default) or a STEP/IGES file.
+    pub format: Option<FileFormat>,
+}
+
+fn three() -> usize {
+    3
+}
+
+/// The parameter methods of `POST /v1/fit` (eqs. 2-125 .. 2-127).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ParamsName {
+    /// Equally spaced.
+    Uniform,
+    /// Proportional to the chord lengths.
+    #[default]
+    Chord,
+    /// Proportional to the square roots of the chord lengths.
+    Centripetal,
+}
+
+impl From<ParamsName> for crate::nurbs::fit::ParamMethod {
+    fn from(p: ParamsName) -> Self {
+        match p {
+            ParamsName::Uniform => Self::Uniform,
+            ParamsName::Chord => Self::ChordLength,
+            ParamsName::Centripetal => Self::Centripetal,
+        }
+    }
 }

@@ -4,7 +4,10 @@
 //! extracts, runs pipeline calls on a bounded pool of blocking threads, and renders.
 //!
 //! - `POST /v1/convert`, `/v1/validate`, `/v1/info` take a file as the body;
-//!   `POST /v1/evaluate`, `/v1/degree-elevate`, `/v1/clamp`, `/v1/unclamp`, `/v1/tessellate`
+//!   `POST /v1/evaluate`, `/v1/degree-elevate`, `/v1/clamp`, `/v1/unclamp`, `/v1/insert-knot`,
+//!   `/v1/refine`, `/v1/reduce`, `/v1/remove-knots`, `/v1/decompose`, `/v1/split`, `/v1/join`,
+//!   `/v1/reverse`, `/v1/reparameterize`, `/v1/transform`, `/v1/iso`, `/v1/periodic`,
+//!   `/v1/derivative-curve`, `/v1/make`, `/v1/fit`, `/v1/tessellate`
 //!   take JSON with `geometry` (model JSON) or `file` (STEP/IGES text).
 //! - `GET /healthz`, `/readyz`, `/metrics` (Prometheus), `/openapi.json`, `/` (HTML).
 //! - Errors are `{"error":{"code","message","location"}}`: 400 malformed request, 408 body
@@ -191,6 +194,21 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
         .route("/v1/degree-elevate", post(routes::degree_elevate))
         .route("/v1/clamp", post(routes::clamp))
         .route("/v1/unclamp", post(routes::unclamp))
+        .route("/v1/insert-knot", post(routes::insert_knot))
+        .route("/v1/refine", post(routes::refine))
+        .route("/v1/reduce", post(routes::reduce))
+        .route("/v1/remove-knots", post(routes::remove_knots))
+        .route("/v1/decompose", post(routes::decompose))
+        .route("/v1/split", post(routes::split))
+        .route("/v1/join", post(routes::join))
+        .route("/v1/reverse", post(routes::reverse))
+        .route("/v1/reparameterize", post(routes::reparameterize))
+        .route("/v1/transform", post(routes::transform))
+        .route("/v1/iso", post(routes::iso))
+        .route("/v1/periodic", post(routes::periodic))
+        .route("/v1/derivative-curve", post(routes::derivative_curve))
+        .route("/v1/make", post(routes::make))
+        .route("/v1/fit", post(routes::fit))
         .route("/v1/tessellate", post(routes::tessellate))
         // The body is received within the upload bounds first; admission follows.
         .route_layer(middleware::from_fn_with_state(

@@ -10,8 +10,11 @@ use serde::Serialize;
 use utoipa::{IntoResponses, OpenApi, ToSchema};
 
 use super::api::{
-    ClampName, DirectionName, ElevateRequest, EvaluateRequest, FileFormat, KnotEndsRequest,
-    MeshFormatName, SchemaName, TessellateRequest,
+    ClampName, DecomposeRequest, DerivativeCurveRequest, DirectionName, ElevateRequest,
+    EvaluateRequest, FileFormat, InsertKnotRequest, IsoRequest, JoinRequest, KnotEndsRequest,
+    MeshFormatName, PeriodicRequest, ReduceRequest, RefineRequest, RemoveKnotsRequest,
+    ReparameterizeRequest, ReverseRequest, Rotation, SchemaName, SplitRequest, TessellateRequest,
+    TransformRequest,
 };
 use super::error::{ErrorBody, ErrorDetail};
 
@@ -31,6 +34,21 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::degree_elevate,
         super::routes::clamp,
         super::routes::unclamp,
+        super::routes::insert_knot,
+        super::routes::refine,
+        super::routes::reduce,
+        super::routes::remove_knots,
+        super::routes::decompose,
+        super::routes::split,
+        super::routes::join,
+        super::routes::reverse,
+        super::routes::reparameterize,
+        super::routes::transform,
+        super::routes::iso,
+        super::routes::periodic,
+        super::routes::derivative_curve,
+        super::routes::make,
+        super::routes::fit,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -44,7 +62,11 @@ use super::error::{ErrorBody, ErrorDetail};
         GeometryDoc, GeometryInputDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
         ConvertReportDoc, EntityDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
-        GeometryReply, Health,
+        GeometryReply, OpNoteDoc, Health, InsertKnotRequest, RefineRequest, ReduceRequest,
+        RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
+        ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
+        DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
+        super::api::FitRequest, super::api::ParamsName,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),
@@ -348,8 +370,26 @@ pub struct EvalResultDoc {
 /// when the request sent an array.
 #[derive(Serialize, ToSchema)]
 pub struct GeometryReply {
-    /// The new geometry (an array when the request sent one).
+    /// The new geometry (an array when the request sent one, or when the operation made
+    /// several pieces of one).
     pub geometry: GeometryInputDoc,
+    /// What the operation reports beyond the geometry (absent when nothing).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub notes: Option<Vec<OpNoteDoc>>,
+}
+
+/// What an operation reports about one entity (mirror of `pipeline::OpNote`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = OpNote)]
+pub struct OpNoteDoc {
+    /// The entity (its id before the operation).
+    pub entity: String,
+    /// What was done, in words.
+    pub message: String,
+    /// The guaranteed bound of the geometric deviation (model units), for reduction and
+    /// knot removal.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_bound: Option<f64>,
 }
 
 /// `GET /healthz` and `GET /readyz`.

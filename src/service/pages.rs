@@ -108,6 +108,13 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/evaluate</code></td><td>points (derivatives, normals, curvature) of a curve or surface</td></tr>
 <tr><td><code>POST /v1/degree-elevate</code></td><td>exact degree elevation</td></tr>
 <tr><td><code>POST /v1/clamp</code>, <code>/v1/unclamp</code></td><td>knot-end conversion, shape unchanged</td></tr>
+<tr><td><code>POST /v1/insert-knot</code>, <code>/v1/refine</code></td><td>knot insertion and refinement, shape unchanged</td></tr>
+<tr><td><code>POST /v1/reduce</code>, <code>/v1/remove-knots</code></td><td>degree reduction and knot removal within a tolerance (the bound is reported)</td></tr>
+<tr><td><code>POST /v1/decompose</code>, <code>/v1/split</code>, <code>/v1/join</code></td><td>Bezier pieces, split at a parameter, join curves</td></tr>
+<tr><td><code>POST /v1/reverse</code>, <code>/v1/reparameterize</code>, <code>/v1/transform</code></td><td>direction, domain, affine map</td></tr>
+<tr><td><code>POST /v1/iso</code>, <code>/v1/periodic</code>, <code>/v1/derivative-curve</code></td><td>iso-curves, periodic form, derivative curves (A3.3)</td></tr>
+<tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
+<tr><td><code>POST /v1/fit</code></td><td>a curve interpolating points (A9.1)</td></tr>
 <tr><td><code>POST /v1/tessellate</code></td><td>OBJ or SVG under a chord tolerance</td></tr>
 <tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code></td><td>liveness, readiness, Prometheus metrics</td></tr>
 </table>

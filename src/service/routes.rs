@@ -11,8 +11,10 @@ use serde::Serialize;
 
 use super::AppState;
 use super::api::{
-    ConvertQuery, ElevateRequest, EvaluateRequest, Input, KnotEndsRequest, TessellateRequest,
-    ValidateQuery,
+    ConvertQuery, DecomposeRequest, DerivativeCurveRequest, ElevateRequest, EvaluateRequest, Input,
+    InsertKnotRequest, IsoRequest, JoinRequest, KnotEndsRequest, OperationRequest, PeriodicRequest,
+    ReduceRequest, RefineRequest, RemoveKnotsRequest, ReparameterizeRequest, ReverseRequest,
+    SplitRequest, TessellateRequest, TransformRequest, ValidateQuery,
 };
 use super::error::ApiError;
 use super::extract::{ApiJson, ApiQuery, FileBody};
@@ -227,7 +229,9 @@ pub async fn evaluate(
 }
 
 /// Loads, applies `op`, and renders in the input's form: model JSON in gives
-/// `{"geometry": ...}` out; a file in gives a file in the same format out.
+/// `{"geometry": ..., "notes": [...]}` out (`notes` when the operation reports something,
+/// such as a reduction's deviation bound); a file in gives a file in the same format out,
+/// with the largest reported bound in `X-Nurbsx-Error-Bound`.
 async fn operate(
     state: Arc<AppState>,
     input: Input,
@@ -236,31 +240,44 @@ async fn operate(
 ) -> Result<Response, ApiError> {
     let mut settings = state.settings.clone();
     let json_array = input.json_array;
-    let rendered = state
+    let (rendered, notes) = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
             let Loaded { kind, mut document } =
                 pipeline::load(&input.bytes, input.hint, &settings)?;
-            pipeline::apply(&mut document, op, entity.as_deref(), &settings)?;
+            let notes = pipeline::apply(&mut document, op, entity.as_deref(), &settings)?;
             pipeline::check_file_reply(&document, &settings)?;
             match kind.format() {
                 Some(format) => {
                     let text = pipeline::write(&document, format, &ExportOptions::default())?;
-                    Ok(Ok((
-                        format,
-                        text,
-                        document.entities.len(),
-                        document.diagnostics.len(),
-                    )))
+                    Ok((
+                        Ok((
+                            format,
+                            text,
+                            document.entities.len(),
+                            document.diagnostics.len(),
+                        )),
+                        notes,
+                    ))
                 }
-                None => Ok(Err(document)),
+                None => Ok((Err(document), notes)),
             }
         })
         .await?;
     match rendered {
         Ok((format, text, entities, diagnostics)) => {
-            Ok(file_reply(format, text, entities, diagnostics))
+            let mut response = file_reply(format, text, entities, diagnostics);
+            let bound = notes
+                .iter()
+                .filter_map(|n| n.error_bound)
+                .fold(None, |m: Option<f64>, b| Some(m.map_or(b, |m| m.max(b))));
+            if let Some(bound) = bound {
+                if let Ok(value) = HeaderValue::from_str(&format!("{bound:e}")) {
+                    response.headers_mut().insert("x-nurbsx-error-bound", value);
+                }
+            }
+            Ok(response)
         }
         Err(document) => {
             let geometries: Vec<_> = document.entities.into_iter().map(|e| e.geometry).collect();
@@ -272,10 +289,113 @@ async fn operate(
                 tracing::error!(error = %e, "serialising geometry failed");
                 ApiError::internal()
             })?;
-            Ok(Json(serde_json::json!({ "geometry": geometry })).into_response())
+            let mut reply = serde_json::json!({ "geometry": geometry });
+            if !notes.is_empty() {
+                reply["notes"] = serde_json::to_value(&notes).map_err(|e| {
+                    tracing::error!(error = %e, "serialising notes failed");
+                    ApiError::internal()
+                })?;
+            }
+            Ok(Json(reply).into_response())
         }
     }
 }
+
+/// Runs the operation of a request (see [`OperationRequest`]).
+async fn run_operation(
+    state: Arc<AppState>,
+    request: impl OperationRequest,
+) -> Result<Response, ApiError> {
+    let (input, entity, op) = request.parts()?;
+    operate(state, input, op, entity).await
+}
+
+/// Declares the handler of one geometric operation: its OpenAPI description and the call
+/// of [`run_operation`].
+macro_rules! operation_route {
+    ($(#[$doc:meta])* $name:ident, $path:literal, $request:ty) => {
+        $(#[$doc])*
+        #[utoipa::path(
+            post,
+            path = $path,
+            tag = "geometry",
+            request_body = $request,
+            responses(
+                (status = 200, description = "Model JSON in: model JSON out (with `notes` \
+                                              when the operation reports); a file in: a \
+                                              file in the same format out",
+                    content(
+                        (GeometryReply = "application/json"),
+                        (String = "model/step"),
+                        (String = "model/iges")
+                    )),
+                FileErrors
+            )
+        )]
+        pub async fn $name(
+            State(state): State<Arc<AppState>>,
+            ApiJson(req): ApiJson<$request>,
+        ) -> Result<Response, ApiError> {
+            run_operation(state, req).await
+        }
+    };
+}
+
+operation_route!(
+    /// Inserts a knot `times` times (NURBS Book A5.1/A5.3; shape unchanged).
+    insert_knot, "/v1/insert-knot", InsertKnotRequest
+);
+operation_route!(
+    /// Inserts several knots at once (knot refinement, A5.4; shape unchanged).
+    refine, "/v1/refine", RefineRequest
+);
+operation_route!(
+    /// Lowers the degree by one (A5.11) within a deviation bound; the bound reached is in
+    /// `notes` (model JSON) or `X-Nurbsx-Error-Bound` (files).
+    reduce, "/v1/reduce", ReduceRequest
+);
+operation_route!(
+    /// Removes every interior knot that can go within the tolerance (A5.8); the count is
+    /// in `notes`.
+    remove_knots, "/v1/remove-knots", RemoveKnotsRequest
+);
+operation_route!(
+    /// Bezier segments (curves) or patches (surfaces), exactly (A5.6/A5.7); the reply
+    /// holds every piece (patches in u-major order).
+    decompose, "/v1/decompose", DecomposeRequest
+);
+operation_route!(
+    /// Splits at a parameter into two pieces, exactly.
+    split, "/v1/split", SplitRequest
+);
+operation_route!(
+    /// Joins all curves, in order, into one.
+    join, "/v1/join", JoinRequest
+);
+operation_route!(
+    /// Reverses the parameter direction (shape unchanged).
+    reverse, "/v1/reverse", ReverseRequest
+);
+operation_route!(
+    /// Maps the domain affinely onto `to` (shape unchanged).
+    reparameterize, "/v1/reparameterize", ReparameterizeRequest
+);
+operation_route!(
+    /// Applies an affine map to the control points (exact).
+    transform, "/v1/transform", TransformRequest
+);
+operation_route!(
+    /// The isoparametric curve of a surface (exact).
+    iso, "/v1/iso", IsoRequest
+);
+operation_route!(
+    /// The periodic form (wrapped poles) of closed curves and surfaces.
+    periodic, "/v1/periodic", PeriodicRequest
+);
+operation_route!(
+    /// The k-th derivative of a polynomial curve as a B-spline curve (A3.3).
+    derivative_curve, "/v1/derivative-curve", DerivativeCurveRequest
+);
 
 /// Elevates the degree of curves and surfaces, exactly (the shape is unchanged).
 #[utoipa::path(
@@ -297,12 +417,7 @@ pub async fn degree_elevate(
     State(state): State<Arc<AppState>>,
     ApiJson(req): ApiJson<ElevateRequest>,
 ) -> Result<Response, ApiError> {
-    let input = Input::from_fields(req.geometry, req.file, req.format)?;
-    let op = Operation::Elevate {
-        by: req.by,
-        direction: req.direction.into(),
-    };
-    operate(state, input, op, req.entity).await
+    run_operation(state, req).await
 }
 
 /// Clamps the knot-vector ends (knot insertion at the domain ends; shape unchanged).
@@ -397,4 +512,109 @@ pub async fn tessellate(
         super::api::MeshFormatName::Svg => "image/svg+xml",
     };
     Ok(([(header::CONTENT_TYPE, media)], text).into_response())
+}
+
+/// Builds an exact curve or surface (A7.1 arcs, A8.1 revolution, ISO 10303-42 quadrics).
+#[utoipa::path(
+    post,
+    path = "/v1/make",
+    tag = "geometry",
+    request_body = super::api::MakeRequest,
+    responses(
+        (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
+                                      file with `format`",
+            content(
+                (GeometryReply = "application/json"),
+                (String = "model/step"),
+                (String = "model/iges")
+            )),
+        FileErrors
+    )
+)]
+pub async fn make(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::MakeRequest>,
+) -> Result<Response, ApiError> {
+    let format = req.format;
+    let shape = req.shape()?;
+    built(state, format, move || pipeline::construct::make(&shape)).await
+}
+
+/// Interpolates a curve through points (NURBS Book A9.1).
+#[utoipa::path(
+    post,
+    path = "/v1/fit",
+    tag = "geometry",
+    request_body = super::api::FitRequest,
+    responses(
+        (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
+                                      file with `format`",
+            content(
+                (GeometryReply = "application/json"),
+                (String = "model/step"),
+                (String = "model/iges")
+            )),
+        FileErrors
+    )
+)]
+pub async fn fit(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::FitRequest>,
+) -> Result<Response, ApiError> {
+    let format = req.format;
+    let method = req.params.into();
+    let degree = req.degree;
+    let points = req.points;
+    built(state, format, move || {
+        let (points, dimension) = pipeline::construct::read_points(points.get())?;
+        pipeline::construct::fit(&points, dimension, degree, method)
+    })
+    .await
+}
+
+/// Runs `build` on a computing slot and replies with the document: model JSON
+/// `{"geometry": ...}`, or a file in `format`.
+async fn built(
+    state: Arc<AppState>,
+    format: Option<super::api::FileFormat>,
+    build: impl FnOnce() -> Result<crate::exchange::Document, pipeline::PipelineError> + Send + 'static,
+) -> Result<Response, ApiError> {
+    let mut settings = state.settings.clone();
+    let (document, text) = state
+        .gate
+        .run(move |cancel| {
+            settings.cancel = cancel;
+            let document = build()?;
+            pipeline::check_file_reply(&document, &settings)?;
+            let text = match format {
+                Some(f) => Some(pipeline::write(
+                    &document,
+                    f.kind().format().unwrap_or(Format::Step),
+                    &ExportOptions::default(),
+                )?),
+                None => None,
+            };
+            Ok((document, text))
+        })
+        .await?;
+    match (format, text) {
+        (Some(f), Some(text)) => Ok(file_reply(
+            f.kind().format().unwrap_or(Format::Step),
+            text,
+            document.entities.len(),
+            document.diagnostics.len(),
+        )),
+        _ => {
+            let geometry = document
+                .entities
+                .first()
+                .map(|e| serde_json::to_value(&e.geometry))
+                .transpose()
+                .map_err(|e| {
+                    tracing::error!(error = %e, "serialising geometry failed");
+                    ApiError::internal()
+                })?;
+            Ok(Json(serde_json::json!({ "geometry": geometry })).into_response())
+        }
+    }
 }
