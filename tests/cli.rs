@@ -928,9 +928,8 @@ fn convert_step_to_iges_verifies_and_keeps_the_geometry() {
     ]);
     assert_exit(&o, 0);
     assert!(
-        stderr(&o).contains(
-            "read 1 B-spline curves and surfaces, wrote 1 as IGES; verified 1 written entities"
-        ),
+        stderr(&o)
+            .contains("read 1 curves and surfaces, wrote 1 as IGES; verified 1 written entities"),
         "{}",
         stderr(&o)
     );
@@ -2001,7 +2000,7 @@ fn modify_commands_say_what_they_leave_out() {
             "{args:?}: {err}"
         );
         assert!(
-            err.contains("read 170 B-spline curves and surfaces, wrote 74 as IGES, left out 96"),
+            err.contains("read 170 curves and surfaces, wrote 74 as IGES, left out 96"),
             "{args:?}: {err}"
         );
         // The file holds what the summary says: 26 surfaces and 48 curves.

@@ -55,10 +55,12 @@ More help:
 #[command(
     name = "nurbsx",
     version,
-    about = "Exact NURBS exchange between IGES 5.3 (126/128) and STEP (ISO 10303-21/42)",
-    long_about = "Exact NURBS exchange between IGES 5.3 (entities 126/128) and STEP \
-                  (ISO 10303-21 files with ISO 10303-42 B-spline entities): convert, inspect, \
-                  validate, evaluate and modify B-spline curves and surfaces without losing a bit.",
+    about = "Exact NURBS exchange between IGES 5.3 and STEP (ISO 10303-21/42)",
+    long_about = "Exact NURBS exchange between IGES 5.3 and STEP (ISO 10303-21 files with \
+                  ISO 10303-42 geometry): every curve and surface with an exact rational form \
+                  (B-splines, lines, conics, quadrics, swept surfaces) read into one NURBS \
+                  model; convert, inspect, validate, evaluate, construct and modify it without \
+                  losing a bit.",
     after_help = TOP_HELP,
     propagate_version = true,
     disable_help_subcommand = true,
@@ -199,8 +201,10 @@ pub enum LogFormat {
 pub enum Command {
     /// Convert STEP <-> IGES (one file with -o, or many with --out-dir).
     #[command(
-        long_about = "Convert B-spline curves and surfaces between STEP and IGES, exactly \
-                      (poles, weights and knots are copied, never approximated).\n\n\
+        long_about = "Convert curves and surfaces between STEP and IGES as exact NURBS: \
+                      B-spline poles, weights and knots are copied, never approximated; lines, \
+                      conics, planes, quadrics, revolutions, extrusions and ruled surfaces \
+                      become their exact rational form (README: parameterisation).\n\n\
                       One file: the output format comes from --to or from OUT's extension \
                       (.step/.stp/.p21, .igs/.iges). Many files or folders: give --out-dir; \
                       folders are searched recursively for .step/.stp/.p21/.igs/.iges files, \

@@ -305,7 +305,7 @@ pub fn convert_bytes(
 pub fn summary(input: &str, out: &str, r: &ConvertReport, tolerance: Option<f64>) -> String {
     let left_out = r.entities_in.saturating_sub(r.entities_out);
     let mut s = format!(
-        "{input} -> {out}: read {} B-spline curves and surfaces, wrote {} as {}",
+        "{input} -> {out}: read {} curves and surfaces, wrote {} as {}",
         r.entities_in,
         r.entities_out,
         r.output_format.to_ascii_uppercase()

@@ -18,8 +18,8 @@ pub fn no_bspline_warning(diagnostics: usize) -> Diagnostic {
     Diagnostic::warning(
         "no_bspline",
         format!(
-            "no B-spline curve or surface found (nurbsx converts IGES 126/128 and STEP \
-             B_SPLINE_CURVE/SURFACE entities only; the reader noted {diagnostics} other \
+            "no curve or surface found (nurbsx reads the ISO 10303-42 and IGES 5.3 curves \
+             and surfaces that have an exact NURBS form; the reader noted {diagnostics} other \
              finding(s), shown with -v); nothing to convert"
         ),
         Default::default(),

@@ -403,7 +403,7 @@ fn modify(
     write_output(&out.output, &text)?;
     let written = document.entities.len();
     let mut summary = format!(
-        "{name} -> {}: read {read} B-spline curves and surfaces, wrote {written} as {}",
+        "{name} -> {}: read {read} curves and surfaces, wrote {written} as {}",
         display_name(&out.output),
         target.name().to_ascii_uppercase()
     );

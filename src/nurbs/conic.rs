@@ -19,6 +19,7 @@
 //! - Parabolas `V + t^2 X + 2 t Y` and lines are polynomial in `t`, so their NURBS
 //!   parameter *is* `t`.
 
+use super::vector::{add, scale};
 use super::{GeometryError, NurbsCurve, Point3};
 
 /// Which conic family an arc belongs to.
@@ -187,14 +188,6 @@ impl ArcMap {
         };
         (b - a) * 0.25 * dh / tq
     }
-}
-
-fn add(a: Point3, b: Point3) -> Point3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn scale(a: Point3, s: f64) -> Point3 {
-    [a[0] * s, a[1] * s, a[2] * s]
 }
 
 fn finite(points: &[Point3]) -> bool {

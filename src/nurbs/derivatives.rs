@@ -9,6 +9,7 @@
 
 use super::basis::ders_basis_funs;
 use super::knots::find_span;
+use super::vector::{cross, norm, scale};
 use super::{GeometryError, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
 /// The highest derivative order the APIs accept. Rational derivatives grow roughly like
@@ -372,34 +373,6 @@ impl NurbsSurface {
         let size = super::distance(lo, hi);
         (1e-10 * size + 1e-14 * mag, size)
     }
-}
-
-/// `a x b`.
-#[inline]
-pub(crate) fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `a . b`.
-#[inline]
-pub(crate) fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `|a|`.
-#[inline]
-pub(crate) fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `f a`.
-#[inline]
-pub(crate) fn scale(a: Point3, f: f64) -> Point3 {
-    [a[0] * f, a[1] * f, a[2] * f]
 }
 
 impl NurbsCurve {

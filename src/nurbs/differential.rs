@@ -17,8 +17,8 @@
 //! `r` therefore has `K = 1/r^2` and `H = +1/r` when `n` points inwards, `H = -1/r` when it
 //! points outwards.
 
-use super::derivatives::{cross, dot, norm, scale};
 use super::knots::find_span;
+use super::vector::{cross, dot, norm, scale};
 use super::{GeometryError, NurbsCurve, NurbsSurface, Point3};
 
 /// Curvature and torsion of a curve at one parameter.

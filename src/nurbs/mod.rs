@@ -63,6 +63,7 @@ pub mod surface;
 pub mod sweep;
 pub mod tessellate;
 pub mod transform;
+pub mod vector;
 
 pub use curve::NurbsCurve;
 pub use error::GeometryError;

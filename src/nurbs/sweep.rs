@@ -10,6 +10,7 @@
 //! parameter.
 
 use super::conic::{ArcMap, ConicKind, arc_knots, arc_poles, conic_arc, line_segment};
+use super::vector::{add, cross, dot, scale, sub};
 use super::{GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
 /// A right-handed orthonormal placement (ISO 10303-42 axis2_placement_3d after its axes are
@@ -24,30 +25,6 @@ pub struct Frame {
     pub y: Point3,
     /// Third axis (the axis of revolution of the quadrics).
     pub z: Point3,
-}
-
-fn add(a: Point3, b: Point3) -> Point3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn scale(a: Point3, s: f64) -> Point3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn check_frame(f: &Frame) -> Result<(), GeometryError> {

@@ -31,6 +31,7 @@
 use std::collections::HashSet;
 
 use super::knots::{find_span, runs};
+use super::vector::{cross, dot, norm, sub};
 use super::{GeometryError, NurbsCurve, NurbsSurface, Point3};
 
 /// A polyline approximating a curve: `params[k]` maps to `points[k]`.
@@ -183,26 +184,6 @@ fn chords_along(samples: &[(f64, f64)], spans: usize, step: impl Fn(f64) -> Opti
         .map(|&(u, du)| step(u).map_or(0.0, |s| du / s))
         .sum();
     walked.max(spans as f64)
-}
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Distance from `x` to the segment `[a, b]`.

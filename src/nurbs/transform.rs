@@ -10,6 +10,24 @@ use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface, P
 /// the layout of IGES entity 124 (`x' = R x + T`).
 pub type Affine = [[f64; 4]; 3];
 
+/// The identity map.
+pub const IDENTITY: Affine = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+];
+
+/// The affine map `a` after `b`: `x -> a(b(x))` (IGES 5.3 section 4.21: a 124 that refers
+/// to another 124 composes this way; ISO 10303-42 placements of nested items likewise).
+pub fn compose(a: &Affine, b: &Affine) -> Affine {
+    std::array::from_fn(|r| {
+        std::array::from_fn(|c| {
+            let lin = a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c];
+            if c == 3 { lin + a[r][3] } else { lin }
+        })
+    })
+}
+
 /// Applies an affine matrix to a point.
 #[inline]
 pub fn apply(m: &Affine, p: Point3) -> Point3 {

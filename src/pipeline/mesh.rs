@@ -12,8 +12,8 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use crate::exchange::{Diagnostic, Document, Entity, Location};
-use crate::nurbs::derivatives::{cross, norm};
 use crate::nurbs::tessellate::{Mesh, Polyline};
+use crate::nurbs::vector::{cross, norm};
 use crate::nurbs::{Geometry, Point3};
 
 use super::ops::id_list;

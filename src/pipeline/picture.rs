@@ -14,7 +14,7 @@
 use std::fmt::Write as _;
 
 use crate::nurbs::Point3;
-use crate::nurbs::derivatives::dot;
+use crate::nurbs::vector::dot;
 
 use super::mesh::{CurveLine, FaceMesh, triangle_normal};
 

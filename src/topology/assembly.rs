@@ -3,7 +3,7 @@
 //! singular subfigure instances with 124 transforms).
 
 use super::{AssemblyId, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError};
-use crate::nurbs::transform::Affine;
+use crate::nurbs::transform::{Affine, IDENTITY, compose};
 
 /// What an instance places.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,23 +50,6 @@ pub struct Placed {
     /// Instance indices from the root to this leaf.
     pub path: Vec<usize>,
 }
-
-/// `a ∘ b`: first `b`, then `a`.
-pub fn compose(a: &Affine, b: &Affine) -> Affine {
-    std::array::from_fn(|r| {
-        std::array::from_fn(|c| {
-            let rot = a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c];
-            if c == 3 { rot + a[r][3] } else { rot }
-        })
-    })
-}
-
-/// The identity placement.
-pub const IDENTITY: Affine = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-];
 
 impl Model {
     /// Adds an assembly. Its instances may name assemblies added later; [`Model::flatten`]

@@ -3,11 +3,8 @@
 use std::collections::BTreeMap;
 
 use super::{EdgeId, FaceId, Loop, Model, ShellId, TopologyError, VertexId};
-use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
-
-fn dist(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
+use crate::nurbs::vector::dist;
+use crate::nurbs::{NurbsCurve, NurbsSurface};
 
 fn vertex(m: &Model, v: VertexId) -> Result<&super::Vertex, TopologyError> {
     m.vertices.get(v.0).ok_or(TopologyError::Missing {

@@ -30,7 +30,7 @@ mod assembly;
 mod check;
 mod error;
 
-pub use assembly::{Assembly, IDENTITY, Instance, Part, Placed, compose};
+pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};

@@ -2,6 +2,7 @@
 //! planarity. The reader compares the flags with these, the writer computes the flags from
 //! them (pitfalls.md A2, A4, B11).
 
+use crate::nurbs::vector::{cross, dist, dot, norm, sub};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
 /// Relative tolerance for "equal" coordinates and knots: a few ulps of double precision
@@ -21,10 +22,6 @@ pub fn tolerance<'a>(points: impl Iterator<Item = &'a Point3>) -> f64 {
 pub fn tolerance_of(values: impl Iterator<Item = f64>) -> f64 {
     let m = values.fold(0.0f64, |m, x| m.max(x.abs()));
     REL_TOL * m.max(1.0)
-}
-
-fn dist(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// Whether both ends of a knot vector repeat `degree + 1` times (the usual clamped form).
@@ -131,26 +128,6 @@ pub fn surface_periodic(s: &NurbsSurface, dir: usize, tol: f64) -> bool {
             )
         })
     }
-}
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// The unit normal of the plane holding all `points`, if they span one: `None` when they

@@ -1,51 +1,9 @@
-//! Small vector and affine-map helpers for the entity conversions.
+//! Affine-map helpers for the entity conversions (and the core's vector helpers, re-exported).
 
 use crate::nurbs::Point3;
 use crate::nurbs::transform::Affine;
-
-pub(super) fn add(a: Point3, b: Point3) -> Point3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-pub(super) fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(super) fn scale(a: Point3, s: f64) -> Point3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-pub(super) fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(super) fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(super) fn norm(a: Point3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `a` scaled to unit length; `None` for a zero or non-finite vector.
-pub(super) fn unit(a: Point3) -> Option<Point3> {
-    let n = norm(a);
-    (n > 0.0 && n.is_finite()).then(|| scale(a, 1.0 / n))
-}
-
-/// The affine map `a` after `b`: `x -> a(b(x))`.
-pub(super) fn compose(a: &Affine, b: &Affine) -> Affine {
-    std::array::from_fn(|r| {
-        std::array::from_fn(|c| {
-            let lin = a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c];
-            if c == 3 { lin + a[r][3] } else { lin }
-        })
-    })
-}
+pub(super) use crate::nurbs::transform::compose;
+pub(super) use crate::nurbs::vector::{add, cross, dot, norm, scale, sub, unit};
 
 /// The linear part of an affine map applied to a direction.
 pub(super) fn apply_linear(m: &Affine, d: Point3) -> Point3 {

@@ -30,8 +30,9 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
-use crate::nurbs::derivatives::{cross, dot, norm, scale as mul};
 use crate::nurbs::sweep::{self, Frame};
+use crate::nurbs::vector::{add, sub};
+use crate::nurbs::vector::{cross, dot, norm, scale as mul};
 use crate::nurbs::{
     Geometry, GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal,
 };
@@ -41,12 +42,6 @@ use crate::nurbs::{
 /// input-controlled recursion depth).
 const MAX_NESTING: usize = 16;
 
-fn add(a: Point3, b: Point3) -> Point3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
 /// ISO 10303-42 `normalise`: `None` for a zero (or non-finite) vector.
 fn normalise(a: Point3) -> Option<Point3> {
     let n = norm(a);
