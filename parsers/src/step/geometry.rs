@@ -339,9 +339,32 @@ pub const GEOMETRY_ENTITIES: &[&str] = &[
     "FACE_SURFACE",
 ];
 
+/// Bit `c - 'A'` set for each first letter `c` of [`GEOMETRY_ENTITIES`].
+const FIRST_LETTERS: u32 = {
+    let mut mask = 0u32;
+    let mut i = 0;
+    while i < GEOMETRY_ENTITIES.len() {
+        mask |= 1 << (GEOMETRY_ENTITIES[i].as_bytes()[0] - b'A');
+        i += 1;
+    }
+    mask
+};
+
 /// Whether an entity name (long or short form) is one this module reads.
+///
+/// Every simple instance of a file passes here, most of them CARTESIAN_POINTs and
+/// B-splines: the first letter (a mask built from the table) and one comparison turn those
+/// away before the table is searched.
 pub fn is_geometry_entity(keyword: &str) -> bool {
-    GEOMETRY_ENTITIES.contains(&canonical_name(keyword))
+    let k = canonical_name(keyword);
+    let Some(&first) = k.as_bytes().first() else {
+        return false;
+    };
+    let letter = first.wrapping_sub(b'A');
+    letter < 26
+        && FIRST_LETTERS & (1 << letter) != 0
+        && k != "CARTESIAN_POINT"
+        && GEOMETRY_ENTITIES.contains(&k)
 }
 
 fn trimming_selects(p: &Parameter<'_>) -> Result<Vec<TrimmingSelect>, String> {

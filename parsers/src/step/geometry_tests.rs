@@ -504,3 +504,21 @@ fn wrong_parameter_counts_are_located() {
         assert_eq!(e.line, 5);
     }
 }
+
+/// The fast rejections of `is_geometry_entity` never turn away an entity of the table.
+#[test]
+fn geometry_entity_names() {
+    for name in GEOMETRY_ENTITIES {
+        assert!(is_geometry_entity(name), "{name}");
+    }
+    for other in [
+        "CARTESIAN_POINT",
+        "B_SPLINE_CURVE_WITH_KNOTS",
+        "",
+        "line",
+        "_X",
+        "PRODUCT",
+    ] {
+        assert!(!is_geometry_entity(other), "{other}");
+    }
+}

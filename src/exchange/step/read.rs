@@ -228,9 +228,14 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
 fn maybe_geometry(raw: &RawInstance<'_>) -> bool {
     match raw.keyword() {
         Some(k) => is_geometry_entity(k),
-        // Complex instances that are contexts or units (most of a B-rep's: one per pcurve)
-        // hold no geometry partial.
-        None => !(raw.body.contains("REPRESENTATION_CONTEXT") || raw.body.contains("_UNIT")),
+        // Complex instances that are rational B-splines (the B-spline decoder's; their
+        // B_SPLINE_ partial comes within the first few names, so the search stops early),
+        // contexts or units (most of a B-rep's: one per pcurve) hold no geometry partial.
+        None => {
+            !(raw.body.contains("B_SPLINE_")
+                || raw.body.contains("REPRESENTATION_CONTEXT")
+                || raw.body.contains("_UNIT"))
+        }
     }
 }
 
