@@ -708,7 +708,11 @@ proptest! {
             prop_assert!(norm(sub(got, want)) <= 1e-9 * scale, "k={} {:?} {:?}", k, got, want);
         }
         let h = 1e-3 * (b - a);
-        if top < c.degree() && u - 4.0 * h > a && u + 4.0 * h < b {
+        // Richardson extrapolation assumes the curve smooth over its stencil [u - h, u + h];
+        // across a knot the higher derivatives jump and its error is O(h), not O(h^6), so
+        // the difference is compared only where the stencil lies inside one knot span.
+        let smooth = !c.knots().iter().any(|&k| k >= u - h && k <= u + h);
+        if smooth && top < c.degree() && u - 4.0 * h > a && u + 4.0 * h < b {
             let d1 = c.derivative_curve(1).unwrap();
             let fd = richardson(|s| c.point_at(s).unwrap(), u, h);
             let got = d1.point_at(u).unwrap();
