@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::{Diagnostic, Format, LengthUnit, Severity};
 use crate::nurbs::{Geometry, Point3};
+use crate::topology::Model;
 
 /// A STEP or IGES file as nurbsx understands it: its B-spline entities (each with provenance
 /// and format metadata), its declared length unit, and what the reader noticed.
@@ -20,10 +21,76 @@ pub struct Document {
     pub schema: Option<String>,
     /// The length unit the coordinates are in.
     pub units: LengthUnit,
-    /// The B-spline curves and surfaces, in file order.
+    /// The curves and surfaces, in file order, each as exact NURBS: the free ones and, as
+    /// today's geometry-level view, the surfaces of faces and the curves of edges too (each
+    /// named by the [`Origin::entity`] of its face or edge in [`Document::topology`]).
     pub entities: Vec<Entity>,
+    /// The boundary representation (faces with their loops, edges, vertices, shells,
+    /// solids, assemblies) over the same exact geometry; empty when the file has none or
+    /// when it was read geometry-only ([`ImportOptions::geometry_only`](super::ImportOptions)).
+    /// Writers write it and then the entities that no face or edge names.
+    #[serde(skip)]
+    pub topology: Topology,
     /// Everything the reader noticed, in file order.
     pub diagnostics: Vec<Diagnostic>,
+}
+
+/// A file's boundary representation and where each piece of it came from.
+///
+/// `origins.faces[i]` describes `model.faces[i]`, and so on for every kind: readers push
+/// both together, so the vectors stay index-aligned.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Topology {
+    /// The checked topology over exact NURBS geometry.
+    pub model: Model,
+    /// Provenance of each vertex, edge, face, shell, solid and assembly of `model`.
+    pub origins: Origins,
+}
+
+impl Topology {
+    /// Whether there is no topology at all.
+    pub fn is_empty(&self) -> bool {
+        let m = &self.model;
+        m.vertices.is_empty()
+            && m.edges.is_empty()
+            && m.faces.is_empty()
+            && m.shells.is_empty()
+            && m.solids.is_empty()
+            && m.assemblies.is_empty()
+    }
+}
+
+/// Provenance of the items of a [`Model`], index-aligned with its vectors.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Origins {
+    /// Of `model.vertices`.
+    pub vertices: Vec<Origin>,
+    /// Of `model.edges`.
+    pub edges: Vec<Origin>,
+    /// Of `model.faces`.
+    pub faces: Vec<Origin>,
+    /// Of `model.shells`.
+    pub shells: Vec<Origin>,
+    /// Of `model.solids`.
+    pub solids: Vec<Origin>,
+    /// Of `model.assemblies`.
+    pub assemblies: Vec<Origin>,
+}
+
+/// Where one topological item came from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Origin {
+    /// The item's id in the source file: `#40` (an ADVANCED_FACE), `D45` (an IGES 144 or
+    /// 510); for items made in memory, any unique label.
+    pub id: String,
+    /// The source entity and line.
+    pub source: Source,
+    /// STEP `name`, IGES label (DE field 18) or 406 name property.
+    pub name: Option<String>,
+    /// The [`Entity::id`] in [`Document::entities`] holding this item's geometry (a face's
+    /// surface, an edge's curve), whose [`Meta`] (shape, forms) writers use; `None` when
+    /// the geometry is only in the topology.
+    pub entity: Option<String>,
 }
 
 /// Serialises a [`Format`] as `"step"` or `"iges"`.
@@ -42,6 +109,7 @@ impl Document {
             schema: None,
             units,
             entities: Vec::new(),
+            topology: Topology::default(),
             diagnostics: Vec::new(),
         }
     }

@@ -26,7 +26,9 @@ pub(crate) mod test_files;
 mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
-pub use document::{Document, Entity, Meta, ParameterRange, Shape, Source};
+pub use document::{
+    Document, Entity, Meta, Origin, Origins, ParameterRange, Shape, Source, Topology,
+};
 /// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
 pub use nurbsx_parsers::signature::{
     CODES as NOT_EXCHANGE_CODES, NotExchange, describe as describe_content,

@@ -16,6 +16,10 @@ pub struct ImportOptions {
     /// `U(0)..V(1)` (by knot insertion, exact). Off by default: the range is kept in
     /// [`Meta::parameter_range`](super::Meta::parameter_range).
     pub trim_to_parameter_range: bool,
+    /// Read the curves and surfaces only, as loose geometry: no faces, loops, edges,
+    /// shells, solids or assembly placements ([`Document::topology`](super::Document)
+    /// stays empty, and a warning says what was left out).
+    pub geometry_only: bool,
 }
 
 /// The STEP application protocol to write.
@@ -46,6 +50,10 @@ pub struct ExportOptions {
     pub timestamp: Option<String>,
     /// File name written in the header.
     pub file_name: String,
+    /// IGES: write solids and shells as 186 manifold solid B-rep objects with
+    /// 502/504/508/510/514 (as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces
+    /// with 142 boundaries (the default, which every IGES reader understands).
+    pub iges_brep: bool,
 }
 
 impl Default for ExportOptions {
@@ -56,6 +64,7 @@ impl Default for ExportOptions {
             use_implicit_knot_subtypes: false,
             timestamp: None,
             file_name: "nurbsx-output".to_owned(),
+            iges_brep: false,
         }
     }
 }

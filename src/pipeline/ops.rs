@@ -969,7 +969,9 @@ pub fn apply(
                 "join works on all curves of the input, in order; it takes no entity",
             ));
         }
-        return join_curves(doc, tolerance).map(|note| vec![note]);
+        let note = join_curves(doc, tolerance)?;
+        drop_topology(doc);
+        return Ok(vec![note]);
     }
     let mut notes = Vec::new();
     let mut out = Vec::with_capacity(doc.entities.len());
@@ -1020,7 +1022,30 @@ pub fn apply(
         }
     }
     doc.entities = out;
+    drop_topology(doc);
     Ok(notes)
+}
+
+/// Operations work on the curves and surfaces one by one; the faces, edges and solids
+/// built on them are not carried through (warning, visible by default).
+fn drop_topology(doc: &mut Document) {
+    if doc.topology.is_empty() {
+        return;
+    }
+    let m = &doc.topology.model;
+    let message = format!(
+        "the operation works on curves and surfaces: the boundary representation ({} solid(s), {}          shell(s), {} face(s), {} edge(s)) is not carried to the output, whose faces are          written as untrimmed surfaces",
+        m.solids.len(),
+        m.shells.len(),
+        m.faces.len(),
+        m.edges.len()
+    );
+    doc.topology = Default::default();
+    doc.diagnostics.push(Diagnostic::warning(
+        "topology.dropped",
+        message,
+        Location::default(),
+    ));
 }
 
 /// Refuses, before the work, an operation whose result would exceed the reply limit:
