@@ -204,6 +204,7 @@ fn options_variants() -> Vec<ExportOptions> {
             use_implicit_knot_subtypes: implicit,
             timestamp: Some("2026-01-01T00:00:00".to_owned()),
             file_name: name.to_owned(),
+            iges_brep: false,
         });
     }
     v
