@@ -22,7 +22,6 @@ output are produced by the same code.
 
 import importlib.util
 import os
-import sys
 
 import FreeCAD  # noqa: F401  (provided by freecadcmd)
 import Part
@@ -33,19 +32,15 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 _ROOT = os.path.dirname(os.path.dirname(_HERE))
 
 
-def _load(name, path):
-    """Load a sibling script as a module under a name that does not run its main()."""
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-# The one B-spline reader (JSON layout, versions) and the analytic corpus's file facts
-# (entity counts, declared unit) are reused, not copied.
-evaluate = _load("nurbsx_freecad_reader", os.path.join(_HERE, "evaluate.py"))
-analytic = _load("nurbsx_freecad_analytic",
-                 os.path.join(_ROOT, "samples", "freecad", "analytic", "generate.py"))
+# The analytic corpus's file facts (entity counts, declared unit) and, through it, the one
+# B-spline reader (JSON layout, versions, command-line handling) are reused, not copied.
+# Loaded under a module name other than "generate" so that its main() does not run.
+_spec = importlib.util.spec_from_file_location(
+    "nurbsx_freecad_analytic", os.path.join(_ROOT, "samples", "freecad", "analytic", "generate.py")
+)
+analytic = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(analytic)
+evaluate = analytic.evaluate
 
 _vec = evaluate._vec
 
@@ -188,24 +183,7 @@ def read_part(path):
 
 
 def main():
-    src = os.environ.get("NURBSX_IN")
-    dst = os.environ.get("NURBSX_OUT")
-    if not src or not dst:
-        print("usage: NURBSX_IN=file.step|file.igs NURBSX_OUT=out.json "
-              "freecadcmd part_reading.py")
-        sys.stdout.flush()
-        os._exit(2)
-    try:
-        text = evaluate.dumps(read_part(src))
-        status = 0
-    except Exception as ex:  # every reader failure goes to the caller as data
-        text = evaluate.dumps({"schema": SCHEMA_ID, "file": os.path.basename(src),
-                               "error": str(ex)})
-        status = 1
-    with open(dst, "w", encoding="utf-8") as f:
-        f.write(text)
-    sys.stdout.flush()
-    os._exit(status)
+    evaluate.run_cli(read_part, SCHEMA_ID, "part_reading.py")
 
 
 # freecadcmd runs a script under the name of its file stem ("part_reading"), or "__main__";

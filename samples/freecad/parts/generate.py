@@ -37,17 +37,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
 
 
-def _load(name, path):
-    """Load a sibling script as a module under a name that does not run its main()."""
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-reading = _load("nurbsx_freecad_part_reading",
-                os.path.join(ROOT, "scripts", "freecad", "part_reading.py"))
-corpus = _load("nurbsx_freecad_samples", os.path.join(ROOT, "samples", "freecad", "generate.py"))
+# The one part reader (scripts/freecad/part_reading.py), loaded under a module name that does
+# not run its command-line entry point; through it the B-spline corpus's export helpers.
+_spec = importlib.util.spec_from_file_location(
+    "nurbsx_freecad_part_reading", os.path.join(ROOT, "scripts", "freecad", "part_reading.py")
+)
+reading = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(reading)
+corpus = reading.analytic.corpus
 evaluate = reading.evaluate
 
 V = FreeCAD.Vector
