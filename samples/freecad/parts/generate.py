@@ -25,9 +25,7 @@ import json
 import math
 import os
 import shutil
-import sys
 import tempfile
-import traceback
 
 import FreeCAD
 import Import
@@ -578,14 +576,5 @@ def main():
 
 
 # freecadcmd runs a script under the name of its file stem ("generate") or "__main__".
-# freecadcmd itself exits 0 when a script raises, hence the explicit status.
 if __name__ in ("__main__", "generate"):
-    try:
-        main()
-    except Exception:  # report any failure as exit status 1
-        traceback.print_exc()
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(1)
-    sys.stdout.flush()
-    os._exit(0)
+    reading.analytic.run_as_script(main)
