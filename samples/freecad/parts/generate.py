@@ -205,8 +205,6 @@ def inch_plate():
 class Assembly:
     """An App::Part of App::Links with rotated placements; the bracket is used twice."""
 
-    name = "assembly_links"
-
     def __init__(self):
         self.doc = FreeCAD.newDocument("assembly")
         doc = self.doc
@@ -239,19 +237,12 @@ class Assembly:
         the IGES files are exported from the located compound instead (deterministic)."""
         if path.endswith(".step"):
             Import.export([self.root], path)
-            normalise(path)
+            corpus.normalise_step(path)
         else:
             corpus.export(self.shape(), path, {})
 
     def close(self):
         FreeCAD.closeDocument(self.doc.Name)
-
-
-def normalise(path):
-    if path.endswith(".step"):
-        corpus.normalise_step(path)
-    else:
-        corpus.normalise_iges(path)
 
 
 # name, description, builder, options: genus (hand-stated, per closed shell summed; None for
