@@ -146,12 +146,21 @@ def describe_part(shape):
 
 
 def file_facts(path):
-    """Declared length unit and entity counts of a STEP or IGES file (from its text)."""
+    """Declared length unit and entity counts of a STEP or IGES file (from its text; the scans
+    go by the extensions .step and .igs). A unit the scan does not recognise is
+    {"name": None, ..., "evidence": why}; entity counts it cannot take are None."""
+    if not path.endswith((".step", ".igs")):
+        why = "not scanned: the text scans know the extensions .step and .igs"
+        return {"name": None, "mm_per_unit": None, "evidence": why}, None
     try:
         unit = analytic.declared_unit(path)
     except Exception as ex:  # a unit form the text scan does not know: say so
         unit = {"name": None, "mm_per_unit": None, "evidence": f"not recognised: {ex!r}"}
-    return unit, analytic.file_entities(path)
+    try:
+        entities = analytic.file_entities(path)
+    except Exception:  # a record layout the scan does not know
+        entities = None
+    return unit, entities
 
 
 def header(path, fmt, reader):
