@@ -698,6 +698,14 @@ pub struct ConvertArgs {
     /// IGES: trim to the declared parameter range (exact, by knot insertion).
     #[arg(long)]
     pub trim_to_range: bool,
+    /// Read the curves and surfaces only, as loose geometry: faces, loops, edges, shells,
+    /// solids and assembly placements are left out (a warning says how many).
+    #[arg(long)]
+    pub geometry_only: bool,
+    /// IGES output: write solids and shells as 186 manifold solid B-rep objects (with
+    /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
+    #[arg(long)]
+    pub iges_brep: bool,
     /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
     #[arg(short = 'j', long, value_name = "N",
           value_parser = clap::value_parser!(u16).range(1..=256))]

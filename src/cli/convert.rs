@@ -82,12 +82,14 @@ pub struct Plan {
 pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
     let mut settings = ctx.settings.clone();
     settings.import.trim_to_parameter_range = a.trim_to_range;
+    settings.import.geometry_only = a.geometry_only;
     let request = ConvertRequest {
         to: a.to.map(format_of),
         export: ExportOptions {
             schema: a.schema.into(),
             units: a.units.0,
             timestamp: a.timestamp.clone(),
+            iges_brep: a.iges_brep,
             ..ExportOptions::default()
         },
         clamp: if a.clamp {
@@ -263,7 +265,7 @@ fn single(
 /// (with the diagnostics that say so).
 pub enum Converted {
     /// The converted file and its report.
-    Written(pipeline::ConvertOutput),
+    Written(Box<pipeline::ConvertOutput>),
     /// No B-spline entity: nothing to write. The diagnostics end with `no_bspline`.
     Empty(Vec<Diagnostic>),
 }
@@ -284,7 +286,7 @@ pub fn convert_bytes(
             if let Some(w) = warning {
                 o.report.diagnostics.insert(0, w);
             }
-            Ok(Converted::Written(o))
+            Ok(Converted::Written(Box::new(o)))
         }
         Err(e) if e.code() == "convert.empty" => {
             // Read again for the diagnostics that say why nothing was found.

@@ -124,6 +124,65 @@ pub fn info_text(file: &str, r: &InfoReport) -> String {
         curves,
         r.entities.len() - curves
     );
+    if let Some(st) = &r.structure {
+        let closed = st.shells.iter().filter(|x| x.closed).count();
+        let _ = writeln!(
+            s,
+            "parts:    {} solid(s), {} shell(s) ({closed} closed), {} face(s), {} edge(s), {} vertex(es){}",
+            st.solids.len(),
+            st.shells.len(),
+            st.faces.len(),
+            st.edges,
+            st.vertices,
+            if st.assemblies > 0 {
+                format!(", {} assembly(ies)", st.assemblies)
+            } else {
+                String::new()
+            }
+        );
+        let _ = write!(s, "area:     {}", num(st.area));
+        if st.unmeasured_faces > 0 {
+            let _ = write!(s, " ({} face(s) not measurable)", st.unmeasured_faces);
+        }
+        s.push('\n');
+        for solid in &st.solids {
+            let _ = writeln!(
+                s,
+                "solid {}: {} face(s), {} shell(s), volume {}",
+                solid.id,
+                solid.faces,
+                solid.shells,
+                solid
+                    .volume
+                    .map_or_else(|| "not measurable".to_owned(), num)
+            );
+        }
+        let rows: Vec<[String; 6]> = st
+            .faces
+            .iter()
+            .map(|f| {
+                [
+                    f.id.clone(),
+                    f.shape
+                        .and_then(|x| serde_json::to_value(x).ok())
+                        .and_then(|v| v.as_str().map(str::to_owned))
+                        .unwrap_or_else(|| "-".to_owned()),
+                    f.surface.clone().unwrap_or_else(|| "-".to_owned()),
+                    f.loops.to_string(),
+                    f.edges.to_string(),
+                    f.area
+                        .map_or_else(|| f.area_error.clone().unwrap_or_default(), num),
+                ]
+            })
+            .collect();
+        if !rows.is_empty() {
+            s.push('\n');
+            s.push_str(&table(
+                &["face", "surface kind", "surface", "loops", "edges", "area"],
+                &rows,
+            ));
+        }
+    }
     if !r.entities.is_empty() {
         let rows: Vec<[String; 9]> = r
             .entities

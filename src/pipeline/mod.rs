@@ -27,6 +27,6 @@ pub use ops::{
     evaluate, info, select, tessellate, validate, write,
 };
 pub use reports::{
-    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
-    ValidationReport,
+    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, FaceInfo, InfoReport,
+    PartDeviation, ShellInfo, SolidInfo, StructureInfo, UnitsInfo, ValidationReport,
 };

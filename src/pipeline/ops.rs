@@ -7,8 +7,8 @@ use crate::exchange::{
 use crate::nurbs::{Geometry, Point3, bounding_box_diagonal, distance};
 
 use super::reports::{
-    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, InfoReport, UnitsInfo,
-    ValidationReport,
+    ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, FaceInfo, InfoReport,
+    PartDeviation, ShellInfo, SolidInfo, StructureInfo, UnitsInfo, ValidationReport,
 };
 use super::{ErrorKind, InputKind, Loaded, PipelineError, Settings, load};
 
@@ -496,13 +496,12 @@ pub fn convert(
     let text = write(&document, format, &request.export)?;
     settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
-    let verify = match request.verify {
-        None => None,
+    let (verify, verify_part) = match request.verify {
+        None => (None, None),
         Some(tolerance) => {
             let reference = original.as_ref().unwrap_or(&document);
-            Some(verify_output(
-                reference, &text, out_units, tolerance, settings,
-            )?)
+            let (entities, part) = verify_output(reference, &text, out_units, tolerance, settings)?;
+            (Some(entities), part)
         }
     };
     let mut diagnostics = document.diagnostics.clone();
@@ -526,7 +525,33 @@ pub fn convert(
         units: units_info(out_units),
         diagnostics,
         verify,
+        verify_part,
     };
+    if let Some(p) = report.verify_part.as_ref().filter(|p| !p.ok) {
+        return Err(PipelineError::new(
+            ErrorKind::Geometry,
+            "verify.failed",
+            format!(
+                "verification failed: faces {} -> {}, solids {} -> {}, area {:e} -> {:e} \
+                 (relative {:e}), volume {:e} -> {:e} (relative {:e}), centroid moved {:e} of \
+                 the part's size, {} face(s) not measurable (tolerance {:e})",
+                p.faces_in,
+                p.faces_out,
+                p.solids_in,
+                p.solids_out,
+                p.area_in,
+                p.area_out,
+                p.area_relative,
+                p.volume_in,
+                p.volume_out,
+                p.volume_relative,
+                p.centroid_relative,
+                p.unmeasured_faces,
+                request.verify.unwrap_or_default()
+            ),
+            Location::default(),
+        ));
+    }
     if let Some(bad) = report
         .verify
         .as_ref()
@@ -558,7 +583,7 @@ fn verify_output(
     out_units: LengthUnit,
     tolerance: f64,
     settings: &Settings,
-) -> Result<Vec<EntityDeviation>, PipelineError> {
+) -> Result<(Vec<EntityDeviation>, Option<PartDeviation>), PipelineError> {
     let reread = exchange::read(text.as_bytes(), &settings.import).map_err(|d| {
         PipelineError::new(
             ErrorKind::Geometry,
@@ -567,23 +592,28 @@ fn verify_output(
             d.location.clone(),
         )
     })?;
-    if reread.entities.len() != reference.entities.len() {
+    let scale = reference.units.to_mm() / out_units.to_mm();
+    let part = (!reference.topology.is_empty())
+        .then(|| part_deviation(reference, &reread, scale, tolerance));
+    // With faces, the writers re-derive the geometry-level view of face surfaces and edge
+    // curves; what is compared entity by entity is the free geometry.
+    let (ours, theirs) = (free_entities(reference), free_entities(&reread));
+    if ours.len() != theirs.len() {
         return Err(PipelineError::new(
             ErrorKind::Geometry,
             "verify.count",
             format!(
-                "wrote {} entities but read back {}",
-                reference.entities.len(),
-                reread.entities.len()
+                "wrote {} {}entities but read back {}",
+                ours.len(),
+                if part.is_some() { "free " } else { "" },
+                theirs.len()
             ),
             Location::default(),
         ));
     }
-    let scale = reference.units.to_mm() / out_units.to_mm();
-    reference
-        .entities
+    let entities = ours
         .iter()
-        .zip(&reread.entities)
+        .zip(&theirs)
         .map(|(a, b)| {
             settings.cancel.check()?;
             let (max, size) = sampled_deviation(&a.geometry, &b.geometry, scale);
@@ -596,7 +626,96 @@ fn verify_output(
                 ok: relative <= tolerance,
             })
         })
+        .collect::<Result<Vec<_>, PipelineError>>()?;
+    Ok((entities, part))
+}
+
+/// The entities no face or edge names (all of them without a boundary representation).
+fn free_entities(doc: &Document) -> Vec<&Entity> {
+    if doc.topology.is_empty() {
+        return doc.entities.iter().collect();
+    }
+    let o = &doc.topology.origins;
+    let named: std::collections::HashSet<&str> = o
+        .faces
+        .iter()
+        .chain(&o.edges)
+        .filter_map(|x| x.entity.as_deref())
+        .collect();
+    doc.entities
+        .iter()
+        .filter(|e| !named.contains(e.id.as_str()))
         .collect()
+}
+
+/// Faces, trimmed area, centroid, solids and volume of the input (scaled to the output
+/// unit) against the re-read output.
+fn part_deviation(
+    reference: &Document,
+    reread: &Document,
+    scale: f64,
+    tolerance: f64,
+) -> PartDeviation {
+    let (a, b) = (
+        reference.topology.model.totals(),
+        reread.topology.model.totals(),
+    );
+    let volume = |t: &crate::topology::Totals| -> f64 {
+        t.volumes.iter().filter_map(|v| v.as_ref().ok()).sum()
+    };
+    let (area_in, area_out) = (a.area * scale * scale, b.area);
+    let (volume_in, volume_out) = (volume(&a) * scale.powi(3), volume(&b));
+    let relative = |x: f64, y: f64| {
+        if x == 0.0 && y == 0.0 {
+            0.0
+        } else {
+            (y - x).abs() / x.abs().max(f64::MIN_POSITIVE)
+        }
+    };
+    let size = reference
+        .topology
+        .model
+        .faces
+        .iter()
+        .map(|f| bounding_box_diagonal(f.surface.control_points().as_slice()))
+        .fold(0.0, f64::max)
+        * scale;
+    let centroid_relative = if area_in > 0.0 && area_out > 0.0 {
+        distance(a.centroid.map(|x| x * scale), b.centroid) / size.max(f64::MIN_POSITIVE)
+    } else {
+        0.0
+    };
+    let (faces_in, faces_out) = (
+        reference.topology.model.faces.len(),
+        reread.topology.model.faces.len(),
+    );
+    let (solids_in, solids_out) = (
+        reference.topology.model.solids.len(),
+        reread.topology.model.solids.len(),
+    );
+    let area_relative = relative(area_in, area_out);
+    let volume_relative = relative(volume_in, volume_out);
+    let unmeasured_faces = a.unmeasured + b.unmeasured;
+    PartDeviation {
+        faces_in,
+        faces_out,
+        area_in,
+        area_out,
+        area_relative,
+        solids_in,
+        solids_out,
+        volume_in,
+        volume_out,
+        volume_relative,
+        centroid_relative,
+        unmeasured_faces,
+        ok: faces_in == faces_out
+            && solids_in == solids_out
+            && unmeasured_faces == 0
+            && area_relative <= tolerance
+            && volume_relative <= tolerance
+            && centroid_relative <= tolerance,
+    }
 }
 
 /// Largest distance between `a` (scaled by `scale`) and `b` at the same normalised
@@ -654,8 +773,82 @@ pub fn info(loaded: &Loaded) -> InfoReport {
         schema: doc.schema.clone(),
         units: units_info(doc.units),
         entities: doc.entities.iter().map(entity_info).collect(),
+        structure: structure_info(doc),
         diagnostics: doc.diagnostics.clone(),
     }
+}
+
+/// The boundary representation with every face measured (`None` without one).
+fn structure_info(doc: &Document) -> Option<StructureInfo> {
+    if doc.topology.is_empty() {
+        return None;
+    }
+    let (m, o) = (&doc.topology.model, &doc.topology.origins);
+    let totals = m.totals();
+    let id =
+        |v: &[exchange::Origin], i: usize| v.get(i).map_or_else(|| i.to_string(), |x| x.id.clone());
+    let shape_of = |entity: &Option<String>| {
+        entity
+            .as_ref()
+            .and_then(|e| doc.entities.iter().find(|x| &x.id == e))
+            .and_then(|x| x.meta.shape)
+    };
+    let faces = m
+        .faces
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let origin = o.faces.get(i);
+            let measured = &totals.faces[i];
+            FaceInfo {
+                id: id(&o.faces, i),
+                surface: origin.and_then(|x| x.entity.clone()),
+                shape: origin.and_then(|x| shape_of(&x.entity)),
+                loops: f.loops.len(),
+                edges: f.loops.iter().map(|l| l.coedges.len()).sum(),
+                same_sense: f.same_sense,
+                area: measured.as_ref().ok().map(|x| x.area),
+                area_error: measured.as_ref().err().map(ToString::to_string),
+            }
+        })
+        .collect();
+    let shells = m
+        .shells
+        .iter()
+        .enumerate()
+        .map(|(i, s)| ShellInfo {
+            id: id(&o.shells, i),
+            closed: s.closed,
+            faces: s.faces.len(),
+        })
+        .collect();
+    let solids = m
+        .solids
+        .iter()
+        .enumerate()
+        .map(|(i, s)| SolidInfo {
+            id: id(&o.solids, i),
+            name: o.solids.get(i).and_then(|x| x.name.clone()),
+            shells: 1 + s.voids.len(),
+            faces: std::iter::once(&s.outer)
+                .chain(&s.voids)
+                .filter_map(|sh| m.shells.get(sh.0))
+                .map(|sh| sh.faces.len())
+                .sum(),
+            volume: totals.volumes[i].as_ref().ok().copied(),
+        })
+        .collect();
+    Some(StructureInfo {
+        solids,
+        shells,
+        faces,
+        edges: m.edges.len(),
+        vertices: m.vertices.len(),
+        assemblies: m.assemblies.len(),
+        area: totals.area,
+        centroid: (totals.area > 0.0).then_some(totals.centroid),
+        unmeasured_faces: totals.unmeasured,
+    })
 }
 
 fn entity_info(e: &Entity) -> EntityInfo {

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::exchange::{Diagnostic, Severity, Source};
+use crate::exchange::{Diagnostic, Severity, Shape, Source};
 use crate::nurbs::{Geometry, Point3};
 
 /// `nurbsx info --json` / `POST /v1/info`.
@@ -15,10 +15,90 @@ pub struct InfoReport {
     pub schema: Option<String>,
     /// The length unit the coordinates are in.
     pub units: UnitsInfo,
-    /// Every B-spline entity.
+    /// Every curve and surface, as exact NURBS (face surfaces and edge curves included).
     pub entities: Vec<EntityInfo>,
+    /// The boundary representation: solids, shells, faces with their areas, edges.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureInfo>,
     /// What the reader noticed.
     pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The boundary representation of a file, in an [`InfoReport`].
+#[derive(Debug, Clone, Serialize)]
+pub struct StructureInfo {
+    /// Solids.
+    pub solids: Vec<SolidInfo>,
+    /// Shells.
+    pub shells: Vec<ShellInfo>,
+    /// Faces.
+    pub faces: Vec<FaceInfo>,
+    /// Number of edges.
+    pub edges: usize,
+    /// Number of vertices.
+    pub vertices: usize,
+    /// Assemblies (product structure kept as instances).
+    pub assemblies: usize,
+    /// Total area of the faces that could be measured (trimmed regions).
+    pub area: f64,
+    /// Their area-weighted centroid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub centroid: Option<Point3>,
+    /// Faces whose area could not be measured (each says why).
+    pub unmeasured_faces: usize,
+}
+
+/// One solid of a [`StructureInfo`].
+#[derive(Debug, Clone, Serialize)]
+pub struct SolidInfo {
+    /// Id in the file.
+    pub id: String,
+    /// Its name, when the file gives one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Shells: the outer one and the voids.
+    pub shells: usize,
+    /// Faces of all its shells.
+    pub faces: usize,
+    /// Enclosed volume (negative: the shells point inwards), when every face measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume: Option<f64>,
+}
+
+/// One shell of a [`StructureInfo`].
+#[derive(Debug, Clone, Serialize)]
+pub struct ShellInfo {
+    /// Id in the file.
+    pub id: String,
+    /// Whether every edge is used twice in opposite directions.
+    pub closed: bool,
+    /// Number of faces.
+    pub faces: usize,
+}
+
+/// One face of a [`StructureInfo`].
+#[derive(Debug, Clone, Serialize)]
+pub struct FaceInfo {
+    /// Id in the file.
+    pub id: String,
+    /// Id of the entity holding its surface (in `entities`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
+    /// What the surface was in the file (plane, cylinder ...), when known.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Shape>,
+    /// Number of loops (outer and holes).
+    pub loops: usize,
+    /// Number of edge uses over all loops.
+    pub edges: usize,
+    /// Whether the face normal is the surface normal.
+    pub same_sense: bool,
+    /// Area of the trimmed face.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area: Option<f64>,
+    /// Why the area is missing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area_error: Option<String>,
 }
 
 /// A length unit by name and factor.
@@ -107,9 +187,45 @@ pub struct ConvertReport {
     pub units: UnitsInfo,
     /// Reader and writer diagnostics.
     pub diagnostics: Vec<Diagnostic>,
-    /// With verification: the largest deviation per entity after re-reading the output.
+    /// With verification: the largest deviation per entity after re-reading the output
+    /// (with a boundary representation: the free curves and surfaces only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verify: Option<Vec<EntityDeviation>>,
+    /// With verification of a file with faces: what a CAD system sees of the part, before
+    /// and after (faces, trimmed area, solids, volume).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verify_part: Option<PartDeviation>,
+}
+
+/// The part as a CAD system sees it, input against re-read output (output unit).
+#[derive(Debug, Clone, Serialize)]
+pub struct PartDeviation {
+    /// Faces in the input.
+    pub faces_in: usize,
+    /// Faces read back.
+    pub faces_out: usize,
+    /// Total trimmed area of the input.
+    pub area_in: f64,
+    /// Total trimmed area read back.
+    pub area_out: f64,
+    /// `|area_out - area_in| / area_in`.
+    pub area_relative: f64,
+    /// Solids in the input.
+    pub solids_in: usize,
+    /// Solids read back.
+    pub solids_out: usize,
+    /// Total volume of the input's solids.
+    pub volume_in: f64,
+    /// Total volume read back.
+    pub volume_out: f64,
+    /// `|volume_out - volume_in| / |volume_in|` (0 without solids).
+    pub volume_relative: f64,
+    /// Distance between the area-weighted centroids relative to the part's size.
+    pub centroid_relative: f64,
+    /// Faces of either side whose area could not be measured.
+    pub unmeasured_faces: usize,
+    /// Same counts, and every relative figure within the tolerance.
+    pub ok: bool,
 }
 
 /// The sampled deviation of one entity between input and re-read output.

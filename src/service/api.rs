@@ -380,6 +380,12 @@ pub struct ConvertQuery {
     /// `true` (relative tolerance 1e-9) or a relative tolerance: re-read the output and
     /// compare every entity by sampling; a deviation above it is a 422.
     pub verify: Option<String>,
+    /// `true`: read the curves and surfaces only, without faces, edges, shells, solids and
+    /// assembly placements (a warning says how many were left out).
+    pub geometry_only: Option<bool>,
+    /// `true`: IGES output writes solids and shells as 186 manifold solid B-rep objects
+    /// instead of 144 trimmed surfaces.
+    pub iges_brep: Option<bool>,
 }
 
 impl ConvertQuery {

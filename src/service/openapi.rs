@@ -61,7 +61,8 @@ use super::error::{ErrorBody, ErrorDetail};
         TessellateRequest, FileFormat, DirectionName, MeshFormatName, SchemaName, ClampName,
         GeometryDoc, GeometryInputDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
-        ConvertReportDoc, EntityDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
+        ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, SolidInfoDoc, ShellInfoDoc,
+        FaceInfoDoc, PartDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
         GeometryReply, OpNoteDoc, Health, InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
@@ -269,10 +270,94 @@ pub struct InfoReportDoc {
     pub schema: Option<String>,
     /// The unit of the coordinates.
     pub units: UnitsInfoDoc,
-    /// Every B-spline entity.
+    /// Every curve and surface (face surfaces and edge curves included).
     pub entities: Vec<EntityInfoDoc>,
+    /// The boundary representation, when the file has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub structure: Option<StructureInfoDoc>,
     /// What the reader noticed.
     pub diagnostics: Vec<DiagnosticDoc>,
+}
+
+/// Solids, shells, faces (with their trimmed areas), edges.
+#[derive(Serialize, ToSchema)]
+#[schema(as = StructureInfo)]
+pub struct StructureInfoDoc {
+    /// Solids.
+    pub solids: Vec<SolidInfoDoc>,
+    /// Shells.
+    pub shells: Vec<ShellInfoDoc>,
+    /// Faces.
+    pub faces: Vec<FaceInfoDoc>,
+    /// Number of edges.
+    pub edges: usize,
+    /// Number of vertices.
+    pub vertices: usize,
+    /// Number of assemblies.
+    pub assemblies: usize,
+    /// Total trimmed area of the measured faces.
+    pub area: f64,
+    /// Their area-weighted centroid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub centroid: Option<[f64; 3]>,
+    /// Faces whose area could not be measured.
+    pub unmeasured_faces: usize,
+}
+
+/// One solid.
+#[derive(Serialize, ToSchema)]
+#[schema(as = SolidInfo)]
+pub struct SolidInfoDoc {
+    /// Id in the file.
+    pub id: String,
+    /// Name, when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Outer shell and voids.
+    pub shells: usize,
+    /// Faces.
+    pub faces: usize,
+    /// Enclosed volume, when every face measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume: Option<f64>,
+}
+
+/// One shell.
+#[derive(Serialize, ToSchema)]
+#[schema(as = ShellInfo)]
+pub struct ShellInfoDoc {
+    /// Id in the file.
+    pub id: String,
+    /// Every edge used twice in opposite directions.
+    pub closed: bool,
+    /// Faces.
+    pub faces: usize,
+}
+
+/// One face.
+#[derive(Serialize, ToSchema)]
+#[schema(as = FaceInfo)]
+pub struct FaceInfoDoc {
+    /// Id in the file.
+    pub id: String,
+    /// Entity id of its surface.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
+    /// Surface kind in the file (`plane`, `cylinder` ...).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<String>,
+    /// Loops.
+    pub loops: usize,
+    /// Edge uses.
+    pub edges: usize,
+    /// Face normal = surface normal.
+    pub same_sense: bool,
+    /// Trimmed area.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area: Option<f64>,
+    /// Why the area is missing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area_error: Option<String>,
 }
 
 /// `POST /v1/validate`.
@@ -310,6 +395,41 @@ pub struct ConvertReportDoc {
     /// With `verify`: the deviation per entity after re-reading.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verify: Option<Vec<EntityDeviationDoc>>,
+    /// With `verify` on a file with faces: faces, area, solids, volume before and after.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verify_part: Option<PartDeviationDoc>,
+}
+
+/// The part before and after (output unit).
+#[derive(Serialize, ToSchema)]
+#[schema(as = PartDeviation)]
+pub struct PartDeviationDoc {
+    /// Faces in the input.
+    pub faces_in: usize,
+    /// Faces read back.
+    pub faces_out: usize,
+    /// Trimmed area in.
+    pub area_in: f64,
+    /// Trimmed area read back.
+    pub area_out: f64,
+    /// Relative area change.
+    pub area_relative: f64,
+    /// Solids in.
+    pub solids_in: usize,
+    /// Solids read back.
+    pub solids_out: usize,
+    /// Volume in.
+    pub volume_in: f64,
+    /// Volume read back.
+    pub volume_out: f64,
+    /// Relative volume change.
+    pub volume_relative: f64,
+    /// Centroid shift relative to the part's size.
+    pub centroid_relative: f64,
+    /// Faces not measurable.
+    pub unmeasured_faces: usize,
+    /// Within tolerance.
+    pub ok: bool,
 }
 
 /// The sampled deviation of one entity after re-reading the output.

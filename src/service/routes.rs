@@ -96,12 +96,14 @@ pub async fn convert(
         export: ExportOptions {
             schema: query.schema.map(Into::into).unwrap_or_default(),
             units: query.units()?,
+            iges_brep: query.iges_brep.unwrap_or(false),
             ..ExportOptions::default()
         },
         clamp: query.clamp.map(Into::into).unwrap_or_default(),
         verify: query.verify()?,
     };
     let mut settings = state.settings.clone();
+    settings.import.geometry_only = query.geometry_only.unwrap_or(false);
     let output = state
         .gate
         .run(move |cancel| {

@@ -17,7 +17,7 @@
 //! file, so a face whose loops run the wrong way still measures right (the orientation is
 //! checked elsewhere).
 
-use super::{Face, Model, SolidId};
+use super::{Face, FaceId, Model, SolidId};
 use crate::nurbs::vector::{cross, dot, norm};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
@@ -329,6 +329,18 @@ impl Model {
     /// `same_sense` agrees with its orientation in the shell). Voids count negative by their
     /// own orientation. Negative when the shells point inwards.
     pub fn solid_volume(&self, solid: SolidId) -> Result<f64, MeasureError> {
+        self.volume_with(solid, |f| {
+            let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
+            self.measure_face(face)
+        })
+    }
+
+    /// [`Model::solid_volume`] with the faces measured by `measure`.
+    fn volume_with(
+        &self,
+        solid: SolidId,
+        measure: impl Fn(FaceId) -> Result<FaceMeasure, MeasureError>,
+    ) -> Result<f64, MeasureError> {
         let s = self
             .solids
             .get(solid.0)
@@ -340,12 +352,70 @@ impl Model {
             };
             for &(f, orientation) in &shell.faces {
                 let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
-                let m = self.measure_face(face)?;
+                let m = measure(f)?;
                 let outward = face.same_sense == orientation;
                 flux += if outward { m.flux } else { -m.flux };
             }
         }
         Ok(flux / 3.0)
+    }
+}
+
+/// The measures of a whole model: what `info` shows and `--verify` compares.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Totals {
+    /// Each face's measure, in model order.
+    pub faces: Vec<Result<FaceMeasure, MeasureError>>,
+    /// Each solid's volume, in model order.
+    pub volumes: Vec<Result<f64, MeasureError>>,
+    /// Sum of the areas of the faces that could be measured.
+    pub area: f64,
+    /// Their area-weighted centroid (NaN without area).
+    pub centroid: Point3,
+    /// How many faces could not be measured.
+    pub unmeasured: usize,
+}
+
+impl Model {
+    /// Every face's area and centroid, every solid's volume, and the totals.
+    pub fn totals(&self) -> Totals {
+        let faces: Vec<Result<FaceMeasure, MeasureError>> =
+            self.faces.iter().map(|f| self.measure_face(f)).collect();
+        let (mut area, mut moment) = (0.0, [0.0; 3]);
+        let mut unmeasured = 0;
+        for m in &faces {
+            match m {
+                Ok(m) => {
+                    area += m.area;
+                    for (x, c) in moment.iter_mut().zip(m.centroid) {
+                        *x += m.area * c;
+                    }
+                }
+                Err(_) => unmeasured += 1,
+            }
+        }
+        let centroid = if area > 0.0 {
+            moment.map(|x| x / area)
+        } else {
+            [f64::NAN; 3]
+        };
+        let volumes = (0..self.solids.len())
+            .map(|i| {
+                self.volume_with(SolidId(i), |f| {
+                    faces
+                        .get(f.0)
+                        .cloned()
+                        .unwrap_or(Err(MeasureError::NoSolid(i)))
+                })
+            })
+            .collect();
+        Totals {
+            faces,
+            volumes,
+            area,
+            centroid,
+            unmeasured,
+        }
     }
 }
 

@@ -35,7 +35,7 @@ mod measure;
 
 pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
-pub use measure::{FaceMeasure, MeasureError};
+pub use measure::{FaceMeasure, MeasureError, Totals};
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
