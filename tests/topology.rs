@@ -558,3 +558,171 @@ fn assemblies_compose_placements_and_refuse_cycles() {
         Err(TopologyError::AssemblyTooLarge { what: "levels", .. })
     ));
 }
+
+/// The cube's six faces each with its own four vertices and edges (as an IGES file of 144
+/// trimmed surfaces gives them). Face 0's edges run the other way round; face 1's edges are
+/// parameterised non-uniformly (a degree-2 line whose speed varies), so sewing must
+/// re-project its pcurves. Face 3 is described from the other side (`same_sense = false`,
+/// loop reversed: the same face). `inward`: every face described from the other side, a
+/// shell whose faces all point inwards. `skip` leaves faces out.
+fn loose_cube(skip: &[usize], inward: bool) -> (Model, Vec<FaceId>) {
+    let mut model = Model::new();
+    let mut faces = Vec::new();
+    let mut index = 0;
+    for k in 0..3 {
+        for s in 0..2 {
+            let this = index;
+            index += 1;
+            if skip.contains(&this) {
+                continue;
+            }
+            let (x, y) = if s == 1 {
+                (unit(k + 1), unit(k + 2))
+            } else {
+                (unit(k + 2), unit(k + 1))
+            };
+            let mut origin = [0.0; 3];
+            origin[k] = s as f64 * A;
+            let z = if s == 1 {
+                unit(k)
+            } else {
+                [-unit(k)[0], -unit(k)[1], -unit(k)[2]]
+            };
+            let frame = Frame { origin, x, y, z };
+            let surface = sweep::plane(&frame, (0.0, A), (0.0, A)).unwrap();
+            let uv = [[0.0, 0.0], [A, 0.0], [A, A], [0.0, A]];
+            let at = |q: [f64; 2]| -> Point3 {
+                std::array::from_fn(|c| origin[c] + q[0] * x[c] + q[1] * y[c])
+            };
+            let vs: Vec<VertexId> = uv
+                .iter()
+                .map(|&q| model.add_vertex(at(q), 1e-9).unwrap())
+                .collect();
+            let mut coedges = Vec::new();
+            for i in 0..4 {
+                let (a, b) = (i, (i + 1) % 4);
+                // Face 0: each edge from b to a, used backwards.
+                let (from, to, forward) = if this == 0 {
+                    (b, a, false)
+                } else {
+                    (a, b, true)
+                };
+                let (pa, pb) = (uv[from], uv[to]);
+                let curve = if this == 1 {
+                    let (p0, p2) = (at(pa), at(pb));
+                    // Middle pole off the midpoint: same segment, varying speed.
+                    let p1: Point3 = std::array::from_fn(|c| p0[c] + 0.3 * (p2[c] - p0[c]));
+                    NurbsCurve::new(2, vec![0., 0., 0., 2., 2., 2.], vec![p0, p1, p2], None)
+                        .unwrap()
+                } else {
+                    line_segment(at(pa), at(pb), 0.0, 1.0).unwrap()
+                };
+                let range = curve.domain();
+                let pcurve = if this == 1 {
+                    let q = |p: [f64; 2]| [p[0], p[1], 0.0];
+                    let m: [f64; 2] = std::array::from_fn(|c| pa[c] + 0.3 * (pb[c] - pa[c]));
+                    NurbsCurve::with_dimension(
+                        2,
+                        vec![0., 0., 0., 2., 2., 2.],
+                        vec![q(pa), q(m), q(pb)],
+                        None,
+                        2,
+                    )
+                    .unwrap()
+                } else {
+                    NurbsCurve::with_dimension(
+                        1,
+                        vec![0.0, 0.0, 1.0, 1.0],
+                        vec![[pa[0], pa[1], 0.0], [pb[0], pb[1], 0.0]],
+                        None,
+                        2,
+                    )
+                    .unwrap()
+                };
+                let edge = model
+                    .add_edge(curve, range, vs[from], vs[to], 1e-9)
+                    .unwrap();
+                coedges.push(Coedge {
+                    edge,
+                    forward,
+                    pcurve: Some(pcurve),
+                    pcurve_deviation: None,
+                });
+            }
+            // Described from the other side: the normal (same_sense) and the loop flipped
+            // together, as ISO 10303-42 ties the loop's direction to the face normal.
+            let flipped = (this == 3) != inward;
+            let same_sense = !flipped;
+            if flipped {
+                coedges.reverse();
+                for c in &mut coedges {
+                    c.forward = !c.forward;
+                }
+            }
+            let lp = Loop {
+                coedges,
+                outer: true,
+            };
+            faces.push(model.add_face(surface, vec![lp], same_sense).unwrap());
+        }
+    }
+    (model, faces)
+}
+
+/// Six loose faces sew into the cube: 8 vertices, 12 edges (each used once each way), one
+/// closed shell, one solid of volume A^3 (outward, also when every loop came inside out),
+/// whatever the edges' directions and parameterisations were; Euler V - E + F = 2.
+#[test]
+fn loose_faces_sew_into_a_solid() {
+    for inward in [false, true] {
+        sew_the_cube(inward);
+    }
+}
+
+fn sew_the_cube(inward: bool) {
+    let (mut m, faces) = loose_cube(&[], inward);
+    assert_eq!((m.vertices.len(), m.edges.len()), (24, 24));
+    let sewing = m.sew(&faces, 1e-7).unwrap();
+    assert_eq!(sewing.merged_edges, 12);
+    assert_eq!(sewing.lost_pcurves, 0);
+    assert_eq!((m.vertices.len(), m.edges.len()), (8, 12));
+    assert_eq!(
+        m.vertices.len() as i64 - m.edges.len() as i64 + m.faces.len() as i64,
+        2
+    );
+    assert!(sewing.open_edges.is_empty(), "{:?}", sewing.open_edges);
+    assert_eq!(sewing.solids.len(), 1);
+    assert!(m.shells[sewing.shells[0].0].closed);
+    let v = m.solid_volume(sewing.solids[0]).unwrap();
+    assert!((v - A * A * A).abs() <= 1e-12 * A * A * A, "{v}");
+    // Every carried or re-projected pcurve still lies on its edge.
+    for f in &m.faces {
+        for c in &f.loops[0].coedges {
+            assert!(
+                c.pcurve_deviation.unwrap() <= 1e-7,
+                "{:?}",
+                c.pcurve_deviation
+            );
+        }
+    }
+}
+
+/// Five faces (the top left off) sew into one open shell whose four rim edges are reported;
+/// no solid.
+#[test]
+fn an_open_box_stays_an_open_shell() {
+    let (mut m, faces) = loose_cube(&[5], false);
+    let sewing = m.sew(&faces, 1e-7).unwrap();
+    assert_eq!(sewing.solids.len(), 0);
+    assert_eq!(sewing.shells.len(), 1);
+    assert!(!m.shells[sewing.shells[0].0].closed);
+    assert_eq!(sewing.open_edges.len(), 4, "{:?}", sewing.open_edges);
+    for e in &sewing.open_edges {
+        let edge = &m.edges[e.0];
+        let (a, b) = (m.vertices[edge.start.0].point, m.vertices[edge.end.0].point);
+        assert!(
+            a[2] == A && b[2] == A,
+            "rim edges lie on the missing top face"
+        );
+    }
+}

@@ -193,8 +193,10 @@ fn boundary_rule(
 const MAX_PIECES: usize = 1 << 10;
 
 /// `∫_a^b H(pc(t)) v'(t) dt`, adaptive on each knot span of the pcurve: a piece is kept when
-/// its 10- and 20-point rules agree to 1e-12 of the size of its terms, else halved.
-fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64) -> Vec5 {
+/// its 10- and 20-point rules agree to 1e-12 of the size of its terms or to `floor` (the
+/// face's scale: a pcurve along `u = u_0`, where `H` vanishes, carries only rounding noise
+/// that no halving removes).
+fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64, floor: f64) -> Vec5 {
     let mut total = [0.0; 5];
     for w in breaks(pc.knots(), pc.degree(), a, b).windows(2) {
         let mut stack = vec![(w[0], w[1])];
@@ -204,7 +206,10 @@ fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64) -> Vec5 {
             let (low, _) = boundary_rule(s, pc, x, y, &rules().low);
             let diff = (0..5).map(|k| (high[k] - low[k]).abs()).fold(0.0, f64::max);
             pieces += 1;
-            if diff <= 1e-12 * mass || pieces + stack.len() >= MAX_PIECES || diff.is_nan() {
+            if diff <= (1e-12 * mass).max(floor)
+                || pieces + stack.len() >= MAX_PIECES
+                || diff.is_nan()
+            {
                 add5(&mut total, &high, 1.0);
             } else {
                 let m = 0.5 * (x + y);
@@ -248,6 +253,12 @@ impl Model {
             }
         } else {
             let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
+            // The size of the face's integrals: H across the whole domain times its v extent.
+            let floor = 1e-14
+                * (v1 - v0)
+                * inner(s, u1, 0.5 * (v0 + v1))
+                    .iter()
+                    .fold(0.0f64, |m, x| m.max(x.abs()));
             let mut loops: Vec<(bool, Vec5)> = Vec::with_capacity(face.loops.len());
             for (index, l) in face.loops.iter().enumerate() {
                 let mut total = [0.0; 5];
@@ -271,9 +282,9 @@ impl Model {
                     // Walking the pcurve backwards negates the integral: boundary() takes
                     // its bounds in walking order.
                     let part = if a <= b {
-                        boundary(s, pc, a, b)
+                        boundary(s, pc, a, b, floor)
                     } else {
-                        let mut r = boundary(s, pc, b, a);
+                        let mut r = boundary(s, pc, b, a, floor);
                         r.iter_mut().for_each(|x| *x = -*x);
                         r
                     };

@@ -25,6 +25,7 @@
 //! - [`Model::add_solid`]: the outer shell and the voids are closed shells.
 //! - [`Assembly`]: instances of parts under affine placements; [`Model::flatten`] composes the
 //!   placements without recursion and refuses cycles.
+//! - [`Model::sew`]: loose faces into shells and solids (shared vertices and edges).
 //! - [`Model::measure_face`], [`Model::solid_volume`]: area, centroid and volume over the
 //!   trimmed regions, by Green's theorem along the pcurves.
 
@@ -32,10 +33,12 @@ mod assembly;
 mod check;
 mod error;
 mod measure;
+mod sew;
 
 pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
+pub use sew::Sewing;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
