@@ -30,6 +30,7 @@ mod surfaces;
 mod topology;
 mod vector;
 mod write;
+mod write_topology;
 
 pub use forms::{form, form_warnings};
 pub use read::read;

@@ -469,11 +469,14 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// Adds a face; a coedge whose pcurve the check refuses loses it and the face is
     /// checked again, any other violation is a located error.
+    /// `loop_entries[i]` is the 142 or 508 loop `i` came from (a loop's violation is
+    /// located there).
     fn add_face(
         &mut self,
         entry: &DirectoryEntry,
         surface: (&Entity, &NurbsSurface),
         mut loops: Vec<Loop>,
+        loop_entries: &[&DirectoryEntry],
         diags: &mut Vec<Diagnostic>,
     ) -> Option<FaceId> {
         let total: usize = loops.iter().map(|l| l.coedges.len()).sum();
@@ -498,7 +501,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     }
                 }
                 Err(e) => {
-                    diags.push(topology_error(entry, &e));
+                    let at = match &e {
+                        TopologyError::LoopOpen { index, .. } => loop_entries.get(*index),
+                        _ => None,
+                    };
+                    let mut d = topology_error(at.copied().unwrap_or(entry), &e);
+                    d.message = format!("{} (face D{})", d.message, entry.pointer);
+                    diags.push(d);
                     return None;
                 }
             }
@@ -515,19 +524,17 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             return;
         };
         let mut loops = Vec::with_capacity(1 + rec.inner.len());
-        if rec.outer_given != 0 {
-            let Some(l) = self.loop142(entry, "PTO", rec.outer, true, surface, diags) else {
+        let mut at = Vec::with_capacity(1 + rec.inner.len());
+        let outer = (rec.outer_given != 0).then_some(("PTO", rec.outer, true));
+        let inner = rec.inner.iter().map(|&b| ("PTI", b, false));
+        for (field, p, is_outer) in outer.into_iter().chain(inner) {
+            let Some((l, e)) = self.loop142(entry, field, p, is_outer, surface, diags) else {
                 return;
             };
             loops.push(l);
+            at.push(e);
         }
-        for &b in &rec.inner {
-            let Some(l) = self.loop142(entry, "PTI", b, false, surface, diags) else {
-                return;
-            };
-            loops.push(l);
-        }
-        self.add_face(entry, surface, loops, diags);
+        self.add_face(entry, surface, loops, &at, diags);
     }
 
     /// A 142 Curve on a Parametric Surface as a loop: one coedge per model-space curve
@@ -540,7 +547,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         outer: bool,
         surface: (&'c Entity, &'c NurbsSurface),
         diags: &mut Vec<Diagnostic>,
-    ) -> Option<Loop> {
+    ) -> Option<(Loop, &'f DirectoryEntry)> {
         let e = self.target(face, field, p, &[142], diags)?;
         let rec = decoded(self.cx.file.decode::<CurveOnSurface142>(e), diags)?;
         if rec.model_curve == 0 {
@@ -579,7 +586,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 pcurve_deviation: None,
             });
         }
-        Some(Loop { coedges, outer })
+        Some((Loop { coedges, outer }, e))
     }
 
     /// A 186 Manifold Solid B-Rep Object as a solid.
@@ -667,12 +674,14 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         let rec = decoded(self.cx.file.decode::<Face510>(entry), diags)?;
         let surface = self.surface(entry, "SURF", rec.surface, diags)?;
         let mut loops = Vec::with_capacity(rec.loops.len());
+        let mut at = Vec::with_capacity(rec.loops.len());
         for (k, &l) in rec.loops.iter().enumerate() {
             let outer = k == 0 && rec.outer_first != 0;
             let lp = self.target(entry, "LOOP", l, &[508], diags)?;
             loops.push(self.loop508(lp, outer, surface, diags)?);
+            at.push(lp);
         }
-        let f = self.add_face(entry, surface, loops, diags);
+        let f = self.add_face(entry, surface, loops, &at, diags);
         self.faces.insert(entry.pointer, f);
         f
     }
