@@ -63,14 +63,18 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     let (start, global) = header(options, unit, items.max_coord, items.des.len())?;
     // About 20 bytes a real with its delimiter, 64 of each 81 columns holding data.
     let p_bytes = items.reals.saturating_mul(28) + items.des.len() * 100;
-    writer::write_with(&start, &global, &items.des, p_bytes, |index, w| {
-        match items.items.get(index) {
+    writer::write_with(
+        &start,
+        &global,
+        &items.des,
+        p_bytes,
+        |index, w| match items.items.get(index) {
             Some(Item::Curve(c, p)) => curve_record(c, p, factor).write_params(w),
             Some(Item::Surface(s, p)) => surface_record(s, p, factor).write_params(w),
             Some(Item::Record(r)) => r.write_params(w),
             None => Ok(()),
-        }
-    })
+        },
+    )
     .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
 }
 
@@ -120,7 +124,12 @@ impl<'d> Items<'d> {
     /// curve another entity uses). Returns its DE pointer.
     pub(super) fn curve(&mut self, c: Cow<'d, NurbsCurve>, meta: &Meta, subordinate: u8) -> i64 {
         let use_flag = if c.dimension() == 2 { 5 } else { 0 };
-        let mut d = de(126, meta, use_flag, forms::curve_form(&c, meta.shape).unwrap_or(0));
+        let mut d = de(
+            126,
+            meta,
+            use_flag,
+            forms::curve_form(&c, meta.shape).unwrap_or(0),
+        );
         d.status.subordinate = subordinate;
         let factor = self.factor;
         self.max_coord = c
@@ -139,7 +148,12 @@ impl<'d> Items<'d> {
         meta: &Meta,
         subordinate: u8,
     ) -> i64 {
-        let mut d = de(128, meta, 0, forms::surface_form(&s, meta.shape).unwrap_or(0));
+        let mut d = de(
+            128,
+            meta,
+            0,
+            forms::surface_form(&s, meta.shape).unwrap_or(0),
+        );
         d.status.subordinate = subordinate;
         let net = s.control_points().as_slice();
         let factor = self.factor;
@@ -216,7 +230,6 @@ fn header(
     let start = format!("nurbsx {version}: exact NURBS exchange; {count} entities");
     Ok((start, global))
 }
-
 
 /// The 126 flags, parameter range and normal (module documentation).
 pub(super) struct CurvePlan {

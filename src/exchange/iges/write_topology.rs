@@ -53,12 +53,7 @@ pub(super) fn write<'d>(
         .map(|e| (e.id.as_str(), e))
         .collect();
     let mut named: HashSet<&'d str> = HashSet::new();
-    for o in topology
-        .origins
-        .faces
-        .iter()
-        .chain(&topology.origins.edges)
-    {
+    for o in topology.origins.faces.iter().chain(&topology.origins.edges) {
         if let Some(id) = o.entity.as_deref() {
             named.insert(id);
         }
@@ -308,7 +303,11 @@ fn trimmed_face<'d>(
 
 /// A curve on `range` traversed forward, or reversed (`C(a + b - u)`, NURBS Book section
 /// 6.1 reversal by mirrored knots) with the range mirrored.
-fn along(curve: &NurbsCurve, range: (f64, f64), forward: bool) -> (Cow<'_, NurbsCurve>, (f64, f64)) {
+fn along(
+    curve: &NurbsCurve,
+    range: (f64, f64),
+    forward: bool,
+) -> (Cow<'_, NurbsCurve>, (f64, f64)) {
     if forward {
         return (Cow::Borrowed(curve), range);
     }
