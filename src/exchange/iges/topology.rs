@@ -113,7 +113,11 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     let mut b = Builder::new(cx, &doc.entities);
     for entry in cx.file.entries.iter().flatten() {
         match entry.entity_type {
-            144 => b.face144(entry, diags),
+            144 => {
+                if !b.face144(entry, diags) {
+                    b.trim_not_applied(entry, diags);
+                }
+            }
             186 => b.solid186(entry, diags),
             _ => {}
         }
@@ -223,7 +227,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             ));
         }
         if self.no_pcurve > 0 {
-            diags.push(Diagnostic::warning(
+            // The faces keep their exact 3-D boundaries; only this derived form is missing.
+            diags.push(Diagnostic::info(
                 "topology.pcurve_missing",
                 format!(
                     "{} of {} coedges have no parameter-space curve (neither given exactly nor found by projection within the edge tolerance {:e})",
@@ -515,26 +520,53 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         None
     }
 
-    /// A 144 Trimmed Surface as a face.
-    fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) {
-        let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
+    /// The `trim_ignored` note on the surface of a 144 whose face could not be read.
+    fn trim_not_applied(&self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) {
+        let Ok(rec) = self.cx.file.decode::<TrimmedSurface144>(entry).record else {
             return;
         };
+        if let Some(s) = self.cx.file.entry(rec.surface)
+            && self.by_de.contains_key(&s.pointer)
+        {
+            diags.push(Diagnostic::info(
+                "trim_ignored",
+                format!(
+                    "used by D{} (144), whose face is not read (see its diagnostic); the untrimmed surface is returned",
+                    entry.pointer
+                ),
+                entity_location(s),
+            ));
+        }
+    }
+
+    /// A 144 Trimmed Surface as a face; whether it was built.
+    fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
+            return false;
+        };
         let Some(surface) = self.surface(entry, "PTS", rec.surface, diags) else {
-            return;
+            return false;
         };
         let mut loops = Vec::with_capacity(1 + rec.inner.len());
         let mut at = Vec::with_capacity(1 + rec.inner.len());
-        let outer = (rec.outer_given != 0).then_some(("PTO", rec.outer, true));
+        if rec.outer_given != 0 && rec.outer == 0 {
+            diags.push(Diagnostic::warning(
+                "topology.outer_missing",
+                "N1 = 1 but PTO = 0: the face is read bounded by its surface's own domain"
+                    .to_owned(),
+                entity_location(entry),
+            ));
+        }
+        let outer = (rec.outer_given != 0 && rec.outer != 0).then_some(("PTO", rec.outer, true));
         let inner = rec.inner.iter().map(|&b| ("PTI", b, false));
         for (field, p, is_outer) in outer.into_iter().chain(inner) {
             let Some((l, e)) = self.loop142(entry, field, p, is_outer, surface, diags) else {
-                return;
+                return false;
             };
             loops.push(l);
             at.push(e);
         }
-        self.add_face(entry, surface, loops, &at, diags);
+        self.add_face(entry, surface, loops, &at, diags).is_some()
     }
 
     /// A 142 Curve on a Parametric Surface as a loop: one coedge per model-space curve
@@ -551,7 +583,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         let e = self.target(face, field, p, &[142], diags)?;
         let rec = decoded(self.cx.file.decode::<CurveOnSurface142>(e), diags)?;
         if rec.model_curve == 0 {
-            diags.push(Diagnostic::error(
+            diags.push(Diagnostic::warning(
                 "topology.no_model_curve",
                 format!(
                     "CPTR = 0 (PREF = {}): a boundary given only in parameter space is not read; the face D{} is skipped",

@@ -52,7 +52,12 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         super::write_topology::write(document, options.iges_brep, &mut items)
     };
     for e in &document.entities {
-        if named.contains(e.id.as_str()) {
+        // A face's surface or an edge's curve is written with its face; a 2-D curve that a
+        // 142 or 508 used is a pcurve, which the topology carries on its coedge.
+        let pcurve = !named.is_empty()
+            && !e.meta.used_by.is_empty()
+            && matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2);
+        if named.contains(e.id.as_str()) || pcurve {
             continue;
         }
         match &e.geometry {
