@@ -47,7 +47,7 @@ fn brep_records_decode_by_their_declarations() {
     let short = b.entity(ty(514), "514,2,9,1;"); // D17
     let text = b.build();
     let file = iges::parse(&text).unwrap();
-    let entry = |de: usize| file.entry(de as i64).unwrap();
+    let entry = |de: usize| file.entry(i64::try_from(de).unwrap()).unwrap();
     assert_eq!(
         file.decode::<VertexList502>(entry(vl)).record.unwrap(),
         VertexList502 {

@@ -113,11 +113,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     let mut b = Builder::new(cx, &doc.entities);
     for entry in cx.file.entries.iter().flatten() {
         match entry.entity_type {
-            144 => {
-                if !b.face144(entry, diags) {
-                    b.trim_not_applied(entry, diags);
-                }
-            }
+            144 if !b.face144(entry, diags) => b.trim_not_applied(entry, diags),
             186 => b.solid186(entry, diags),
             _ => {}
         }

@@ -301,6 +301,9 @@ fn trimmed_face<'d>(
     );
 }
 
+/// A curve to write with the parameter range it is written on.
+type Piece<'d> = (Cow<'d, NurbsCurve>, (f64, f64));
+
 /// A curve on `range` traversed forward, or reversed (`C(a + b - u)`, NURBS Book section
 /// 6.1 reversal by mirrored knots) with the range mirrored.
 fn along(
@@ -324,7 +327,7 @@ fn parameter_loop<'d>(
     model: &'d Model,
     face: &Face,
     coedges: &'d [Coedge],
-) -> Option<Vec<(Cow<'d, NurbsCurve>, (f64, f64))>> {
+) -> Option<Vec<Piece<'d>>> {
     let ((u0, u1), (v0, v1)) = face.surface.domain();
     let tol = PCURVE_CHAIN_TOL * (u1 - u0).abs().max((v1 - v0).abs()).max(1.0);
     let mut pieces = Vec::with_capacity(coedges.len());
