@@ -16,7 +16,9 @@
 //!   into [`Document::topology`](super::Document) by [`topology`] over the same converted
 //!   geometry (not with `geometry_only`, which says what it left out). One bad entity gives
 //!   a located error diagnostic; the others still load.
-//! - [`write()`]: every curve and surface of a document as 126/128 with PROP flags computed
+//! - [`write()`]: the topology as 144 trimmed surfaces with 142 boundaries (or, with
+//!   `ExportOptions::iges_brep`, 186 solids with 514/510/508/504/502), then every curve and
+//!   surface no face or edge names as 126/128 with PROP flags computed
 //!   from the data, `V(0)`, `V(1)`, the plane normal and the form number of its kind when
 //!   the geometry passes that kind's check ([`form_warnings`] lists those that do not), and a
 //!   Global section declaring the unit the numbers are in.

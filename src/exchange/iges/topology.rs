@@ -772,13 +772,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .edge_lists
             .get(&list.pointer)
             .and_then(Option::as_ref)
-            .and_then(|l| {
-                usize::try_from(index)
-                    .ok()
-                    .and_then(|i| i.checked_sub(1))
-                    .and_then(|i| l.edges.get(i))
-            })
-            .copied();
+            .and_then(|l| nth(&l.edges, index));
         let Some(edge) = edge else {
             diags.push(Diagnostic::error(
                 "pointer.invalid",
@@ -872,13 +866,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .vertex_lists
             .get(&list.pointer)
             .and_then(Option::as_ref)
-            .and_then(|l| {
-                usize::try_from(index)
-                    .ok()
-                    .and_then(|i| i.checked_sub(1))
-                    .and_then(|i| l.points.get(i))
-            })
-            .copied();
+            .and_then(|l| nth(&l.points, index));
         let Some(point) = point else {
             diags.push(Diagnostic::error(
                 "pointer.invalid",
@@ -905,6 +893,12 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         self.list_vertices.insert((list.pointer, index), Some(v));
         Some(v)
     }
+}
+
+/// Item `index` of a list that IGES indexes from 1 (502 vertices, 504 edges).
+fn nth<T: Copy>(list: &[T], index: i64) -> Option<T> {
+    let i = usize::try_from(index).ok()?.checked_sub(1)?;
+    list.get(i).copied()
 }
 
 /// A refused piece of topology as a located error with a stable code.

@@ -1,4 +1,5 @@
-//! [`Document`] -> IGES 5.3 text: 126/128 with PROP flags computed from the data
+//! [`Document`] -> IGES 5.3 text: the topology (faces as 144/142, or 186 B-rep solids, by
+//! [`super::write_topology`]), then 126/128 with PROP flags computed from the data
 //! (spec.md a.2, a.4, b.1, b.2; pitfalls.md A4, B11, D21).
 //!
 //! - PROP1 (126): planar when every pole lies in one plane (2-D curves: the xy plane);
