@@ -42,6 +42,47 @@ fn every_sample_round_trips_bit_identically() {
                 "{}: unit changed",
                 path.display()
             );
+            if format == Format::Iges && !reference.topology.is_empty() {
+                // A document with faces is written as its faces (IGES 144 with the edge
+                // curves as their boundaries) and the entities no face names: what comes
+                // back is that topology, compared surface by surface and edge by edge.
+                let (a, b) = (&reference.topology.model, &back.topology.model);
+                assert_eq!(a.faces.len(), b.faces.len(), "{}: faces", path.display());
+                for (fa, fb) in a.faces.iter().zip(&b.faces) {
+                    assert_eq!(format!("{:?}", fa.surface), format!("{:?}", fb.surface));
+                    assert_eq!(fa.loops.len(), fb.loops.len());
+                    for (la, lb) in fa.loops.iter().zip(&fb.loops) {
+                        assert_eq!(la.coedges.len(), lb.coedges.len());
+                        for (ca, cb) in la.coedges.iter().zip(&lb.coedges) {
+                            let (ea, eb) = (&a.edges[ca.edge.0], &b.edges[cb.edge.0]);
+                            // A coedge used against its edge (a 186 B-rep loop) is written
+                            // as the reversed curve, which the 144 reads as a forward edge.
+                            let curve = if ca.forward == cb.forward {
+                                ea.curve.clone()
+                            } else {
+                                ea.curve.reverse().unwrap()
+                            };
+                            let (d0, d1) = ea.curve.domain();
+                            let range = if ca.forward == cb.forward {
+                                ea.range
+                            } else {
+                                (d0 + d1 - ea.range.1, d0 + d1 - ea.range.0)
+                            };
+                            assert_eq!(
+                                format!("{curve:?}"),
+                                format!("{:?}", eb.curve),
+                                "{}",
+                                path.display()
+                            );
+                            assert_eq!(range, eb.range);
+                        }
+                    }
+                }
+                // (The text is not compared again: pcurves the file does not give are
+                // derived by projection, and a second read may find some the first did not.)
+                entities += a.faces.len() + a.edges.len();
+                continue;
+            }
             assert_eq!(
                 back.entities.len(),
                 reference.entities.len(),

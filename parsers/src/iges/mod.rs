@@ -9,8 +9,9 @@
 //!   of the P section) are rules of that one grammar.
 //! - [`records`]: one declaration per entity nurbsx reads (the curves 100-112 and 126, the
 //!   surfaces 108, 114-122, 128 and 190-198, the 116 points and 123 directions they name, 124,
-//!   and the 102, 142, 144, 504, 508, 510 whose pointers it follows) and the typed record
-//!   built from it;
+//!   the trimmed and bounded faces 102, 141, 142, 143, 144, the B-rep 186, 502, 504, 508,
+//!   510, 514 and the subfigures 308, 408) and the typed record built from it; the records
+//!   of the B-rep and trimmed-face entities also write themselves;
 //!   [`IgesFile::decode`] is the one decoder of every declared entity.
 //! - [`writer`]: typed records in, 80-column text out.
 //!

@@ -11,10 +11,14 @@
 //!   transformation chains are applied to the Euclidean poles of every entity; Global units
 //!   (flag wins over name, `unit_conflict`) are reported and, on request, converted; on
 //!   request ([`ImportOptions::trim_to_parameter_range`](super::ImportOptions)) 126/128 are
-//!   trimmed exactly to their declared ranges. Entities used by 142/144 (trims) or 186/5xx
-//!   (topology) are read alone and a `trim_ignored` / `topology_ignored` diagnostic says so.
-//!   One bad entity gives a located error diagnostic; the others still load.
-//! - [`write()`]: every curve and surface of a document as 126/128 with PROP flags computed
+//!   trimmed exactly to their declared ranges. The faces, shells and solids (144 trimmed
+//!   surfaces with their 142 boundaries; 186 B-rep solids with 514/510/508/504/502) are read
+//!   into [`Document::topology`](super::Document) by [`topology`] over the same converted
+//!   geometry (not with `geometry_only`, which says what it left out). One bad entity gives
+//!   a located error diagnostic; the others still load.
+//! - [`write()`]: the topology as 144 trimmed surfaces with 142 boundaries (or, with
+//!   `ExportOptions::iges_brep`, 186 solids with 514/510/508/504/502), then every curve and
+//!   surface no face or edge names as 126/128 with PROP flags computed
 //!   from the data, `V(0)`, `V(1)`, the plane normal and the form number of its kind when
 //!   the geometry passes that kind's check ([`form_warnings`] lists those that do not), and a
 //!   Global section declaring the unit the numbers are in.
@@ -25,8 +29,10 @@ mod curves;
 mod forms;
 mod read;
 mod surfaces;
+mod topology;
 mod vector;
 mod write;
+mod write_topology;
 
 pub use forms::{form, form_warnings};
 pub use read::read;

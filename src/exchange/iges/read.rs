@@ -90,8 +90,14 @@ impl Context<'_, '_> {
 /// `limit.poles`, `transform.invalid`, `prop3_inconsistent`, `prop3_rational_equal_weights`,
 /// `flag_mismatch`, `flag_invalid`, `missing_param_range`, `param_range_outside`,
 /// `missing_normal`, `unit_conflict`, `unit_unknown`, `unit_default`, `units_converted`,
-/// `model_scale_ignored`, `trimmed_to_range`, `trim_not_applied`, `trim_ignored`,
-/// `topology_ignored`, `entities_skipped`, `no_exact_form`, the conversions' codes
+/// `model_scale_ignored`, `trimmed_to_range`, `trim_not_applied`, `trim_ignored` (143
+/// bounded surfaces, and every trim when read geometry-only), `topology_ignored`
+/// (geometry-only), `entities_skipped`, `no_exact_form`, the topology's codes
+/// (`topology.not_read`, `topology.loop_open`, `topology.edge_vertex`,
+/// `topology.pcurve_deviates`, `topology.pcurve_missing`, `topology.shell_open`,
+/// `topology.solid_shell_open`, `topology.wrong_entity`, `topology.geometry_missing`,
+/// `topology.no_model_curve`, `topology.vertex_use`, `topology.edge_composite`,
+/// `topology.edge_tolerance`, `topology.outer_missing`), the conversions' codes
 /// (`form_mismatch`, `conic.degenerate`, `conic_point_off`, `arc_radius_mismatch`,
 /// `unbounded.not_represented`, `points.not_represented`, `annotation.not_represented`,
 /// `vectors_dropped`, `spline_gap`, `spline_terminate`, `composite_gap`,
@@ -169,6 +175,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             Location::default(),
         ));
     }
+    super::topology::read(&cx, &mut doc, &mut diags);
     doc.diagnostics = diags;
     Ok(doc)
 }
@@ -354,9 +361,13 @@ fn finish(
         let mut topo = Vec::new();
         for &(de, ty) in list {
             meta.used_by.push(format!("D{de}"));
-            if matches!(ty, 141..=144) {
+            // Trimmed faces (144 with 142 boundaries) and B-rep topology are read into
+            // the document's topology unless the options ask for geometry only; bounded
+            // surfaces (143 with 141 boundaries) never are.
+            let read_as_topology = !cx.options.geometry_only;
+            if matches!(ty, 141 | 143) || (matches!(ty, 142 | 144) && !read_as_topology) {
                 trim.push(format!("D{de} ({ty})"));
-            } else if matches!(ty, 186 | 502..=514) {
+            } else if matches!(ty, 186 | 502..=514) && !read_as_topology {
                 topo.push(format!("D{de} ({ty})"));
             }
         }

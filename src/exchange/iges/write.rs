@@ -1,4 +1,5 @@
-//! [`Document`] -> IGES 5.3 text: 126/128 with PROP flags computed from the data
+//! [`Document`] -> IGES 5.3 text: the topology (faces as 144/142, or 186 B-rep solids, by
+//! [`super::write_topology`]), then 126/128 with PROP flags computed from the data
 //! (spec.md a.2, a.4, b.1, b.2; pitfalls.md A4, B11, D21).
 //!
 //! - PROP1 (126): planar when every pole lies in one plane (2-D curves: the xy plane);
@@ -25,64 +26,173 @@ use nurbsx_parsers::iges::records::{Curve126, Surface128};
 use nurbsx_parsers::iges::writer::{self, WriteParams};
 use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
 
+use std::borrow::Cow;
+
 use super::{analysis, forms};
 use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 
-/// Writes the document's curves and surfaces as an IGES 5.3 file.
+/// Writes the document as an IGES 5.3 file: its topology when it has one (faces as 144
+/// trimmed surfaces with 142 boundaries, or with `ExportOptions::iges_brep` solids and
+/// shells as 186 with 514/510/508/504/502; [`super::write_topology`]), then every curve and
+/// surface that no face or edge names, as 126/128.
 ///
 /// Errors (a `Diagnostic` with code `iges.write` or `options.timestamp`) only for values
 /// that cannot be written (non-finite after unit scaling) or a malformed timestamp.
 ///
-/// Each entity becomes its typed record ([`Curve126`], [`Surface128`]) when the writer
-/// reaches it, and the record writes itself into the P section ([`writer::write_with`]).
+/// Each entity becomes its typed record ([`Curve126`], [`Surface128`], the topology
+/// records) when the writer reaches it, and the record writes itself into the P section
+/// ([`writer::write_with`]).
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
     let unit = options.units.unwrap_or(document.units);
     let factor = (unit != document.units).then(|| document.units.to_mm() / unit.to_mm());
-    let mut des = Vec::with_capacity(document.entities.len());
-    let mut plans = Vec::with_capacity(document.entities.len());
-    let mut max_coord = 0.0f64;
-    let mut reals = 0usize;
+    let mut items = Items::new(factor, document.entities.len());
+    let named = if document.topology.is_empty() {
+        std::collections::HashSet::new()
+    } else {
+        super::write_topology::write(document, options.iges_brep, &mut items)
+    };
     for e in &document.entities {
-        let plan = match &e.geometry {
-            Geometry::Curve(c) => {
-                let use_flag = if c.dimension() == 2 { 5 } else { 0 };
-                des.push(de(126, &e.meta, use_flag, &e.geometry));
-                max_coord = c
-                    .control_points()
-                    .iter()
-                    .fold(max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
-                reals += c.knots().len() + 4 * c.num_poles() + 5;
-                Plan::Curve(curve_plan(c, &e.meta))
-            }
-            Geometry::Surface(s) => {
-                des.push(de(128, &e.meta, 0, &e.geometry));
-                let net = s.control_points().as_slice();
-                max_coord = net
-                    .iter()
-                    .fold(max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
-                reals += s.knots_u().len() + s.knots_v().len() + 4 * net.len() + 4;
-                Plan::Surface(surface_plan(s, &e.meta))
-            }
-        };
-        plans.push(plan);
-    }
-    let (start, global) = header(options, unit, max_coord, document.entities.len())?;
-    // About 20 bytes a real with its delimiter, 64 of each 81 columns holding data.
-    let p_bytes = reals.saturating_mul(28) + document.entities.len() * 100;
-    writer::write_with(&start, &global, &des, p_bytes, |index, w| {
-        let (Some(e), Some(plan)) = (document.entities.get(index), plans.get(index)) else {
-            return Ok(());
-        };
-        match (&e.geometry, plan) {
-            (Geometry::Curve(c), Plan::Curve(p)) => curve_record(c, p, factor).write_params(w),
-            (Geometry::Surface(s), Plan::Surface(p)) => {
-                surface_record(s, p, factor).write_params(w)
-            }
-            _ => Ok(()), // unreachable: plans are made from the same entities
+        // A face's surface or an edge's curve is written with its face; a 2-D curve that a
+        // 142 or 508 used is a pcurve, which the topology carries on its coedge.
+        let pcurve = !named.is_empty()
+            && !e.meta.used_by.is_empty()
+            && matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2);
+        if named.contains(e.id.as_str()) || pcurve {
+            continue;
         }
-    })
+        match &e.geometry {
+            Geometry::Curve(c) => items.curve(Cow::Borrowed(c), &e.meta, 0),
+            Geometry::Surface(s) => items.surface(Cow::Borrowed(s), &e.meta, 0),
+        };
+    }
+    let (start, global) = header(options, unit, items.max_coord, items.des.len())?;
+    // About 20 bytes a real with its delimiter, 64 of each 81 columns holding data.
+    let p_bytes = items.reals.saturating_mul(28) + items.des.len() * 100;
+    writer::write_with(
+        &start,
+        &global,
+        &items.des,
+        p_bytes,
+        |index, w| match items.items.get(index) {
+            Some(Item::Curve(c, p)) => curve_record(c, p, factor).write_params(w),
+            Some(Item::Surface(s, p)) => surface_record(s, p, factor).write_params(w),
+            Some(Item::Record(r)) => r.write_params(w),
+            None => Ok(()),
+        },
+    )
     .map_err(|e| Diagnostic::error("iges.write", e.to_string(), Location::default()))
+}
+
+/// One entity to write: a curve or surface with its computed flags, or a record that
+/// writes itself (the topology's, whose pointers are already known).
+pub(super) enum Item<'d> {
+    Curve(Cow<'d, NurbsCurve>, CurvePlan),
+    Surface(Cow<'d, NurbsSurface>, SurfacePlan),
+    Record(Box<dyn WriteParams + 'd>),
+}
+
+/// The entities of the file in writing order, with their Directory Entries; the DE
+/// pointer of each is known when it is added ([`writer::pointer_of`]), so the records
+/// that name it can follow.
+pub(super) struct Items<'d> {
+    des: Vec<DirectoryEntry>,
+    items: Vec<Item<'d>>,
+    factor: Option<f64>,
+    max_coord: f64,
+    reals: usize,
+}
+
+impl<'d> Items<'d> {
+    fn new(factor: Option<f64>, capacity: usize) -> Self {
+        Items {
+            des: Vec::with_capacity(capacity),
+            items: Vec::with_capacity(capacity),
+            factor,
+            max_coord: 0.0,
+            reals: 0,
+        }
+    }
+
+    /// The unit factor the poles are scaled by when written.
+    pub(super) fn factor(&self) -> Option<f64> {
+        self.factor
+    }
+
+    fn push(&mut self, de: DirectoryEntry, item: Item<'d>) -> i64 {
+        let pointer = writer::pointer_of(self.items.len());
+        self.des.push(de);
+        self.items.push(item);
+        i64::try_from(pointer).unwrap_or(i64::MAX)
+    }
+
+    /// A 126 (2-D curves with use flag 05); `subordinate` is DE status digits 3-4 (1 for a
+    /// curve another entity uses). Returns its DE pointer.
+    pub(super) fn curve(&mut self, c: Cow<'d, NurbsCurve>, meta: &Meta, subordinate: u8) -> i64 {
+        let use_flag = if c.dimension() == 2 { 5 } else { 0 };
+        let mut d = de(
+            126,
+            meta,
+            use_flag,
+            forms::curve_form(&c, meta.shape).unwrap_or(0),
+        );
+        d.status.subordinate = subordinate;
+        let factor = self.factor;
+        self.max_coord = c
+            .control_points()
+            .iter()
+            .fold(self.max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
+        self.reals += c.knots().len() + 4 * c.num_poles() + 5;
+        let plan = curve_plan(&c, meta);
+        self.push(d, Item::Curve(c, plan))
+    }
+
+    /// A 128; `subordinate` as for [`Items::curve`]. Returns its DE pointer.
+    pub(super) fn surface(
+        &mut self,
+        s: Cow<'d, NurbsSurface>,
+        meta: &Meta,
+        subordinate: u8,
+    ) -> i64 {
+        let mut d = de(
+            128,
+            meta,
+            0,
+            forms::surface_form(&s, meta.shape).unwrap_or(0),
+        );
+        d.status.subordinate = subordinate;
+        let net = s.control_points().as_slice();
+        let factor = self.factor;
+        self.max_coord = net
+            .iter()
+            .fold(self.max_coord, |m, &p| max_abs_point(m, scaled(p, factor)));
+        self.reals += s.knots_u().len() + s.knots_v().len() + 4 * net.len() + 4;
+        let plan = surface_plan(&s, meta);
+        self.push(d, Item::Surface(s, plan))
+    }
+
+    /// A topology record of type `entity_type` and form `form`, with DE status
+    /// `subordinate` and `use_flag` (IGES 5.3 section 2.2.4.4.9). Returns its DE pointer.
+    pub(super) fn record(
+        &mut self,
+        entity_type: i64,
+        form: i64,
+        subordinate: u8,
+        use_flag: u8,
+        record: impl WriteParams + 'd,
+    ) -> i64 {
+        let d = DirectoryEntry {
+            entity_type,
+            form,
+            status: Status {
+                subordinate,
+                use_flag,
+                ..Status::default()
+            },
+            ..DirectoryEntry::default()
+        };
+        self.push(d, Item::Record(Box::new(record)))
+    }
 }
 
 /// The Start section text and the Global section of a file of `count` entities.
@@ -123,19 +233,12 @@ fn header(
         modified_date: Some(date),
         application_protocol: None,
     };
-    let start =
-        format!("nurbsx {version}: exact NURBS exchange; {count} B-spline entities (126/128)");
+    let start = format!("nurbsx {version}: exact NURBS exchange; {count} entities");
     Ok((start, global))
 }
 
-/// What [`write`] computes about an entity before writing (the flags need the whole entity).
-enum Plan {
-    Curve(CurvePlan),
-    Surface(SurfacePlan),
-}
-
 /// The 126 flags, parameter range and normal (module documentation).
-struct CurvePlan {
+pub(super) struct CurvePlan {
     planar: i64,
     closed: i64,
     polynomial: i64,
@@ -145,7 +248,7 @@ struct CurvePlan {
 }
 
 /// The 128 flags and parameter range (module documentation).
-struct SurfacePlan {
+pub(super) struct SurfacePlan {
     closed: [i64; 2],
     polynomial: i64,
     periodic: [i64; 2],
@@ -269,7 +372,7 @@ fn scaled(p: Point3, factor: Option<f64>) -> Point3 {
 
 /// The Directory Entry: type, use flag, label, and the form number of the entity's kind
 /// when its geometry passes the kind's check ([`forms::form`]; form 0 otherwise).
-fn de(entity_type: i64, meta: &Meta, use_flag: u8, geometry: &Geometry) -> DirectoryEntry {
+fn de(entity_type: i64, meta: &Meta, use_flag: u8, form: i64) -> DirectoryEntry {
     let label = meta
         .name
         .as_deref()
@@ -285,7 +388,7 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8, geometry: &Geometry) -> Direc
             ..Status::default()
         },
         label,
-        form: forms::form(geometry, meta.shape).unwrap_or(0),
+        form,
         ..DirectoryEntry::default()
     }
 }

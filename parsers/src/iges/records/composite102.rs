@@ -1,6 +1,8 @@
 //! Entity 102, Composite Curve (IGES 5.3 section 4.4).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: `N`, then `N` pointers to the constituent curves, in order.
 pub(super) const SCHEMA: Schema = Schema {
@@ -26,5 +28,14 @@ impl Entity for CompositeCurve102 {
         CompositeCurve102 {
             members: v.ints("DE"),
         }
+    }
+}
+
+impl WriteParams for CompositeCurve102 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(102);
+        w.int(super::count(self.members.len()));
+        self.members.iter().for_each(|&m| w.int(m));
+        Ok(())
     }
 }

@@ -1,6 +1,8 @@
 //! Entity 142, Curve on a Parametric Surface (IGES 5.3 section 4.22).
 
 use super::{CURVES, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: CRTN, SPTR, BPTR, CPTR, PREF.
 pub(super) const SCHEMA: Schema = Schema {
@@ -42,5 +44,21 @@ impl Entity for CurveOnSurface142 {
             model_curve: v.int("CPTR"),
             preferred: v.int("PREF"),
         }
+    }
+}
+
+impl WriteParams for CurveOnSurface142 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        for x in [
+            142,
+            self.creation,
+            self.surface,
+            self.parameter_curve,
+            self.model_curve,
+            self.preferred,
+        ] {
+            w.int(x);
+        }
+        Ok(())
     }
 }

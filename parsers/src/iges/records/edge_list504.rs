@@ -1,6 +1,8 @@
 //! Entity 504, Edge List (IGES 5.3 section 4.147).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: `N`, then per edge CURV, SVP, SV, TVP, TV.
 pub(super) const SCHEMA: Schema = Schema {
@@ -55,5 +57,18 @@ impl Entity for EdgeList504 {
                 })
                 .collect(),
         }
+    }
+}
+
+impl WriteParams for EdgeList504 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(504);
+        w.int(super::count(self.edges.len()));
+        for e in &self.edges {
+            for x in [e.curve, e.start.0, e.start.1, e.end.0, e.end.1] {
+                w.int(x);
+            }
+        }
+        Ok(())
     }
 }

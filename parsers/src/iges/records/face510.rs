@@ -1,6 +1,8 @@
 //! Entity 510, Face (IGES 5.3 section 4.153).
 
 use super::{Count, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: SURF, N, OF, then `N` loops.
 pub(super) const SCHEMA: Schema = Schema {
@@ -34,5 +36,16 @@ impl Entity for Face510 {
             outer_first: v.int("OF"),
             loops: v.ints("LOOP"),
         }
+    }
+}
+
+impl WriteParams for Face510 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(510);
+        w.int(self.surface);
+        w.int(super::count(self.loops.len()));
+        w.int(self.outer_first);
+        self.loops.iter().for_each(|&l| w.int(l));
+        Ok(())
     }
 }

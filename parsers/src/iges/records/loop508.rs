@@ -1,6 +1,8 @@
 //! Entity 508, Loop (IGES 5.3 section 4.152).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: `N`, then per edge TYPE, EDGE, NDX, OF, K and `K` pairs ISOP, CURV
 /// (the edge's curves in the parameter space of the face's surface).
@@ -74,5 +76,23 @@ impl Entity for Loop508 {
                 })
                 .collect(),
         }
+    }
+}
+
+impl WriteParams for Loop508 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(508);
+        w.int(super::count(self.edges.len()));
+        for e in &self.edges {
+            for x in [e.kind, e.edge, e.index, e.orientation] {
+                w.int(x);
+            }
+            w.int(super::count(e.parameter_curves.len()));
+            for &(isop, curve) in &e.parameter_curves {
+                w.int(isop);
+                w.int(curve);
+            }
+        }
+        Ok(())
     }
 }

@@ -10,6 +10,8 @@
 //! declaration too. Adding an entity is one declaration plus its record type.
 
 mod analytic_surfaces190_198;
+mod bounded_surface143;
+mod brep_solid186;
 mod circular_arc100;
 mod composite102;
 mod conic_arc104;
@@ -25,14 +27,19 @@ mod plane108;
 mod point116;
 mod revolution120;
 mod ruled_surface118;
+mod shell514;
 mod spline_curve112;
 mod spline_surface114;
+mod subfigure308_408;
 mod surface128;
 mod tabulated_cylinder122;
 mod transform124;
 mod trimmed_surface144;
+mod vertex_list502;
 
 pub use analytic_surfaces190_198::{Cone194, Cylinder192, PlaneSurface190, Sphere196, Torus198};
+pub use bounded_surface143::{Boundary141, BoundaryCurve, BoundedSurface143};
+pub use brep_solid186::BrepSolid186;
 pub use circular_arc100::CircularArc100;
 pub use composite102::CompositeCurve102;
 pub use conic_arc104::ConicArc104;
@@ -48,12 +55,15 @@ pub use plane108::Plane108;
 pub use point116::Point116;
 pub use revolution120::Revolution120;
 pub use ruled_surface118::RuledSurface118;
+pub use shell514::Shell514;
 pub use spline_curve112::SplineCurve112;
 pub use spline_surface114::SplineSurface114;
+pub use subfigure308_408::{SubfigureDefinition308, SubfigureInstance408};
 pub use surface128::Surface128;
 pub use tabulated_cylinder122::TabulatedCylinder122;
 pub use transform124::Transform124;
 pub use trimmed_surface144::TrimmedSurface144;
+pub use vertex_list502::VertexList502;
 
 use super::directory::DirectoryEntry;
 use super::error::ErrorKind;
@@ -85,11 +95,18 @@ pub const SCHEMAS: &[Schema] = &[
     transform124::SCHEMA,
     curve126::SCHEMA,
     surface128::SCHEMA,
+    bounded_surface143::BOUNDARY_SCHEMA,
     curve_on_surface142::SCHEMA,
+    bounded_surface143::SCHEMA,
     trimmed_surface144::SCHEMA,
+    brep_solid186::SCHEMA,
+    subfigure308_408::DEFINITION_SCHEMA,
+    subfigure308_408::INSTANCE_SCHEMA,
+    vertex_list502::SCHEMA,
     edge_list504::SCHEMA,
     loop508::SCHEMA,
     face510::SCHEMA,
+    shell514::SCHEMA,
     analytic_surfaces190_198::PLANE_SCHEMA,
     analytic_surfaces190_198::CYLINDER_SCHEMA,
     analytic_surfaces190_198::CONE_SCHEMA,

@@ -1,6 +1,8 @@
 //! Entity 144, Trimmed (Parametric) Surface (IGES 5.3 section 4.34).
 
 use super::{Count, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The declaration: PTS, N1, N2, PTO, then `N2` inner boundaries PTI.
 pub(super) const SCHEMA: Schema = Schema {
@@ -38,5 +40,17 @@ impl Entity for TrimmedSurface144 {
             outer: v.int("PTO"),
             inner: v.ints("PTI"),
         }
+    }
+}
+
+impl WriteParams for TrimmedSurface144 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(144);
+        w.int(self.surface);
+        w.int(self.outer_given);
+        w.int(super::count(self.inner.len()));
+        w.int(self.outer);
+        self.inner.iter().for_each(|&b| w.int(b));
+        Ok(())
     }
 }

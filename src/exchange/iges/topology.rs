@@ -1,0 +1,921 @@
+//! IGES trimmed faces and B-rep solids -> [`Topology`] over the curves and surfaces already
+//! converted into [`Document::entities`].
+//!
+//! - 144 Trimmed Surface (IGES 5.3 section 4.34): a face on its surface (PTS) whose outer
+//!   loop is PTO's 142 and whose holes are the PTI 142s; `N1 = 0` (the surface's own
+//!   boundary) gives a face with no loop. Each 142 Curve on a Parametric Surface (section
+//!   4.22) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
+//!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
+//!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
+//!   elsewhere (the analytic surfaces, whose IGES parameters are not the NURBS ones) the
+//!   pcurve is computed by projection ([`pcurve_by_projection`]) within the edge tolerance.
+//!   The edges' ends become vertices shared across the file within the tolerance (the larger
+//!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size).
+//! - 186 Manifold Solid B-Rep Object with 514 Shell, 510 Face, 508 Loop, 504 Edge List and
+//!   502 Vertex List (IGES 5.3 types 186, 502-514): the vertices and edges as the lists give
+//!   them, shared by every loop that names them; loops with their orientation flags (OF),
+//!   shells with their face orientations and closed/open form, solids with their voids.
+//!
+//! Every pointer followed must name an existing directory entry (an odd D sequence number)
+//! of an allowed type, else a located `pointer.invalid` / `topology.wrong_entity` error;
+//! every violation the [`crate::topology`] checks find is a located `topology.*` error; the
+//! item is skipped and the rest of the file still reads.
+
+use std::collections::{BTreeMap, HashMap};
+
+use nurbsx_parsers::iges::DirectoryEntry;
+use nurbsx_parsers::iges::records::{
+    BrepSolid186, CURVES, CompositeCurve102, CurveOnSurface142, EdgeList504, Face510, Loop508,
+    SURFACES, Shell514, TrimmedSurface144, VertexList502,
+};
+
+use super::read::{Context, decoded, entity_location};
+use crate::exchange::{Diagnostic, Document, Entity, Location, Meta, Origin, Source, Topology};
+use crate::nurbs::project::pcurve_by_projection;
+use crate::nurbs::transform::apply;
+use crate::nurbs::vector::dist;
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
+use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+
+/// Relative tolerance of shared vertices (of the model's size).
+const REL_TOL: f64 = 1e-7;
+
+/// A B-rep edge whose curve ends further than the file tolerance from its 502 vertex gets
+/// the gap as its tolerance (as the sending system's edge tolerance would be), up to this
+/// multiple of the file tolerance; beyond it the edge is refused.
+const MAX_GAP_FACTOR: f64 = 1e3;
+
+/// The entity types that carry topology, and their names for the `topology.not_read`
+/// warning.
+const TOPOLOGY_TYPES: [(i64, &str); 8] = [
+    (144, "trimmed faces (144)"),
+    (142, "face boundaries (142)"),
+    (186, "solids (186)"),
+    (514, "shells (514)"),
+    (510, "faces (510)"),
+    (508, "loops (508)"),
+    (504, "edge lists (504)"),
+    (502, "vertex lists (502)"),
+];
+
+/// Reads the file's faces, shells and solids into `doc.topology` (or, with
+/// `geometry_only`, only says what it leaves out).
+pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Diagnostic>) {
+    let mut counts: BTreeMap<i64, usize> = BTreeMap::new();
+    for e in cx.file.entries.iter().flatten() {
+        if TOPOLOGY_TYPES.iter().any(|&(t, _)| t == e.entity_type)
+            || matches!(e.entity_type, 143 | 308 | 408)
+        {
+            *counts.entry(e.entity_type).or_default() += 1;
+        }
+    }
+    let count = |t: i64| counts.get(&t).copied().unwrap_or(0);
+    // 143, 308 and 408 are not read into the topology: say so, visibly.
+    for (t, what) in [
+        (
+            143,
+            "bounded surfaces (143, with 141 boundaries) are not read as faces: their surfaces are returned untrimmed",
+        ),
+        (
+            408,
+            "subfigure instances (408) are not applied: the geometry of their 308 definitions is returned once, where the definition places it",
+        ),
+    ] {
+        if count(t) > 0 {
+            diags.push(Diagnostic::warning(
+                "topology.not_read",
+                format!("{} x {what}", count(t)),
+                Location::default(),
+            ));
+        }
+    }
+    if cx.options.geometry_only {
+        let list: Vec<String> = TOPOLOGY_TYPES
+            .iter()
+            .filter(|&&(t, _)| count(t) > 0)
+            .map(|&(t, name)| format!("{} {name}", count(t)))
+            .collect();
+        if !list.is_empty() {
+            diags.push(Diagnostic::warning(
+                "topology.not_read",
+                format!(
+                    "geometry only: the topology is not read ({}); the curves and surfaces are returned untrimmed",
+                    list.join(", ")
+                ),
+                Location::default(),
+            ));
+        }
+        return;
+    }
+    if TOPOLOGY_TYPES.iter().all(|&(t, _)| count(t) == 0) {
+        return;
+    }
+    let mut b = Builder::new(cx, &doc.entities);
+    for entry in cx.file.entries.iter().flatten() {
+        match entry.entity_type {
+            144 if !b.face144(entry, diags) => b.trim_not_applied(entry, diags),
+            186 => b.solid186(entry, diags),
+            _ => {}
+        }
+    }
+    // Shells no solid names (an open shell, a surface model) are read on their own.
+    for entry in cx.file.entries.iter().flatten() {
+        if entry.entity_type == 514 && !b.shells.keys().any(|&(de, _)| de == entry.pointer) {
+            b.shell514(entry, true, diags);
+        }
+    }
+    b.report(diags);
+    doc.topology = b.topology;
+}
+
+/// Builds the topology of one file.
+struct Builder<'c, 'f, 'a> {
+    cx: &'c Context<'f, 'a>,
+    /// DE pointer -> index in the document's entities.
+    by_de: BTreeMap<usize, usize>,
+    entities: &'c [Entity],
+    topology: Topology,
+    /// The file's tolerance (module documentation).
+    tol: f64,
+    /// Vertices of the 142 curves' ends by grid cell of size `2 tol`.
+    grid: HashMap<[i64; 3], Vec<VertexId>>,
+    list_vertices: BTreeMap<(usize, i64), Option<VertexId>>,
+    list_edges: BTreeMap<(usize, i64), Option<EdgeId>>,
+    vertex_lists: BTreeMap<usize, Option<VertexList502>>,
+    edge_lists: BTreeMap<usize, Option<EdgeList504>>,
+    faces: BTreeMap<usize, Option<FaceId>>,
+    shells: BTreeMap<(usize, bool), Option<ShellId>>,
+    /// Edges whose tolerance was widened to their vertex gap.
+    widened: usize,
+    /// Vertex uses of 508 loops (TYPE = 1), implied by their neighbouring edges.
+    vertex_uses: usize,
+    /// Coedges built, and those left without a pcurve.
+    coedges: usize,
+    no_pcurve: usize,
+}
+
+/// A curve of the document with its DE pointer.
+struct Piece<'c> {
+    de: usize,
+    entity: &'c Entity,
+    curve: &'c NurbsCurve,
+}
+
+impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
+    fn new(cx: &'c Context<'f, 'a>, entities: &'c [Entity]) -> Self {
+        let mut by_de = BTreeMap::new();
+        let mut size: f64 = 1.0;
+        for (i, e) in entities.iter().enumerate() {
+            if let Some(de) = e.id.strip_prefix('D').and_then(|d| d.parse::<usize>().ok()) {
+                by_de.insert(de, i);
+            }
+            let points: &[Point3] = match &e.geometry {
+                Geometry::Curve(c) if c.dimension() == 3 => c.control_points(),
+                Geometry::Surface(s) => s.control_points().as_slice(),
+                Geometry::Curve(_) => &[],
+            };
+            size = points
+                .iter()
+                .flatten()
+                .fold(size, |m, x| if x.is_finite() { m.max(x.abs()) } else { m });
+        }
+        let tol = (REL_TOL * size).max(cx.file.global.resolution.unwrap_or(0.0));
+        Builder {
+            cx,
+            by_de,
+            entities,
+            topology: Topology::default(),
+            tol,
+            grid: HashMap::new(),
+            list_vertices: BTreeMap::new(),
+            list_edges: BTreeMap::new(),
+            vertex_lists: BTreeMap::new(),
+            edge_lists: BTreeMap::new(),
+            faces: BTreeMap::new(),
+            shells: BTreeMap::new(),
+            widened: 0,
+            vertex_uses: 0,
+            coedges: 0,
+            no_pcurve: 0,
+        }
+    }
+
+    /// The summary diagnostics of the whole file.
+    fn report(&self, diags: &mut Vec<Diagnostic>) {
+        if self.widened > 0 {
+            diags.push(Diagnostic::info(
+                "topology.edge_tolerance",
+                format!(
+                    "{} B-rep edges end further than the file tolerance {:e} from their vertices; each keeps the gap as its tolerance (at most {MAX_GAP_FACTOR} x the file tolerance)",
+                    self.widened, self.tol
+                ),
+                Location::default(),
+            ));
+        }
+        if self.vertex_uses > 0 {
+            diags.push(Diagnostic::info(
+                "topology.vertex_use",
+                format!(
+                    "{} vertex uses in 508 loops (TYPE = 1, degenerate sides at poles and apexes) are the vertex the neighbouring edges share; no degenerate edge is made for them",
+                    self.vertex_uses
+                ),
+                Location::default(),
+            ));
+        }
+        if self.no_pcurve > 0 {
+            // The faces keep their exact 3-D boundaries; only this derived form is missing.
+            diags.push(Diagnostic::info(
+                "topology.pcurve_missing",
+                format!(
+                    "{} of {} coedges have no parameter-space curve (neither given exactly nor found by projection within the edge tolerance {:e})",
+                    self.no_pcurve, self.coedges, self.tol
+                ),
+                Location::default(),
+            ));
+        }
+    }
+
+    /// The entry `p` names from `from`'s field `field`, if it exists and has one of the
+    /// `allowed` types; else a located error.
+    fn target(
+        &self,
+        from: &DirectoryEntry,
+        field: &str,
+        p: i64,
+        allowed: &[i64],
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<&'f DirectoryEntry> {
+        let Some(e) = self.cx.file.entry(p) else {
+            diags.push(Diagnostic::error(
+                "pointer.invalid",
+                format!(
+                    "{} {field} = {p} names no directory entry (an odd D sequence number of this file); skipped",
+                    from.entity_type
+                ),
+                entity_location(from),
+            ));
+            return None;
+        };
+        if !allowed.contains(&e.entity_type) {
+            diags.push(Diagnostic::error(
+                "topology.wrong_entity",
+                format!(
+                    "{} {field} = D{} is a {} entity, not one of {allowed:?}; skipped",
+                    from.entity_type, e.pointer, e.entity_type
+                ),
+                entity_location(from),
+            ));
+            return None;
+        }
+        Some(e)
+    }
+
+    /// The converted geometry of entry `e`, or a located error.
+    fn entity(
+        &self,
+        from: &DirectoryEntry,
+        e: &DirectoryEntry,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<&'c Entity> {
+        let found = self.by_de.get(&e.pointer).map(|&i| &self.entities[i]);
+        if found.is_none() {
+            diags.push(Diagnostic::error(
+                "topology.geometry_missing",
+                format!(
+                    "{} names D{} ({}), which was not converted (see its own diagnostic); skipped",
+                    from.entity_type, e.pointer, e.entity_type
+                ),
+                entity_location(from),
+            ));
+        }
+        found
+    }
+
+    /// The surface `p` names, converted.
+    fn surface(
+        &self,
+        from: &DirectoryEntry,
+        field: &str,
+        p: i64,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(&'c Entity, &'c NurbsSurface)> {
+        let e = self.target(from, field, p, SURFACES, diags)?;
+        let ent = self.entity(from, e, diags)?;
+        match &ent.geometry {
+            Geometry::Surface(s) => Some((ent, s)),
+            Geometry::Curve(_) => None,
+        }
+    }
+
+    /// The curves `p` names: one, or the constituents of a 102 in order.
+    fn curves(
+        &self,
+        from: &DirectoryEntry,
+        field: &str,
+        p: i64,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<Vec<Piece<'c>>> {
+        let e = self.target(from, field, p, CURVES, diags)?;
+        let members = if e.entity_type == 102 && !self.by_de.contains_key(&e.pointer) {
+            let rec = decoded(self.cx.file.decode::<CompositeCurve102>(e), diags)?;
+            let mut list = Vec::with_capacity(rec.members.len());
+            for m in rec.members {
+                list.push(self.target(e, "DE", m, CURVES, diags)?);
+            }
+            list
+        } else {
+            vec![e]
+        };
+        let mut out = Vec::with_capacity(members.len());
+        for m in members {
+            let ent = self.entity(from, m, diags)?;
+            let Geometry::Curve(c) = &ent.geometry else {
+                return None;
+            };
+            out.push(Piece {
+                de: m.pointer,
+                entity: ent,
+                curve: c,
+            });
+        }
+        if out.is_empty() {
+            diags.push(Diagnostic::error(
+                "topology.loop_open",
+                format!("{} {field} = {p} holds no curve; skipped", from.entity_type),
+                entity_location(from),
+            ));
+            return None;
+        }
+        Some(out)
+    }
+
+    /// The vertex at `p`: an existing one within the tolerance, else a new one.
+    fn shared_vertex(&mut self, p: Point3, origin: &Origin) -> Result<VertexId, TopologyError> {
+        let cell = 2.0 * self.tol;
+        let key = |x: f64| (x / cell).floor() as i64;
+        let k = [key(p[0]), key(p[1]), key(p[2])];
+        let model = &self.topology.model;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let c = [k[0] + dx, k[1] + dy, k[2] + dz];
+                    if let Some(list) = self.grid.get(&c)
+                        && let Some(&v) = list
+                            .iter()
+                            .find(|v| dist(model.vertices[v.0].point, p) <= self.tol)
+                    {
+                        return Ok(v);
+                    }
+                }
+            }
+        }
+        let v = self.topology.model.add_vertex(p, self.tol)?;
+        self.topology.origins.vertices.push(origin.clone());
+        self.grid.entry(k).or_default().push(v);
+        Ok(v)
+    }
+
+    /// The part of a curve an edge uses: the declared parameter range when it lies in the
+    /// knot domain (IGES 126 `V(0), V(1)`), else the domain.
+    fn range(piece: &Piece<'_>) -> (f64, f64) {
+        let d = piece.curve.domain();
+        piece
+            .entity
+            .meta
+            .parameter_range
+            .map(|r| r.u)
+            .filter(|r| r.0 >= d.0 && r.1 <= d.1 && r.0 < r.1)
+            .unwrap_or(d)
+    }
+
+    fn origin(entry: &DirectoryEntry, id: String, entity: Option<&Entity>) -> Origin {
+        Origin {
+            id,
+            source: Source {
+                entity: entry.entity_type.to_string(),
+                line: Some(entry.line),
+            },
+            name: (!entry.label.is_empty()).then(|| entry.label.clone()),
+            entity: entity.map(|e| e.id.clone()),
+        }
+    }
+
+    /// An edge over a 142 boundary piece, its ends shared vertices.
+    fn boundary_edge(
+        &mut self,
+        from: &DirectoryEntry,
+        piece: &Piece<'c>,
+    ) -> Result<EdgeId, TopologyError> {
+        let range = Self::range(piece);
+        let origin = Origin {
+            id: format!("D{}", piece.de),
+            source: piece.entity.source.clone(),
+            name: piece.entity.meta.name.clone(),
+            entity: Some(piece.entity.id.clone()),
+        };
+        let vertex_origin = Self::origin(from, format!("D{}", from.pointer), None);
+        let start = self.shared_vertex(piece.curve.point_at_unchecked(range.0), &vertex_origin)?;
+        let end = self.shared_vertex(piece.curve.point_at_unchecked(range.1), &vertex_origin)?;
+        let e = self
+            .topology
+            .model
+            .add_edge(piece.curve.clone(), range, start, end, self.tol)?;
+        self.topology.origins.edges.push(origin);
+        Ok(e)
+    }
+
+    /// The pcurve of edge `e` on `surface`: the file's parameter-space curve where the
+    /// surface is a 128 (whose (u, v) are the NURBS surface's; reparameterised affinely to
+    /// the edge's range, in whichever direction matches the edge), else by projection.
+    fn pcurve(
+        &mut self,
+        surface: (&Entity, &NurbsSurface),
+        given: Option<&NurbsCurve>,
+        e: EdgeId,
+    ) -> Option<NurbsCurve> {
+        self.coedges += 1;
+        let edge = &self.topology.model.edges[e.0];
+        let (a, b) = edge.range;
+        let tol = edge.tolerance;
+        let (ent, s) = surface;
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let on = |c: &NurbsCurve, t: f64| {
+            let [u, v, _] = c.point_at_unchecked(t);
+            s.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1))
+        };
+        let found = given
+            .filter(|p| ent.source.entity == "128" && p.dimension() == 2)
+            .and_then(|p| {
+                let candidates = [
+                    p.reparameterize(a, b).ok(),
+                    p.reverse().and_then(|r| r.reparameterize(a, b)).ok(),
+                ];
+                candidates.into_iter().flatten().find(|c| {
+                    [a, 0.5 * (a + b), b]
+                        .iter()
+                        .all(|&t| dist(on(c, t), edge.curve.point_at_unchecked(t)) <= tol)
+                })
+            })
+            .or_else(|| {
+                pcurve_by_projection(s, &edge.curve, (a, b), tol)
+                    .ok()
+                    .filter(|(_, d)| *d <= tol)
+                    .map(|(c, _)| c)
+            });
+        if found.is_none() {
+            self.no_pcurve += 1;
+        }
+        found
+    }
+
+    /// Adds a face; a coedge whose pcurve the check refuses loses it and the face is
+    /// checked again, any other violation is a located error.
+    /// `loop_entries[i]` is the 142 or 508 loop `i` came from (a loop's violation is
+    /// located there).
+    fn add_face(
+        &mut self,
+        entry: &DirectoryEntry,
+        surface: (&Entity, &NurbsSurface),
+        mut loops: Vec<Loop>,
+        loop_entries: &[&DirectoryEntry],
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<FaceId> {
+        let total: usize = loops.iter().map(|l| l.coedges.len()).sum();
+        for _ in 0..=total {
+            match self
+                .topology
+                .model
+                .add_face(surface.1.clone(), loops.clone(), true)
+            {
+                Ok(f) => {
+                    self.topology.origins.faces.push(Self::origin(
+                        entry,
+                        format!("D{}", entry.pointer),
+                        Some(surface.0),
+                    ));
+                    return Some(f);
+                }
+                Err(TopologyError::PcurveDeviates { index, coedge, .. }) => {
+                    if let Some(c) = loops.get_mut(index).and_then(|l| l.coedges.get_mut(coedge)) {
+                        c.pcurve = None;
+                        self.no_pcurve += 1;
+                    }
+                }
+                Err(e) => {
+                    let at = match &e {
+                        TopologyError::LoopOpen { index, .. } => loop_entries.get(*index),
+                        _ => None,
+                    };
+                    let mut d = topology_error(at.copied().unwrap_or(entry), &e);
+                    d.message = format!("{} (face D{})", d.message, entry.pointer);
+                    diags.push(d);
+                    return None;
+                }
+            }
+        }
+        None
+    }
+
+    /// The `trim_ignored` note on the surface of a 144 whose face could not be read.
+    fn trim_not_applied(&self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) {
+        let Ok(rec) = self.cx.file.decode::<TrimmedSurface144>(entry).record else {
+            return;
+        };
+        if let Some(s) = self.cx.file.entry(rec.surface)
+            && self.by_de.contains_key(&s.pointer)
+        {
+            diags.push(Diagnostic::info(
+                "trim_ignored",
+                format!(
+                    "used by D{} (144), whose face is not read (see its diagnostic); the untrimmed surface is returned",
+                    entry.pointer
+                ),
+                entity_location(s),
+            ));
+        }
+    }
+
+    /// A 144 Trimmed Surface as a face; whether it was built.
+    fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
+            return false;
+        };
+        let Some(surface) = self.surface(entry, "PTS", rec.surface, diags) else {
+            return false;
+        };
+        let mut loops = Vec::with_capacity(1 + rec.inner.len());
+        let mut at = Vec::with_capacity(1 + rec.inner.len());
+        if rec.outer_given != 0 && rec.outer == 0 {
+            diags.push(Diagnostic::warning(
+                "topology.outer_missing",
+                "N1 = 1 but PTO = 0: the face is read bounded by its surface's own domain"
+                    .to_owned(),
+                entity_location(entry),
+            ));
+        }
+        let outer = (rec.outer_given != 0 && rec.outer != 0).then_some(("PTO", rec.outer, true));
+        let inner = rec.inner.iter().map(|&b| ("PTI", b, false));
+        for (field, p, is_outer) in outer.into_iter().chain(inner) {
+            let Some((l, e)) = self.loop142(entry, field, p, is_outer, surface, diags) else {
+                return false;
+            };
+            loops.push(l);
+            at.push(e);
+        }
+        self.add_face(entry, surface, loops, &at, diags).is_some()
+    }
+
+    /// A 142 Curve on a Parametric Surface as a loop: one coedge per model-space curve
+    /// piece, in order.
+    fn loop142(
+        &mut self,
+        face: &DirectoryEntry,
+        field: &str,
+        p: i64,
+        outer: bool,
+        surface: (&'c Entity, &'c NurbsSurface),
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(Loop, &'f DirectoryEntry)> {
+        let e = self.target(face, field, p, &[142], diags)?;
+        let rec = decoded(self.cx.file.decode::<CurveOnSurface142>(e), diags)?;
+        if rec.model_curve == 0 {
+            diags.push(Diagnostic::warning(
+                "topology.no_model_curve",
+                format!(
+                    "CPTR = 0 (PREF = {}): a boundary given only in parameter space is not read; the face D{} is skipped",
+                    rec.preferred, face.pointer
+                ),
+                entity_location(e),
+            ));
+            return None;
+        }
+        let model = self.curves(e, "CPTR", rec.model_curve, diags)?;
+        let params = if rec.parameter_curve == 0 {
+            None
+        } else {
+            self.curves(e, "BPTR", rec.parameter_curve, diags)
+        }
+        .filter(|p| p.len() == model.len());
+        let mut coedges = Vec::with_capacity(model.len());
+        for (i, piece) in model.iter().enumerate() {
+            let edge = match self.boundary_edge(e, piece) {
+                Ok(x) => x,
+                Err(err) => {
+                    diags.push(topology_error(e, &err));
+                    return None;
+                }
+            };
+            let given = params.as_ref().and_then(|ps| ps.get(i)).map(|q| q.curve);
+            let pcurve = self.pcurve(surface, given, edge);
+            coedges.push(Coedge {
+                edge,
+                forward: true,
+                pcurve,
+                pcurve_deviation: None,
+            });
+        }
+        Some((Loop { coedges, outer }, e))
+    }
+
+    /// A 186 Manifold Solid B-Rep Object as a solid.
+    fn solid186(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) {
+        let Some(rec) = decoded(self.cx.file.decode::<BrepSolid186>(entry), diags) else {
+            return;
+        };
+        let Some(outer) = self
+            .target(entry, "SHELL", rec.shell.0, &[514], diags)
+            .and_then(|s| self.shell514(s, rec.shell.1 != 0, diags))
+        else {
+            return;
+        };
+        let mut voids = Vec::with_capacity(rec.voids.len());
+        for &(v, of) in &rec.voids {
+            let Some(s) = self
+                .target(entry, "VOID", v, &[514], diags)
+                .and_then(|s| self.shell514(s, of != 0, diags))
+            else {
+                return;
+            };
+            voids.push(s);
+        }
+        match self.topology.model.add_solid(outer, voids) {
+            Ok(_) => self.topology.origins.solids.push(Self::origin(
+                entry,
+                format!("D{}", entry.pointer),
+                None,
+            )),
+            Err(e) => diags.push(topology_error(entry, &e)),
+        }
+    }
+
+    /// A 514 Shell, its faces turned over when `same` is false (a 186's SOF / VOF = 0).
+    /// Form 1 declares it closed; when it is not, it is kept as an open shell with an
+    /// error (its solid is then refused).
+    fn shell514(
+        &mut self,
+        entry: &'f DirectoryEntry,
+        same: bool,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<ShellId> {
+        if let Some(s) = self.shells.get(&(entry.pointer, same)) {
+            return *s;
+        }
+        self.shells.insert((entry.pointer, same), None);
+        let rec = decoded(self.cx.file.decode::<Shell514>(entry), diags)?;
+        let mut faces = Vec::with_capacity(rec.faces.len());
+        for &(f, of) in &rec.faces {
+            if let Some(face) = self
+                .target(entry, "FACE", f, &[510], diags)
+                .and_then(|fe| self.face510(fe, diags))
+            {
+                faces.push((face, (of != 0) == same));
+            }
+        }
+        let shell = match self.topology.model.add_shell(faces.clone(), rec.form == 1) {
+            Ok(s) => Some(s),
+            Err(e) => {
+                diags.push(Diagnostic::error(
+                    "topology.shell_open",
+                    format!("514 entity: {e}; kept as an open shell (a solid on it is refused)"),
+                    entity_location(entry),
+                ));
+                self.topology.model.add_shell(faces, false).ok()
+            }
+        };
+        if shell.is_some() {
+            self.topology.origins.shells.push(Self::origin(
+                entry,
+                format!("D{}", entry.pointer),
+                None,
+            ));
+        }
+        self.shells.insert((entry.pointer, same), shell);
+        shell
+    }
+
+    /// A 510 Face (once, however many shells name it).
+    fn face510(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> Option<FaceId> {
+        if let Some(f) = self.faces.get(&entry.pointer) {
+            return *f;
+        }
+        self.faces.insert(entry.pointer, None);
+        let rec = decoded(self.cx.file.decode::<Face510>(entry), diags)?;
+        let surface = self.surface(entry, "SURF", rec.surface, diags)?;
+        let mut loops = Vec::with_capacity(rec.loops.len());
+        let mut at = Vec::with_capacity(rec.loops.len());
+        for (k, &l) in rec.loops.iter().enumerate() {
+            let outer = k == 0 && rec.outer_first != 0;
+            let lp = self.target(entry, "LOOP", l, &[508], diags)?;
+            loops.push(self.loop508(lp, outer, surface, diags)?);
+            at.push(lp);
+        }
+        let f = self.add_face(entry, surface, loops, &at, diags);
+        self.faces.insert(entry.pointer, f);
+        f
+    }
+
+    /// A 508 Loop: its edge uses with their orientation flags and pcurves.
+    fn loop508(
+        &mut self,
+        entry: &DirectoryEntry,
+        outer: bool,
+        surface: (&'c Entity, &'c NurbsSurface),
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<Loop> {
+        let rec = decoded(self.cx.file.decode::<Loop508>(entry), diags)?;
+        let mut coedges = Vec::with_capacity(rec.edges.len());
+        for use_ in &rec.edges {
+            if use_.kind != 0 {
+                // A vertex use (TYPE = 1: a degenerate side such as a sphere's pole or a
+                // cone's apex) joins the edges before and after it, which already share
+                // that vertex: the chain of edges is the loop.
+                self.vertex_uses += 1;
+                continue;
+            }
+            let list = self.target(entry, "EDGE", use_.edge, &[504], diags)?;
+            let edge = self.list_edge(list, use_.index, diags)?;
+            let given = match use_.parameter_curves.as_slice() {
+                [(_, c)] if *c != 0 => self
+                    .curves(entry, "CURV", *c, diags)
+                    .filter(|p| p.len() == 1)
+                    .and_then(|mut p| p.pop())
+                    .map(|p| p.curve),
+                _ => None,
+            };
+            let pcurve = self.pcurve(surface, given, edge);
+            coedges.push(Coedge {
+                edge,
+                forward: use_.orientation != 0,
+                pcurve,
+                pcurve_deviation: None,
+            });
+        }
+        Some(Loop { coedges, outer })
+    }
+
+    /// Edge `index` (from 1) of a 504 Edge List, built once.
+    fn list_edge(
+        &mut self,
+        list: &DirectoryEntry,
+        index: i64,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<EdgeId> {
+        if let Some(e) = self.list_edges.get(&(list.pointer, index)) {
+            return *e;
+        }
+        self.list_edges.insert((list.pointer, index), None);
+        if !self.edge_lists.contains_key(&list.pointer) {
+            let rec = decoded(self.cx.file.decode::<EdgeList504>(list), diags);
+            self.edge_lists.insert(list.pointer, rec);
+        }
+        let edge = self
+            .edge_lists
+            .get(&list.pointer)
+            .and_then(Option::as_ref)
+            .and_then(|l| nth(&l.edges, index));
+        let Some(edge) = edge else {
+            diags.push(Diagnostic::error(
+                "pointer.invalid",
+                format!("edge index NDX = {index} is not an edge of this list; skipped"),
+                entity_location(list),
+            ));
+            return None;
+        };
+        let pieces = self.curves(list, "CURV", edge.curve, diags)?;
+        let [piece] = pieces.as_slice() else {
+            diags.push(Diagnostic::error(
+                "topology.edge_composite",
+                format!(
+                    "edge {index}: its curve D{} is a 102 of {} pieces, not one curve; skipped",
+                    edge.curve,
+                    pieces.len()
+                ),
+                entity_location(list),
+            ));
+            return None;
+        };
+        let start = self.list_vertex(list, "SVP", edge.start, diags)?;
+        let end = self.list_vertex(list, "TVP", edge.end, diags)?;
+        let range = Self::range(piece);
+        let m = &self.topology.model;
+        let gap = dist(
+            piece.curve.point_at_unchecked(range.0),
+            m.vertices[start.0].point,
+        )
+        .max(dist(
+            piece.curve.point_at_unchecked(range.1),
+            m.vertices[end.0].point,
+        ));
+        let mut tol = self.tol;
+        if gap > tol && gap <= MAX_GAP_FACTOR * tol {
+            tol = gap * (1.0 + 1e-9);
+            self.widened += 1;
+        }
+        let e = match self
+            .topology
+            .model
+            .add_edge(piece.curve.clone(), range, start, end, tol)
+        {
+            Ok(e) => e,
+            Err(err) => {
+                diags.push(topology_error(list, &err));
+                return None;
+            }
+        };
+        self.topology.origins.edges.push(Origin {
+            id: format!("D{}:{index}", list.pointer),
+            source: piece.entity.source.clone(),
+            name: piece.entity.meta.name.clone(),
+            entity: Some(piece.entity.id.clone()),
+        });
+        self.list_edges.insert((list.pointer, index), Some(e));
+        Some(e)
+    }
+
+    /// Vertex `index` (from 1) of the 502 Vertex List `p`, built once: its 124 chain and
+    /// the unit factor applied as to every other entity.
+    fn list_vertex(
+        &mut self,
+        from: &DirectoryEntry,
+        field: &str,
+        (p, index): (i64, i64),
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<VertexId> {
+        let list = self.target(from, field, p, &[502], diags)?;
+        if let Some(v) = self.list_vertices.get(&(list.pointer, index)) {
+            return *v;
+        }
+        self.list_vertices.insert((list.pointer, index), None);
+        if !self.vertex_lists.contains_key(&list.pointer) {
+            let rec =
+                decoded(self.cx.file.decode::<VertexList502>(list), diags).and_then(|mut rec| {
+                    let chain = self.cx.transforms(list, &mut Meta::default(), diags)?;
+                    for q in &mut rec.points {
+                        if let Some(m) = &chain {
+                            *q = apply(m, *q);
+                        }
+                        if let Some(f) = self.cx.factor {
+                            *q = [q[0] * f, q[1] * f, q[2] * f];
+                        }
+                    }
+                    Some(rec)
+                });
+            self.vertex_lists.insert(list.pointer, rec);
+        }
+        let point = self
+            .vertex_lists
+            .get(&list.pointer)
+            .and_then(Option::as_ref)
+            .and_then(|l| nth(&l.points, index));
+        let Some(point) = point else {
+            diags.push(Diagnostic::error(
+                "pointer.invalid",
+                format!(
+                    "{field} names vertex {index} of D{}, which has no such vertex; skipped",
+                    list.pointer
+                ),
+                entity_location(from),
+            ));
+            return None;
+        };
+        let v = match self.topology.model.add_vertex(point, self.tol) {
+            Ok(v) => v,
+            Err(e) => {
+                diags.push(topology_error(list, &e));
+                return None;
+            }
+        };
+        self.topology.origins.vertices.push(Self::origin(
+            list,
+            format!("D{}:{index}", list.pointer),
+            None,
+        ));
+        self.list_vertices.insert((list.pointer, index), Some(v));
+        Some(v)
+    }
+}
+
+/// Item `index` of a list that IGES indexes from 1 (502 vertices, 504 edges).
+fn nth<T: Copy>(list: &[T], index: i64) -> Option<T> {
+    let i = usize::try_from(index).ok()?.checked_sub(1)?;
+    list.get(i).copied()
+}
+
+/// A refused piece of topology as a located error with a stable code.
+fn topology_error(entry: &DirectoryEntry, e: &TopologyError) -> Diagnostic {
+    let code = match e {
+        TopologyError::LoopOpen { .. } => "topology.loop_open",
+        TopologyError::PcurveDeviates { .. } => "topology.pcurve_deviates",
+        TopologyError::EdgeMissesVertex { .. } => "topology.edge_vertex",
+        TopologyError::EdgeRange { .. } => "topology.edge_range",
+        TopologyError::ShellNotClosed { .. } => "topology.shell_open",
+        TopologyError::SolidShellOpen { .. } => "topology.solid_shell_open",
+        TopologyError::BadVertex { .. } => "topology.vertex",
+        _ => "topology.invalid",
+    };
+    Diagnostic::error(
+        code,
+        format!("{} entity: {e}; skipped", entry.entity_type),
+        entity_location(entry),
+    )
+}
