@@ -83,6 +83,7 @@ pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
     let mut settings = ctx.settings.clone();
     settings.import.trim_to_parameter_range = a.trim_to_range;
     settings.import.geometry_only = a.geometry_only;
+    settings.import.sew_tolerance = a.sew_tolerance;
     let request = ConvertRequest {
         to: a.to.map(format_of),
         export: ExportOptions {

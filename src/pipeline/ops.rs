@@ -426,9 +426,16 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
     // form 0: say so.
     let forms = exchange::iges::form_warnings(doc);
     doc.diagnostics.extend(forms);
+    // A 2-D curve that a face's boundary uses (IGES 142/508, STEP pcurve) is carried on its
+    // coedge when the document has topology: not dropped.
+    let carried = !doc.topology.is_empty();
     let (dropped, kept): (Vec<Entity>, Vec<Entity>) = std::mem::take(&mut doc.entities)
         .into_iter()
-        .partition(|e| e.geometry.dimension() == 2 && matches!(e.geometry, Geometry::Curve(_)));
+        .partition(|e| {
+            e.geometry.dimension() == 2
+                && matches!(e.geometry, Geometry::Curve(_))
+                && !(carried && !e.meta.used_by.is_empty())
+        });
     if let Some(first) = dropped.first() {
         doc.diagnostics.push(Diagnostic::warning(
             "pcurve_not_written",

@@ -124,6 +124,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
             b.shell514(entry, true, diags);
         }
     }
+    b.sew(diags);
     b.report(diags);
     doc.topology = b.topology;
 }
@@ -197,6 +198,126 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             vertex_uses: 0,
             coedges: 0,
             no_pcurve: 0,
+        }
+    }
+
+    /// Trimmed faces (144) that no shell holds, each with its own boundary curves, are sewn
+    /// (shared vertices and edges, consistent orientation; [`crate::topology::Model::sew`])
+    /// into shells, and solids where they close up; edges that stay open are reported.
+    fn sew(&mut self, diags: &mut Vec<Diagnostic>) {
+        let m = &self.topology.model;
+        let mut in_shell = vec![false; m.faces.len()];
+        for s in &m.shells {
+            for &(f, _) in &s.faces {
+                if let Some(x) = in_shell.get_mut(f.0) {
+                    *x = true;
+                }
+            }
+        }
+        let loose: Vec<FaceId> = (0..m.faces.len())
+            .filter(|&i| !in_shell[i])
+            .map(FaceId)
+            .collect();
+        // A lone face has nothing to be sewn to (it stays a loose face).
+        if loose.len() < 2 {
+            return;
+        }
+        let tol = self.cx.options.sew_tolerance.unwrap_or(self.tol);
+        let before = self.topology.model.clone();
+        let sewing = match self.topology.model.sew(&loose, tol) {
+            Ok(s) => s,
+            Err(e) => {
+                self.topology.model = before;
+                diags.push(Diagnostic::warning(
+                    "topology.not_sewn",
+                    format!(
+                        "the {} trimmed faces are kept loose: sewing them within {tol:e} failed ({e})",
+                        loose.len()
+                    ),
+                    Location::default(),
+                ));
+                return;
+            }
+        };
+        let o = &mut self.topology.origins;
+        let keep = |list: &mut Vec<Origin>, map: &[Option<crate::topology::EdgeId>]| {
+            let old = std::mem::take(list);
+            *list = old
+                .into_iter()
+                .zip(map)
+                .filter(|(_, m)| m.is_some())
+                .map(|(x, _)| x)
+                .collect();
+        };
+        keep(&mut o.edges, &sewing.edge_map);
+        let old = std::mem::take(&mut o.vertices);
+        o.vertices = old
+            .into_iter()
+            .zip(&sewing.vertex_map)
+            .filter(|(_, m)| m.is_some())
+            .map(|(x, _)| x)
+            .collect();
+        let made = |what: &str, k: usize| Origin {
+            id: format!("sewn {what} {}", k + 1),
+            source: Source {
+                entity: "144 (sewn)".into(),
+                line: None,
+            },
+            name: None,
+            entity: None,
+        };
+        for k in 0..sewing.shells.len() {
+            o.shells.push(made("shell", k));
+        }
+        for k in 0..sewing.solids.len() {
+            o.solids.push(made("solid", k));
+        }
+        diags.push(Diagnostic::info(
+            "topology.sewn",
+            format!(
+                "{} trimmed faces sewn within {tol:e}: {} edges shared, {} shell(s), {} closed into solid(s)",
+                loose.len(),
+                sewing.merged_edges,
+                sewing.shells.len(),
+                sewing.solids.len()
+            ),
+            Location::default(),
+        ));
+        if !sewing.open_edges.is_empty() {
+            let ids: Vec<String> = sewing
+                .open_edges
+                .iter()
+                .take(8)
+                .filter_map(|e| o.edges.get(e.0).map(|x| x.id.clone()))
+                .collect();
+            // Faces that share some edges but not all nearly close: worth a warning; a set
+            // of faces that share none is a surface model by intent.
+            let severity = if sewing.merged_edges > 0 {
+                Diagnostic::warning
+            } else {
+                Diagnostic::info
+            };
+            diags.push(severity(
+                "topology.open_edges",
+                format!(
+                    "{} edges of the sewn faces are used by one face only, so their shell stays open (first: {}); a larger --sew-tolerance may close it",
+                    sewing.open_edges.len(),
+                    ids.join(", ")
+                ),
+                ids.first()
+                    .map(|id| Location::at_entity(id.clone()))
+                    .unwrap_or_default(),
+            ));
+        }
+        if sewing.lost_pcurves > 0 {
+            diags.push(Diagnostic::warning(
+                "topology.pcurve_missing",
+                format!(
+                    "{} parameter-space curves could not be carried to their sewn edges",
+                    sewing.lost_pcurves
+                ),
+                Location::default(),
+            ));
         }
     }
 
