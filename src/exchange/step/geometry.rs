@@ -452,12 +452,14 @@ pub(super) struct Output {
     /// B-spline instances that became part of another entity (a trimmed or composite curve,
     /// a swept or rectangular trimmed surface): not converted again on their own.
     pub consumed_bsplines: HashSet<u64>,
+    /// The converted EDGE_CURVEs by instance id (for the topology).
+    pub edges: HashMap<u64, EdgeOut>,
 }
 
 type Res<T> = Result<T, Diagnostic>;
 
 impl<'a> Converter<'_, '_, 'a> {
-    fn location(&self, id: u64) -> Location {
+    pub(super) fn location(&self, id: u64) -> Location {
         let (line, column) = self
             .s
             .get(id)
@@ -470,7 +472,7 @@ impl<'a> Converter<'_, '_, 'a> {
         }
     }
 
-    fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
+    pub(super) fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
         Diagnostic::error(code, message, self.location(id))
     }
 
@@ -513,7 +515,7 @@ impl<'a> Converter<'_, '_, 'a> {
         })
     }
 
-    fn point(&self, id: u64, from: u64) -> Res<Point3> {
+    pub(super) fn point(&self, id: u64, from: u64) -> Res<Point3> {
         let raw = self
             .s
             .get(id)
@@ -1174,13 +1176,15 @@ impl<'a> Converter<'_, '_, 'a> {
 /// An edge's curve after bounding: the NURBS, the curve instance it came from, and whether
 /// that instance is a B-spline the reader's B-spline path converts on its own.
 #[derive(Clone)]
-struct EdgeOut {
-    curve: NurbsCurve,
+pub(super) struct EdgeOut {
+    pub curve: NurbsCurve,
     curve_id: u64,
     shape: Option<Shape>,
     bspline: bool,
     /// Start and end vertex are the same (the edge closes on itself).
     closed: bool,
+    /// The [`Entity::id`] holding the curve (set by [`Converter::run`]).
+    pub entity: String,
 }
 
 impl<'a> Converter<'_, '_, 'a> {
@@ -1223,6 +1227,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 shape,
                 bspline: bspline.is_some(),
                 closed,
+                entity: String::new(),
             });
         }
         let vertex = |v: u64| -> Res<Point3> {
@@ -1274,6 +1279,7 @@ impl<'a> Converter<'_, '_, 'a> {
             shape,
             bspline: false,
             closed,
+            entity: String::new(),
         })
     }
 
@@ -1539,7 +1545,8 @@ impl<'a> Converter<'_, '_, 'a> {
         let mut uses: HashMap<u64, usize> = HashMap::new();
         for (e, r) in edge_results {
             match r {
-                Ok(o) => {
+                Ok(mut o) => {
+                    o.entity = format!("#{}", o.curve_id);
                     if !o.bspline {
                         let n = uses.entry(o.curve_id).or_insert(0);
                         *n += 1;
@@ -1548,6 +1555,7 @@ impl<'a> Converter<'_, '_, 'a> {
                         } else {
                             format!("#{}@#{e}", o.curve_id)
                         };
+                        o.entity.clone_from(&label);
                         out.entities.push(self.entity(
                             o.curve_id,
                             label,
@@ -1593,6 +1601,7 @@ impl<'a> Converter<'_, '_, 'a> {
         if let Ok(mut w) = self.warnings.lock() {
             out.diagnostics.append(&mut w);
         }
+        out.edges = edge_map;
         // Parameter-space curves of analytic type are not carried yet: say so once.
         let analytic: Vec<u64> = pcurve_items
             .iter()

@@ -38,6 +38,7 @@
 mod geometry;
 mod implicit;
 mod read;
+mod topology;
 mod units;
 mod write;
 

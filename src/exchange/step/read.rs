@@ -25,9 +25,10 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42) and
 /// its analytic, trimmed, composite and swept geometry.
 ///
-/// Per-entity problems give an error diagnostic and the entity is skipped; the rest of the
-/// file (products, presentation, topology beyond what bounds the geometry) is ignored
-/// without comment. `Err` only when the file structure is broken (no
+/// Per-entity problems give an error diagnostic and the entity is skipped; the boundary
+/// representation (faces, loops, edges, vertices, shells, solids) goes into
+/// [`Document::topology`] unless [`ImportOptions::geometry_only`]; the rest of the file
+/// (products, presentation) is ignored without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
@@ -125,15 +126,16 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         }
         r
     };
-    let converted = Converter {
+    let converter = Converter {
         s: &scanned,
         items: &items,
         scale,
         radians,
         bspline: &bspline,
         warnings: std::sync::Mutex::new(Vec::new()),
-    }
-    .run();
+    };
+    let mut converted = converter.run();
+    let edges = std::mem::take(&mut converted.edges);
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
     if let Ok(mut notes) = bspline_notes.lock() {
@@ -183,6 +185,25 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // File order (a stable sort: entities of one instance keep their order).
     placed.sort_by_key(|(offset, _)| *offset);
     doc.entities.extend(placed.into_iter().map(|(_, e)| e));
+
+    // The boundary representation over the converted geometry (topology.rs).
+    if options.geometry_only {
+        let c = super::topology::count(&converter);
+        if c != super::topology::Counts::default() {
+            doc.diagnostics.push(Diagnostic::warning(
+                "topology.not_read",
+                format!(
+                    "read geometry only: {} face(s), {} edge(s), {} shell(s) and {} solid(s) of the file are not represented (their surfaces and curves are)",
+                    c.faces, c.edges, c.shells, c.solids
+                ),
+                Location::default(),
+            ));
+        }
+    } else {
+        let (topology, diagnostics) = super::topology::build(&converter, &edges, &doc.entities);
+        doc.topology = topology;
+        doc.diagnostics.extend(diagnostics);
+    }
     Ok(doc)
 }
 
