@@ -63,15 +63,16 @@ pub fn parameters(points: &[Point3], method: ParamMethod) -> Result<Vec<f64>, Ge
     Ok(t)
 }
 
-/// The knot vector by averaging (eq. 2-129): `p + 1` zeros and ones, and
+/// The knot vector by averaging (eq. 2-129): `p + 1` copies of `t_0` and of `t_n` (0 and 1
+/// for the normalised parameters of [`parameters`]), and
 /// `u_{j+p} = (t_j + ... + t_{j+p-1}) / p` for `j = 1 .. n - p`.
 pub fn averaged_knots(t: &[f64], p: usize) -> Vec<f64> {
     let n = t.len() - 1;
-    let mut u = vec![0.0; p + 1];
+    let mut u = vec![t[0]; p + 1];
     for j in 1..=n - p {
         u.push(t[j..j + p].iter().sum::<f64>() / p as f64);
     }
-    u.extend(std::iter::repeat_n(1.0, p + 1));
+    u.extend(std::iter::repeat_n(t[n], p + 1));
     u
 }
 
@@ -135,20 +136,47 @@ pub fn interpolate(
     method: ParamMethod,
     dimension: usize,
 ) -> Result<NurbsCurve, GeometryError> {
-    if points.len() > MAX_FIT_POINTS {
-        return Err(GeometryError::InvalidArgument(format!(
-            "{} points, above the interpolation limit of {MAX_FIT_POINTS}",
-            points.len()
-        )));
-    }
-    if p == 0 || p > MAX_DEGREE || points.len() < p + 1 {
-        return Err(GeometryError::InvalidArgument(format!(
-            "degree {p} needs 1 <= p <= {MAX_DEGREE} and at least p + 1 points, got {}",
-            points.len()
-        )));
-    }
+    check_fit(points.len(), p)?;
     let t = parameters(points, method)?;
-    let knots = averaged_knots(&t, p);
+    interpolate_at(points, &t, p, dimension)
+}
+
+fn check_fit(count: usize, p: usize) -> Result<(), GeometryError> {
+    if count > MAX_FIT_POINTS {
+        return Err(GeometryError::InvalidArgument(format!(
+            "{count} points, above the interpolation limit of {MAX_FIT_POINTS}"
+        )));
+    }
+    if p == 0 || p > MAX_DEGREE || count < p + 1 {
+        return Err(GeometryError::InvalidArgument(format!(
+            "degree {p} needs 1 <= p <= {MAX_DEGREE} and at least p + 1 points, got {count}"
+        )));
+    }
+    Ok(())
+}
+
+/// The polynomial curve of degree `p` with `C(t[k]) = points[k]` for the given strictly
+/// increasing parameters (A9.1 with the parameters chosen by the caller, e.g. those of
+/// another curve a fitted curve must share), knots averaged over `[t_0, t_n]` (eq. 2-129).
+///
+/// Errors: as [`interpolate`], and parameters that are not finite and strictly increasing
+/// or not one per point.
+pub fn interpolate_at(
+    points: &[Point3],
+    t: &[f64],
+    p: usize,
+    dimension: usize,
+) -> Result<NurbsCurve, GeometryError> {
+    check_fit(points.len(), p)?;
+    if t.len() != points.len()
+        || t.iter().any(|x| !x.is_finite())
+        || t.windows(2).any(|w| w[1] <= w[0])
+    {
+        return Err(GeometryError::InvalidArgument(
+            "interpolation parameters must be finite, strictly increasing and one per point".into(),
+        ));
+    }
+    let knots = averaged_knots(t, p);
     let n = points.len();
     let mut a = vec![0.0; n * n];
     let mut row = vec![0.0; p + 1];

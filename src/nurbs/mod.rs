@@ -31,6 +31,8 @@
 //!   exact map between the conic's parameter and the NURBS parameter; surfaces of revolution
 //!   (A8.1), extrusions, ruled surfaces and the ISO 10303-42 quadrics; [`coons`]: bilinearly
 //!   blended Coons patches on common bases.
+//! - [`project`]: point inversion on surfaces (section 6.1) and pcurves of curves lying on
+//!   surfaces, fitted at the curve's own parameters.
 //! - [`fit`]: global curve interpolation (A9.1) with uniform, chord-length and centripetal
 //!   parameters and averaged knots.
 //! - [`tessellate`]: adaptive tessellation of curves (osculating-circle rule, seed 004) and
@@ -55,6 +57,7 @@ mod kernels;
 pub mod knots;
 pub mod layout;
 pub mod periodic;
+pub mod project;
 pub mod reduce;
 pub mod remove;
 pub mod serde_form;
