@@ -109,3 +109,4 @@ fn counts_equal_freecads() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+

@@ -21,9 +21,12 @@ use std::collections::HashMap;
 use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
 use super::geometry::{Converter, EdgeOut};
-use crate::exchange::{Diagnostic, Entity, Origin, Source, Topology};
+use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
+use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::vector::dist;
-use crate::nurbs::{Geometry, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment};
+use crate::nurbs::{
+    Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
+};
 use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
 
 /// Relative tolerance of the topology (of the part's size).
@@ -83,6 +86,8 @@ struct Build<'c, 'm, 's, 'a> {
     poly_edges: HashMap<(u64, u64), EdgeId>,
     faces: HashMap<u64, FaceId>,
     shells: HashMap<u64, ShellId>,
+    /// Coedges whose pcurve could not be computed.
+    missing_pcurves: usize,
 }
 
 /// Builds the topology of the decoded items over the converted edges and the document's
@@ -104,6 +109,7 @@ pub(super) fn build(
         poly_edges: HashMap::new(),
         faces: HashMap::new(),
         shells: HashMap::new(),
+        missing_pcurves: 0,
     };
     // Vertices first: their box gives the tolerance.
     let mut points: Vec<(u64, Point3)> = Vec::new();
@@ -158,7 +164,57 @@ pub(super) fn build(
             b.solid(id);
         }
     }
+    if b.missing_pcurves > 0 {
+        b.diagnostics.push(Diagnostic::warning(
+            "pcurve.not_computed",
+            format!(
+                "{} coedge(s) have no parameter-space curve: their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
+                b.missing_pcurves, b.tolerance
+            ),
+            Location::default(),
+        ));
+    }
     (b.topology, b.diagnostics)
+}
+
+/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
+/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
+/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
+/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
+/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
+/// `None` when the pcurve is not on a seam.
+fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let poles = p.control_points();
+    let (a, b) = p.domain();
+    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+        (0, u0, u1, e[1] > s[1])
+    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+        (1, v0, v1, e[0] < s[0])
+    } else {
+        return None;
+    };
+    // rising: the pcurve's own direction is the one that belongs on the high side.
+    let high = rising == ccw;
+    let target = if high { hi } else { lo };
+    let moved: Vec<Point3> = poles
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q[k] = target;
+            q
+        })
+        .collect();
+    NurbsCurve::with_dimension(
+        p.degree(),
+        p.knots().to_vec(),
+        moved,
+        p.weights().map(<[f64]>::to_vec),
+        2,
+    )
+    .ok()
 }
 
 impl Build<'_, '_, '_, '_> {
@@ -401,24 +457,82 @@ impl Build<'_, '_, '_, '_> {
         if loops.len() == 1 {
             loops[0].outer = true;
         }
-        self.add_face(id, surface.clone(), loops, same_sense, entity.id.clone());
-    }
-
-    fn add_face(
-        &mut self,
-        id: u64,
-        surface: NurbsSurface,
-        loops: Vec<Loop>,
-        same_sense: bool,
-        entity: String,
-    ) {
-        match self.topology.model.add_face(surface, loops, same_sense) {
-            Ok(f) => {
-                self.faces.insert(id, f);
-                let o = self.origin(id, Some(entity));
-                self.topology.origins.faces.push(o);
+        self.pcurves(surface, &mut loops, same_sense);
+        let with_pcurves = loops.clone();
+        match self
+            .topology
+            .model
+            .add_face(surface.clone(), with_pcurves, same_sense)
+        {
+            Ok(f) => self.face_added(id, f, entity.id.clone()),
+            Err(e @ TopologyError::PcurveDeviates { .. }) => {
+                // A pcurve the check refuses is left out (said here), the face kept.
+                let d = self.conv.error(
+                    id,
+                    code(&e),
+                    format!("{}; the face is kept without its pcurves", describe(&e)),
+                );
+                self.diagnostics.push(d);
+                for l in &mut loops {
+                    for c in &mut l.coedges {
+                        c.pcurve = None;
+                    }
+                }
+                match self
+                    .topology
+                    .model
+                    .add_face(surface.clone(), loops, same_sense)
+                {
+                    Ok(f) => self.face_added(id, f, entity.id.clone()),
+                    Err(e) => self.refuse(id, &e),
+                }
             }
             Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    fn face_added(&mut self, id: u64, f: FaceId, entity: String) {
+        self.faces.insert(id, f);
+        let o = self.origin(id, Some(entity));
+        self.topology.origins.faces.push(o);
+    }
+
+    /// The pcurve of every coedge on the face's NURBS surface, by projection of the edge's
+    /// 3-D curve ([`pcurve_by_projection`], within the edge tolerance). A seam edge (used
+    /// twice by the face) gets both sides of the seam: the coedge that runs with the face
+    /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
+    /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
+    /// projection fails keep `None` and are counted in one warning of the file.
+    fn pcurves(&mut self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) {
+        let mut uses: HashMap<EdgeId, usize> = HashMap::new();
+        for l in loops.iter() {
+            for c in &l.coedges {
+                *uses.entry(c.edge).or_default() += 1;
+            }
+        }
+        let mut cache: HashMap<EdgeId, Option<NurbsCurve>> = HashMap::new();
+        for l in loops.iter_mut() {
+            for c in &mut l.coedges {
+                let edge = &self.topology.model.edges[c.edge.0];
+                let p = cache
+                    .entry(c.edge)
+                    .or_insert_with(|| {
+                        pcurve_by_projection(surface, &edge.curve, edge.range, edge.tolerance)
+                            .ok()
+                            .filter(|(_, deviation)| *deviation <= edge.tolerance)
+                            .map(|(p, _)| p)
+                    })
+                    .clone();
+                c.pcurve = match p {
+                    Some(p) if uses[&c.edge] == 2 => {
+                        seam_side(surface, &p, c.forward == same_sense).or(Some(p))
+                    }
+                    other => other,
+                };
+                if c.pcurve.is_none() {
+                    self.missing_pcurves += 1;
+                }
+            }
         }
     }
 
