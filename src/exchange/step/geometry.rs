@@ -232,7 +232,7 @@ impl Basis {
 
 /// The piece of a NURBS on `[a, b]` inside its domain, by exact splitting (A5.1 knot
 /// insertion): parameters unchanged.
-fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
+pub(super) fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
     let (s, e) = c.domain();
     if !(a >= s && b <= e && a < b) {
         return Err(GeometryError::InvalidArgument(format!(

@@ -52,9 +52,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut complex: Vec<&RawInstance<'_>> = Vec::new();
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
+    // Product structure (assemblies) is not read: its instances are counted to say so.
+    let mut assembly_links = 0usize;
     for raw in &scanned.instances {
-        if raw.keyword_initial().is_none() {
-            complex.push(raw);
+        match raw.keyword_initial() {
+            None => complex.push(raw),
+            Some(b'N' | b'M') => {
+                if matches!(
+                    raw.keyword().map(canonical_name),
+                    Some("NEXT_ASSEMBLY_USAGE_OCCURRENCE" | "MAPPED_ITEM")
+                ) {
+                    assembly_links += 1;
+                }
+            }
+            Some(_) => {}
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
@@ -186,6 +197,15 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     placed.sort_by_key(|(offset, _)| *offset);
     doc.entities.extend(placed.into_iter().map(|(_, e)| e));
 
+    if assembly_links > 0 {
+        doc.diagnostics.push(Diagnostic::warning(
+            "assembly.not_applied",
+            format!(
+                "the file places parts in an assembly ({assembly_links} NEXT_ASSEMBLY_USAGE_OCCURRENCE / MAPPED_ITEM instance(s)); placements are not applied: every part is read once, in its own coordinates"
+            ),
+            Location::default(),
+        ));
+    }
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
         let c = super::topology::count(&converter);
