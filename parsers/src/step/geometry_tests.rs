@@ -263,10 +263,7 @@ fn valid_simple_instances() {
                 same_sense: false,
             },
         ),
-        (
-            "#1=VERTEX_LOOP('',#2);",
-            R::VertexLoop { loop_vertex: 2 },
-        ),
+        ("#1=VERTEX_LOOP('',#2);", R::VertexLoop { loop_vertex: 2 }),
         (
             "#1=POLY_LOOP('',(#2,#3,#4));",
             R::PolyLoop {

@@ -355,7 +355,10 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
     ("POLY_LOOP", &[RI, GRI, TRI, "LOOP", "POLY_LOOP"]),
     ("CONNECTED_FACE_SET", &[RI, TRI, "CONNECTED_FACE_SET"]),
     ("OPEN_SHELL", &[RI, TRI, "CONNECTED_FACE_SET", "OPEN_SHELL"]),
-    ("CLOSED_SHELL", &[RI, TRI, "CONNECTED_FACE_SET", "CLOSED_SHELL"]),
+    (
+        "CLOSED_SHELL",
+        &[RI, TRI, "CONNECTED_FACE_SET", "CLOSED_SHELL"],
+    ),
     (
         "ORIENTED_CLOSED_SHELL",
         &[

@@ -220,9 +220,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             ));
         }
     } else {
-        let (topology, diagnostics) = super::topology::build(&converter, &edges, &doc.entities);
-        doc.topology = topology;
-        doc.diagnostics.extend(diagnostics);
+        let built = super::topology::build(&converter, &edges, &doc.entities);
+        doc.topology = built.topology;
+        doc.diagnostics.extend(built.diagnostics);
+        if !built.pcurve_entities.is_empty() {
+            let mut users: std::collections::HashMap<String, Vec<String>> = Default::default();
+            for (entity, edge) in built.pcurve_entities {
+                users.entry(entity).or_default().push(edge);
+            }
+            for e in &mut doc.entities {
+                if let Some(list) = users.remove(&e.id) {
+                    e.meta.used_by.extend(list);
+                }
+            }
+        }
     }
     Ok(doc)
 }

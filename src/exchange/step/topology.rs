@@ -88,15 +88,28 @@ struct Build<'c, 'm, 's, 'a> {
     shells: HashMap<u64, ShellId>,
     /// Coedges whose pcurve could not be computed.
     missing_pcurves: usize,
+    /// (entity id of a PCURVE's 2-D curve, the edge using it).
+    pcurve_entities: Vec<(String, String)>,
+}
+
+/// What [`build`] made.
+pub(super) struct Built {
+    /// The topology.
+    pub topology: Topology,
+    /// What was refused or left out.
+    pub diagnostics: Vec<Diagnostic>,
+    /// (entity id, edge id): the 2-D curves of the file's PCURVEs of edges in the
+    /// topology, to be marked as used by those edges.
+    pub pcurve_entities: Vec<(String, String)>,
 }
 
 /// Builds the topology of the decoded items over the converted edges and the document's
-/// entities (face surfaces by id); returns it with the diagnostics of what was refused.
+/// entities (face surfaces by id).
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
     edges: &HashMap<u64, EdgeOut>,
     entities: &[Entity],
-) -> (Topology, Vec<Diagnostic>) {
+) -> Built {
     let mut ids: Vec<u64> = conv.items.keys().copied().collect();
     ids.sort_unstable();
     let mut b = Build {
@@ -110,6 +123,7 @@ pub(super) fn build(
         faces: HashMap::new(),
         shells: HashMap::new(),
         missing_pcurves: 0,
+        pcurve_entities: Vec::new(),
     };
     // Vertices first: their box gives the tolerance.
     let mut points: Vec<(u64, Point3)> = Vec::new();
@@ -174,7 +188,11 @@ pub(super) fn build(
             Location::default(),
         ));
     }
-    (b.topology, b.diagnostics)
+    Built {
+        topology: b.topology,
+        diagnostics: b.diagnostics,
+        pcurve_entities: b.pcurve_entities,
+    }
 }
 
 /// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
@@ -273,19 +291,51 @@ impl Build<'_, '_, '_, '_> {
         };
         let (start, end) = if same_sense { (vs, ve) } else { (ve, vs) };
         let range = out.curve.domain();
-        match self.topology.model.add_edge(
-            out.curve.clone(),
-            range,
-            start,
-            end,
-            self.tolerance,
-        ) {
+        match self
+            .topology
+            .model
+            .add_edge(out.curve.clone(), range, start, end, self.tolerance)
+        {
             Ok(e) => {
                 self.edges.insert(id, (e, same_sense));
                 let o = self.origin(id, Some(out.entity.clone()));
                 self.topology.origins.edges.push(o);
+                self.note_pcurves(id);
             }
             Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    /// The 2-D curves of the edge's PCURVEs (ISO 10303-42 surface_curve ->
+    /// pcurve -> definitional_representation): the model recomputes them on its NURBS
+    /// surfaces, so the entities are marked as used by the edge.
+    fn note_pcurves(&mut self, edge: u64) {
+        let items = self.conv.items;
+        let Some(R::EdgeCurve { edge_geometry, .. }) = items.get(&edge).map(|i| &i.record) else {
+            return;
+        };
+        let Some(R::SurfaceCurve {
+            associated_geometry,
+            ..
+        }) = items.get(edge_geometry).map(|i| &i.record)
+        else {
+            return;
+        };
+        for g in associated_geometry {
+            let Some(R::Pcurve {
+                reference_to_curve, ..
+            }) = items.get(g).map(|i| &i.record)
+            else {
+                continue;
+            };
+            if let Some(R::DefinitionalRepresentation { items: curves, .. }) =
+                items.get(reference_to_curve).map(|i| &i.record)
+            {
+                for c in curves {
+                    self.pcurve_entities
+                        .push((format!("#{c}"), format!("#{edge}")));
+                }
+            }
         }
     }
 
@@ -641,9 +691,7 @@ impl Build<'_, '_, '_, '_> {
 /// The error's message with the model's indices left out where the file ids say more.
 fn describe(e: &TopologyError) -> String {
     match e {
-        TopologyError::LoopOpen {
-            index, coedge, ..
-        } => format!(
+        TopologyError::LoopOpen { index, coedge, .. } => format!(
             "loop {} of the face does not close: oriented edge {} does not end where the next one starts",
             index + 1,
             coedge + 1

@@ -242,7 +242,10 @@ fn geometric_set(
         let mut members = curves3.to_vec();
         members.extend(surfaces);
         let set = b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]);
-        (Some(set), "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION")
+        (
+            Some(set),
+            "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION",
+        )
     }
 }
 

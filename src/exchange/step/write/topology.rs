@@ -13,8 +13,9 @@
 //!   SHAPE_REPRESENTATION holding all of them and the GEOMETRIC_SET of the free geometry
 //!   (the entities no face or edge names, and the curves of edges in no face).
 //!
-//! Parameter-space curves (pcurves) are not written: the readers of the formats recompute
-//! them from the 3-D edges (README states it).
+//! An edge with parameter-space curves is written as a SURFACE_CURVE (SEAM_CURVE for the two
+//! sides of a seam) over its 3-D curve with one PCURVE per face that knows one, as Open
+//! CASCADE writes them; the 3-D curve stays the master representation (`.CURVE_3D.`).
 
 use std::collections::{HashMap, HashSet};
 
@@ -22,11 +23,10 @@ use nurbsx_parsers::real::NonFiniteReal;
 use nurbsx_parsers::step::writer::write_instance;
 use nurbsx_parsers::step::{Body, Instance, Parameter, Record};
 
-use super::{
-    Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point,
-    write_surface,
-};
 use super::super::geometry::sub_curve;
+use super::{
+    Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
+};
 use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Source};
 use crate::nurbs::{Geometry, NurbsCurve};
 use crate::topology::ShellId;
@@ -111,6 +111,12 @@ pub(super) fn write(
         .flatten()
         .filter_map(|x| x.entity.as_deref())
         .collect();
+    // The 2-D curves of the source's pcurves of written edges: the edges carry their own.
+    let edge_ids: HashSet<&str> = o.edges.iter().map(|x| x.id.as_str()).collect();
+    let is_pcurve = |e: &Entity| {
+        matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2)
+            && e.meta.used_by.iter().any(|u| edge_ids.contains(u.as_str()))
+    };
     let mut w = Out {
         text: String::new(),
         id: first,
@@ -119,7 +125,7 @@ pub(super) fn write(
     let body = (|| -> Result<Vec<(&'static str, u64)>, NonFiniteReal> {
         // Free geometry first, as the geometry-only writer orders it.
         for e in &document.entities {
-            if named.contains(e.id.as_str()) {
+            if named.contains(e.id.as_str()) || is_pcurve(e) {
                 continue;
             }
             match &e.geometry {
@@ -143,6 +149,74 @@ pub(super) fn write(
             write_point(&mut w.text, p, &v.point, 3, scale)?;
             vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
         }
+        // Face surfaces before the edges: the edges' pcurves name them.
+        let mut surface_ids = Vec::with_capacity(m.faces.len());
+        for (k, face) in m.faces.iter().enumerate() {
+            let held = o
+                .faces
+                .get(k)
+                .and_then(|x| x.entity.as_deref())
+                .and_then(|x| by_id.get(x))
+                .filter(|x| matches!(&x.geometry, Geometry::Surface(g) if *g == face.surface));
+            let fallback;
+            let entity = match held {
+                Some(x) => *x,
+                None => {
+                    fallback = anonymous(Geometry::Surface(face.surface.clone()));
+                    &fallback
+                }
+            };
+            write_surface(
+                &mut w.text,
+                &mut w.id,
+                &face.surface,
+                entity,
+                scale,
+                options,
+            )?;
+            surface_ids.push(w.id - 1);
+        }
+        // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
+        // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
+        let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
+        for (k, face) in m.faces.iter().enumerate() {
+            for l in &face.loops {
+                for c in &l.coedges {
+                    if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
+                        list.push((surface_ids[k], p, c.forward));
+                    }
+                }
+            }
+        }
+        for list in &mut pcurves {
+            list.sort_by_key(|(_, _, forward)| !forward);
+        }
+        let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
+            let id = w.next();
+            write_instance(
+                &mut w.text,
+                &Instance {
+                    id,
+                    body: Body::Complex(vec![
+                        Record {
+                            keyword: "GEOMETRIC_REPRESENTATION_CONTEXT",
+                            params: vec![Parameter::Integer(2)],
+                        },
+                        Record {
+                            keyword: "PARAMETRIC_REPRESENTATION_CONTEXT",
+                            params: vec![],
+                        },
+                        Record {
+                            keyword: "REPRESENTATION_CONTEXT",
+                            params: vec![s("2D SPACE"), s("")],
+                        },
+                    ]),
+                },
+            )?;
+            id
+        } else {
+            0
+        };
         let mut in_face = vec![false; m.edges.len()];
         for face in &m.faces {
             for l in &face.loops {
@@ -176,9 +250,47 @@ pub(super) fn write(
                 }
             };
             write_curve(&mut w.text, &mut w.id, &piece, entity, scale, options)?;
-            let curve = w.id - 1;
+            let mut curve = w.id - 1;
             if !in_face[k] {
                 curves3.push(curve);
+            }
+            // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
+            // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
+            // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
+            let on = &pcurves[k];
+            if !on.is_empty() {
+                let mut refs = Vec::with_capacity(on.len());
+                for &(surface, p, _) in on {
+                    let holder = anonymous(Geometry::Curve(p.clone()));
+                    write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
+                    let c2 = w.id - 1;
+                    let rep = w.put(
+                        "DEFINITIONAL_REPRESENTATION",
+                        vec![
+                            s(""),
+                            Parameter::refs(&[c2]),
+                            Parameter::Reference(context2),
+                        ],
+                    )?;
+                    refs.push(w.put(
+                        "PCURVE",
+                        vec![
+                            s(""),
+                            Parameter::Reference(surface),
+                            Parameter::Reference(rep),
+                        ],
+                    )?);
+                }
+                let seam = on.len() == 2 && on[0].0 == on[1].0;
+                curve = w.put(
+                    if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
+                    vec![
+                        s(""),
+                        Parameter::Reference(curve),
+                        Parameter::refs(&refs),
+                        Parameter::Enumeration("CURVE_3D"),
+                    ],
+                )?;
             }
             let (Some(&vs), Some(&ve)) = (vertex_ids.get(e.start.0), vertex_ids.get(e.end.0))
             else {
@@ -198,22 +310,7 @@ pub(super) fn write(
         }
         let mut face_ids = Vec::with_capacity(m.faces.len());
         for (k, face) in m.faces.iter().enumerate() {
-            let held = o
-                .faces
-                .get(k)
-                .and_then(|x| x.entity.as_deref())
-                .and_then(|x| by_id.get(x))
-                .filter(|x| matches!(&x.geometry, Geometry::Surface(g) if *g == face.surface));
-            let fallback;
-            let entity = match held {
-                Some(x) => *x,
-                None => {
-                    fallback = anonymous(Geometry::Surface(face.surface.clone()));
-                    &fallback
-                }
-            };
-            write_surface(&mut w.text, &mut w.id, &face.surface, entity, scale, options)?;
-            let surface = w.id - 1;
+            let surface = surface_ids[k];
             let mut bounds = Vec::with_capacity(face.loops.len());
             for l in &face.loops {
                 let mut oriented = Vec::with_capacity(l.coedges.len());
@@ -349,11 +446,7 @@ pub(super) fn write(
                     "solid",
                     w.put(
                         "BREP_WITH_VOIDS",
-                        vec![
-                            s(""),
-                            Parameter::Reference(*outer),
-                            Parameter::refs(&voids),
-                        ],
+                        vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
                     )?,
                 ));
             }
