@@ -88,21 +88,6 @@ fn samples() -> Vec<(PathBuf, Value)> {
 /// Samples whose topology nurbsx does not read in full yet, with the reason; for these the
 /// tests check that the reader says so with an error diagnostic (never silently).
 const KNOWN_GAPS: &[(&str, &str)] = &[
-    // B-spline edge curves whose vertices lie inside the curve (the edge uses part of it):
-    // bounding them needs the parameters of the vertices on the curve (point inversion on a
-    // curve), not implemented; the edges are refused with topology.edge_vertex.
-    (
-        "face_trimmed_hole.step",
-        "B-spline edges bounded inside their curve",
-    ),
-    (
-        "surf_periodic_u_trimmed_face.step",
-        "B-spline edges bounded inside their curve",
-    ),
-    (
-        "trimmed_face.step",
-        "B-spline edges bounded inside their curve",
-    ),
     // A sphere face bounded by a VERTEX_LOOP only: the closed-shell check finds no edge to
     // pair and refuses the closure (topology.shell_open), so the solid is refused.
     ("sphere.step", "closed shell of one face without edges"),

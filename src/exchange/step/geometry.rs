@@ -30,6 +30,7 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
+use crate::nurbs::project::invert_curve;
 use crate::nurbs::sweep::{self, Frame};
 use crate::nurbs::vector::{add, sub};
 use crate::nurbs::vector::{cross, dot, norm, scale as mul};
@@ -1204,7 +1205,8 @@ impl<'a> Converter<'_, '_, 'a> {
     /// curve's own direction (the arc from start to end vertex when `same_sense`, from end
     /// to start otherwise); a closed conic whose edge starts and ends at one vertex is the
     /// whole conic from that vertex. Other curves (B-splines, polylines, trimmed and
-    /// composite curves) are bounded already and are taken whole.
+    /// composite curves) are taken whole when their ends are the vertices, else between
+    /// the vertices ([`Converter::nurbs_edge`]).
     fn edge(&self, id: u64) -> Res<EdgeOut> {
         let item = self.item(id, id, "EDGE_CURVE")?;
         let R::EdgeCurve {
@@ -1220,7 +1222,21 @@ impl<'a> Converter<'_, '_, 'a> {
         let basis = self.basis(edge_geometry, id, 0)?;
         let closed = edge_start == edge_end;
         let shape = basis.shape();
-        if let Basis::Nurbs { curve, bspline, .. } = basis {
+        let vertex = |v: u64| -> Res<Point3> {
+            match self.item(v, id, "VERTEX_POINT")?.record {
+                R::VertexPoint { vertex_geometry } => self.point(vertex_geometry, v),
+                _ => Err(self.error(id, "step.reference", format!("#{v} is not a VERTEX_POINT"))),
+            }
+        };
+        if let Basis::Nurbs { curve, bspline, .. } = &basis {
+            let curve = self.nurbs_edge(
+                id,
+                &basis,
+                curve,
+                (vertex(edge_start)?, vertex(edge_end)?),
+                same_sense,
+                closed,
+            )?;
             return Ok(EdgeOut {
                 curve,
                 curve_id,
@@ -1230,12 +1246,6 @@ impl<'a> Converter<'_, '_, 'a> {
                 entity: String::new(),
             });
         }
-        let vertex = |v: u64| -> Res<Point3> {
-            match self.item(v, id, "VERTEX_POINT")?.record {
-                R::VertexPoint { vertex_geometry } => self.point(vertex_geometry, v),
-                _ => Err(self.error(id, "step.reference", format!("#{v} is not a VERTEX_POINT"))),
-            }
-        };
         let (p0, p1) = (vertex(edge_start)?, vertex(edge_end)?);
         let (t0, t1) = match (basis.inverse(p0), basis.inverse(p1)) {
             (Some(a), Some(b)) => (a, b),
@@ -1281,6 +1291,56 @@ impl<'a> Converter<'_, '_, 'a> {
             closed,
             entity: String::new(),
         })
+    }
+
+    /// An edge over a curve that is a NURBS already (B-spline, polyline, trimmed or
+    /// composite curve): the whole curve when its ends are the vertices (in the sense of
+    /// the edge), else the piece between the vertices' parameters on it (point inversion,
+    /// NURBS Book section 6.1; the vertices must lie on the curve within 1e-7 of its size),
+    /// in the curve's own direction as for conics.
+    fn nurbs_edge(
+        &self,
+        id: u64,
+        basis: &Basis,
+        curve: &NurbsCurve,
+        (p0, p1): (Point3, Point3),
+        same_sense: bool,
+        closed: bool,
+    ) -> Res<NurbsCurve> {
+        let (from, to) = if same_sense { (p0, p1) } else { (p1, p0) };
+        let (a, b) = curve.domain();
+        let tol = (bounding_box_diagonal(curve.control_points()) * 1e-7).max(1e-9);
+        let near = |p: Point3, q: Point3| norm(sub(p, q)) <= tol;
+        if near(curve.point_at_unchecked(a), from) && near(curve.point_at_unchecked(b), to) {
+            return Ok(curve.clone());
+        }
+        let at = |p: Point3| {
+            invert_curve(curve, p)
+                .filter(|(_, d)| *d <= tol)
+                .map(|(t, _)| t)
+                .ok_or_else(|| {
+                    self.error(
+                        id,
+                        "geometry.invalid",
+                        format!("a vertex of the edge is not on its curve (tolerance {tol:e})"),
+                    )
+                })
+        };
+        let (ta, tb) = (at(from)?, at(to)?);
+        let range = match basis.period() {
+            Some(p) if closed => Some((ta, ta + p)),
+            period => forward_range(ta, tb, period),
+        };
+        let (x, y) = range.ok_or_else(|| {
+            self.error(
+                id,
+                "geometry.invalid",
+                format!(
+                    "vertices at parameters {ta} and {tb} do not bound the curve in the sense given"
+                ),
+            )
+        })?;
+        basis.bounded(x, y).map_err(|e| self.geometry_error(id, e))
     }
 
     /// The edges of a face (all its bounds, in order; a seam appears twice).
