@@ -103,6 +103,8 @@ const OCCT_ADDS_EDGES: &[&str] = &[
     "units_inch.step",
     "units_metre.step",
     "surf_sphere_nurbs.step",
+    // A sphere bounded by a vertex loop: Open CASCADE adds the seam edge.
+    "sphere.step",
 ];
 
 fn name(path: &Path) -> String {
@@ -269,6 +271,9 @@ const AREA_GAPS: &[&str] = &[
     "analytic/torus.step",
     "analytic/units_inch.step",
     "analytic/units_metre.step",
+    // A whole sphere written as a face without bounds: area within FreeCAD's measuring
+    // error, volume 9e-3 off (its error on Open CASCADE's own NURBS sphere: 4e-4).
+    "analytic/sphere.step",
 ];
 
 /// STEP -> nurbsx -> STEP, re-imported by FreeCAD: the same number of faces, shells and
