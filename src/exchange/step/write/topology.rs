@@ -17,6 +17,7 @@
 //! sides of a seam) over its 3-D curve with one PCURVE per face that knows one, as Open
 //! CASCADE writes them; the 3-D curve stays the master representation (`.CURVE_3D.`).
 
+use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 
 use nurbsx_parsers::real::NonFiniteReal;
@@ -27,7 +28,7 @@ use super::super::geometry::sub_curve;
 use super::{
     Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
 };
-use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Source};
+use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Origin, Source};
 use crate::nurbs::{Geometry, NurbsCurve};
 use crate::topology::ShellId;
 
@@ -67,6 +68,23 @@ fn anonymous(geometry: Geometry) -> Entity {
         geometry,
         source: Source::default(),
         meta: Meta::default(),
+    }
+}
+
+/// The document entity an item's origin names when it holds the same geometry (its
+/// metadata: name, form), else an anonymous one made by `make`.
+fn held<'e>(
+    origin: Option<&Origin>,
+    by_id: &HashMap<&str, &'e Entity>,
+    same: impl Fn(&Geometry) -> bool,
+    make: impl FnOnce() -> Geometry,
+) -> Cow<'e, Entity> {
+    match origin
+        .and_then(|x| x.entity.as_deref())
+        .and_then(|x| by_id.get(x))
+    {
+        Some(e) if same(&e.geometry) => Cow::Borrowed(*e),
+        _ => Cow::Owned(anonymous(make())),
     }
 }
 
@@ -152,25 +170,17 @@ pub(super) fn write(
         // Face surfaces before the edges: the edges' pcurves name them.
         let mut surface_ids = Vec::with_capacity(m.faces.len());
         for (k, face) in m.faces.iter().enumerate() {
-            let held = o
-                .faces
-                .get(k)
-                .and_then(|x| x.entity.as_deref())
-                .and_then(|x| by_id.get(x))
-                .filter(|x| matches!(&x.geometry, Geometry::Surface(g) if *g == face.surface));
-            let fallback;
-            let entity = match held {
-                Some(x) => *x,
-                None => {
-                    fallback = anonymous(Geometry::Surface(face.surface.clone()));
-                    &fallback
-                }
-            };
+            let entity = held(
+                o.faces.get(k),
+                &by_id,
+                |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
+                || Geometry::Surface(face.surface.clone()),
+            );
             write_surface(
                 &mut w.text,
                 &mut w.id,
                 &face.surface,
-                entity,
+                &entity,
                 scale,
                 options,
             )?;
@@ -235,21 +245,13 @@ pub(super) fn write(
             } else {
                 sub_curve(&e.curve, e.range.0, e.range.1).unwrap_or_else(|_| e.curve.clone())
             };
-            let held = o
-                .edges
-                .get(k)
-                .and_then(|x| x.entity.as_deref())
-                .and_then(|x| by_id.get(x))
-                .filter(|x| matches!(&x.geometry, Geometry::Curve(c) if *c == piece));
-            let fallback;
-            let entity = match held {
-                Some(x) => *x,
-                None => {
-                    fallback = anonymous(Geometry::Curve(piece.clone()));
-                    &fallback
-                }
-            };
-            write_curve(&mut w.text, &mut w.id, &piece, entity, scale, options)?;
+            let entity = held(
+                o.edges.get(k),
+                &by_id,
+                |g| matches!(g, Geometry::Curve(x) if *x == piece),
+                || Geometry::Curve(piece.clone()),
+            );
+            write_curve(&mut w.text, &mut w.id, &piece, &entity, scale, options)?;
             let mut curve = w.id - 1;
             if !in_face[k] {
                 curves3.push(curve);
