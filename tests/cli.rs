@@ -1604,9 +1604,10 @@ fn validate_on_the_samples_is_quiet_by_default() {
     let o = nurbsx(["validate", samples.to_str().unwrap()]);
     assert_exit(&o, 0);
     let files = stdout(&o).lines().count();
-    // 108 B-spline samples in samples/freecad/ and 60 analytic ones in its analytic/ folder
-    // (the folder walk descends into it).
-    assert_eq!(files, 108 + 60, "one verdict per sample");
+    // 108 B-spline samples in samples/freecad/, 60 analytic ones in its analytic/ folder and
+    // 51 whole-part files (17 parts x STEP, IGES 144, IGES 186) in parts/ (the folder walk
+    // descends into them).
+    assert_eq!(files, 108 + 60 + 51, "one verdict per sample");
     // Info notes only with -v.
     assert!(!stderr(&o).contains(": info["), "{}", stderr(&o));
     let o = nurbsx(["-v", "validate", samples.to_str().unwrap()]);

@@ -259,8 +259,9 @@ def dumps(obj):
     return _fmt(obj, 0) + "\n"
 
 
-def main():
-    """Read NURBSX_IN, write NURBSX_OUT; exit status 0 on success, 1 on failure, 2 on usage.
+def run_cli(read, schema, script):
+    """Read NURBSX_IN with read(path), write dumps(...) to NURBSX_OUT; exit status 0 on
+    success, 1 on failure, 2 on usage (shared by the readers in scripts/freecad/).
 
     freecadcmd itself exits 0 even when a script raises, so failures end the process with
     os._exit after writing {"schema", "file", "error"} to NURBSX_OUT (when given).
@@ -268,19 +269,23 @@ def main():
     src = os.environ.get("NURBSX_IN")
     dst = os.environ.get("NURBSX_OUT")
     if not src or not dst:
-        print("usage: NURBSX_IN=file.step|file.igs NURBSX_OUT=out.json freecadcmd evaluate.py")
+        print(f"usage: NURBSX_IN=file.step|file.igs NURBSX_OUT=out.json freecadcmd {script}")
         sys.stdout.flush()
         os._exit(2)
     try:
-        text = dumps(read_file(src))
+        text = dumps(read(src))
         status = 0
     except Exception as ex:  # report every reader failure to the caller as data
-        text = dumps({"schema": SCHEMA_ID, "file": os.path.basename(src), "error": str(ex)})
+        text = dumps({"schema": schema, "file": os.path.basename(src), "error": str(ex)})
         status = 1
     with open(dst, "w", encoding="utf-8") as f:
         f.write(text)
     sys.stdout.flush()
     os._exit(status)
+
+
+def main():
+    run_cli(read_file, SCHEMA_ID, "evaluate.py")
 
 
 # freecadcmd runs a script under the name of its file stem ("evaluate"), or "__main__" with

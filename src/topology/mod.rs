@@ -25,13 +25,17 @@
 //! - [`Model::add_solid`]: the outer shell and the voids are closed shells.
 //! - [`Assembly`]: instances of parts under affine placements; [`Model::flatten`] composes the
 //!   placements without recursion and refuses cycles.
+//! - [`Model::measure_face`], [`Model::solid_volume`]: area, centroid and volume over the
+//!   trimmed regions, by Green's theorem along the pcurves.
 
 mod assembly;
 mod check;
 mod error;
+mod measure;
 
 pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
+pub use measure::{FaceMeasure, MeasureError};
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 

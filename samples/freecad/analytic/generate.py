@@ -619,11 +619,11 @@ def main():
                     "cases": index})
 
 
-# freecadcmd runs a script under the name of its file stem ("generate") or "__main__".
-# freecadcmd itself exits 0 when a script raises, hence the explicit status.
-if __name__ in ("__main__", "generate"):
+def run_as_script(entry):
+    """Run entry() and end the process with status 0, or 1 when it raised (freecadcmd itself
+    exits 0 when a script raises, hence the explicit status). Shared with parts/generate.py."""
     try:
-        main()
+        entry()
     except Exception:  # report any failure as exit status 1
         traceback.print_exc()
         sys.stdout.flush()
@@ -631,3 +631,8 @@ if __name__ in ("__main__", "generate"):
         os._exit(1)
     sys.stdout.flush()
     os._exit(0)
+
+
+# freecadcmd runs a script under the name of its file stem ("generate") or "__main__".
+if __name__ in ("__main__", "generate"):
+    run_as_script(main)

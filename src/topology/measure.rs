@@ -1,0 +1,373 @@
+//! # Areas, centroids and volumes of trimmed faces and solids
+//!
+//! A face's integrals run over its trimmed region `R` of the surface's parameter plane. By
+//! Green's theorem (`∮ P du + Q dv = ∫∫ (Q_u - P_v) du dv`, with `P = 0` and
+//! `Q = H(u, v) = ∫_{u_0}^{u} h(s, v) ds`) the region integral of any `h` is a boundary
+//! integral: `∫∫_R h du dv = ∮_{∂R} H dv`, walked along the loops' pcurves. The integrands,
+//! with `c = S_u × S_v` (ISO 10303-42 clause 4.4.1: the surface normal direction):
+//! - `|c|`: the area element, so the area;
+//! - `|c| S`: the area-weighted centroid;
+//! - `S · c`: the flux of the position through the face, whose sum over a closed shell with
+//!   outward faces is three times the enclosed volume (divergence theorem, `div x = 3`).
+//!
+//! `H` is integrated by 20-point Gauss-Legendre rules on each knot span of the surface in
+//! u; the boundary integral by comparing 10- and 20-point rules on each knot span of each
+//! pcurve and halving where they disagree. Loops are measured each with its own sign; the
+//! outer loop counts positive and the holes negative whatever their orientation in the
+//! file, so a face whose loops run the wrong way still measures right (the orientation is
+//! checked elsewhere).
+
+use super::{Face, Model, SolidId};
+use crate::nurbs::vector::{cross, dot, norm};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+/// What could not be measured.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeasureError {
+    /// A coedge of a loop has no parameter-space curve, so the trimmed region is unknown.
+    #[error("loop {index}, coedge {coedge}: no pcurve, the trimmed region is unknown")]
+    NoPcurve {
+        /// Loop index in the face.
+        index: usize,
+        /// Coedge index in the loop.
+        coedge: usize,
+    },
+    /// A loop whose pcurves do not close in the parameter plane (a loop that winds around
+    /// a closed surface without a seam edge, or pcurves far from each other).
+    #[error(
+        "loop {index}: its pcurves leave a gap of {gap:e} in the parameter plane after coedge {coedge}"
+    )]
+    OpenInParameters {
+        /// Loop index in the face.
+        index: usize,
+        /// The coedge after which the gap is.
+        coedge: usize,
+        /// The gap, in parameter units.
+        gap: f64,
+    },
+    /// The surface or a pcurve could not be evaluated (non-finite values).
+    #[error("the surface or a pcurve gives non-finite values")]
+    NotFinite,
+    /// A solid that does not exist.
+    #[error("solid {0} does not exist")]
+    NoSolid(usize),
+}
+
+/// A face's integrals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceMeasure {
+    /// Area of the trimmed face.
+    pub area: f64,
+    /// Area-weighted centroid.
+    pub centroid: Point3,
+    /// `∫∫_R S · (S_u × S_v) du dv`: the flux of the position through the face along the
+    /// surface normal (three times the volume of the cone from the origin to the face).
+    pub flux: f64,
+}
+
+/// Components of the integrand: area, area x S (3), flux.
+type Vec5 = [f64; 5];
+
+fn add5(a: &mut Vec5, b: &Vec5, s: f64) {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x += s * y;
+    }
+}
+
+/// The `n`-point Gauss-Legendre rule on [-1, 1]: nodes by Newton's iteration on `P_n` from
+/// the Chebyshev-like guesses `cos(pi (i - 1/4) / (n + 1/2))`, weights `2 / ((1 - x^2) P_n'(x)^2)`.
+fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    let mut rule = Vec::with_capacity(n);
+    for i in 1..=n {
+        let mut x = (std::f64::consts::PI * (i as f64 - 0.25) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            // P_n(x) and P_n'(x) by the three-term recurrence.
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+            let dx = p1 / dp;
+            x -= dx;
+            if dx.abs() <= 1e-16 {
+                break;
+            }
+        }
+        rule.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
+    }
+    rule
+}
+
+struct Rules {
+    low: Vec<(f64, f64)>,
+    high: Vec<(f64, f64)>,
+}
+
+fn rules() -> &'static Rules {
+    static RULES: std::sync::OnceLock<Rules> = std::sync::OnceLock::new();
+    RULES.get_or_init(|| Rules {
+        low: gauss_legendre(10),
+        high: gauss_legendre(20),
+    })
+}
+
+/// The distinct knots of the domain `[k_p, k_{n}]` inside `(a, b)`, with `a` and `b`.
+fn breaks(knots: &[f64], p: usize, a: f64, b: f64) -> Vec<f64> {
+    let mut out = vec![a];
+    let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+    let inner = knots
+        .get(p..knots.len().saturating_sub(p))
+        .unwrap_or(&[])
+        .iter()
+        .copied()
+        .filter(|&k| k > lo && k < hi);
+    if a <= b {
+        out.extend(inner);
+    } else {
+        let mut v: Vec<f64> = inner.collect();
+        v.reverse();
+        out.extend(v);
+    }
+    out.push(b);
+    out.dedup();
+    out
+}
+
+/// The integrand at `(u, v)`: `[|c|, |c| x, |c| y, |c| z, S · c]` with `c = S_u × S_v`.
+fn integrand(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (u, v) = (u.clamp(u0, u1), v.clamp(v0, v1));
+    let Ok(d) = s.derivatives(u, v, 1) else {
+        return [f64::NAN; 5];
+    };
+    let (p, c) = (d[0][0], cross(d[1][0], d[0][1]));
+    let g = norm(c);
+    [g, g * p[0], g * p[1], g * p[2], dot(p, c)]
+}
+
+/// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span.
+fn inner(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
+    let ((u0, _), _) = s.domain();
+    let mut total = [0.0; 5];
+    let b = breaks(s.knots_u(), s.degree_u(), u0, u);
+    for w in b.windows(2) {
+        let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
+        for &(x, wt) in &rules().high {
+            add5(&mut total, &integrand(s, mid + half * x, v), wt * half);
+        }
+    }
+    total
+}
+
+/// `∫ H(pc(t)) v'(t) dt` over `[a, b]` with one rule, and the same sum of absolute terms
+/// (the scale its rounding errors are relative to).
+fn boundary_rule(
+    s: &NurbsSurface,
+    pc: &NurbsCurve,
+    a: f64,
+    b: f64,
+    rule: &[(f64, f64)],
+) -> (Vec5, f64) {
+    let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+    let mut total = [0.0; 5];
+    let mut mass = 0.0;
+    for &(x, wt) in rule {
+        let t = mid + half * x;
+        let Ok(d) = pc.derivatives(t, 1) else {
+            return ([f64::NAN; 5], f64::NAN);
+        };
+        let (uv, dv) = (d[0], d[1][1]);
+        let h = inner(s, uv[0], uv[1]);
+        let w = wt * half * dv;
+        mass += (w * h.iter().fold(0.0f64, |m, x| m.max(x.abs()))).abs();
+        add5(&mut total, &h, w);
+    }
+    (total, mass)
+}
+
+/// Largest number of pieces one pcurve span is cut into.
+const MAX_PIECES: usize = 1 << 10;
+
+/// `∫_a^b H(pc(t)) v'(t) dt`, adaptive on each knot span of the pcurve: a piece is kept when
+/// its 10- and 20-point rules agree to 1e-12 of the size of its terms, else halved.
+fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64) -> Vec5 {
+    let mut total = [0.0; 5];
+    for w in breaks(pc.knots(), pc.degree(), a, b).windows(2) {
+        let mut stack = vec![(w[0], w[1])];
+        let mut pieces = 0;
+        while let Some((x, y)) = stack.pop() {
+            let (high, mass) = boundary_rule(s, pc, x, y, &rules().high);
+            let (low, _) = boundary_rule(s, pc, x, y, &rules().low);
+            let diff = (0..5).map(|k| (high[k] - low[k]).abs()).fold(0.0, f64::max);
+            pieces += 1;
+            if diff <= 1e-12 * mass || pieces + stack.len() >= MAX_PIECES || diff.is_nan() {
+                add5(&mut total, &high, 1.0);
+            } else {
+                let m = 0.5 * (x + y);
+                stack.push((x, m));
+                stack.push((m, y));
+            }
+        }
+    }
+    total
+}
+
+/// `∫ H dv` along the straight segment from `p` to `q` (closing a small gap between
+/// pcurves), 20-point rule.
+fn segment(s: &NurbsSurface, p: [f64; 2], q: [f64; 2]) -> Vec5 {
+    let mut total = [0.0; 5];
+    let dv = q[1] - p[1];
+    if dv == 0.0 {
+        return total;
+    }
+    for &(x, wt) in &rules().high {
+        let f = 0.5 * (1.0 + x);
+        let (u, v) = (p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1]));
+        add5(&mut total, &inner(s, u, v), 0.5 * wt * dv);
+    }
+    total
+}
+
+impl Model {
+    /// The area, centroid and flux of a face over its trimmed region (see the module).
+    pub fn measure_face(&self, face: &Face) -> Result<FaceMeasure, MeasureError> {
+        let s = &face.surface;
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let mut region = [0.0; 5];
+        if face.loops.is_empty() {
+            // The whole domain: product rules on every pair of knot spans.
+            for wv in breaks(s.knots_v(), s.degree_v(), v0, v1).windows(2) {
+                let (mid, half) = (0.5 * (wv[0] + wv[1]), 0.5 * (wv[1] - wv[0]));
+                for &(x, wt) in &rules().high {
+                    add5(&mut region, &inner(s, u1, mid + half * x), wt * half);
+                }
+            }
+        } else {
+            let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
+            let mut loops: Vec<(bool, Vec5)> = Vec::with_capacity(face.loops.len());
+            for (index, l) in face.loops.iter().enumerate() {
+                let mut total = [0.0; 5];
+                let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::with_capacity(l.coedges.len());
+                for (k, c) in l.coedges.iter().enumerate() {
+                    let pc = c
+                        .pcurve
+                        .as_ref()
+                        .ok_or(MeasureError::NoPcurve { index, coedge: k })?;
+                    let e = self.edges.get(c.edge.0).ok_or(MeasureError::NotFinite)?;
+                    let (a, b) = if c.forward {
+                        e.range
+                    } else {
+                        (e.range.1, e.range.0)
+                    };
+                    let (pa, pb) = pc.domain();
+                    let (a, b) = (a.clamp(pa, pb), b.clamp(pa, pb));
+                    let start = pc.point_at_unchecked(a);
+                    let end = pc.point_at_unchecked(b);
+                    ends.push(([start[0], start[1]], [end[0], end[1]]));
+                    // Walking the pcurve backwards negates the integral: boundary() takes
+                    // its bounds in walking order.
+                    let part = if a <= b {
+                        boundary(s, pc, a, b)
+                    } else {
+                        let mut r = boundary(s, pc, b, a);
+                        r.iter_mut().for_each(|x| *x = -*x);
+                        r
+                    };
+                    add5(&mut total, &part, 1.0);
+                }
+                let n = ends.len();
+                for k in 0..n {
+                    let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
+                    let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
+                    if gap.is_nan() || gap > closure {
+                        return Err(MeasureError::OpenInParameters {
+                            index,
+                            coedge: k,
+                            gap,
+                        });
+                    }
+                    add5(&mut total, &segment(s, p, q), 1.0);
+                }
+                loops.push((l.outer, total));
+            }
+            // With no loop marked outer, the largest is.
+            if !loops.iter().any(|l| l.0) {
+                if let Some(big) = loops
+                    .iter_mut()
+                    .max_by(|a, b| a.1[0].abs().total_cmp(&b.1[0].abs()))
+                {
+                    big.0 = true;
+                }
+            }
+            for (outer, total) in &loops {
+                let sign = if total[0] < 0.0 { -1.0 } else { 1.0 };
+                add5(&mut region, total, if *outer { sign } else { -sign });
+            }
+        }
+        if region.iter().any(|x| !x.is_finite()) {
+            return Err(MeasureError::NotFinite);
+        }
+        let area = region[0];
+        let centroid = if area > 0.0 {
+            [region[1] / area, region[2] / area, region[3] / area]
+        } else {
+            [f64::NAN; 3]
+        };
+        Ok(FaceMeasure {
+            area,
+            centroid,
+            flux: region[4],
+        })
+    }
+
+    /// The volume a solid encloses: a third of the flux of the position through its
+    /// shells' faces, each along its outward normal (the surface normal when the face's
+    /// `same_sense` agrees with its orientation in the shell). Voids count negative by their
+    /// own orientation. Negative when the shells point inwards.
+    pub fn solid_volume(&self, solid: SolidId) -> Result<f64, MeasureError> {
+        let s = self
+            .solids
+            .get(solid.0)
+            .ok_or(MeasureError::NoSolid(solid.0))?;
+        let mut flux = 0.0;
+        for shell in std::iter::once(&s.outer).chain(&s.voids) {
+            let Some(shell) = self.shells.get(shell.0) else {
+                return Err(MeasureError::NoSolid(solid.0));
+            };
+            for &(f, orientation) in &shell.faces {
+                let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
+                let m = self.measure_face(face)?;
+                let outward = face.same_sense == orientation;
+                flux += if outward { m.flux } else { -m.flux };
+            }
+        }
+        Ok(flux / 3.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gauss_legendre;
+
+    /// The rules integrate x^k exactly up to degree 2n - 1 (checked against 2 / (k + 1)).
+    #[test]
+    fn gauss_legendre_is_exact_on_polynomials() {
+        for n in [10, 20] {
+            let rule = gauss_legendre(n);
+            assert_eq!(rule.len(), n);
+            for k in 0..2 * n {
+                let got: f64 = rule.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
+                let want = if k % 2 == 0 {
+                    2.0 / (k as f64 + 1.0)
+                } else {
+                    0.0
+                };
+                assert!((got - want).abs() <= 1e-14, "n {n} k {k}: {got} vs {want}");
+            }
+        }
+    }
+}
