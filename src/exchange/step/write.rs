@@ -8,6 +8,8 @@
 //! - surfaces (and any 3-D curves with them):
 //!   `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` with a `GEOMETRIC_SET` (each
 //!   bounded surface becomes a face, each curve an edge);
+//! - a document with topology: its faces, shells and solids (write/topology.rs), then its
+//!   free curves and surfaces;
 //! - 2-D curves (pcurves): a separate wireframe representation in a 2-D context, not
 //!   attached to the product (a 2-D curve has no place in a 3-D shape; nurbsx reads it back,
 //!   Open CASCADE ignores it).
