@@ -233,7 +233,7 @@ impl Basis {
 
 /// The piece of a NURBS on `[a, b]` inside its domain, by exact splitting (A5.1 knot
 /// insertion): parameters unchanged.
-pub(super) fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
+fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
     let (s, e) = c.domain();
     if !(a >= s && b <= e && a < b) {
         return Err(GeometryError::InvalidArgument(format!(
@@ -1186,6 +1186,9 @@ pub(super) struct EdgeOut {
     closed: bool,
     /// The [`Entity::id`] holding the curve (set by [`Converter::run`]).
     pub entity: String,
+    /// The part of `curve` the edge uses when it is not the whole curve (a B-spline whose
+    /// vertices lie inside it).
+    pub range: Option<(f64, f64)>,
 }
 
 impl<'a> Converter<'_, '_, 'a> {
@@ -1229,7 +1232,7 @@ impl<'a> Converter<'_, '_, 'a> {
             }
         };
         if let Basis::Nurbs { curve, bspline, .. } = &basis {
-            let curve = self.nurbs_edge(
+            let (curve, range) = self.nurbs_edge(
                 id,
                 &basis,
                 curve,
@@ -1244,6 +1247,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 bspline: bspline.is_some(),
                 closed,
                 entity: String::new(),
+                range,
             });
         }
         let (p0, p1) = (vertex(edge_start)?, vertex(edge_end)?);
@@ -1290,14 +1294,16 @@ impl<'a> Converter<'_, '_, 'a> {
             bspline: false,
             closed,
             entity: String::new(),
+            range: None,
         })
     }
 
     /// An edge over a curve that is a NURBS already (B-spline, polyline, trimmed or
     /// composite curve): the whole curve when its ends are the vertices (in the sense of
-    /// the edge), else the piece between the vertices' parameters on it (point inversion,
+    /// the edge), else the range between the vertices' parameters on it (point inversion,
     /// NURBS Book section 6.1; the vertices must lie on the curve within 1e-7 of its size),
-    /// in the curve's own direction as for conics.
+    /// in the curve's own direction as for conics: the whole curve with that range when it
+    /// lies in the curve's domain, else (a range over the seam of a closed curve) the piece.
     fn nurbs_edge(
         &self,
         id: u64,
@@ -1306,13 +1312,13 @@ impl<'a> Converter<'_, '_, 'a> {
         (p0, p1): (Point3, Point3),
         same_sense: bool,
         closed: bool,
-    ) -> Res<NurbsCurve> {
+    ) -> Res<(NurbsCurve, Option<(f64, f64)>)> {
         let (from, to) = if same_sense { (p0, p1) } else { (p1, p0) };
         let (a, b) = curve.domain();
         let tol = (bounding_box_diagonal(curve.control_points()) * 1e-7).max(1e-9);
         let near = |p: Point3, q: Point3| norm(sub(p, q)) <= tol;
         if near(curve.point_at_unchecked(a), from) && near(curve.point_at_unchecked(b), to) {
-            return Ok(curve.clone());
+            return Ok((curve.clone(), None));
         }
         let at = |p: Point3| {
             invert_curve(curve, p)
@@ -1340,7 +1346,13 @@ impl<'a> Converter<'_, '_, 'a> {
                 ),
             )
         })?;
-        basis.bounded(x, y).map_err(|e| self.geometry_error(id, e))
+        if a <= x && y <= b {
+            return Ok((curve.clone(), Some((x, y))));
+        }
+        let piece = basis
+            .bounded(x, y)
+            .map_err(|e| self.geometry_error(id, e))?;
+        Ok((piece, None))
     }
 
     /// The edges of a face (all its bounds, in order; a seam appears twice).

@@ -290,7 +290,7 @@ impl Build<'_, '_, '_, '_> {
             return;
         };
         let (start, end) = if same_sense { (vs, ve) } else { (ve, vs) };
-        let range = out.curve.domain();
+        let range = out.range.unwrap_or_else(|| out.curve.domain());
         match self
             .topology
             .model

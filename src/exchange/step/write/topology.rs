@@ -1,8 +1,8 @@
 //! [`Document`] with a boundary representation -> STEP (ISO 10303-42 clauses 5 and 6, as
 //! Open CASCADE writes parts, spec.md c.5):
-//! - every vertex once (VERTEX_POINT), every edge once (EDGE_CURVE over its bounded
-//!   B_SPLINE_CURVE_WITH_KNOTS, running from its start to its end vertex, `same_sense`
-//!   `.T.`), shared by the ORIENTED_EDGEs of the faces that use it;
+//! - every vertex once (VERTEX_POINT), every edge once (EDGE_CURVE over its
+//!   B_SPLINE_CURVE_WITH_KNOTS, which the vertices bound, running from its start to its end
+//!   vertex, `same_sense` `.T.`), shared by the ORIENTED_EDGEs of the faces that use it;
 //! - faces as ADVANCED_FACE over their B_SPLINE_SURFACE_WITH_KNOTS (rational: the complex
 //!   instance), bounds as FACE_OUTER_BOUND / FACE_BOUND of EDGE_LOOPs;
 //! - shells bounding solids as CLOSED_SHELL in MANIFOLD_SOLID_BREP (BREP_WITH_VOIDS with
@@ -24,7 +24,6 @@ use nurbsx_parsers::real::NonFiniteReal;
 use nurbsx_parsers::step::writer::write_instance;
 use nurbsx_parsers::step::{Body, Instance, Parameter, Record};
 
-use super::super::geometry::sub_curve;
 use super::{
     Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
 };
@@ -239,19 +238,16 @@ pub(super) fn write(
         }
         let mut edge_ids = Vec::with_capacity(m.edges.len());
         for (k, e) in m.edges.iter().enumerate() {
-            // The edge's own piece of its curve (readers take the range from the vertices).
-            let piece: NurbsCurve = if e.range == e.curve.domain() {
-                e.curve.clone()
-            } else {
-                sub_curve(&e.curve, e.range.0, e.range.1).unwrap_or_else(|_| e.curve.clone())
-            };
+            // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
+            // the files write a B-spline edge that uses part of its curve.
+            let piece = &e.curve;
             let entity = held(
                 o.edges.get(k),
                 &by_id,
-                |g| matches!(g, Geometry::Curve(x) if *x == piece),
+                |g| matches!(g, Geometry::Curve(x) if x == piece),
                 || Geometry::Curve(piece.clone()),
             );
-            write_curve(&mut w.text, &mut w.id, &piece, &entity, scale, options)?;
+            write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
             let mut curve = w.id - 1;
             if !in_face[k] {
                 curves3.push(curve);
