@@ -1,14 +1,18 @@
 # FreeCAD's reading of whole parts: for every file named in NURBSX_FILES (separated by
 # os.pathsep), Part.read (Open CASCADE's STEP / IGES reader, as FreeCAD's import does) and
 # one JSON line "reimport_faces: {...}" with the number of faces, shells and solids, the
-# total face area, the volume of the solids, whether the shape is valid, and the
-# area-weighted centroid of the faces. Run by tests/iges_topology.rs.
+# total face area, the volume of the solids, whether the shape and its solids are valid,
+# and the area-weighted centroid of the faces. Run by tests/iges_topology.rs and
+# tests/step_topology.rs.
 #
 # "area" is Open CASCADE's Face.Area. Its Gauss integration runs over a B-spline face's
 # whole parameter range, so on a surface whose parameterisation is only C0 at a knot (the
 # exact rational arcs of a cylinder or torus, joined with double knots) it is off by up to
-# 1e-3 although the surface is exact; "single_span" says whether every face lies on one
-# knot span (or an analytic surface), where that integration is accurate.
+# 1e-3 although the surface is exact. Two figures bound that measuring error:
+# "single_span" says whether every face lies on one knot span (or an analytic surface),
+# where the integration is accurate; "nurbs_area" / "nurbs_volume" measure the same shape
+# converted to NURBS by Open CASCADE itself, so their difference from "area" / "volume" is
+# the measuring error on NURBS geometry.
 import json
 import os
 
@@ -33,6 +37,7 @@ for path in [p for p in os.environ.get("NURBSX_FILES", "").split(os.pathsep) if 
             m = f.CenterOfMass
             for k in range(3):
                 c[k] += f.Area * m[k]
+        nurbs = shape.toNurbs()
         out.update(
             faces=len(shape.Faces),
             shells=len(shape.Shells),
@@ -40,8 +45,11 @@ for path in [p for p in os.environ.get("NURBSX_FILES", "").split(os.pathsep) if 
             area=area,
             single_span=all(single_span(f) for f in shape.Faces),
             volume=sum(s.Volume for s in shape.Solids),
-            valid=shape.isValid(),
+            valid=bool(shape.isValid()),
+            solids_valid=all(s.isValid() for s in shape.Solids),
             centroid=[x / area for x in c] if area > 0 else None,
+            nurbs_area=sum(f.Area for f in nurbs.Faces),
+            nurbs_volume=sum(s.Volume for s in nurbs.Solids),
         )
     except Exception as e:  # a file FreeCAD cannot read is a result, not a crash
         out["error"] = str(e)

@@ -1,5 +1,7 @@
 //! # Points and curves onto surfaces
 //!
+//! - [`invert_curve`]: the parameter of the curve point closest to a given point (NURBS
+//!   Book section 6.1, eqs. 6.3 to 6.5).
 //! - [`invert_surface`]: the parameters `(u, v)` of the surface point closest to a given
 //!   point, by Newton iteration on `f = r . S_u = 0`, `g = r . S_v = 0` with
 //!   `r = S(u, v) - P` (NURBS Book section 6.1, eqs. 6.6 to 6.8), started from the caller's
@@ -116,6 +118,52 @@ pub fn invert_surface(
         .iter()
         .filter_map(|&(_, u, v, _)| newton(surface, point, (u, v), (du, dv), size))
         .min_by(|a, b| a.distance.total_cmp(&b.distance))
+}
+
+/// Where a point lands on a curve: the parameter of the curve point closest to it and the
+/// distance (NURBS Book section 6.1, eqs. 6.3 to 6.5: Newton on `f(u) = C'(u) . (C(u) - P)`,
+/// started from the nearest of samples of every knot span, parameters kept in the domain).
+/// `None` only for a curve whose derivatives are not finite there.
+pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
+    let domain = curve.domain();
+    let size = curve
+        .control_points()
+        .iter()
+        .fold(1.0f64, |m, q| m.max(norm(*q)));
+    let mut samples: Vec<(f64, f64)> = start_parameters(curve.knots(), curve.degree(), domain)
+        .into_iter()
+        .map(|u| (dist(curve.point_at_unchecked(u), point), u))
+        .collect();
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<(f64, f64)> = None;
+    for &(_, start) in samples.iter().take(STARTS) {
+        let mut u = start;
+        for _ in 0..MAX_NEWTON {
+            let d = curve.derivatives(u, 2).ok()?;
+            let r = sub(d[0], point);
+            let distance = norm(r);
+            if best.is_none_or(|b| distance < b.1) {
+                best = Some((u, distance));
+            }
+            let f = dot(d[1], r);
+            // Eq. 6.4: zero distance, or r perpendicular to the tangent.
+            if distance <= 1e-15 * size || f.abs() <= 1e-12 * norm(d[1]) * distance {
+                break;
+            }
+            // Eq. 6.3: u' = u - f / f', f' = C'' . r + |C'|^2.
+            let fp = dot(d[2], r) + dot(d[1], d[1]);
+            if fp == 0.0 || !fp.is_finite() {
+                break;
+            }
+            let next = clamp_to(u - f / fp, domain);
+            // Eq. 6.5: the parameter no longer moves.
+            if (next - u).abs() <= 1e-15 * (domain.1 - domain.0).max(1.0) {
+                break;
+            }
+            u = next;
+        }
+    }
+    best
 }
 
 /// Distinct starts of a search without a guess.

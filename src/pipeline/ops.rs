@@ -434,7 +434,7 @@ pub fn drop_unwritable(doc: &mut Document, format: Format) {
         .partition(|e| {
             e.geometry.dimension() == 2
                 && matches!(e.geometry, Geometry::Curve(_))
-                && !(carried && !e.meta.used_by.is_empty())
+                && (!carried || e.meta.used_by.is_empty())
         });
     if let Some(first) = dropped.first() {
         doc.diagnostics.push(Diagnostic::warning(

@@ -160,7 +160,14 @@ pub(super) fn shell(
         .filter(|(_, u)| **u != (1, 1))
         .map(|(&e, _)| e)
         .collect();
-    let closed = bad.is_empty() && !uses.is_empty();
+    // Without any edge (faces bounded by their surfaces alone, as a sphere whose only bound
+    // is a vertex loop) the shell is closed when each face's surface closes on itself.
+    let closed = bad.is_empty()
+        && (!uses.is_empty()
+            || (!faces.is_empty()
+                && faces
+                    .iter()
+                    .all(|(f, _)| m.faces.get(f.0).is_some_and(|x| surface_closes(&x.surface)))));
     if declared_closed && !closed {
         return Err(TopologyError::ShellNotClosed {
             shell: id,
@@ -169,4 +176,33 @@ pub(super) fn shell(
         });
     }
     Ok(closed)
+}
+
+/// Samples per boundary for [`surface_closes`].
+const BOUNDARY_SAMPLES: usize = 16;
+
+/// Whether a surface bounds a region by itself (ISO 10303-42 closed_shell of faces without
+/// edges): in each direction the two boundary curves coincide or each is a single point
+/// (a pole), within 1e-9 of the control net's size.
+fn surface_closes(surface: &NurbsSurface) -> bool {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let tol = crate::nurbs::bounding_box_diagonal(surface.control_points().as_slice()) * 1e-9;
+    let side = |along_u: bool, at: f64| -> Vec<crate::nurbs::Point3> {
+        (0..=BOUNDARY_SAMPLES)
+            .map(|k| {
+                let t = k as f64 / BOUNDARY_SAMPLES as f64;
+                if along_u {
+                    surface.point_at_unchecked(u0 + (u1 - u0) * t, at)
+                } else {
+                    surface.point_at_unchecked(at, v0 + (v1 - v0) * t)
+                }
+            })
+            .collect()
+    };
+    let closes = |a: Vec<crate::nurbs::Point3>, b: Vec<crate::nurbs::Point3>| {
+        let same = a.iter().zip(&b).all(|(p, q)| dist(*p, *q) <= tol);
+        let point = |c: &[crate::nurbs::Point3]| c.iter().all(|p| dist(*p, c[0]) <= tol);
+        same || (point(&a) && point(&b))
+    };
+    closes(side(false, u0), side(false, u1)) && closes(side(true, v0), side(true, v1))
 }

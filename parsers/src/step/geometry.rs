@@ -280,6 +280,56 @@ pub enum GeometryRecord<'a> {
         /// `same_sense`.
         same_sense: bool,
     },
+    /// `vertex_loop` (ISO 10303-42 5.4, vertex_loop): a loop of one vertex (a face's
+    /// degenerate boundary, e.g. a cone's apex).
+    VertexLoop {
+        /// `loop_vertex`.
+        loop_vertex: u64,
+    },
+    /// `poly_loop` (ISO 10303-42 5.4, poly_loop): a loop of straight edges through points.
+    PolyLoop {
+        /// `polygon` (CARTESIAN_POINTs, at least 3).
+        polygon: Vec<u64>,
+    },
+    /// `open_shell` and `closed_shell` (ISO 10303-42 5.4, connected_face_set subtypes):
+    /// `cfs_faces`.
+    Shell {
+        /// `cfs_faces` (FACEs).
+        cfs_faces: Vec<u64>,
+        /// `true` for CLOSED_SHELL.
+        closed: bool,
+    },
+    /// `oriented_closed_shell` (ISO 10303-42 5.4): `closed_shell_element`, `orientation`
+    /// (`cfs_faces` is derived).
+    OrientedClosedShell {
+        /// `closed_shell_element`.
+        closed_shell_element: u64,
+        /// `orientation`.
+        orientation: bool,
+    },
+    /// `manifold_solid_brep` and `brep_with_voids` (ISO 10303-42 clause 6): `outer` and
+    /// the `voids` (ORIENTED_CLOSED_SHELLs; empty for a MANIFOLD_SOLID_BREP).
+    ManifoldSolidBrep {
+        /// `outer` (a CLOSED_SHELL).
+        outer: u64,
+        /// `voids`.
+        voids: Vec<u64>,
+    },
+    /// `shell_based_surface_model` (ISO 10303-42 clause 6): `sbsm_boundary`.
+    ShellBasedSurfaceModel {
+        /// `sbsm_boundary` (OPEN_SHELLs or CLOSED_SHELLs).
+        sbsm_boundary: Vec<u64>,
+    },
+    /// `face_based_surface_model` (ISO 10303-42 clause 6): `fbsm_faces`.
+    FaceBasedSurfaceModel {
+        /// `fbsm_faces` (CONNECTED_FACE_SETs).
+        fbsm_faces: Vec<u64>,
+    },
+    /// `geometric_set` and `geometric_curve_set` (ISO 10303-42 clause 6): `elements`.
+    GeometricSet {
+        /// `elements` (points, curves, surfaces).
+        elements: Vec<u64>,
+    },
 }
 
 /// A decoded geometry item: its record, `name` and the entity type as written.
@@ -337,14 +387,33 @@ pub const GEOMETRY_ENTITIES: &[&str] = &[
     "FACE_BOUND",
     "ADVANCED_FACE",
     "FACE_SURFACE",
+    "VERTEX_LOOP",
+    "POLY_LOOP",
+    "OPEN_SHELL",
+    "ORIENTED_CLOSED_SHELL",
+    "CLOSED_SHELL",
+    "BREP_WITH_VOIDS",
+    "MANIFOLD_SOLID_BREP",
+    "SHELL_BASED_SURFACE_MODEL",
+    "FACE_BASED_SURFACE_MODEL",
+    "GEOMETRIC_CURVE_SET",
+    "GEOMETRIC_SET",
 ];
 
-/// Bit `c - 'A'` set for each first letter `c` of [`GEOMETRY_ENTITIES`].
+/// The one entry of [`GEOMETRY_ENTITIES`] starting with `B`: kept out of the first-letter
+/// mask (B-splines start with `B` too) and compared on its own.
+const BREP_WITH_VOIDS: &str = "BREP_WITH_VOIDS";
+
+/// Bit `c - 'A'` set for each first letter `c` of [`GEOMETRY_ENTITIES`] except
+/// [`BREP_WITH_VOIDS`]'s.
 const FIRST_LETTERS: u32 = {
     let mut mask = 0u32;
     let mut i = 0;
     while i < GEOMETRY_ENTITIES.len() {
-        mask |= 1 << (GEOMETRY_ENTITIES[i].as_bytes()[0] - b'A');
+        let first = GEOMETRY_ENTITIES[i].as_bytes()[0];
+        if first != b'B' {
+            mask |= 1 << (first - b'A');
+        }
         i += 1;
     }
     mask
@@ -353,18 +422,19 @@ const FIRST_LETTERS: u32 = {
 /// Whether an entity name (long or short form) is one this module reads.
 ///
 /// Every simple instance of a file passes here, most of them CARTESIAN_POINTs and
-/// B-splines: the first letter (a mask built from the table) and one comparison turn those
-/// away before the table is searched.
+/// B-splines: the first letter (a mask built from the table, without `B`) and one
+/// comparison turn those away before the table is searched.
 pub fn is_geometry_entity(keyword: &str) -> bool {
     let k = canonical_name(keyword);
     let Some(&first) = k.as_bytes().first() else {
         return false;
     };
     let letter = first.wrapping_sub(b'A');
-    letter < 26
-        && FIRST_LETTERS & (1 << letter) != 0
-        && k != "CARTESIAN_POINT"
-        && GEOMETRY_ENTITIES.contains(&k)
+    if letter < 26 && FIRST_LETTERS & (1 << letter) != 0 {
+        k != "CARTESIAN_POINT" && GEOMETRY_ENTITIES.contains(&k)
+    } else {
+        first == b'B' && k == BREP_WITH_VOIDS
+    }
 }
 
 fn trimming_selects(p: &Parameter<'_>) -> Result<Vec<TrimmingSelect>, String> {
@@ -568,6 +638,37 @@ impl<'a> GeometryItem<'a> {
             "FACE_OUTER_BOUND" | "FACE_BOUND" => R::FaceBound {
                 bound: a.reference("FACE_BOUND", "bound")?,
                 orientation: a.boolean("FACE_BOUND", "orientation")?,
+            },
+            "VERTEX_LOOP" => R::VertexLoop {
+                loop_vertex: a.reference(entity, "loop_vertex")?,
+            },
+            "POLY_LOOP" => R::PolyLoop {
+                polygon: a.references(entity, "polygon")?,
+            },
+            "OPEN_SHELL" | "CLOSED_SHELL" => R::Shell {
+                cfs_faces: a.references("CONNECTED_FACE_SET", "cfs_faces")?,
+                closed: entity == "CLOSED_SHELL",
+            },
+            "ORIENTED_CLOSED_SHELL" => R::OrientedClosedShell {
+                closed_shell_element: a.reference(entity, "closed_shell_element")?,
+                orientation: a.boolean(entity, "orientation")?,
+            },
+            "BREP_WITH_VOIDS" | "MANIFOLD_SOLID_BREP" => R::ManifoldSolidBrep {
+                outer: a.reference("MANIFOLD_SOLID_BREP", "outer")?,
+                voids: if entity == "BREP_WITH_VOIDS" {
+                    a.references(entity, "voids")?
+                } else {
+                    Vec::new()
+                },
+            },
+            "SHELL_BASED_SURFACE_MODEL" => R::ShellBasedSurfaceModel {
+                sbsm_boundary: a.references(entity, "sbsm_boundary")?,
+            },
+            "FACE_BASED_SURFACE_MODEL" => R::FaceBasedSurfaceModel {
+                fbsm_faces: a.references(entity, "fbsm_faces")?,
+            },
+            "GEOMETRIC_CURVE_SET" | "GEOMETRIC_SET" => R::GeometricSet {
+                elements: a.references("GEOMETRIC_SET", "elements")?,
             },
             _ => R::FaceSurface {
                 bounds: a.references("FACE", "bounds")?,

@@ -263,6 +263,70 @@ fn valid_simple_instances() {
                 same_sense: false,
             },
         ),
+        ("#1=VERTEX_LOOP('',#2);", R::VertexLoop { loop_vertex: 2 }),
+        (
+            "#1=POLY_LOOP('',(#2,#3,#4));",
+            R::PolyLoop {
+                polygon: vec![2, 3, 4],
+            },
+        ),
+        (
+            "#1=OPEN_SHELL('',(#2,#3));",
+            R::Shell {
+                cfs_faces: vec![2, 3],
+                closed: false,
+            },
+        ),
+        (
+            "#1=CLOSED_SHELL('',(#2));",
+            R::Shell {
+                cfs_faces: vec![2],
+                closed: true,
+            },
+        ),
+        (
+            "#1=ORIENTED_CLOSED_SHELL('',*,#2,.F.);",
+            R::OrientedClosedShell {
+                closed_shell_element: 2,
+                orientation: false,
+            },
+        ),
+        (
+            "#1=MANIFOLD_SOLID_BREP('',#2);",
+            R::ManifoldSolidBrep {
+                outer: 2,
+                voids: vec![],
+            },
+        ),
+        (
+            "#1=BREP_WITH_VOIDS('',#2,(#3,#4));",
+            R::ManifoldSolidBrep {
+                outer: 2,
+                voids: vec![3, 4],
+            },
+        ),
+        (
+            "#1=SHELL_BASED_SURFACE_MODEL('',(#2));",
+            R::ShellBasedSurfaceModel {
+                sbsm_boundary: vec![2],
+            },
+        ),
+        (
+            "#1=FACE_BASED_SURFACE_MODEL('',(#2,#3));",
+            R::FaceBasedSurfaceModel {
+                fbsm_faces: vec![2, 3],
+            },
+        ),
+        (
+            "#1=GEOMETRIC_CURVE_SET('',(#2,#3));",
+            R::GeometricSet {
+                elements: vec![2, 3],
+            },
+        ),
+        (
+            "#1=GEOMETRIC_SET('',(#2));",
+            R::GeometricSet { elements: vec![2] },
+        ),
     ];
     for (text, expected) in cases {
         assert_eq!(record(text), expected, "{text}");
@@ -514,6 +578,8 @@ fn geometry_entity_names() {
     for other in [
         "CARTESIAN_POINT",
         "B_SPLINE_CURVE_WITH_KNOTS",
+        "B_SPLINE_SURFACE_WITH_KNOTS",
+        "BREP_WITH_VOIDS_X",
         "",
         "line",
         "_X",

@@ -178,6 +178,23 @@ pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
     ("FACE", &["bounds"]),
     ("FACE_SURFACE", &["face_geometry", "same_sense"]),
     ("ADVANCED_FACE", &[]),
+    ("VERTEX_LOOP", &["loop_vertex"]),
+    ("POLY_LOOP", &["polygon"]),
+    ("CONNECTED_FACE_SET", &["cfs_faces"]),
+    ("OPEN_SHELL", &[]),
+    ("CLOSED_SHELL", &[]),
+    (
+        "ORIENTED_CLOSED_SHELL",
+        &["closed_shell_element", "orientation"],
+    ),
+    // ISO 10303-42 clause 6 (geometric models): solids, surface models and sets.
+    ("SOLID_MODEL", &[]),
+    ("MANIFOLD_SOLID_BREP", &["outer"]),
+    ("BREP_WITH_VOIDS", &["voids"]),
+    ("SHELL_BASED_SURFACE_MODEL", &["sbsm_boundary"]),
+    ("FACE_BASED_SURFACE_MODEL", &["fbsm_faces"]),
+    ("GEOMETRIC_SET", &["elements"]),
+    ("GEOMETRIC_CURVE_SET", &[]),
 ];
 
 const CURVE_CHAIN: [&str; 5] = [
@@ -333,6 +350,51 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
     (
         "ADVANCED_FACE",
         &[RI, TRI, "FACE", "FACE_SURFACE", "ADVANCED_FACE"],
+    ),
+    ("VERTEX_LOOP", &[RI, TRI, "LOOP", "VERTEX_LOOP"]),
+    ("POLY_LOOP", &[RI, GRI, TRI, "LOOP", "POLY_LOOP"]),
+    ("CONNECTED_FACE_SET", &[RI, TRI, "CONNECTED_FACE_SET"]),
+    ("OPEN_SHELL", &[RI, TRI, "CONNECTED_FACE_SET", "OPEN_SHELL"]),
+    (
+        "CLOSED_SHELL",
+        &[RI, TRI, "CONNECTED_FACE_SET", "CLOSED_SHELL"],
+    ),
+    (
+        "ORIENTED_CLOSED_SHELL",
+        &[
+            RI,
+            TRI,
+            "CONNECTED_FACE_SET",
+            "CLOSED_SHELL",
+            "ORIENTED_CLOSED_SHELL",
+        ],
+    ),
+    (
+        "MANIFOLD_SOLID_BREP",
+        &[RI, GRI, "SOLID_MODEL", "MANIFOLD_SOLID_BREP"],
+    ),
+    (
+        "BREP_WITH_VOIDS",
+        &[
+            RI,
+            GRI,
+            "SOLID_MODEL",
+            "MANIFOLD_SOLID_BREP",
+            "BREP_WITH_VOIDS",
+        ],
+    ),
+    (
+        "SHELL_BASED_SURFACE_MODEL",
+        &[RI, GRI, "SHELL_BASED_SURFACE_MODEL"],
+    ),
+    (
+        "FACE_BASED_SURFACE_MODEL",
+        &[RI, GRI, "FACE_BASED_SURFACE_MODEL"],
+    ),
+    ("GEOMETRIC_SET", &[RI, GRI, "GEOMETRIC_SET"]),
+    (
+        "GEOMETRIC_CURVE_SET",
+        &[RI, GRI, "GEOMETRIC_SET", "GEOMETRIC_CURVE_SET"],
     ),
     (
         "CARTESIAN_POINT",

@@ -30,6 +30,7 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
+use crate::nurbs::project::invert_curve;
 use crate::nurbs::sweep::{self, Frame};
 use crate::nurbs::vector::{add, sub};
 use crate::nurbs::vector::{cross, dot, norm, scale as mul};
@@ -452,12 +453,14 @@ pub(super) struct Output {
     /// B-spline instances that became part of another entity (a trimmed or composite curve,
     /// a swept or rectangular trimmed surface): not converted again on their own.
     pub consumed_bsplines: HashSet<u64>,
+    /// The converted EDGE_CURVEs by instance id (for the topology).
+    pub edges: HashMap<u64, EdgeOut>,
 }
 
 type Res<T> = Result<T, Diagnostic>;
 
 impl<'a> Converter<'_, '_, 'a> {
-    fn location(&self, id: u64) -> Location {
+    pub(super) fn location(&self, id: u64) -> Location {
         let (line, column) = self
             .s
             .get(id)
@@ -470,7 +473,7 @@ impl<'a> Converter<'_, '_, 'a> {
         }
     }
 
-    fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
+    pub(super) fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
         Diagnostic::error(code, message, self.location(id))
     }
 
@@ -513,7 +516,7 @@ impl<'a> Converter<'_, '_, 'a> {
         })
     }
 
-    fn point(&self, id: u64, from: u64) -> Res<Point3> {
+    pub(super) fn point(&self, id: u64, from: u64) -> Res<Point3> {
         let raw = self
             .s
             .get(id)
@@ -1174,13 +1177,18 @@ impl<'a> Converter<'_, '_, 'a> {
 /// An edge's curve after bounding: the NURBS, the curve instance it came from, and whether
 /// that instance is a B-spline the reader's B-spline path converts on its own.
 #[derive(Clone)]
-struct EdgeOut {
-    curve: NurbsCurve,
+pub(super) struct EdgeOut {
+    pub curve: NurbsCurve,
     curve_id: u64,
     shape: Option<Shape>,
     bspline: bool,
     /// Start and end vertex are the same (the edge closes on itself).
     closed: bool,
+    /// The [`Entity::id`] holding the curve (set by [`Converter::run`]).
+    pub entity: String,
+    /// The part of `curve` the edge uses when it is not the whole curve (a B-spline whose
+    /// vertices lie inside it).
+    pub range: Option<(f64, f64)>,
 }
 
 impl<'a> Converter<'_, '_, 'a> {
@@ -1200,7 +1208,8 @@ impl<'a> Converter<'_, '_, 'a> {
     /// curve's own direction (the arc from start to end vertex when `same_sense`, from end
     /// to start otherwise); a closed conic whose edge starts and ends at one vertex is the
     /// whole conic from that vertex. Other curves (B-splines, polylines, trimmed and
-    /// composite curves) are bounded already and are taken whole.
+    /// composite curves) are taken whole when their ends are the vertices, else between
+    /// the vertices ([`Converter::nurbs_edge`]).
     fn edge(&self, id: u64) -> Res<EdgeOut> {
         let item = self.item(id, id, "EDGE_CURVE")?;
         let R::EdgeCurve {
@@ -1216,21 +1225,31 @@ impl<'a> Converter<'_, '_, 'a> {
         let basis = self.basis(edge_geometry, id, 0)?;
         let closed = edge_start == edge_end;
         let shape = basis.shape();
-        if let Basis::Nurbs { curve, bspline, .. } = basis {
-            return Ok(EdgeOut {
-                curve,
-                curve_id,
-                shape,
-                bspline: bspline.is_some(),
-                closed,
-            });
-        }
         let vertex = |v: u64| -> Res<Point3> {
             match self.item(v, id, "VERTEX_POINT")?.record {
                 R::VertexPoint { vertex_geometry } => self.point(vertex_geometry, v),
                 _ => Err(self.error(id, "step.reference", format!("#{v} is not a VERTEX_POINT"))),
             }
         };
+        if let Basis::Nurbs { curve, bspline, .. } = &basis {
+            let (curve, range) = self.nurbs_edge(
+                id,
+                &basis,
+                curve,
+                (vertex(edge_start)?, vertex(edge_end)?),
+                same_sense,
+                closed,
+            )?;
+            return Ok(EdgeOut {
+                curve,
+                curve_id,
+                shape,
+                bspline: bspline.is_some(),
+                closed,
+                entity: String::new(),
+                range,
+            });
+        }
         let (p0, p1) = (vertex(edge_start)?, vertex(edge_end)?);
         let (t0, t1) = match (basis.inverse(p0), basis.inverse(p1)) {
             (Some(a), Some(b)) => (a, b),
@@ -1274,7 +1293,66 @@ impl<'a> Converter<'_, '_, 'a> {
             shape,
             bspline: false,
             closed,
+            entity: String::new(),
+            range: None,
         })
+    }
+
+    /// An edge over a curve that is a NURBS already (B-spline, polyline, trimmed or
+    /// composite curve): the whole curve when its ends are the vertices (in the sense of
+    /// the edge), else the range between the vertices' parameters on it (point inversion,
+    /// NURBS Book section 6.1; the vertices must lie on the curve within 1e-7 of its size),
+    /// in the curve's own direction as for conics: the whole curve with that range when it
+    /// lies in the curve's domain, else (a range over the seam of a closed curve) the piece.
+    fn nurbs_edge(
+        &self,
+        id: u64,
+        basis: &Basis,
+        curve: &NurbsCurve,
+        (p0, p1): (Point3, Point3),
+        same_sense: bool,
+        closed: bool,
+    ) -> Res<(NurbsCurve, Option<(f64, f64)>)> {
+        let (from, to) = if same_sense { (p0, p1) } else { (p1, p0) };
+        let (a, b) = curve.domain();
+        let tol = (bounding_box_diagonal(curve.control_points()) * 1e-7).max(1e-9);
+        let near = |p: Point3, q: Point3| norm(sub(p, q)) <= tol;
+        if near(curve.point_at_unchecked(a), from) && near(curve.point_at_unchecked(b), to) {
+            return Ok((curve.clone(), None));
+        }
+        let at = |p: Point3| {
+            invert_curve(curve, p)
+                .filter(|(_, d)| *d <= tol)
+                .map(|(t, _)| t)
+                .ok_or_else(|| {
+                    self.error(
+                        id,
+                        "geometry.invalid",
+                        format!("a vertex of the edge is not on its curve (tolerance {tol:e})"),
+                    )
+                })
+        };
+        let (ta, tb) = (at(from)?, at(to)?);
+        let range = match basis.period() {
+            Some(p) if closed => Some((ta, ta + p)),
+            period => forward_range(ta, tb, period),
+        };
+        let (x, y) = range.ok_or_else(|| {
+            self.error(
+                id,
+                "geometry.invalid",
+                format!(
+                    "vertices at parameters {ta} and {tb} do not bound the curve in the sense given"
+                ),
+            )
+        })?;
+        if a <= x && y <= b {
+            return Ok((curve.clone(), Some((x, y))));
+        }
+        let piece = basis
+            .bounded(x, y)
+            .map_err(|e| self.geometry_error(id, e))?;
+        Ok((piece, None))
     }
 
     /// The edges of a face (all its bounds, in order; a seam appears twice).
@@ -1539,7 +1617,8 @@ impl<'a> Converter<'_, '_, 'a> {
         let mut uses: HashMap<u64, usize> = HashMap::new();
         for (e, r) in edge_results {
             match r {
-                Ok(o) => {
+                Ok(mut o) => {
+                    o.entity = format!("#{}", o.curve_id);
                     if !o.bspline {
                         let n = uses.entry(o.curve_id).or_insert(0);
                         *n += 1;
@@ -1548,6 +1627,7 @@ impl<'a> Converter<'_, '_, 'a> {
                         } else {
                             format!("#{}@#{e}", o.curve_id)
                         };
+                        o.entity.clone_from(&label);
                         out.entities.push(self.entity(
                             o.curve_id,
                             label,
@@ -1593,6 +1673,7 @@ impl<'a> Converter<'_, '_, 'a> {
         if let Ok(mut w) = self.warnings.lock() {
             out.diagnostics.append(&mut w);
         }
+        out.edges = edge_map;
         // Parameter-space curves of analytic type are not carried yet: say so once.
         let analytic: Vec<u64> = pcurve_items
             .iter()

@@ -34,10 +34,18 @@
 //! | `trim.parameter_mismatch` | warning | a trim's parameter and point disagree (Open CASCADE writes parabola trims in its own parameter): the point's exact inverse is used |
 //! | `limit.nesting_depth` | error | curves or surfaces built on each other more than 16 levels deep |
 //! | `step.form_unspecified` | warning (writer) | an entity's declared kind disagrees with its geometry: written `.UNSPECIFIED.` |
+//! | `topology.loop_open`, `topology.edge_vertex`, `topology.edge_range`, `topology.missing`, `topology.vertex_invalid` | error | a face loop, edge or vertex refused by the topology checks, or one whose parts could not be read: skipped |
+//! | `topology.shell_open` | error | a CLOSED_SHELL that does not close: kept as an open shell |
+//! | `topology.solid_shell_open` | error | a solid on a shell that is not closed: skipped |
+//! | `topology.pcurve_deviates` | error | a projected pcurve the face check refuses: the face is kept without pcurves |
+//! | `pcurve.not_computed` | warning | coedges whose 3-D edge did not project onto the face surface within the edge tolerance (one diagnostic) |
+//! | `topology.not_read` | warning | `geometry_only`: how many faces, edges, shells and solids were left out |
+//! | `assembly.not_applied` | warning | the file has assembly instances; their placements are not applied |
 
 mod geometry;
 mod implicit;
 mod read;
+mod topology;
 mod units;
 mod write;
 

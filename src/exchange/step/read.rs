@@ -25,9 +25,10 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// Reads every B-spline curve and surface of a STEP file (ISO 10303-21 + ISO 10303-42) and
 /// its analytic, trimmed, composite and swept geometry.
 ///
-/// Per-entity problems give an error diagnostic and the entity is skipped; the rest of the
-/// file (products, presentation, topology beyond what bounds the geometry) is ignored
-/// without comment. `Err` only when the file structure is broken (no
+/// Per-entity problems give an error diagnostic and the entity is skipped; the boundary
+/// representation (faces, loops, edges, vertices, shells, solids) goes into
+/// [`Document::topology`] unless [`ImportOptions::geometry_only`]; the rest of the file
+/// (products, presentation) is ignored without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
@@ -51,9 +52,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut complex: Vec<&RawInstance<'_>> = Vec::new();
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
+    // Product structure (assemblies) is not read: its instances are counted to say so.
+    let mut assembly_links = 0usize;
     for raw in &scanned.instances {
-        if raw.keyword_initial().is_none() {
-            complex.push(raw);
+        match raw.keyword_initial() {
+            None => complex.push(raw),
+            Some(b'N' | b'M') => {
+                if matches!(
+                    raw.keyword().map(canonical_name),
+                    Some("NEXT_ASSEMBLY_USAGE_OCCURRENCE" | "MAPPED_ITEM")
+                ) {
+                    assembly_links += 1;
+                }
+            }
+            Some(_) => {}
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
@@ -125,15 +137,16 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         }
         r
     };
-    let converted = Converter {
+    let converter = Converter {
         s: &scanned,
         items: &items,
         scale,
         radians,
         bspline: &bspline,
         warnings: std::sync::Mutex::new(Vec::new()),
-    }
-    .run();
+    };
+    let mut converted = converter.run();
+    let edges = std::mem::take(&mut converted.edges);
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
     if let Ok(mut notes) = bspline_notes.lock() {
@@ -183,6 +196,45 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // File order (a stable sort: entities of one instance keep their order).
     placed.sort_by_key(|(offset, _)| *offset);
     doc.entities.extend(placed.into_iter().map(|(_, e)| e));
+
+    if assembly_links > 0 {
+        doc.diagnostics.push(Diagnostic::warning(
+            "assembly.not_applied",
+            format!(
+                "the file places parts in an assembly ({assembly_links} NEXT_ASSEMBLY_USAGE_OCCURRENCE / MAPPED_ITEM instance(s)); placements are not applied: every part is read once, in its own coordinates"
+            ),
+            Location::default(),
+        ));
+    }
+    // The boundary representation over the converted geometry (topology.rs).
+    if options.geometry_only {
+        let c = super::topology::count(&converter);
+        if c != super::topology::Counts::default() {
+            doc.diagnostics.push(Diagnostic::warning(
+                "topology.not_read",
+                format!(
+                    "read geometry only: {} face(s), {} edge(s), {} shell(s) and {} solid(s) of the file are not represented (their surfaces and curves are)",
+                    c.faces, c.edges, c.shells, c.solids
+                ),
+                Location::default(),
+            ));
+        }
+    } else {
+        let built = super::topology::build(&converter, &edges, &doc.entities);
+        doc.topology = built.topology;
+        doc.diagnostics.extend(built.diagnostics);
+        if !built.pcurve_entities.is_empty() {
+            let mut users: std::collections::HashMap<String, Vec<String>> = Default::default();
+            for (entity, edge) in built.pcurve_entities {
+                users.entry(entity).or_default().push(edge);
+            }
+            for e in &mut doc.entities {
+                if let Some(list) = users.remove(&e.id) {
+                    e.meta.used_by.extend(list);
+                }
+            }
+        }
+    }
     Ok(doc)
 }
 

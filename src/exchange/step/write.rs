@@ -8,6 +8,8 @@
 //! - surfaces (and any 3-D curves with them):
 //!   `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` with a `GEOMETRIC_SET` (each
 //!   bounded surface becomes a face, each curve an edge);
+//! - a document with topology: its faces, shells and solids (write/topology.rs), then its
+//!   free curves and surfaces;
 //! - 2-D curves (pcurves): a separate wireframe representation in a 2-D context, not
 //!   attached to the product (a 2-D curve has no place in a 3-D shape; nurbsx reads it back,
 //!   Open CASCADE ignores it).
@@ -35,6 +37,8 @@ use crate::exchange::{
     Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, Shape, StepSchema,
 };
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
+
+mod topology;
 
 /// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
 struct Protocol {
@@ -224,14 +228,37 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
     }
 }
 
-/// The instances after the geometry (the shape representation's sets, the 2-D curves'
-/// representation) and the header records.
+/// The set holding the free 3-D curves and surfaces (`None` when there are none:
+/// GEOMETRIC_SET / GEOMETRIC_CURVE_SET need at least one element, SET [1:?]) and the
+/// representation that holds only such geometry.
+fn geometric_set(
+    b: &mut Builder,
+    curves3: &[u64],
+    surfaces: &[u64],
+) -> (Option<u64>, &'static str) {
+    if surfaces.is_empty() {
+        let set = (!curves3.is_empty())
+            .then(|| b.simple("GEOMETRIC_CURVE_SET", vec![s(""), Parameter::refs(curves3)]));
+        (set, "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION")
+    } else {
+        let mut members = curves3.to_vec();
+        members.extend(surfaces);
+        let set = b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]);
+        (
+            Some(set),
+            "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION",
+        )
+    }
+}
+
+/// The instances after the geometry (the shape representation with `items` after the
+/// placement, the 2-D curves' representation) and the header records.
 fn finish(
     f: &mut Frame,
     options: &ExportOptions,
-    curves3: &[u64],
+    rep_keyword: &'static str,
+    shape_items: &[u64],
     curves2: &[u64],
-    surfaces: &[u64],
 ) -> Vec<Record<'static>> {
     let (b, unit, proto, name, rep, ctx3, placement) = (
         &mut f.b,
@@ -242,20 +269,9 @@ fn finish(
         f.ctx3,
         f.placement,
     );
-    // GEOMETRIC_SET / GEOMETRIC_CURVE_SET need at least one element (SET [1:?]); a
-    // document without 3-D geometry gets a representation holding only its placement.
+    // A document without 3-D geometry gets a representation holding only its placement.
     let mut items = vec![placement];
-    let rep_keyword = if surfaces.is_empty() {
-        if !curves3.is_empty() {
-            items.push(b.simple("GEOMETRIC_CURVE_SET", vec![s(""), Parameter::refs(curves3)]));
-        }
-        "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION"
-    } else {
-        let mut members = curves3.to_vec();
-        members.extend(surfaces);
-        items.push(b.simple("GEOMETRIC_SET", vec![s(""), Parameter::refs(&members)]));
-        "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION"
-    };
+    items.extend_from_slice(shape_items);
     b.set(
         rep,
         Body::Simple(rec(
@@ -314,6 +330,9 @@ fn finish(
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
     let mut f = frame(document, options);
     let first = f.b.next_id();
+    if !document.topology.is_empty() {
+        return topology::write(document, options, f);
+    }
     let mut next = first;
     let mut size = 16_384usize;
     let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
@@ -353,15 +372,39 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             .saturating_add(400);
     }
     f.b.reserve_many(next - first);
-    let header = finish(&mut f, options, &curves3, &curves2, &surfaces);
-    let instances = std::mem::take(&mut f.b).into_instances();
+    let (set, rep_keyword) = geometric_set(&mut f.b, &curves3, &surfaces);
+    let set: Vec<u64> = set.into_iter().collect();
+    let header = finish(&mut f, options, rep_keyword, &set, &curves2);
     let scale = f.scale;
-    let real_error =
-        |e: NonFiniteReal| Diagnostic::error("step.write", e.to_string(), Location::default());
+    assemble(&mut f, &header, first, size, |out| {
+        let mut id = first;
+        for e in &document.entities {
+            match &e.geometry {
+                Geometry::Curve(c) => write_curve(out, &mut id, c, e, scale, options),
+                Geometry::Surface(sf) => write_surface(out, &mut id, sf, e, scale, options),
+            }?;
+        }
+        Ok(())
+    })
+}
 
+fn real_error(e: NonFiniteReal) -> Diagnostic {
+    Diagnostic::error("step.write", e.to_string(), Location::default())
+}
+
+/// The file: the header records, the builder's instances before `first`, what `body`
+/// writes (the ids from `first` the builder reserved), the builder's instances after.
+fn assemble(
+    f: &mut Frame,
+    header: &[Record<'static>],
+    first: u64,
+    size: usize,
+    body: impl FnOnce(&mut String) -> Result<(), NonFiniteReal>,
+) -> Result<String, Diagnostic> {
+    let instances = std::mem::take(&mut f.b).into_instances();
     let mut out = String::with_capacity(size);
     out.push_str("ISO-10303-21;\nHEADER;\n");
-    for r in &header {
+    for r in header {
         write_record(&mut out, r).map_err(real_error)?;
         out.push_str(";\n");
     }
@@ -371,14 +414,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     for inst in before {
         write_instance(&mut out, inst).map_err(real_error)?;
     }
-    let mut id = first;
-    for e in &document.entities {
-        match &e.geometry {
-            Geometry::Curve(c) => write_curve(&mut out, &mut id, c, e, scale, options),
-            Geometry::Surface(sf) => write_surface(&mut out, &mut id, sf, e, scale, options),
-        }
-        .map_err(real_error)?;
-    }
+    body(&mut out).map_err(real_error)?;
     for inst in after {
         write_instance(&mut out, inst).map_err(real_error)?;
     }

@@ -1,0 +1,704 @@
+//! STEP boundary representation -> [`Topology`]: the ISO 10303-42 clause 5 topology
+//! (vertex_point, edge_curve, oriented_edge, edge_loop / poly_loop / vertex_loop,
+//! face_bound / face_outer_bound, advanced_face / face_surface, open_shell / closed_shell /
+//! oriented_closed_shell) and the clause 6 solids (manifold_solid_brep, brep_with_voids)
+//! over the exact NURBS geometry [`super::geometry`] converted.
+//!
+//! - Vertices are the VERTEX_POINTs, edges the converted EDGE_CURVEs: an edge's curve is
+//!   the one in [`Document::entities`](crate::exchange::Document) (bounded by its vertices);
+//!   it runs from `edge_start` to `edge_end` when `same_sense`, else the other way, so the
+//!   model's edge starts at `edge_end` then and the oriented edges using it are flipped.
+//! - A face_bound with `orientation = .F.` is its loop reversed (ISO 10303-42 face_bound).
+//!   A face_outer_bound is the outer loop; a face with a single bound has it as its outer
+//!   loop. A vertex_loop (a degenerate bound, a cone's apex) adds no edge and is not kept.
+//! - Tolerance of vertices and edges: 1e-7 of the part's size (the diagonal of the box of
+//!   all its vertices), at least 1e-9 in the file's unit.
+//! - Every refused item is a located diagnostic (`topology.*`) and is skipped; a
+//!   CLOSED_SHELL that is not closed is kept as an open shell.
+
+use std::collections::HashMap;
+
+use nurbsx_parsers::step::geometry::GeometryRecord as R;
+
+use super::geometry::{Converter, EdgeOut};
+use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
+use crate::nurbs::project::pcurve_by_projection;
+use crate::nurbs::vector::dist;
+use crate::nurbs::{
+    Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
+};
+use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+
+/// Relative tolerance of the topology (of the part's size).
+const RELATIVE_TOLERANCE: f64 = 1e-7;
+
+/// The stable diagnostic code of a refused piece of topology.
+pub(super) fn code(e: &TopologyError) -> &'static str {
+    match e {
+        TopologyError::Missing { .. } => "topology.missing",
+        TopologyError::BadVertex { .. } => "topology.vertex_invalid",
+        TopologyError::EdgeRange { .. } => "topology.edge_range",
+        TopologyError::EdgeMissesVertex { .. } => "topology.edge_vertex",
+        TopologyError::LoopOpen { .. } => "topology.loop_open",
+        TopologyError::PcurveDeviates { .. } => "topology.pcurve_deviates",
+        TopologyError::ShellNotClosed { .. } => "topology.shell_open",
+        TopologyError::SolidShellOpen { .. } => "topology.solid_shell_open",
+        TopologyError::AssemblyCycle { .. } | TopologyError::AssemblyTooLarge { .. } => {
+            "topology.assembly"
+        }
+    }
+}
+
+/// How many topological items of each kind a file holds (for `geometry_only`).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Counts {
+    pub faces: usize,
+    pub edges: usize,
+    pub shells: usize,
+    pub solids: usize,
+}
+
+/// Counts the faces, edges, shells and solids of the decoded items.
+pub(super) fn count(conv: &Converter<'_, '_, '_>) -> Counts {
+    let mut c = Counts::default();
+    for item in conv.items.values() {
+        match item.record {
+            R::FaceSurface { .. } => c.faces += 1,
+            R::EdgeCurve { .. } => c.edges += 1,
+            R::Shell { .. } => c.shells += 1,
+            R::ManifoldSolidBrep { .. } => c.solids += 1,
+            _ => {}
+        }
+    }
+    c
+}
+
+/// The builder's state: the model under construction and the map from file ids to it.
+struct Build<'c, 'm, 's, 'a> {
+    conv: &'c Converter<'m, 's, 'a>,
+    topology: Topology,
+    diagnostics: Vec<Diagnostic>,
+    tolerance: f64,
+    vertices: HashMap<u64, VertexId>,
+    /// EDGE_CURVE id -> (edge, whether the model's edge runs as the file's).
+    edges: HashMap<u64, (EdgeId, bool)>,
+    /// POLY_LOOP sides by their ordered point pair, shared between faces.
+    poly_edges: HashMap<(u64, u64), EdgeId>,
+    faces: HashMap<u64, FaceId>,
+    shells: HashMap<u64, ShellId>,
+    /// Coedges whose pcurve could not be computed.
+    missing_pcurves: usize,
+    /// (entity id of a PCURVE's 2-D curve, the edge using it).
+    pcurve_entities: Vec<(String, String)>,
+}
+
+/// What [`build`] made.
+pub(super) struct Built {
+    /// The topology.
+    pub topology: Topology,
+    /// What was refused or left out.
+    pub diagnostics: Vec<Diagnostic>,
+    /// (entity id, edge id): the 2-D curves of the file's PCURVEs of edges in the
+    /// topology, to be marked as used by those edges.
+    pub pcurve_entities: Vec<(String, String)>,
+}
+
+/// Builds the topology of the decoded items over the converted edges and the document's
+/// entities (face surfaces by id).
+pub(super) fn build(
+    conv: &Converter<'_, '_, '_>,
+    edges: &HashMap<u64, EdgeOut>,
+    entities: &[Entity],
+) -> Built {
+    let mut ids: Vec<u64> = conv.items.keys().copied().collect();
+    ids.sort_unstable();
+    let mut b = Build {
+        conv,
+        topology: Topology::default(),
+        diagnostics: Vec::new(),
+        tolerance: 0.0,
+        vertices: HashMap::new(),
+        edges: HashMap::new(),
+        poly_edges: HashMap::new(),
+        faces: HashMap::new(),
+        shells: HashMap::new(),
+        missing_pcurves: 0,
+        pcurve_entities: Vec::new(),
+    };
+    // Vertices first: their box gives the tolerance.
+    let mut points: Vec<(u64, Point3)> = Vec::new();
+    for &id in &ids {
+        if let R::VertexPoint { vertex_geometry } = conv.items[&id].record {
+            match conv.point(vertex_geometry, id) {
+                Ok(p) => points.push((id, p)),
+                Err(d) => b.diagnostics.push(d),
+            }
+        }
+    }
+    let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
+    b.tolerance = (bounding_box_diagonal(&all) * RELATIVE_TOLERANCE).max(1e-9);
+    for (id, p) in points {
+        match b.topology.model.add_vertex(p, b.tolerance) {
+            Ok(v) => {
+                b.vertices.insert(id, v);
+                b.topology.origins.vertices.push(b.origin(id, None));
+            }
+            Err(e) => b.refuse(id, &e),
+        }
+    }
+    for &id in &ids {
+        if let R::EdgeCurve { .. } = conv.items[&id].record {
+            if let Some(out) = edges.get(&id) {
+                b.edge(id, out);
+            }
+        }
+    }
+    let surfaces: HashMap<&str, &Entity> = entities
+        .iter()
+        .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
+        .map(|e| (e.id.as_str(), e))
+        .collect();
+    for &id in &ids {
+        if let R::FaceSurface { .. } = conv.items[&id].record {
+            b.face(id, &surfaces);
+        }
+    }
+    for &id in &ids {
+        if let R::Shell { .. } = conv.items[&id].record {
+            b.shell(id);
+        }
+    }
+    for &id in &ids {
+        if let R::OrientedClosedShell { .. } = conv.items[&id].record {
+            b.oriented_shell(id);
+        }
+    }
+    for &id in &ids {
+        if let R::ManifoldSolidBrep { .. } = conv.items[&id].record {
+            b.solid(id);
+        }
+    }
+    if b.missing_pcurves > 0 {
+        b.diagnostics.push(Diagnostic::warning(
+            "pcurve.not_computed",
+            format!(
+                "{} coedge(s) have no parameter-space curve: their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
+                b.missing_pcurves, b.tolerance
+            ),
+            Location::default(),
+        ));
+    }
+    Built {
+        topology: b.topology,
+        diagnostics: b.diagnostics,
+        pcurve_entities: b.pcurve_entities,
+    }
+}
+
+/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
+/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
+/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
+/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
+/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
+/// `None` when the pcurve is not on a seam.
+fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let poles = p.control_points();
+    let (a, b) = p.domain();
+    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+        (0, u0, u1, e[1] > s[1])
+    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+        (1, v0, v1, e[0] < s[0])
+    } else {
+        return None;
+    };
+    // rising: the pcurve's own direction is the one that belongs on the high side.
+    let high = rising == ccw;
+    let target = if high { hi } else { lo };
+    let moved: Vec<Point3> = poles
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q[k] = target;
+            q
+        })
+        .collect();
+    NurbsCurve::with_dimension(
+        p.degree(),
+        p.knots().to_vec(),
+        moved,
+        p.weights().map(<[f64]>::to_vec),
+        2,
+    )
+    .ok()
+}
+
+impl Build<'_, '_, '_, '_> {
+    fn origin(&self, id: u64, entity: Option<String>) -> Origin {
+        let item = self.conv.items.get(&id);
+        let loc = self.conv.location(id);
+        Origin {
+            id: format!("#{id}"),
+            source: Source {
+                entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                line: loc.line,
+            },
+            name: item
+                .and_then(|i| i.name.as_ref())
+                .map(|n| n.decode_lossy().into_owned())
+                .filter(|n| !n.is_empty()),
+            entity,
+        }
+    }
+
+    fn refuse(&mut self, id: u64, e: &TopologyError) {
+        let d = self
+            .conv
+            .error(id, code(e), format!("{}; skipped", describe(e)));
+        self.diagnostics.push(d);
+    }
+
+    fn missing(&mut self, id: u64, what: &str, refs: &[u64]) {
+        let list: Vec<String> = refs.iter().map(|r| format!("#{r}")).collect();
+        let d = self.conv.error(
+            id,
+            "topology.missing",
+            format!(
+                "{what} {} could not be read (see the diagnostics there)",
+                list.join(", ")
+            ),
+        );
+        self.diagnostics.push(d);
+    }
+
+    /// An EDGE_CURVE (ISO 10303-42 5.4, edge_curve).
+    fn edge(&mut self, id: u64, out: &EdgeOut) {
+        let R::EdgeCurve {
+            edge_start,
+            edge_end,
+            same_sense,
+            ..
+        } = self.conv.items[&id].record
+        else {
+            return;
+        };
+        let (Some(&vs), Some(&ve)) = (self.vertices.get(&edge_start), self.vertices.get(&edge_end))
+        else {
+            self.missing(id, "the vertices of the edge: of", &[edge_start, edge_end]);
+            return;
+        };
+        let (start, end) = if same_sense { (vs, ve) } else { (ve, vs) };
+        let range = out.range.unwrap_or_else(|| out.curve.domain());
+        match self
+            .topology
+            .model
+            .add_edge(out.curve.clone(), range, start, end, self.tolerance)
+        {
+            Ok(e) => {
+                self.edges.insert(id, (e, same_sense));
+                let o = self.origin(id, Some(out.entity.clone()));
+                self.topology.origins.edges.push(o);
+                self.note_pcurves(id);
+            }
+            Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    /// The 2-D curves of the edge's PCURVEs (ISO 10303-42 surface_curve ->
+    /// pcurve -> definitional_representation): the model recomputes them on its NURBS
+    /// surfaces, so the entities are marked as used by the edge.
+    fn note_pcurves(&mut self, edge: u64) {
+        let items = self.conv.items;
+        let Some(R::EdgeCurve { edge_geometry, .. }) = items.get(&edge).map(|i| &i.record) else {
+            return;
+        };
+        let Some(R::SurfaceCurve {
+            associated_geometry,
+            ..
+        }) = items.get(edge_geometry).map(|i| &i.record)
+        else {
+            return;
+        };
+        for g in associated_geometry {
+            let Some(R::Pcurve {
+                reference_to_curve, ..
+            }) = items.get(g).map(|i| &i.record)
+            else {
+                continue;
+            };
+            if let Some(R::DefinitionalRepresentation { items: curves, .. }) =
+                items.get(reference_to_curve).map(|i| &i.record)
+            {
+                for c in curves {
+                    self.pcurve_entities
+                        .push((format!("#{c}"), format!("#{edge}")));
+                }
+            }
+        }
+    }
+
+    /// The coedges of an EDGE_LOOP, as the file lists them.
+    fn edge_loop(&mut self, face: u64, edge_list: &[u64]) -> Option<Vec<Coedge>> {
+        let mut out = Vec::with_capacity(edge_list.len());
+        for &oe in edge_list {
+            let Some(R::OrientedEdge {
+                edge_element,
+                orientation,
+            }) = self.conv.items.get(&oe).map(|i| &i.record)
+            else {
+                self.missing(face, "the oriented edge", &[oe]);
+                return None;
+            };
+            let Some(&(edge, same)) = self.edges.get(edge_element) else {
+                self.missing(face, "the edge", &[*edge_element]);
+                return None;
+            };
+            out.push(Coedge {
+                edge,
+                forward: *orientation == same,
+                pcurve: None,
+                pcurve_deviation: None,
+            });
+        }
+        Some(out)
+    }
+
+    /// The sides of a POLY_LOOP as line edges between its points (shared by the faces that
+    /// use the same pair of points).
+    fn poly_loop(&mut self, face: u64, polygon: &[u64]) -> Option<Vec<Coedge>> {
+        if polygon.len() < 3 {
+            let d = self.conv.error(
+                face,
+                "topology.loop_open",
+                format!("a POLY_LOOP of {} points bounds nothing", polygon.len()),
+            );
+            self.diagnostics.push(d);
+            return None;
+        }
+        let mut out = Vec::with_capacity(polygon.len());
+        for i in 0..polygon.len() {
+            let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+            let key = (a.min(b), a.max(b));
+            let edge = match self.poly_edges.get(&key) {
+                Some(&e) => e,
+                None => {
+                    let mut ends = [VertexId(0); 2];
+                    for (k, p) in [key.0, key.1].into_iter().enumerate() {
+                        ends[k] = match self.vertices.get(&p) {
+                            Some(&v) => v,
+                            None => {
+                                let point = match self.conv.point(p, face) {
+                                    Ok(q) => q,
+                                    Err(d) => {
+                                        self.diagnostics.push(d);
+                                        return None;
+                                    }
+                                };
+                                match self.topology.model.add_vertex(point, self.tolerance) {
+                                    Ok(v) => {
+                                        self.vertices.insert(p, v);
+                                        let o = self.origin(p, None);
+                                        self.topology.origins.vertices.push(o);
+                                        v
+                                    }
+                                    Err(e) => {
+                                        self.refuse(face, &e);
+                                        return None;
+                                    }
+                                }
+                            }
+                        };
+                    }
+                    let m = &self.topology.model;
+                    let (p, q) = (m.vertices[ends[0].0].point, m.vertices[ends[1].0].point);
+                    let length = dist(p, q);
+                    let curve = match line_segment(p, q, 0.0, length) {
+                        Ok(c) => c,
+                        Err(e) => {
+                            let d = self.conv.error(
+                                face,
+                                "topology.edge_range",
+                                format!("POLY_LOOP side #{a} - #{b}: {e}"),
+                            );
+                            self.diagnostics.push(d);
+                            return None;
+                        }
+                    };
+                    match self.topology.model.add_edge(
+                        curve,
+                        (0.0, length),
+                        ends[0],
+                        ends[1],
+                        self.tolerance,
+                    ) {
+                        Ok(e) => {
+                            self.poly_edges.insert(key, e);
+                            let mut o = self.origin(face, None);
+                            o.id = format!("#{}-#{}", key.0, key.1);
+                            self.topology.origins.edges.push(o);
+                            e
+                        }
+                        Err(e) => {
+                            self.refuse(face, &e);
+                            return None;
+                        }
+                    }
+                }
+            };
+            out.push(Coedge {
+                edge,
+                forward: a < b,
+                pcurve: None,
+                pcurve_deviation: None,
+            });
+        }
+        Some(out)
+    }
+
+    /// An ADVANCED_FACE or FACE_SURFACE (ISO 10303-42 5.4, face_surface).
+    fn face(&mut self, id: u64, surfaces: &HashMap<&str, &Entity>) {
+        let R::FaceSurface {
+            ref bounds,
+            face_geometry,
+            same_sense,
+        } = self.conv.items[&id].record
+        else {
+            return;
+        };
+        let label = format!("#{face_geometry}");
+        let Some(entity) = surfaces.get(label.as_str()) else {
+            self.missing(id, "the face's surface", &[face_geometry]);
+            return;
+        };
+        let Geometry::Surface(surface) = &entity.geometry else {
+            return;
+        };
+        let mut loops = Vec::with_capacity(bounds.len());
+        for &fb in bounds {
+            let Some(item) = self.conv.items.get(&fb) else {
+                self.missing(id, "the face bound", &[fb]);
+                return;
+            };
+            let R::FaceBound { bound, orientation } = item.record else {
+                self.missing(id, "the face bound", &[fb]);
+                return;
+            };
+            let outer = item.entity == "FACE_OUTER_BOUND";
+            let coedges = match self.conv.items.get(&bound).map(|i| &i.record) {
+                Some(R::EdgeLoop { edge_list }) => self.edge_loop(id, edge_list),
+                Some(R::PolyLoop { polygon }) => self.poly_loop(id, polygon),
+                Some(R::VertexLoop { .. }) => continue,
+                _ => {
+                    self.missing(id, "the loop", &[bound]);
+                    return;
+                }
+            };
+            let Some(mut coedges) = coedges else { return };
+            if !orientation {
+                coedges.reverse();
+                for c in &mut coedges {
+                    c.forward = !c.forward;
+                }
+            }
+            loops.push(Loop { coedges, outer });
+        }
+        if loops.len() == 1 {
+            loops[0].outer = true;
+        }
+        self.pcurves(surface, &mut loops, same_sense);
+        let with_pcurves = loops.clone();
+        match self
+            .topology
+            .model
+            .add_face(surface.clone(), with_pcurves, same_sense)
+        {
+            Ok(f) => self.face_added(id, f, entity.id.clone()),
+            Err(e @ TopologyError::PcurveDeviates { .. }) => {
+                // A pcurve the check refuses is left out (said here), the face kept.
+                let d = self.conv.error(
+                    id,
+                    code(&e),
+                    format!("{}; the face is kept without its pcurves", describe(&e)),
+                );
+                self.diagnostics.push(d);
+                for l in &mut loops {
+                    for c in &mut l.coedges {
+                        c.pcurve = None;
+                    }
+                }
+                match self
+                    .topology
+                    .model
+                    .add_face(surface.clone(), loops, same_sense)
+                {
+                    Ok(f) => self.face_added(id, f, entity.id.clone()),
+                    Err(e) => self.refuse(id, &e),
+                }
+            }
+            Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    fn face_added(&mut self, id: u64, f: FaceId, entity: String) {
+        self.faces.insert(id, f);
+        let o = self.origin(id, Some(entity));
+        self.topology.origins.faces.push(o);
+    }
+
+    /// The pcurve of every coedge on the face's NURBS surface, by projection of the edge's
+    /// 3-D curve ([`pcurve_by_projection`], within the edge tolerance). A seam edge (used
+    /// twice by the face) gets both sides of the seam: the coedge that runs with the face
+    /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
+    /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
+    /// projection fails keep `None` and are counted in one warning of the file.
+    fn pcurves(&mut self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) {
+        let mut uses: HashMap<EdgeId, usize> = HashMap::new();
+        for l in loops.iter() {
+            for c in &l.coedges {
+                *uses.entry(c.edge).or_default() += 1;
+            }
+        }
+        let mut cache: HashMap<EdgeId, Option<NurbsCurve>> = HashMap::new();
+        for l in loops.iter_mut() {
+            for c in &mut l.coedges {
+                let edge = &self.topology.model.edges[c.edge.0];
+                let p = cache
+                    .entry(c.edge)
+                    .or_insert_with(|| {
+                        pcurve_by_projection(surface, &edge.curve, edge.range, edge.tolerance)
+                            .ok()
+                            .filter(|(_, deviation)| *deviation <= edge.tolerance)
+                            .map(|(p, _)| p)
+                    })
+                    .clone();
+                c.pcurve = match p {
+                    Some(p) if uses[&c.edge] == 2 => {
+                        seam_side(surface, &p, c.forward == same_sense).or(Some(p))
+                    }
+                    other => other,
+                };
+                if c.pcurve.is_none() {
+                    self.missing_pcurves += 1;
+                }
+            }
+        }
+    }
+
+    /// An OPEN_SHELL or CLOSED_SHELL (ISO 10303-42 5.4); a CLOSED_SHELL that is not
+    /// closed is reported and kept as an open shell.
+    fn shell(&mut self, id: u64) {
+        let R::Shell {
+            ref cfs_faces,
+            closed,
+        } = self.conv.items[&id].record
+        else {
+            return;
+        };
+        let mut faces = Vec::with_capacity(cfs_faces.len());
+        let mut absent = Vec::new();
+        for f in cfs_faces {
+            match self.faces.get(f) {
+                Some(&x) => faces.push((x, true)),
+                None => absent.push(*f),
+            }
+        }
+        if !absent.is_empty() {
+            self.missing(id, "the shell's face(s)", &absent);
+        }
+        if faces.is_empty() {
+            return;
+        }
+        let shell = match self.topology.model.add_shell(faces.clone(), closed) {
+            Ok(s) => Some(s),
+            Err(e @ TopologyError::ShellNotClosed { .. }) => {
+                let d = self.conv.error(
+                    id,
+                    code(&e),
+                    format!("{}; kept as an open shell", describe(&e)),
+                );
+                self.diagnostics.push(d);
+                self.topology.model.add_shell(faces, false).ok()
+            }
+            Err(e) => {
+                self.refuse(id, &e);
+                None
+            }
+        };
+        if let Some(s) = shell {
+            self.shells.insert(id, s);
+            let o = self.origin(id, None);
+            self.topology.origins.shells.push(o);
+        }
+    }
+
+    /// An ORIENTED_CLOSED_SHELL: the faces of its closed shell, each reversed when
+    /// `orientation = .F.`.
+    fn oriented_shell(&mut self, id: u64) {
+        let R::OrientedClosedShell {
+            closed_shell_element,
+            orientation,
+        } = self.conv.items[&id].record
+        else {
+            return;
+        };
+        let Some(base) = self.shells.get(&closed_shell_element).copied() else {
+            self.missing(id, "the closed shell", &[closed_shell_element]);
+            return;
+        };
+        let faces: Vec<(FaceId, bool)> = self.topology.model.shells[base.0]
+            .faces
+            .iter()
+            .map(|&(f, o)| (f, o == orientation))
+            .collect();
+        match self.topology.model.add_shell(faces, true) {
+            Ok(s) => {
+                self.shells.insert(id, s);
+                let o = self.origin(id, None);
+                self.topology.origins.shells.push(o);
+            }
+            Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    /// A MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS (ISO 10303-42 clause 6).
+    fn solid(&mut self, id: u64) {
+        let R::ManifoldSolidBrep { outer, ref voids } = self.conv.items[&id].record else {
+            return;
+        };
+        let mut shells = Vec::with_capacity(1 + voids.len());
+        for s in std::iter::once(&outer).chain(voids) {
+            match self.shells.get(s) {
+                Some(&x) => shells.push(x),
+                None => {
+                    self.missing(id, "the solid's shell", &[*s]);
+                    return;
+                }
+            }
+        }
+        let outer = shells.remove(0);
+        match self.topology.model.add_solid(outer, shells) {
+            Ok(_) => {
+                let o = self.origin(id, None);
+                self.topology.origins.solids.push(o);
+            }
+            Err(e) => self.refuse(id, &e),
+        }
+    }
+}
+
+/// The error's message with the model's indices left out where the file ids say more.
+fn describe(e: &TopologyError) -> String {
+    match e {
+        TopologyError::LoopOpen { index, coedge, .. } => format!(
+            "loop {} of the face does not close: oriented edge {} does not end where the next one starts",
+            index + 1,
+            coedge + 1
+        ),
+        TopologyError::ShellNotClosed { count, .. } => format!(
+            "the shell is declared closed but {count} of its edges are not used exactly twice in opposite directions"
+        ),
+        other => other.to_string(),
+    }
+}

@@ -1,0 +1,537 @@
+//! STEP boundary representation: read into `Document.topology`, checked against FreeCAD's
+//! own reading of the same files (the sample JSONs: faces, edges without the degenerate
+//! ones Open CASCADE adds at poles, vertices, shells, solids), against Euler-Poincare, and
+//! written back.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::{Path, PathBuf};
+
+use nurbsx::exchange::{self, Document, ExportOptions, Format, ImportOptions, Severity};
+use serde_json::Value;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn read_path(path: &Path) -> Document {
+    exchange::read(&std::fs::read(path).unwrap(), &ImportOptions::default()).unwrap()
+}
+
+/// FreeCAD's counts of a sample: (faces, edges without degenerate ones, vertices when
+/// known, shells, solids).
+fn freecad_counts(json: &Value) -> (usize, usize, Option<usize>, usize, usize) {
+    let c = &json["counts"];
+    let n = |k: &str| c[k].as_u64().unwrap_or(0) as usize;
+    let degenerate = c["degenerated_edges"]
+        .as_u64()
+        .or_else(|| c["curve_types"]["None"].as_u64())
+        .or_else(|| c["other_curves"]["None"].as_u64())
+        .unwrap_or(0) as usize;
+    (
+        n("faces"),
+        n("edges") - degenerate,
+        c["vertices"].as_u64().map(|v| v as usize),
+        n("shells"),
+        n("solids"),
+    )
+}
+
+fn ours(doc: &Document) -> (usize, usize, usize, usize, usize) {
+    let m = &doc.topology.model;
+    (
+        m.faces.len(),
+        m.edges.len(),
+        m.vertices.len(),
+        m.shells.len(),
+        m.solids.len(),
+    )
+}
+
+/// Every STEP sample with a face, with FreeCAD's reading.
+fn samples() -> Vec<(PathBuf, Value)> {
+    let mut out = Vec::new();
+    let mut dirs = vec![
+        root().join("samples/freecad"),
+        root().join("samples/freecad/analytic"),
+    ];
+    dirs.push(
+        std::env::var_os("NURBSX_PARTS_DIR")
+            .map_or_else(|| root().join("samples/freecad/parts"), PathBuf::from),
+    );
+    for dir in dirs {
+        let Ok(list) = std::fs::read_dir(&dir) else {
+            eprintln!(
+                "step_topology: {} not found, its samples are not checked",
+                dir.display()
+            );
+            continue;
+        };
+        let mut files: Vec<PathBuf> = list
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "step"))
+            .collect();
+        files.sort();
+        for p in files {
+            let json = PathBuf::from(format!("{}.json", p.display()));
+            let Ok(text) = std::fs::read_to_string(&json) else {
+                continue;
+            };
+            let v: Value = serde_json::from_str(&text).unwrap();
+            if v["counts"]["faces"].as_u64().unwrap_or(0) > 0 {
+                out.push((p, v));
+            }
+        }
+    }
+    out
+}
+
+/// Samples whose topology nurbsx does not read in full yet, with the reason; for these the
+/// tests check that the reader says so with an error diagnostic (never silently).
+const KNOWN_GAPS: &[(&str, &str)] = &[
+    // Product structure (NEXT_ASSEMBLY_USAGE_OCCURRENCE, MAPPED_ITEM) is not read: the
+    // parts placed several times appear once (not reported yet: see the report).
+    ("assembly_links.step", "assembly placements"),
+];
+
+/// Samples where Open CASCADE's reading adds edges the file does not have (ShapeFix splits
+/// or completes the boundary of a single B-spline face): compared with the file's own
+/// EDGE_CURVE count instead.
+const OCCT_ADDS_EDGES: &[&str] = &[
+    "import_export_named.step",
+    "schema_ap203.step",
+    "schema_ap242.step",
+    "units_inch.step",
+    "units_metre.step",
+    "surf_sphere_nurbs.step",
+    // A sphere bounded by a vertex loop: Open CASCADE adds the seam edge.
+    "sphere.step",
+];
+
+fn name(path: &Path) -> String {
+    path.file_name().unwrap().to_string_lossy().into_owned()
+}
+
+/// `directory/file`, for names that occur in two sample directories.
+fn qualified(path: &Path) -> String {
+    let dir = path
+        .parent()
+        .unwrap()
+        .file_name()
+        .unwrap()
+        .to_string_lossy();
+    format!("{dir}/{}", name(path))
+}
+
+fn gap(path: &Path) -> Option<&'static str> {
+    let n = name(path);
+    KNOWN_GAPS
+        .iter()
+        .find(|(f, _)| *f == n)
+        .map(|(_, why)| *why)
+}
+
+/// EDGE_CURVE instances in the file's text (an independent count).
+fn edge_curves_in(path: &Path) -> usize {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .matches("EDGE_CURVE(")
+        .count()
+}
+
+#[test]
+fn counts_equal_freecads() {
+    let mut failures = Vec::new();
+    for (path, json) in samples() {
+        let doc = read_path(&path);
+        let (f, e, v, sh, so) = freecad_counts(&json);
+        let got = ours(&doc);
+        let errors: Vec<String> = doc
+            .diagnostics
+            .iter()
+            .filter(|d| {
+                d.severity == Severity::Error
+                    || (d.severity == Severity::Warning && d.code.starts_with("assembly."))
+            })
+            .map(|d| format!("{} {:?}: {}", d.code, d.location.entity, d.message))
+            .collect();
+        println!(
+            "{:<40} faces {}/{f} edges {}/{e} vertices {}/{v:?} shells {}/{sh} solids {}/{so} errors {}",
+            path.file_name().unwrap().to_string_lossy(),
+            got.0,
+            got.1,
+            got.2,
+            got.3,
+            got.4,
+            errors.len()
+        );
+        for e in errors.iter().take(3) {
+            println!("    {e}");
+        }
+        if let Some(why) = gap(&path) {
+            assert!(
+                !errors.is_empty(),
+                "{}: {why}, but no diagnostic says so",
+                path.display()
+            );
+            continue;
+        }
+        let e = if OCCT_ADDS_EDGES.contains(&name(&path).as_str()) {
+            edge_curves_in(&path)
+        } else {
+            e
+        };
+        if (got.0, got.1, got.3, got.4) != (f, e, sh, so) || v.is_some_and(|v| v != got.2) {
+            failures.push(path.display().to_string());
+        }
+        // Euler-Poincare for a closed solid's boundary: V - E + F - (L - F) = 2 (S - G),
+        // with L the loops (so L - F the inner loops); the genus G from the sample when
+        // given, else 0. Edge-less faces (a VERTEX_LOOP sphere) are outside the formula.
+        let m = &doc.topology.model;
+        if m.solids.len() == 1 && m.shells.len() == 1 && m.faces.iter().all(|f| !f.loops.is_empty())
+        {
+            let loops: usize = m.faces.iter().map(|f| f.loops.len()).sum();
+            // Genus: the parts' JSON gives it; of the analytic samples, the box with a
+            // through hole and the torus have one handle (their descriptions), the rest none.
+            let genus = json["genus"]
+                .as_i64()
+                .unwrap_or(match name(&path).as_str() {
+                    "filleted_box_with_hole.step" | "torus.step" => 1,
+                    _ => 0,
+                });
+            let lhs = got.2 as i64 - got.1 as i64 + got.0 as i64 - (loops as i64 - got.0 as i64);
+            // OCCT's own edge count (with its seams) is what the genus of the sample was
+            // read with; a file without seam edges differs by them, so check only files
+            // where every closed face has its seam (all of FreeCAD's here).
+            if lhs != 2 * (1 - genus) {
+                failures.push(format!(
+                    "{}: V - E + F - inner loops = {lhs}, 2 (S - G) = {}",
+                    path.display(),
+                    2 * (1 - genus)
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// `freecadcmd` on PATH.
+fn find_freecadcmd() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .flat_map(|dir| ["freecadcmd", "FreeCADCmd"].map(|name| dir.join(name)))
+        .find(|candidate| candidate.is_file())
+}
+
+/// FreeCAD's readings (scripts/freecad/reimport_faces.py) of `files`, by path.
+fn freecad_readings(
+    freecadcmd: &Path,
+    files: &[PathBuf],
+) -> std::collections::HashMap<String, Value> {
+    let list = std::env::join_paths(files).unwrap();
+    let out = std::process::Command::new(freecadcmd)
+        .arg(root().join("scripts/freecad/reimport_faces.py"))
+        .env("NURBSX_FILES", list)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let mut map = std::collections::HashMap::new();
+    for line in stdout.lines() {
+        if let Some(json) = line.strip_prefix("reimport_faces: ") {
+            let v: Value = serde_json::from_str(json).unwrap();
+            map.insert(v["file"].as_str().unwrap().to_owned(), v);
+        }
+    }
+    assert_eq!(
+        map.len(),
+        files.len(),
+        "FreeCAD read {} of {} files:\n{stdout}",
+        map.len(),
+        files.len()
+    );
+    map
+}
+
+/// Samples whose re-import area or volume differs from the source's beyond FreeCAD's
+/// measuring error. Single rational B-spline faces with a degenerate side or closed in both
+/// directions (Open CASCADE completes their boundary on import): not solved yet.
+const AREA_GAPS: &[&str] = &[
+    "freecad/import_export_named.step",
+    "freecad/schema_ap203.step",
+    "freecad/schema_ap242.step",
+    "freecad/units_inch.step",
+    "freecad/units_metre.step",
+    "freecad/surf_periodic_v.step",
+    "freecad/surf_rational_nonuniform.step",
+    "freecad/surf_torus_nurbs.step",
+    // Rational faces of analytic sources whose difference is above FreeCAD's measuring
+    // error on Open CASCADE's own NURBS form of the shape (a 90-degree cylinder converts to
+    // one span there) though of the order of that error on other forms: not yet separated
+    // from a real difference.
+    "analytic/cylinder_partial.step",
+    "analytic/torus.step",
+    "analytic/units_inch.step",
+    "analytic/units_metre.step",
+    // A whole sphere written as a face without bounds: area within FreeCAD's measuring
+    // error, volume 9e-3 off (its error on Open CASCADE's own NURBS sphere: 4e-4).
+    "analytic/sphere.step",
+];
+
+/// STEP -> nurbsx -> STEP, re-imported by FreeCAD: the same number of faces, shells and
+/// solids, valid solids, and total area and volume within 1e-6 relative of FreeCAD's
+/// reading of the source file, plus twice FreeCAD's own measuring error on NURBS geometry
+/// (its reading of the source converted to NURBS by Open CASCADE, against the source: zero
+/// for B-spline sources, up to 2e-2 for analytic ones, since Open CASCADE integrates
+/// rational faces with a fixed Gauss rule).
+#[test]
+fn freecad_reimports_the_written_parts() {
+    let Some(freecadcmd) = find_freecadcmd() else {
+        if std::env::var("NURBSX_REQUIRE_FREECAD").as_deref() == Ok("1") {
+            panic!("FreeCAD required (NURBSX_REQUIRE_FREECAD=1) but freecadcmd is not on PATH");
+        }
+        eprintln!("SKIPPED step_topology FreeCAD re-import: freecadcmd not on PATH");
+        return;
+    };
+    let work = std::env::temp_dir().join(format!("nurbsx-step-topology-{}", std::process::id()));
+    std::fs::create_dir_all(&work).unwrap();
+    let mut pairs = Vec::new();
+    for (path, _) in samples() {
+        if gap(&path).is_some() {
+            continue;
+        }
+        let doc = read_path(&path);
+        let text = exchange::write(&doc, Format::Step, &ExportOptions::default()).unwrap();
+        let parent = path
+            .parent()
+            .unwrap()
+            .file_name()
+            .unwrap()
+            .to_string_lossy();
+        let out = work.join(format!("{parent}_{}", name(&path)));
+        std::fs::write(&out, text).unwrap();
+        pairs.push((path, out));
+    }
+    let files: Vec<PathBuf> = pairs
+        .iter()
+        .flat_map(|(a, b)| [a.clone(), b.clone()])
+        .collect();
+    let readings = freecad_readings(&freecadcmd, &files);
+    let mut failures = Vec::new();
+    println!(
+        "{:<34} {:>6} {:>6} {:>16} {:>10} {:>10} {:>16} {:>10} {:>10}",
+        "sample",
+        "faces",
+        "solids",
+        "area (source)",
+        "rel. diff",
+        "FC error",
+        "volume (source)",
+        "rel. diff",
+        "FC error"
+    );
+    for (src, out) in &pairs {
+        let a = &readings[&src.display().to_string()];
+        let b = &readings[&out.display().to_string()];
+        if b.get("error").is_some() {
+            failures.push(format!(
+                "{}: FreeCAD cannot read the output: {}",
+                name(src),
+                b["error"]
+            ));
+            continue;
+        }
+        let f = |v: &Value, k: &str| v[k].as_f64().unwrap();
+        let rel = |x: f64, y: f64| {
+            if x == y {
+                0.0
+            } else {
+                (x - y).abs() / x.abs().max(y.abs())
+            }
+        };
+        let darea = rel(f(a, "area"), f(b, "area"));
+        let dvol = rel(f(a, "volume"), f(b, "volume"));
+        // FreeCAD integrates rational B-spline faces with a fixed Gauss rule: its reading
+        // of the source converted to NURBS by Open CASCADE itself differs from its reading
+        // of the analytic source by this much, which bounds what it can tell apart.
+        let measuring = |k: &str, nk: &str| rel(f(a, k), f(a, nk));
+        let (earea, evol) = (
+            measuring("area", "nurbs_area"),
+            measuring("volume", "nurbs_volume"),
+        );
+        println!(
+            "{:<34} {:>3}/{:<3} {:>2}/{:<3} {:>16.9} {:>10.1e} {:>10.1e} {:>16.9} {:>10.1e} {:>10.1e}",
+            name(src),
+            b["faces"],
+            a["faces"],
+            b["solids"],
+            a["solids"],
+            f(a, "area"),
+            darea,
+            earea,
+            f(a, "volume"),
+            dvol,
+            evol
+        );
+        if a["faces"] != b["faces"]
+            || a["solids"] != b["solids"]
+            || a["shells"] != b["shells"]
+            || b["solids_valid"] != Value::Bool(true)
+        {
+            failures.push(format!("{}: source {a} output {b}", name(src)));
+        }
+        let known = AREA_GAPS.contains(&qualified(src).as_str());
+        let off = darea > 1e-6 + 2.0 * earea || dvol > 1e-6 + 2.0 * evol;
+        if off && !known {
+            failures.push(format!(
+                "{}: area/volume off: source {a} output {b}",
+                name(src)
+            ));
+        }
+        if known && !off {
+            failures.push(format!(
+                "{}: listed in AREA_GAPS but now agrees: unlist it",
+                name(src)
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Read, write, read, write, read: the second and third readings hold bit-identical
+/// geometry (the poles, knots and weights of every face surface and edge curve) and the
+/// same topology.
+#[test]
+fn step_step_step_is_bit_identical() {
+    for (path, _) in samples() {
+        if gap(&path).is_some() {
+            continue;
+        }
+        let once = read_path(&path);
+        let write = |d: &Document| {
+            let text = exchange::write(d, Format::Step, &ExportOptions::default()).unwrap();
+            exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap()
+        };
+        let twice = write(&once);
+        let thrice = write(&twice);
+        let (a, b) = (&twice.topology.model, &thrice.topology.model);
+        assert_eq!(ours(&twice), ours(&once), "{}", path.display());
+        assert_eq!(ours(&thrice), ours(&twice), "{}", path.display());
+        for (x, y) in a.faces.iter().zip(&b.faces) {
+            assert_eq!(x.surface, y.surface, "{}", path.display());
+            assert_eq!(x.same_sense, y.same_sense, "{}", path.display());
+        }
+        for (x, y) in a.edges.iter().zip(&b.edges) {
+            assert_eq!(x.curve, y.curve, "{}", path.display());
+        }
+        // The first write keeps the source's geometry too (up to the order of entities).
+        for (x, y) in once.topology.model.edges.iter().zip(&a.edges) {
+            assert_eq!(
+                x.curve.control_points(),
+                y.curve.control_points(),
+                "{}",
+                path.display()
+            );
+        }
+    }
+}
+
+fn cylinder_partial() -> String {
+    std::fs::read_to_string(root().join("samples/freecad/analytic/cylinder_partial.step")).unwrap()
+}
+
+/// A face loop with an oriented edge left out: a located `topology.loop_open` error on that
+/// face; the face is skipped, the closed shell then misses it (located
+/// `topology.shell_open`, kept open) and the solid is refused (`topology.solid_shell_open`);
+/// the other faces are read.
+#[test]
+fn damaged_loop_is_located() {
+    let text = cylinder_partial();
+    // The first EDGE_LOOP of the file, with its first oriented edge removed.
+    let start = text.find("EDGE_LOOP('',(").unwrap() + "EDGE_LOOP('',(".len();
+    let comma = start + text[start..].find(',').unwrap();
+    let damaged = format!("{}{}", &text[..start], &text[comma + 1..]);
+    let loop_line = text[..start].lines().count();
+    let doc = exchange::read(damaged.as_bytes(), &ImportOptions::default()).unwrap();
+    let d = doc
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "topology.loop_open")
+        .expect("topology.loop_open");
+    assert_eq!(d.severity, Severity::Error);
+    // Located at the face that uses the loop, a few lines above the loop.
+    let line = d.location.line.unwrap();
+    assert!(
+        line < loop_line && line + 3 >= loop_line,
+        "{line} vs loop at {loop_line}"
+    );
+    assert!(d.location.entity.as_deref().unwrap().starts_with('#'));
+    assert!(
+        doc.diagnostics
+            .iter()
+            .any(|d| d.code == "topology.shell_open")
+    );
+    assert!(
+        doc.diagnostics
+            .iter()
+            .any(|d| d.code == "topology.solid_shell_open")
+    );
+    assert_eq!(doc.topology.model.faces.len(), 4);
+    assert_eq!(doc.topology.model.solids.len(), 0);
+    assert!(!doc.topology.model.shells[0].closed);
+}
+
+/// A CLOSED_SHELL with a face missing from its list: located at the shell, kept as an open
+/// shell, and the solid on it is refused with its own located error.
+#[test]
+fn closed_shell_with_a_missing_face_is_located() {
+    let text = cylinder_partial();
+    let at = text.find("CLOSED_SHELL('',(").unwrap() + "CLOSED_SHELL('',(".len();
+    let comma = at + text[at..].find(',').unwrap();
+    let damaged = format!("{}{}", &text[..at], &text[comma + 1..]);
+    let shell_line = text[..at].lines().count();
+    let doc = exchange::read(damaged.as_bytes(), &ImportOptions::default()).unwrap();
+    let d = doc
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "topology.shell_open")
+        .expect("topology.shell_open");
+    assert_eq!(d.severity, Severity::Error);
+    assert_eq!(d.location.line, Some(shell_line));
+    assert!(d.message.contains("kept as an open shell"), "{}", d.message);
+    let s = doc
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "topology.solid_shell_open")
+        .expect("solid refused");
+    assert!(s.location.line.unwrap() < shell_line);
+    let m = &doc.topology.model;
+    assert_eq!((m.faces.len(), m.shells.len(), m.solids.len()), (5, 1, 0));
+    assert_eq!(m.shells[0].faces.len(), 4);
+    assert!(!m.shells[0].closed);
+}
+
+/// `geometry_only`: no topology, one visible warning with the counts, the same entities.
+#[test]
+fn geometry_only_says_what_it_left_out() {
+    let text = cylinder_partial();
+    let full = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    let options = ImportOptions {
+        geometry_only: true,
+        ..ImportOptions::default()
+    };
+    let doc = exchange::read(text.as_bytes(), &options).unwrap();
+    assert!(doc.topology.is_empty());
+    assert_eq!(doc.entities, full.entities);
+    let w: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "topology.not_read")
+        .collect();
+    assert_eq!(w.len(), 1);
+    assert_eq!(w[0].severity, Severity::Warning);
+    assert!(
+        w[0].message
+            .contains("5 face(s), 9 edge(s), 1 shell(s) and 1 solid(s)"),
+        "{}",
+        w[0].message
+    );
+}
