@@ -1976,14 +1976,22 @@ fn sarif_names_the_tool_honestly_and_describes_its_rules() {
 
 #[test]
 fn modify_commands_say_what_they_leave_out() {
-    // The filleted box: 26 surfaces, 48 3-D edge curves and 96 2-D pcurves; IGES output
-    // has no place for the pcurves, and every writing command says so.
+    // The filleted box: 26 faces over 26 surfaces, 48 3-D edge curves and 96 2-D pcurves.
+    // `convert` carries the faces, pcurves included (IGES 144 with 142 boundaries); the
+    // operations work on loose curves and surfaces, so they say that the faces are not
+    // carried and, in IGES, that the pcurves have no place outside a trimmed surface.
     let dir = temp_dir("left-out");
     let step =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
     let step = step.to_str().unwrap();
+    let out = dir.join("faces.igs");
+    let o = nurbsx(["convert", step, "-o", out.to_str().unwrap()]);
+    assert_exit(&o, 0);
+    assert!(!stderr(&o).contains("pcurve_not_written"), "{}", stderr(&o));
+    let info = json(&nurbsx(["info", out.to_str().unwrap(), "--json"]));
+    assert_eq!(info["structure"]["faces"].as_array().unwrap().len(), 26);
+    assert_eq!(info["structure"]["solids"].as_array().unwrap().len(), 1);
     for args in [
-        vec!["convert", step],
         vec!["elevate", step, "--by", "1"],
         vec!["clamp", step],
         vec!["unclamp", step],
@@ -1994,6 +2002,7 @@ fn modify_commands_say_what_they_leave_out() {
         let o = nurbsx(&a);
         assert_exit(&o, 0);
         let err = stderr(&o);
+        assert!(err.contains("warning[topology.dropped]"), "{args:?}: {err}");
         assert!(
             err.contains(
                 "warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"

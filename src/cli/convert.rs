@@ -318,7 +318,24 @@ pub fn summary(input: &str, out: &str, r: &ConvertReport, tolerance: Option<f64>
             ", left out {left_out} (2-D parameter-space curves: see the pcurve_not_written warning)"
         ));
     }
-    if let Some(devs) = &r.verify {
+    if let Some(p) = &r.verify_part {
+        s.push_str(&format!(
+            "; verified the part as re-read: {} faces, {} solids",
+            p.faces_out, p.solids_out
+        ));
+        if p.measured {
+            s.push_str(&format!(
+                ", area relative deviation {:e}, volume {:e}, centroid {:e} of the size \
+                 (tolerance {:e})",
+                p.area_relative,
+                p.volume_relative,
+                p.centroid_relative,
+                tolerance.unwrap_or_default()
+            ));
+        } else {
+            s.push_str(" (areas not compared: see the verify.unmeasured warning)");
+        }
+    } else if let Some(devs) = &r.verify {
         let worst = devs.iter().map(|d| d.relative).fold(0.0, f64::max);
         s.push_str(&format!(
             "; verified {} written entities against the input: largest relative deviation \

@@ -389,15 +389,22 @@ fn modify(
     let target = output_kind(out, kind)?;
     tracing::info!(?op, input = %input.display(), output = %out.output.display(), "modify");
     let read = document.entities.len();
-    if let Some(format) = target.format() {
+    // What the output cannot hold is dropped once: before the operation for loose
+    // geometry, after it when the operation first drops the faces (whose pcurves the output
+    // could have carried), so that every warning is printed.
+    let faces = !document.topology.is_empty();
+    if let Some(format) = target.format().filter(|_| !faces) {
         pipeline::drop_unwritable(&mut document, format);
     }
     if let Some(outcome) = nothing_to_do(ctx, &name, input, &document, entity)? {
         return Ok(outcome);
     }
-    ctx.report.diagnostics(&name, &document.diagnostics);
     let notes = pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
+    if let Some(format) = target.format().filter(|_| faces) {
+        pipeline::drop_unwritable(&mut document, format);
+    }
+    ctx.report.diagnostics(&name, &document.diagnostics);
     let text = pipeline::write_as(&document, target, &export_options(&out.output))
         .map_err(|e| CliError::pipeline(&out.output, e))?;
     write_output(&out.output, &text)?;

@@ -187,8 +187,8 @@ pub struct ConvertReport {
     pub units: UnitsInfo,
     /// Reader and writer diagnostics.
     pub diagnostics: Vec<Diagnostic>,
-    /// With verification: the largest deviation per entity after re-reading the output
-    /// (with a boundary representation: the free curves and surfaces only).
+    /// With verification of a file without faces: the largest deviation per entity after
+    /// re-reading the output (empty for a file with faces: see `verify_part`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verify: Option<Vec<EntityDeviation>>,
     /// With verification of a file with faces: what a CAD system sees of the part, before
@@ -224,6 +224,9 @@ pub struct PartDeviation {
     pub centroid_relative: f64,
     /// Faces of either side whose area could not be measured.
     pub unmeasured_faces: usize,
+    /// Whether areas, volumes and centroids were compared (every face measurable on
+    /// both sides); else only the counts.
+    pub measured: bool,
     /// Same counts, and every relative figure within the tolerance.
     pub ok: bool,
 }

@@ -428,6 +428,9 @@ pub struct PartDeviationDoc {
     pub centroid_relative: f64,
     /// Faces not measurable.
     pub unmeasured_faces: usize,
+    /// Whether areas, volumes and centroids were compared (every face measurable on
+    /// both sides); else only the counts.
+    pub measured: bool,
     /// Within tolerance.
     pub ok: bool,
 }
