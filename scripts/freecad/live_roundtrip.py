@@ -663,7 +663,11 @@ def convert(binary, samples, src, fmt, work, what):
             counts = json.load(f)["counts"]
         return out, {"curves": counts["bspline_curves"], "surfaces": counts["bspline_surfaces"],
                      "curves_2d": 0, "scope": "all edges (committed reading)"}, []
-    run_nurbsx([binary, "convert", src, "-o", out, "--to", fmt], what)
+    # The geometry path (every curve and surface as loose exact NURBS, --geometry-only):
+    # this check compares curves and surfaces point by point with FreeCAD's own reading.
+    # Whole parts (faces, shells, solids) are checked by tests/step_topology.rs,
+    # tests/iges_topology.rs and scripts/freecad/live_parts.py.
+    run_nurbsx([binary, "convert", src, "-o", out, "--to", fmt, "--geometry-only"], what)
     if not os.path.exists(out):
         raise Failure("%s: nurbsx convert exited 0 but wrote no %s" % (what, out))
     text = run_nurbsx([binary, "info", "--json", out], what + " (info)")
