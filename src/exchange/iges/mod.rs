@@ -13,7 +13,7 @@
 //!   request ([`ImportOptions::trim_to_parameter_range`](super::ImportOptions)) 126/128 are
 //!   trimmed exactly to their declared ranges. The faces, shells and solids (144 trimmed
 //!   surfaces with their 142 boundaries; 186 B-rep solids with 514/510/508/504/502) are read
-//!   into [`Document::topology`](super::Document) by [`topology`] over the same converted
+//!   into [`Document::topology`](super::Document) by the `topology` module over the same converted
 //!   geometry (not with `geometry_only`, which says what it left out). One bad entity gives
 //!   a located error diagnostic; the others still load.
 //! - [`write()`]: the topology as 144 trimmed surfaces with 142 boundaries (or, with

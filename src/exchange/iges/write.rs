@@ -34,7 +34,7 @@ use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 
 /// Writes the document as an IGES 5.3 file: its topology when it has one (faces as 144
 /// trimmed surfaces with 142 boundaries, or with `ExportOptions::iges_brep` solids and
-/// shells as 186 with 514/510/508/504/502; [`super::write_topology`]), then every curve and
+/// shells as 186 with 514/510/508/504/502; the `write_topology` module), then every curve and
 /// surface that no face or edge names, as 126/128.
 ///
 /// Errors (a `Diagnostic` with code `iges.write` or `options.timestamp`) only for values
