@@ -28,16 +28,20 @@
 //! - [`Model::sew`]: loose faces into shells and solids (shared vertices and edges).
 //! - [`Model::measure_face`], [`Model::solid_volume`]: area, centroid and volume over the
 //!   trimmed regions, by Green's theorem along the pcurves.
+//! - [`Model::mesh`]: triangle meshes of the trimmed faces within a chord tolerance, every
+//!   edge tessellated once and shared by its faces (watertight closed shells).
 
 mod assembly;
 mod check;
 mod error;
 mod measure;
+mod mesh;
 mod sew;
 
 pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
+pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
 pub use sew::Sewing;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};

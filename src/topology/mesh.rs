@@ -1,0 +1,909 @@
+//! # Triangle meshes of trimmed faces, watertight across shared edges
+//!
+//! [`Model::mesh`] tessellates the faces of a part within a chord tolerance:
+//! - **Edges first, once each.** Every edge's 3-D curve, restricted to the edge's range, is
+//!   cut into chords by the osculating-circle rule of [`NurbsCurve::tessellate_within`]
+//!   (seed 004); the ends are the edge's vertices. A degenerate edge (a pole of a sphere or
+//!   the apex of a cone: its curve is one point within the edge's tolerance) is that one
+//!   point. Every face bounded by an edge uses exactly these points, so two faces sharing an
+//!   edge share its vertices bit for bit and the mesh of a closed shell has no crack.
+//! - **The boundary in the parameter plane.** Each coedge's points are carried into the
+//!   face surface's `(u, v)` by its pcurve at the same parameters (ISO 10303-42 clause 4.4.2,
+//!   surface_curve: the pcurve shares the edge curve's parameter), or, without a pcurve, by
+//!   inverting the 3-D points onto the surface ([`invert_surface`], NURBS Book section 6.1).
+//!   A seam edge is used twice by its face with two pcurves (at `u0` and `u1`), so the
+//!   boundary is a proper polygon in the plane; a degenerate edge becomes a segment of the
+//!   plane (the pole's parameter line) whose points are all the same 3-D point.
+//! - **Interior points** come from the surface's own adaptive grid
+//!   ([`NurbsSurface::tessellate_within`], refined where the surface is not flat within the
+//!   tolerance), kept only strictly inside the trimmed region (even-odd rule over all loops:
+//!   the outer loop minus the holes) and away from the boundary by half the local grid step.
+//! - **Constrained Delaunay triangulation** of boundary and interior points in the plane,
+//!   with the boundary segments as constraints; triangles whose centroid lies outside the
+//!   region are dropped. The plane is scaled by the surface's mean speeds `|S_u|` and
+//!   `|S_v|` first, so that lengths in it are close to lengths on the surface and the
+//!   Delaunay triangles are not slivers on long thin patches.
+//! - **Refinement:** each triangle is compared with the surface at its centroid and at the
+//!   midpoints of its inner edges (the surface point at the same parameters against the
+//!   flat triangle's); the worst point of a triangle farther than the tolerance is inserted,
+//!   round after round, until every triangle passes or [`MAX_ROUNDS`] rounds have run.
+//! - **Orientation:** the triangles run counter-clockwise seen from the face normal, that is
+//!   `S_u x S_v` when `same_sense` holds and its reverse otherwise (ISO 10303-42
+//!   advanced_face), so a closed shell with outward faces gives a positive signed volume.
+//!
+//! A face without loops is bounded by its surface's domain: its mesh is the surface's grid.
+//! A face that cannot be meshed (its loops do not close in the parameter plane, as a loop
+//! that winds around a closed surface without a seam edge; boundary segments that cross;
+//! points that cannot be placed on the surface) is left out and named in
+//! [`PartMesh::skipped`] with the reason; nothing on the input makes the mesher panic.
+//! The work is bounded by a [`Budget`]: the vertices of all faces and edges together, and
+//! a stop test polled every [`STOP_POLL`] steps.
+
+use std::collections::{HashMap, HashSet};
+
+use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
+
+use super::{Edge, Face, FaceId, Model};
+use crate::nurbs::project::invert_surface;
+use crate::nurbs::tessellate::{Budget, Mesh, Polyline, STOP_POLL, TessellationError};
+use crate::nurbs::vector::{cross, dist, norm};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+
+/// Rounds of refinement of a face's triangulation at most.
+pub const MAX_ROUNDS: usize = 24;
+
+/// Points a degenerate edge's parameter segment is cut into.
+const POLE_PIECES: usize = 16;
+
+/// Samples per direction for the surface's mean speeds.
+const SPEED_SAMPLES: usize = 5;
+
+/// Why a face was left out of the mesh.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FaceMeshError {
+    /// A loop whose pcurves do not meet in the parameter plane.
+    #[error(
+        "loop {index}: its boundary leaves a gap of {gap:e} in the parameter plane after \
+         coedge {coedge} (a loop around a closed surface without a seam edge?)"
+    )]
+    OpenInParameters {
+        /// Loop index in the face.
+        index: usize,
+        /// The coedge after which the gap is.
+        coedge: usize,
+        /// The gap, in parameter units.
+        gap: f64,
+    },
+    /// A point of an edge could not be placed in the parameter plane.
+    #[error("loop {index}, coedge {coedge}: an edge point has no finite (u, v) on the surface")]
+    NoParameters {
+        /// Loop index in the face.
+        index: usize,
+        /// Coedge index in the loop.
+        coedge: usize,
+    },
+    /// Boundary segments cross each other in the parameter plane.
+    #[error("loop {index}: the boundary crosses itself or another loop in the parameter plane")]
+    BoundaryCrosses {
+        /// Loop index in the face.
+        index: usize,
+    },
+    /// An edge of the face could not be tessellated.
+    #[error("edge {edge}: {reason}")]
+    Edge {
+        /// Edge index in the model.
+        edge: usize,
+        /// Why.
+        reason: String,
+    },
+    /// The surface could not be tessellated or gives non-finite points.
+    #[error("surface: {0}")]
+    Surface(String),
+}
+
+/// The mesh of a part.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PartMesh {
+    /// One mesh per face of the model, index-aligned with `Model::faces` (`None`: not
+    /// asked for or skipped). Vertices shared by faces are bitwise the same points.
+    pub faces: Vec<Option<Mesh>>,
+    /// One polyline per edge, index-aligned with `Model::edges`, with the edge curve's
+    /// parameters (`None`: not asked for or not tessellated).
+    pub edges: Vec<Option<Polyline>>,
+    /// The faces left out, with the reason.
+    pub skipped: Vec<(FaceId, FaceMeshError)>,
+    /// Triangles that still exceed the tolerance after [`MAX_ROUNDS`] rounds (0 when every
+    /// triangle passed).
+    pub unrefined: usize,
+}
+
+/// Where a boundary point comes from: a vertex, or the `k`-th inner point of an edge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Key {
+    Vertex(usize),
+    Edge(usize, usize),
+}
+
+/// A point of the triangulation: its scaled parameters and its vertex in the face mesh.
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    at: Point2<f64>,
+    id: u32,
+}
+
+impl HasPosition for Node {
+    type Scalar = f64;
+    fn position(&self) -> Point2<f64> {
+        self.at
+    }
+}
+
+/// Counts units of work and polls the stop test every [`STOP_POLL`] of them.
+struct Poll<'a> {
+    budget: &'a Budget<'a>,
+    work: usize,
+}
+
+impl Poll<'_> {
+    fn tick(&mut self) -> Result<(), TessellationError> {
+        self.work += 1;
+        if self.work % STOP_POLL == 0 && (self.budget.stop)() {
+            return Err(TessellationError::Stopped);
+        }
+        Ok(())
+    }
+}
+
+impl Model {
+    /// Meshes the faces `which` (all faces with `None`) and the edges they use (all edges
+    /// with `None`) within the chord `tolerance` (see the module). Errors only for a bad
+    /// tolerance, the budget's vertex limit or its stop test; a face that cannot be meshed
+    /// is named in [`PartMesh::skipped`].
+    pub fn mesh(
+        &self,
+        which: Option<&[FaceId]>,
+        tolerance: f64,
+        budget: &Budget<'_>,
+    ) -> Result<PartMesh, TessellationError> {
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(TessellationError::Geometry(
+                crate::nurbs::GeometryError::InvalidArgument(format!(
+                    "tessellation: tolerance {tolerance} must be finite and > 0"
+                )),
+            ));
+        }
+        let faces: Vec<usize> = match which {
+            Some(list) => list
+                .iter()
+                .map(|f| f.0)
+                .filter(|&f| f < self.faces.len())
+                .collect(),
+            None => (0..self.faces.len()).collect(),
+        };
+        let mut wanted_edges = vec![which.is_none(); self.edges.len()];
+        for &f in &faces {
+            for l in &self.faces[f].loops {
+                for c in &l.coedges {
+                    if let Some(w) = wanted_edges.get_mut(c.edge.0) {
+                        *w = true;
+                    }
+                }
+            }
+        }
+        let mut out = PartMesh {
+            faces: vec![None; self.faces.len()],
+            edges: vec![None; self.edges.len()],
+            skipped: Vec::new(),
+            unrefined: 0,
+        };
+        let mut used = 0usize;
+        let mut edge_errors: HashMap<usize, String> = HashMap::new();
+        for (i, e) in self.edges.iter().enumerate() {
+            if !wanted_edges[i] {
+                continue;
+            }
+            let left = Budget {
+                max_points: budget.max_points.saturating_sub(used),
+                stop: budget.stop,
+            };
+            match self.edge_polyline(e, tolerance, &left) {
+                Ok(p) => {
+                    used += p.points.len();
+                    out.edges[i] = Some(p);
+                }
+                Err(TessellationError::Geometry(g)) => {
+                    edge_errors.insert(i, g.to_string());
+                }
+                Err(other) => return Err(other),
+            }
+        }
+        let mut poll = Poll { budget, work: 0 };
+        for f in faces {
+            let face = &self.faces[f];
+            if let Some((edge, reason)) = face
+                .loops
+                .iter()
+                .flat_map(|l| &l.coedges)
+                .find_map(|c| edge_errors.get(&c.edge.0).map(|r| (c.edge.0, r.clone())))
+            {
+                out.skipped
+                    .push((FaceId(f), FaceMeshError::Edge { edge, reason }));
+                continue;
+            }
+            let left = budget.max_points.saturating_sub(used);
+            match self.face_mesh(face, &out.edges, tolerance, left, &mut poll) {
+                Ok((mesh, unrefined)) => {
+                    used += mesh.vertices.len();
+                    out.unrefined += unrefined;
+                    out.faces[f] = Some(mesh);
+                }
+                Err(Skip::Face(reason)) => out.skipped.push((FaceId(f), reason)),
+                Err(Skip::Stop(e)) => return Err(e),
+            }
+        }
+        Ok(out)
+    }
+
+    /// The chords of an edge's curve over its range, ends at the vertices; one point
+    /// (repeated at both ends) for a degenerate edge.
+    fn edge_polyline(
+        &self,
+        e: &Edge,
+        tolerance: f64,
+        budget: &Budget<'_>,
+    ) -> Result<Polyline, TessellationError> {
+        let piece = restrict(&e.curve, e.range)?;
+        let mut line = piece.tessellate_within(tolerance, budget)?;
+        let start = self.vertices.get(e.start.0).map(|v| v.point);
+        let end = self.vertices.get(e.end.0).map(|v| v.point);
+        let first = line.points.first().copied().unwrap_or([0.0; 3]);
+        let span = line.points.iter().fold(0.0f64, |m, p| m.max(dist(*p, first)));
+        if e.start == e.end && span <= e.tolerance {
+            let p = start.unwrap_or(first);
+            let (a, b) = e.range;
+            line.params = (0..=POLE_PIECES)
+                .map(|k| a + (b - a) * k as f64 / POLE_PIECES as f64)
+                .collect();
+            line.points = vec![p; POLE_PIECES + 1];
+            return Ok(line);
+        }
+        if let (Some(s), Some(p)) = (start, line.points.first_mut()) {
+            *p = s;
+        }
+        if let (Some(s), Some(p)) = (end, line.points.last_mut()) {
+            *p = s;
+        }
+        Ok(line)
+    }
+
+    /// One face's mesh, with the number of triangles left above the tolerance.
+    fn face_mesh(
+        &self,
+        face: &Face,
+        edges: &[Option<Polyline>],
+        tolerance: f64,
+        max_points: usize,
+        poll: &mut Poll<'_>,
+    ) -> Result<(Mesh, usize), Skip> {
+        let s = &face.surface;
+        let stop = poll.budget.stop;
+        let grid = s
+            .tessellate_within(tolerance, &Budget { max_points, stop })
+            .map_err(|e| match e {
+                TessellationError::Geometry(g) => Skip::Face(FaceMeshError::Surface(g.to_string())),
+                other => Skip::Stop(other),
+            })?;
+        if face.loops.is_empty() {
+            let mut mesh = grid;
+            if !face.same_sense {
+                for t in &mut mesh.triangles {
+                    t.swap(1, 2);
+                }
+            }
+            mesh.normals = mesh
+                .params
+                .iter()
+                .map(|&[u, v]| normal(s, u, v, face.same_sense))
+                .collect();
+            return Ok((mesh, 0));
+        }
+        let plane = Plane::of(s);
+        let mut b = Builder::default();
+        // The loops in the scaled plane: points with their keys.
+        let mut polygons: Vec<Vec<([f64; 2], Key, Point3)>> = Vec::new();
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let closure = 1e-3 * (u1 - u0).hypot(v1 - v0);
+        let periods = periods(s);
+        for (index, l) in face.loops.iter().enumerate() {
+            let mut ring: Vec<([f64; 2], Key, Point3)> = Vec::new();
+            let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::new();
+            // Start at a coedge with a pcurve, so that points inverted onto the surface
+            // follow on from known parameters.
+            let first = l.coedges.iter().position(|c| c.pcurve.is_some()).unwrap_or(0);
+            let n_co = l.coedges.len();
+            let mut guess: Option<(f64, f64)> = None;
+            for k in (0..n_co).map(|j| (j + first) % n_co) {
+                let c = &l.coedges[k];
+                let e = self.edges.get(c.edge.0).ok_or_else(|| {
+                    Skip::Face(FaceMeshError::Edge {
+                        edge: c.edge.0,
+                        reason: "missing".into(),
+                    })
+                })?;
+                let line = edges
+                    .get(c.edge.0)
+                    .and_then(Option::as_ref)
+                    .ok_or_else(|| {
+                        Skip::Face(FaceMeshError::Edge {
+                            edge: c.edge.0,
+                            reason: "not tessellated".into(),
+                        })
+                    })?;
+                let n = line.params.len();
+                let order: Vec<usize> = if c.forward {
+                    (0..n).collect()
+                } else {
+                    (0..n).rev().collect()
+                };
+                let mut first_uv = None;
+                let mut last_uv = [0.0; 2];
+                for (j, &i) in order.iter().enumerate() {
+                    poll.tick().map_err(Skip::Stop)?;
+                    let t = line.params[i];
+                    let p = line.points[i];
+                    let uv = match &c.pcurve {
+                        Some(pc) => {
+                            let (pa, pb) = pc.domain();
+                            let q = pc.point_at_unchecked(t.clamp(pa, pb));
+                            [q[0], q[1]]
+                        }
+                        None => match invert_surface(s, p, guess) {
+                            Some(inv) => [inv.u, inv.v],
+                            None => [f64::NAN; 2],
+                        },
+                    };
+                    // A seam point has two parameters: keep the boundary continuous (a
+                    // seam edge whose two uses carry the same pcurve, a point inverted
+                    // onto the seam, go to the side the boundary is on).
+                    let uv = unwrap(uv, guess, periods);
+                    if !(uv[0].is_finite() && uv[1].is_finite()) {
+                        return Err(Skip::Face(FaceMeshError::NoParameters {
+                            index,
+                            coedge: k,
+                        }));
+                    }
+                    guess = Some((uv[0], uv[1]));
+                    first_uv.get_or_insert(uv);
+                    last_uv = uv;
+                    // The last point is the next coedge's first.
+                    if j + 1 == n {
+                        break;
+                    }
+                    let key = if i == 0 {
+                        Key::Vertex(e.start.0)
+                    } else if i + 1 == n {
+                        Key::Vertex(e.end.0)
+                    } else if e.start == e.end && line.points.iter().all(|q| *q == p) {
+                        Key::Vertex(e.start.0)
+                    } else {
+                        Key::Edge(c.edge.0, i)
+                    };
+                    ring.push((plane.scale(uv), key, p));
+                }
+                ends.push((first_uv.unwrap_or(last_uv), last_uv));
+            }
+            let n = ends.len();
+            for k in 0..n {
+                let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
+                let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
+                if gap.is_nan() || gap > closure {
+                    return Err(Skip::Face(FaceMeshError::OpenInParameters {
+                        index,
+                        coedge: k,
+                        gap,
+                    }));
+                }
+            }
+            polygons.push(ring);
+        }
+        let region = Region::new(
+            polygons
+                .iter()
+                .map(|r| r.iter().map(|x| x.0).collect())
+                .collect(),
+        );
+        let mut cdt: ConstrainedDelaunayTriangulation<Node> = ConstrainedDelaunayTriangulation::new();
+        for (index, ring) in polygons.iter().enumerate() {
+            let mut handles = Vec::with_capacity(ring.len());
+            for &(at, key, p) in ring {
+                let id = b.shared(key, p, at, &plane, s);
+                handles.push(insert(&mut cdt, at, id).ok_or(Skip::Face(
+                    FaceMeshError::NoParameters { index, coedge: 0 },
+                ))?);
+            }
+            let n = handles.len();
+            for k in 0..n {
+                let (h0, h1) = (handles[k], handles[(k + 1) % n]);
+                if h0 == h1 || cdt.exists_constraint(h0, h1) {
+                    continue;
+                }
+                if !cdt.can_add_constraint(h0, h1) {
+                    return Err(Skip::Face(FaceMeshError::BoundaryCrosses { index }));
+                }
+                cdt.add_constraint(h0, h1);
+            }
+            if b.positions.len() > max_points {
+                return Err(Skip::Stop(TessellationError::TooManyPoints {
+                    limit: poll.budget.max_points,
+                }));
+            }
+        }
+        // Interior points of the surface's grid, strictly inside and off the boundary.
+        let spacing = local_spacing(&grid, &plane);
+        for (i, &[u, v]) in grid.params.iter().enumerate() {
+            poll.tick().map_err(Skip::Stop)?;
+            let at = plane.scale([u, v]);
+            if region.inside(at) && region.distance(at) > 0.5 * spacing[i] {
+                let id = b.own(grid.vertices[i], [u, v]);
+                if insert(&mut cdt, at, id).is_none() {
+                    b.drop_last();
+                }
+            }
+            if b.positions.len() > max_points {
+                return Err(Skip::Stop(TessellationError::TooManyPoints {
+                    limit: poll.budget.max_points,
+                }));
+            }
+        }
+        // Refinement rounds.
+        let mut unrefined = 0;
+        // Triangles (by their corners) that passed: unchanged triangles are not probed again.
+        let mut passed: HashSet<[u32; 3]> = HashSet::new();
+        for round in 0..=MAX_ROUNDS {
+            let mut fixes: Vec<[f64; 2]> = Vec::new();
+            let mut seen: HashSet<[u64; 2]> = HashSet::new();
+            unrefined = 0;
+            for f in cdt.inner_faces() {
+                poll.tick().map_err(Skip::Stop)?;
+                let vs = f.vertices();
+                let at = vs.map(|v| [v.position().x, v.position().y]);
+                let centroid = [
+                    (at[0][0] + at[1][0] + at[2][0]) / 3.0,
+                    (at[0][1] + at[1][1] + at[2][1]) / 3.0,
+                ];
+                if !region.inside(centroid) {
+                    continue;
+                }
+                let ids = vs.map(|v| v.data().id as usize);
+                if ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2] {
+                    continue;
+                }
+                let mut corners = vs.map(|v| v.data().id);
+                corners.sort_unstable();
+                if passed.contains(&corners) {
+                    continue;
+                }
+                // The flat triangle through the surface points at the corners' parameters:
+                // boundary corners are edge points, off the surface by up to the edge's
+                // tolerance, which no refinement inside the face can change.
+                let ps = ids.map(|i| b.on_surface[i]);
+                let mut worst = (tolerance, None);
+                let mut probe = |w: [f64; 3]| {
+                    let q = [
+                        w[0] * at[0][0] + w[1] * at[1][0] + w[2] * at[2][0],
+                        w[0] * at[0][1] + w[1] * at[1][1] + w[2] * at[2][1],
+                    ];
+                    let flat: Point3 =
+                        std::array::from_fn(|k| w[0] * ps[0][k] + w[1] * ps[1][k] + w[2] * ps[2][k]);
+                    let d = dist(plane.point(s, q), flat);
+                    if d > worst.0 || d.is_nan() {
+                        worst = (d, Some(q));
+                    }
+                };
+                probe([1.0 / 3.0; 3]);
+                for e in f.adjacent_edges() {
+                    if e.is_constraint_edge() {
+                        continue;
+                    }
+                    let (a, c) = (e.from().data().id, e.to().data().id);
+                    let wa = ids.iter().position(|&x| x == a as usize);
+                    let wc = ids.iter().position(|&x| x == c as usize);
+                    if let (Some(i), Some(j)) = (wa, wc) {
+                        let mut w = [0.0; 3];
+                        w[i] = 0.5;
+                        w[j] = 0.5;
+                        probe(w);
+                    }
+                }
+                match worst {
+                    (_, Some(q)) => {
+                        unrefined += 1;
+                        if seen.insert(q.map(f64::to_bits)) {
+                            fixes.push(q);
+                        }
+                    }
+                    (_, None) => {
+                        passed.insert(corners);
+                    }
+                }
+            }
+            if fixes.is_empty() || round == MAX_ROUNDS {
+                break;
+            }
+            for q in fixes {
+                poll.tick().map_err(Skip::Stop)?;
+                let uv = plane.unscale(q);
+                let p = plane.point(s, q);
+                if !p.iter().all(|x| x.is_finite()) {
+                    continue;
+                }
+                let id = b.own(p, uv);
+                if insert(&mut cdt, q, id).is_none() {
+                    b.drop_last();
+                }
+            }
+            if b.positions.len() > max_points {
+                return Err(Skip::Stop(TessellationError::TooManyPoints {
+                    limit: poll.budget.max_points,
+                }));
+            }
+        }
+        // The triangles inside the region, counter-clockwise in the scaled plane (spade's
+        // order), which is counter-clockwise seen from S_u x S_v.
+        let mut triangles = Vec::new();
+        for f in cdt.inner_faces() {
+            let vs = f.vertices();
+            let at = vs.map(|v| [v.position().x, v.position().y]);
+            let centroid = [
+                (at[0][0] + at[1][0] + at[2][0]) / 3.0,
+                (at[0][1] + at[1][1] + at[2][1]) / 3.0,
+            ];
+            if !region.inside(centroid) {
+                continue;
+            }
+            let t = vs.map(|v| v.data().id as usize);
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                continue; // a pole: two corners are the same point
+            }
+            triangles.push(if face.same_sense {
+                t
+            } else {
+                [t[0], t[2], t[1]]
+            });
+        }
+        let normals = b
+            .params
+            .iter()
+            .map(|&[u, v]| normal(s, u, v, face.same_sense))
+            .collect();
+        Ok((
+            Mesh {
+                vertices: b.positions,
+                params: b.params,
+                normals,
+                triangles,
+            },
+            unrefined,
+        ))
+    }
+}
+
+/// Why a face's mesh stopped: the face is skipped, or the whole work stops.
+enum Skip {
+    Face(FaceMeshError),
+    Stop(TessellationError),
+}
+
+/// The face mesh under construction: positions, their parameters, and the boundary points
+/// by key (a seam's vertex appears twice in the plane but once here).
+#[derive(Default)]
+struct Builder {
+    positions: Vec<Point3>,
+    params: Vec<[f64; 2]>,
+    /// The surface at `params` (equal to `positions` except at boundary points).
+    on_surface: Vec<Point3>,
+    by_key: HashMap<Key, u32>,
+}
+
+impl Builder {
+    fn shared(
+        &mut self,
+        key: Key,
+        p: Point3,
+        at: [f64; 2],
+        plane: &Plane,
+        s: &NurbsSurface,
+    ) -> u32 {
+        if let Some(&id) = self.by_key.get(&key) {
+            return id;
+        }
+        let id = self.own(p, plane.unscale(at));
+        self.on_surface.pop();
+        self.on_surface.push(plane.point(s, at));
+        self.by_key.insert(key, id);
+        id
+    }
+
+    fn own(&mut self, p: Point3, uv: [f64; 2]) -> u32 {
+        self.positions.push(p);
+        self.on_surface.push(p);
+        self.params.push(uv);
+        u32::try_from(self.positions.len() - 1).unwrap_or(u32::MAX)
+    }
+
+    /// Forgets the last point (one the triangulation refused).
+    fn drop_last(&mut self) {
+        self.positions.pop();
+        self.on_surface.pop();
+        self.params.pop();
+    }
+}
+
+/// Inserts a point unless one is already there (then that one is returned); `None` for a
+/// point spade refuses (non-finite or out of its range).
+fn insert(
+    cdt: &mut ConstrainedDelaunayTriangulation<Node>,
+    at: [f64; 2],
+    id: u32,
+) -> Option<spade::handles::FixedVertexHandle> {
+    if !(at[0].is_finite() && at[1].is_finite()) {
+        return None;
+    }
+    let p = Point2::new(at[0], at[1]);
+    if let Some(v) = cdt.locate_vertex(p) {
+        return Some(v.fix());
+    }
+    cdt.insert(Node { at: p, id }).ok()
+}
+
+/// The parameter plane scaled by the surface's mean speeds, offset to the domain's corner.
+struct Plane {
+    origin: [f64; 2],
+    scale: [f64; 2],
+    domain: ((f64, f64), (f64, f64)),
+}
+
+impl Plane {
+    fn of(s: &NurbsSurface) -> Plane {
+        let domain = s.domain();
+        let ((u0, u1), (v0, v1)) = domain;
+        let (mut su, mut sv, mut n) = (0.0, 0.0, 0usize);
+        for i in 0..SPEED_SAMPLES {
+            for j in 0..SPEED_SAMPLES {
+                let u = u0 + (u1 - u0) * (i as f64 + 0.5) / SPEED_SAMPLES as f64;
+                let v = v0 + (v1 - v0) * (j as f64 + 0.5) / SPEED_SAMPLES as f64;
+                if let Ok(d) = s.derivatives(u, v, 1) {
+                    let (a, b) = (norm(d[1][0]), norm(d[0][1]));
+                    if a.is_finite() && b.is_finite() {
+                        su += a;
+                        sv += b;
+                        n += 1;
+                    }
+                }
+            }
+        }
+        let mean = |x: f64| {
+            let m = x / n.max(1) as f64;
+            if m.is_finite() && m > 0.0 { m } else { 1.0 }
+        };
+        Plane {
+            origin: [u0, v0],
+            scale: [mean(su), mean(sv)],
+            domain,
+        }
+    }
+
+    fn scale(&self, uv: [f64; 2]) -> [f64; 2] {
+        [
+            (uv[0] - self.origin[0]) * self.scale[0],
+            (uv[1] - self.origin[1]) * self.scale[1],
+        ]
+    }
+
+    fn unscale(&self, at: [f64; 2]) -> [f64; 2] {
+        [
+            at[0] / self.scale[0] + self.origin[0],
+            at[1] / self.scale[1] + self.origin[1],
+        ]
+    }
+
+    /// The surface point at a scaled point (parameters kept in the domain).
+    fn point(&self, s: &NurbsSurface, at: [f64; 2]) -> Point3 {
+        let [u, v] = self.unscale(at);
+        let ((u0, u1), (v0, v1)) = self.domain;
+        s.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1))
+    }
+}
+
+/// The periods of a surface closed in u or v (its boundary curves at both ends of that
+/// direction coincide, within 1e-9 of its size at 5 points): `(u1 - u0)` / `(v1 - v0)`.
+fn periods(s: &NurbsSurface) -> [Option<f64>; 2] {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let size = crate::nurbs::bounding_box_diagonal(s.control_points().as_slice());
+    let closes = |along_u: bool| {
+        (0..=4).all(|k| {
+            let t = k as f64 / 4.0;
+            let (a, b) = if along_u {
+                let v = v0 + (v1 - v0) * t;
+                (s.point_at_unchecked(u0, v), s.point_at_unchecked(u1, v))
+            } else {
+                let u = u0 + (u1 - u0) * t;
+                (s.point_at_unchecked(u, v0), s.point_at_unchecked(u, v1))
+            };
+            dist(a, b) <= 1e-9 * size
+        })
+    };
+    [
+        closes(true).then_some(u1 - u0),
+        closes(false).then_some(v1 - v0),
+    ]
+}
+
+/// On a closed surface a point of the seam has two parameters; a boundary point takes the
+/// one nearest the point before it, so the boundary stays on one side of the seam.
+fn unwrap(uv: [f64; 2], guess: Option<(f64, f64)>, periods: [Option<f64>; 2]) -> [f64; 2] {
+    let Some((gu, gv)) = guess else { return uv };
+    let near = |x: f64, g: f64, period: Option<f64>| match period {
+        Some(p) if p > 0.0 => [x - p, x, x + p]
+            .into_iter()
+            .min_by(|a, b| (a - g).abs().total_cmp(&(b - g).abs()))
+            .unwrap_or(x),
+        _ => x,
+    };
+    [near(uv[0], gu, periods[0]), near(uv[1], gv, periods[1])]
+}
+
+/// The unit face normal at `(u, v)`: `S_u x S_v`, reversed without `same_sense`; zero at a
+/// pole.
+fn normal(s: &NurbsSurface, u: f64, v: f64, same_sense: bool) -> Point3 {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let Ok(d) = s.derivatives(u.clamp(u0, u1), v.clamp(v0, v1), 1) else {
+        return [0.0; 3];
+    };
+    let n = cross(d[1][0], d[0][1]);
+    let l = norm(n);
+    let sign = if same_sense { 1.0 } else { -1.0 };
+    if l > 0.0 && l.is_finite() {
+        n.map(|x| sign * x / l)
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// The shortest grid edge at each vertex of the surface's grid, in the scaled plane.
+fn local_spacing(grid: &Mesh, plane: &Plane) -> Vec<f64> {
+    let mut h = vec![f64::INFINITY; grid.params.len()];
+    for t in &grid.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let (pa, pb) = (plane.scale(grid.params[a]), plane.scale(grid.params[b]));
+            let d = (pa[0] - pb[0]).hypot(pa[1] - pb[1]);
+            h[a] = h[a].min(d);
+            h[b] = h[b].min(d);
+        }
+    }
+    h
+}
+
+/// The trimmed region in the scaled plane: the loops' segments, bucketed in horizontal
+/// bands for the even-odd test and the distance to the boundary.
+struct Region {
+    segments: Vec<[[f64; 2]; 2]>,
+    low: f64,
+    band: f64,
+    bands: Vec<Vec<u32>>,
+}
+
+impl Region {
+    fn new(loops: Vec<Vec<[f64; 2]>>) -> Region {
+        let mut segments = Vec::new();
+        for ring in &loops {
+            let n = ring.len();
+            for k in 0..n {
+                segments.push([ring[k], ring[(k + 1) % n]]);
+            }
+        }
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for s in &segments {
+            for p in s {
+                low = low.min(p[1]);
+                high = high.max(p[1]);
+            }
+        }
+        let count = ((segments.len() as f64).sqrt() as usize).clamp(1, 1024);
+        let band = ((high - low) / count as f64).max(f64::MIN_POSITIVE);
+        let mut bands = vec![Vec::new(); count];
+        if low.is_finite() && high.is_finite() {
+            for (i, s) in segments.iter().enumerate() {
+                let (a, b) = (s[0][1].min(s[1][1]), s[0][1].max(s[1][1]));
+                let (ba, bb) = (Self::index(low, band, count, a), Self::index(low, band, count, b));
+                for list in &mut bands[ba..=bb] {
+                    list.push(u32::try_from(i).unwrap_or(u32::MAX));
+                }
+            }
+        }
+        Region {
+            segments,
+            low,
+            band,
+            bands,
+        }
+    }
+
+    fn index(low: f64, band: f64, count: usize, y: f64) -> usize {
+        let k = ((y - low) / band).floor();
+        if k.is_nan() || k < 0.0 {
+            0
+        } else {
+            (k as usize).min(count - 1)
+        }
+    }
+
+    /// Even-odd rule: a ray towards +x crosses the boundary an odd number of times.
+    fn inside(&self, p: [f64; 2]) -> bool {
+        if !(p[1] >= self.low && p[1] <= self.low + self.band * self.bands.len() as f64) {
+            return false;
+        }
+        let k = Self::index(self.low, self.band, self.bands.len(), p[1]);
+        let mut odd = false;
+        for &i in &self.bands[k] {
+            let [a, b] = self.segments[i as usize];
+            if (a[1] > p[1]) != (b[1] > p[1]) {
+                let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                if x > p[0] {
+                    odd = !odd;
+                }
+            }
+        }
+        odd
+    }
+
+    /// Distance from `p` to the nearest segment (infinite with no segment in reach of the
+    /// bands searched: those within one band's height, widened until one is found).
+    fn distance(&self, p: [f64; 2]) -> f64 {
+        let count = self.bands.len();
+        let k = Self::index(self.low, self.band, count, p[1]);
+        let mut best = f64::INFINITY;
+        let mut reach = 1usize;
+        loop {
+            let (a, b) = (k.saturating_sub(reach), (k + reach).min(count - 1));
+            for list in &self.bands[a..=b] {
+                for &i in list {
+                    best = best.min(segment_distance(p, self.segments[i as usize]));
+                }
+            }
+            // Every segment closer than `best` lies in the bands within `best` of p.
+            let covered = (reach as f64 - 1.0) * self.band;
+            if best <= covered || (a == 0 && b == count - 1) {
+                return best;
+            }
+            reach = (reach * 2).min(count);
+        }
+    }
+}
+
+fn segment_distance(p: [f64; 2], [a, b]: [[f64; 2]; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+}
+
+/// The curve over `range` only (exact: A5.1 knot insertion at the range's ends), keeping
+/// its parameters.
+fn restrict(c: &NurbsCurve, (a, b): (f64, f64)) -> Result<NurbsCurve, TessellationError> {
+    let (d0, d1) = c.domain();
+    let mut piece = c.clone();
+    if a > d0 && a < d1 {
+        piece = piece.split_at(a)?.1;
+    }
+    if b > a && b < d1 {
+        piece = piece.split_at(b)?.0;
+    }
+    Ok(piece)
+}
