@@ -518,9 +518,11 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
     let plan = pipeline::mesh::plan(&loaded.document, a.entity.as_deref(), format)
         .map_err(|e| CliError::pipeline(&a.input, e))?;
     let mut diagnostics = loaded.document.diagnostics.clone();
+    let drawn = plan.items();
+    let (faces, edges) = (plan.faces.len(), plan.edges.len());
     diagnostics.extend(plan.left_out);
     ctx.report.diagnostics(&name, &diagnostics);
-    let bytes = pipeline::tessellate(
+    let file = pipeline::tessellate(
         &loaded.document,
         a.entity.as_deref(),
         a.tolerance,
@@ -528,15 +530,14 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
         &ctx.settings,
     )
     .map_err(|e| CliError::pipeline(&a.input, e))?;
-    write_bytes(&a.output, &bytes)?;
+    ctx.report.diagnostics(&name, &file.diagnostics);
+    diagnostics.extend(file.diagnostics);
+    write_bytes(&a.output, &file.bytes)?;
     ctx.report.summary(&format!(
-        "{name} -> {}: drew {} of {} entities",
+        "{name} -> {}: drew {drawn} item(s): {faces} trimmed face(s), {edges} edge(s), {} \
+         free curve(s) and surface(s)",
         display_name(&a.output),
-        plan.entities.len(),
-        match a.entity {
-            Some(_) => 1,
-            None => loaded.document.entities.len(),
-        }
+        drawn - faces - edges,
     ));
     Ok(outcome_of(&diagnostics))
 }

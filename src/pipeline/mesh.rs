@@ -2,6 +2,12 @@
 //! surface, and the writers (Wavefront OBJ, binary STL, binary glTF 2.0, and the SVG picture
 //! of [`super::picture`]).
 //!
+//! A document with faces (its topology) is drawn as a part: each face trimmed by its loops
+//! ([`crate::topology::Model::mesh`]: edges tessellated once and shared by their faces, so a
+//! closed shell is watertight), named by the face's id, each edge as a line named by the
+//! edge's id, then the free curves and surfaces (those no face or edge names). The surfaces
+//! of faces and the curves of edges are not drawn a second time untrimmed.
+//!
 //! A surface's tessellation is a parameter grid; on a closed surface the grid's first and
 //! last rows (the seam) and every vertex of a degenerate row (a pole) lie at the same point.
 //! [`weld`] merges vertices that coincide within 1e-9 of the surface's size and drops the
@@ -11,10 +17,11 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use crate::exchange::{Diagnostic, Document, Entity, Location};
+use crate::exchange::{Diagnostic, Document, Entity, Location, Topology};
 use crate::nurbs::tessellate::{Mesh, Polyline};
 use crate::nurbs::vector::{cross, norm};
 use crate::nurbs::{Geometry, Point3};
+use crate::topology::{EdgeId, FaceId};
 
 use super::ops::id_list;
 use super::{ErrorKind, MeshFormat, PipelineError, Settings, select};
@@ -42,30 +49,86 @@ pub struct CurveLine {
 /// What a mesh file will hold, and what it leaves out (with the warnings that say so).
 #[derive(Debug)]
 pub struct MeshPlan<'d> {
-    /// The entities to tessellate.
+    /// The free entities to tessellate (those no face or edge names).
     pub entities: Vec<&'d Entity>,
+    /// The document's topology when faces or edges are drawn.
+    pub topology: Option<&'d Topology>,
+    /// The faces to mesh, trimmed (indices into the topology's faces).
+    pub faces: Vec<FaceId>,
+    /// The edges to draw as lines (indices into the topology's edges).
+    pub edges: Vec<usize>,
     /// One warning per kind of entity left out.
     pub left_out: Vec<Diagnostic>,
+}
+
+impl MeshPlan<'_> {
+    /// How many items (entities, faces, edges) the mesh will hold.
+    pub fn items(&self) -> usize {
+        self.entities.len() + self.faces.len() + self.edges.len()
+    }
 }
 
 /// Chooses the entities of a mesh file: the one asked for, or all. 2-D curves are left out
 /// when 3-D geometry is drawn too (they are parameter-space curves of a B-rep, not geometry
 /// in the plane z = 0); a file of 2-D curves only is drawn in that plane. STL holds
 /// triangles only, so curves are left out of it.
+///
+/// With topology, all faces and edges are drawn, and `entity` may name one face (drawn
+/// trimmed, with its edges) or one edge, as well as a free entity.
 pub fn plan<'d>(
     doc: &'d Document,
     entity: Option<&str>,
     format: MeshFormat,
 ) -> Result<MeshPlan<'d>, PipelineError> {
+    let topology = &doc.topology;
+    let origins = &topology.origins;
+    let (mut faces, mut edges): (Vec<FaceId>, Vec<usize>) = (Vec::new(), Vec::new());
     let selected: Vec<&Entity> = match entity {
-        Some(id) => vec![select(doc, Some(id))?],
-        None => doc.entities.iter().collect(),
+        Some(id) => {
+            let face = origins.faces.iter().position(|o| o.id == id);
+            let edge = origins.edges.iter().position(|o| o.id == id);
+            match (face, edge) {
+                (Some(f), _) if f < topology.model.faces.len() => {
+                    faces.push(FaceId(f));
+                    let mut used: Vec<usize> = topology.model.faces[f]
+                        .loops
+                        .iter()
+                        .flat_map(|l| l.coedges.iter().map(|c| c.edge.0))
+                        .collect();
+                    used.sort_unstable();
+                    used.dedup();
+                    edges = used;
+                    Vec::new()
+                }
+                (_, Some(e)) if e < topology.model.edges.len() => {
+                    edges.push(e);
+                    Vec::new()
+                }
+                _ => vec![select(doc, Some(id))?],
+            }
+        }
+        None => {
+            faces = (0..topology.model.faces.len()).map(FaceId).collect();
+            edges = (0..topology.model.edges.len()).collect();
+            // The geometry of faces and edges is drawn through them, trimmed.
+            let named: std::collections::HashSet<&str> = origins
+                .faces
+                .iter()
+                .chain(&origins.edges)
+                .filter_map(|o| o.entity.as_deref())
+                .collect();
+            doc.entities
+                .iter()
+                .filter(|e| !named.contains(e.id.as_str()))
+                .collect()
+        }
     };
-    if selected.is_empty() {
+    if selected.is_empty() && faces.is_empty() && edges.is_empty() {
         select(doc, None)?;
     }
     let is_curve = |e: &Entity| matches!(e.geometry, Geometry::Curve(_));
-    let any_3d = selected.iter().any(|e| e.geometry.dimension() == 3);
+    let any_3d = !(faces.is_empty() && edges.is_empty())
+        || selected.iter().any(|e| e.geometry.dimension() == 3);
     let mut left_out = Vec::new();
     let mut warn = |dropped: &[&Entity], code: &str, why: &str| {
         if let Some(first) = dropped.first() {
@@ -93,9 +156,30 @@ pub fn plan<'d>(
             kept.into_iter().partition(|e| is_curve(e));
         warn(&curves, "curve_not_written", "STL holds triangles only");
         kept = surfaces;
+        if let Some(&first) = edges.first() {
+            left_out.push(Diagnostic::warning(
+                "edge_not_written",
+                format!(
+                    "{} edge(s) not drawn as lines: STL holds triangles only (the faces' \
+                     triangles still meet along them)",
+                    edges.len()
+                ),
+                Location::at_entity(
+                    origins
+                        .edges
+                        .get(first)
+                        .map_or_else(String::new, |o| o.id.clone()),
+                ),
+            ));
+            edges.clear();
+        }
     }
+    let drawn = !(faces.is_empty() && edges.is_empty());
     Ok(MeshPlan {
         entities: kept,
+        topology: drawn.then_some(topology),
+        faces,
+        edges,
         left_out,
     })
 }
@@ -184,12 +268,26 @@ pub fn triangle_normal(a: Point3, b: Point3, c: Point3) -> Point3 {
     }
 }
 
-/// Tessellates the planned entities under a chord tolerance, within the vertex limit.
+/// What [`tessellate_all`] made: the face meshes, the lines, and warnings about faces it
+/// could not mesh.
+#[derive(Debug, Clone, Default)]
+pub struct Tessellation {
+    /// Triangle meshes (trimmed faces, then free surfaces).
+    pub faces: Vec<FaceMesh>,
+    /// Lines (edges, then free curves).
+    pub curves: Vec<CurveLine>,
+    /// Faces left out (`tessellate.face_skipped`, one per face, located) and triangles that
+    /// stayed above the tolerance (`tessellate.face_unrefined`).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Tessellates the planned faces, edges and entities under a chord tolerance, within the
+/// vertex limit.
 pub fn tessellate_all(
     plan: &MeshPlan<'_>,
     tolerance: f64,
     settings: &Settings,
-) -> Result<(Vec<FaceMesh>, Vec<CurveLine>), PipelineError> {
+) -> Result<Tessellation, PipelineError> {
     use crate::nurbs::tessellate::{Budget, TessellationError};
     let stop = || settings.cancel.is_set();
     // The reply limit caps the vertices too (at 32 bytes per vertex, less than any format
@@ -238,6 +336,102 @@ pub fn tessellate_all(
     };
     let mut faces = Vec::new();
     let mut curves = Vec::new();
+    let mut diagnostics = Vec::new();
+    if let Some(topology) = plan.topology {
+        let origin = |list: &[crate::exchange::Origin], i: usize| {
+            list.get(i).map_or_else(|| format!("{i}"), |o| o.id.clone())
+        };
+        let part = topology
+            .model
+            .mesh(Some(&plan.faces), tolerance, &within(0))
+            .map_err(|err| match err {
+                TessellationError::Geometry(g) => PipelineError::new(
+                    ErrorKind::Geometry,
+                    "tessellate.failed",
+                    g.to_string(),
+                    Location::default(),
+                ),
+                TessellationError::TooManyPoints { .. } => PipelineError::new(
+                    ErrorKind::Limit,
+                    "limit.mesh_vertices",
+                    format!(
+                        "the meshes of the faces need more vertices than the limit of {} \
+                         (or the reply limit of {} bytes); use a larger tolerance",
+                        settings.max_mesh_vertices, settings.max_reply_bytes
+                    ),
+                    Location::default(),
+                ),
+                TessellationError::Stopped => super::cancelled(),
+            })?;
+        for &f in &plan.faces {
+            if let Some(Some(mesh)) = part.faces.get(f.0) {
+                vertices += mesh.vertices.len();
+                faces.push(weld(&origin(&topology.origins.faces, f.0), mesh));
+            }
+        }
+        for (f, why) in &part.skipped {
+            diagnostics.push(Diagnostic::warning(
+                "tessellate.face_skipped",
+                format!(
+                    "face {} not drawn: {why}",
+                    origin(&topology.origins.faces, f.0)
+                ),
+                Location::at_entity(origin(&topology.origins.faces, f.0)),
+            ));
+        }
+        if part.unrefined > 0 {
+            diagnostics.push(Diagnostic::warning(
+                "tessellate.face_unrefined",
+                format!(
+                    "{} triangle(s) of the faces are still farther than the tolerance {tolerance} \
+                     from their surface after {} refinement rounds",
+                    part.unrefined,
+                    crate::topology::MAX_ROUNDS
+                ),
+                Location::default(),
+            ));
+        }
+        for &e in &plan.edges {
+            // The edges of the faces asked for were tessellated with them; others alone.
+            let line = match part.edges.get(e) {
+                Some(Some(line)) => line.clone(),
+                _ => {
+                    let entity = origin(&topology.origins.edges, e);
+                    match topology
+                        .model
+                        .edge_polyline(EdgeId(e), tolerance, &within(vertices))
+                    {
+                        Ok(line) => line,
+                        Err(TessellationError::Stopped) => return Err(super::cancelled()),
+                        Err(TessellationError::Geometry(g)) => {
+                            return Err(PipelineError::new(
+                                ErrorKind::Geometry,
+                                "tessellate.failed",
+                                g.to_string(),
+                                Location::at_entity(entity),
+                            ));
+                        }
+                        Err(TessellationError::TooManyPoints { limit }) => {
+                            return Err(PipelineError::new(
+                                ErrorKind::Limit,
+                                "limit.mesh_vertices",
+                                format!(
+                                    "the edge {entity} needs more vertices than remain of the \
+                                     limit of {limit}; use a larger tolerance"
+                                ),
+                                Location::at_entity(entity),
+                            ));
+                        }
+                    }
+                }
+            };
+            vertices += line.points.len();
+            curves.push(CurveLine {
+                entity: origin(&topology.origins.edges, e),
+                points: line.points,
+            });
+        }
+    }
     for e in &plan.entities {
         match &e.geometry {
             Geometry::Curve(c) => {
@@ -259,7 +453,11 @@ pub fn tessellate_all(
             }
         }
     }
-    Ok((faces, curves))
+    Ok(Tessellation {
+        faces,
+        curves,
+        diagnostics,
+    })
 }
 
 /// Wavefront OBJ: one `o` group per entity, welded `v`ertices, `f` triangles and `l` lines

@@ -22,8 +22,8 @@ pub use error::{ErrorKind, PipelineError};
 pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
-    ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFormat, OpNote,
-    Operation, affine, apply, check_evaluation, check_file_reply, convert, drop_unwritable,
+    ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFile, MeshFormat,
+    OpNote, Operation, affine, apply, check_evaluation, check_file_reply, convert, drop_unwritable,
     evaluate, info, select, tessellate, validate, write,
 };
 pub use reports::{

@@ -1728,13 +1728,17 @@ const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
 /// sum exceeds [`Settings::max_mesh_vertices`] or its text would exceed
 /// [`Settings::max_reply_bytes`]; the same vertex limit bounds the work itself, and the
 /// stop signal is polled every [`crate::nurbs::tessellate::STOP_POLL`] steps.
+///
+/// A document with faces is drawn as a part (see [`super::mesh`]): faces trimmed, edges as
+/// lines, the free entities as before; faces that cannot be meshed are left out with a
+/// warning in [`MeshFile::diagnostics`].
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
     tolerance: f64,
     format: MeshFormat,
     settings: &Settings,
-) -> Result<Vec<u8>, PipelineError> {
+) -> Result<MeshFile, PipelineError> {
     use super::{mesh, picture};
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::usage(
@@ -1755,6 +1759,25 @@ pub fn tessellate(
         estimate += n;
         reply += n * bytes;
     }
+    if let Some(topology) = plan.topology {
+        let model = &topology.model;
+        for f in &plan.faces {
+            settings.cancel.check()?;
+            if let Some(face) = model.faces.get(f.0) {
+                let n = face.surface.tessellation_estimate(tolerance);
+                estimate += n;
+                reply += n * SURFACE_VERTEX_BYTES;
+            }
+        }
+        for &e in &plan.edges {
+            settings.cancel.check()?;
+            if let Some(edge) = model.edges.get(e) {
+                let n = edge.curve.tessellation_estimate(tolerance);
+                estimate += n;
+                reply += n * CURVE_POINT_BYTES;
+            }
+        }
+    }
     if estimate > settings.max_mesh_vertices as f64 {
         return Err(PipelineError::new(
             ErrorKind::Limit,
@@ -1774,7 +1797,11 @@ pub fn tessellate(
         "use a larger tolerance or fewer entities",
         settings,
     )?;
-    let (faces, curves) = mesh::tessellate_all(&plan, tolerance, settings)?;
+    let mesh::Tessellation {
+        faces,
+        curves,
+        diagnostics,
+    } = mesh::tessellate_all(&plan, tolerance, settings)?;
     let out = match format {
         MeshFormat::Obj => mesh::obj(&faces, &curves).into_bytes(),
         MeshFormat::Stl => mesh::stl(&faces),
@@ -1788,7 +1815,20 @@ pub fn tessellate(
         "use a larger tolerance or fewer entities",
         settings,
     )?;
-    Ok(out)
+    Ok(MeshFile {
+        bytes: out,
+        diagnostics,
+    })
+}
+
+/// A written mesh file and what the meshing noticed (faces left out, triangles above the
+/// tolerance); the plan's own warnings come from [`super::mesh::plan`].
+#[derive(Debug, Clone)]
+pub struct MeshFile {
+    /// The file's bytes.
+    pub bytes: Vec<u8>,
+    /// Warnings of the meshing.
+    pub diagnostics: Vec<Diagnostic>,
 }
 
 /// The affine matrix of `scale`, then a rotation by `degrees` about the axis `axis`

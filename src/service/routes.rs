@@ -476,7 +476,9 @@ pub async fn unclamp(
     operate(state, input, op, req.entity).await
 }
 
-/// Tessellates curves (polylines) and surfaces (triangles) under a chord tolerance.
+/// Tessellates curves (polylines) and surfaces (triangles) under a chord tolerance; the
+/// faces of a part are meshed trimmed by their boundaries and its edges drawn as lines.
+/// `X-Nurbsx-Diagnostics` counts the meshing's warnings (faces left out).
 #[utoipa::path(
     post,
     path = "/v1/tessellate",
@@ -495,7 +497,7 @@ pub async fn tessellate(
     let input = Input::from_fields(req.geometry, req.file, None)?;
     let format = req.format;
     let mut settings = state.settings.clone();
-    let text = state
+    let file = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
@@ -513,7 +515,13 @@ pub async fn tessellate(
         super::api::MeshFormatName::Obj => "text/plain; charset=utf-8",
         super::api::MeshFormatName::Svg => "image/svg+xml",
     };
-    Ok(([(header::CONTENT_TYPE, media)], text).into_response())
+    let mut response = ([(header::CONTENT_TYPE, media)], file.bytes).into_response();
+    // Faces that could not be meshed (left out of the drawing) are counted here.
+    response.headers_mut().insert(
+        "x-nurbsx-diagnostics",
+        HeaderValue::from(file.diagnostics.len()),
+    );
+    Ok(response)
 }
 
 /// Builds an exact curve or surface (A7.1 arcs, A8.1 revolution, ISO 10303-42 quadrics).

@@ -43,7 +43,7 @@ use std::collections::{HashMap, HashSet};
 
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
 
-use super::{Edge, Face, FaceId, Model};
+use super::{EdgeId, Face, FaceId, Model};
 use crate::nurbs::project::invert_surface;
 use crate::nurbs::tessellate::{Budget, Mesh, Polyline, STOP_POLL, TessellationError};
 use crate::nurbs::vector::{cross, dist, norm};
@@ -199,7 +199,7 @@ impl Model {
         };
         let mut used = 0usize;
         let mut edge_errors: HashMap<usize, String> = HashMap::new();
-        for (i, e) in self.edges.iter().enumerate() {
+        for i in 0..self.edges.len() {
             if !wanted_edges[i] {
                 continue;
             }
@@ -207,7 +207,7 @@ impl Model {
                 max_points: budget.max_points.saturating_sub(used),
                 stop: budget.stop,
             };
-            match self.edge_polyline(e, tolerance, &left) {
+            match self.edge_polyline(EdgeId(i), tolerance, &left) {
                 Ok(p) => {
                     used += p.points.len();
                     out.edges[i] = Some(p);
@@ -245,20 +245,29 @@ impl Model {
         Ok(out)
     }
 
-    /// The chords of an edge's curve over its range, ends at the vertices; one point
-    /// (repeated at both ends) for a degenerate edge.
-    fn edge_polyline(
+    /// The chords of an edge's curve over its range within `tolerance`, ends at the
+    /// vertices, with the curve's parameters; one point (repeated) for a degenerate edge.
+    pub fn edge_polyline(
         &self,
-        e: &Edge,
+        edge: EdgeId,
         tolerance: f64,
         budget: &Budget<'_>,
     ) -> Result<Polyline, TessellationError> {
+        let e = self.edges.get(edge.0).ok_or_else(|| {
+            TessellationError::Geometry(crate::nurbs::GeometryError::InvalidArgument(format!(
+                "edge {} does not exist",
+                edge.0
+            )))
+        })?;
         let piece = restrict(&e.curve, e.range)?;
         let mut line = piece.tessellate_within(tolerance, budget)?;
         let start = self.vertices.get(e.start.0).map(|v| v.point);
         let end = self.vertices.get(e.end.0).map(|v| v.point);
         let first = line.points.first().copied().unwrap_or([0.0; 3]);
-        let span = line.points.iter().fold(0.0f64, |m, p| m.max(dist(*p, first)));
+        let span = line
+            .points
+            .iter()
+            .fold(0.0f64, |m, p| m.max(dist(*p, first)));
         if e.start == e.end && span <= e.tolerance {
             let p = start.unwrap_or(first);
             let (a, b) = e.range;
@@ -320,7 +329,11 @@ impl Model {
             let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::new();
             // Start at a coedge with a pcurve, so that points inverted onto the surface
             // follow on from known parameters.
-            let first = l.coedges.iter().position(|c| c.pcurve.is_some()).unwrap_or(0);
+            let first = l
+                .coedges
+                .iter()
+                .position(|c| c.pcurve.is_some())
+                .unwrap_or(0);
             let n_co = l.coedges.len();
             let mut guess: Option<(f64, f64)> = None;
             for k in (0..n_co).map(|j| (j + first) % n_co) {
@@ -368,10 +381,7 @@ impl Model {
                     // onto the seam, go to the side the boundary is on).
                     let uv = unwrap(uv, guess, periods);
                     if !(uv[0].is_finite() && uv[1].is_finite()) {
-                        return Err(Skip::Face(FaceMeshError::NoParameters {
-                            index,
-                            coedge: k,
-                        }));
+                        return Err(Skip::Face(FaceMeshError::NoParameters { index, coedge: k }));
                     }
                     guess = Some((uv[0], uv[1]));
                     first_uv.get_or_insert(uv);
@@ -413,14 +423,16 @@ impl Model {
                 .map(|r| r.iter().map(|x| x.0).collect())
                 .collect(),
         );
-        let mut cdt: ConstrainedDelaunayTriangulation<Node> = ConstrainedDelaunayTriangulation::new();
+        let mut cdt: ConstrainedDelaunayTriangulation<Node> =
+            ConstrainedDelaunayTriangulation::new();
         for (index, ring) in polygons.iter().enumerate() {
             let mut handles = Vec::with_capacity(ring.len());
             for &(at, key, p) in ring {
                 let id = b.shared(key, p, at, &plane, s);
-                handles.push(insert(&mut cdt, at, id).ok_or(Skip::Face(
-                    FaceMeshError::NoParameters { index, coedge: 0 },
-                ))?);
+                handles.push(
+                    insert(&mut cdt, at, id)
+                        .ok_or(Skip::Face(FaceMeshError::NoParameters { index, coedge: 0 }))?,
+                );
             }
             let n = handles.len();
             for k in 0..n {
@@ -494,8 +506,9 @@ impl Model {
                         w[0] * at[0][0] + w[1] * at[1][0] + w[2] * at[2][0],
                         w[0] * at[0][1] + w[1] * at[1][1] + w[2] * at[2][1],
                     ];
-                    let flat: Point3 =
-                        std::array::from_fn(|k| w[0] * ps[0][k] + w[1] * ps[1][k] + w[2] * ps[2][k]);
+                    let flat: Point3 = std::array::from_fn(|k| {
+                        w[0] * ps[0][k] + w[1] * ps[1][k] + w[2] * ps[2][k]
+                    });
                     let d = dist(plane.point(s, q), flat);
                     if d > worst.0 || d.is_nan() {
                         worst = (d, Some(q));
@@ -817,7 +830,10 @@ impl Region {
         if low.is_finite() && high.is_finite() {
             for (i, s) in segments.iter().enumerate() {
                 let (a, b) = (s[0][1].min(s[1][1]), s[0][1].max(s[1][1]));
-                let (ba, bb) = (Self::index(low, band, count, a), Self::index(low, band, count, b));
+                let (ba, bb) = (
+                    Self::index(low, band, count, a),
+                    Self::index(low, band, count, b),
+                );
                 for list in &mut bands[ba..=bb] {
                     list.push(u32::try_from(i).unwrap_or(u32::MAX));
                 }
