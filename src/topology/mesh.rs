@@ -323,10 +323,10 @@ impl Model {
         let mut polygons: Vec<Vec<([f64; 2], Key, Point3)>> = Vec::new();
         let ((u0, u1), (v0, v1)) = s.domain();
         let closure = 1e-3 * (u1 - u0).hypot(v1 - v0);
-        let periods = periods(s);
+        let periods = plane.periods;
         for (index, l) in face.loops.iter().enumerate() {
-            let mut ring: Vec<([f64; 2], Key, Point3)> = Vec::new();
-            let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::new();
+            // Each coedge's points in walking order, both ends included.
+            let mut pieces: Vec<(usize, Vec<([f64; 2], Key, Point3)>)> = Vec::new();
             // Start at a coedge with a pcurve, so that points inverted onto the surface
             // follow on from known parameters.
             let first = l
@@ -335,6 +335,18 @@ impl Model {
                 .position(|c| c.pcurve.is_some())
                 .unwrap_or(0);
             let n_co = l.coedges.len();
+            // A seam edge whose two uses carry the same pcurve (the file gave one): each
+            // use goes to the side of the seam its neighbours are on.
+            let one_pcurve_seam: Vec<bool> = l
+                .coedges
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    l.coedges.iter().enumerate().any(|(j, d)| {
+                        j != k && d.edge == c.edge && same_pcurve(c, d, self, closure)
+                    })
+                })
+                .collect();
             let mut guess: Option<(f64, f64)> = None;
             for k in (0..n_co).map(|j| (j + first) % n_co) {
                 let c = &l.coedges[k];
@@ -359,9 +371,9 @@ impl Model {
                 } else {
                     (0..n).rev().collect()
                 };
-                let mut first_uv = None;
-                let mut last_uv = [0.0; 2];
-                for (j, &i) in order.iter().enumerate() {
+                let mut piece = Vec::with_capacity(n);
+                let mut offset: Option<[f64; 2]> = None;
+                for &i in &order {
                     poll.tick().map_err(Skip::Stop)?;
                     let t = line.params[i];
                     let p = line.points[i];
@@ -376,20 +388,24 @@ impl Model {
                             None => [f64::NAN; 2],
                         },
                     };
-                    // A seam point has two parameters: keep the boundary continuous (a
-                    // seam edge whose two uses carry the same pcurve, a point inverted
-                    // onto the seam, go to the side the boundary is on).
-                    let uv = unwrap(uv, guess, periods);
+                    // A seam point has two parameters: a point inverted onto the seam
+                    // goes to the side the boundary is on; a one-pcurve seam use is shifted
+                    // whole by the period that joins it to the coedge before.
+                    let uv = if c.pcurve.is_none() {
+                        unwrap(uv, guess, periods)
+                    } else if one_pcurve_seam[k] {
+                        let d = *offset.get_or_insert_with(|| {
+                            let w = unwrap(uv, guess, periods);
+                            [w[0] - uv[0], w[1] - uv[1]]
+                        });
+                        [uv[0] + d[0], uv[1] + d[1]]
+                    } else {
+                        uv
+                    };
                     if !(uv[0].is_finite() && uv[1].is_finite()) {
                         return Err(Skip::Face(FaceMeshError::NoParameters { index, coedge: k }));
                     }
                     guess = Some((uv[0], uv[1]));
-                    first_uv.get_or_insert(uv);
-                    last_uv = uv;
-                    // The last point is the next coedge's first.
-                    if j + 1 == n {
-                        break;
-                    }
                     let key = if i == 0 {
                         Key::Vertex(e.start.0)
                     } else if i + 1 == n {
@@ -399,20 +415,43 @@ impl Model {
                     } else {
                         Key::Edge(c.edge.0, i)
                     };
-                    ring.push((plane.scale(uv), key, p));
+                    piece.push((uv, key, p));
                 }
-                ends.push((first_uv.unwrap_or(last_uv), last_uv));
+                pieces.push((k, piece));
             }
-            let n = ends.len();
-            for k in 0..n {
-                let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
+            // The ring: each coedge without its last point (the next one's first), and
+            // where two coedges meet at a pole (the vertex is a whole parameter line, as
+            // the apex of a sphere cut along its seam without a degenerate edge) that line.
+            let mut ring: Vec<([f64; 2], Key, Point3)> = Vec::new();
+            let n = pieces.len();
+            for j in 0..n {
+                let (k, piece) = &pieces[j];
+                let Some((&last, rest)) = piece.split_last() else {
+                    continue;
+                };
+                ring.extend(rest.iter().map(|&(uv, key, p)| (plane.scale(uv), key, p)));
+                let Some(&(q, _, _)) = pieces[(j + 1) % n].1.first() else {
+                    continue;
+                };
+                let (p, key, at) = last;
                 let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
-                if gap.is_nan() || gap > closure {
+                if gap <= closure {
+                    continue;
+                }
+                let mid = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])];
+                let on = |uv: [f64; 2]| plane.point(s, plane.scale(uv));
+                let pole = dist(on(p), on(q)) <= tolerance && dist(on(p), on(mid)) <= tolerance;
+                if gap.is_nan() || !pole {
                     return Err(Skip::Face(FaceMeshError::OpenInParameters {
                         index,
-                        coedge: k,
+                        coedge: *k,
                         gap,
                     }));
+                }
+                for m in 0..POLE_PIECES {
+                    let f = m as f64 / POLE_PIECES as f64;
+                    let uv = [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
+                    ring.push((plane.scale(uv), key, at));
                 }
             }
             polygons.push(ring);
@@ -453,13 +492,25 @@ impl Model {
         }
         // Interior points of the surface's grid, strictly inside and off the boundary.
         let spacing = local_spacing(&grid, &plane);
+        // On a closed surface the region may lie across the seam: the grid is tried one
+        // period on either side too.
+        let shifts = |period: Option<f64>| match period {
+            Some(p) => vec![-p, 0.0, p],
+            None => vec![0.0],
+        };
+        let (su, sv) = (shifts(periods[0]), shifts(periods[1]));
         for (i, &[u, v]) in grid.params.iter().enumerate() {
             poll.tick().map_err(Skip::Stop)?;
-            let at = plane.scale([u, v]);
-            if region.inside(at) && region.distance(at) > 0.5 * spacing[i] {
-                let id = b.own(grid.vertices[i], [u, v]);
-                if insert(&mut cdt, at, id).is_none() {
-                    b.drop_last();
+            for du in &su {
+                for dv in &sv {
+                    let uv = [u + du, v + dv];
+                    let at = plane.scale(uv);
+                    if region.inside(at) && region.distance(at) > 0.5 * spacing[i] {
+                        let id = b.own(grid.vertices[i], uv);
+                        if insert(&mut cdt, at, id).is_none() {
+                            b.drop_last();
+                        }
+                    }
                 }
             }
             if b.positions.len() > max_points {
@@ -585,6 +636,7 @@ impl Model {
                 [t[0], t[2], t[1]]
             });
         }
+        b.params = b.params.iter().map(|&uv| plane.wrap(uv)).collect();
         let normals = b
             .params
             .iter()
@@ -675,6 +727,9 @@ struct Plane {
     origin: [f64; 2],
     scale: [f64; 2],
     domain: ((f64, f64), (f64, f64)),
+    /// The periods of a surface closed in u or v: a boundary may run past the domain's
+    /// end there (a face across the seam), and its parameters are wrapped back.
+    periods: [Option<f64>; 2],
 }
 
 impl Plane {
@@ -704,7 +759,19 @@ impl Plane {
             origin: [u0, v0],
             scale: [mean(su), mean(sv)],
             domain,
+            periods: periods(s),
         }
+    }
+
+    /// Parameters in the domain: wrapped by the period where the surface is closed,
+    /// clamped elsewhere.
+    fn wrap(&self, [u, v]: [f64; 2]) -> [f64; 2] {
+        let ((u0, u1), (v0, v1)) = self.domain;
+        let one = |x: f64, lo: f64, hi: f64, period: Option<f64>| match period {
+            Some(p) if p > 0.0 && (x < lo || x > hi) => (lo + (x - lo).rem_euclid(p)).clamp(lo, hi),
+            _ => x.clamp(lo, hi),
+        };
+        [one(u, u0, u1, self.periods[0]), one(v, v0, v1, self.periods[1])]
     }
 
     fn scale(&self, uv: [f64; 2]) -> [f64; 2] {
@@ -723,9 +790,8 @@ impl Plane {
 
     /// The surface point at a scaled point (parameters kept in the domain).
     fn point(&self, s: &NurbsSurface, at: [f64; 2]) -> Point3 {
-        let [u, v] = self.unscale(at);
-        let ((u0, u1), (v0, v1)) = self.domain;
-        s.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1))
+        let [u, v] = self.wrap(self.unscale(at));
+        s.point_at_unchecked(u, v)
     }
 }
 
@@ -751,6 +817,19 @@ fn periods(s: &NurbsSurface) -> [Option<f64>; 2] {
         closes(true).then_some(u1 - u0),
         closes(false).then_some(v1 - v0),
     ]
+}
+
+/// Whether two uses of an edge carry the same parameter-space curve (at the ends and the
+/// middle of the edge's range, within `closure`).
+fn same_pcurve(a: &super::Coedge, b: &super::Coedge, m: &Model, closure: f64) -> bool {
+    let (Some(pa), Some(pb), Some(e)) = (&a.pcurve, &b.pcurve, m.edges.get(a.edge.0)) else {
+        return false;
+    };
+    let (r0, r1) = e.range;
+    [r0, 0.5 * (r0 + r1), r1].iter().all(|&t| {
+        let (x, y) = (pa.point_at_unchecked(t.clamp(pa.domain().0, pa.domain().1)), pb.point_at_unchecked(t.clamp(pb.domain().0, pb.domain().1)));
+        (x[0] - y[0]).hypot(x[1] - y[1]) <= closure
+    })
 }
 
 /// On a closed surface a point of the seam has two parameters; a boundary point takes the
