@@ -379,6 +379,17 @@ pub fn tessellate_all(
                 Location::at_entity(origin(&topology.origins.faces, f.0)),
             ));
         }
+        if let Some(first) = part.against_same_sense.first() {
+            diagnostics.push(Diagnostic::warning(
+                "tessellate.face_orientation",
+                format!(
+                    "{} face(s) have loops that run against their same_sense flag; their \
+                     triangles face the way the loops say",
+                    part.against_same_sense.len()
+                ),
+                Location::at_entity(origin(&topology.origins.faces, first.0)),
+            ));
+        }
         if part.unrefined > 0 {
             diagnostics.push(Diagnostic::warning(
                 "tessellate.face_unrefined",

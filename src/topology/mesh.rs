@@ -27,9 +27,12 @@
 //!   midpoints of its inner edges (the surface point at the same parameters against the
 //!   flat triangle's); the worst point of a triangle farther than the tolerance is inserted,
 //!   round after round, until every triangle passes or [`MAX_ROUNDS`] rounds have run.
-//! - **Orientation:** the triangles run counter-clockwise seen from the face normal, that is
-//!   `S_u x S_v` when `same_sense` holds and its reverse otherwise (ISO 10303-42
-//!   advanced_face), so a closed shell with outward faces gives a positive signed volume.
+//! - **Orientation:** the triangles run counter-clockwise seen from the face normal, so a
+//!   closed shell with outward faces gives a positive signed volume. The face normal is the
+//!   side the loops run counter-clockwise about (ISO 10303-42 face_bound), which in a
+//!   consistent file is `S_u x S_v` when `same_sense` holds and its reverse otherwise;
+//!   faces where the two disagree (IGES 144 faces have no `same_sense`) are listed in
+//!   [`PartMesh::against_same_sense`]. A face without loops follows `same_sense`.
 //!
 //! A face without loops is bounded by its surface's domain: its mesh is the surface's grid.
 //! A face that cannot be meshed (its loops do not close in the parameter plane, as a loop
@@ -50,7 +53,7 @@ use crate::nurbs::vector::{cross, dist, norm};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
 /// Rounds of refinement of a face's triangulation at most.
-pub const MAX_ROUNDS: usize = 24;
+pub const MAX_ROUNDS: usize = 64;
 
 /// Points a degenerate edge's parameter segment is cut into.
 const POLE_PIECES: usize = 16;
@@ -116,6 +119,8 @@ pub struct PartMesh {
     /// Triangles that still exceed the tolerance after [`MAX_ROUNDS`] rounds (0 when every
     /// triangle passed).
     pub unrefined: usize,
+    /// Faces whose loops run against their `same_sense` (meshed as their loops say).
+    pub against_same_sense: Vec<FaceId>,
 }
 
 /// Where a boundary point comes from: a vertex, or the `k`-th inner point of an edge.
@@ -196,6 +201,7 @@ impl Model {
             edges: vec![None; self.edges.len()],
             skipped: Vec::new(),
             unrefined: 0,
+            against_same_sense: Vec::new(),
         };
         let mut used = 0usize;
         let mut edge_errors: HashMap<usize, String> = HashMap::new();
@@ -233,9 +239,12 @@ impl Model {
             }
             let left = budget.max_points.saturating_sub(used);
             match self.face_mesh(face, &out.edges, tolerance, left, &mut poll) {
-                Ok((mesh, unrefined)) => {
+                Ok((mesh, unrefined, along)) => {
                     used += mesh.vertices.len();
                     out.unrefined += unrefined;
+                    if along != face.same_sense {
+                        out.against_same_sense.push(FaceId(f));
+                    }
                     out.faces[f] = Some(mesh);
                 }
                 Err(Skip::Face(reason)) => out.skipped.push((FaceId(f), reason)),
@@ -286,7 +295,8 @@ impl Model {
         Ok(line)
     }
 
-    /// One face's mesh, with the number of triangles left above the tolerance.
+    /// One face's mesh, with the number of triangles left above the tolerance and whether
+    /// the face normal is `S_u x S_v`.
     fn face_mesh(
         &self,
         face: &Face,
@@ -294,7 +304,7 @@ impl Model {
         tolerance: f64,
         max_points: usize,
         poll: &mut Poll<'_>,
-    ) -> Result<(Mesh, usize), Skip> {
+    ) -> Result<(Mesh, usize, bool), Skip> {
         let s = &face.surface;
         let stop = poll.budget.stop;
         let grid = s
@@ -315,7 +325,7 @@ impl Model {
                 .iter()
                 .map(|&[u, v]| normal(s, u, v, face.same_sense))
                 .collect();
-            return Ok((mesh, 0));
+            return Ok((mesh, 0, face.same_sense));
         }
         let plane = Plane::of(s);
         let mut b = Builder::default();
@@ -456,6 +466,29 @@ impl Model {
             }
             polygons.push(ring);
         }
+        // The face normal: ISO 10303-42 face_bound, the loops run counter-clockwise about
+        // the face normal, so the largest loop's signed area in the plane gives its side of
+        // the surface (`S_u x S_v` when positive). In a consistent file this is what
+        // `same_sense` says; IGES 144 faces carry no such flag, so the loops decide.
+        let signed = |ring: &[([f64; 2], Key, Point3)]| {
+            let n = ring.len();
+            (0..n)
+                .map(|k| {
+                    let (a, b) = (ring[k].0, ring[(k + 1) % n].0);
+                    a[0] * b[1] - b[0] * a[1]
+                })
+                .sum::<f64>()
+        };
+        let largest = polygons
+            .iter()
+            .map(|r| signed(r))
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(0.0);
+        let along = if largest.is_normal() {
+            largest > 0.0
+        } else {
+            face.same_sense
+        };
         let region = Region::new(
             polygons
                 .iter()
@@ -507,7 +540,8 @@ impl Model {
                     let at = plane.scale(uv);
                     if region.inside(at) && region.distance(at) > 0.5 * spacing[i] {
                         let id = b.own(grid.vertices[i], uv);
-                        if insert(&mut cdt, at, id).is_none() {
+                        let before = cdt.num_vertices();
+                        if insert(&mut cdt, at, id).is_none() || cdt.num_vertices() == before {
                             b.drop_last();
                         }
                     }
@@ -527,17 +561,14 @@ impl Model {
             let mut fixes: Vec<[f64; 2]> = Vec::new();
             let mut seen: HashSet<[u64; 2]> = HashSet::new();
             unrefined = 0;
+            let inside = inside_faces(&cdt);
             for f in cdt.inner_faces() {
                 poll.tick().map_err(Skip::Stop)?;
-                let vs = f.vertices();
-                let at = vs.map(|v| [v.position().x, v.position().y]);
-                let centroid = [
-                    (at[0][0] + at[1][0] + at[2][0]) / 3.0,
-                    (at[0][1] + at[1][1] + at[2][1]) / 3.0,
-                ];
-                if !region.inside(centroid) {
+                if !inside.get(f.fix().index()).copied().unwrap_or(false) {
                     continue;
                 }
+                let vs = f.vertices();
+                let at = vs.map(|v| [v.position().x, v.position().y]);
                 let ids = vs.map(|v| v.data().id as usize);
                 if ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2] {
                     continue;
@@ -603,7 +634,9 @@ impl Model {
                     continue;
                 }
                 let id = b.own(p, uv);
-                if insert(&mut cdt, q, id).is_none() {
+                // A point already there (returned, not inserted) leaves the new one unused.
+                let before = cdt.num_vertices();
+                if insert(&mut cdt, q, id).is_none() || cdt.num_vertices() == before {
                     b.drop_last();
                 }
             }
@@ -616,21 +649,17 @@ impl Model {
         // The triangles inside the region, counter-clockwise in the scaled plane (spade's
         // order), which is counter-clockwise seen from S_u x S_v.
         let mut triangles = Vec::new();
+        let inside = inside_faces(&cdt);
         for f in cdt.inner_faces() {
-            let vs = f.vertices();
-            let at = vs.map(|v| [v.position().x, v.position().y]);
-            let centroid = [
-                (at[0][0] + at[1][0] + at[2][0]) / 3.0,
-                (at[0][1] + at[1][1] + at[2][1]) / 3.0,
-            ];
-            if !region.inside(centroid) {
+            if !inside.get(f.fix().index()).copied().unwrap_or(false) {
                 continue;
             }
+            let vs = f.vertices();
             let t = vs.map(|v| v.data().id as usize);
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
                 continue; // a pole: two corners are the same point
             }
-            triangles.push(if face.same_sense {
+            triangles.push(if along {
                 t
             } else {
                 [t[0], t[2], t[1]]
@@ -640,7 +669,7 @@ impl Model {
         let normals = b
             .params
             .iter()
-            .map(|&[u, v]| normal(s, u, v, face.same_sense))
+            .map(|&[u, v]| normal(s, u, v, along))
             .collect();
         Ok((
             Mesh {
@@ -650,6 +679,7 @@ impl Model {
                 triangles,
             },
             unrefined,
+            along,
         ))
     }
 }
@@ -703,6 +733,43 @@ impl Builder {
         self.on_surface.pop();
         self.params.pop();
     }
+}
+
+/// Which triangles lie in the trimmed region, indexed by face index: the even-odd rule
+/// walked over the triangulation, from the triangles on its convex hull (outside unless the
+/// hull edge is a boundary segment) across each edge, a boundary segment toggling inside
+/// and outside. Unlike a point test at each centroid this is exact for the slivers between
+/// boundary points that lie on one line of the plane.
+fn inside_faces(cdt: &ConstrainedDelaunayTriangulation<Node>) -> Vec<bool> {
+    let n = cdt.all_faces().len();
+    let mut state: Vec<Option<bool>> = vec![None; n];
+    let mut stack = Vec::new();
+    for f in cdt.inner_faces() {
+        for e in f.adjacent_edges() {
+            if e.rev().face().is_outer() {
+                let i = f.fix().index();
+                if state[i].is_none() {
+                    state[i] = Some(e.is_constraint_edge());
+                    stack.push(f.fix());
+                }
+            }
+        }
+    }
+    while let Some(fixed) = stack.pop() {
+        let f = cdt.face(fixed);
+        let here = state[fixed.index()].unwrap_or(false);
+        for e in f.adjacent_edges() {
+            let Some(g) = e.rev().face().as_inner() else {
+                continue;
+            };
+            let j = g.fix().index();
+            if state[j].is_none() {
+                state[j] = Some(here != e.is_constraint_edge());
+                stack.push(g.fix());
+            }
+        }
+    }
+    state.into_iter().map(|x| x.unwrap_or(false)).collect()
 }
 
 /// Inserts a point unless one is already there (then that one is returned); `None` for a
