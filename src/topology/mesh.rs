@@ -495,6 +495,9 @@ impl Model {
                 .map(|r| r.iter().map(|x| x.0).collect())
                 .collect(),
         );
+        if let Some(index) = region.crossing() {
+            return Err(Skip::Face(FaceMeshError::BoundaryCrosses { index }));
+        }
         let mut cdt: ConstrainedDelaunayTriangulation<Node> =
             ConstrainedDelaunayTriangulation::new();
         for (index, ring) in polygons.iter().enumerate() {
@@ -659,11 +662,7 @@ impl Model {
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
                 continue; // a pole: two corners are the same point
             }
-            triangles.push(if along {
-                t
-            } else {
-                [t[0], t[2], t[1]]
-            });
+            triangles.push(if along { t } else { [t[0], t[2], t[1]] });
         }
         b.params = b.params.iter().map(|&uv| plane.wrap(uv)).collect();
         let normals = b
@@ -838,7 +837,10 @@ impl Plane {
             Some(p) if p > 0.0 && (x < lo || x > hi) => (lo + (x - lo).rem_euclid(p)).clamp(lo, hi),
             _ => x.clamp(lo, hi),
         };
-        [one(u, u0, u1, self.periods[0]), one(v, v0, v1, self.periods[1])]
+        [
+            one(u, u0, u1, self.periods[0]),
+            one(v, v0, v1, self.periods[1]),
+        ]
     }
 
     fn scale(&self, uv: [f64; 2]) -> [f64; 2] {
@@ -894,7 +896,10 @@ fn same_pcurve(a: &super::Coedge, b: &super::Coedge, m: &Model, closure: f64) ->
     };
     let (r0, r1) = e.range;
     [r0, 0.5 * (r0 + r1), r1].iter().all(|&t| {
-        let (x, y) = (pa.point_at_unchecked(t.clamp(pa.domain().0, pa.domain().1)), pb.point_at_unchecked(t.clamp(pb.domain().0, pb.domain().1)));
+        let (x, y) = (
+            pa.point_at_unchecked(t.clamp(pa.domain().0, pa.domain().1)),
+            pb.point_at_unchecked(t.clamp(pb.domain().0, pb.domain().1)),
+        );
         (x[0] - y[0]).hypot(x[1] - y[1]) <= closure
     })
 }
@@ -949,6 +954,8 @@ fn local_spacing(grid: &Mesh, plane: &Plane) -> Vec<f64> {
 /// bands for the even-odd test and the distance to the boundary.
 struct Region {
     segments: Vec<[[f64; 2]; 2]>,
+    /// The loop of each segment.
+    owner: Vec<usize>,
     low: f64,
     band: f64,
     bands: Vec<Vec<u32>>,
@@ -957,10 +964,12 @@ struct Region {
 impl Region {
     fn new(loops: Vec<Vec<[f64; 2]>>) -> Region {
         let mut segments = Vec::new();
-        for ring in &loops {
+        let mut owner = Vec::new();
+        for (index, ring) in loops.iter().enumerate() {
             let n = ring.len();
             for k in 0..n {
                 segments.push([ring[k], ring[(k + 1) % n]]);
+                owner.push(index);
             }
         }
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -987,6 +996,7 @@ impl Region {
         }
         Region {
             segments,
+            owner,
             low,
             band,
             bands,
@@ -1000,6 +1010,39 @@ impl Region {
         } else {
             (k as usize).min(count - 1)
         }
+    }
+
+    /// The loop of the first segment found crossing another in its interior (segments
+    /// that share an end point do not count): orientation tests on the pairs of segments
+    /// of each band.
+    fn crossing(&self) -> Option<usize> {
+        let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+            let x = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            if x > 0.0 {
+                1
+            } else if x < 0.0 {
+                -1
+            } else {
+                0
+            }
+        };
+        for list in &self.bands {
+            for (n, &i) in list.iter().enumerate() {
+                let [a, b] = self.segments[i as usize];
+                for &j in &list[n + 1..] {
+                    let [c, d] = self.segments[j as usize];
+                    if a == c || a == d || b == c || b == d {
+                        continue;
+                    }
+                    let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+                    let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+                    if o1 * o2 < 0 && o3 * o4 < 0 {
+                        return Some(self.owner[i as usize]);
+                    }
+                }
+            }
+        }
+        None
     }
 
     /// Even-odd rule: a ray towards +x crosses the boundary an odd number of times.
