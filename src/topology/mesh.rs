@@ -123,6 +123,10 @@ pub struct PartMesh {
     pub against_same_sense: Vec<FaceId>,
 }
 
+/// A point of a loop: its `(u, v)` (scaled once in the ring), where it comes from, and
+/// its 3-D position.
+type BoundaryPoint = ([f64; 2], Key, Point3);
+
 /// Where a boundary point comes from: a vertex, or the `k`-th inner point of an edge.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Key {
@@ -205,8 +209,8 @@ impl Model {
         };
         let mut used = 0usize;
         let mut edge_errors: HashMap<usize, String> = HashMap::new();
-        for i in 0..self.edges.len() {
-            if !wanted_edges[i] {
+        for (i, &wanted) in wanted_edges.iter().enumerate() {
+            if !wanted {
                 continue;
             }
             let left = Budget {
@@ -330,13 +334,13 @@ impl Model {
         let plane = Plane::of(s);
         let mut b = Builder::default();
         // The loops in the scaled plane: points with their keys.
-        let mut polygons: Vec<Vec<([f64; 2], Key, Point3)>> = Vec::new();
+        let mut polygons: Vec<Vec<BoundaryPoint>> = Vec::new();
         let ((u0, u1), (v0, v1)) = s.domain();
         let closure = 1e-3 * (u1 - u0).hypot(v1 - v0);
         let periods = plane.periods;
         for (index, l) in face.loops.iter().enumerate() {
             // Each coedge's points in walking order, both ends included.
-            let mut pieces: Vec<(usize, Vec<([f64; 2], Key, Point3)>)> = Vec::new();
+            let mut pieces: Vec<(usize, Vec<BoundaryPoint>)> = Vec::new();
             // Start at a coedge with a pcurve, so that points inverted onto the surface
             // follow on from known parameters.
             let first = l
@@ -432,7 +436,7 @@ impl Model {
             // The ring: each coedge without its last point (the next one's first), and
             // where two coedges meet at a pole (the vertex is a whole parameter line, as
             // the apex of a sphere cut along its seam without a degenerate edge) that line.
-            let mut ring: Vec<([f64; 2], Key, Point3)> = Vec::new();
+            let mut ring: Vec<BoundaryPoint> = Vec::new();
             let n = pieces.len();
             for j in 0..n {
                 let (k, piece) = &pieces[j];
@@ -470,7 +474,7 @@ impl Model {
         // the face normal, so the largest loop's signed area in the plane gives its side of
         // the surface (`S_u x S_v` when positive). In a consistent file this is what
         // `same_sense` says; IGES 144 faces carry no such flag, so the loops decide.
-        let signed = |ring: &[([f64; 2], Key, Point3)]| {
+        let signed = |ring: &[BoundaryPoint]| {
             let n = ring.len();
             (0..n)
                 .map(|k| {
