@@ -546,11 +546,7 @@ impl Model {
                     let uv = [u + du, v + dv];
                     let at = plane.scale(uv);
                     if region.inside(at) && region.distance(at) > 0.5 * spacing[i] {
-                        let id = b.own(grid.vertices[i], uv);
-                        let before = cdt.num_vertices();
-                        if insert(&mut cdt, at, id).is_none() || cdt.num_vertices() == before {
-                            b.drop_last();
-                        }
+                        b.add_inner(&mut cdt, grid.vertices[i], uv, at);
                     }
                 }
             }
@@ -640,12 +636,7 @@ impl Model {
                 if !p.iter().all(|x| x.is_finite()) {
                     continue;
                 }
-                let id = b.own(p, uv);
-                // A point already there (returned, not inserted) leaves the new one unused.
-                let before = cdt.num_vertices();
-                if insert(&mut cdt, q, id).is_none() || cdt.num_vertices() == before {
-                    b.drop_last();
-                }
+                b.add_inner(&mut cdt, p, uv, q);
             }
             if b.positions.len() > max_points {
                 return Err(Skip::Stop(TessellationError::TooManyPoints {
@@ -730,11 +721,22 @@ impl Builder {
         u32::try_from(self.positions.len() - 1).unwrap_or(u32::MAX)
     }
 
-    /// Forgets the last point (one the triangulation refused).
-    fn drop_last(&mut self) {
-        self.positions.pop();
-        self.on_surface.pop();
-        self.params.pop();
+    /// Adds an inner point (on the surface) to the mesh and the triangulation; a point the
+    /// triangulation refuses or already holds is forgotten.
+    fn add_inner(
+        &mut self,
+        cdt: &mut ConstrainedDelaunayTriangulation<Node>,
+        p: Point3,
+        uv: [f64; 2],
+        at: [f64; 2],
+    ) {
+        let id = self.own(p, uv);
+        let before = cdt.num_vertices();
+        if insert(cdt, at, id).is_none() || cdt.num_vertices() == before {
+            self.positions.pop();
+            self.on_surface.pop();
+            self.params.pop();
+        }
     }
 }
 
