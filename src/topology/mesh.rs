@@ -317,7 +317,14 @@ impl Model {
                 TessellationError::Geometry(g) => Skip::Face(FaceMeshError::Surface(g.to_string())),
                 other => Skip::Stop(other),
             })?;
-        if face.loops.is_empty() {
+        // A face whose every edge is a seam (used twice by the face, as a torus cut along
+        // its two seams) covers its whole closed surface: meshed like a face without loops.
+        let mut uses: HashMap<usize, usize> = HashMap::new();
+        for c in face.loops.iter().flat_map(|l| &l.coedges) {
+            *uses.entry(c.edge.0).or_default() += 1;
+        }
+        let all_seams = !uses.is_empty() && uses.values().all(|&n| n == 2);
+        if face.loops.is_empty() || all_seams {
             let mut mesh = grid;
             if !face.same_sense {
                 for t in &mut mesh.triangles {
