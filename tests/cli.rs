@@ -2184,7 +2184,11 @@ fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
             stderr(&o)
         );
         assert!(
-            stderr(&o).contains("drew 74 of 170 entities"),
+            // The part is drawn as its faces (trimmed) and edges: the 26 B-spline
+            // surfaces and 48 curves of the 170 entities, named by face and edge ids.
+            stderr(&o).contains(
+                "drew 74 item(s): 26 trimmed face(s), 48 edge(s), 0 free curve(s) and surface(s)"
+            ),
             "{}",
             stderr(&o)
         );

@@ -158,10 +158,10 @@ pub fn plan<'d>(
         kept = surfaces;
         if let Some(&first) = edges.first() {
             left_out.push(Diagnostic::warning(
-                "edge_not_written",
+                "curve_not_written",
                 format!(
-                    "{} edge(s) not drawn as lines: STL holds triangles only (the faces' \
-                     triangles still meet along them)",
+                    "{} curve(s) not drawn (the part's edges): STL holds triangles only (the \
+                     faces' triangles still meet along them)",
                     edges.len()
                 ),
                 Location::at_entity(
