@@ -94,7 +94,7 @@ impl Context<'_, '_> {
 /// bounded surfaces, and every trim when read geometry-only), `topology_ignored`
 /// (geometry-only), `entities_skipped`, `no_exact_form`, the topology's codes
 /// (`topology.not_read`, `topology.loop_open`, `topology.edge_vertex`,
-/// `topology.pcurve_deviates`, `topology.pcurve_missing`, `topology.shell_open`,
+/// `topology.pcurve_deviates`, `pcurve.not_computed`, `topology.shell_open`,
 /// `topology.solid_shell_open`, `topology.wrong_entity`, `topology.geometry_missing`,
 /// `topology.no_model_curve`, `topology.vertex_use`, `topology.edge_composite`,
 /// `topology.edge_tolerance`, `topology.outer_missing`), the conversions' codes

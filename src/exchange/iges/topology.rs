@@ -319,7 +319,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         }
         if sewing.lost_pcurves > 0 {
             diags.push(Diagnostic::warning(
-                "topology.pcurve_missing",
+                "pcurve.not_computed",
                 format!(
                     "{} parameter-space curves could not be carried to their sewn edges",
                     sewing.lost_pcurves
@@ -352,9 +352,10 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             ));
         }
         if self.no_pcurve > 0 {
-            // The faces keep their exact 3-D boundaries; only this derived form is missing.
-            diags.push(Diagnostic::info(
-                "topology.pcurve_missing",
+            // The faces keep their exact 3-D boundaries; only this derived form is missing,
+            // but the faces' area, volume and mesh need it: a warning, as for STEP.
+            diags.push(Diagnostic::warning(
+                "pcurve.not_computed",
                 format!(
                     "{} of {} coedges have no parameter-space curve (neither given exactly nor found by projection within the edge tolerance {:e})",
                     self.no_pcurve, self.coedges, self.tol
