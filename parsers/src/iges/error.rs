@@ -93,6 +93,11 @@ pub enum ErrorKind {
     /// A count or index is out of range (negative, overflowing, or beyond a limit).
     #[error("{0}")]
     OutOfRange(String),
+    /// The parameters do not add up to what the entity's counts declare: data left after
+    /// the entity's parameters and its associativity and property pointer groups, or a
+    /// record that ends inside its optional tail (IGES 5.3 section 2.2.4.5.2).
+    #[error("{0}")]
+    Arity(String),
     /// A DE or parameter-data pointer points nowhere.
     #[error("{what} pointer {value} points outside the file")]
     BadPointer {

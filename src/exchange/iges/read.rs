@@ -727,18 +727,25 @@ fn limit_code(e: &ParseError) -> Option<&'static str> {
     }
 }
 
+/// What the parser tolerated. Each is a violation of IGES 5.3 (80-column records and
+/// consecutive sequence numbers, section 2.1; Terminate counts, section 2.2.5; DE field 14,
+/// section 2.2.4.4.14; the Global section, section 2.2.3) read with its one meaning:
+/// non-conforming, an error for `validate`. CR LF line ends are not: the standard fixes the
+/// 80 columns of a record, not the line terminator outside them (section 2.1), so a file
+/// whose every line is 80 columns plus CR LF conforms; that is an informational note.
 fn warning_diag(w: &ParseWarning) -> Diagnostic {
-    Diagnostic::warning(
-        w.code,
-        w.message.clone(),
-        Location {
-            line: w.line,
-            column: None,
-            entity: w.de.map(|d| format!("D{d}")),
-            section: (w.section != ' ').then_some(w.section),
-            sequence: (w.sequence != 0).then_some(w.sequence),
-        },
-    )
+    let location = Location {
+        line: w.line,
+        column: None,
+        entity: w.de.map(|d| format!("D{d}")),
+        section: (w.section != ' ').then_some(w.section),
+        sequence: (w.sequence != 0).then_some(w.sequence),
+    };
+    if w.code == "crlf" {
+        Diagnostic::info(w.code, w.message.clone(), location)
+    } else {
+        Diagnostic::nonconforming(w.code, w.message.clone(), location)
+    }
 }
 
 /// The 124 chain of an entity, or an error diagnostic.
@@ -920,6 +927,20 @@ pub(super) fn read_curve(
         return None;
     }
     let loc = entity_location(entry);
+    if rec.v0.is_none() && full_with_one_pole_less(&rec) {
+        diags.push(Diagnostic::error(
+            "iges.entity",
+            format!(
+                "the record ends after its control points (no V(0), V(1)), and its {} parameters \
+                 also read as a complete 126 with K = {}: K does not decide between the two; \
+                 entity not loaded",
+                5 * rec.points.len() + rec.degree + 7,
+                rec.points.len().saturating_sub(2)
+            ),
+            loc,
+        ));
+        return None;
+    }
     let mut meta = Meta {
         name: name_of(entry),
         form: Some(entry.form.to_string()),
@@ -999,9 +1020,9 @@ pub(super) fn read_curve(
                 ));
             }
         }
-        _ => diags.push(Diagnostic::warning(
+        _ => diags.push(Diagnostic::nonconforming(
             "missing_param_range",
-            format!("V(0)/V(1) absent: the knot domain [{d0}, {d1}] is used"),
+            format!("V(0)/V(1) absent (IGES 5.3 section 4.23 requires them): the knot domain [{d0}, {d1}] is used"),
             loc.clone(),
         )),
     }
@@ -1059,6 +1080,41 @@ pub(super) fn read_curve(
         curve
     };
     Some((Geometry::Curve(curve), meta))
+}
+
+/// Whether a 126 that ends after its control points (`17 + 5K + M - 5` parameters) is also
+/// a complete record with `K - 1`: the same parameters read as `K + M + 1` knots, `K`
+/// weights, `K` points, V(0), V(1) and the normal (IGES 5.3 section 4.23). A raised K turns
+/// a complete record into exactly such a short one, so when the shorter reading is a valid
+/// curve with its range inside its knots, the record has two meanings and is not read.
+fn full_with_one_pole_less(rec: &Curve126) -> bool {
+    let m = rec.degree;
+    let Some(k) = rec.points.len().checked_sub(2) else {
+        return false;
+    };
+    if k < m || m == 0 {
+        return false;
+    }
+    let flat: Vec<f64> = rec
+        .knots
+        .iter()
+        .chain(&rec.weights)
+        .copied()
+        .chain(rec.points.iter().flatten().copied())
+        .collect();
+    let (nk, n) = (k + m + 2, k + 1);
+    let (Some(knots), Some(weights), Some(&[v0, v1])) = (
+        flat.get(..nk),
+        flat.get(nk..nk + n),
+        flat.get(nk + 4 * n..nk + 4 * n + 2),
+    ) else {
+        return false;
+    };
+    knots.windows(2).all(|w| w[0] <= w[1])
+        && weights.iter().all(|&w| w > 0.0)
+        && knots[m] <= v0
+        && v0 < v1
+        && v1 <= knots[k + 1]
 }
 
 /// The curve on exactly `[a, b]` (inside its domain): split at `a` and at `b` by knot
@@ -1229,9 +1285,9 @@ fn read_surface(
                 ));
             }
         }
-        None => diags.push(Diagnostic::warning(
+        None => diags.push(Diagnostic::nonconforming(
             "missing_param_range",
-            format!("U(0)..V(1) absent: the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
+            format!("U(0)..V(1) absent (IGES 5.3 section 4.24 requires them): the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
             loc.clone(),
         )),
     }

@@ -595,6 +595,7 @@ impl<'a> Ctx<'_, 'a> {
         degree: usize,
         poles: usize,
         what: &str,
+        diags: &mut Vec<Diagnostic>,
     ) -> Result<Vec<f64>, Diagnostic> {
         let form = match spec {
             KnotSpec::Explicit {
@@ -640,6 +641,20 @@ impl<'a> Ctx<'_, 'a> {
                         ),
                     ));
                 }
+                let rule = "ISO 10303-42 function constraints_param_b_spline";
+                match knot_rules(k, &mults, degree) {
+                    Ok(None) => {}
+                    Ok(Some(m)) => diags.push(Diagnostic::nonconforming(
+                        "knots.repeated",
+                        format!(
+                            "{what}: {m} ({rule}); read as one knot of the summed multiplicity"
+                        ),
+                        self.location(),
+                    )),
+                    Err(m) => {
+                        return Err(self.error("knots.invalid", format!("{what}: {m} ({rule})")));
+                    }
+                }
                 return crate::nurbs::knots::from_distinct(k, &mults).ok_or_else(|| {
                     self.error("knots.invalid", format!("{what}: knot lists do not match"))
                 });
@@ -650,6 +665,21 @@ impl<'a> Ctx<'_, 'a> {
         };
         implicit_knots(form, degree, poles)
             .map_err(|m| self.error("knots.invalid", format!("{what}: {m}")))
+    }
+
+    /// The form and the knot_spec checked against their enumerations.
+    fn enumerations(
+        &self,
+        spec: &KnotSpec<'_>,
+        form: &str,
+        form_name: &str,
+        forms: &[&str],
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        enumeration(form, forms, form_name, self.location(), diags);
+        if let KnotSpec::Explicit { knot_spec, .. } = spec {
+            enumeration(knot_spec, KNOT_TYPES, "knot_spec", self.location(), diags);
+        }
     }
 
     fn meta_common(
@@ -680,7 +710,7 @@ impl<'a> Ctx<'_, 'a> {
         let degree = self.degree(r.degree, "degree")?;
         let mut dim = None;
         let points = self.points(&r.control_points, &mut dim)?;
-        let knots = self.knots(&r.knots, 0, degree, points.len(), "knots")?;
+        let knots = self.knots(&r.knots, 0, degree, points.len(), "knots", diags)?;
         if let Some(w) = &r.weights {
             check_weights(w.iter().copied(), points.len())
                 .map_err(|m| self.error("weights.invalid", m))?;
@@ -688,6 +718,7 @@ impl<'a> Ctx<'_, 'a> {
         let curve =
             NurbsCurve::with_dimension(degree, knots, points, r.weights.clone(), dim.unwrap_or(3))
                 .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
+        self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
         meta.form = Some(r.curve_form.to_ascii_lowercase());
         meta.closed_u = r.closed_curve.as_bool();
@@ -756,8 +787,8 @@ impl<'a> Ctx<'_, 'a> {
         let flat: Vec<u64> = r.control_points.iter().flatten().copied().collect();
         let mut dim = None;
         let points = self.points(&flat, &mut dim)?;
-        let ku = self.knots(&r.knots, 0, du, nu, "u knots")?;
-        let kv = self.knots(&r.knots, 1, dv, nv, "v knots")?;
+        let ku = self.knots(&r.knots, 0, du, nu, "u knots", diags)?;
+        let kv = self.knots(&r.knots, 1, dv, nv, "v knots", diags)?;
         let weights = match &r.weights {
             None => None,
             Some(w) => {
@@ -781,6 +812,13 @@ impl<'a> Ctx<'_, 'a> {
             .ok_or_else(|| self.error("points.invalid", "control net shape"))?;
         let surface = NurbsSurface::with_dimension(du, dv, ku, kv, net, weights, dim.unwrap_or(3))
             .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
+        self.enumerations(
+            &r.knots,
+            r.surface_form,
+            "surface_form",
+            SURFACE_FORMS,
+            diags,
+        );
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
         meta.form = Some(r.surface_form.to_ascii_lowercase());
         meta.closed_u = r.u_closed.as_bool();
@@ -860,6 +898,118 @@ fn logical_text(l: Logical) -> &'static str {
 }
 
 /// Weight count and positivity (ISO 10303-42 rational_b_spline_curve WR1/WR2).
+/// The rules of ISO 10303-42 function constraints_param_b_spline (a WHERE rule of
+/// B_SPLINE_CURVE_WITH_KNOTS, and of each direction of B_SPLINE_SURFACE_WITH_KNOTS) that
+/// the sum check does not cover: the distinct knots
+/// strictly increasing (knots may not repeat a value: a repeated value is a multiplicity),
+/// the end multiplicities at most degree + 1 and the interior ones at most the degree.
+///
+/// A knot that decreases, or a multiplicity above its bound, is an error (the entity is not
+/// loaded); a value written twice in a row (`Ok(Some(..))`) has one meaning, that knot with
+/// the summed multiplicity, and is non-conforming. The bounds apply to the summed
+/// multiplicities.
+fn knot_rules(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<String>, String> {
+    let mut repeated = None;
+    let mut merged: Vec<usize> = Vec::with_capacity(mults.len());
+    for (i, (w, &m)) in knots.windows(2).zip(mults.iter().skip(1)).enumerate() {
+        if i == 0 {
+            merged.push(mults.first().copied().unwrap_or(0));
+        }
+        if w[1] < w[0] {
+            return Err(format!(
+                "knot {} ({}) is less than knot {} ({}); the distinct knots must strictly increase",
+                i + 2,
+                w[1],
+                i + 1,
+                w[0]
+            ));
+        }
+        if w[1] == w[0] {
+            repeated.get_or_insert_with(|| {
+                format!(
+                    "knot {} repeats the value of knot {} ({}); the distinct knots must strictly increase",
+                    i + 2,
+                    i + 1,
+                    w[0]
+                )
+            });
+            if let Some(last) = merged.last_mut() {
+                *last += m;
+            }
+        } else {
+            merged.push(m);
+        }
+    }
+    let last = merged.len().saturating_sub(1);
+    for (i, &m) in merged.iter().enumerate() {
+        let end = i == 0 || i == last;
+        let max = if end { degree + 1 } else { degree };
+        if m > max {
+            return Err(format!(
+                "{} multiplicity {} is {m}, above {max} (degree {degree})",
+                if end { "end" } else { "interior" },
+                i + 1
+            ));
+        }
+    }
+    Ok(repeated)
+}
+
+/// Checks an enumeration value against its type's values in ISO 10303-42 (`knot_type`,
+/// `b_spline_curve_form`, `b_spline_surface_form`). A value outside them is non-conforming; the geometry does not
+/// depend on it.
+fn enumeration(
+    value: &str,
+    allowed: &[&str],
+    what: &str,
+    location: Location,
+    diags: &mut Vec<Diagnostic>,
+) {
+    if !allowed.iter().any(|a| a.eq_ignore_ascii_case(value)) {
+        diags.push(Diagnostic::nonconforming(
+            "step.enumeration",
+            format!(
+                "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
+                allowed.join(", ")
+            ),
+            location,
+        ));
+    }
+}
+
+/// ISO 10303-42 `knot_type`.
+const KNOT_TYPES: &[&str] = &[
+    "UNIFORM_KNOTS",
+    "QUASI_UNIFORM_KNOTS",
+    "PIECEWISE_BEZIER_KNOTS",
+    "UNSPECIFIED",
+];
+
+/// ISO 10303-42 `b_spline_curve_form`.
+const CURVE_FORMS: &[&str] = &[
+    "POLYLINE_FORM",
+    "CIRCULAR_ARC",
+    "ELLIPTIC_ARC",
+    "PARABOLIC_ARC",
+    "HYPERBOLIC_ARC",
+    "UNSPECIFIED",
+];
+
+/// ISO 10303-42 `b_spline_surface_form`.
+const SURFACE_FORMS: &[&str] = &[
+    "PLANE_SURF",
+    "CYLINDRICAL_SURF",
+    "CONICAL_SURF",
+    "SPHERICAL_SURF",
+    "TOROIDAL_SURF",
+    "SURF_OF_REVOLUTION",
+    "RULED_SURF",
+    "GENERALISED_CONE",
+    "QUADRIC_SURF",
+    "SURF_OF_LINEAR_EXTRUSION",
+    "UNSPECIFIED",
+];
+
 fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<(), String> {
     if w.len() != poles {
         return Err(format!("{} weights for {poles} control points", w.len()));

@@ -310,9 +310,11 @@ pub enum Value<'a> {
 pub struct Values<'a> {
     fields: &'static [Field],
     values: Vec<Value<'a>>,
-    /// Parameters after the declared ones (associativity and property pointers, or values
-    /// some writers add); 0 for a group.
+    /// Parameters after the declared ones (the associativity and property pointer groups
+    /// with their counts); 0 for a group.
     pub extra: usize,
+    /// The associativity and property pointers (IGES 5.3 section 2.2.4.5.2).
+    pub additional: Vec<i64>,
 }
 
 impl<'a> Values<'a> {
@@ -390,6 +392,12 @@ impl<'a> Values<'a> {
         // The declaration, not the input, bounds the depth: groups nest as the standard's
         // tables do (at most two levels here).
         self.pointers_into(&mut out);
+        out.extend(
+            self.additional
+                .iter()
+                .filter(|&&p| p != 0)
+                .map(|&p| ("associativity or property pointer", p, &[][..])),
+        );
         out
     }
 
@@ -447,8 +455,60 @@ pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'
         r.expect(n, schema.entity, Vec::new());
     }
     let mut values = read_fields(schema, schema.fields, r, &mut head, first, true)?;
-    values.extra = r.skip_rest()?;
+    let start = r.index();
+    additional_pointers(r, &mut values.additional)?;
+    values.extra = r.index() - start;
     Ok(values)
+}
+
+/// The two optional groups after an entity's own parameters (IGES 5.3 section 2.2.4.5.2):
+/// `NA` and `NA` associativity pointers, then `NP` and `NP` property pointers. Anything
+/// else there (a real, a string, parameters after the last group) means the entity's
+/// counts do not match its data: an [`ErrorKind::Arity`] error, never a shifted reading.
+fn additional_pointers<'a>(
+    r: &mut ParameterReader<'a>,
+    out: &mut Vec<i64>,
+) -> Result<(), Error<'a>> {
+    for (count, pointer) in [
+        ("NA (associativity count)", "associativity pointer"),
+        ("NP (property count)", "property pointer"),
+    ] {
+        if r.done() {
+            return Ok(());
+        }
+        let (at, index) = (r.rest(), r.index());
+        let n = r.integer(count, Some(0)).map_err(|_| {
+            Error::format(
+                at,
+                ErrorKind::Arity(format!(
+                    "parameter {index} is not an integer {count} after the entity's own \
+                     parameters: the counts in the record do not match its data"
+                )),
+            )
+        })?;
+        let n = usize::try_from(n).map_err(|_| {
+            Error::format(
+                at,
+                ErrorKind::OutOfRange(format!("{count} = {n} is negative")),
+            )
+        })?;
+        for _ in 0..n {
+            // One pointer per parameter read: a hostile count allocates nothing ahead.
+            out.push(r.integer(pointer, None)?);
+        }
+    }
+    if r.done() {
+        return Ok(());
+    }
+    let at = r.rest();
+    let left = r.skip_rest()?;
+    Err(Error::format(
+        at,
+        ErrorKind::Arity(format!(
+            "{left} parameters after the entity's parameters and its associativity and \
+             property pointer groups: the counts in the record do not match its data"
+        )),
+    ))
 }
 
 fn read_fields<'a>(
@@ -461,6 +521,9 @@ fn read_fields<'a>(
 ) -> Result<Values<'a>, Error<'a>> {
     let mut values = Vec::with_capacity(fields.len());
     let mut expecting = false;
+    // An optional parameter was present: the record may not end before the next optional
+    // real (the 126's V(0), V(1); the 128's U(0)..V(1) go together).
+    let mut tail_started = false;
     for f in fields {
         let count = |c: &Count, head: &Head| {
             c.of(head)
@@ -490,14 +553,23 @@ fn read_fields<'a>(
                             }
                         }
                     }
-                    // Fewer than three parameters left: no point (and nothing extra).
-                    _ => Value::Absent,
+                    // The record ended before the point: absent.
+                    [None, ..] => Value::Absent,
+                    // The record ends inside the point.
+                    _ => return Err(tail_cut(r, f.name)),
                 }
             }
-            (Repeat::Optional, Type::Real) => match r.optional_real(f.name)? {
-                Some(x) => Value::Real(x),
-                None => Value::Absent,
-            },
+            (Repeat::Optional, Type::Real) => {
+                if r.done() && tail_started {
+                    // V(0) without V(1), U(0) without the rest: the record ends inside
+                    // a group of parameters that go together.
+                    return Err(tail_cut(r, f.name));
+                }
+                match r.optional_real(f.name)? {
+                    Some(x) => Value::Real(x),
+                    None => Value::Absent,
+                }
+            }
             (Repeat::Optional, ty) => {
                 if r.done() {
                     Value::Absent
@@ -540,13 +612,29 @@ fn read_fields<'a>(
                 Value::Groups(groups)
             }
         };
+        if matches!(f.repeat, Repeat::Optional) && !r.done() {
+            tail_started = true;
+        }
         values.push(v);
     }
     Ok(Values {
         fields,
         values,
         extra: 0,
+        additional: Vec::new(),
     })
+}
+
+/// The record ends in the middle of its optional parameters (before `name`).
+#[cold]
+fn tail_cut<'a>(r: &ParameterReader<'a>, name: &'static str) -> Error<'a> {
+    Error::format(
+        r.rest(),
+        ErrorKind::Arity(format!(
+            "the record ends inside its optional parameters, before {name}: the counts in \
+             the record do not match its data"
+        )),
+    )
 }
 
 /// One value of a field that occurs once.
