@@ -924,7 +924,9 @@ pub fn validate(
     strict: bool,
     settings: &Settings,
 ) -> ValidationReport {
-    match load(bytes, hint, settings) {
+    let mut settings = settings.clone();
+    settings.import.conformance = true;
+    match load(bytes, hint, &settings) {
         Ok(loaded) => ValidationReport::new(
             loaded.document.entities.len(),
             loaded
