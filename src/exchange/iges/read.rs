@@ -176,8 +176,134 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         ));
     }
     super::topology::read(&cx, &mut doc, &mut diags);
+    if options.conformance {
+        pointer_conformance(&file, &mut diags);
+    }
+    // A finding reached by two paths (an entity decoded for itself and for its user) is
+    // reported once.
+    let mut seen = std::collections::HashSet::new();
+    diags.retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     doc.diagnostics = diags;
     Ok(doc)
+}
+
+/// The conformance check of every entity's pointers, whether nurbsx converts the entity or
+/// not: the DE pointer fields (structure, line font, level, view, transformation matrix,
+/// label display, color; IGES 5.3 section 2.2.4.4) and the parameter pointers the entity
+/// declarations name (chapter 4, with the associativity and property pointers of section
+/// 2.2.4.5.2) must each name the first (odd) line of an existing directory entry, of an
+/// entity type the field allows, and no entity may reach itself through them. An entity
+/// whose parameters do not decode is reported here too.
+fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
+    let count = file.entries.len();
+    // Every entity's outgoing pointers (to DE pointers), for the cycle search.
+    let mut graph: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for entry in file.entries.iter().flatten() {
+        let mut fields: Vec<(&'static str, i64, &'static [i64])> = Vec::new();
+        // DE fields that are pointers when negative (section 2.2.4.4.3-5, .13) or positive.
+        for (name, value, to, negated) in [
+            ("DE structure", entry.structure, &[][..], true),
+            ("DE line font pattern", entry.line_font, &[304][..], true),
+            ("DE level", entry.level, &[406][..], true),
+            ("DE view", entry.view, &[402, 410][..], false),
+            ("DE transformation matrix", entry.transform, &[124][..], false),
+            ("DE label display associativity", entry.label_display, &[402][..], false),
+            ("DE color", entry.color, &[314][..], true),
+        ] {
+            match (negated, value) {
+                (true, v) if v < 0 => fields.push((name, v, to)),
+                (false, v) if v > 0 => fields.push((name, v, to)),
+                _ => {}
+            }
+        }
+        match file.references(entry) {
+            Some(Ok(refs)) => fields.extend(refs),
+            Some(Err(e)) => diags.push(parse_diag("iges.entity", &e)),
+            None => {}
+        }
+        for (name, value, to) in fields {
+            let p = value.unsigned_abs();
+            let target = usize::try_from(p).ok().and_then(|p| {
+                (p % 2 == 1)
+                    .then(|| file.entries.get(p / 2))
+                    .flatten()
+                    .map(|t| (p, t))
+            });
+            let problem = match target {
+                None if p % 2 == 0 && p > 0 && p / 2 <= count as u64 => Some(format!(
+                    "{name} pointer {value} names the second line of a directory entry; a DE pointer is the odd sequence number of its first line"
+                )),
+                None => Some(format!(
+                    "{name} pointer {value} names no directory entry (the D section has {} lines)",
+                    2 * count
+                )),
+                Some((_, Err(_))) => None, // that entry's own error is reported
+                Some((p, Ok(t))) => {
+                    if let Some(slot) = graph.get_mut(entry.pointer / 2) {
+                        slot.push(p);
+                    }
+                    (!to.is_empty() && !to.contains(&t.entity_type)).then(|| {
+                        format!(
+                            "{name} pointer {value} names a {} entity; the field allows {}",
+                            t.entity_type,
+                            to.iter()
+                                .map(i64::to_string)
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    })
+                }
+            };
+            if let Some(message) = problem {
+                diags.push(Diagnostic::error(
+                    "pointer.invalid",
+                    message,
+                    entity_location(entry),
+                ));
+            }
+        }
+    }
+    // Cycles, by an iterative depth-first search (no recursion on input data).
+    let mut state = vec![0u8; count]; // 0 new, 1 on the path, 2 done
+    for root in 0..count {
+        if state[root] != 0 {
+            continue;
+        }
+        let mut stack: Vec<(usize, usize)> = vec![(root, 0)];
+        state[root] = 1;
+        while let Some(&mut (node, ref mut next)) = stack.last_mut() {
+            let Some(&p) = graph[node].get(*next) else {
+                state[node] = 2;
+                stack.pop();
+                continue;
+            };
+            *next += 1;
+            let child = p / 2;
+            match state.get(child) {
+                Some(0) => {
+                    state[child] = 1;
+                    stack.push((child, 0));
+                }
+                Some(1) => {
+                    let path: Vec<String> = stack
+                        .iter()
+                        .map(|&(n, _)| n)
+                        .skip_while(|&n| n != child)
+                        .chain([child])
+                        .map(|n| format!("D{}", 2 * n + 1))
+                        .collect();
+                    if let Some(Ok(e)) = file.entries.get(node) {
+                        diags.push(Diagnostic::error(
+                            "pointer.cycle",
+                            format!("pointer cycle {}", path.join(" -> ")),
+                            entity_location(e),
+                        ));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
 }
 
 /// What one directory entry gave.

@@ -152,6 +152,9 @@ pub enum Repeat {
     Optional,
     /// As many times as the count says.
     Times(Count),
+    /// As many times as the count says, or absent when the record ends before it (the
+    /// arbitrary values some tables end with).
+    OptionalTimes(Count),
     /// The fields of a group, repeated as many times as the count says.
     Group(Count, &'static [Field]),
 }
@@ -209,6 +212,15 @@ impl Field {
             name,
             ty,
             repeat: Repeat::Optional,
+        }
+    }
+
+    /// A field repeated `count` times, or absent at the record's end.
+    pub const fn optional_times(name: &'static str, ty: Type, count: Count) -> Field {
+        Field {
+            name,
+            ty,
+            repeat: Repeat::OptionalTimes(count),
         }
     }
 
@@ -426,7 +438,7 @@ pub fn required(fields: &[Field], head: &Head) -> Option<usize> {
     for f in fields {
         let k = match f.repeat {
             Repeat::One => f.ty.width(),
-            Repeat::Optional => 0,
+            Repeat::Optional | Repeat::OptionalTimes(_) => 0,
             Repeat::Times(c) => c.of(head).ok()?.checked_mul(f.ty.width())?,
             Repeat::Group(c, inner) => {
                 let count = c.of(head).ok()?;
@@ -577,7 +589,8 @@ fn read_fields<'a>(
                     one(r, f.name, ty, head)?
                 }
             }
-            (Repeat::Times(c), ty) => {
+            (Repeat::OptionalTimes(_), _) if r.done() => Value::Absent,
+            (Repeat::Times(c) | Repeat::OptionalTimes(c), ty) => {
                 let n = count(&c, head)?;
                 match ty {
                     Type::Real => Value::Reals(r.reals(n, f.name)?),
@@ -612,7 +625,7 @@ fn read_fields<'a>(
                 Value::Groups(groups)
             }
         };
-        if matches!(f.repeat, Repeat::Optional) && !r.done() {
+        if matches!(f.repeat, Repeat::Optional | Repeat::OptionalTimes(_)) && !r.done() {
             tail_started = true;
         }
         values.push(v);
