@@ -16,9 +16,33 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 SAMPLES = os.path.join(ROOT, "samples", "freecad")
 
 
+LOADED = {}
+
+
 def read(name):
     with open(os.path.join(SAMPLES, name), "rb") as f:
-        return f.read()
+        data = f.read()
+    LOADED[name] = data
+    return data
+
+
+def source_of(data):
+    """The sample a damaged file was derived from: the loaded sample sharing the longest
+    prefix plus suffix with it, when that covers at least half of the file (whole-file
+    damage such as an empty or a PDF file has no source). The test compares `convert`'s
+    geometry with that sample's."""
+    best, score = None, 0
+    for name, orig in LOADED.items():
+        n = min(len(orig), len(data))
+        pre = 0
+        while pre < n and orig[pre] == data[pre]:
+            pre += 1
+        suf = 0
+        while suf < n - pre and orig[-1 - suf] == data[-1 - suf]:
+            suf += 1
+        if pre + suf > score:
+            best, score = name, pre + suf
+    return best if data and score * 2 >= len(data) else None
 
 
 def clear():
@@ -32,8 +56,11 @@ def emit(name, ext, data, **expect):
         data = data.encode("latin-1")
     with open(os.path.join(HERE, name + ext), "wb") as f:
         f.write(data)
+    src = source_of(data)
+    if src is not None:
+        expect.setdefault("source", src)
     with open(os.path.join(HERE, name + ".expect"), "w") as f:
-        for k in ("code", "line", "column", "entity", "section", "sequence"):
+        for k in ("code", "line", "column", "entity", "section", "sequence", "source"):
             if k in expect:
                 f.write(f"{k}: {expect[k]}\n")
 
@@ -197,6 +224,53 @@ def step_cases():
     at("step_unterminated_comment", d, b"/* open", 19, "step.syntax")
     d = sub_in(c2, 20, b"20.47863277037", b"\"0F\"")
     ent("step_binary_where_real", d, 17, "step.reference")
+
+    # --- issue 21: what used to pass in silence
+    # An empty instance is a syntax error (ISO 10303-21 clause 10), at its `;`.
+    m = re.search(rb"(?ms)^#17 =.*?;", c2)
+    d = c2[:m.start()] + b"#17 = ;" + c2[m.end():]
+    at("step_empty_instance", d, b"#17 = ;", 17, "step.syntax", delta=6)
+    m = re.search(rb"(?ms)^#13 =.*?;", c2)
+    d = c2[:m.start()] + b"#13 = ;" + c2[m.end():]
+    at("step_empty_instance_not_geometry", d, b"#13 = ;", 13, "step.syntax", delta=6)
+    # ISO 10303-42 constraints_param_b_spline: distinct knots strictly increasing,
+    # multiplicities bounded.
+    ent("step_knot_repeated", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586",
+                                     b"(3,1,1,1,1,3),(-1.25,-0.672195,0.466963,0.466963,1.070586"), 17, "knots.repeated")
+    # 0.466963 twice, multiplicities 2 and 1: one knot of multiplicity 3 > degree 2.
+    ent("step_knot_repeated_over_degree", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586",
+                                                 b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,0.466963"), 17, "knots.invalid")
+    ent("step_interior_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586,",
+                                             b"(3,1,3,3),(-1.25,-0.672195,0.466963,"), 17, "knots.invalid")
+    ent("step_end_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586,",
+                                        b"(4,2,1,3),(-1.25,0.466963,1.070586,"), 17, "knots.invalid")
+    ent("step_knots_equal_all", sub_in(c2, 17, b"(-1.25,-0.672195,0.466963,1.070586,\n    2.325594)",
+                                       b"(-1.25,-1.25,-1.25,-1.25,-1.25)"), 17, "knots")
+    ent("step_surface_v_knot_repeated", sub_in(srf, 32, b"(4,4),(3,3),(0.,1.),(0.,1.)", b"(4,4),(3,3),(0.,1.),(0.,0.)"), 32, "knots")
+    # Enumeration values outside their EXPRESS type.
+    ent("step_knot_spec_unknown", sub_in(c2, 17, b"2.325594),.UNSPECIFIED.", b"2.325594),.FOO_KNOTS."), 17, "step.enumeration")
+    ent("step_curve_form_unknown", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".SPIRAL_FORM.,.F.,.F."), 17, "step.enumeration")
+    ent("step_surface_form_unknown", sub_in(srf, 32, b".UNSPECIFIED.,.F.,.F.,.F.", b".BLOB_SURF.,.F.,.F.,.F."), 32, "step.enumeration")
+    ent("step_closed_not_logical", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".UNSPECIFIED.,.X.,.F."), 17, "step.schema")
+    ent("step_self_intersect_not_logical", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".UNSPECIFIED.,.F.,5"), 17, "step.schema")
+    # Rational weights (ISO 10303-42 RATIONAL_B_SPLINE_CURVE WR2: weights > 0).
+    ent("step_weight_zero_last", sub_in(rat, 17, b"1.,3.))", b"1.,0.))"), 17, "weights")
+    # References anywhere in the file, through instances nurbsx does not convert.
+    ent("step_dangling_product", sub_in(c2, 4, b"'','',#5)", b"'','',#9999)"), 4, "step.reference")
+    ent("step_dangling_context", sub_in(c2, 8, b"#2,'mechanical'", b"#777,'mechanical'"), 8, "step.reference")
+    ent("step_dangling_unit", sub_in(c2, 31, b"LENGTH_MEASURE(1.E-07),#28", b"LENGTH_MEASURE(1.E-07),#2800"), 31, "step.reference")
+    # A cycle #5 -> #6 -> #5: the depth-first search from the first instance enters it at
+    # #5 and meets the back edge in #6, the mutated instance.
+    ent("step_cycle_products", sub_in(c2, 6, b"'','',#7)", b"'','',#5)"), 6, "step.reference_cycle")
+    ent("step_cycle_self_context", sub_in(c2, 8, b"#2,'mechanical'", b"#8,'mechanical'"), 8, "step.reference_cycle")
+    # Attribute counts of entities the schema tables know (DIRECTION: name, ratios).
+    ent("step_direction_extra_attribute", sub_in(c2, 13, b"(0.,0.,1.))", b"(0.,0.,1.),5.)"), 13, "step.schema")
+    ent("step_point_missing_attribute", sub_in(c2, 12, b"CARTESIAN_POINT('',(0.,0.,0.))", b"CARTESIAN_POINT((0.,0.,0.))"), 12, "step.schema")
+    # Legacy-encoded (GBK) bytes in a name: read, but not ISO 10303-21 (clause 5: strings
+    # carry other characters only through \X\ escapes); at the first such byte.
+    d = sub_in(c2, 7, b"PRODUCT('Open", b"PRODUCT('\xd2\xc6\xb6\xaf Open")
+    line, col = line_col(d, d.index(b"\xd2\xc6"))
+    emit("step_gbk_name", ".step", d, code="encoding.not_utf8", line=line, column=col)
 
 
 

@@ -551,7 +551,7 @@ fn read_fields<'a>(
         let v = match (f.repeat, f.ty) {
             (Repeat::One, ty) => one(r, f.name, ty, head)?,
             (Repeat::Optional, Type::Point) => {
-                let start = r.index();
+                let (start, at) = (r.index(), r.rest());
                 let xyz = [r.parameter()?, r.parameter()?, r.parameter()?];
                 match xyz {
                     [Some(x), Some(y), Some(z)] => {
@@ -568,14 +568,14 @@ fn read_fields<'a>(
                     // The record ended before the point: absent.
                     [None, ..] => Value::Absent,
                     // The record ends inside the point.
-                    _ => return Err(tail_cut(r, f.name)),
+                    _ => return Err(tail_cut(at, f.name)),
                 }
             }
             (Repeat::Optional, Type::Real) => {
                 if r.done() && tail_started {
                     // V(0) without V(1), U(0) without the rest: the record ends inside
                     // a group of parameters that go together.
-                    return Err(tail_cut(r, f.name));
+                    return Err(tail_cut(r.rest(), f.name));
                 }
                 match r.optional_real(f.name)? {
                     Some(x) => Value::Real(x),
@@ -638,11 +638,12 @@ fn read_fields<'a>(
     })
 }
 
-/// The record ends in the middle of its optional parameters (before `name`).
+/// The record ends in the middle of its optional parameters (in or before `name`, which
+/// starts at `at`).
 #[cold]
-fn tail_cut<'a>(r: &ParameterReader<'a>, name: &'static str) -> Error<'a> {
+fn tail_cut<'a>(at: &'a [u8], name: &'static str) -> Error<'a> {
     Error::format(
-        r.rest(),
+        at,
         ErrorKind::Arity(format!(
             "the record ends inside its optional parameters, before {name}: the counts in \
              the record do not match its data"
