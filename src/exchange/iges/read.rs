@@ -206,8 +206,18 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
             ("DE line font pattern", entry.line_font, &[304][..], true),
             ("DE level", entry.level, &[406][..], true),
             ("DE view", entry.view, &[402, 410][..], false),
-            ("DE transformation matrix", entry.transform, &[124][..], false),
-            ("DE label display associativity", entry.label_display, &[402][..], false),
+            (
+                "DE transformation matrix",
+                entry.transform,
+                &[124][..],
+                false,
+            ),
+            (
+                "DE label display associativity",
+                entry.label_display,
+                &[402][..],
+                false,
+            ),
             ("DE color", entry.color, &[314][..], true),
         ] {
             match (negated, value) {
@@ -246,10 +256,7 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
                         format!(
                             "{name} pointer {value} names a {} entity; the field allows {}",
                             t.entity_type,
-                            to.iter()
-                                .map(i64::to_string)
-                                .collect::<Vec<_>>()
-                                .join(", ")
+                            to.iter().map(i64::to_string).collect::<Vec<_>>().join(", ")
                         )
                     })
                 }

@@ -642,8 +642,9 @@ fn read_fields<'a>(
 /// starts at `at`).
 #[cold]
 fn tail_cut<'a>(at: &'a [u8], name: &'static str) -> Error<'a> {
+    let blanks = at.iter().take_while(|&&c| c == b' ').count();
     Error::format(
-        at,
+        at.get(blanks..).unwrap_or(at),
         ErrorKind::Arity(format!(
             "the record ends inside its optional parameters, before {name}: the counts in \
              the record do not match its data"
