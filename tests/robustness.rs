@@ -19,6 +19,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use nurbsx::exchange::{self, ImportOptions};
+use nurbsx::pipeline;
 use nurbsx_parsers::Limits;
 use serde_json::Value;
 
@@ -98,6 +99,8 @@ fn matches(d: &Value, want: &BTreeMap<String, String>) -> bool {
             .is_some_and(|c| c.starts_with(v.as_str())),
         "line" | "column" | "sequence" => loc[k].as_u64().map(|n| n.to_string()) == Some(v.clone()),
         "entity" | "section" => loc[k].as_str() == Some(v.as_str()),
+        // The sample the file was derived from (for the convert check).
+        "source" => true,
         other => panic!("unknown expectation key {other}"),
     })
 }
@@ -105,7 +108,7 @@ fn matches(d: &Value, want: &BTreeMap<String, String>) -> bool {
 #[test]
 fn bad_inputs_give_located_errors_fast() {
     let files = inputs("bad_inputs");
-    assert!(files.len() >= 60, "only {} bad inputs", files.len());
+    assert!(files.len() >= 150, "only {} bad inputs", files.len());
     let mut failures = Vec::new();
     for path in &files {
         let want = expectation(path);
@@ -124,6 +127,53 @@ fn bad_inputs_give_located_errors_fast() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `convert` on a damaged file either fails (exit 1: the read is refused, or some entity
+/// could not be carried and is an error) or reads exactly the geometry of the sample the
+/// file was derived from (`source:` in its `.expect`, computed by make.py): never other
+/// geometry. Damage without a source (an empty file, a PDF ...) must fail.
+#[test]
+fn bad_inputs_never_convert_to_other_geometry() {
+    let settings = pipeline::Settings::default();
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    for path in inputs("bad_inputs") {
+        let want = expectation(&path);
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let bytes = std::fs::read(&path).unwrap();
+        let hint = pipeline::InputKind::from_path(&path);
+        let loaded = match pipeline::load(&bytes, hint, &settings) {
+            Err(_) => continue,
+            Ok(l) => l,
+        };
+        let errors = loaded
+            .document
+            .diagnostics
+            .iter()
+            .any(|d| d.severity == exchange::Severity::Error);
+        if errors {
+            continue; // convert exits 1
+        }
+        let Some(source) = want.get("source") else {
+            failures.push(format!("{name}: converted without an error, and has no source"));
+            continue;
+        };
+        let reference = pipeline::load(&sample(source), None, &settings).unwrap();
+        let geo = |d: &exchange::Document| -> Vec<_> {
+            d.entities.iter().map(|e| e.geometry.clone()).collect()
+        };
+        compared += 1;
+        if geo(&loaded.document) != geo(&reference.document) {
+            failures.push(format!(
+                "{name}: converts without an error to geometry different from {source}"
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The non-conforming files that keep their meaning (GBK names, unknown enumeration
+    // values, a repeated knot value, line-structure faults) are among them.
+    assert!(compared >= 10, "only {compared} files converted");
 }
 
 #[test]
@@ -701,10 +751,11 @@ fn every_limit_is_a_flag_and_an_environment_variable() {
 }
 
 /// Bytes that are neither ASCII nor UTF-8 inside names (a SolidWorks GBK name in STEP, a
-/// Latin-1 author in an IGES Global string) are errors at their line and column, and the
-/// geometry is read all the same, bit for bit equal to the clean file's.
+/// Latin-1 author in an IGES Global string) are non-conforming at their line and column
+/// (errors for validate, warnings for reading), and the geometry is read all the same,
+/// bit for bit equal to the clean file's.
 #[test]
-fn legacy_encoded_names_are_located_errors_and_keep_the_geometry() {
+fn legacy_encoded_names_are_located_nonconformance_and_keep_the_geometry() {
     let gbk: &[u8] = b"\xd2\xc6\xb6\xaf\xc3\xe6";
     for (name, needle, column) in [
         (
@@ -749,7 +800,14 @@ fn legacy_encoded_names_are_located_errors_and_keep_the_geometry() {
             .iter()
             .find(|d| d.code == "encoding.not_utf8")
             .unwrap_or_else(|| panic!("{name}: {:?}", b.diagnostics));
-        assert_eq!(d.severity, exchange::Severity::Error, "{name}");
+        // Reading warns; the conformance check (validate) makes it an error.
+        assert_eq!(d.severity, exchange::Severity::Warning, "{name}");
+        assert!(d.nonconforming, "{name}");
+        assert_eq!(
+            d.clone().for_conformance().severity,
+            exchange::Severity::Error,
+            "{name}"
+        );
         assert_eq!(
             (d.location.line, d.location.column),
             (Some(line), Some(col)),
