@@ -5,7 +5,8 @@
 //!   the location (computed by the generator from where it mutated the file) that
 //!   `nurbsx validate --format json` must report, with exit code 1, fast, without a crash.
 //! - `tests/odd_inputs/`: valid but unusual files that must validate (exit 0) with the
-//!   expected number of B-spline entities (`<name>.expect`: `entities: N`).
+//!   expected number of B-spline entities (`<name>.expect`: `entities: N`), and where
+//!   `warnings: N` says so, that many warnings (false positives of real files).
 //! - one test per resource limit of [`nurbsx_parsers::Limits`], exceeded by a small input.
 //! - per-entity recovery: one broken B-spline among good ones.
 //! - `tests/fuzz_regressions/`: inputs the fuzzers found; replayed through the readers.
@@ -156,7 +157,9 @@ fn bad_inputs_never_convert_to_other_geometry() {
             continue; // convert exits 1
         }
         let Some(source) = want.get("source") else {
-            failures.push(format!("{name}: converted without an error, and has no source"));
+            failures.push(format!(
+                "{name}: converted without an error, and has no source"
+            ));
             continue;
         };
         let reference = pipeline::load(&sample(source), None, &settings).unwrap();
@@ -195,6 +198,18 @@ fn odd_inputs_read() {
                 "{name}: {} entities, expected {entities}",
                 file["entities"]
             ));
+        }
+        if let Some(w) = want.get("warnings") {
+            let found = diagnostics(&report)
+                .iter()
+                .filter(|d| d["severity"] == "warning")
+                .count();
+            if found.to_string() != *w {
+                failures.push(format!(
+                    "{name}: {found} warnings, expected {w}: {:#?}",
+                    diagnostics(&report)
+                ));
+            }
         }
         if elapsed > MAX_RUN {
             failures.push(format!("{name}: took {elapsed:?}"));

@@ -1167,10 +1167,14 @@ pub(super) fn read_curve(
                 for t in &ts {
                     m = t.apply_linear(m);
                 }
-                if !analysis::on_plane(curve.control_points(), m, tol) {
+                // In the file's own numbers (planarity does not depend on the placement),
+                // within what their written digits carry.
+                let written = analysis::plane_tolerance(&rec.points, n)
+                    .max(file.global.resolution.unwrap_or(0.0));
+                if !analysis::on_plane(&rec.points, n, written) {
                     diags.push(Diagnostic::warning(
                         "flag_mismatch",
-                        "PROP1 (planar) = 1 but the control points do not lie in the plane of the given normal".to_owned(),
+                        "PROP1 (planar) = 1 but the control points do not lie in the plane of the given normal (beyond the precision of the digits written)".to_owned(),
                         loc.clone(),
                     ));
                 }
