@@ -861,8 +861,8 @@ fn limit_code(e: &ParseError) -> Option<&'static str> {
 }
 
 /// What the parser tolerated. Each is a violation of IGES 5.3 (80-column records and
-/// consecutive sequence numbers, section 2.1; Terminate counts, section 2.2.5; DE field 14,
-/// section 2.2.4.4.14; the Global section, section 2.2.3) read with its one meaning:
+/// consecutive sequence numbers, section 2.1; Terminate counts, section 2.2.4.6; DE field
+/// 14, section 2.2.4.4; the Global section, section 2.2.4.3) read with its one meaning:
 /// non-conforming, an error for `validate`. CR LF line ends are not: the standard fixes the
 /// 80 columns of a record, not the line terminator outside them (section 2.1), so a file
 /// whose every line is 80 columns plus CR LF conforms; that is an informational note.
