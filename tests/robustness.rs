@@ -831,3 +831,173 @@ fn legacy_encoded_names_are_located_nonconformance_and_keep_the_geometry() {
         assert!(!a.diagnostics.iter().any(|d| d.code == "encoding.not_utf8"));
     }
 }
+
+/// Tokens of a STEP file: strings, instance names, numbers, keywords, enumerations and the
+/// punctuation, as (start, end) byte offsets (whitespace and comments are not tokens).
+fn step_tokens(b: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        let start = i;
+        if c.is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
+        if c == b'/' && b.get(i + 1) == Some(&b'*') {
+            i = b[i + 2..]
+                .windows(2)
+                .position(|w| w == b"*/")
+                .map_or(b.len(), |p| i + 2 + p + 2);
+            continue;
+        }
+        if c == b'\'' {
+            i += 1;
+            while i < b.len() {
+                if b[i] == b'\'' && b.get(i + 1) == Some(&b'\'') {
+                    i += 2;
+                } else if b[i] == b'\'' {
+                    i += 1;
+                    break;
+                } else {
+                    i += 1;
+                }
+            }
+        } else if c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_uppercase) {
+            i += 1;
+            while i < b.len() && b[i] != b'.' {
+                i += 1;
+            }
+            i += 1;
+        } else if c.is_ascii_alphanumeric() || matches!(c, b'#' | b'_' | b'-' | b'+' | b'.') {
+            i += 1;
+            while i < b.len()
+                && (b[i].is_ascii_alphanumeric() || matches!(b[i], b'_' | b'.' | b'-' | b'+'))
+            {
+                // A sign inside a token only after an exponent letter.
+                if matches!(b[i], b'-' | b'+') && !matches!(b[i - 1], b'E' | b'e') {
+                    break;
+                }
+                i += 1;
+            }
+        } else {
+            i += 1;
+        }
+        out.push((start, i.min(b.len())));
+    }
+    out
+}
+
+/// Tokens of an IGES file's Global and Parameter Data columns (1-72 of G lines, 1-64 of P
+/// lines): the values between delimiters and the delimiters, as (line, start, end).
+fn iges_tokens(text: &str) -> Vec<(usize, usize, usize)> {
+    let mut out = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let width = match line.as_bytes().get(72) {
+            Some(b'G') => 72,
+            Some(b'P') => 64,
+            _ => continue,
+        };
+        let data = &line.as_bytes()[..width];
+        let mut i = 0;
+        while i < width {
+            if data[i] == b' ' {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            if matches!(data[i], b',' | b';') {
+                i += 1;
+            } else {
+                while i < width && !matches!(data[i], b',' | b';') {
+                    i += 1;
+                }
+            }
+            out.push((n, start, i));
+        }
+    }
+    out
+}
+
+/// The file with token `k` deleted or duplicated (IGES: inside its line's data columns,
+/// which keep their width; `None` when the duplicate does not fit), or cut after `k` bytes.
+fn mutate(name: &str, bytes: &[u8], op: u8, k: usize) -> Option<Vec<u8>> {
+    if op == 2 {
+        return Some(bytes[..k % bytes.len()].to_vec());
+    }
+    if name.ends_with(".step") {
+        let tokens = step_tokens(bytes);
+        let (a, b) = tokens[k % tokens.len()];
+        let mut out = bytes[..a].to_vec();
+        if op == 1 {
+            out.extend_from_slice(&bytes[a..b]);
+        }
+        out.extend_from_slice(&bytes[a..]);
+        if op == 0 {
+            out.truncate(a);
+            out.extend_from_slice(&bytes[b..]);
+        }
+        return Some(out);
+    }
+    let text = std::str::from_utf8(bytes).ok()?;
+    let tokens = iges_tokens(text);
+    let (line, a, b) = tokens[k % tokens.len()];
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let l = &lines[line];
+    let width = if l.as_bytes()[72] == b'G' { 72 } else { 64 };
+    let data = &l[..width];
+    let new = if op == 0 {
+        format!("{}{}", &data[..a], &data[b..])
+    } else {
+        format!("{}{}{}", &data[..b], &data[a..b], &data[b..])
+    };
+    let new = new.trim_end();
+    if new.len() > width {
+        return None;
+    }
+    lines[line] = format!("{new:<width$}{}", &l[width..]);
+    Some((lines.join("\n") + "\n").into_bytes())
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 160,
+        failure_persistence: None,
+        ..proptest::prelude::ProptestConfig::default()
+    })]
+    /// Deleting or duplicating any one token (a number, a delimiter, a parenthesis, a
+    /// keyword), or cutting the file anywhere, never gives a file that `validate` passes
+    /// while it holds other geometry than the original (issue 21): a damaged file is either
+    /// invalid or means the same.
+    #[test]
+    fn one_token_damage_is_found_or_harmless(
+        sample_index in 0usize..4,
+        op in 0u8..3,
+        k in 0usize..100_000,
+    ) {
+        let name = [
+            "curve_deg2_clamped.step",
+            "curve_circle_nurbs.step",
+            "curve_deg2_clamped.igs",
+            "surf_poles4x3.igs",
+        ][sample_index];
+        let original = sample(name);
+        let Some(damaged) = mutate(name, &original, op, k) else {
+            return Ok(());
+        };
+        let settings = pipeline::Settings::default();
+        let report = pipeline::validate(&damaged, None, false, &settings);
+        if report.valid {
+            let geo = |bytes: &[u8]| -> Vec<_> {
+                pipeline::load(bytes, None, &settings)
+                    .map(|l| l.document.entities.iter().map(|e| e.geometry.clone()).collect())
+                    .unwrap_or_default()
+            };
+            proptest::prop_assert!(
+                geo(&damaged) == geo(&original),
+                "{name}: op {op}, k {k}: validate passes but the geometry differs:\n{}",
+                String::from_utf8_lossy(&damaged)
+            );
+        }
+    }
+}

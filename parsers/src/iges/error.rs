@@ -198,7 +198,7 @@ impl fmt::Display for ParseError {
 pub struct ParseWarning {
     /// Stable code: `crlf`, `short_line`, `long_line`, `sequence`, `missing_start`,
     /// `terminate_count`, `param_line_count`, `delimiter_form`, `global_field`,
-    /// `missing_terminate`.
+    /// `missing_terminate`, `defaulted_value`.
     pub code: &'static str,
     /// Human-readable explanation.
     pub message: String,

@@ -954,7 +954,8 @@ fn check_limits(
 
 fn flag(value: i64, name: &str, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
     if value != 0 && value != 1 {
-        diags.push(Diagnostic::warning(
+        // IGES 5.3 sections 4.23/4.24: PROP1-5 are 0 or 1.
+        diags.push(Diagnostic::nonconforming(
             "flag_invalid",
             format!(
                 "{name} = {value}; IGES allows 0 or 1 (read as {})",
