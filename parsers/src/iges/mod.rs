@@ -390,8 +390,8 @@ impl<'a> IgesFile<'a> {
                     warnings.push(ParseWarning {
                         code: "defaulted_value",
                         message: format!(
-                            "{} knots, weights or coordinates are defaulted (empty) and read as 0.0; \
-                             the entity's table gives them no default",
+                            "{} parameters (reals, coordinates or flags) are defaulted (empty) and \
+                             read as 0; the entity's table gives them no default",
                             r.defaulted()
                         ),
                         section: 'P',

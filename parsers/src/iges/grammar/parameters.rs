@@ -400,19 +400,29 @@ impl<'a> ParameterReader<'a> {
         self.index
     }
 
-    /// How many repeated reals ([`ParameterReader::reals`], [`ParameterReader::points`])
-    /// were defaults, read as 0.0: the tables of chapter 4 give knots, weights and
-    /// coordinates no default, so each is a parameter the writer left out.
+    /// How many required values were defaults ([`ParameterReader::reals`],
+    /// [`ParameterReader::points`], [`ParameterReader::required_real`],
+    /// [`ParameterReader::required_flag`]), read as 0: the tables of chapter 4 give knots,
+    /// weights, coordinates and PROP flags no default, so each is a parameter the writer
+    /// left out.
     pub fn defaulted(&self) -> usize {
         self.defaulted
     }
 
-    /// A repeated real, counting a default.
-    fn repeated_real(&mut self, name: &'static str) -> Result<f64, Error<'a>> {
+    /// A required real (the entity's table gives it no default), counting a default.
+    pub fn required_real(&mut self, name: &'static str) -> Result<f64, Error<'a>> {
         if !self.done && at_default(self.d, self.rest) {
             self.defaulted += 1;
         }
         self.real(name)
+    }
+
+    /// A flag (0 when defaulted), counting a default.
+    pub fn required_flag(&mut self, name: &'static str) -> Result<i64, Error<'a>> {
+        if !self.done && at_default(self.d, self.rest) {
+            self.defaulted += 1;
+        }
+        self.integer(name, Some(0))
     }
 
     /// Whether the record delimiter has been read.
@@ -566,7 +576,7 @@ impl<'a> ParameterReader<'a> {
         self.index += v.len();
         self.rest = rest.get(at..).unwrap_or_default();
         for _ in v.len()..count {
-            v.push(self.repeated_real(name)?);
+            v.push(self.required_real(name)?);
         }
         Ok(v)
     }
@@ -605,9 +615,9 @@ impl<'a> ParameterReader<'a> {
         self.rest = rest.get(at..).unwrap_or_default();
         for _ in v.len()..count {
             v.push([
-                self.repeated_real(name[0])?,
-                self.repeated_real(name[1])?,
-                self.repeated_real(name[2])?,
+                self.required_real(name[0])?,
+                self.required_real(name[1])?,
+                self.required_real(name[2])?,
             ]);
         }
         Ok(v)

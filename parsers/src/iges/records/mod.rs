@@ -665,9 +665,14 @@ fn one<'a>(
             head.ints.push((name, v));
             Value::Int(v)
         }
-        Type::Flag | Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
-        Type::Real => Value::Real(r.real(name)?),
-        Type::Point => Value::Point([r.real(name)?, r.real(name)?, r.real(name)?]),
+        Type::Flag => Value::Int(r.required_flag(name)?),
+        Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
+        Type::Real => Value::Real(r.required_real(name)?),
+        Type::Point => Value::Point([
+            r.required_real(name)?,
+            r.required_real(name)?,
+            r.required_real(name)?,
+        ]),
         Type::String => Value::String(r.string(name)?),
     })
 }
