@@ -266,6 +266,12 @@ def step_cases():
     # Attribute counts of entities the schema tables know (DIRECTION: name, ratios).
     ent("step_direction_extra_attribute", sub_in(c2, 13, b"(0.,0.,1.))", b"(0.,0.,1.),5.)"), 13, "step.schema")
     ent("step_point_missing_attribute", sub_in(c2, 12, b"CARTESIAN_POINT('',(0.,0.,0.))", b"CARTESIAN_POINT((0.,0.,0.))"), 12, "step.schema")
+    # The header's three entities (ISO 10303-21 clause 8.2), reported at HEADER.
+    hl, hc = line_col(c2, c2.index(b"HEADER;"))
+    d = re.sub(rb"(?s)FILE_NAME\(.*?\);\n", b"", c2, count=1)
+    emit("step_header_no_file_name", ".step", d, code="step.header", line=hl, column=hc)
+    d = c2.replace(b"FILE_DESCRIPTION(('FreeCAD Model'),'2;1');", b"FILE_DESCRIPTION(('FreeCAD Model'));", 1)
+    emit("step_header_description_short", ".step", d, code="step.header", line=hl, column=hc)
     # Legacy-encoded (GBK) bytes in a name: read, but not ISO 10303-21 (clause 5: strings
     # carry other characters only through \X\ escapes); at the first such byte.
     d = sub_in(c2, 7, b"PRODUCT('Open", b"PRODUCT('\xd2\xc6\xb6\xaf Open")

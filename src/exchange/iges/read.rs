@@ -1181,7 +1181,8 @@ pub(super) fn read_curve(
                 }
                 meta.plane_normal = Some(m);
             }
-            _ => diags.push(Diagnostic::warning(
+            // IGES 5.3 section 4.23: a planar curve carries its unit normal.
+            _ => diags.push(Diagnostic::nonconforming(
                 "missing_normal",
                 "PROP1 (planar) = 1 but the plane normal is absent or zero".to_owned(),
                 loc.clone(),

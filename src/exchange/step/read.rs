@@ -7,7 +7,7 @@ use nurbsx_parsers::step::schema::{
     SUPERTYPE_CHAINS, canonical_name,
 };
 use nurbsx_parsers::step::{
-    ParseError, ParseErrorKind, RawInstance, Scanned, scan_parallel, schema_names,
+    ParseError, ParseErrorKind, RawInstance, Scanned, SchemaError, scan_parallel, schema_names,
 };
 
 use rayon::prelude::*;
@@ -96,16 +96,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             }
             Ok(None) => {}
             Err(DecodeError::Syntax(e)) => doc.diagnostics.push(parse_diagnostic(&e)),
-            Err(DecodeError::Schema(e)) => doc.diagnostics.push(Diagnostic::error(
-                "step.schema",
-                e.detail(),
-                Location {
-                    line: Some(e.line),
-                    column: Some(e.column),
-                    entity: Some(format!("#{}", e.entity)),
-                    ..Location::default()
-                },
-            )),
+            Err(DecodeError::Schema(e)) => doc.diagnostics.push(schema_diagnostic(&e)),
         }
     }
     let radians = if items.is_empty() {
@@ -237,6 +228,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         }
     }
     if options.conformance {
+        header_conformance(text, &scanned, &mut doc.diagnostics);
         conformance(&scanned, &mut doc.diagnostics);
     }
     // The same finding reached by two paths (a syntax error in a B-spline instance is met by
@@ -245,6 +237,37 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     doc.diagnostics
         .retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     Ok(doc)
+}
+
+/// The HEADER section holds FILE_DESCRIPTION (2 attributes), FILE_NAME (7) and FILE_SCHEMA
+/// (1), in this order, before any other header entity (ISO 10303-21 clause 8.2).
+fn header_conformance(text: &str, s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
+    const REQUIRED: [(&str, usize); 3] = [
+        ("FILE_DESCRIPTION", 2),
+        ("FILE_NAME", 7),
+        ("FILE_SCHEMA", 1),
+    ];
+    let (line, column) = s.locate(text.find("HEADER").unwrap_or(0));
+    let location = Location {
+        line: Some(line),
+        column: Some(column),
+        ..Location::default()
+    };
+    for (i, (name, count)) in REQUIRED.iter().enumerate() {
+        let problem = match s.header.get(i) {
+            Some(r) if r.keyword == *name && r.params.len() == *count => continue,
+            Some(r) if r.keyword == *name => format!(
+                "{name} has {} attributes, the header entity has {count}",
+                r.params.len()
+            ),
+            found => format!(
+                "header entity {} should be {name}, found {}: the header starts with FILE_DESCRIPTION, FILE_NAME and FILE_SCHEMA, in this order",
+                i + 1,
+                found.map_or("nothing", |r| r.keyword)
+            ),
+        };
+        diags.push(Diagnostic::error("step.header", problem, location.clone()));
+    }
 }
 
 /// What the conformance check ([`ImportOptions::conformance`]) adds to reading, over every
@@ -288,16 +311,7 @@ fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
         };
         if known {
             if let Err(e) = Attributes::of(&inst, s.at(raw)) {
-                diags.push(Diagnostic::error(
-                    "step.schema",
-                    e.detail(),
-                    Location {
-                        line: Some(e.line),
-                        column: Some(e.column),
-                        entity: Some(format!("#{}", e.entity)),
-                        ..Location::default()
-                    },
-                ));
+                diags.push(schema_diagnostic(&e));
             }
         }
     }
@@ -397,6 +411,20 @@ fn plane_angle(s: &Scanned<'_>, complex: &[&RawInstance<'_>], doc: &mut Document
             1.0
         }
     }
+}
+
+/// A schema error (attributes that do not match the entity's declaration) as a diagnostic.
+fn schema_diagnostic(e: &SchemaError) -> Diagnostic {
+    Diagnostic::error(
+        "step.schema",
+        e.detail(),
+        Location {
+            line: Some(e.line),
+            column: Some(e.column),
+            entity: Some(format!("#{}", e.entity)),
+            ..Location::default()
+        },
+    )
 }
 
 /// A parse error as a diagnostic.
