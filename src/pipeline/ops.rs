@@ -915,18 +915,26 @@ fn layout_tolerance(points: &[Point3]) -> f64 {
     1e-10 * bounding_box_diagonal(points).max(f64::MIN_POSITIVE)
 }
 
-/// Validates input: parse and geometry diagnostics; a file that cannot be read at all is
-/// one error diagnostic.
+/// Validates input: does it conform to its standard? Parse and geometry diagnostics, where
+/// every violation of the standard is an error (also those the reader read anyway, which
+/// reading reports as warnings); a file that cannot be read at all is one error diagnostic.
 pub fn validate(
     bytes: &[u8],
     hint: Option<InputKind>,
     strict: bool,
     settings: &Settings,
 ) -> ValidationReport {
-    match load(bytes, hint, settings) {
+    let mut settings = settings.clone();
+    settings.import.conformance = true;
+    match load(bytes, hint, &settings) {
         Ok(loaded) => ValidationReport::new(
             loaded.document.entities.len(),
-            loaded.document.diagnostics,
+            loaded
+                .document
+                .diagnostics
+                .into_iter()
+                .map(Diagnostic::for_conformance)
+                .collect(),
             strict,
         ),
         Err(e) => ValidationReport::new(0, vec![e.diagnostic], strict),
