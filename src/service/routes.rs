@@ -483,8 +483,14 @@ pub async fn unclamp(
     tag = "geometry",
     request_body = TessellateRequest,
     responses(
-        (status = 200, description = "OBJ text or SVG",
-            content((String = "text/plain"), (String = "image/svg+xml"))),
+        (status = 200, description = "OBJ text, SVG, binary glTF 2.0 (one node per face or \
+                                      curve, named by its id in the file) or binary STL",
+            content(
+                (String = "text/plain"),
+                (String = "image/svg+xml"),
+                (Vec<u8> = "model/gltf-binary"),
+                (Vec<u8> = "model/stl")
+            )),
         FileErrors
     )
 )]
@@ -512,6 +518,8 @@ pub async fn tessellate(
     let media = match format {
         super::api::MeshFormatName::Obj => "text/plain; charset=utf-8",
         super::api::MeshFormatName::Svg => "image/svg+xml",
+        super::api::MeshFormatName::Glb => "model/gltf-binary",
+        super::api::MeshFormatName::Stl => "model/stl",
     };
     Ok(([(header::CONTENT_TYPE, media)], text).into_response())
 }
