@@ -235,6 +235,20 @@ async fn tessellate_glb_nodes_are_named_by_ids() {
     .await;
     assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     assert_eq!(headers[header::CONTENT_TYPE], "model/gltf-binary");
+    // What is left out is said: the 2-D parameter-space curves /v1/info lists.
+    let left: Value = serde_json::from_str(headers["x-nurbsx-left-out"].to_str().unwrap()).unwrap();
+    let flat: Vec<&Value> = info["entities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["dimension"] == 2)
+        .collect();
+    let said = left
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|d| d["code"] == "pcurve_not_written");
+    assert_eq!(said, !flat.is_empty(), "{left}");
     let (doc, bin) = glb_chunks(&body);
     let names: Vec<&str> = doc["nodes"]
         .as_array()
@@ -244,6 +258,13 @@ async fn tessellate_glb_nodes_are_named_by_ids() {
         .collect();
     for n in &names {
         assert!(known.contains(*n), "node {n} names nothing /v1/info knows");
+    }
+    for e in &flat {
+        let id = e["id"].as_str().unwrap();
+        assert!(
+            !names.contains(&id),
+            "2-D curve {id} drawn although said left out"
+        );
     }
     let meshed: BTreeSet<&str> = doc["meshes"]
         .as_array()

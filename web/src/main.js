@@ -90,6 +90,7 @@ async function open(file) {
   $('view-empty').hidden = false;
   $('view-empty').textContent = 'Working…';
   $('view-count').textContent = '';
+  $('left-out').hidden = true;
   $('fit').disabled = true;
   $('convert-go').disabled = true;
   $('convert-result').replaceChildren();
@@ -158,6 +159,7 @@ async function load(file) {
       contentType: 'application/json', responseType: 'arraybuffer', onUpload: progress(2),
     });
     state.view = await viewer.load(r.body);
+    showLeftOut(r.xhr.getResponseHeader('x-nurbsx-left-out'));
     $('view-empty').hidden = state.view.faces.length + state.view.curves.length > 0;
     $('view-empty').textContent = 'Nothing to draw.';
     $('fit').disabled = false;
@@ -169,6 +171,18 @@ async function load(file) {
   } catch (e) {
     fail(e, 'The view could not be built');
   }
+}
+
+/** The tessellation's X-Nurbsx-Left-Out diagnostics, under the view. */
+function showLeftOut(header) {
+  let list = [];
+  try {
+    list = JSON.parse(header ?? '[]');
+  } catch {
+    list = [{ code: 'reply', message: 'the server did not say what the view leaves out' }];
+  }
+  $('left-out').replaceChildren(...list.map((d) => el('li', {}, el('code', {}, d.code), ' ', d.message)));
+  $('left-out').hidden = list.length === 0;
 }
 
 function fail(e, what = 'The file could not be read') {
