@@ -29,6 +29,17 @@ export class Viewer {
     this.scene.add(this.camera);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.render());
+    // Keyboard: arrows pan (OrbitControls), + and - zoom, when the view has the focus.
+    host.tabIndex = 0;
+    this.controls.listenToKeyEvents(host);
+    host.addEventListener('keydown', (e) => {
+      if (e.key === '+' || e.key === '=' || e.key === '-') {
+        const f = e.key === '-' ? 1.25 : 0.8;
+        this.camera.position.sub(this.controls.target).multiplyScalar(f).add(this.controls.target);
+        this.controls.update();
+        e.preventDefault();
+      }
+    });
     this.root = null;
     /** id -> [Object3D] */
     this.byId = new Map();
