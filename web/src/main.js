@@ -323,7 +323,7 @@ function renderTree(info) {
         el('summary', {}, `Shell ${sh.id}`, el('span', { class: 'muted' }, ` ${sh.closed ? 'closed' : 'open'}, ${sh.faces} faces`)),
         el('ul', {}, faces.map(faceRow))));
     };
-    if (s.assemblies > 0) parts.push(el('li', { class: 'muted' }, `${s.assemblies} assembl${s.assemblies === 1 ? 'y' : 'ies'} (instances placed in the view)`));
+    if (s.assemblies > 0) parts.push(el('li', { class: 'muted' }, `${s.assemblies} assembl${s.assemblies === 1 ? 'y' : 'ies'}`));
     for (const so of s.solids) {
       const vol = so.volume != null ? `, volume ${num(so.volume, 6)} ${units}³` : '';
       parts.push(el('li', { class: 'solid' }, el('details', { open: true },
