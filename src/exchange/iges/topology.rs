@@ -125,6 +125,14 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     b.sew(diags);
+    // Faces (510) that no shell names: a lone face, or a surface model written face by face
+    // (IGES 5.3 section 4.150 does not require a 510 to sit in a 514). They share their 504
+    // edge lists already, so they are read as they are, not sewn.
+    for entry in cx.file.entries.iter().flatten() {
+        if entry.entity_type == 510 && !b.faces.contains_key(&entry.pointer) {
+            b.face510(entry, diags);
+        }
+    }
     b.report(diags);
     doc.topology = b.topology;
 }
