@@ -834,6 +834,7 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
             id: id(&o.shells, i),
             closed: s.closed,
             faces: s.faces.len(),
+            face_ids: s.faces.iter().map(|(f, _)| id(&o.faces, f.0)).collect(),
         })
         .collect();
     let solids = m
@@ -844,6 +845,10 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
             id: id(&o.solids, i),
             name: o.solids.get(i).and_then(|x| x.name.clone()),
             shells: 1 + s.voids.len(),
+            shell_ids: std::iter::once(&s.outer)
+                .chain(&s.voids)
+                .map(|sh| id(&o.shells, sh.0))
+                .collect(),
             faces: std::iter::once(&s.outer)
                 .chain(&s.voids)
                 .filter_map(|sh| m.shells.get(sh.0))

@@ -483,8 +483,16 @@ pub async fn unclamp(
     tag = "geometry",
     request_body = TessellateRequest,
     responses(
-        (status = 200, description = "OBJ text or SVG",
-            content((String = "text/plain"), (String = "image/svg+xml"))),
+        (status = 200, description = "OBJ text, SVG, binary glTF 2.0 (one node per face or \
+                                      curve, named by its id in the file) or binary STL; \
+                                      header X-Nurbsx-Left-Out: a JSON array of diagnostics \
+                                      saying what the output leaves out (`[]`: nothing)",
+            content(
+                (String = "text/plain"),
+                (String = "image/svg+xml"),
+                (Vec<u8> = "model/gltf-binary"),
+                (Vec<u8> = "model/stl")
+            )),
         FileErrors
     )
 )]
@@ -495,25 +503,47 @@ pub async fn tessellate(
     let input = Input::from_fields(req.geometry, req.file, None)?;
     let format = req.format;
     let mut settings = state.settings.clone();
-    let text = state
+    let (left_out, mesh) = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
-            Ok(pipeline::tessellate(
+            let plan =
+                pipeline::mesh::plan(&loaded.document, req.entity.as_deref(), format.into())?;
+            let mesh = pipeline::tessellate(
                 &loaded.document,
                 req.entity.as_deref(),
                 req.tolerance,
                 format.into(),
                 &settings,
-            )?)
+            )?;
+            Ok((plan.left_out, mesh))
         })
         .await?;
     let media = match format {
         super::api::MeshFormatName::Obj => "text/plain; charset=utf-8",
         super::api::MeshFormatName::Svg => "image/svg+xml",
+        super::api::MeshFormatName::Glb => "model/gltf-binary",
+        super::api::MeshFormatName::Stl => "model/stl",
     };
-    Ok(([(header::CONTENT_TYPE, media)], text).into_response())
+    let mut response = ([(header::CONTENT_TYPE, media)], mesh).into_response();
+    // What the mesh leaves out, as JSON in a header (non-ASCII escaped: header values are
+    // visible ASCII, RFC 9110 section 5.5).
+    let json = serde_json::to_string(&left_out).unwrap_or_else(|_| "[]".to_owned());
+    let ascii: String = json
+        .encode_utf16()
+        .map(|u| match char::from_u32(u32::from(u)) {
+            Some(c) if c.is_ascii() && !c.is_ascii_control() => c.to_string(),
+            _ => format!("\\u{u:04x}"),
+        })
+        .collect();
+    match HeaderValue::from_str(&ascii) {
+        Ok(v) => {
+            response.headers_mut().insert("x-nurbsx-left-out", v);
+        }
+        Err(e) => tracing::error!(error = %e, "the left-out header could not be built"),
+    }
+    Ok(response)
 }
 
 /// Builds an exact curve or surface (A7.1 arcs, A8.1 revolution, ISO 10303-42 quadrics).
