@@ -1,14 +1,24 @@
 # syntax=docker/dockerfile:1
-# Multi-stage build: compile in the Rust image, run from a slim Debian as a non-root user.
+# Multi-stage build: the web page in a Node image, the binary (which embeds the page's
+# web/dist) in the Rust image, run from a slim Debian as a non-root user.
 #
 #   docker build -t nurbsx .
 #   docker run --rm -p 8080:8080 nurbsx
 #
 # The build needs BuildKit (the default builder since Docker 23) for the cache mounts.
 
+FROM node:20-bookworm-slim AS web
+WORKDIR /web
+COPY web/package.json web/package-lock.json ./
+RUN npm ci --no-audit --no-fund
+COPY web/ ./
+RUN npm run build
+
 FROM rust:1-slim-bookworm AS build
 WORKDIR /src
 COPY . .
+# build.rs embeds web/dist into the binary.
+COPY --from=web /web/dist web/dist
 # The registry and target caches survive between builds; the binary is copied out of the
 # target cache in the same step because cache mounts are not part of the image.
 RUN --mount=type=cache,target=/usr/local/cargo/registry \

@@ -115,3 +115,74 @@ fn freecad_reimports_the_analytic_samples() {
     );
     let _ = std::fs::remove_dir_all(&work);
 }
+
+/// Parts that do not yet survive the conversion, each with the reason; the test requires
+/// them to fail (so a fix shows up here) and every other conversion to pass.
+const PARTS_KNOWN_TO_FAIL: &[(&str, &str)] = &[(
+    "assembly_links",
+    "STEP assembly placements (NEXT_ASSEMBLY_USAGE_OCCURRENCE) are not applied: the part \
+     used twice is written once (warning assembly.not_applied)",
+)];
+
+/// The whole-part samples (`samples/freecad/parts/`) through nurbsx in four directions that
+/// exercise every part reader and writer (STEP -> IGES 144, IGES 186 -> STEP, STEP -> STEP,
+/// IGES 144 -> IGES 186), re-imported by FreeCAD and checked by
+/// `scripts/freecad/live_parts.py`: the same faces and solids (valid), and the same geometry
+/// both ways within 1e-6 of the part's size against FreeCAD's reading of the part's STEP
+/// sample. Open CASCADE's area and volume integrals are printed beside them (see the
+/// script for why they do not gate).
+#[test]
+fn freecad_reimports_the_part_samples() {
+    let Some(freecadcmd) = find_freecadcmd() else {
+        if env::var("NURBSX_REQUIRE_FREECAD").as_deref() == Ok("1") {
+            panic!("FreeCAD required (NURBSX_REQUIRE_FREECAD=1) but freecadcmd is not on PATH");
+        }
+        eprintln!("SKIPPED freecad_live parts: freecadcmd not on PATH");
+        return;
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = env::temp_dir().join(format!("nurbsx-freecad-parts-{}", std::process::id()));
+    std::fs::create_dir_all(&work).unwrap();
+    let report = work.join("report.json");
+    let out = Command::new(&freecadcmd)
+        .arg(root.join("scripts/freecad/live_parts.py"))
+        .current_dir(root)
+        .env("NURBSX_BIN", env!("CARGO_BIN_EXE_nurbsx"))
+        .env("NURBSX_SAMPLES", root.join("samples/freecad/parts"))
+        .env("NURBSX_WORK", &work)
+        .env("NURBSX_REPORT", &report)
+        .env(
+            "NURBSX_DIRECTIONS",
+            "step>iges144,iges186>step,step>step,iges144>iges186",
+        )
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    eprintln!("{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{}", out.status);
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let parts: std::collections::BTreeSet<&str> =
+        rows.iter().map(|r| r["part"].as_str().unwrap()).collect();
+    assert!(parts.len() >= 15, "{} parts checked", parts.len());
+    assert_eq!(rows.len(), 4 * parts.len(), "four directions per part");
+    for r in &rows {
+        let part = r["part"].as_str().unwrap();
+        let problems = r["problems"].as_array().unwrap();
+        let known = PARTS_KNOWN_TO_FAIL.iter().find(|(p, _)| *p == part);
+        match known {
+            Some((_, why)) => {
+                // Still failing (else take it off the list): say why, visibly.
+                if r["from"] == "step" {
+                    assert!(!problems.is_empty(), "{part} passes now: {r}");
+                }
+                if !problems.is_empty() {
+                    eprintln!("KNOWN FAILURE {part} {} -> {}: {why}", r["from"], r["to"]);
+                }
+            }
+            None => assert!(problems.is_empty(), "{part}: {r}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&work);
+}

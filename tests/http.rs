@@ -708,22 +708,31 @@ async fn health_readiness_and_landing_page() {
     let (status, _, body) = send(app(), get("/readyz")).await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(json_of(&body)["status"], "ready");
-    let (status, headers, body) = send(app(), get("/")).await;
-    assert_eq!(status, StatusCode::OK);
-    assert!(
-        headers[header::CONTENT_TYPE]
-            .to_str()
-            .unwrap()
-            .starts_with("text/html")
-    );
-    let html = String::from_utf8(body.to_vec()).unwrap();
-    for path in ROUTES.iter().filter(|(_, p)| p.starts_with("/v1")) {
-        assert!(html.contains(path.1), "landing page lacks {}", path.1);
+    // The endpoint list is at /api; / is the web page when it was built into the binary
+    // (checked against web/dist in tests/web_page.rs), else the same list.
+    let pages: &[&str] = if service::assets::embedded() {
+        &["/api"]
+    } else {
+        &["/api", "/"]
+    };
+    for page in pages {
+        let (status, headers, body) = send(app(), get(page)).await;
+        assert_eq!(status, StatusCode::OK);
+        assert!(
+            headers[header::CONTENT_TYPE]
+                .to_str()
+                .unwrap()
+                .starts_with("text/html")
+        );
+        let html = String::from_utf8(body.to_vec()).unwrap();
+        for path in ROUTES.iter().filter(|(_, p)| p.starts_with("/v1")) {
+            assert!(html.contains(path.1), "{page} lacks {}", path.1);
+        }
     }
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 28] = [
+const ROUTES: [(&str, &str); 30] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -751,6 +760,8 @@ const ROUTES: [(&str, &str); 28] = [
     ("get", "/readyz"),
     ("get", "/metrics"),
     ("get", "/openapi.json"),
+    ("get", "/limits"),
+    ("get", "/api"),
     ("get", "/"),
 ];
 

@@ -25,7 +25,7 @@ use nurbsx::topology::Model;
 fn samples() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
     let mut out = Vec::new();
-    for dir in [root.clone(), root.join("analytic")] {
+    for dir in [root.clone(), root.join("analytic"), root.join("parts")] {
         for e in std::fs::read_dir(&dir).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "igs") {
@@ -138,14 +138,27 @@ fn samples_read_with_freecads_counts() {
                 }
             }
         }
+        // The genus of the solids: the parts state their total in `<part>.source.json`
+        // (the part made in memory; null for a part without solids).
+        let stem = file.trim_end_matches(".igs").trim_end_matches("_brep");
+        let source = p.with_file_name(format!("{stem}.source.json"));
+        let part = p.parent().is_some_and(|d| d.ends_with("parts"));
+        let mut total = 0;
         for s in &m.solids {
             assert!(m.shells[s.outer.0].closed, "{file}");
-            let want = if file.starts_with("filleted_box_with_hole") || file.starts_with("torus") {
-                1
-            } else {
-                0
-            };
-            assert_eq!(genus(m, s.outer.0), Some(want), "{file}");
+            let g = genus(m, s.outer.0).unwrap();
+            if !part {
+                let want = i64::from(
+                    file.starts_with("filleted_box_with_hole") || file.starts_with("torus"),
+                );
+                assert_eq!(g, want, "{file}");
+            }
+            total += g;
+        }
+        if part {
+            let v: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&source).unwrap()).unwrap();
+            assert_eq!(v["genus"].as_i64().unwrap_or(0), total, "{file}");
         }
         // No trim or topology is reported ignored any more.
         assert!(
@@ -509,4 +522,54 @@ fn broken_topology_is_located() {
     // The open shell holds no face (its only face was refused).
     assert_eq!(m.shells.len(), 1);
     assert!(m.shells[0].faces.is_empty());
+}
+
+/// Every part of `samples/freecad/parts` read from STEP, written as IGES 144 faces and read
+/// back (sewn) has the same solids with the same volume (1e-9 relative): a face on the
+/// other side of its surface (`same_sense` false) must reach the IGES faces with its loops
+/// turned, or the sewn solid takes its flux with the wrong sign (the filleted box: 1.5 %).
+#[test]
+fn step_parts_through_iges_144_keep_their_volume() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts");
+    let mut checked = 0;
+    let mut flipped = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "step") {
+            continue;
+        }
+        let src = exchange::read(&std::fs::read(&p).unwrap(), &ImportOptions::default()).unwrap();
+        let m = &src.topology.model;
+        if m.solids.is_empty() {
+            continue;
+        }
+        flipped += m.faces.iter().filter(|f| !f.same_sense).count();
+        let volume = |m: &Model| -> Result<f64, nurbsx::topology::MeasureError> {
+            (0..m.solids.len())
+                .map(|k| m.solid_volume(nurbsx::topology::SolidId(k)))
+                .sum()
+        };
+        let file = name(&p);
+        // A face some of whose coedges have no pcurve cannot be measured (reported by the
+        // reader as pcurve.not_computed); such a part is skipped here, visibly.
+        let want = match volume(m) {
+            Ok(v) => v,
+            Err(e) => {
+                eprintln!("{file}: not measurable ({e}), skipped");
+                continue;
+            }
+        };
+        let text =
+            exchange::write(&src, exchange::Format::Iges, &ExportOptions::default()).unwrap();
+        let back = read_text(&text);
+        assert_eq!(back.topology.model.solids.len(), m.solids.len(), "{file}");
+        let got = volume(&back.topology.model).unwrap();
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "{file}: {got} vs {want}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 6, "{checked} parts with solids measured");
+    assert!(flipped > 0, "no face with same_sense false among the parts");
 }

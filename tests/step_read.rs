@@ -482,7 +482,8 @@ fn one_broken_bspline_among_good_ones() {
         ("step.reference", 11, 7),
         ("step.reference_cycle", 12, 8),
         ("weights.invalid", 13, 9),
-        ("geometry.invalid", 14, 10),
+        // Decreasing distinct knots: ISO 10303-42 constraints_param_b_spline.
+        ("knots.invalid", 14, 10),
         ("knots.invalid", 15, 11),
         ("step.syntax", 16, 12),
         ("step.schema", 17, 13),
@@ -510,6 +511,11 @@ fn one_broken_bspline_among_good_ones() {
         "control point 3 references #404, which is not defined"
     );
     assert_eq!(msg("#12"), "reference cycle #12 -> #12");
+    assert!(
+        msg("#14").starts_with("knots: knot 2 (0) is less than knot 1 (1)"),
+        "{}",
+        msg("#14")
+    );
     assert_eq!(
         msg("#17"),
         "B_SPLINE_CURVE parameter 2 `degree`: expected an integer, found a real"

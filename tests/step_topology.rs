@@ -535,3 +535,161 @@ fn geometry_only_says_what_it_left_out() {
         w[0].message
     );
 }
+
+/// The written text with one face of the closed shell turned over: its ADVANCED_FACE's
+/// `same_sense` and every bound's orientation flipped (the face's other side), and, when
+/// `wrap`, named in the shell through `ORIENTED_FACE(.F.)` so the shell holds the same
+/// oriented face as before (ISO 10303-42 oriented_face).
+fn with_face_turned_over(text: &str, wrap: bool) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let shell = lines
+        .iter()
+        .position(|l| l.contains("= CLOSED_SHELL("))
+        .unwrap();
+    let face = lines[shell]
+        .split("',(")
+        .nth(1)
+        .unwrap()
+        .split([',', ')'])
+        .next()
+        .unwrap()
+        .to_string();
+    let head = format!("{face} = ADVANCED_FACE(");
+    let at = lines.iter().position(|l| l.starts_with(&head)).unwrap();
+    let bounds: Vec<String> = lines[at]
+        .split("',(")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let flip = |l: &str| {
+        let (body, last) = l.rsplit_once(',').unwrap();
+        let turned = if last.starts_with(".T.") {
+            ".F.);"
+        } else {
+            ".T.);"
+        };
+        format!("{body},{turned}")
+    };
+    let next_id = 1 + text
+        .lines()
+        .filter_map(|l| l.strip_prefix('#')?.split(' ').next()?.parse::<u64>().ok())
+        .max()
+        .unwrap();
+    let mut out = Vec::with_capacity(lines.len() + 1);
+    for (i, l) in lines.iter().enumerate() {
+        let id = l.split(' ').next().unwrap_or("");
+        if i == at || bounds.iter().any(|b| b == id) {
+            out.push(flip(l));
+        } else if i == shell && wrap {
+            out.push(format!("#{next_id} = ORIENTED_FACE('',*,{face},.F.);"));
+            out.push(l.replacen(&format!("',({face},"), &format!("',(#{next_id},"), 1));
+        } else {
+            out.push(l.to_string());
+        }
+    }
+    out.join("\n")
+}
+
+/// ORIENTED_FACE in a closed shell (ISO 10303-42 oriented_face) is read as the face it
+/// reverses: the solid still closes, with the same volume; the same face turned over
+/// without it leaves the shell open (so the check can fail).
+#[test]
+fn oriented_face_in_a_closed_shell_is_read() {
+    let src = read_path(&root().join("samples/freecad/parts/loft_bspline.step"));
+    let volume = src
+        .topology
+        .model
+        .solid_volume(nurbsx::topology::SolidId(0))
+        .unwrap();
+    let text = exchange::write(&src, Format::Step, &ExportOptions::default()).unwrap();
+    let wrapped = with_face_turned_over(&text, true);
+    assert!(wrapped.contains("ORIENTED_FACE"));
+    let doc = exchange::read(wrapped.as_bytes(), &ImportOptions::default()).unwrap();
+    let m = &doc.topology.model;
+    assert_eq!(m.solids.len(), 1, "{:?}", doc.diagnostics);
+    let v = m.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    assert!((v - volume).abs() <= 1e-9 * volume, "{v} vs {volume}");
+    let bare = with_face_turned_over(&text, false);
+    let doc = exchange::read(bare.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(doc.topology.model.solids.len(), 0);
+    assert!(
+        doc.diagnostics
+            .iter()
+            .any(|d| d.code == "topology.shell_open")
+    );
+}
+
+/// A face a shell uses reversed (IGES 514 orientation flag 0) is written as an
+/// ADVANCED_FACE turned over, not through ORIENTED_FACE (which Open CASCADE drops from a
+/// closed shell): FreeCAD's B-rep-mode loft has such faces; the STEP re-reads as the same
+/// closed solid.
+#[test]
+fn faces_used_reversed_are_written_turned_over() {
+    let path = root().join("samples/freecad/parts/loft_bspline_brep.igs");
+    let src = read_path(&path);
+    let m = &src.topology.model;
+    assert!(
+        m.shells
+            .iter()
+            .any(|s| s.faces.iter().any(|&(_, same)| !same)),
+        "the sample no longer has a face used reversed"
+    );
+    let volume = m.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    let text = exchange::write(&src, Format::Step, &ExportOptions::default()).unwrap();
+    assert!(!text.contains("ORIENTED_FACE"));
+    let doc = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(ours(&doc), ours(&src));
+    let v = doc
+        .topology
+        .model
+        .solid_volume(nurbsx::topology::SolidId(0))
+        .unwrap();
+    assert!((v - volume).abs() <= 1e-9 * volume, "{v} vs {volume}");
+}
+
+/// Open CASCADE writes every bound of a face as a plain FACE_BOUND; the bound that
+/// contains the others is the outer one (ISO 10303-42 face_bound), and the IGES 144
+/// written from it names it as its outer boundary (N1 = 1, PTO): FreeCAD's lone trimmed
+/// face with a hole keeps its hole through STEP -> IGES.
+#[test]
+fn outer_bound_is_found_when_not_declared() {
+    let path = root().join("samples/freecad/parts/trimmed_face.step");
+    assert!(
+        !std::fs::read_to_string(&path)
+            .unwrap()
+            .contains("FACE_OUTER_BOUND")
+    );
+    let doc = read_path(&path);
+    let face = &doc.topology.model.faces[0];
+    let outer: Vec<usize> = face
+        .loops
+        .iter()
+        .filter(|l| l.outer)
+        .map(|l| l.coedges.len())
+        .collect();
+    // The rectangle (4 edges) bounds the hole (2 edges).
+    assert_eq!(outer, vec![4]);
+    let iges = exchange::write(&doc, Format::Iges, &ExportOptions::default()).unwrap();
+    let back = exchange::read(iges.as_bytes(), &ImportOptions::default()).unwrap();
+    let f = &back.topology.model.faces[0];
+    assert_eq!(f.loops.len(), 2);
+    assert_eq!(
+        f.loops
+            .iter()
+            .filter(|l| l.outer)
+            .map(|l| l.coedges.len())
+            .collect::<Vec<_>>(),
+        vec![4]
+    );
+    let freecad: Value =
+        serde_json::from_str(&std::fs::read_to_string(path.with_extension("step.json")).unwrap())
+            .unwrap();
+    let want = freecad["faces"][0]["area"].as_f64().unwrap();
+    let area = back.topology.model.measure_face(f).unwrap().area;
+    assert!((area - want).abs() <= 1e-6 * want, "{area} vs {want}");
+}

@@ -176,10 +176,6 @@ fn watertight_volume(m: &Model, pm: &PartMesh, shell: usize, what: &str) -> f64 
 /// yet (a torus, spheres and cones cut by their seam in IGES files).
 const MAX_SKIPPED: usize = 12;
 
-/// Files whose faces the reader does not give yet (a lone face in an IGES 186 file is no
-/// manifold solid), so there is nothing to mesh.
-const READER_GAPS: &[&str] = &["trimmed_face_brep.igs"];
-
 /// Every part sample (STEP, IGES 144 faces, IGES 186 B-rep): per-face area and distance,
 /// total area against FreeCAD, closed shells watertight with FreeCAD's volume.
 #[test]
@@ -196,10 +192,6 @@ fn parts_match_exact_measures_and_freecad() {
             let tolerance = 4e-3 * size;
             let doc = read(&parts().join(name));
             let m = &doc.topology.model;
-            if READER_GAPS.contains(&name) {
-                assert!(m.faces.is_empty(), "{name}: the reader now gives faces");
-                continue;
-            }
             let pm = mesh(m, tolerance);
             for (f, why) in &pm.skipped {
                 eprintln!("{name}: face {} left out: {why}", f.0);

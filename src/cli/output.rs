@@ -616,7 +616,25 @@ pub fn rule_description(code: &str) -> String {
         }
         "step.reference" => "A STEP instance refers to an instance that does not exist.",
         "step.reference_cycle" => "STEP instances refer to each other in a cycle.",
-        "step.schema" => "The STEP FILE_SCHEMA is missing or not one nurbsx reads.",
+        "step.schema" => {
+            "A STEP instance's attributes do not match its entity's declaration (count or type)."
+        }
+        "step.header" => {
+            "The STEP HEADER section lacks FILE_DESCRIPTION, FILE_NAME or FILE_SCHEMA, in this order with their attributes (ISO 10303-21 clause 8.2)."
+        }
+        "step.enumeration" => {
+            "A STEP enumeration value is not one of its EXPRESS type's values (ISO 10303-42)."
+        }
+        "knots.repeated" => {
+            "A STEP knot value is written twice in a row; the distinct knots must strictly increase (ISO 10303-42)."
+        }
+        "pointer.invalid" => {
+            "An IGES pointer names no directory entry, the second line of one, or an entity type the field does not allow."
+        }
+        "pointer.cycle" => "IGES entities point to each other in a cycle.",
+        "defaulted_value" => {
+            "IGES parameters without a default in their entity's table are left empty (read as 0)."
+        }
         "iges.syntax" => "An IGES 5.3 record is malformed (fixed columns, sections, delimiters).",
         "iges.entity" => "An IGES directory entry or parameter record is inconsistent.",
         "geometry.invalid" => {

@@ -97,6 +97,12 @@ pub struct Diagnostic {
     pub message: String,
     /// Where in the file.
     pub location: Location,
+    /// A violation of the standard (a "shall" of ISO 10303-21/42 or IGES 5.3) that the
+    /// reader still read with its one unambiguous meaning, losing nothing: a warning for
+    /// reading (`convert`, `info`), an error for the conformance check
+    /// ([`Diagnostic::for_conformance`], what `validate` reports).
+    #[serde(skip)]
+    pub nonconforming: bool,
 }
 
 impl Diagnostic {
@@ -107,6 +113,7 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
+            nonconforming: false,
         }
     }
 
@@ -121,7 +128,30 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
+            nonconforming: false,
         }
+    }
+
+    /// A violation of the standard read anyway with its one meaning (see
+    /// [`Diagnostic::nonconforming`]): a warning until [`Diagnostic::for_conformance`].
+    pub fn nonconforming(
+        code: impl Into<String>,
+        message: impl Into<String>,
+        location: Location,
+    ) -> Self {
+        Diagnostic {
+            nonconforming: true,
+            ..Diagnostic::warning(code, message, location)
+        }
+    }
+
+    /// The diagnostic as the conformance check reports it: every violation of the standard
+    /// is an error, whatever the reader recovered.
+    pub fn for_conformance(mut self) -> Self {
+        if self.nonconforming {
+            self.severity = Severity::Error;
+        }
+        self
     }
 
     /// An informational note.
@@ -131,6 +161,7 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
+            nonconforming: false,
         }
     }
 }

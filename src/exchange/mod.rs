@@ -88,8 +88,8 @@ const MAX_ENCODING_DIAGNOSTICS: usize = 20;
 /// `\X\`, `\X2\`) or Hollerith bytes; raw bytes that are not UTF-8 (a SolidWorks name in
 /// GBK, a Latin-1 label) violate that, but they never decide geometry. Each such byte is
 /// read as `?` (one byte for one, so every later line, column and Hollerith count stays
-/// right), and each line holding some gets an error diagnostic at its first one: `validate`
-/// fails, the geometry is still read.
+/// right), and each line holding some gets a non-conforming diagnostic at its first one:
+/// `validate` fails, `convert` and `info` warn and read the geometry.
 pub fn text_of(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Diagnostic>) {
     if let Ok(text) = std::str::from_utf8(bytes) {
         return (std::borrow::Cow::Borrowed(text), Vec::new());
@@ -114,7 +114,7 @@ pub fn text_of(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Diagnostic>) {
         if reported_line != line {
             reported_line = line;
             if diagnostics.len() < MAX_ENCODING_DIAGNOSTICS {
-                diagnostics.push(Diagnostic::error(
+                diagnostics.push(Diagnostic::nonconforming(
                     "encoding.not_utf8",
                     format!(
                         "byte 0x{:02X} at offset {} is not ASCII or UTF-8 (a name in a legacy encoding?); read as '?'",
@@ -132,7 +132,7 @@ pub fn text_of(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Diagnostic>) {
         text.extend(std::iter::repeat_n('?', bad.len()));
     }
     if diagnostics.len() == MAX_ENCODING_DIAGNOSTICS {
-        diagnostics.push(Diagnostic::error(
+        diagnostics.push(Diagnostic::nonconforming(
             "encoding.not_utf8",
             format!(
                 "{masked} bytes in all are not ASCII or UTF-8; only the first {MAX_ENCODING_DIAGNOSTICS} lines holding them are listed"

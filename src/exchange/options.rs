@@ -24,6 +24,11 @@ pub struct ImportOptions {
     /// edges (`None`: the file's resolution, Global parameter 19, or 1e-7 of the model's
     /// size, whichever is larger).
     pub sew_tolerance: Option<f64>,
+    /// Also check what reading does not need (the conformance check `validate` runs):
+    /// STEP: every instance of the file decoded, its attribute count checked where the
+    /// schema tables know the entity, its references resolved and free of cycles, not only
+    /// the instances the geometry uses.
+    pub conformance: bool,
 }
 
 /// The STEP application protocol to write.

@@ -834,6 +834,7 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
             id: id(&o.shells, i),
             closed: s.closed,
             faces: s.faces.len(),
+            face_ids: s.faces.iter().map(|(f, _)| id(&o.faces, f.0)).collect(),
         })
         .collect();
     let solids = m
@@ -844,6 +845,10 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
             id: id(&o.solids, i),
             name: o.solids.get(i).and_then(|x| x.name.clone()),
             shells: 1 + s.voids.len(),
+            shell_ids: std::iter::once(&s.outer)
+                .chain(&s.voids)
+                .map(|sh| id(&o.shells, sh.0))
+                .collect(),
             faces: std::iter::once(&s.outer)
                 .chain(&s.voids)
                 .filter_map(|sh| m.shells.get(sh.0))
@@ -915,18 +920,26 @@ fn layout_tolerance(points: &[Point3]) -> f64 {
     1e-10 * bounding_box_diagonal(points).max(f64::MIN_POSITIVE)
 }
 
-/// Validates input: parse and geometry diagnostics; a file that cannot be read at all is
-/// one error diagnostic.
+/// Validates input: does it conform to its standard? Parse and geometry diagnostics, where
+/// every violation of the standard is an error (also those the reader read anyway, which
+/// reading reports as warnings); a file that cannot be read at all is one error diagnostic.
 pub fn validate(
     bytes: &[u8],
     hint: Option<InputKind>,
     strict: bool,
     settings: &Settings,
 ) -> ValidationReport {
-    match load(bytes, hint, settings) {
+    let mut settings = settings.clone();
+    settings.import.conformance = true;
+    match load(bytes, hint, &settings) {
         Ok(loaded) => ValidationReport::new(
             loaded.document.entities.len(),
-            loaded.document.diagnostics,
+            loaded
+                .document
+                .diagnostics
+                .into_iter()
+                .map(Diagnostic::for_conformance)
+                .collect(),
             strict,
         ),
         Err(e) => ValidationReport::new(0, vec![e.diagnostic], strict),

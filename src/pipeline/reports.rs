@@ -58,6 +58,8 @@ pub struct SolidInfo {
     pub name: Option<String>,
     /// Shells: the outer one and the voids.
     pub shells: usize,
+    /// Their ids (in `StructureInfo::shells`), the outer one first.
+    pub shell_ids: Vec<String>,
     /// Faces of all its shells.
     pub faces: usize,
     /// Enclosed volume (negative: the shells point inwards), when every face measured.
@@ -74,6 +76,8 @@ pub struct ShellInfo {
     pub closed: bool,
     /// Number of faces.
     pub faces: usize,
+    /// Their ids (in `StructureInfo::faces`).
+    pub face_ids: Vec<String>,
 }
 
 /// One face of a [`StructureInfo`].

@@ -290,6 +290,11 @@ pub enum MeshFormatName {
     Obj,
     /// SVG of curves projected on XY, `image/svg+xml`.
     Svg,
+    /// Binary glTF 2.0, `model/gltf-binary`: one node per face or curve, named by its id
+    /// in the file (`#40`, `D45`); surfaces as indexed triangles, curves as line strips.
+    Glb,
+    /// Binary STL (triangles only), `model/stl`.
+    Stl,
 }
 
 impl From<MeshFormatName> for MeshFormat {
@@ -297,6 +302,8 @@ impl From<MeshFormatName> for MeshFormat {
         match m {
             MeshFormatName::Obj => MeshFormat::Obj,
             MeshFormatName::Svg => MeshFormat::Svg,
+            MeshFormatName::Glb => MeshFormat::Glb,
+            MeshFormatName::Stl => MeshFormat::Stl,
         }
     }
 }

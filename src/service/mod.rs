@@ -9,7 +9,8 @@
 //!   `/v1/reverse`, `/v1/reparameterize`, `/v1/transform`, `/v1/iso`, `/v1/periodic`,
 //!   `/v1/derivative-curve`, `/v1/make`, `/v1/fit`, `/v1/tessellate`
 //!   take JSON with `geometry` (model JSON) or `file` (STEP/IGES text).
-//! - `GET /healthz`, `/readyz`, `/metrics` (Prometheus), `/openapi.json`, `/` (HTML).
+//! - `GET /healthz`, `/readyz`, `/metrics` (Prometheus), `/openapi.json`, `/limits`, `/api` (the
+//!   endpoint list), `/` (the web page, [`assets`]) and the page's files.
 //! - Errors are `{"error":{"code","message","location"}}`: 400 malformed request, 408 body
 //!   too slow, 413 too large (body or reply), 415 unknown format or Content-Type, 422
 //!   unreadable or invalid geometry, 503 overloaded / shutting down / over the time limit,
@@ -22,6 +23,7 @@
 //!   reply (so it is also the keep-alive idle timeout); on shutdown, see [`serve_on`].
 
 pub mod api;
+pub mod assets;
 pub mod error;
 pub mod extract;
 pub mod gate;
@@ -122,6 +124,8 @@ pub struct AppState {
     pub max_concurrency: usize,
     /// The per-request time limit.
     pub request_timeout: Duration,
+    /// The largest request body.
+    pub max_body_bytes: usize,
 }
 
 impl AppState {
@@ -185,6 +189,7 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
         connections: AtomicUsize::new(0),
         max_concurrency: config.max_concurrency,
         request_timeout: config.request_timeout,
+        max_body_bytes: config.max_body_bytes,
     });
     let work = Router::new()
         .route("/v1/convert", post(routes::convert))
@@ -217,6 +222,8 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
         ));
     let router = Router::new()
         .route("/", get(pages::landing))
+        .route("/api", get(pages::api_list))
+        .route("/limits", get(pages::limits))
         .route("/healthz", get(pages::healthz))
         .route("/readyz", get(pages::readyz))
         .route("/metrics", get(pages::metrics))
@@ -409,12 +416,19 @@ fn panic_reply(payload: Box<dyn std::any::Any + Send + 'static>) -> Response {
     ApiError::internal().into_response()
 }
 
-async fn not_found() -> ApiError {
+/// The web page's files ([`assets`]) for GET and HEAD; otherwise a JSON 404.
+async fn not_found(method: axum::http::Method, uri: axum::http::Uri) -> Response {
+    if method == axum::http::Method::GET || method == axum::http::Method::HEAD {
+        if let Some(file) = assets::reply(uri.path().trim_start_matches('/')) {
+            return file;
+        }
+    }
     ApiError::new(
         StatusCode::NOT_FOUND,
         "not_found",
-        "no such endpoint; GET / lists them and /openapi.json describes them",
+        "no such endpoint; GET /api lists them and /openapi.json describes them",
     )
+    .into_response()
 }
 
 async fn method_not_allowed() -> ApiError {

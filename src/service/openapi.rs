@@ -55,6 +55,8 @@ use super::error::{ErrorBody, ErrorDetail};
         super::pages::metrics,
         super::pages::openapi_json,
         super::pages::landing,
+        super::pages::api_list,
+        super::pages::limits,
     ),
     components(schemas(
         ErrorBody, ErrorDetail, EvaluateRequest, ElevateRequest, KnotEndsRequest,
@@ -63,7 +65,7 @@ use super::error::{ErrorBody, ErrorDetail};
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
         ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, SolidInfoDoc, ShellInfoDoc,
         FaceInfoDoc, PartDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
-        GeometryReply, OpNoteDoc, Health, InsertKnotRequest, RefineRequest, ReduceRequest,
+        GeometryReply, OpNoteDoc, Health, Limits, InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
@@ -315,6 +317,8 @@ pub struct SolidInfoDoc {
     pub name: Option<String>,
     /// Outer shell and voids.
     pub shells: usize,
+    /// Their ids (in `shells` of the structure), the outer one first.
+    pub shell_ids: Vec<String>,
     /// Faces.
     pub faces: usize,
     /// Enclosed volume, when every face measured.
@@ -332,6 +336,8 @@ pub struct ShellInfoDoc {
     pub closed: bool,
     /// Faces.
     pub faces: usize,
+    /// Their ids (in `faces` of the structure).
+    pub face_ids: Vec<String>,
 }
 
 /// One face.
@@ -520,4 +526,15 @@ pub struct OpNoteDoc {
 pub struct Health {
     /// `ok`, `ready`, `shutting down` or `saturated`.
     pub status: String,
+}
+
+/// `GET /limits`: what this server accepts, so that a client can say so before sending.
+#[derive(Serialize, ToSchema)]
+pub struct Limits {
+    /// Largest request body in bytes (over it: 413 `limit.body_bytes`).
+    pub max_body_bytes: usize,
+    /// Largest reply an operation may build, in bytes (over it: 413 `limit.reply_bytes`).
+    pub max_reply_bytes: usize,
+    /// Per-request time limit in milliseconds (over it: 503 `timeout`).
+    pub request_timeout_ms: u64,
 }

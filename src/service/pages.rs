@@ -10,7 +10,7 @@ use axum::response::{Html, IntoResponse, Response};
 use utoipa::OpenApi;
 
 use super::AppState;
-use super::openapi::{ApiDoc, Health};
+use super::openapi::{ApiDoc, Health, Limits};
 
 /// Liveness: the process answers.
 #[utoipa::path(get, path = "/healthz", tag = "operations",
@@ -49,6 +49,17 @@ pub async fn readyz(State(state): State<Arc<AppState>>) -> Response {
         .into_response()
 }
 
+/// The request limits of this server.
+#[utoipa::path(get, path = "/limits", tag = "operations",
+    responses((status = 200, description = "Body, reply and time limits", body = Limits)))]
+pub async fn limits(State(state): State<Arc<AppState>>) -> Json<Limits> {
+    Json(Limits {
+        max_body_bytes: state.max_body_bytes,
+        max_reply_bytes: state.settings.max_reply_bytes,
+        request_timeout_ms: u64::try_from(state.request_timeout.as_millis()).unwrap_or(u64::MAX),
+    })
+}
+
 /// Prometheus metrics (text format 0.0.4).
 #[utoipa::path(get, path = "/metrics", tag = "operations",
     responses((status = 200, description = "Prometheus text exposition format 0.0.4",
@@ -83,12 +94,35 @@ pub async fn openapi_json() -> Response {
     ([(header::CONTENT_TYPE, "application/json")], openapi_text()).into_response()
 }
 
-/// An HTML page listing the endpoints with curl examples.
+/// The web page (drop a file, see the part, check it, convert it) when it was built into
+/// the binary ([`super::assets`]); otherwise the API list with how to build the page.
 #[utoipa::path(get, path = "/", tag = "operations",
-    responses((status = 200, description = "HTML landing page", content_type = "text/html", body = String)))]
-pub async fn landing() -> Html<&'static str> {
+    responses((status = 200, description = "The web page, or without it the API list",
+        content_type = "text/html", body = String)))]
+pub async fn landing() -> Response {
+    if let Some(page) = super::assets::reply("index.html") {
+        return page;
+    }
+    static PAGE: OnceLock<String> = OnceLock::new();
+    Html(
+        PAGE.get_or_init(|| LANDING.replacen("<!-- web page -->", NO_WEB_PAGE, 1))
+            .as_str(),
+    )
+    .into_response()
+}
+
+/// An HTML page listing the endpoints with curl examples.
+#[utoipa::path(get, path = "/api", tag = "operations",
+    responses((status = 200, description = "HTML list of the endpoints", content_type = "text/html", body = String)))]
+pub async fn api_list() -> Html<&'static str> {
     Html(LANDING)
 }
+
+/// What `GET /` says when the web page was not built into the binary.
+const NO_WEB_PAGE: &str = r#"<p><strong>The web page is not built into this binary.</strong>
+Build it with Node.js 20 and npm, then rebuild nurbsx, which embeds <code>web/dist</code>:</p>
+<pre>cd web &amp;&amp; npm ci &amp;&amp; npm run build &amp;&amp; cd .. &amp;&amp; cargo build --release</pre>
+"#;
 
 const LANDING: &str = r#"<!doctype html>
 <html lang="en">
@@ -98,9 +132,10 @@ code,pre{font-family:ui-monospace,monospace}pre{background:#f4f4f4;padding:.6rem
 td{padding:.2rem .6rem;vertical-align:top}</style></head>
 <body>
 <h1>nurbsx</h1>
-<p>Exact NURBS exchange between IGES 5.3 (entities 126/128) and STEP (ISO 10303-21/42).
+<p><a href="/">The web page</a>. Exact NURBS exchange between IGES 5.3 (entities 126/128) and STEP (ISO 10303-21/42).
 The full description is <a href="/openapi.json">/openapi.json</a> (OpenAPI 3.1).
 Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
+<!-- web page -->
 <table>
 <tr><td><code>POST /v1/convert?to=step|iges</code></td><td>convert a file (body = the file); options <code>schema=ap203|ap214|ap242</code>, <code>units=mm|in|...</code>, <code>clamp=keep|clamp|unclamp</code>, <code>verify=true|TOL</code>; <code>Accept: application/json</code> for report + file</td></tr>
 <tr><td><code>POST /v1/validate[?strict=true]</code></td><td>diagnostics of a file</td></tr>
@@ -115,8 +150,8 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/iso</code>, <code>/v1/periodic</code>, <code>/v1/derivative-curve</code></td><td>iso-curves, periodic form, derivative curves (A3.3)</td></tr>
 <tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
 <tr><td><code>POST /v1/fit</code></td><td>a curve interpolating points (A9.1)</td></tr>
-<tr><td><code>POST /v1/tessellate</code></td><td>OBJ or SVG under a chord tolerance</td></tr>
-<tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code></td><td>liveness, readiness, Prometheus metrics</td></tr>
+<tr><td><code>POST /v1/tessellate</code></td><td>OBJ, SVG, binary glTF (one node per face or curve, named by its id) or STL under a chord tolerance</td></tr>
+<tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code>, <code>/limits</code></td><td>liveness, readiness, Prometheus metrics, request limits</td></tr>
 </table>
 <h2>Examples</h2>
 <pre>curl -s --data-binary @part.igs -H 'Content-Type: model/iges' \

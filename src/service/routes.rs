@@ -478,15 +478,24 @@ pub async fn unclamp(
 
 /// Tessellates curves (polylines) and surfaces (triangles) under a chord tolerance; the
 /// faces of a part are meshed trimmed by their boundaries and its edges drawn as lines.
-/// `X-Nurbsx-Diagnostics` counts the meshing's warnings (faces left out).
+/// `X-Nurbsx-Diagnostics` counts what the output leaves out (entities not drawn, faces that
+/// could not be meshed) and `X-Nurbsx-Left-Out` lists them as JSON diagnostics.
 #[utoipa::path(
     post,
     path = "/v1/tessellate",
     tag = "geometry",
     request_body = TessellateRequest,
     responses(
-        (status = 200, description = "OBJ text or SVG",
-            content((String = "text/plain"), (String = "image/svg+xml"))),
+        (status = 200, description = "OBJ text, SVG, binary glTF 2.0 (one node per face or \
+                                      curve, named by its id in the file) or binary STL; \
+                                      header X-Nurbsx-Left-Out: a JSON array of diagnostics \
+                                      saying what the output leaves out (`[]`: nothing)",
+            content(
+                (String = "text/plain"),
+                (String = "image/svg+xml"),
+                (Vec<u8> = "model/gltf-binary"),
+                (Vec<u8> = "model/stl")
+            )),
         FileErrors
     )
 )]
@@ -497,30 +506,52 @@ pub async fn tessellate(
     let input = Input::from_fields(req.geometry, req.file, None)?;
     let format = req.format;
     let mut settings = state.settings.clone();
-    let file = state
+    let (mut left_out, file) = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
-            Ok(pipeline::tessellate(
+            let plan =
+                pipeline::mesh::plan(&loaded.document, req.entity.as_deref(), format.into())?;
+            let mesh = pipeline::tessellate(
                 &loaded.document,
                 req.entity.as_deref(),
                 req.tolerance,
                 format.into(),
                 &settings,
-            )?)
+            )?;
+            Ok((plan.left_out, mesh))
         })
         .await?;
     let media = match format {
         super::api::MeshFormatName::Obj => "text/plain; charset=utf-8",
         super::api::MeshFormatName::Svg => "image/svg+xml",
+        super::api::MeshFormatName::Glb => "model/gltf-binary",
+        super::api::MeshFormatName::Stl => "model/stl",
     };
+    // What the mesh leaves out: the plan's (entities not drawn) and the meshing's (faces
+    // that could not be meshed), counted in X-Nurbsx-Diagnostics and given as JSON in
+    // X-Nurbsx-Left-Out (non-ASCII escaped: header values are visible ASCII, RFC 9110
+    // section 5.5).
+    left_out.extend(file.diagnostics);
     let mut response = ([(header::CONTENT_TYPE, media)], file.bytes).into_response();
-    // Faces that could not be meshed (left out of the drawing) are counted here.
-    response.headers_mut().insert(
-        "x-nurbsx-diagnostics",
-        HeaderValue::from(file.diagnostics.len()),
-    );
+    response
+        .headers_mut()
+        .insert("x-nurbsx-diagnostics", HeaderValue::from(left_out.len()));
+    let json = serde_json::to_string(&left_out).unwrap_or_else(|_| "[]".to_owned());
+    let ascii: String = json
+        .encode_utf16()
+        .map(|u| match char::from_u32(u32::from(u)) {
+            Some(c) if c.is_ascii() && !c.is_ascii_control() => c.to_string(),
+            _ => format!("\\u{u:04x}"),
+        })
+        .collect();
+    match HeaderValue::from_str(&ascii) {
+        Ok(v) => {
+            response.headers_mut().insert("x-nurbsx-left-out", v);
+        }
+        Err(e) => tracing::error!(error = %e, "the left-out header could not be built"),
+    }
     Ok(response)
 }
 

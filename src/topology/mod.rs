@@ -210,6 +210,65 @@ impl Model {
         })
     }
 
+    /// The index of the loop that bounds the others, for a face whose bounds do not say
+    /// which one is outer (ISO 10303-42 face_bound: a face_outer_bound is optional, and
+    /// several plain face_bounds leave the outer one to the geometry). The outer loop is the
+    /// one whose box contains the boxes of all the others: in `(u, v)` when every coedge has
+    /// a pcurve, else in model space (the edges' curves). `None` when no loop contains the
+    /// others (a face between two loops that both wrap around a periodic surface).
+    pub fn outer_loop(&self, loops: &[Loop]) -> Option<usize> {
+        const SAMPLES: usize = 16;
+        let in_uv = loops
+            .iter()
+            .all(|l| l.coedges.iter().all(|c| c.pcurve.is_some()));
+        let boxes: Vec<([f64; 3], [f64; 3])> = loops
+            .iter()
+            .map(|l| {
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for c in &l.coedges {
+                    let Some(e) = self.edges.get(c.edge.0) else {
+                        continue;
+                    };
+                    let curve = match (&c.pcurve, in_uv) {
+                        (Some(p), true) => p,
+                        _ => &e.curve,
+                    };
+                    for k in 0..=SAMPLES {
+                        let t = e.range.0 + (e.range.1 - e.range.0) * k as f64 / SAMPLES as f64;
+                        let x = curve.point_at_unchecked(t);
+                        for d in 0..x.len().min(3) {
+                            if x[d].is_finite() {
+                                lo[d] = lo[d].min(x[d]);
+                                hi[d] = hi[d].max(x[d]);
+                            }
+                        }
+                    }
+                }
+                (lo, hi)
+            })
+            .collect();
+        let size = |b: &([f64; 3], [f64; 3])| {
+            (0..3)
+                .map(|d| (b.1[d] - b.0[d]).max(0.0))
+                .filter(|x| x.is_finite())
+                .fold(0.0_f64, |a, x| a.max(x))
+        };
+        let (best, outer) = boxes
+            .iter()
+            .enumerate()
+            .max_by(|a, b| size(a.1).total_cmp(&size(b.1)))?;
+        let slack = 1e-9 * size(outer).max(f64::MIN_POSITIVE);
+        let contains = boxes.iter().enumerate().all(|(i, b)| {
+            i == best
+                || (0..3).all(|d| {
+                    !(b.0[d].is_finite() && b.1[d].is_finite())
+                        || (b.0[d] >= outer.0[d] - slack && b.1[d] <= outer.1[d] + slack)
+                })
+        });
+        contains.then_some(best)
+    }
+
     /// Adds a face after checking every loop (closure through shared vertices, pcurves
     /// against their edges); the pcurve deviations found are stored on the coedges.
     pub fn add_face(

@@ -16,9 +16,33 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 SAMPLES = os.path.join(ROOT, "samples", "freecad")
 
 
+LOADED = {}
+
+
 def read(name):
     with open(os.path.join(SAMPLES, name), "rb") as f:
-        return f.read()
+        data = f.read()
+    LOADED[name] = data
+    return data
+
+
+def source_of(data):
+    """The sample a damaged file was derived from: the loaded sample sharing the longest
+    prefix plus suffix with it, when that covers at least half of the file (whole-file
+    damage such as an empty or a PDF file has no source). The test compares `convert`'s
+    geometry with that sample's."""
+    best, score = None, 0
+    for name, orig in LOADED.items():
+        n = min(len(orig), len(data))
+        pre = 0
+        while pre < n and orig[pre] == data[pre]:
+            pre += 1
+        suf = 0
+        while suf < n - pre and orig[-1 - suf] == data[-1 - suf]:
+            suf += 1
+        if pre + suf > score:
+            best, score = name, pre + suf
+    return best if data and score * 2 >= len(data) else None
 
 
 def clear():
@@ -32,8 +56,11 @@ def emit(name, ext, data, **expect):
         data = data.encode("latin-1")
     with open(os.path.join(HERE, name + ext), "wb") as f:
         f.write(data)
+    src = source_of(data)
+    if src is not None:
+        expect.setdefault("source", src)
     with open(os.path.join(HERE, name + ".expect"), "w") as f:
-        for k in ("code", "line", "column", "entity", "section", "sequence"):
+        for k in ("code", "line", "column", "entity", "section", "sequence", "source"):
             if k in expect:
                 f.write(f"{k}: {expect[k]}\n")
 
@@ -118,7 +145,7 @@ def step_cases():
     # --- B-spline semantics (entity-level errors)
     ent("step_knot_mult_sum_mismatch", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,2,1,2)"), 17, "knot_count_mismatch")
     ent("step_mult_count_mismatch", sub_in(c2, 17, b"(3,1,2,1,3)", b"(3,1,2,4)"), 17, "knots")
-    ent("step_knots_decreasing", sub_in(c2, 17, b"0.466963,1.070586", b"1.070586,0.466963"), 17, "geometry")
+    ent("step_knots_decreasing", sub_in(c2, 17, b"0.466963,1.070586", b"1.070586,0.466963"), 17, "knots.invalid")
     def at(name, data, needle, eid, code, delta=0):
         line, col = line_col(data, data.index(needle) + delta)
         emit(name, ".step", data, code=code, line=line, column=col, entity=f"#{eid}")
@@ -198,6 +225,59 @@ def step_cases():
     d = sub_in(c2, 20, b"20.47863277037", b"\"0F\"")
     ent("step_binary_where_real", d, 17, "step.reference")
 
+    # --- issue 21: what used to pass in silence
+    # An empty instance is a syntax error (ISO 10303-21 clause 10), at its `;`.
+    m = re.search(rb"(?ms)^#17 =.*?;", c2)
+    d = c2[:m.start()] + b"#17 = ;" + c2[m.end():]
+    at("step_empty_instance", d, b"#17 = ;", 17, "step.syntax", delta=6)
+    m = re.search(rb"(?ms)^#13 =.*?;", c2)
+    d = c2[:m.start()] + b"#13 = ;" + c2[m.end():]
+    at("step_empty_instance_not_geometry", d, b"#13 = ;", 13, "step.syntax", delta=6)
+    # ISO 10303-42 constraints_param_b_spline: distinct knots strictly increasing,
+    # multiplicities bounded.
+    ent("step_knot_repeated", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586",
+                                     b"(3,1,1,1,1,3),(-1.25,-0.672195,0.466963,0.466963,1.070586"), 17, "knots.repeated")
+    # 0.466963 twice, multiplicities 2 and 1: one knot of multiplicity 3 > degree 2.
+    ent("step_knot_repeated_over_degree", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586",
+                                                 b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,0.466963"), 17, "knots.invalid")
+    ent("step_interior_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586,",
+                                             b"(3,1,3,3),(-1.25,-0.672195,0.466963,"), 17, "knots.invalid")
+    ent("step_end_multiplicity", sub_in(c2, 17, b"(3,1,2,1,3),(-1.25,-0.672195,0.466963,1.070586,",
+                                        b"(4,2,1,3),(-1.25,0.466963,1.070586,"), 17, "knots.invalid")
+    ent("step_knots_equal_all", sub_in(c2, 17, b"(-1.25,-0.672195,0.466963,1.070586,\n    2.325594)",
+                                       b"(-1.25,-1.25,-1.25,-1.25,-1.25)"), 17, "knots")
+    ent("step_surface_v_knot_repeated", sub_in(srf, 32, b"(4,4),(3,3),(0.,1.),(0.,1.)", b"(4,4),(3,3),(0.,1.),(0.,0.)"), 32, "knots")
+    # Enumeration values outside their EXPRESS type.
+    ent("step_knot_spec_unknown", sub_in(c2, 17, b"2.325594),.UNSPECIFIED.", b"2.325594),.FOO_KNOTS."), 17, "step.enumeration")
+    ent("step_curve_form_unknown", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".SPIRAL_FORM.,.F.,.F."), 17, "step.enumeration")
+    ent("step_surface_form_unknown", sub_in(srf, 32, b".UNSPECIFIED.,.F.,.F.,.F.", b".BLOB_SURF.,.F.,.F.,.F."), 32, "step.enumeration")
+    ent("step_closed_not_logical", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".UNSPECIFIED.,.X.,.F."), 17, "step.schema")
+    ent("step_self_intersect_not_logical", sub_in(c2, 17, b".UNSPECIFIED.,.F.,.F.", b".UNSPECIFIED.,.F.,5"), 17, "step.schema")
+    # Rational weights (ISO 10303-42 RATIONAL_B_SPLINE_CURVE WR2: weights > 0).
+    ent("step_weight_zero_last", sub_in(rat, 17, b"1.,3.))", b"1.,0.))"), 17, "weights")
+    # References anywhere in the file, through instances nurbsx does not convert.
+    ent("step_dangling_product", sub_in(c2, 4, b"'','',#5)", b"'','',#9999)"), 4, "step.reference")
+    ent("step_dangling_context", sub_in(c2, 8, b"#2,'mechanical'", b"#777,'mechanical'"), 8, "step.reference")
+    ent("step_dangling_unit", sub_in(c2, 31, b"LENGTH_MEASURE(1.E-07),#28", b"LENGTH_MEASURE(1.E-07),#2800"), 31, "step.reference")
+    # A cycle #5 -> #6 -> #5: the depth-first search from the first instance enters it at
+    # #5 and meets the back edge in #6, the mutated instance.
+    ent("step_cycle_products", sub_in(c2, 6, b"'','',#7)", b"'','',#5)"), 6, "step.reference_cycle")
+    ent("step_cycle_self_context", sub_in(c2, 8, b"#2,'mechanical'", b"#8,'mechanical'"), 8, "step.reference_cycle")
+    # Attribute counts of entities the schema tables know (DIRECTION: name, ratios).
+    ent("step_direction_extra_attribute", sub_in(c2, 13, b"(0.,0.,1.))", b"(0.,0.,1.),5.)"), 13, "step.schema")
+    ent("step_point_missing_attribute", sub_in(c2, 12, b"CARTESIAN_POINT('',(0.,0.,0.))", b"CARTESIAN_POINT((0.,0.,0.))"), 12, "step.schema")
+    # The header's three entities (ISO 10303-21 clause 8.2), reported at HEADER.
+    hl, hc = line_col(c2, c2.index(b"HEADER;"))
+    d = re.sub(rb"(?s)FILE_NAME\(.*?\);\n", b"", c2, count=1)
+    emit("step_header_no_file_name", ".step", d, code="step.header", line=hl, column=hc)
+    d = c2.replace(b"FILE_DESCRIPTION(('FreeCAD Model'),'2;1');", b"FILE_DESCRIPTION(('FreeCAD Model'));", 1)
+    emit("step_header_description_short", ".step", d, code="step.header", line=hl, column=hc)
+    # Legacy-encoded (GBK) bytes in a name: read, but not ISO 10303-21 (clause 5: strings
+    # carry other characters only through \X\ escapes); at the first such byte.
+    d = sub_in(c2, 7, b"PRODUCT('Open", b"PRODUCT('\xd2\xc6\xb6\xaf Open")
+    line, col = line_col(d, d.index(b"\xd2\xc6"))
+    emit("step_gbk_name", ".step", d, code="encoding.not_utf8", line=line, column=col)
+
 
 
 # ---------------------------------------------------------------- IGES
@@ -235,6 +315,21 @@ def setfield(recs, i, field, value):
     r = recs[i]
     a = (field - 1) * 8
     recs[i] = r[:a] + f"{value:>8}"[:8] + r[a + 8:]
+
+
+def param_seq(recs, de, index):
+    """P sequence number of the line holding parameter `index` (the entity type is 0) of
+    the entity at DE `de`, counted from the joined data columns 1-64 (no Hollerith strings
+    in the records this is used on)."""
+    lines = [r for r in recs if r[72:73] == "P" and int(r[64:72]) == de]
+    data = "".join(r[:64] for r in lines)
+    pos, k = 0, 0
+    while k < index:
+        pos = data.index(",", pos) + 1
+        k += 1
+    while data[pos] == " ":
+        pos += 1
+    return int(lines[pos // 64][73:80])
 
 
 def iges_cases():
@@ -287,8 +382,7 @@ def iges_cases():
     # B-spline semantics: K=6, M=2 in P1
     # K/M inconsistent with the data: the values shift, the knot vector read is invalid;
     # geometric errors are located at the entity's directory entry.
-    ent("iges_k_inconsistent", p1_with(p1.replace("126,6,2,", "126,7,2,", 1)), 1, "geometry", section="D")
-    ent("iges_m_inconsistent", p1_with(p1.replace("126,6,2,", "126,6,3,", 1)), 1, "geometry", section="D")
+    # (K or M one off: see the issue 21 cases below, iges_k_raised ... iges_m_lowered.)
     # A huge K is refused before any allocation: the record ends (P8) long before the
     # 10^10 values it declares.
     ent("iges_k_huge", p1_with(p1.replace("126,6,2,0,0,1,0,-1.25,-1.25,", "126,2147483647,2,0,0,1,0,", 1)), 8, "iges.entity")
@@ -351,6 +445,96 @@ def iges_cases():
     recs = list(base)
     recs[didx(recs, 1)] = recs[didx(recs, 1)][:60]
     emit("iges_short_record", ".igs", join(recs), code="iges.syntax", line=6, column=73)
+    # --- issue 21: counts against the parameter count (IGES 5.3 section 4.23 and 2.2.4.5.2)
+    # K raised by one: the 43 values after PROP4 read as a complete K = 7 curve without its
+    # V(0), V(1) and normal, and as the complete K = 6 one: refused at the entity.
+    ent("iges_k_raised", p1_with(p1.replace("126,6,2,", "126,7,2,", 1)), 1, "iges.entity", section="D")
+    # K lowered: parameter 45 would be the associativity count; it holds a real.
+    ent("iges_k_lowered", p1_with(p1.replace("126,6,2,", "126,5,2,", 1)), param_seq(base, 1, 45), "iges.entity")
+    # M raised: the record ends inside the normal (parameter 48 starts it).
+    ent("iges_m_raised", p1_with(p1.replace("126,6,2,", "126,6,3,", 1)), param_seq(base, 1, 48), "iges.entity")
+    # M lowered: parameter 49 would be the associativity count.
+    ent("iges_m_lowered", p1_with(p1.replace("126,6,2,", "126,6,1,", 1)), param_seq(base, 1, 49), "iges.entity")
+    # K and M both lowered by one: six parameters too many.
+    ent("iges_k_m_lowered", p1_with(p1.replace("126,6,2,", "126,5,1,", 1)), param_seq(base, 1, 44), "iges.entity")
+    # Trailing associativity/property groups: a valid pair of empty groups is read; a
+    # count larger than the pointers that follow is not.
+    recs = list(base)
+    i = pidx(recs, 8)
+    setp(recs, i, "0.986200164,0.164130733,2,1;")
+    ent("iges_assoc_count_too_big", recs, 8, "iges.entity")
+    recs = list(base)
+    setp(recs, i, "0.986200164,0.164130733,0,0,7.5;")
+    ent("iges_after_property_group", recs, 8, "iges.entity")
+    # 128 (surf_poles4x3.igs, D3 from P2, K1 = M1 = 3, K2 = M2 = 2): M1 raised or K1
+    # lowered breaks M1 <= K1, an error at the record's first line; M1 or M2 lowered leaves
+    # parameter 75 where the associativity count would be.
+    for name, new, seq in (("m1_raised", "128,3,2,4,2,", 2),
+                           ("m1_lowered", "128,3,2,2,2,", param_seq(srf, 3, 75)),
+                           ("m2_lowered", "128,3,2,3,1,", param_seq(srf, 3, 75)),
+                           ("k1_lowered", "128,2,2,3,2,", 2)):
+        recs = list(srf)
+        i = pidx(recs, 2)
+        setp(recs, i, (new + recs[i][len("128,3,2,3,2,"):64]).rstrip()[:64])
+        emit(f"iges_surface_{name}", ".igs", join(recs), code="iges.entity", section="P", sequence=seq, entity="D3")
+    # --- pointers of every entity (surf_poles4x3.igs: 144 D1 -> 128 D3, 142 D5; 142 D5 ->
+    # 128 D3, 102 D7, 102 D17; 102 D7 -> 110 D9..D15)
+    def sp(name, seq, text, code, de):
+        recs = list(srf)
+        setp(recs, pidx(recs, seq), text)
+        emit(name, ".igs", join(recs), code=code, section="D", sequence=de, entity=f"D{de}")
+    sp("iges_pointer_missing_de", 1, "144,3,1,0,99;", "pointer.invalid", 1)
+    sp("iges_pointer_even_de", 1, "144,4,1,0,5;", "pointer.invalid", 1)
+    sp("iges_pointer_wrong_type", 1, "144,9,1,0,5;", "pointer.invalid", 1)
+    sp("iges_pointer_negative_past_end", 6, "142,0,3,7,-999,3;", "pointer.invalid", 5)
+    sp("iges_pointer_cycle_self", 7, "102,4,7,11,13,15;", "pointer.cycle", 7)
+    # 102 D7 -> 102 D17 -> 102 D7: the search from D1 (through the 142 D5) enters at D7 and
+    # meets the back edge in D17.
+    recs = list(srf)
+    setp(recs, pidx(recs, 7), "102,4,17,11,13,15;")
+    setp(recs, pidx(recs, 12), "102,4,7,21,23,25;")
+    emit("iges_pointer_cycle_two", ".igs", join(recs), code="pointer.cycle", section="D", sequence=17, entity="D17")
+    sp("iges_pointer_assoc_missing", 8, "110,0.,1.,0.,0.,0.,0.,1,77;", "pointer.invalid", 9)
+    sp("iges_pointer_property_even", 8, "110,0.,1.,0.,0.,0.,0.,0,1,4;", "pointer.invalid", 9)
+    # DE pointer fields: transformation matrix (field 7) to a 128, and past the end.
+    for name, value in (("iges_de_transform_wrong_type", 3), ("iges_de_transform_missing", 61)):
+        recs = list(srf)
+        setfield(recs, didx(recs, 9), 7, value)
+        emit(name, ".igs", join(recs), code="pointer.invalid", section="D", sequence=9, entity="D9")
+    # --- record structure (IGES 5.3 section 2.1): all errors for validate.
+    recs = list(base)
+    r = recs[pidx(recs, 3)]
+    recs[pidx(recs, 3)] = r[:73] + "0000009"
+    emit("iges_sequence_gap", ".igs", join(recs), code="sequence", section="P", sequence=9)
+    recs = list(base)
+    recs[-1] = recs[-1].replace("P      8", "P      9")
+    emit("iges_terminate_count", ".igs", join(recs), code="terminate_count", section="T", sequence=1)
+    recs = list(base)
+    setfield(recs, didx(recs, 2), 4, 7)
+    emit("iges_de_param_line_count", ".igs", join(recs), code="param_line_count", section="D", sequence=2, entity="D1")
+    recs = list(base)
+    recs[pidx(recs, 4)] = recs[pidx(recs, 4)][:64] + recs[pidx(recs, 4)][65:]
+    emit("iges_one_line_79_columns", ".igs", join(recs), code="short_line", section="P", sequence=4)
+    recs = list(base)
+    recs[pidx(recs, 5)] = recs[pidx(recs, 5)] + "X"
+    emit("iges_one_line_81_columns", ".igs", join(recs), code="long_line", section="P", sequence=5)
+    emit("iges_no_start_section", ".igs", join([r for r in base if r[72:73] != "S"]), code="missing_start", section="S")
+    # Global Hollerith count wrong: the error is the count, on its own line.
+    recs = list(base)
+    recs[2] = recs[2].replace("16HOpen CASCADE 7.6", "18HOpen CASCADE 7.6", 1)
+    emit("iges_global_hollerith_count_g2", ".igs", join(recs), code="iges.syntax", section="G", sequence=2, line=3, column=1)
+    # Legacy-encoded bytes in a Global string (same length: counts and columns stay).
+    d = c2.replace(b"13HFilename.iges", b"13H\xc9\xe9\xe8ename.iges", 1)
+    line, col = line_col(d, d.index(b"\xc9"))
+    emit("iges_latin1_global", ".igs", d, code="encoding.not_utf8", line=line, column=col)
+    # --- what the file is instead (line 1)
+    emit("iges_is_pdf", ".igs", b"%PDF-1.4\n1 0 obj\n<<>>\nendobj\n", code="format.other", line=1)
+    emit("iges_is_dxf", ".igs", b"  0\nSECTION\n  2\nENTITIES\n  0\nENDSEC\n  0\nEOF\n", code="format.other", line=1)
+    emit("iges_is_ascii_stl", ".igs", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid x\n", code="format.other", line=1)
+    emit("iges_is_binary_stl", ".igs", b"STL binary".ljust(80, b"\0") + (2).to_bytes(4, "little") + bytes(100), code="format.other", line=1)
+    emit("iges_utf32", ".igs", c2.decode("latin-1").encode("utf-32"), code="encoding.utf32", line=1)
+    emit("iges_whitespace_only", ".igs", b"\n\n   \n", code="format.empty", line=1)
+
     # Global delimiters: parameter and record delimiter the same character
     recs = list(base)
     recs[1] = "1H;,1H;," + recs[1][2:66] + recs[1][72:]

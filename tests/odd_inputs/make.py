@@ -17,8 +17,9 @@ def read(name):
         return f.read().decode("latin-1")
 
 
-def emit(name, ext, text, entities, same_as=None):
-    """`same_as`: the sample this is a pure re-encoding of; its geometry must be identical."""
+def emit(name, ext, text, entities, same_as=None, warnings=None):
+    """`same_as`: the sample this is a pure re-encoding of; its geometry must be identical.
+    `warnings`: how many warnings validate must give (none: not checked)."""
     data = text.encode("latin-1") if isinstance(text, str) else text
     with open(os.path.join(HERE, name + ext), "wb") as f:
         f.write(data)
@@ -26,6 +27,8 @@ def emit(name, ext, text, entities, same_as=None):
         f.write(f"entities: {entities}\n")
         if same_as:
             f.write(f"same_as: {same_as}\n")
+        if warnings is not None:
+            f.write(f"warnings: {warnings}\n")
 
 
 def outside_strings(text, fn):
@@ -109,6 +112,62 @@ def step_cases():
         emit(f"step_{kind}_surface_rational", ".step", replace_instance(srf, 32, cplx), 5)
 
 
+def unit_cases():
+    """The standard ISO 10303-41 unit constructs as other systems write them (issue 21):
+    degrees as a CONVERSION_BASED_UNIT over PLANE_ANGLE_MEASURE_WITH_UNIT, with blanks inside
+    the records, the solid angle unit, and a DERIVED_UNIT no geometry uses."""
+    c2 = read("curve_deg2_clamped.step")
+    radian = "#29 = ( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );"
+    steradian = "#30 = ( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() );"
+    assert radian in c2 and steradian in c2
+    degree = (
+        "#29 =( CONVERSION_BASED_UNIT ( 'DEGREE', #33 )NAMED_UNIT ( #34 )PLANE_ANGLE_UNIT ( ) );\n"
+        "#33 = PLANE_ANGLE_MEASURE_WITH_UNIT ( PLANE_ANGLE_MEASURE ( 0.01745329251994330 ), #35 );\n"
+        "#34 = DIMENSIONAL_EXPONENTS ( 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 );\n"
+        "#35 =( NAMED_UNIT ( * )PLANE_ANGLE_UNIT ( )SI_UNIT ( $, .RADIAN. ) );")
+    emit("step_plane_angle_degrees", ".step", c2.replace(radian, degree), 1, "curve_deg2_clamped.step", 0)
+    derived = (
+        "#30 =( NAMED_UNIT ( * )SI_UNIT ( $, .STERADIAN. )SOLID_ANGLE_UNIT ( ) );\n"
+        "#36 = DERIVED_UNIT ( ( #37 ) );\n"
+        "#37 = DERIVED_UNIT_ELEMENT ( #28, 2.0 );")
+    emit("step_solid_angle_and_derived_units", ".step",
+         c2.replace(radian, degree).replace(steradian, derived), 1, "curve_deg2_clamped.step", 0)
+
+
+def planar_case():
+    """A planar 126 (PROP1 = 1) whose poles lie on x + 2y + 2z = 30 as exactly as doubles
+    allow, written with 12 digits, and whose unit normal (1, 2, 2) / 3 is written with 8,
+    as SolidWorks does: the poles are ~1e-7 from the plane of the normal as written, within
+    what 8 digits carry over the curve's 70 mm (issue 21: no PROP1 warning)."""
+    base = read("curve_deg2_clamped.igs").splitlines()
+    xy = [(1.5, 2.25), (10.125, -3.5), (20.75, 5.0), (30.25, -1.5), (38.5, 7.25), (50.0, 0.5), (58.875, 3.0)]
+    pts = [(x, y, (30 - x - 2 * y) / 2) for x, y in xy]
+    fmt = lambda v: ("%.12g" % v) + ("." if "." not in "%.12g" % v and "e" not in "%.12g" % v else "")
+    n = [1 / 3, 2 / 3, 2 / 3]
+    vals = ["126", "6", "2", "1", "0", "1", "0"]
+    vals += ["-1.25"] * 3 + ["-0.672195", "0.466963", "0.466963", "1.070586"] + ["2.325594"] * 3
+    vals += ["1."] * 7
+    vals += [fmt(c) for p in pts for c in p]
+    vals += ["-1.25", "2.325594"] + ["%.8f" % c for c in n]
+    # Distance of the poles from the plane of the written normal, for the record.
+    nw = [float("%.8f" % c) for c in n]
+    dev = max(abs(sum((p[i] - pts[0][i]) * nw[i] for i in range(3))) for p in pts)
+    assert 1e-8 < dev < 1e-6, dev
+    data = ",".join(vals) + ";"
+    lines, line = [], ""
+    for tok in re.split("(?<=,)", data):
+        if len(line) + len(tok) > 64:
+            lines.append(line)
+            line = ""
+        line += tok
+    lines.append(line)
+    p = [f"{l:<64} {1:>7}P{i + 1:>7}" for i, l in enumerate(lines)]
+    recs = [r for r in base if r[72] in "SGD"]
+    d2 = [i for i, r in enumerate(recs) if r[72] == "D"][1]
+    recs[d2] = recs[d2][:24] + f"{len(p):>8}" + recs[d2][32:]
+    emit("iges_planar_normal_8_digits", ".igs", "\n".join(with_counts(recs + p)) + "\n", 1, warnings=0)
+
+
 def iges_records(text):
     return text.splitlines()
 
@@ -134,7 +193,9 @@ def with_counts(recs):
 
 def iges_cases():
     c2 = read("curve_deg2_clamped.igs")
-    emit("iges_crlf", ".igs", c2.replace("\n", "\r\n"), 1, "curve_deg2_clamped.igs")
+    # CR LF after 80-column records: IGES 5.3 section 2.1 fixes the record, not the line
+    # terminator, so no warning (an informational note only).
+    emit("iges_crlf", ".igs", c2.replace("\n", "\r\n"), 1, "curve_deg2_clamped.igs", 0)
     recs = iges_records(c2)
     # Custom delimiters: '/' between parameters, '#' ends a record.
     g = "".join(r[:72] for r in recs if r[72] == "G").rstrip()
@@ -166,5 +227,7 @@ if __name__ == "__main__":
         if n.endswith((".step", ".igs", ".expect")):
             os.remove(os.path.join(HERE, n))
     step_cases()
+    unit_cases()
     iges_cases()
+    planar_case()
     print(len([x for x in os.listdir(HERE) if x.endswith(".expect")]), "cases")

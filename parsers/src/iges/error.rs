@@ -93,6 +93,11 @@ pub enum ErrorKind {
     /// A count or index is out of range (negative, overflowing, or beyond a limit).
     #[error("{0}")]
     OutOfRange(String),
+    /// The parameters do not add up to what the entity's counts declare: data left after
+    /// the entity's parameters and its associativity and property pointer groups, or a
+    /// record that ends inside its optional tail (IGES 5.3 section 2.2.4.5.2).
+    #[error("{0}")]
+    Arity(String),
     /// A DE or parameter-data pointer points nowhere.
     #[error("{what} pointer {value} points outside the file")]
     BadPointer {
@@ -193,7 +198,7 @@ impl fmt::Display for ParseError {
 pub struct ParseWarning {
     /// Stable code: `crlf`, `short_line`, `long_line`, `sequence`, `missing_start`,
     /// `terminate_count`, `param_line_count`, `delimiter_form`, `global_field`,
-    /// `missing_terminate`.
+    /// `missing_terminate`, `defaulted_value`.
     pub code: &'static str,
     /// Human-readable explanation.
     pub message: String,

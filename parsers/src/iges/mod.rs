@@ -383,7 +383,25 @@ impl<'a> IgesFile<'a> {
             }
         });
         match result {
-            Ok(v) => Ok((warnings, v)),
+            Ok(v) => {
+                let mut warnings = warnings;
+                if r.defaulted() > 0 {
+                    let first = records.first().map_or((0, 0), |r| (r.sequence, r.line));
+                    warnings.push(ParseWarning {
+                        code: "defaulted_value",
+                        message: format!(
+                            "{} parameters (reals, coordinates or flags) are defaulted (empty) and \
+                             read as 0; the entity's table gives them no default",
+                            r.defaulted()
+                        ),
+                        section: 'P',
+                        sequence: first.0,
+                        de: Some(entry.pointer),
+                        line: Some(first.1),
+                    });
+                }
+                Ok((warnings, v))
+            }
             Err(e) => {
                 let e = self.locate(entry, records, end, whole, e);
                 Err((warnings, e))

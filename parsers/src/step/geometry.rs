@@ -299,6 +299,14 @@ pub enum GeometryRecord<'a> {
         /// `true` for CLOSED_SHELL.
         closed: bool,
     },
+    /// `oriented_face` (ISO 10303-42 5.4): `face_element`, `orientation` (`bounds` is
+    /// derived).
+    OrientedFace {
+        /// `face_element`.
+        face_element: u64,
+        /// `orientation`.
+        orientation: bool,
+    },
     /// `oriented_closed_shell` (ISO 10303-42 5.4): `closed_shell_element`, `orientation`
     /// (`cfs_faces` is derived).
     OrientedClosedShell {
@@ -387,6 +395,7 @@ pub const GEOMETRY_ENTITIES: &[&str] = &[
     "FACE_BOUND",
     "ADVANCED_FACE",
     "FACE_SURFACE",
+    "ORIENTED_FACE",
     "VERTEX_LOOP",
     "POLY_LOOP",
     "OPEN_SHELL",
@@ -648,6 +657,10 @@ impl<'a> GeometryItem<'a> {
             "OPEN_SHELL" | "CLOSED_SHELL" => R::Shell {
                 cfs_faces: a.references("CONNECTED_FACE_SET", "cfs_faces")?,
                 closed: entity == "CLOSED_SHELL",
+            },
+            "ORIENTED_FACE" => R::OrientedFace {
+                face_element: a.reference(entity, "face_element")?,
+                orientation: a.boolean(entity, "orientation")?,
             },
             "ORIENTED_CLOSED_SHELL" => R::OrientedClosedShell {
                 closed_shell_element: a.reference(entity, "closed_shell_element")?,

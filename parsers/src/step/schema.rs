@@ -178,6 +178,7 @@ pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
     ("FACE", &["bounds"]),
     ("FACE_SURFACE", &["face_geometry", "same_sense"]),
     ("ADVANCED_FACE", &[]),
+    ("ORIENTED_FACE", &["face_element", "orientation"]),
     ("VERTEX_LOOP", &["loop_vertex"]),
     ("POLY_LOOP", &["polygon"]),
     ("CONNECTED_FACE_SET", &["cfs_faces"]),
@@ -351,6 +352,7 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
         "ADVANCED_FACE",
         &[RI, TRI, "FACE", "FACE_SURFACE", "ADVANCED_FACE"],
     ),
+    ("ORIENTED_FACE", &[RI, TRI, "FACE", "ORIENTED_FACE"]),
     ("VERTEX_LOOP", &[RI, TRI, "LOOP", "VERTEX_LOOP"]),
     ("POLY_LOOP", &[RI, GRI, TRI, "LOOP", "POLY_LOOP"]),
     ("CONNECTED_FACE_SET", &[RI, TRI, "CONNECTED_FACE_SET"]),
@@ -553,6 +555,27 @@ pub fn canonical_name(keyword: &str) -> &str {
         .iter()
         .find(|(s, _)| *s == keyword)
         .map_or(keyword, |(_, l)| l)
+}
+
+/// A complex instance read as one entity (a B-spline, a point) whose partial records
+/// include one the schema tables do not know *with parameters*: its values would be
+/// dropped unread (a misspelt `RATIONAL_B_SPLINE_CURVE` would turn a rational curve into a
+/// polynomial one), so the instance has no unambiguous meaning and is refused. Unknown
+/// partials without parameters carry nothing and are ignored.
+fn refuse_unknown_data(inst: &Instance<'_>, a: &Attributes<'_, '_>) -> Result<(), SchemaError> {
+    if let Body::Complex(records) = &inst.body {
+        if let Some(r) = records
+            .iter()
+            .find(|r| !r.params.is_empty() && own_attributes(canonical_name(r.keyword)).is_none())
+        {
+            return Err(a.error(format!(
+                "partial entity {} carries parameters but is not an entity data type of {}; its values cannot be placed, the instance is not read",
+                r.keyword,
+                a.entity_type()
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn own_attributes(entity: &str) -> Option<&'static [&'static str]> {
@@ -1050,6 +1073,7 @@ impl<'a> CartesianPoint<'a> {
     /// Reads a `CARTESIAN_POINT` (simple or complex).
     pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
         let a = Attributes::of(inst, at)?;
+        refuse_unknown_data(inst, &a)?;
         if !a.has("CARTESIAN_POINT") {
             return Err(a.error(format!(
                 "expected a CARTESIAN_POINT, found {}",
@@ -1151,6 +1175,7 @@ impl<'a> BSplineCurve<'a> {
     /// Reads any B_SPLINE_CURVE instance (simple or complex, partials in any order).
     pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
         let a = Attributes::of(inst, at)?;
+        refuse_unknown_data(inst, &a)?;
         if !a.has("B_SPLINE_CURVE") {
             return Err(a.error(format!(
                 "expected a B_SPLINE_CURVE, found {}",
@@ -1220,6 +1245,7 @@ impl<'a> BSplineSurface<'a> {
     /// Reads any B_SPLINE_SURFACE instance (simple or complex, partials in any order).
     pub fn from_instance(inst: &Instance<'a>, at: At) -> Result<Self, SchemaError> {
         let a = Attributes::of(inst, at)?;
+        refuse_unknown_data(inst, &a)?;
         if !a.has("B_SPLINE_SURFACE") {
             return Err(a.error(format!(
                 "expected a B_SPLINE_SURFACE, found {}",

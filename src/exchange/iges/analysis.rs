@@ -166,6 +166,66 @@ pub fn plane_normal(points: &[Point3], tol: f64) -> Option<Point3> {
     on_plane(points, n, tol).then_some(n)
 }
 
+/// The significant digits and the decimal exponent of the shortest decimal that reads back
+/// as `x` (`0.70710678` has 8 digits, exponent -1); `None` for 0 and non-finite values.
+fn decimal_digits(x: f64) -> Option<(i32, i32)> {
+    if x == 0.0 || !x.is_finite() {
+        return None;
+    }
+    // `{:e}` is the shortest round-trip form: `d.ddddde-X`.
+    let text = format!("{:e}", x.abs());
+    let (mantissa, exponent) = text.split_once('e')?;
+    let digits = mantissa.bytes().filter(u8::is_ascii_digit).count();
+    Some((i32::try_from(digits).ok()?, exponent.parse().ok()?))
+}
+
+/// How far from the plane through `points[0]` with normal `n` the points may lie when both
+/// were written with the digits the writer used. The most significant digits among the
+/// coordinates is taken as the writer's precision for them (a value shown with fewer had
+/// trailing zeros); the normal's own digits give its rounding, unless it is a unit vector
+/// as written (`0.,0.,1.`, `0.6,0.,0.8`: within 1e-12), which is taken as exact. The normal's rounding is turned over the
+/// polygon's extent, plus two points' rounding, plus [`tolerance`].
+pub fn plane_tolerance(points: &[Point3], n: Point3) -> f64 {
+    let len = norm(n);
+    let Some(&p0) = points.first() else {
+        return 0.0;
+    };
+    if len.is_nan() || len <= 0.0 {
+        return 0.0;
+    }
+    let most = |values: &mut dyn Iterator<Item = f64>| {
+        values
+            .filter_map(decimal_digits)
+            .map(|(d, _)| d)
+            .max()
+            .unwrap_or(17)
+    };
+    let rounding = |x: f64, digits: i32| {
+        decimal_digits(x).map_or(0.0, |(_, e)| 0.5 * 10f64.powi(e - digits + 1))
+    };
+    let coordinate_digits = most(&mut points.iter().flatten().copied());
+    let normal = if (len - 1.0).abs() <= 1e-12 {
+        0.0
+    } else {
+        let digits = most(&mut n.iter().copied());
+        n.iter()
+            .map(|&x| rounding(x, digits))
+            .fold(0.0f64, f64::max)
+            / len
+    };
+    let coordinate = points
+        .iter()
+        .flatten()
+        .map(|&x| rounding(x, coordinate_digits))
+        .fold(0.0f64, f64::max);
+    let extent = points
+        .iter()
+        .map(|&q| norm(sub(q, p0)))
+        .fold(0.0f64, f64::max);
+    let sqrt3 = 3f64.sqrt();
+    tolerance(points.iter()) + extent * normal * sqrt3 + 2.0 * sqrt3 * coordinate
+}
+
 /// Whether all points lie within `tol` of the plane through the first point with unit
 /// normal `n`.
 pub fn on_plane(points: &[Point3], n: Point3, tol: f64) -> bool {

@@ -94,7 +94,7 @@ impl Context<'_, '_> {
 /// bounded surfaces, and every trim when read geometry-only), `topology_ignored`
 /// (geometry-only), `entities_skipped`, `no_exact_form`, the topology's codes
 /// (`topology.not_read`, `topology.loop_open`, `topology.edge_vertex`,
-/// `topology.pcurve_deviates`, `topology.pcurve_missing`, `topology.shell_open`,
+/// `topology.pcurve_deviates`, `pcurve.not_computed`, `topology.shell_open`,
 /// `topology.solid_shell_open`, `topology.wrong_entity`, `topology.geometry_missing`,
 /// `topology.no_model_curve`, `topology.vertex_use`, `topology.edge_composite`,
 /// `topology.edge_tolerance`, `topology.outer_missing`), the conversions' codes
@@ -176,8 +176,141 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         ));
     }
     super::topology::read(&cx, &mut doc, &mut diags);
+    if options.conformance {
+        pointer_conformance(&file, &mut diags);
+    }
+    // A finding reached by two paths (an entity decoded for itself and for its user) is
+    // reported once.
+    let mut seen = std::collections::HashSet::new();
+    diags.retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     doc.diagnostics = diags;
     Ok(doc)
+}
+
+/// The conformance check of every entity's pointers, whether nurbsx converts the entity or
+/// not: the DE pointer fields (structure, line font, level, view, transformation matrix,
+/// label display, color; IGES 5.3 section 2.2.4.4) and the parameter pointers the entity
+/// declarations name (chapter 4, with the associativity and property pointers of section
+/// 2.2.4.5.2) must each name the first (odd) line of an existing directory entry, of an
+/// entity type the field allows, and no entity may reach itself through them. An entity
+/// whose parameters do not decode is reported here too.
+fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
+    let count = file.entries.len();
+    // Every entity's outgoing pointers (to DE pointers), for the cycle search.
+    let mut graph: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for entry in file.entries.iter().flatten() {
+        let mut fields: Vec<(&'static str, i64, &'static [i64])> = Vec::new();
+        // DE fields that are pointers when negative (section 2.2.4.4.3-5, .13) or positive.
+        for (name, value, to, negated) in [
+            ("DE structure", entry.structure, &[][..], true),
+            ("DE line font pattern", entry.line_font, &[304][..], true),
+            ("DE level", entry.level, &[406][..], true),
+            ("DE view", entry.view, &[402, 410][..], false),
+            (
+                "DE transformation matrix",
+                entry.transform,
+                &[124][..],
+                false,
+            ),
+            (
+                "DE label display associativity",
+                entry.label_display,
+                &[402][..],
+                false,
+            ),
+            ("DE color", entry.color, &[314][..], true),
+        ] {
+            match (negated, value) {
+                (true, v) if v < 0 => fields.push((name, v, to)),
+                (false, v) if v > 0 => fields.push((name, v, to)),
+                _ => {}
+            }
+        }
+        match file.references(entry) {
+            Some(Ok(refs)) => fields.extend(refs),
+            Some(Err(e)) => diags.push(parse_diag("iges.entity", &e)),
+            None => {}
+        }
+        for (name, value, to) in fields {
+            let p = value.unsigned_abs();
+            let target = usize::try_from(p).ok().and_then(|p| {
+                (p % 2 == 1)
+                    .then(|| file.entries.get(p / 2))
+                    .flatten()
+                    .map(|t| (p, t))
+            });
+            let problem = match target {
+                None if p % 2 == 0 && p > 0 && p / 2 <= count as u64 => Some(format!(
+                    "{name} pointer {value} names the second line of a directory entry; a DE pointer is the odd sequence number of its first line"
+                )),
+                None => Some(format!(
+                    "{name} pointer {value} names no directory entry (the D section has {} lines)",
+                    2 * count
+                )),
+                Some((_, Err(_))) => None, // that entry's own error is reported
+                Some((p, Ok(t))) => {
+                    if let Some(slot) = graph.get_mut(entry.pointer / 2) {
+                        slot.push(p);
+                    }
+                    (!to.is_empty() && !to.contains(&t.entity_type)).then(|| {
+                        format!(
+                            "{name} pointer {value} names a {} entity; the field allows {}",
+                            t.entity_type,
+                            to.iter().map(i64::to_string).collect::<Vec<_>>().join(", ")
+                        )
+                    })
+                }
+            };
+            if let Some(message) = problem {
+                diags.push(Diagnostic::error(
+                    "pointer.invalid",
+                    message,
+                    entity_location(entry),
+                ));
+            }
+        }
+    }
+    // Cycles, by an iterative depth-first search (no recursion on input data).
+    let mut state = vec![0u8; count]; // 0 new, 1 on the path, 2 done
+    for root in 0..count {
+        if state[root] != 0 {
+            continue;
+        }
+        let mut stack: Vec<(usize, usize)> = vec![(root, 0)];
+        state[root] = 1;
+        while let Some(&mut (node, ref mut next)) = stack.last_mut() {
+            let Some(&p) = graph[node].get(*next) else {
+                state[node] = 2;
+                stack.pop();
+                continue;
+            };
+            *next += 1;
+            let child = p / 2;
+            match state.get(child) {
+                Some(0) => {
+                    state[child] = 1;
+                    stack.push((child, 0));
+                }
+                Some(1) => {
+                    let path: Vec<String> = stack
+                        .iter()
+                        .map(|&(n, _)| n)
+                        .skip_while(|&n| n != child)
+                        .chain([child])
+                        .map(|n| format!("D{}", 2 * n + 1))
+                        .collect();
+                    if let Some(Ok(e)) = file.entries.get(node) {
+                        diags.push(Diagnostic::error(
+                            "pointer.cycle",
+                            format!("pointer cycle {}", path.join(" -> ")),
+                            entity_location(e),
+                        ));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
 }
 
 /// What one directory entry gave.
@@ -727,18 +860,25 @@ fn limit_code(e: &ParseError) -> Option<&'static str> {
     }
 }
 
+/// What the parser tolerated. Each is a violation of IGES 5.3 (80-column records and
+/// consecutive sequence numbers, section 2.1; Terminate counts, section 2.2.4.6; DE field
+/// 14, section 2.2.4.4; the Global section, section 2.2.4.3) read with its one meaning:
+/// non-conforming, an error for `validate`. CR LF line ends are not: the standard fixes the
+/// 80 columns of a record, not the line terminator outside them (section 2.1), so a file
+/// whose every line is 80 columns plus CR LF conforms; that is an informational note.
 fn warning_diag(w: &ParseWarning) -> Diagnostic {
-    Diagnostic::warning(
-        w.code,
-        w.message.clone(),
-        Location {
-            line: w.line,
-            column: None,
-            entity: w.de.map(|d| format!("D{d}")),
-            section: (w.section != ' ').then_some(w.section),
-            sequence: (w.sequence != 0).then_some(w.sequence),
-        },
-    )
+    let location = Location {
+        line: w.line,
+        column: None,
+        entity: w.de.map(|d| format!("D{d}")),
+        section: (w.section != ' ').then_some(w.section),
+        sequence: (w.sequence != 0).then_some(w.sequence),
+    };
+    if w.code == "crlf" {
+        Diagnostic::info(w.code, w.message.clone(), location)
+    } else {
+        Diagnostic::nonconforming(w.code, w.message.clone(), location)
+    }
 }
 
 /// The 124 chain of an entity, or an error diagnostic.
@@ -814,7 +954,8 @@ fn check_limits(
 
 fn flag(value: i64, name: &str, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
     if value != 0 && value != 1 {
-        diags.push(Diagnostic::warning(
+        // IGES 5.3 sections 4.23/4.24: PROP1-5 are 0 or 1.
+        diags.push(Diagnostic::nonconforming(
             "flag_invalid",
             format!(
                 "{name} = {value}; IGES allows 0 or 1 (read as {})",
@@ -920,6 +1061,20 @@ pub(super) fn read_curve(
         return None;
     }
     let loc = entity_location(entry);
+    if rec.v0.is_none() && full_with_one_pole_less(&rec) {
+        diags.push(Diagnostic::error(
+            "iges.entity",
+            format!(
+                "the record ends after its control points (no V(0), V(1)), and its {} parameters \
+                 also read as a complete 126 with K = {}: K does not decide between the two; \
+                 entity not loaded",
+                5 * rec.points.len() + rec.degree + 7,
+                rec.points.len().saturating_sub(2)
+            ),
+            loc,
+        ));
+        return None;
+    }
     let mut meta = Meta {
         name: name_of(entry),
         form: Some(entry.form.to_string()),
@@ -999,9 +1154,9 @@ pub(super) fn read_curve(
                 ));
             }
         }
-        _ => diags.push(Diagnostic::warning(
+        _ => diags.push(Diagnostic::nonconforming(
             "missing_param_range",
-            format!("V(0)/V(1) absent: the knot domain [{d0}, {d1}] is used"),
+            format!("V(0)/V(1) absent (IGES 5.3 section 4.23 requires them): the knot domain [{d0}, {d1}] is used"),
             loc.clone(),
         )),
     }
@@ -1013,16 +1168,21 @@ pub(super) fn read_curve(
                 for t in &ts {
                     m = t.apply_linear(m);
                 }
-                if !analysis::on_plane(curve.control_points(), m, tol) {
+                // In the file's own numbers (planarity does not depend on the placement),
+                // within what their written digits carry.
+                let written = analysis::plane_tolerance(&rec.points, n)
+                    .max(file.global.resolution.unwrap_or(0.0));
+                if !analysis::on_plane(&rec.points, n, written) {
                     diags.push(Diagnostic::warning(
                         "flag_mismatch",
-                        "PROP1 (planar) = 1 but the control points do not lie in the plane of the given normal".to_owned(),
+                        "PROP1 (planar) = 1 but the control points do not lie in the plane of the given normal (beyond the precision of the digits written)".to_owned(),
                         loc.clone(),
                     ));
                 }
                 meta.plane_normal = Some(m);
             }
-            _ => diags.push(Diagnostic::warning(
+            // IGES 5.3 section 4.23: a planar curve carries its unit normal.
+            _ => diags.push(Diagnostic::nonconforming(
                 "missing_normal",
                 "PROP1 (planar) = 1 but the plane normal is absent or zero".to_owned(),
                 loc.clone(),
@@ -1059,6 +1219,41 @@ pub(super) fn read_curve(
         curve
     };
     Some((Geometry::Curve(curve), meta))
+}
+
+/// Whether a 126 that ends after its control points (`17 + 5K + M - 5` parameters) is also
+/// a complete record with `K - 1`: the same parameters read as `K + M + 1` knots, `K`
+/// weights, `K` points, V(0), V(1) and the normal (IGES 5.3 section 4.23). A raised K turns
+/// a complete record into exactly such a short one, so when the shorter reading is a valid
+/// curve with its range inside its knots, the record has two meanings and is not read.
+fn full_with_one_pole_less(rec: &Curve126) -> bool {
+    let m = rec.degree;
+    let Some(k) = rec.points.len().checked_sub(2) else {
+        return false;
+    };
+    if k < m || m == 0 {
+        return false;
+    }
+    let flat: Vec<f64> = rec
+        .knots
+        .iter()
+        .chain(&rec.weights)
+        .copied()
+        .chain(rec.points.iter().flatten().copied())
+        .collect();
+    let (nk, n) = (k + m + 2, k + 1);
+    let (Some(knots), Some(weights), Some(&[v0, v1])) = (
+        flat.get(..nk),
+        flat.get(nk..nk + n),
+        flat.get(nk + 4 * n..nk + 4 * n + 2),
+    ) else {
+        return false;
+    };
+    knots.windows(2).all(|w| w[0] <= w[1])
+        && weights.iter().all(|&w| w > 0.0)
+        && knots[m] <= v0
+        && v0 < v1
+        && v1 <= knots[k + 1]
 }
 
 /// The curve on exactly `[a, b]` (inside its domain): split at `a` and at `b` by knot
@@ -1229,9 +1424,9 @@ fn read_surface(
                 ));
             }
         }
-        None => diags.push(Diagnostic::warning(
+        None => diags.push(Diagnostic::nonconforming(
             "missing_param_range",
-            format!("U(0)..V(1) absent: the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
+            format!("U(0)..V(1) absent (IGES 5.3 section 4.24 requires them): the knot domain [{u0}, {u1}] x [{v0}, {v1}] is used"),
             loc.clone(),
         )),
     }

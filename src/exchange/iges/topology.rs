@@ -125,6 +125,14 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     b.sew(diags);
+    // Faces (510) that no shell names: a lone face, or a surface model written face by face
+    // (IGES 5.3 section 4.150 does not require a 510 to sit in a 514). They share their 504
+    // edge lists already, so they are read as they are, not sewn.
+    for entry in cx.file.entries.iter().flatten() {
+        if entry.entity_type == 510 && !b.faces.contains_key(&entry.pointer) {
+            b.face510(entry, diags);
+        }
+    }
     b.report(diags);
     doc.topology = b.topology;
 }
@@ -311,7 +319,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         }
         if sewing.lost_pcurves > 0 {
             diags.push(Diagnostic::warning(
-                "topology.pcurve_missing",
+                "pcurve.not_computed",
                 format!(
                     "{} parameter-space curves could not be carried to their sewn edges",
                     sewing.lost_pcurves
@@ -344,9 +352,10 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             ));
         }
         if self.no_pcurve > 0 {
-            // The faces keep their exact 3-D boundaries; only this derived form is missing.
-            diags.push(Diagnostic::info(
-                "topology.pcurve_missing",
+            // The faces keep their exact 3-D boundaries; only this derived form is missing,
+            // but the faces' area, volume and mesh need it: a warning, as for STEP.
+            diags.push(Diagnostic::warning(
+                "pcurve.not_computed",
                 format!(
                     "{} of {} coedges have no parameter-space curve (neither given exactly nor found by projection within the edge tolerance {:e})",
                     self.no_pcurve, self.coedges, self.tol

@@ -236,11 +236,21 @@ fn trimmed_face<'d>(
     ordered.sort_by_key(|l| !l.outer);
     let mut boundaries = Vec::with_capacity(ordered.len());
     for l in &ordered {
+        // A 144 has no orientation of its own: its side is its surface's normal, with the
+        // region on the left of its boundaries seen from there (IGES 5.3 section 4.34). A
+        // face on the other side of its surface (`same_sense` false) has its loops run the
+        // other way round, so a reader orients it as the surface does and does not take the
+        // loops for the face's side.
+        let coedges: Vec<(&'d Coedge, bool)> = if face.same_sense {
+            l.coedges.iter().map(|c| (c, c.forward)).collect()
+        } else {
+            l.coedges.iter().rev().map(|c| (c, !c.forward)).collect()
+        };
         // Model space: one 126 per coedge, in the loop's direction.
-        let mut model_pieces = Vec::with_capacity(l.coedges.len());
-        for c in &l.coedges {
+        let mut model_pieces = Vec::with_capacity(coedges.len());
+        for &(c, forward) in &coedges {
             let edge = &model.edges[c.edge.0];
-            let (curve, range) = along(&edge.curve, edge.range, c.forward);
+            let (curve, range) = along(&edge.curve, edge.range, forward);
             let mut m = edge_meta(c.edge);
             m.parameter_range = Some(ParameterRange { u: range, v: None });
             model_pieces.push(items.curve(curve, &m, 1));
@@ -254,7 +264,7 @@ fn trimmed_face<'d>(
                 members: model_pieces,
             },
         );
-        let parameter_curve = parameter_loop(model, face, &l.coedges).map(|pieces| {
+        let parameter_curve = parameter_loop(model, face, &coedges).map(|pieces| {
             let members = pieces
                 .into_iter()
                 .map(|(curve, range)| {
@@ -326,19 +336,19 @@ fn along(
 fn parameter_loop<'d>(
     model: &'d Model,
     face: &Face,
-    coedges: &'d [Coedge],
+    coedges: &[(&'d Coedge, bool)],
 ) -> Option<Vec<Piece<'d>>> {
     let ((u0, u1), (v0, v1)) = face.surface.domain();
     let tol = PCURVE_CHAIN_TOL * (u1 - u0).abs().max((v1 - v0).abs()).max(1.0);
     let mut pieces = Vec::with_capacity(coedges.len());
-    for c in coedges {
+    for &(c, forward) in coedges {
         let p = c.pcurve.as_ref()?;
         let edge = &model.edges[c.edge.0];
         let (d0, d1) = p.domain();
         if edge.range.0 < d0 || edge.range.1 > d1 {
             return None;
         }
-        pieces.push(along(p, edge.range, c.forward));
+        pieces.push(along(p, edge.range, forward));
     }
     let n = pieces.len();
     for i in 0..n {

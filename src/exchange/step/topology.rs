@@ -508,6 +508,13 @@ impl Build<'_, '_, '_, '_> {
             loops[0].outer = true;
         }
         self.pcurves(surface, &mut loops, same_sense);
+        // Bounds that do not say which one is outer (all plain face_bounds, as Open CASCADE
+        // writes them): the one that contains the others is (ISO 10303-42 face_bound).
+        if loops.len() > 1 && !loops.iter().any(|l| l.outer) {
+            if let Some(k) = self.topology.model.outer_loop(&loops) {
+                loops[k].outer = true;
+            }
+        }
         let with_pcurves = loops.clone();
         match self
             .topology
@@ -599,8 +606,16 @@ impl Build<'_, '_, '_, '_> {
         let mut faces = Vec::with_capacity(cfs_faces.len());
         let mut absent = Vec::new();
         for f in cfs_faces {
-            match self.faces.get(f) {
-                Some(&x) => faces.push((x, true)),
+            // A face, or an ORIENTED_FACE reversing one (ISO 10303-42 oriented_face).
+            let (face, same) = match self.conv.items.get(f).map(|i| &i.record) {
+                Some(R::OrientedFace {
+                    face_element,
+                    orientation,
+                }) => (*face_element, *orientation),
+                _ => (*f, true),
+            };
+            match self.faces.get(&face) {
+                Some(&x) => faces.push((x, same)),
                 None => absent.push(*f),
             }
         }

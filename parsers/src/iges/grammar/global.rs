@@ -198,10 +198,31 @@ pub fn global_section(
     }
     let mut reader = ParameterReader::new(&b[after2..], Delimiters { param, record }, 4096);
     let mut index = 3;
-    while let Some((start, p)) = reader
-        .parameter()
-        .map_err(|e| locate(e.offset(b), grammar_kind(e.cause)))?
-    {
+    loop {
+        let before = reader.rest();
+        let next = reader.parameter().map_err(|e| {
+            // A Hollerith count that does not end its string at a delimiter is wrong: the
+            // error is the count (IGES 5.3 section 2.2.2.4: nH then exactly n characters),
+            // on its own line, not where the miscounted string happens to end.
+            let from = b.len() - before.len();
+            let from = from + before.iter().take_while(|&&c| c == b' ').count();
+            let digits = b[from..].iter().take_while(|c| c.is_ascii_digit()).count();
+            if digits > 0 && b.get(from + digits) == Some(&b'H') {
+                let count = String::from_utf8_lossy(&b[from..from + digits]).into_owned();
+                locate(
+                    from,
+                    ErrorKind::OutOfRange(format!(
+                        "Global parameter {index}: the Hollerith count {count}H does not end the string at a delimiter ({})",
+                        grammar_kind(e.cause)
+                    )),
+                )
+            } else {
+                locate(e.offset(b), grammar_kind(e.cause))
+            }
+        })?;
+        let Some((start, p)) = next else {
+            break;
+        };
         let Some(&(ty, name)) = TYPES.get(index - 1) else {
             let extra = 1 + reader
                 .skip_rest()

@@ -363,6 +363,8 @@ pub struct ParameterReader<'a> {
     /// The parameter count the record's declared counts need, and what for (the entity
     /// type and the counts it was computed from), once known.
     expected: Option<Expected>,
+    /// Repeated reals (knots, weights, coordinates) given as defaults, read as 0.0.
+    defaulted: usize,
 }
 
 /// What a record must hold once its counts are read: the parameters after the entity
@@ -384,6 +386,7 @@ impl<'a> ParameterReader<'a> {
             done: false,
             max,
             expected: None,
+            defaulted: 0,
         }
     }
 
@@ -395,6 +398,31 @@ impl<'a> ParameterReader<'a> {
     /// The index of the next parameter.
     pub fn index(&self) -> usize {
         self.index
+    }
+
+    /// How many required values were defaults ([`ParameterReader::reals`],
+    /// [`ParameterReader::points`], [`ParameterReader::required_real`],
+    /// [`ParameterReader::required_flag`]), read as 0: the tables of chapter 4 give knots,
+    /// weights, coordinates and PROP flags no default, so each is a parameter the writer
+    /// left out.
+    pub fn defaulted(&self) -> usize {
+        self.defaulted
+    }
+
+    /// A required real (the entity's table gives it no default), counting a default.
+    pub fn required_real(&mut self, name: &'static str) -> Result<f64, Error<'a>> {
+        if !self.done && at_default(self.d, self.rest) {
+            self.defaulted += 1;
+        }
+        self.real(name)
+    }
+
+    /// A flag (0 when defaulted), counting a default.
+    pub fn required_flag(&mut self, name: &'static str) -> Result<i64, Error<'a>> {
+        if !self.done && at_default(self.d, self.rest) {
+            self.defaulted += 1;
+        }
+        self.integer(name, Some(0))
     }
 
     /// Whether the record delimiter has been read.
@@ -537,6 +565,10 @@ impl<'a> ParameterReader<'a> {
             let Some((x, next, end)) = real_value(self.d, rest, at) else {
                 break;
             };
+            // A default reads 0.0: only then is it worth looking (counted, see `defaulted`).
+            if x == 0.0 && at_default(self.d, rest.get(at..).unwrap_or_default()) {
+                self.defaulted += 1;
+            }
             v.push(x);
             at = next;
             self.done = end == End::Record;
@@ -544,7 +576,7 @@ impl<'a> ParameterReader<'a> {
         self.index += v.len();
         self.rest = rest.get(at..).unwrap_or_default();
         for _ in v.len()..count {
-            v.push(self.real(name)?);
+            v.push(self.required_real(name)?);
         }
         Ok(v)
     }
@@ -570,6 +602,11 @@ impl<'a> ParameterReader<'a> {
             let Some((z, c, end)) = real_value(self.d, rest, b) else {
                 break;
             };
+            for (value, from) in [(x, at), (y, a), (z, b)] {
+                if value == 0.0 && at_default(self.d, rest.get(from..).unwrap_or_default()) {
+                    self.defaulted += 1;
+                }
+            }
             v.push([x, y, z]);
             at = c;
             self.done = end == End::Record;
@@ -578,9 +615,9 @@ impl<'a> ParameterReader<'a> {
         self.rest = rest.get(at..).unwrap_or_default();
         for _ in v.len()..count {
             v.push([
-                self.real(name[0])?,
-                self.real(name[1])?,
-                self.real(name[2])?,
+                self.required_real(name[0])?,
+                self.required_real(name[1])?,
+                self.required_real(name[2])?,
             ]);
         }
         Ok(v)

@@ -99,8 +99,8 @@ pub struct Curve126 {
     pub v1: Option<f64>,
     /// The unit normal, absent when the record ends before it.
     pub normal: Option<[f64; 3]>,
-    /// Parameters after the full record (associativity/property pointer groups, or extra
-    /// values some writers add).
+    /// Parameters after the full record (the associativity and property pointer groups
+    /// with their counts).
     pub extra: usize,
 }
 

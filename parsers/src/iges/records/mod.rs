@@ -152,6 +152,9 @@ pub enum Repeat {
     Optional,
     /// As many times as the count says.
     Times(Count),
+    /// As many times as the count says, or absent when the record ends before it (the
+    /// arbitrary values some tables end with).
+    OptionalTimes(Count),
     /// The fields of a group, repeated as many times as the count says.
     Group(Count, &'static [Field]),
 }
@@ -209,6 +212,15 @@ impl Field {
             name,
             ty,
             repeat: Repeat::Optional,
+        }
+    }
+
+    /// A field repeated `count` times, or absent at the record's end.
+    pub const fn optional_times(name: &'static str, ty: Type, count: Count) -> Field {
+        Field {
+            name,
+            ty,
+            repeat: Repeat::OptionalTimes(count),
         }
     }
 
@@ -310,9 +322,11 @@ pub enum Value<'a> {
 pub struct Values<'a> {
     fields: &'static [Field],
     values: Vec<Value<'a>>,
-    /// Parameters after the declared ones (associativity and property pointers, or values
-    /// some writers add); 0 for a group.
+    /// Parameters after the declared ones (the associativity and property pointer groups
+    /// with their counts); 0 for a group.
     pub extra: usize,
+    /// The associativity and property pointers (IGES 5.3 section 2.2.4.5.2).
+    pub additional: Vec<i64>,
 }
 
 impl<'a> Values<'a> {
@@ -390,6 +404,12 @@ impl<'a> Values<'a> {
         // The declaration, not the input, bounds the depth: groups nest as the standard's
         // tables do (at most two levels here).
         self.pointers_into(&mut out);
+        out.extend(
+            self.additional
+                .iter()
+                .filter(|&&p| p != 0)
+                .map(|&p| ("associativity or property pointer", p, &[][..])),
+        );
         out
     }
 
@@ -418,7 +438,7 @@ pub fn required(fields: &[Field], head: &Head) -> Option<usize> {
     for f in fields {
         let k = match f.repeat {
             Repeat::One => f.ty.width(),
-            Repeat::Optional => 0,
+            Repeat::Optional | Repeat::OptionalTimes(_) => 0,
             Repeat::Times(c) => c.of(head).ok()?.checked_mul(f.ty.width())?,
             Repeat::Group(c, inner) => {
                 let count = c.of(head).ok()?;
@@ -447,8 +467,60 @@ pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'
         r.expect(n, schema.entity, Vec::new());
     }
     let mut values = read_fields(schema, schema.fields, r, &mut head, first, true)?;
-    values.extra = r.skip_rest()?;
+    let start = r.index();
+    additional_pointers(r, &mut values.additional)?;
+    values.extra = r.index() - start;
     Ok(values)
+}
+
+/// The two optional groups after an entity's own parameters (IGES 5.3 section 2.2.4.5.2):
+/// `NA` and `NA` associativity pointers, then `NP` and `NP` property pointers. Anything
+/// else there (a real, a string, parameters after the last group) means the entity's
+/// counts do not match its data: an [`ErrorKind::Arity`] error, never a shifted reading.
+fn additional_pointers<'a>(
+    r: &mut ParameterReader<'a>,
+    out: &mut Vec<i64>,
+) -> Result<(), Error<'a>> {
+    for (count, pointer) in [
+        ("NA (associativity count)", "associativity pointer"),
+        ("NP (property count)", "property pointer"),
+    ] {
+        if r.done() {
+            return Ok(());
+        }
+        let (at, index) = (r.rest(), r.index());
+        let n = r.integer(count, Some(0)).map_err(|_| {
+            Error::format(
+                at,
+                ErrorKind::Arity(format!(
+                    "parameter {index} is not an integer {count} after the entity's own \
+                     parameters: the counts in the record do not match its data"
+                )),
+            )
+        })?;
+        let n = usize::try_from(n).map_err(|_| {
+            Error::format(
+                at,
+                ErrorKind::OutOfRange(format!("{count} = {n} is negative")),
+            )
+        })?;
+        for _ in 0..n {
+            // One pointer per parameter read: a hostile count allocates nothing ahead.
+            out.push(r.integer(pointer, None)?);
+        }
+    }
+    if r.done() {
+        return Ok(());
+    }
+    let at = r.rest();
+    let left = r.skip_rest()?;
+    Err(Error::format(
+        at,
+        ErrorKind::Arity(format!(
+            "{left} parameters after the entity's parameters and its associativity and \
+             property pointer groups: the counts in the record do not match its data"
+        )),
+    ))
 }
 
 fn read_fields<'a>(
@@ -461,6 +533,9 @@ fn read_fields<'a>(
 ) -> Result<Values<'a>, Error<'a>> {
     let mut values = Vec::with_capacity(fields.len());
     let mut expecting = false;
+    // An optional parameter was present: the record may not end before the next optional
+    // real (the 126's V(0), V(1); the 128's U(0)..V(1) go together).
+    let mut tail_started = false;
     for f in fields {
         let count = |c: &Count, head: &Head| {
             c.of(head)
@@ -476,7 +551,7 @@ fn read_fields<'a>(
         let v = match (f.repeat, f.ty) {
             (Repeat::One, ty) => one(r, f.name, ty, head)?,
             (Repeat::Optional, Type::Point) => {
-                let start = r.index();
+                let (start, at) = (r.index(), r.rest());
                 let xyz = [r.parameter()?, r.parameter()?, r.parameter()?];
                 match xyz {
                     [Some(x), Some(y), Some(z)] => {
@@ -490,14 +565,23 @@ fn read_fields<'a>(
                             }
                         }
                     }
-                    // Fewer than three parameters left: no point (and nothing extra).
-                    _ => Value::Absent,
+                    // The record ended before the point: absent.
+                    [None, ..] => Value::Absent,
+                    // The record ends inside the point.
+                    _ => return Err(tail_cut(at, f.name)),
                 }
             }
-            (Repeat::Optional, Type::Real) => match r.optional_real(f.name)? {
-                Some(x) => Value::Real(x),
-                None => Value::Absent,
-            },
+            (Repeat::Optional, Type::Real) => {
+                if r.done() && tail_started {
+                    // V(0) without V(1), U(0) without the rest: the record ends inside
+                    // a group of parameters that go together.
+                    return Err(tail_cut(r.rest(), f.name));
+                }
+                match r.optional_real(f.name)? {
+                    Some(x) => Value::Real(x),
+                    None => Value::Absent,
+                }
+            }
             (Repeat::Optional, ty) => {
                 if r.done() {
                     Value::Absent
@@ -505,7 +589,8 @@ fn read_fields<'a>(
                     one(r, f.name, ty, head)?
                 }
             }
-            (Repeat::Times(c), ty) => {
+            (Repeat::OptionalTimes(_), _) if r.done() => Value::Absent,
+            (Repeat::Times(c) | Repeat::OptionalTimes(c), ty) => {
                 let n = count(&c, head)?;
                 match ty {
                     Type::Real => Value::Reals(r.reals(n, f.name)?),
@@ -540,13 +625,31 @@ fn read_fields<'a>(
                 Value::Groups(groups)
             }
         };
+        if matches!(f.repeat, Repeat::Optional | Repeat::OptionalTimes(_)) && !r.done() {
+            tail_started = true;
+        }
         values.push(v);
     }
     Ok(Values {
         fields,
         values,
         extra: 0,
+        additional: Vec::new(),
     })
+}
+
+/// The record ends in the middle of its optional parameters (in or before `name`, which
+/// starts at `at`).
+#[cold]
+fn tail_cut<'a>(at: &'a [u8], name: &'static str) -> Error<'a> {
+    let blanks = at.iter().take_while(|&&c| c == b' ').count();
+    Error::format(
+        at.get(blanks..).unwrap_or(at),
+        ErrorKind::Arity(format!(
+            "the record ends inside its optional parameters, before {name}: the counts in \
+             the record do not match its data"
+        )),
+    )
 }
 
 /// One value of a field that occurs once.
@@ -562,9 +665,14 @@ fn one<'a>(
             head.ints.push((name, v));
             Value::Int(v)
         }
-        Type::Flag | Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
-        Type::Real => Value::Real(r.real(name)?),
-        Type::Point => Value::Point([r.real(name)?, r.real(name)?, r.real(name)?]),
+        Type::Flag => Value::Int(r.required_flag(name)?),
+        Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
+        Type::Real => Value::Real(r.required_real(name)?),
+        Type::Point => Value::Point([
+            r.required_real(name)?,
+            r.required_real(name)?,
+            r.required_real(name)?,
+        ]),
         Type::String => Value::String(r.string(name)?),
     })
 }

@@ -20,8 +20,8 @@ fn segments(h: &Head) -> Result<(usize, usize), String> {
 /// The declaration: CTYPE, PTYPE, M, N, the break points `TU(1)..TU(M+1)` and
 /// `TV(1)..TV(N+1)`, then for `i = 1..M` the patches `(i, 1)..(i, N)` of 48 coefficients
 /// each (16 for X, Y, Z) followed by 48 arbitrary values (the patch `(i, N+1)`). The
-/// standard then lists `48 (N + 1)` more arbitrary values (the row `M + 1`); they are not
-/// declared (read as extra parameters), as some writers leave them out.
+/// standard then lists `48 (N + 1)` more arbitrary values (the row `M + 1`), declared
+/// optional as some writers leave them out.
 pub(super) const SCHEMA: Schema = Schema {
     entity: 114,
     name: "Parametric Spline Surface",
@@ -52,6 +52,14 @@ pub(super) const SCHEMA: Schema = Schema {
             Count::Formula {
                 formula: "48 M (N + 1)",
                 of: |h| segments(h).map(|(m, n)| 48 * m * (n + 1)),
+            },
+        ),
+        Field::optional_times(
+            "arbitrary row M + 1",
+            Type::Real,
+            Count::Formula {
+                formula: "48 (N + 1)",
+                of: |h| segments(h).map(|(_, n)| 48 * (n + 1)),
             },
         ),
     ],

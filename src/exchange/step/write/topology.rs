@@ -306,6 +306,43 @@ pub(super) fn write(
                 ],
             )?));
         }
+        // Which shells are written: those of solids, and the others unless each of their
+        // faces is in a solid's shell already (the closed shell an oriented void was built
+        // from).
+        let mut of_solids: HashSet<ShellId> = HashSet::new();
+        for solid in &m.solids {
+            of_solids.insert(solid.outer);
+            of_solids.extend(solid.voids.iter().copied());
+        }
+        let solid_faces: HashSet<usize> = of_solids
+            .iter()
+            .filter_map(|sh| m.shells.get(sh.0))
+            .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
+            .collect();
+        let written = |k: usize, sh: &crate::topology::Shell| {
+            of_solids.contains(&ShellId(k))
+                || !sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0))
+        };
+        // A face that every written shell uses reversed is written reversed (the other
+        // side of `same_sense` and every bound's orientation flipped, ISO 10303-42
+        // advanced_face / face_bound), so no ORIENTED_FACE is needed: Open CASCADE drops
+        // ORIENTED_FACEs in a closed shell. A face used both ways keeps ORIENTED_FACE.
+        let mut uses: Vec<(bool, bool)> = vec![(false, false); m.faces.len()];
+        for (k, sh) in m.shells.iter().enumerate() {
+            if !written(k, sh) {
+                continue;
+            }
+            for &(f, same) in &sh.faces {
+                if let Some(u) = uses.get_mut(f.0) {
+                    if same {
+                        u.0 = true;
+                    } else {
+                        u.1 = true;
+                    }
+                }
+            }
+        }
+        let reversed: Vec<bool> = uses.iter().map(|&(fwd, rev)| rev && !fwd).collect();
         let mut face_ids = Vec::with_capacity(m.faces.len());
         for (k, face) in m.faces.iter().enumerate() {
             let surface = surface_ids[k];
@@ -334,7 +371,7 @@ pub(super) fn write(
                     } else {
                         "FACE_BOUND"
                     },
-                    vec![s(""), Parameter::Reference(lp), boolean(true)],
+                    vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
                 )?);
             }
             face_ids.push(w.put(
@@ -343,29 +380,16 @@ pub(super) fn write(
                     s(""),
                     Parameter::refs(&bounds),
                     Parameter::Reference(surface),
-                    boolean(face.same_sense),
+                    boolean(face.same_sense != reversed[k]),
                 ],
             )?);
         }
-        // Which shells are written: those of solids, and the others unless each of their
-        // faces is in a solid's shell already (the closed shell an oriented void was built
-        // from).
-        let mut of_solids: HashSet<ShellId> = HashSet::new();
-        for solid in &m.solids {
-            of_solids.insert(solid.outer);
-            of_solids.extend(solid.voids.iter().copied());
-        }
-        let solid_faces: HashSet<usize> = of_solids
-            .iter()
-            .filter_map(|sh| m.shells.get(sh.0))
-            .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
-            .collect();
         let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
         let mut loose_shells = Vec::new();
         let mut in_shell = vec![false; m.faces.len()];
         for (k, sh) in m.shells.iter().enumerate() {
             let of_solid = of_solids.contains(&ShellId(k));
-            if !of_solid && sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0)) {
+            if !written(k, sh) {
                 continue;
             }
             let mut refs = Vec::with_capacity(sh.faces.len());
@@ -376,7 +400,7 @@ pub(super) fn write(
                 if let Some(x) = in_shell.get_mut(f.0) {
                     *x = true;
                 }
-                refs.push(if same {
+                refs.push(if same != reversed[f.0] {
                     fid
                 } else {
                     w.put(

@@ -1,0 +1,239 @@
+// Browser tests of the web page against a real `nurbsx serve` on the loopback interface,
+// in Debian's headless Chromium (playwright-core drives it; no browser is downloaded).
+//
+//   node tests/e2e.mjs            (from web/, after `npm run build` and `cargo build`)
+//
+// Environment: NURBSX_BIN (default ../target/debug/nurbsx), CHROMIUM (default
+// /usr/bin/chromium), E2E_OUT (screenshots and the downloaded file; default
+// ../target/web-e2e), E2E_PART (default the FreeCAD sample extrude_bspline.step, a B-spline extrusion solid).
+// Exit status 0 when every check passes; each failed check is printed.
+import { spawn, execFileSync } from 'node:child_process';
+import { createServer } from 'node:net';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { basename, dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = resolve(here, '..', '..');
+const bin = resolve(process.env.NURBSX_BIN ?? join(repo, 'target', 'debug', 'nurbsx'));
+const browserPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+const out = resolve(process.env.E2E_OUT ?? join(repo, 'target', 'web-e2e'));
+const part = resolve(process.env.E2E_PART ?? join(repo, 'samples', 'freecad', 'parts', 'extrude_bspline.step'));
+const broken = join(repo, 'tests', 'bad_inputs', 'step_bad_real.step');
+/** The whole run is bounded: past this the processes are killed and the run fails. */
+const DEADLINE_MS = 240_000;
+mkdirSync(out, { recursive: true });
+
+let failures = 0;
+function check(ok, what, detail = '') {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${detail ? `: ${detail}` : ''}`);
+  if (!ok) failures += 1;
+}
+
+/** `nurbsx <args> --json` parsed (the CLI is the independent reference for the page). */
+function cli(...args) {
+  try {
+    return JSON.parse(execFileSync(bin, [...args, '--json'], { encoding: 'utf8', maxBuffer: 256 << 20 }));
+  } catch (e) {
+    // validate exits non-zero for an invalid file but still prints its report.
+    if (e.stdout) return JSON.parse(e.stdout);
+    throw e;
+  }
+}
+
+function freePort() {
+  return new Promise((ok, fail) => {
+    const s = createServer();
+    s.once('error', fail);
+    s.listen(0, '127.0.0.1', () => {
+      const { port } = s.address();
+      s.close(() => ok(port));
+    });
+  });
+}
+
+const children = [];
+async function serve(...extra) {
+  const port = await freePort();
+  const child = spawn(bin, ['serve', '--addr', `127.0.0.1:${port}`, ...extra], {
+    stdio: ['ignore', 'ignore', 'inherit'],
+    env: { ...process.env, RUST_LOG: 'warn' },
+  });
+  children.push(child);
+  const base = `http://127.0.0.1:${port}`;
+  for (let i = 0; i < 100; i += 1) {
+    try {
+      if ((await fetch(`${base}/healthz`)).ok) return base;
+    } catch {
+      // not listening yet
+    }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  throw new Error(`nurbsx serve did not come up on ${base}`);
+}
+
+let browser;
+function stopAll() {
+  for (const c of children) if (c.exitCode == null) c.kill('SIGKILL');
+  browser?.close().catch(() => {});
+}
+const timer = setTimeout(() => {
+  console.log(`FAIL the browser tests took longer than ${DEADLINE_MS / 1000} s`);
+  stopAll();
+  process.exit(1);
+}, DEADLINE_MS);
+
+/** Drops a file on the page as a user's drag and drop does (a `drop` event with files). */
+async function drop(page, path) {
+  const data = readFileSync(path).toString('base64');
+  const dt = await page.evaluateHandle(({ data, name }) => {
+    const raw = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
+    const t = new DataTransfer();
+    t.items.add(new File([raw], name));
+    return t;
+  }, { data, name: basename(path) });
+  await page.dispatchEvent('#view', 'dragover', { dataTransfer: dt });
+  await page.dispatchEvent('#view', 'drop', { dataTransfer: dt });
+}
+
+async function partTest(base) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
+  page.on('pageerror', (e) => check(false, 'no script error on the page', e.message));
+  await page.goto(base);
+  check((await page.title()).includes('nurbsx'), 'GET / serves the web page');
+  await drop(page, part);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  check(await page.getAttribute('body', 'data-loaded') === 'true', 'the part loads', await page.textContent('#status-text'));
+
+  const info = cli('info', part);
+  const s = info.structure;
+  const faceIds = new Set(s.faces.map((f) => f.id));
+  const surfaceToFace = new Map(s.faces.filter((f) => f.surface).map((f) => [f.surface, f.id]));
+  const summary = await page.$eval('#tree-summary', (e) => ({ ...e.dataset }));
+  check(Number(summary.faces) === s.faces.length, 'tree face count = nurbsx info', `${summary.faces} vs ${s.faces.length}`);
+  check(Number(summary.solids) === s.solids.length, 'tree solid count = nurbsx info', `${summary.solids} vs ${s.solids.length}`);
+  check(Number(summary.shells) === s.shells.length, 'tree shell count = nurbsx info', `${summary.shells} vs ${s.shells.length}`);
+  const rows = await page.$$eval('#tree li.face [data-select]', (b) => b.map((x) => x.dataset.select));
+  check(rows.length === s.faces.length && rows.every((id) => faceIds.has(id)) && new Set(rows).size === rows.length,
+    'one tree row per face of nurbsx info', `${rows.length} rows`);
+  const solidRows = await page.$$eval('#tree li.solid', (x) => x.length);
+  check(solidRows === s.solids.length, 'one tree node per solid', `${solidRows}`);
+
+  const view = await page.evaluate(() => window.nurbsxPage.view());
+  const shown = view.faces.filter((id) => faceIds.has(id) || surfaceToFace.has(id));
+  check(view.faces.length > 0 && shown.length === view.faces.length, 'every face mesh in the view is a face of the part (by id)',
+    `${view.faces.length} meshes, ${shown.length} named by a face or its surface`);
+  const meshFaces = new Set(view.faces.map((id) => (faceIds.has(id) ? id : surfaceToFace.get(id))));
+  console.log(`     ${meshFaces.size} of ${s.faces.length} faces have a mesh; ${view.curves.length} curves drawn`);
+
+  // Pick: hide curves (so the ray meets a face), click a face's mesh where it projects.
+  await page.uncheck('#show-edges');
+  let picked = null;
+  for (const id of view.faces.slice(0, 12)) {
+    const p = await page.evaluate((i) => window.nurbsxPage.screenPointOf(i), id);
+    if (!p) continue;
+    await page.mouse.click(p.x, p.y);
+    picked = await page.getAttribute('#selection', 'data-id');
+    if (picked) break;
+  }
+  check(picked != null && faceIds.has(picked), 'clicking a face in the view shows its face id', String(picked));
+  if (picked) {
+    const pressed = await page.getAttribute(`#tree [data-select="${picked}"]`, 'aria-pressed');
+    check(pressed === 'true', 'the picked face is highlighted in the tree');
+    const text = await page.textContent('#selection');
+    check(/Degree/.test(text) && /Poles/.test(text) && /Knots/.test(text) && /Area/.test(text),
+      'the selection panel shows degree, poles, knots and area');
+  }
+  await page.check('#show-edges');
+  // A tree row selects too (keyboard: focus and Enter).
+  const firstRow = page.locator('#tree li.face button').first();
+  await firstRow.focus();
+  await page.keyboard.press('Enter');
+  check(await page.getAttribute('#selection', 'data-id') === rows[0], 'Enter on a tree row selects that face');
+  await page.screenshot({ path: join(out, 'part.png') });
+
+  // Convert to IGES (144), download, read the file back with the CLI.
+  await page.selectOption('#target', 'iges:144');
+  const [download] = await Promise.all([
+    page.waitForEvent('download', { timeout: 120_000 }),
+    page.click('#convert-go'),
+  ]);
+  const saved = join(out, download.suggestedFilename());
+  await download.saveAs(saved);
+  check(saved.endsWith('.igs'), 'the download is an IGES file', basename(saved));
+  const back = cli('info', saved);
+  check(back.format === 'iges', 'nurbsx info reads the downloaded file as IGES');
+  check(back.structure?.faces.length === s.faces.length, 'the downloaded IGES has the part\'s faces',
+    `${back.structure?.faces.length} vs ${s.faces.length}`);
+  const verify = await page.textContent('#verify-report');
+  check(/Verified\s*yes/.test(verify), 'the page shows the verification figures', verify.replace(/\s+/g, ' ').slice(0, 160));
+  await page.screenshot({ path: join(out, 'part-converted.png') });
+
+  // Phone-sized viewport: nothing wider than the screen, controls reachable.
+  await page.setViewportSize({ width: 390, height: 844 });
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  check(overflow <= 0, 'no horizontal scrolling at 390 px', `${overflow} px too wide`);
+  check(await page.isVisible('label[for=file]') && await page.isVisible('#fit'), 'open and Fit visible at 390 px');
+  await page.screenshot({ path: join(out, 'part-phone.png'), fullPage: true });
+  await page.close();
+}
+
+async function brokenTest(base) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await page.goto(base);
+  await drop(page, broken);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  const [report] = cli('validate', broken);
+  const summary = await page.textContent('#diag-summary');
+  check(/Not valid/.test(summary), 'a broken file is reported not valid', summary);
+  // Errors and warnings (the page also lists the reader's notes, which the CLI prints apart).
+  const items = await page.$$eval('#diagnostics li.diag', (l) => l.map((x) => x.textContent)
+    .filter((t) => /^(error|warning)/.test(t.trim())));
+  const expected = report.diagnostics.filter((d) => d.severity !== 'info');
+  check(items.length === expected.length && expected.length > 0, 'as many errors and warnings as nurbsx validate', `${items.length} vs ${expected.length}`);
+  const first = expected[0];
+  check(items.length > 0 && items[0].includes(first.code) && items[0].includes(first.message)
+      && items[0].includes(`line ${first.location.line}:${first.location.column}`) && items[0].includes(first.location.entity),
+    'the first error shows its code, message, line:column and entity', items[0]);
+  const status = await page.textContent('#status-text');
+  check(/could not be (read|built)/.test(status), 'the status line says what failed', status);
+  // Clicking a located diagnostic selects its entity.
+  await page.click('#diagnostics li.diag button');
+  check(await page.getAttribute('#selection', 'data-id') === first.location.entity, 'clicking the diagnostic selects its entity');
+  await page.screenshot({ path: join(out, 'broken.png') });
+  await page.close();
+}
+
+async function tooLargeTest() {
+  const base = await serve('--max-body', '2KiB');
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await page.goto(base);
+  await page.waitForFunction(() => document.readyState === 'complete');
+  await page.waitForTimeout(200);
+  await drop(page, part);
+  await page.waitForFunction(() => /accepts at most/.test(document.getElementById('status-text').textContent), null, { timeout: 10_000 });
+  const status = await page.textContent('#status-text');
+  check(/2\.0 KiB/.test(status), 'a file over the body limit gets a clear message', status);
+  await page.close();
+}
+
+try {
+  const base = await serve();
+  browser = await chromium.launch({
+    executablePath: browserPath,
+    headless: true,
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  await partTest(base);
+  await brokenTest(base);
+  await tooLargeTest();
+} catch (e) {
+  check(false, 'the browser tests ran to the end', e.stack ?? String(e));
+} finally {
+  clearTimeout(timer);
+  stopAll();
+}
+console.log(failures ? `${failures} check(s) failed` : 'all browser checks passed');
+console.log(`screenshots: ${out}`);
+process.exit(failures ? 1 : 0);
