@@ -177,9 +177,17 @@ fn watertight_volume(m: &Model, pm: &PartMesh, shell: usize, what: &str) -> f64 
 const MAX_SKIPPED: usize = 12;
 
 /// Every part sample (STEP, IGES 144 faces, IGES 186 B-rep): per-face area and distance,
-/// total area against FreeCAD, closed shells watertight with FreeCAD's volume.
+/// total area against FreeCAD, closed shells watertight with FreeCAD's volume. An
+/// optimised build (`cargo test --release`) checks all 51 files at a chord tolerance of
+/// 4e-3 of the part's size; the plain test command's debug build, some fifteen times
+/// slower, checks the 17 STEP files at 1e-2 of the size (the bounds follow the tolerance).
 #[test]
 fn parts_match_exact_measures_and_freecad() {
+    let (relative, only_step) = if cfg!(debug_assertions) {
+        (1e-2, true)
+    } else {
+        (4e-3, false)
+    };
     let index: Value =
         serde_json::from_str(&std::fs::read_to_string(parts().join("index.json")).unwrap())
             .unwrap();
@@ -187,9 +195,12 @@ fn parts_match_exact_measures_and_freecad() {
     for part in index["parts"].as_array().unwrap() {
         for file in part["files"].as_array().unwrap() {
             let name = file["file"].as_str().unwrap();
+            if only_step && !name.ends_with(".step") {
+                continue;
+            }
             let json = reading(name);
             let size = json["size"].as_f64().unwrap();
-            let tolerance = 4e-3 * size;
+            let tolerance = relative * size;
             let doc = read(&parts().join(name));
             let m = &doc.topology.model;
             let pm = mesh(m, tolerance);
@@ -277,7 +288,10 @@ fn parts_match_exact_measures_and_freecad() {
             checked += 1;
         }
     }
-    assert!(checked >= 44, "only {checked} sample files checked");
+    assert!(
+        checked >= if only_step { 17 } else { 51 },
+        "only {checked} sample files checked"
+    );
     assert!(skipped <= MAX_SKIPPED, "{skipped} faces left out");
 }
 
