@@ -542,10 +542,14 @@ fn filleted_box_with_hole_converts() {
             .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
             .count();
         assert_eq!(surfaces, faces, "{name}");
+        // No warning but the one for coedges whose pcurve projection did not converge
+        // (pcurve.not_computed, a warning since it keeps the face from being measured; an
+        // info before it was one code for STEP and IGES): at most one coedge here.
         assert!(
             !doc.diagnostics
                 .iter()
-                .any(|d| d.severity == Severity::Warning),
+                .any(|d| d.severity == Severity::Warning
+                    && !(d.code == "pcurve.not_computed" && d.message.starts_with("1 of "))),
             "{name}: {:#?}",
             doc.diagnostics
         );
