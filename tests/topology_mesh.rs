@@ -199,9 +199,12 @@ fn parts_match_exact_measures_and_freecad() {
                 continue;
             }
             let json = reading(name);
-            let size = json["size"].as_f64().unwrap();
-            let tolerance = relative * size;
             let doc = read(&parts().join(name));
+            // FreeCAD's readings are in millimetres; the model is in the file's unit (the
+            // inch part), so FreeCAD's figures are brought to it.
+            let mm = doc.units.to_mm();
+            let size = json["size"].as_f64().unwrap() / mm;
+            let tolerance = relative * size;
             let m = &doc.topology.model;
             let pm = mesh(m, tolerance);
             for (f, why) in &pm.skipped {
@@ -239,7 +242,7 @@ fn parts_match_exact_measures_and_freecad() {
             // into the topology yet (tests/step_topology.rs KNOWN_GAPS): FreeCAD's totals
             // count every placed instance, so only its faces are checked.
             if pm.skipped.is_empty() && !name.starts_with("assembly_links") {
-                let freecad = json["totals"]["area"].as_f64().unwrap();
+                let freecad = json["totals"]["area"].as_f64().unwrap() / (mm * mm);
                 assert!(
                     (total - freecad).abs() <= bound_total,
                     "{name}: mesh area {total} vs FreeCAD's {freecad} (bound {bound_total:e})"
@@ -251,7 +254,7 @@ fn parts_match_exact_measures_and_freecad() {
                     .as_array()
                     .unwrap()
                     .iter()
-                    .map(|x| x["volume"].as_f64().unwrap())
+                    .map(|x| x["volume"].as_f64().unwrap() / (mm * mm * mm))
                     .collect();
                 let mut got: Vec<(f64, f64)> = Vec::new();
                 for solid in &m.solids {
