@@ -341,6 +341,14 @@ pub fn tessellate_all(
         let origin = |list: &[crate::exchange::Origin], i: usize| {
             list.get(i).map_or_else(|| format!("{i}"), |o| o.id.clone())
         };
+        // An edge's line is named by the curve entity that holds its geometry (which
+        // `info` describes: kind, degree, poles, knots), else by the edge's own id.
+        let edge_name = |i: usize| {
+            topology.origins.edges.get(i).map_or_else(
+                || format!("{i}"),
+                |o| o.entity.clone().unwrap_or_else(|| o.id.clone()),
+            )
+        };
         let part = topology
             .model
             .mesh(Some(&plan.faces), tolerance, &within(0))
@@ -438,7 +446,7 @@ pub fn tessellate_all(
             };
             vertices += line.points.len();
             curves.push(CurveLine {
-                entity: origin(&topology.origins.edges, e),
+                entity: edge_name(e),
                 points: line.points,
             });
         }
