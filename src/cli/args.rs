@@ -702,9 +702,10 @@ pub struct ConvertArgs {
     /// solids and assembly placements are left out (a warning says how many).
     #[arg(long)]
     pub geometry_only: bool,
-    /// IGES input: sew trimmed faces (144) whose boundaries coincide within TOL into shared
-    /// edges, shells and solids (default: the file's resolution, Global parameter 19, or
-    /// 1e-7 of the model's size, whichever is larger).
+    /// IGES input: join boundary curve ends into loops, and sew trimmed faces (144) whose
+    /// boundaries coincide into shared edges, shells and solids, within TOL (default: the
+    /// file's resolution, Global parameter 19, or 1e-7 of the model's size, whichever is
+    /// larger). Give it for files whose faces leave gaps: `--sew-tolerance 1e-4`.
     #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
     pub sew_tolerance: Option<f64>,
     /// IGES output: write solids and shells as 186 manifold solid B-rep objects (with
