@@ -2961,3 +2961,82 @@ fn sew_tolerance_closes_gaps_the_default_leaves_open() {
     // Not a positive length: a usage error.
     assert_exit(&run(&["--sew-tolerance", "0"]), 2);
 }
+
+/// `validate --format sarif` against the OASIS SARIF 2.1.0 JSON schema (`sarif-2.1.0.json`
+/// as Microsoft's SARIF multitool ships it in the npm package
+/// `@microsoft/sarif-multitool-linux`), checked by the JSON-schema validator `ajv` (draft
+/// 07, with `ajv-formats` for the uri and date-time formats): a valid file, a batch of
+/// broken ones with located results of every kind (STEP line/column, IGES section and
+/// sequence, model JSON), and a missing file. Needs Node and the packages:
+/// `npm install --prefix DIR @microsoft/sarif-multitool-linux ajv ajv-formats`, then
+/// `NURBSX_SARIF_SCHEMA=DIR/node_modules cargo test --test cli -- --ignored sarif_schema`.
+#[test]
+#[ignore = "needs Node.js and the npm packages of NURBSX_SARIF_SCHEMA"]
+fn sarif_schema_accepts_validate_output() {
+    let modules = std::env::var("NURBSX_SARIF_SCHEMA")
+        .expect("NURBSX_SARIF_SCHEMA=<node_modules folder holding the schema and ajv>");
+    let schema = Path::new(&modules).join("@microsoft/sarif-multitool-linux/sarif-2.1.0.json");
+    assert!(schema.is_file(), "{} is missing", schema.display());
+    let dir = temp_dir("sarif-schema");
+    let script = dir.join("check.js");
+    std::fs::write(
+        &script,
+        "const Ajv = require('ajv');\n\
+         const addFormats = require('ajv-formats');\n\
+         const fs = require('fs');\n\
+         const schema = JSON.parse(fs.readFileSync(process.argv[2], 'utf8'));\n\
+         delete schema['$schema'];\n\
+         const ajv = new Ajv({ strict: false, allErrors: true });\n\
+         addFormats(ajv);\n\
+         const check = ajv.compile(schema);\n\
+         const doc = JSON.parse(fs.readFileSync(process.argv[3], 'utf8'));\n\
+         if (!check(doc)) { console.log(JSON.stringify(check.errors, null, 1)); process.exit(1); }\n\
+         console.log('valid');\n",
+    )
+    .unwrap();
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs");
+    let mut broken: Vec<PathBuf> = std::fs::read_dir(&bad)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("step" | "igs" | "json")
+            )
+        })
+        .collect();
+    broken.sort();
+    assert!(broken.len() > 20, "{} broken inputs", broken.len());
+    let valid = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts/flange.step");
+    let cases: Vec<(&str, Vec<PathBuf>, i32)> = vec![
+        ("valid", vec![valid], 0),
+        ("broken", broken, 1),
+        ("missing", vec![dir.join("nosuch.step")], 2),
+    ];
+    for (name, files, code_expected) in cases {
+        let mut args = vec!["validate".into(), "--format".into(), "sarif".into()];
+        args.extend(files.iter().map(|p| p.clone().into_os_string()));
+        let o = nurbsx(args);
+        assert_eq!(code(&o), code_expected, "{name}: {}", stderr(&o));
+        let sarif = dir.join(format!("{name}.sarif"));
+        std::fs::write(&sarif, &o.stdout).unwrap();
+        let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let results = doc["runs"][0]["results"].as_array().map_or(0, Vec::len);
+        if name != "valid" {
+            assert!(results > 0, "{name}: no result");
+        }
+        let checked = Command::new("node")
+            .arg(&script)
+            .arg(&schema)
+            .arg(&sarif)
+            .env("NODE_PATH", &modules)
+            .output()
+            .unwrap();
+        assert!(
+            checked.status.success(),
+            "{name} ({results} results) does not conform to SARIF 2.1.0: {}{}",
+            stdout(&checked),
+            stderr(&checked)
+        );
+    }
+}
