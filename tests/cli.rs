@@ -3040,3 +3040,52 @@ fn sarif_schema_accepts_validate_output() {
         );
     }
 }
+
+/// `convert --strict` and `info --strict`: a violation the reader reads anyway (a byte that
+/// is neither ASCII nor UTF-8 in a STEP string, ISO 10303-21 section 6.4.3) is a warning
+/// and exit 0 without the flag, an error and exit 1 with it, as `validate` reports it; the
+/// output is written either way.
+#[test]
+fn strict_makes_violations_errors_in_convert_and_info() {
+    let dir = temp_dir("strict");
+    let source = std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/curve_circle_nurbs.step"),
+    )
+    .unwrap();
+    let at = source
+        .windows(9)
+        .position(|w| w == b"PRODUCT('")
+        .expect("a PRODUCT name")
+        + 9;
+    // "零件" (part) in GBK: legacy Chinese encoding, not UTF-8.
+    let mut bytes = source[..at].to_vec();
+    bytes.extend_from_slice(&[0xC1, 0xE3, 0xBC, 0xFE]);
+    bytes.extend_from_slice(&source[at..]);
+    let input = dir.join("gbk.step");
+    std::fs::write(&input, bytes).unwrap();
+    let out = dir.join("gbk.igs");
+    for strict in [false, true] {
+        let _ = std::fs::remove_file(&out);
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "convert".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        let mut info: Vec<&std::ffi::OsStr> = vec!["info".as_ref(), input.as_os_str()];
+        if strict {
+            args.push("--strict".as_ref());
+            info.push("--strict".as_ref());
+        }
+        let level = if strict { "error" } else { "warning" };
+        for o in [nurbsx(args), nurbsx(info)] {
+            assert_exit(&o, i32::from(strict));
+            assert!(
+                stderr(&o).contains(&format!("{level}[encoding.not_utf8]")),
+                "{strict}: {}",
+                stderr(&o)
+            );
+        }
+        assert!(out.is_file(), "{strict}: the output is written");
+    }
+}

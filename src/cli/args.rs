@@ -712,6 +712,11 @@ pub struct ConvertArgs {
     /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
     #[arg(long)]
     pub iges_brep: bool,
+    /// Every violation of the standard is an error (exit 1), as `validate` reports it,
+    /// also those read anyway with their one meaning (warnings without it); the output is
+    /// still written.
+    #[arg(long)]
+    pub strict: bool,
     /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
     #[arg(short = 'j', long, value_name = "N",
           value_parser = clap::value_parser!(u16).range(1..=256))]
@@ -747,6 +752,10 @@ pub struct InfoArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Every violation of the standard is an error (exit 1), as `validate` reports it,
+    /// also those read anyway with their one meaning (warnings without it).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Output formats of `validate`.
