@@ -1774,7 +1774,7 @@ async fn fit_interpolates_the_points_of_example_9_1() {
         [-4.0, 0.0],
         [-4.0, -3.0],
     ];
-    let v = operation("/v1/fit", &json!({ "points": q, "degree": 3 })).await;
+    let v = fit_reply(&json!({ "points": q, "degree": 3 })).await;
     let c = curve_of(&v["geometry"]);
     assert_eq!(c.dimension(), 2);
     let want = [0., 0., 0., 0., 28.0 / 51.0, 1., 1., 1., 1.];
@@ -1843,14 +1843,10 @@ async fn fit_least_squares_and_grids_with_the_residual() {
     assert_eq!(v["fit"]["method"], "least_squares");
     assert_eq!(v["fit"]["points"], json!([40]));
     assert_eq!(v["fit"]["poles"], json!([10]));
-    assert_eq!(
-        v["fit"]["residual_max"].as_f64().unwrap(),
-        want.residual.max
-    );
-    assert_eq!(
-        v["fit"]["residual_rms"].as_f64().unwrap(),
-        want.residual.rms
-    );
+    // (serde_json's number parsing may move a coordinate by an ulp.)
+    let near = |got: &Value, want: f64| (got.as_f64().unwrap() - want).abs() <= 1e-12 * want;
+    assert!(near(&v["fit"]["residual_max"], want.residual.max), "{v}");
+    assert!(near(&v["fit"]["residual_rms"], want.residual.rms), "{v}");
     // Interpolation reports a residual at round-off.
     let v = fit_reply(&json!({ "points": q })).await;
     assert_eq!(v["fit"]["method"], "interpolation");
@@ -1878,7 +1874,7 @@ async fn fit_least_squares_and_grids_with_the_residual() {
         app(),
         post_json(
             "/v1/fit",
-            &json!({ "points": q, "poles": 10, "format": "step" }),
+            &json!({ "points": q, "poles": 10, "params": "centripetal", "format": "step" }),
         ),
     )
     .await;
@@ -1887,7 +1883,7 @@ async fn fit_least_squares_and_grids_with_the_residual() {
         .unwrap()
         .parse()
         .unwrap();
-    assert_eq!(max, want.residual.max);
+    assert!((max - want.residual.max).abs() <= 1e-12 * want.residual.max);
     // Pole counts out of range and v options on points are refused.
     expect_error(
         app(),

@@ -323,9 +323,9 @@ fn surface_interpolation_passes_through_every_point() {
                         poles: None,
                     };
                     let fit = fit_surface(grid, shape, m, 3).unwrap();
-                    for i in 0..grid.nu() {
-                        for j in 0..grid.nv() {
-                            let got = fit.surface.point_at(tu[i], tv[j]).unwrap();
+                    for (i, &u) in tu.iter().enumerate() {
+                        for (j, &v) in tv.iter().enumerate() {
+                            let got = fit.surface.point_at(u, v).unwrap();
                             let want = grid.get(i, j);
                             let err = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0, f64::max);
                             assert!(err <= 1e-12 * size, "{m:?} ({p},{q}) at ({i},{j}): {err:e}");

@@ -152,11 +152,7 @@ fn compare_text(r: &CompareReport, unit: &str, tolerance: Option<f64>) -> String
         r.distance, r.curves[0], r.curves[1], r.surfaces[0], r.surfaces[1]
     );
     if let Some(t) = tolerance {
-        out.push_str(if r.distance <= t {
-            &" within"[..]
-        } else {
-            " ABOVE"
-        });
+        out.push_str(if r.distance <= t { " within" } else { " ABOVE" });
         out.push_str(&format!(" the tolerance {t}"));
     }
     out.push('\n');

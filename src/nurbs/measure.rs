@@ -286,12 +286,21 @@ fn sample_parameters(knots: &[f64], p: usize, domain: (f64, f64)) -> Vec<f64> {
     out
 }
 
-/// A sample: the shape's index, its parameters, the point.
+/// A sample: the shape's index, its parameters, the point, and the parameter distance to
+/// its farther neighbour sample in each direction (the span a refinement searches).
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     shape: usize,
     at: (f64, f64),
     point: Point3,
+    step: (f64, f64),
+}
+
+/// The parameter distance from `ps[i]` to its farther neighbour.
+fn step_at(ps: &[f64], i: usize) -> f64 {
+    let before = if i > 0 { ps[i] - ps[i - 1] } else { 0.0 };
+    let after = ps.get(i + 1).map_or(0.0, |n| n - ps[i]);
+    before.max(after)
 }
 
 fn samples(shapes: &[Shape<'_>]) -> Vec<Sample> {
@@ -299,23 +308,27 @@ fn samples(shapes: &[Shape<'_>]) -> Vec<Sample> {
     for (shape, s) in shapes.iter().enumerate() {
         match s {
             Shape::Curve(c) => {
-                for u in sample_parameters(c.knots(), c.degree(), c.domain()) {
+                let us = sample_parameters(c.knots(), c.degree(), c.domain());
+                for (i, &u) in us.iter().enumerate() {
                     out.push(Sample {
                         shape,
                         at: (u, 0.0),
                         point: c.point_at_unchecked(u),
+                        step: (step_at(&us, i), 0.0),
                     });
                 }
             }
             Shape::Surface(f) => {
                 let (du, dv) = f.domain();
+                let us = sample_parameters(f.knots_u(), f.degree_u(), du);
                 let vs = sample_parameters(f.knots_v(), f.degree_v(), dv);
-                for u in sample_parameters(f.knots_u(), f.degree_u(), du) {
-                    for &v in &vs {
+                for (i, &u) in us.iter().enumerate() {
+                    for (j, &v) in vs.iter().enumerate() {
                         out.push(Sample {
                             shape,
                             at: (u, v),
                             point: f.point_at_unchecked(u, v),
+                            step: (step_at(&us, i), step_at(&vs, j)),
                         });
                     }
                 }
@@ -342,10 +355,67 @@ pub struct Farthest {
     pub nearest_at: (f64, f64),
 }
 
-/// The largest distance from a sample point of `from` to the nearest shape of `to` (one
-/// side of the Hausdorff distance; the other side swaps the arguments). `None` when either
-/// side is empty. `stop` is polled between samples: when it returns true the search ends
-/// with `Ok(None)`.
+/// A distance, the index of the shape it reaches and the parameters there.
+type Hit = (f64, usize, (f64, f64));
+
+/// The point of `to` nearest to `point`: inversions (NURBS Book section 6.1) started at
+/// `hint` and at the nearest few samples of `to` (more than one: on a closed shape the
+/// nearest sample can sit at the wrong end of the seam, where the iteration cannot cross).
+/// A sample's own distance bounds the result. Returns `(distance, shape, parameters)`.
+fn nearest_on(
+    to: &[Shape<'_>],
+    targets: &[Sample],
+    point: Point3,
+    hint: Option<(usize, (f64, f64))>,
+) -> Result<Option<Hit>, GeometryError> {
+    let mut nearest: Vec<Hit> = Vec::with_capacity(NEWTON_STARTS + 2);
+    for t in targets {
+        let d = dist(t.point, point);
+        if nearest.len() < NEWTON_STARTS || d < nearest[nearest.len() - 1].0 {
+            let at = nearest.partition_point(|x| x.0 <= d);
+            nearest.insert(at, (d, t.shape, t.at));
+            nearest.truncate(NEWTON_STARTS);
+        }
+    }
+    let starts = hint
+        .map(|(shape, at)| (f64::INFINITY, shape, at))
+        .into_iter()
+        .chain(nearest);
+    let mut best: Option<Hit> = None;
+    for (d0, shape, start) in starts {
+        let (d, at) = match to[shape] {
+            Shape::Curve(c) => invert_curve_near(c, point, start.0)
+                .map(|(u, d)| (d, (u, 0.0)))
+                .ok_or_else(|| not_finite("curve"))?,
+            Shape::Surface(f) => invert_surface(f, point, Some(start))
+                .map(|i| (i.distance, (i.u, i.v)))
+                .ok_or_else(|| not_finite("surface"))?,
+        };
+        let found = if d <= d0 {
+            (d, shape, at)
+        } else {
+            (d0, shape, start)
+        };
+        if best.is_none_or(|b| found.0 < b.0) {
+            best = Some(found);
+        }
+    }
+    Ok(best)
+}
+
+/// Samples whose distances are refined by a local search (the largest ones).
+const REFINED: usize = 4;
+/// Golden-section steps per direction and round of a refinement.
+const GOLDEN_STEPS: usize = 30;
+/// Rounds of a refinement (u then v for surfaces).
+const REFINE_ROUNDS: usize = 3;
+
+/// The largest distance from a point of `from` to the nearest shape of `to` (one side of
+/// the Hausdorff distance; the other side swaps the arguments): every sample's distance
+/// ([`nearest_on`]), then the largest few refined by a golden-section search for the
+/// maximum between the neighbouring samples (coordinate-wise on surfaces). `None` when
+/// either side is empty. `stop` is polled between samples: when it returns true the
+/// search ends with `Ok(None)`.
 pub fn directed_distance(
     from: &[Shape<'_>],
     to: &[Shape<'_>],
@@ -355,54 +425,123 @@ pub fn directed_distance(
     if targets.is_empty() {
         return Ok(None);
     }
-    let mut worst: Option<Farthest> = None;
+    let mut found: Vec<(Farthest, (f64, f64))> = Vec::new();
     for (k, s) in samples(from).into_iter().enumerate() {
         if k % 256 == 0 && stop() {
             return Ok(None);
         }
-        // The nearest few samples of `to` start inversions on their shapes (more than one:
-        // on a closed shape the nearest sample can sit at the wrong end of the seam, where
-        // the iteration cannot cross). A sample's own distance bounds the result: the
-        // inversion keeps the best point it met.
-        let mut nearest: Vec<(f64, &Sample)> = Vec::with_capacity(NEWTON_STARTS + 1);
-        for t in &targets {
-            let d = dist(t.point, s.point);
-            if nearest.len() < NEWTON_STARTS || d < nearest[nearest.len() - 1].0 {
-                let at = nearest.partition_point(|x| x.0 <= d);
-                nearest.insert(at, (d, t));
-                nearest.truncate(NEWTON_STARTS);
-            }
-        }
-        let mut best: Option<(f64, usize, (f64, f64))> = None;
-        for &(d0, start) in &nearest {
-            let (d, at) = match to[start.shape] {
-                Shape::Curve(c) => invert_curve_near(c, s.point, start.at.0)
-                    .map(|(u, d)| (d, (u, 0.0)))
-                    .ok_or_else(|| not_finite("curve"))?,
-                Shape::Surface(f) => invert_surface(f, s.point, Some(start.at))
-                    .map(|i| (i.distance, (i.u, i.v)))
-                    .ok_or_else(|| not_finite("surface"))?,
-            };
-            let (d, at) = if d <= d0 { (d, at) } else { (d0, start.at) };
-            if best.is_none_or(|b| d < b.0) {
-                best = Some((d, start.shape, at));
-            }
-        }
-        let Some((distance, shape, at)) = best else {
+        let Some((distance, shape, at)) = nearest_on(to, &targets, s.point, None)? else {
             return Ok(None);
         };
-        if worst.is_none_or(|w| distance > w.distance) {
-            worst = Some(Farthest {
+        found.push((
+            Farthest {
                 distance,
                 from: s.shape,
                 at: s.at,
                 point: s.point,
                 to: shape,
                 nearest_at: at,
-            });
+            },
+            s.step,
+        ));
+    }
+    found.sort_by(|a, b| b.0.distance.total_cmp(&a.0.distance));
+    let mut worst: Option<Farthest> = None;
+    for (start, step) in found.into_iter().take(REFINED) {
+        if stop() {
+            return Ok(None);
+        }
+        let refined = refine(from, to, &targets, start, step)?;
+        if worst.is_none_or(|w| refined.distance > w.distance) {
+            worst = Some(refined);
         }
     }
     Ok(worst)
+}
+
+/// Searches for a larger distance around `start` (within `step` of its parameters):
+/// golden-section maximisation along each parameter direction in turn.
+fn refine(
+    from: &[Shape<'_>],
+    to: &[Shape<'_>],
+    targets: &[Sample],
+    start: Farthest,
+    step: (f64, f64),
+) -> Result<Farthest, GeometryError> {
+    let shape = from[start.from];
+    let point_at = |(u, v): (f64, f64)| match shape {
+        Shape::Curve(c) => c.point_at_unchecked(u),
+        Shape::Surface(f) => f.point_at_unchecked(u, v),
+    };
+    let (du, dv) = match shape {
+        Shape::Curve(c) => (c.domain(), (0.0, 0.0)),
+        Shape::Surface(f) => f.domain(),
+    };
+    let mut best = start;
+    let eval = |at: (f64, f64), best: &mut Farthest| -> Result<f64, GeometryError> {
+        let point = point_at(at);
+        let hint = Some((best.to, best.nearest_at));
+        let Some((d, to_shape, nearest_at)) = nearest_on(to, targets, point, hint)? else {
+            return Ok(0.0);
+        };
+        if d > best.distance {
+            *best = Farthest {
+                distance: d,
+                from: best.from,
+                at,
+                point,
+                to: to_shape,
+                nearest_at,
+            };
+        }
+        Ok(d)
+    };
+    let directions: &[usize] = match shape {
+        Shape::Curve(_) => &[0],
+        Shape::Surface(_) => &[0, 1],
+    };
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..REFINE_ROUNDS {
+        for &dir in directions {
+            let centre = best.at;
+            let (h, (lo, hi)) = if dir == 0 { (step.0, du) } else { (step.1, dv) };
+            let c = if dir == 0 { centre.0 } else { centre.1 };
+            let (mut a, mut b) = ((c - h).max(lo), (c + h).min(hi));
+            if b <= a {
+                continue;
+            }
+            let at = |x: f64| {
+                if dir == 0 {
+                    (x, centre.1)
+                } else {
+                    (centre.0, x)
+                }
+            };
+            let mut x1 = b - ratio * (b - a);
+            let mut x2 = a + ratio * (b - a);
+            let mut f1 = eval(at(x1), &mut best)?;
+            let mut f2 = eval(at(x2), &mut best)?;
+            for _ in 0..GOLDEN_STEPS {
+                if f1 >= f2 {
+                    b = x2;
+                    x2 = x1;
+                    f2 = f1;
+                    x1 = b - ratio * (b - a);
+                    f1 = eval(at(x1), &mut best)?;
+                } else {
+                    a = x1;
+                    x1 = x2;
+                    f1 = f2;
+                    x2 = a + ratio * (b - a);
+                    f2 = eval(at(x2), &mut best)?;
+                }
+            }
+        }
+        if directions.len() == 1 {
+            break;
+        }
+    }
+    Ok(best)
 }
 
 fn not_finite(kind: &str) -> GeometryError {
