@@ -9,9 +9,11 @@
 //!   says it did not converge, with the estimate reached).
 //! - [`directed_distance`]: the largest distance from the points of some curves or surfaces
 //!   to the nearest of other curves or surfaces (one side of the Hausdorff distance): each
-//!   shape is sampled in every knot span, each sample's nearest sample of the other side
-//!   starts a point inversion (NURBS Book section 6.1, `super::project`) on that sample's
-//!   shape. The result does not depend on how either side is parameterised.
+//!   shape is sampled in every knot span, each sample's nearest samples of the other side
+//!   (a k-d tree) start point inversions (NURBS Book section 6.1, `super::project`) on
+//!   their shapes, and the largest distances found are refined by a local search. The
+//!   result does not depend on how either side is parameterised; it is a sampled estimate
+//!   from below (a deviation narrower than the sample spacing can be missed).
 
 use super::project::{invert_curve_near, invert_surface};
 use super::vector::{cross, dist, norm};
@@ -259,21 +261,28 @@ pub enum Shape<'a> {
 const NEWTON_STARTS: usize = 3;
 /// Samples per knot span and direction.
 const SPAN_SAMPLES: usize = 8;
-/// The most samples of one curve, and per direction of one surface.
-const MAX_SAMPLES: usize = 256;
+/// The most samples of one curve.
+const MAX_CURVE_SAMPLES: usize = 256;
+/// The most samples per direction of one surface.
+const MAX_SURFACE_SAMPLES: usize = 48;
 /// The fewest samples of one curve, and per direction of one surface.
 const MIN_SAMPLES: usize = 32;
+/// The samples of one side of a distance: above it, every shape is sampled more coarsely
+/// (down to [`FLOOR_SAMPLES`] per direction).
+const MAX_SIDE_SAMPLES: usize = 100_000;
+/// The fewest samples per direction when a side is sampled coarsely.
+const FLOOR_SAMPLES: usize = 5;
 
-/// Sample parameters of one direction: `SPAN_SAMPLES` per knot span, between
-/// `MIN_SAMPLES` and `MAX_SAMPLES` in all, every knot among them when there is room.
-fn sample_parameters(knots: &[f64], p: usize, domain: (f64, f64)) -> Vec<f64> {
+/// Sample parameters of one direction: `SPAN_SAMPLES` per knot span, at least
+/// `MIN_SAMPLES.min(max)` and at most `max` in all (plus the end), every knot among them
+/// when there is room.
+fn sample_parameters(knots: &[f64], p: usize, domain: (f64, f64), max: usize) -> Vec<f64> {
     let b = breaks(knots, p, domain);
     let spans = b.len() - 1;
-    let per = SPAN_SAMPLES.max(MIN_SAMPLES.div_ceil(spans));
-    if spans * per > MAX_SAMPLES {
-        let n = MAX_SAMPLES;
-        return (0..=n)
-            .map(|i| domain.0 + (domain.1 - domain.0) * i as f64 / n as f64)
+    let per = SPAN_SAMPLES.max(MIN_SAMPLES.min(max).div_ceil(spans));
+    if spans * per > max {
+        return (0..=max)
+            .map(|i| domain.0 + (domain.1 - domain.0) * i as f64 / max as f64)
             .collect();
     }
     let mut out = Vec::with_capacity(spans * per + 1);
@@ -303,39 +312,116 @@ fn step_at(ps: &[f64], i: usize) -> f64 {
     before.max(after)
 }
 
+/// The samples of some shapes: [`sample_parameters`] in every direction, more coarsely
+/// when the full sampling would exceed [`MAX_SIDE_SAMPLES`].
 fn samples(shapes: &[Shape<'_>]) -> Vec<Sample> {
+    let params = |shape: &Shape<'_>, curve_max: usize, surface_max: usize| match shape {
+        Shape::Curve(c) => (
+            sample_parameters(c.knots(), c.degree(), c.domain(), curve_max),
+            vec![0.0],
+        ),
+        Shape::Surface(f) => {
+            let (du, dv) = f.domain();
+            (
+                sample_parameters(f.knots_u(), f.degree_u(), du, surface_max),
+                sample_parameters(f.knots_v(), f.degree_v(), dv, surface_max),
+            )
+        }
+    };
+    let mut caps = (MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES);
+    let total: usize = shapes
+        .iter()
+        .map(|s| {
+            let (u, v) = params(s, caps.0, caps.1);
+            u.len() * v.len()
+        })
+        .sum();
+    if total > MAX_SIDE_SAMPLES {
+        let f = MAX_SIDE_SAMPLES as f64 / total as f64;
+        let cap = |max: usize, f: f64| ((max as f64 * f) as usize).max(FLOOR_SAMPLES);
+        caps = (
+            cap(MAX_CURVE_SAMPLES, f),
+            cap(MAX_SURFACE_SAMPLES, f.sqrt()),
+        );
+    }
     let mut out = Vec::new();
     for (shape, s) in shapes.iter().enumerate() {
-        match s {
-            Shape::Curve(c) => {
-                let us = sample_parameters(c.knots(), c.degree(), c.domain());
-                for (i, &u) in us.iter().enumerate() {
-                    out.push(Sample {
-                        shape,
-                        at: (u, 0.0),
-                        point: c.point_at_unchecked(u),
-                        step: (step_at(&us, i), 0.0),
-                    });
-                }
-            }
-            Shape::Surface(f) => {
-                let (du, dv) = f.domain();
-                let us = sample_parameters(f.knots_u(), f.degree_u(), du);
-                let vs = sample_parameters(f.knots_v(), f.degree_v(), dv);
-                for (i, &u) in us.iter().enumerate() {
-                    for (j, &v) in vs.iter().enumerate() {
-                        out.push(Sample {
-                            shape,
-                            at: (u, v),
-                            point: f.point_at_unchecked(u, v),
-                            step: (step_at(&us, i), step_at(&vs, j)),
-                        });
-                    }
-                }
+        let (us, vs) = params(s, caps.0, caps.1);
+        for (i, &u) in us.iter().enumerate() {
+            for (j, &v) in vs.iter().enumerate() {
+                let (point, step) = match s {
+                    Shape::Curve(c) => (c.point_at_unchecked(u), (step_at(&us, i), 0.0)),
+                    Shape::Surface(f) => (
+                        f.point_at_unchecked(u, v),
+                        (step_at(&us, i), step_at(&vs, j)),
+                    ),
+                };
+                out.push(Sample {
+                    shape,
+                    at: (u, v),
+                    point,
+                    step,
+                });
             }
         }
     }
     out
+}
+
+/// A k-d tree over sample points, stored implicitly (the median of each range at its
+/// middle), built and searched with explicit stacks.
+struct Tree<'s> {
+    samples: &'s [Sample],
+    order: Vec<usize>,
+}
+
+impl<'s> Tree<'s> {
+    fn new(samples: &'s [Sample]) -> Self {
+        let mut order: Vec<usize> = (0..samples.len()).collect();
+        let mut stack = vec![(0usize, order.len(), 0usize)];
+        while let Some((lo, hi, axis)) = stack.pop() {
+            if hi - lo < 2 {
+                continue;
+            }
+            let mid = (lo + hi) / 2;
+            order[lo..hi].select_nth_unstable_by(mid - lo, |&a, &b| {
+                samples[a].point[axis].total_cmp(&samples[b].point[axis])
+            });
+            stack.push((lo, mid, (axis + 1) % 3));
+            stack.push((mid + 1, hi, (axis + 1) % 3));
+        }
+        Tree { samples, order }
+    }
+
+    /// The `k` samples nearest to `q`, nearest first, with their distances.
+    fn nearest(&self, q: Point3, k: usize) -> Vec<(f64, &'s Sample)> {
+        let mut best: Vec<(f64, &'s Sample)> = Vec::with_capacity(k + 1);
+        // (range, axis, squared distance from q to the range's side of the split)
+        let mut stack = vec![(0usize, self.order.len(), 0usize, 0.0f64)];
+        while let Some((lo, hi, axis, bound)) = stack.pop() {
+            if lo >= hi || (best.len() == k && bound > best[k - 1].0 * best[k - 1].0) {
+                continue;
+            }
+            let mid = (lo + hi) / 2;
+            let s = &self.samples[self.order[mid]];
+            let d = dist(s.point, q);
+            if best.len() < k || d < best[best.len() - 1].0 {
+                let at = best.partition_point(|x| x.0 <= d);
+                best.insert(at, (d, s));
+                best.truncate(k);
+            }
+            let diff = q[axis] - s.point[axis];
+            let next = (axis + 1) % 3;
+            let (near, far) = if diff < 0.0 {
+                ((lo, mid), (mid + 1, hi))
+            } else {
+                ((mid + 1, hi), (lo, mid))
+            };
+            stack.push((far.0, far.1, next, diff * diff));
+            stack.push((near.0, near.1, next, bound));
+        }
+        best
+    }
 }
 
 /// Where the largest distance of [`directed_distance`] was found.
@@ -364,19 +450,14 @@ type Hit = (f64, usize, (f64, f64));
 /// A sample's own distance bounds the result. Returns `(distance, shape, parameters)`.
 fn nearest_on(
     to: &[Shape<'_>],
-    targets: &[Sample],
+    targets: &Tree<'_>,
     point: Point3,
     hint: Option<(usize, (f64, f64))>,
 ) -> Result<Option<Hit>, GeometryError> {
-    let mut nearest: Vec<Hit> = Vec::with_capacity(NEWTON_STARTS + 2);
-    for t in targets {
-        let d = dist(t.point, point);
-        if nearest.len() < NEWTON_STARTS || d < nearest[nearest.len() - 1].0 {
-            let at = nearest.partition_point(|x| x.0 <= d);
-            nearest.insert(at, (d, t.shape, t.at));
-            nearest.truncate(NEWTON_STARTS);
-        }
-    }
+    let nearest = targets
+        .nearest(point, NEWTON_STARTS)
+        .into_iter()
+        .map(|(d, t)| (d, t.shape, t.at));
     let starts = hint
         .map(|(shape, at)| (f64::INFINITY, shape, at))
         .into_iter()
@@ -421,10 +502,11 @@ pub fn directed_distance(
     to: &[Shape<'_>],
     stop: &dyn Fn() -> bool,
 ) -> Result<Option<Farthest>, GeometryError> {
-    let targets = samples(to);
-    if targets.is_empty() {
+    let target_samples = samples(to);
+    if target_samples.is_empty() {
         return Ok(None);
     }
+    let targets = Tree::new(&target_samples);
     let mut found: Vec<(Farthest, (f64, f64))> = Vec::new();
     for (k, s) in samples(from).into_iter().enumerate() {
         if k % 256 == 0 && stop() {
@@ -464,7 +546,7 @@ pub fn directed_distance(
 fn refine(
     from: &[Shape<'_>],
     to: &[Shape<'_>],
-    targets: &[Sample],
+    targets: &Tree<'_>,
     start: Farthest,
     step: (f64, f64),
 ) -> Result<Farthest, GeometryError> {
@@ -548,4 +630,43 @@ fn not_finite(kind: &str) -> GeometryError {
     GeometryError::InvalidArgument(format!(
         "a {kind}'s derivatives are not finite: no distance"
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Sample, Tree};
+    use crate::nurbs::vector::dist;
+
+    #[test]
+    fn the_tree_finds_the_nearest_samples_a_full_scan_finds() {
+        let mut seed: u64 = 7;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 10.0 - 5.0
+        };
+        let samples: Vec<Sample> = (0..2000)
+            .map(|k| Sample {
+                shape: k,
+                at: (0.0, 0.0),
+                // Many equal coordinates too (a plane of points).
+                point: [next(), next(), if k % 3 == 0 { 0.0 } else { next() }],
+                step: (0.0, 0.0),
+            })
+            .collect();
+        let tree = Tree::new(&samples);
+        for _ in 0..300 {
+            let q = [next(), next(), next()];
+            let mut all: Vec<(f64, usize)> = samples
+                .iter()
+                .map(|s| (dist(s.point, q), s.shape))
+                .collect();
+            all.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let got: Vec<f64> = tree.nearest(q, 3).iter().map(|x| x.0).collect();
+            let want: Vec<f64> = all[..3].iter().map(|x| x.0).collect();
+            assert_eq!(got, want);
+        }
+        assert!(Tree::new(&[]).nearest([0.0; 3], 3).is_empty());
+    }
 }
