@@ -8,8 +8,8 @@
 //!   (NURBS Book section 9.4.1, eqs. 9.63 .. 9.69; seed 000 eqs. 2-135 .. 2-144): the end
 //!   points are interpolated, the other poles minimise the sum of squared distances of the
 //!   data points from the curve at their parameters, knots by eqs. 9.68 / 9.69.
-//! - [`interpolate_surface`] (A9.4) and [`approximate_surface`] (A9.7) over a grid of
-//!   points, with the parameters of A9.3 (the rows' parameters averaged).
+//! - [`fit_surface`]: surface interpolation (A9.4) and least-squares approximation (A9.7)
+//!   over a grid of points, with the parameters of A9.3 (the lines' parameters averaged).
 //!
 //! Every fit reports its [`Residual`]: the distances of the data points from the result at
 //! their parameters, measured after the fit.
@@ -212,11 +212,12 @@ pub fn averaged_knots(t: &[f64], p: usize) -> Vec<f64> {
 }
 
 /// The knot vector of a least-squares fit with `poles` poles to points at the parameters
-/// `t` (NURBS Book eqs. 9.68 / 9.69; seed 000 eqs. 2-143, 2-144): with `m + 1` points and
+/// `t` (NURBS Book eqs. 9.68 / 9.69; seed 000 eqs. 2-142 .. 2-144): with `m + 1` points and
 /// `n + 1` poles, `d = (m + 1) / (n - p + 1)`, and for `j = 1 .. n - p`, `i = int(j d)`,
 /// `alpha = j d - i`, `u_{p+j} = (1 - alpha) t_{i-1} + alpha t_i`; every knot span then
-/// holds at least one parameter. Needs `p + 1 <= poles <= t.len()`.
-pub fn approximation_knots(t: &[f64], p: usize, poles: usize) -> Vec<f64> {
+/// holds at least one parameter. Needs `p + 1 <= poles <= t.len()` (checked by the
+/// callers, [`check_poles`]).
+fn approximation_knots(t: &[f64], p: usize, poles: usize) -> Vec<f64> {
     let (m1, n) = (t.len(), poles - 1);
     let d = m1 as f64 / (n - p + 1) as f64;
     let mut u = vec![t[0]; p + 1];
@@ -504,7 +505,7 @@ pub fn interpolate_at(
 
 /// The polynomial curve of degree `p` with `poles` poles closest to the points in the
 /// least-squares sense (NURBS Book section 9.4.1; seed 000 eqs. 2-135 .. 2-144): the
-/// parameters of `method`, the knots of [`approximation_knots`], the first and last point
+/// parameters of `method`, the knots of eqs. 9.68 / 9.69, the first and last point
 /// interpolated, the other poles from the normal equations `(N^T N) P = R`.
 ///
 /// Errors: as [`interpolate`], and a pole count outside `p + 1 <= poles < points`.

@@ -493,7 +493,7 @@ const REFINE_ROUNDS: usize = 3;
 
 /// The largest distance from a point of `from` to the nearest shape of `to` (one side of
 /// the Hausdorff distance; the other side swaps the arguments): every sample's distance
-/// ([`nearest_on`]), then the largest few refined by a golden-section search for the
+/// (inversions from its nearest samples on the other side), then the largest few refined by a golden-section search for the
 /// maximum between the neighbouring samples (coordinate-wise on surfaces). `None` when
 /// either side is empty. `stop` is polled between samples: when it returns true the
 /// search ends with `Ok(None)`.

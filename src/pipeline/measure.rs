@@ -88,6 +88,10 @@ pub struct MeasureReport {
     pub converged: bool,
 }
 
+/// An upper estimate of the reply bytes of one measured entity besides its id (which
+/// appears up to twice: the entity and `nearest`).
+const ENTITY_REPLY_BYTES: f64 = 400.0;
+
 /// Measures the entities of `doc` (or the one `request.entity` names): every curve's
 /// length, every surface's area, and with `closest` each one's closest point.
 pub fn measure(
@@ -120,6 +124,16 @@ pub fn measure(
             doc.entities.iter().collect()
         }
     };
+    // A measured entity takes a few hundred bytes of reply.
+    super::ops::check_reply(
+        chosen
+            .iter()
+            .map(|e| ENTITY_REPLY_BYTES + 2.0 * e.id.len() as f64)
+            .sum(),
+        "measure reply",
+        "measure fewer entities (entity)",
+        settings,
+    )?;
     let mut entities = Vec::with_capacity(chosen.len());
     for e in chosen {
         settings.cancel.check()?;
