@@ -129,6 +129,9 @@ fn every_help_teaches_an_example_and_the_exit_codes() {
         "insert-knot",
         "tessellate",
         "serve",
+        "fit",
+        "measure",
+        "compare",
     ];
     let top = nurbsx(["--help"]);
     assert_exit(&top, 0);
@@ -2794,6 +2797,7 @@ fn fit_passes_through_the_points_of_a_text_file() {
     );
 }
 
+<<<<<<< HEAD
 /// A part sample of `samples/freecad/parts`.
 fn part(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -3088,4 +3092,258 @@ fn strict_makes_violations_errors_in_convert_and_info() {
         }
         assert!(out.is_file(), "{strict}: the output is written");
     }
+=======
+// ---------------------------------------------------------------------------------------
+// fit (least squares, grids), measure, compare
+
+fn curve_file(path: &Path) -> nurbsx::nurbs::NurbsCurve {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn fit_least_squares_and_grids_report_the_residual() {
+    let dir = temp_dir("fit-ls");
+    let points = dir.join("p.json");
+    let q: Vec<[f64; 3]> = (0..50)
+        .map(|k| {
+            let t = f64::from(k) * 0.2;
+            [t.cos(), t.sin(), 0.1 * t + 0.01 * (7.0 * t).sin()]
+        })
+        .collect();
+    std::fs::write(&points, serde_json::to_string(&q).unwrap()).unwrap();
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        points.as_os_str(),
+        "--poles".as_ref(),
+        "9".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    let c = curve_file(&out);
+    assert_eq!(c.num_poles(), 9);
+    // The ends are interpolated, bit for bit (numbers are read back exactly).
+    assert_eq!(c.control_points()[0], q[0]);
+    assert_eq!(c.control_points()[8], q[49]);
+    // The summary names the method and the residual, which is the library's figure.
+    let fit =
+        nurbsx::nurbs::fit::approximate(&q, 3, 9, nurbsx::nurbs::fit::ParamMethod::ChordLength, 3)
+            .unwrap();
+    let text = stderr(&o);
+    assert!(text.contains("least-squares of 50 points"), "{text}");
+    let max: f64 = text
+        .split("residual max ")
+        .nth(1)
+        .and_then(|rest| rest.split(',').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        (max - fit.residual.max).abs() <= 1e-12 * fit.residual.max,
+        "{text}"
+    );
+    // A pole count outside degree + 1 .. points - 1 is a usage error.
+    for n in ["3", "50"] {
+        let o = nurbsx([
+            "fit".as_ref(),
+            points.as_os_str(),
+            "--poles".as_ref(),
+            n.as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert!(
+            code(&o) != 0 && !stderr(&o).contains("panicked"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // A grid: interpolation through every point (the corners are poles), then least squares.
+    let grid: Vec<Vec<[f64; 3]>> = (0..7)
+        .map(|i| {
+            (0..5)
+                .map(|j| {
+                    let (x, y) = (f64::from(i), f64::from(j) * 1.5);
+                    [x, y, (0.5 * x).sin() * (0.3 * y).cos()]
+                })
+                .collect()
+        })
+        .collect();
+    let gpath = dir.join("grid.json");
+    std::fs::write(&gpath, serde_json::to_string(&grid).unwrap()).unwrap();
+    let sout = dir.join("s.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "--degree-v".as_ref(),
+        "2".as_ref(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("interpolation of 7 x 5 points"),
+        "{}",
+        stderr(&o)
+    );
+    let s: nurbsx::nurbs::NurbsSurface =
+        serde_json::from_str(&std::fs::read_to_string(&sout).unwrap()).unwrap();
+    assert_eq!((s.degree_u(), s.degree_v()), (3, 2));
+    assert_eq!((s.control_points().nu(), s.control_points().nv()), (7, 5));
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "--poles".as_ref(),
+        "5".as_ref(),
+        "--poles-v".as_ref(),
+        "4".as_ref(),
+        "--degree-v".as_ref(),
+        "2".as_ref(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    let s: nurbsx::nurbs::NurbsSurface =
+        serde_json::from_str(&std::fs::read_to_string(&sout).unwrap()).unwrap();
+    assert_eq!((s.control_points().nu(), s.control_points().nv()), (5, 4));
+    assert!(same(*s.control_points().get(4, 3), grid[6][4]));
+    // A ragged grid is a usage error.
+    std::fs::write(&gpath, "[[[0,0,0],[1,0,0]],[[0,1,0]]]").unwrap();
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+}
+
+#[test]
+fn measure_the_circle_length_and_closest_point() {
+    let circle = data("circle.json");
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-10".as_ref(),
+        "--closest".as_ref(),
+        "3,4".as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    let v = json(&o);
+    let e = &v["entities"][0];
+    assert_eq!(e["kind"], "curve");
+    let length = e["length"]["value"].as_f64().unwrap();
+    assert!((length - 2.0 * std::f64::consts::PI).abs() < 1e-10, "{v}");
+    assert_eq!(e["length"]["converged"], true);
+    // The closest point to (3, 4) on the unit circle is (0.6, 0.8), at distance 4.
+    let d = e["closest"]["distance"].as_f64().unwrap();
+    assert!((d - 4.0).abs() < 1e-12, "{v}");
+    let p = floats(&e["closest"]["point"]);
+    assert!(
+        (p[0] - 0.6).abs() < 1e-9 && (p[1] - 0.8).abs() < 1e-9,
+        "{p:?}"
+    );
+    assert_eq!(v["nearest"], "0");
+    // An unreachable tolerance: exit 1 with a warning naming the estimate.
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-300".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("measure.not_converged"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("NOT converged"), "{}", stdout(&o));
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--closest".as_ref(),
+        "1,2,3,4".as_ref(),
+    ]);
+    assert_exit(&o, 2);
+}
+
+#[test]
+fn compare_ignores_the_parameterisation_and_sees_a_move() {
+    let dir = temp_dir("compare");
+    let circle = data("circle.json");
+    let (reversed, elevated, moved) = (
+        dir.join("rev.json"),
+        dir.join("up.step"),
+        dir.join("moved.json"),
+    );
+    assert_exit(
+        &nurbsx([
+            "reverse".as_ref(),
+            circle.as_os_str(),
+            "-o".as_ref(),
+            reversed.as_os_str(),
+        ]),
+        0,
+    );
+    assert_exit(
+        &nurbsx([
+            "elevate".as_ref(),
+            reversed.as_os_str(),
+            "--by".as_ref(),
+            "2".as_ref(),
+            "-o".as_ref(),
+            elevated.as_os_str(),
+        ]),
+        0,
+    );
+    assert_exit(
+        &nurbsx([
+            "transform".as_ref(),
+            circle.as_os_str(),
+            "--translate".as_ref(),
+            "0.3,0.4,0".as_ref(),
+            "-o".as_ref(),
+            moved.as_os_str(),
+        ]),
+        0,
+    );
+    for other in [&reversed, &elevated] {
+        let o = nurbsx([
+            "compare".as_ref(),
+            circle.as_os_str(),
+            other.as_os_str(),
+            "--tolerance".as_ref(),
+            "1e-9".as_ref(),
+            "--json".as_ref(),
+        ]);
+        assert_exit(&o, 0);
+        let v = json(&o);
+        assert!(v["distance"].as_f64().unwrap() < 1e-9, "{v}");
+        assert_eq!(v["within_tolerance"], true);
+    }
+    let o = nurbsx([
+        "compare".as_ref(),
+        circle.as_os_str(),
+        moved.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-3".as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+    let v = json(&o);
+    assert!((v["distance"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{v}");
+    assert_eq!(v["within_tolerance"], false);
+    // Without --tolerance: a report and exit 0.
+    let o = nurbsx(["compare".as_ref(), circle.as_os_str(), moved.as_os_str()]);
+    assert_exit(&o, 0);
+    let text = stdout(&o);
+    let number: f64 = text
+        .strip_prefix("Hausdorff distance ")
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!((number - 0.5).abs() < 1e-9, "{text}");
+>>>>>>> fit17
 }

@@ -19,7 +19,7 @@ const NUMBER_BYTES: f64 = 25.0;
 /// Refuses work whose reply would exceed [`Settings::max_reply_bytes`]: `estimate` is the
 /// reply size worked out before the work, `what` names the reply, `advice` says how to
 /// shrink it.
-fn check_reply(
+pub(super) fn check_reply(
     estimate: f64,
     what: &str,
     advice: &str,

@@ -49,6 +49,7 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::derivative_curve,
         super::routes::make,
         super::routes::fit,
+        super::routes::measure,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -69,7 +70,9 @@ use super::error::{ErrorBody, ErrorDetail};
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
-        super::api::FitRequest, super::api::ParamsName,
+        super::api::FitRequest, super::api::ParamsName, FitReply, FitReportDoc,
+        super::api::MeasureRequest, MeasureReportDoc, EntityMeasureDoc, QuantityDoc,
+        ClosestPointDoc,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),
@@ -541,3 +544,98 @@ pub struct Limits {
     /// Per-request time limit in milliseconds (over it: 503 `timeout`).
     pub request_timeout_ms: u64,
 }
+
+// --- fit and measure ---
+
+/// The reply of `POST /v1/fit` for model JSON.
+#[derive(Serialize, ToSchema)]
+#[allow(dead_code)]
+pub struct FitReply {
+    /// The fitted curve or surface.
+    pub geometry: GeometryDoc,
+    /// What the fit did and its residual.
+    pub fit: FitReportDoc,
+}
+
+/// What a fit did (mirror of `pipeline::construct::FitReport`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = FitReport)]
+#[allow(dead_code)]
+pub struct FitReportDoc {
+    /// `interpolation` or `least_squares`.
+    pub method: String,
+    /// Data points: `[n]` along a curve, `[rows, columns]` of a grid.
+    pub points: Vec<usize>,
+    /// Poles of the result: `[n]` or `[nu, nv]`.
+    pub poles: Vec<usize>,
+    /// The largest distance of a data point from the result at its parameters.
+    pub residual_max: f64,
+    /// The root mean square of those distances.
+    pub residual_rms: f64,
+}
+
+/// The reply of `POST /v1/measure` (mirror of `pipeline::measure::MeasureReport`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = MeasureReport)]
+#[allow(dead_code)]
+pub struct MeasureReportDoc {
+    /// The tolerance asked for.
+    pub tolerance: f64,
+    /// One per entity measured.
+    pub entities: Vec<EntityMeasureDoc>,
+    /// With `closest`: the id of the entity nearest to the point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nearest: Option<String>,
+    /// Whether every length and area reached the tolerance.
+    pub converged: bool,
+}
+
+/// What was measured on one entity (mirror of `pipeline::measure::EntityMeasure`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = EntityMeasure)]
+#[allow(dead_code)]
+pub struct EntityMeasureDoc {
+    /// The entity's id.
+    pub id: String,
+    /// `curve` or `surface`.
+    pub kind: String,
+    /// A curve's length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length: Option<QuantityDoc>,
+    /// A surface's area.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area: Option<QuantityDoc>,
+    /// The closest point (with `closest`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closest: Option<ClosestPointDoc>,
+}
+
+/// A length or area (mirror of `pipeline::measure::Quantity`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = Quantity)]
+#[allow(dead_code)]
+pub struct QuantityDoc {
+    /// The value.
+    pub value: f64,
+    /// The estimate of its error (sum of `|Kronrod - Gauss|` over the pieces).
+    pub error_estimate: f64,
+    /// Whether the estimate reached the tolerance (else the piece limit came first).
+    pub converged: bool,
+    /// Pieces (curves) or cells (surfaces) the domain was cut into.
+    pub pieces: usize,
+}
+
+/// An entity's closest point (mirror of `pipeline::measure::ClosestPoint`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = ClosestPoint)]
+#[allow(dead_code)]
+pub struct ClosestPointDoc {
+    /// `[u]` or `[u, v]`.
+    pub parameters: Vec<f64>,
+    /// The point.
+    pub point: Vec<f64>,
+    /// Its distance from the requested point.
+    pub distance: f64,
+}
+
+// --- end of fit and measure ---
