@@ -2797,7 +2797,6 @@ fn fit_passes_through_the_points_of_a_text_file() {
     );
 }
 
-<<<<<<< HEAD
 /// A part sample of `samples/freecad/parts`.
 fn part(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -3092,7 +3091,8 @@ fn strict_makes_violations_errors_in_convert_and_info() {
         }
         assert!(out.is_file(), "{strict}: the output is written");
     }
-=======
+}
+
 // ---------------------------------------------------------------------------------------
 // fit (least squares, grids), measure, compare
 
@@ -3345,5 +3345,4 @@ fn compare_ignores_the_parameterisation_and_sees_a_move() {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("{text}"));
     assert!((number - 0.5).abs() < 1e-9, "{text}");
->>>>>>> fit17
 }

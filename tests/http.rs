@@ -1968,6 +1968,7 @@ async fn info_gives_each_entity_its_role_in_the_part() {
     );
     let v = info(circle().to_string()).await;
     assert_eq!(v["entities"][0]["role"], "free");
+}
 
 // ---------------------------------------------------------------------------------------
 // /v1/fit with poles and grids, /v1/measure
