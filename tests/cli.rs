@@ -3206,7 +3206,7 @@ fn fit_least_squares_and_grids_report_the_residual() {
     let s: nurbsx::nurbs::NurbsSurface =
         serde_json::from_str(&std::fs::read_to_string(&sout).unwrap()).unwrap();
     assert_eq!((s.control_points().nu(), s.control_points().nv()), (5, 4));
-    assert!(same(*s.control_points().get(4, 3), grid[6][4]));
+    assert_eq!(*s.control_points().get(4, 3), grid[6][4]);
     // A ragged grid is a usage error.
     std::fs::write(&gpath, "[[[0,0,0],[1,0,0]],[[0,1,0]]]").unwrap();
     let o = nurbsx([
