@@ -864,6 +864,7 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
         edges: m.edges.len(),
         vertices: m.vertices.len(),
         assemblies: m.assemblies.len(),
+        instances: doc.topology.instances.clone(),
         area: totals.area,
         centroid: (totals.area > 0.0).then_some(totals.centroid),
         unmeasured_faces: totals.unmeasured,

@@ -11,7 +11,7 @@ use super::{
 use crate::nurbs::transform::{Affine, IDENTITY, apply, compose};
 
 /// What an instance places.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Part {
     /// A solid.
     Solid(SolidId),
