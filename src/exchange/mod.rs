@@ -14,6 +14,7 @@
 //! Per-entity problems never abort a file: the entity is skipped with an error diagnostic
 //! and the others load. Only a file that cannot be read at all gives `Err`.
 
+mod assembly;
 mod diagnostic;
 mod document;
 pub mod iges;

@@ -17,10 +17,8 @@
 //!   `A(mapping_target) A(mapping_origin)^-1`.
 //!
 //! The tree becomes [`Assembly`]s (one per product definition, named by its product; a part
-//! used twice is one definition with two instances), [`Model::flatten`] composes the
-//! placements without recursion (refusing cycles and oversized trees) and [`Model::place`]
-//! copies every leaf into root coordinates with exactly transformed geometry. Items in no
-//! product's shape stay as they are.
+//! used twice is one definition with two instances), placed by
+//! [`place_all`](crate::exchange::assembly::place_all).
 
 use std::collections::{HashMap, HashSet};
 
@@ -30,16 +28,11 @@ use nurbsx_parsers::step::schema::DecodeError;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use super::geometry::Converter;
-use crate::exchange::{Diagnostic, Location, Origin, Origins, PlacedInstance, Topology};
+use crate::exchange::assembly::{Definitions, place_all};
+use crate::exchange::{Diagnostic, Location, Origins, Topology};
 use crate::nurbs::sweep::Frame;
 use crate::nurbs::transform::{Affine, IDENTITY, compose};
-use crate::topology::{Assembly, AssemblyId, Instance, Model, Part, TopologyError};
-
-/// Deepest nesting of assemblies followed.
-pub(super) const MAX_DEPTH: usize = 64;
-/// Most leaf instances one file's assemblies may expand to (a sub-assembly shared by
-/// several others multiplies its instances).
-pub(super) const MAX_INSTANCES: usize = 100_000;
+use crate::topology::{Assembly, AssemblyId, Instance, Model, Part};
 
 /// The decoded product-structure instances by id.
 pub(super) type Products<'a> = HashMap<u64, ProductItem<'a>>;
@@ -423,7 +416,6 @@ pub(super) fn apply<'a>(
         ..Model::default()
     };
     let mut sources: Vec<Vec<Option<u64>>> = Vec::with_capacity(keys.len());
-    let mut child_of = vec![false; keys.len()];
     for (key, list) in keys.iter().zip(uses) {
         let name = match key {
             Key::Definition(pd) => r.product_name(*pd),
@@ -441,11 +433,7 @@ pub(super) fn apply<'a>(
         for u in list {
             let part = match u.part {
                 Ok(p) => p,
-                Err(child) => {
-                    let i = index[&child];
-                    child_of[i] = true;
-                    Part::Assembly(AssemblyId(i))
-                }
+                Err(child) => Part::Assembly(AssemblyId(index[&child])),
             };
             instances.push(Instance {
                 name: u.name,
@@ -464,191 +452,22 @@ pub(super) fn apply<'a>(
             Location::default(),
         ));
     }
-    let roots: Vec<usize> = (0..keys.len())
-        .filter(|&i| !child_of[i] && !defs.assemblies[i].instances.is_empty())
-        .collect();
-    let describe = |i: usize| format!("#{} '{}'", keys[i].id(), defs.assemblies[i].name);
-    let located = |e: &TopologyError| -> Diagnostic {
-        let (message, at) = match e {
-            TopologyError::AssemblyCycle { chain } => (
-                format!(
-                    "product definitions contain each other: {}",
-                    chain
-                        .iter()
-                        .map(|a| describe(a.0))
-                        .collect::<Vec<_>>()
-                        .join(" -> ")
-                ),
-                chain.first().map_or(0, |a| keys[a.0].id()),
-            ),
-            TopologyError::AssemblyTooLarge { root, what, limit } => (
-                format!(
-                    "the assembly {} expands beyond {limit} {what}",
-                    describe(root.0)
-                ),
-                keys[root.0].id(),
-            ),
-            other => (other.to_string(), 0),
-        };
-        Diagnostic::error(
-            "assembly.refused",
-            format!(
-                "{message}; no placement is applied: every part is kept once, in its own coordinates"
-            ),
-            conv.location(at),
-        )
+    let definitions = Definitions {
+        ids: keys.iter().map(|k| format!("#{}", k.id())).collect(),
+        sources: sources
+            .into_iter()
+            .map(|l| {
+                l.into_iter()
+                    .map(|s| s.map_or_else(String::new, |s| format!("#{s}")))
+                    .collect()
+            })
+            .collect(),
+        model: defs,
     };
-    // Nodes no root reaches sit on a cycle (or under one): flattening one names it.
-    let mut reached = vec![false; keys.len()];
-    let mut stack: Vec<usize> = roots.clone();
-    while let Some(i) = stack.pop() {
-        if std::mem::replace(&mut reached[i], true) {
-            continue;
-        }
-        for inst in &defs.assemblies[i].instances {
-            if let Part::Assembly(a) = inst.part {
-                stack.push(a.0);
-            }
-        }
-    }
-    if let Some(i) = (0..keys.len()).find(|&i| !reached[i]) {
-        let e = match defs.flatten(AssemblyId(i), MAX_DEPTH, MAX_INSTANCES) {
-            Err(e) => e,
-            Ok(_) => TopologyError::AssemblyCycle {
-                chain: vec![AssemblyId(i)],
-            },
-        };
-        r.diagnostics.push(located(&e));
-        return r.diagnostics;
-    }
-    let mut leaves = Vec::new();
-    for &root in &roots {
-        match defs.flatten(AssemblyId(root), MAX_DEPTH, MAX_INSTANCES) {
-            Ok(l) => leaves.push((root, l)),
-            Err(e) => {
-                r.diagnostics.push(located(&e));
-                return r.diagnostics;
-            }
-        }
-    }
-    let total: usize = leaves.iter().map(|(_, l)| l.len()).sum();
-    if total > MAX_INSTANCES {
-        r.diagnostics
-            .push(located(&TopologyError::AssemblyTooLarge {
-                root: AssemblyId(roots[0]),
-                what: "instances",
-                limit: MAX_INSTANCES,
-            }));
-        return r.diagnostics;
-    }
-
-    // Copies into root coordinates.
-    let source = &topology.model;
-    let mut budget = 0usize;
-    for (_, list) in &leaves {
-        for leaf in list {
-            budget = budget.saturating_add(source.part_size(leaf.part).unwrap_or(0));
-        }
-    }
-    if budget > max_items {
-        r.diagnostics.push(Diagnostic::error(
-            "limit.entities",
-            format!("placing the assembly's instances would make {budget} vertices, edges, faces, shells and solids, more than the limit of {max_items}; no placement is applied: every part is kept once, in its own coordinates"),
-            Location::default(),
-        ));
-        return r.diagnostics;
-    }
-    let mut out = Topology::default();
-    let mut owned: HashSet<Part> = HashSet::new();
-    let mut instances: Vec<PlacedInstance> = Vec::new();
-    let mut instance_at: HashMap<(usize, Vec<usize>), usize> = HashMap::new();
-    let mut used_paths: HashSet<(Part, String)> = HashSet::new();
-    for (root, list) in &leaves {
-        for leaf in list {
-            owned.insert(leaf.part);
-            // The named instances along the path, recorded once each.
-            let mut asm = *root;
-            let mut world = IDENTITY;
-            let mut names: Vec<String> = Vec::new();
-            let mut owner: Option<usize> = None;
-            for (depth, &i) in leaf.path.iter().enumerate() {
-                let inst = &defs.assemblies[asm].instances[i];
-                world = compose(&world, &inst.placement);
-                if let Some(n) = &inst.name {
-                    names.push(n.clone());
-                    let key = (*root, leaf.path[..=depth].to_vec());
-                    let next = instances.len();
-                    let at = *instance_at.entry(key).or_insert(next);
-                    if at == next {
-                        let product = match inst.part {
-                            Part::Assembly(a) => defs.assemblies[a.0].name.clone(),
-                            _ => String::new(),
-                        };
-                        instances.push(PlacedInstance {
-                            path: names.join("/"),
-                            id: sources[asm][i].map_or_else(String::new, |s| format!("#{s}")),
-                            product,
-                            depth: names.len(),
-                            placement: inst.placement,
-                            world,
-                            places: Vec::new(),
-                        });
-                    }
-                    owner = Some(at);
-                }
-                if let Part::Assembly(a) = inst.part {
-                    asm = a.0;
-                }
-            }
-            let mut path = names.join("/");
-            if !used_paths.insert((leaf.part, path.clone())) {
-                let mut n = 2;
-                while !used_paths.insert((leaf.part, format!("{path}[{n}]"))) {
-                    n += 1;
-                }
-                path = format!("{path}[{n}]");
-            }
-            match source.place(leaf.part, &leaf.placement, &mut out.model) {
-                Ok((placed, copied)) => {
-                    let name = |o: &Origin| Origin {
-                        id: if path.is_empty() {
-                            o.id.clone()
-                        } else {
-                            format!("{}@{path}", o.id)
-                        },
-                        ..o.clone()
-                    };
-                    extend(&mut out.origins, &topology.origins, &copied, name);
-                    if let (Some(at), Some(id)) = (owner, placed_id(&out.origins, placed)) {
-                        instances[at].places.push(id);
-                    }
-                }
-                Err(e) => {
-                    r.diagnostics.push(located(&e));
-                    return r.diagnostics;
-                }
-            }
-        }
-    }
-    // Everything no product's shape holds, as it is.
-    for part in unowned(source, &owned) {
-        if let Ok((_, copied)) = source.place(part, &IDENTITY, &mut out.model) {
-            extend(&mut out.origins, &topology.origins, &copied, Origin::clone);
-        }
-    }
-    let named = instances.len();
-    r.diagnostics.push(Diagnostic::info(
-        "assembly.placed",
-        format!(
-            "assembly placements applied: {total} part instance(s) under {named} named instance(s) of {} product(s) placed in root coordinates ({} solid(s), {} face(s))",
-            keys.len(),
-            out.model.solids.len(),
-            out.model.faces.len()
-        ),
-        Location::default(),
-    ));
-    out.instances = instances;
-    *topology = out;
+    r.diagnostics
+        .extend(place_all(&definitions, topology, max_items, &|id: &str| {
+            conv.location(id.trim_start_matches('#').parse().unwrap_or(0))
+        }));
     r.diagnostics
 }
 
@@ -698,84 +517,4 @@ fn usage_placement(
     } else {
         compose(&a2, &inverse_rigid(&a1))
     })
-}
-
-/// Appends the origins of copied items, renamed by `name`.
-fn extend(
-    out: &mut Origins,
-    from: &Origins,
-    copied: &crate::topology::Copied,
-    name: impl Fn(&Origin) -> Origin,
-) {
-    let pick = |list: &[Origin], i: usize| list.get(i).map(&name).unwrap_or_default();
-    out.vertices
-        .extend(copied.vertices.iter().map(|v| pick(&from.vertices, v.0)));
-    out.edges
-        .extend(copied.edges.iter().map(|e| pick(&from.edges, e.0)));
-    out.faces
-        .extend(copied.faces.iter().map(|f| pick(&from.faces, f.0)));
-    out.shells
-        .extend(copied.shells.iter().map(|s| pick(&from.shells, s.0)));
-    out.solids
-        .extend(copied.solids.iter().map(|s| pick(&from.solids, s.0)));
-}
-
-/// The origin id of a placed part.
-fn placed_id(origins: &Origins, part: Part) -> Option<String> {
-    let o = match part {
-        Part::Solid(s) => origins.solids.get(s.0),
-        Part::Shell(s) => origins.shells.get(s.0),
-        Part::Face(f) => origins.faces.get(f.0),
-        Part::Edge(e) => origins.edges.get(e.0),
-        Part::Assembly(_) => None,
-    };
-    o.map(|o| o.id.clone())
-}
-
-/// The solids, shells, faces and edges of `model` that neither an owned part nor another
-/// unowned item holds: each is copied once, as it is.
-fn unowned(model: &Model, owned: &HashSet<Part>) -> Vec<Part> {
-    use crate::topology::{EdgeId, FaceId, ShellId, SolidId};
-    let mut out = Vec::new();
-    let mut shell_held = vec![false; model.shells.len()];
-    for (i, s) in model.solids.iter().enumerate() {
-        for sh in std::iter::once(&s.outer).chain(&s.voids) {
-            if let Some(h) = shell_held.get_mut(sh.0) {
-                *h = true;
-            }
-        }
-        if !owned.contains(&Part::Solid(SolidId(i))) {
-            out.push(Part::Solid(SolidId(i)));
-        }
-    }
-    let mut face_held = vec![false; model.faces.len()];
-    for (i, s) in model.shells.iter().enumerate() {
-        for (f, _) in &s.faces {
-            if let Some(h) = face_held.get_mut(f.0) {
-                *h = true;
-            }
-        }
-        if !shell_held[i] && !owned.contains(&Part::Shell(ShellId(i))) {
-            out.push(Part::Shell(ShellId(i)));
-        }
-    }
-    let mut edge_held = vec![false; model.edges.len()];
-    for (i, f) in model.faces.iter().enumerate() {
-        for l in &f.loops {
-            for c in &l.coedges {
-                if let Some(h) = edge_held.get_mut(c.edge.0) {
-                    *h = true;
-                }
-            }
-        }
-        if !face_held[i] && !owned.contains(&Part::Face(FaceId(i))) {
-            out.push(Part::Face(FaceId(i)));
-        }
-    }
-    for i in 0..model.edges.len() {
-        if !edge_held[i] && !owned.contains(&Part::Edge(EdgeId(i))) {
-            out.push(Part::Edge(EdgeId(i)));
-        }
-    }
-    out
 }
