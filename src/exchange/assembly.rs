@@ -314,8 +314,8 @@ fn unowned(model: &Model, owned: &HashSet<Part>) -> Vec<Part> {
             out.push(Part::Face(FaceId(i)));
         }
     }
-    for i in 0..model.edges.len() {
-        if !edge_held[i] && !owned.contains(&Part::Edge(EdgeId(i))) {
+    for (i, held) in edge_held.iter().enumerate() {
+        if !held && !owned.contains(&Part::Edge(EdgeId(i))) {
             out.push(Part::Edge(EdgeId(i)));
         }
     }

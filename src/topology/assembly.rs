@@ -165,7 +165,7 @@ fn stretch(m: &Affine) -> Result<f64, TopologyError> {
     let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if !(det > 0.0) {
+    if det.is_nan() || det <= 0.0 {
         return Err(invalid(
             "the determinant of its linear part is not positive (a mirror or a collapse)",
         ));
