@@ -29,8 +29,9 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 ///
 /// Per-entity problems give an error diagnostic and the entity is skipped; the boundary
 /// representation (faces, loops, edges, vertices, shells, solids) goes into
-/// [`Document::topology`] unless [`ImportOptions::geometry_only`]; the rest of the file
-/// (products, presentation) is ignored without comment. `Err` only when the file structure is broken (no
+/// [`Document::topology`] unless [`ImportOptions::geometry_only`], with the placements
+/// of the product structure applied (`assembly.rs`); the rest of the file (presentation)
+/// is ignored without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
