@@ -1813,3 +1813,99 @@ async fn fit_interpolates_the_points_of_example_9_1() {
     )
     .await;
 }
+
+/// A part sample of `samples/freecad/parts`.
+fn part_sample(name: &str) -> String {
+    std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples/freecad/parts")
+            .join(name),
+    )
+    .unwrap()
+}
+
+/// `POST /v1/convert` with the JSON reply: the report and the file text.
+async fn convert_json(query: &str, content_type: &str, body: String) -> (Value, String) {
+    let mut req = post_raw(&format!("/v1/convert?{query}"), Some(content_type), body);
+    req.headers_mut()
+        .insert(header::ACCEPT, "application/json".parse().unwrap());
+    let (_, body) = ok(app(), req).await;
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("ConvertJsonReply"), &openapi().await, "$").unwrap();
+    let file = v["file"].as_str().unwrap().to_owned();
+    (v["report"].clone(), file)
+}
+
+/// The `structure` of `/v1/info` on a file text.
+async fn structure(file: String) -> Value {
+    let (_, body) = ok(app(), post_raw("/v1/info", None, file)).await;
+    json_of(&body)["structure"].clone()
+}
+
+/// The query options of whole-part conversion, as the CLI's flags: `iges_brep` writes a
+/// 186 solid (no 144), `geometry_only` leaves faces and solids out with a visible warning,
+/// and `sew_tolerance` closes a 1e-5 gap in an IGES 144 part that the default tolerance
+/// leaves open (a non-positive value is a 400).
+#[tokio::test]
+async fn convert_query_options_of_whole_parts() {
+    let step = part_sample("box_fillet_chamfer_hole.step");
+    // iges_brep: one 186 (columns 1-8 of a D line), no 144; read back as one solid.
+    for brep in [false, true] {
+        let (_, iges) = convert_json(
+            &format!("to=iges&iges_brep={brep}"),
+            "model/step",
+            step.clone(),
+        )
+        .await;
+        let count = |t: &str| {
+            iges.lines()
+                .filter(|l| l.len() >= 80 && &l[72..73] == "D" && l[..8].trim() == t)
+                .count()
+        };
+        if brep {
+            assert_eq!((count("186"), count("144")), (2, 0));
+        } else {
+            assert_eq!((count("186"), count("144")), (0, 38));
+        }
+        let s = structure(iges).await;
+        assert_eq!(s["solids"].as_array().unwrap().len(), 1, "{brep}: {s}");
+    }
+    // geometry_only: the surfaces without faces, and the warning that says so.
+    let (report, out) = convert_json("to=step&geometry_only=true", "model/step", step).await;
+    assert!(!out.contains("ADVANCED_FACE") && out.contains("B_SPLINE_SURFACE"));
+    assert!(
+        report["diagnostics"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|d| d["code"] == "topology.not_read" && d["severity"] == "warning"),
+        "{report}"
+    );
+    // sew_tolerance on an IGES 144 part with a 1e-5 gap (one seam line moved in y).
+    let line = "110,8.,7.166666667,15.,8.,7.166666667,0.;";
+    let text = part_sample("extrude_bspline.igs");
+    assert!(text.contains(line), "the sample changed: update this test");
+    let gapped = text.replace(line, "110,8.,7.166676667,15.,8.,7.166676667,0.;");
+    for (query, solids) in [("to=step", 0), ("to=step&sew_tolerance=1e-4", 1)] {
+        let (_, out) = convert_json(query, "model/iges", gapped.clone()).await;
+        let s = structure(out).await;
+        assert_eq!(
+            s["solids"].as_array().map_or(0, Vec::len),
+            solids,
+            "{query}: {s}"
+        );
+    }
+    for bad in ["0", "-1e-3"] {
+        expect_error(
+            app(),
+            post_raw(
+                &format!("/v1/convert?to=step&sew_tolerance={bad}"),
+                Some("model/iges"),
+                gapped.clone(),
+            ),
+            StatusCode::BAD_REQUEST,
+            "request.sew_tolerance",
+        )
+        .await;
+    }
+}

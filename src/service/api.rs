@@ -393,9 +393,25 @@ pub struct ConvertQuery {
     /// `true`: IGES output writes solids and shells as 186 manifold solid B-rep objects
     /// instead of 144 trimmed surfaces.
     pub iges_brep: Option<bool>,
+    /// IGES input: the tolerance within which boundary curve ends are joined into loops
+    /// and trimmed faces (144) are sewn into shells and solids (a positive length in the
+    /// file's unit; default: the file's resolution or 1e-7 of the model's size, whichever
+    /// is larger).
+    pub sew_tolerance: Option<f64>,
 }
 
 impl ConvertQuery {
+    /// The sewing tolerance, checked (absent: the reader's default).
+    pub fn sew_tolerance(&self) -> Result<Option<f64>, ApiError> {
+        match self.sew_tolerance {
+            Some(t) if !(t.is_finite() && t > 0.0) => Err(ApiError::bad_request(
+                "request.sew_tolerance",
+                format!("sew_tolerance must be a positive length, got {t}"),
+            )),
+            t => Ok(t),
+        }
+    }
+
     /// The output unit, parsed.
     pub fn units(&self) -> Result<Option<LengthUnit>, ApiError> {
         self.units

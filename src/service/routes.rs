@@ -104,6 +104,7 @@ pub async fn convert(
     };
     let mut settings = state.settings.clone();
     settings.import.geometry_only = query.geometry_only.unwrap_or(false);
+    settings.import.sew_tolerance = query.sew_tolerance()?;
     let output = state
         .gate
         .run(move |cancel| {

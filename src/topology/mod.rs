@@ -168,6 +168,15 @@ impl Model {
         Self::default()
     }
 
+    /// The largest tolerance of a vertex or an edge (0 for a model without them): how far
+    /// apart two points of the model may be and still be the same point, which a writer
+    /// declares so that a reader joins what this model joins.
+    pub fn max_tolerance(&self) -> f64 {
+        let vertices = self.vertices.iter().map(|v| v.tolerance);
+        let edges = self.edges.iter().map(|e| e.tolerance);
+        vertices.chain(edges).fold(0.0, f64::max)
+    }
+
     /// Adds a vertex. Refuses a non-finite point or a negative/non-finite tolerance.
     pub fn add_vertex(&mut self, point: Point3, tolerance: f64) -> Result<VertexId, TopologyError> {
         if !(point.iter().all(|c| c.is_finite()) && tolerance >= 0.0 && tolerance.is_finite()) {

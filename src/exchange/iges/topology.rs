@@ -191,7 +191,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .flatten()
                 .fold(size, |m, x| if x.is_finite() { m.max(x.abs()) } else { m });
         }
-        let tol = (REL_TOL * size).max(cx.file.global.resolution.unwrap_or(0.0));
+        // The user's sewing tolerance is their word on how precise the file is: boundary
+        // curve ends are joined into loops within it too, not only faces into shells (a gap
+        // inside a loop that sewing would close must not first refuse the face).
+        let tol = cx
+            .options
+            .sew_tolerance
+            .unwrap_or_else(|| (REL_TOL * size).max(cx.file.global.resolution.unwrap_or(0.0)));
         Builder {
             cx,
             by_de,
@@ -233,7 +239,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         if loose.len() < 2 {
             return;
         }
-        let tol = self.cx.options.sew_tolerance.unwrap_or(self.tol);
+        let tol = self.tol;
         let before = self.topology.model.clone();
         let sewing = match self.topology.model.sew(&loose, tol) {
             Ok(s) => s,

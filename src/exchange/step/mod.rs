@@ -26,7 +26,8 @@
 //! | `flag_mismatch` | warning (info for `.F.` on closed geometry) | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
 //! | `units` | info | the file's length unit |
 //! | `units_converted` | info | coordinates scaled to the requested unit |
-//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units; no plane-angle unit (radians assumed) |
+//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units; no plane-angle unit (radians assumed); an unreadable length uncertainty |
+//! | `step.uncertainty_ignored` | warning | the file's length uncertainty is above 1e-3 of the part's size; the topology is read within 1e-7 of the size |
 //! | `geometry.unbounded` | warning | an unbounded line, parabola, hyperbola or surface that no trim, edge or face bounds: not represented |
 //! | `geometry.unsupported` | error | an OFFSET_CURVE/OFFSET_SURFACE (no exact rational form), or a point trim on a B-spline without a parameter |
 //! | `pcurve.not_converted` | warning | analytic parameter-space curves of PCURVEs (one diagnostic listing them) |

@@ -74,7 +74,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             geometry_candidates.push(raw);
         }
     }
-    let scale = file_units(&scanned, &complex, options, &mut doc);
+    let (scale, uncertainty) = file_units(&scanned, &complex, options, &mut doc);
 
     // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
     // then converted (geometry.rs), which also says which B-splines it built into other
@@ -130,6 +130,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         items: &items,
         scale,
         radians,
+        uncertainty,
         bspline: &bspline,
         warnings: std::sync::Mutex::new(Vec::new()),
     };
@@ -199,7 +200,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             ));
         }
     } else {
-        let built = super::topology::build(&converter, &edges, &doc.entities);
+        let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
         let products = super::assembly::decode(
@@ -480,14 +481,15 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
 }
 
 /// Finds the file's length unit, records it in `doc`, and returns the factor to apply to
-/// coordinates (1 unless a conversion is needed).
+/// coordinates (1 unless a conversion is needed) and the file's largest length uncertainty
+/// in the model's unit (0 when it declares none).
 fn file_units(
     s: &Scanned<'_>,
     complex: &[&RawInstance<'_>],
     options: &ImportOptions,
     doc: &mut Document,
-) -> f64 {
-    let (found, problems) = context_units(s, complex);
+) -> (f64, f64) {
+    let (found, problems, uncertainties) = context_units(s, complex);
     let loc = |id: u64, offset: usize| {
         let (line, column) = s.locate(offset);
         Location {
@@ -583,7 +585,10 @@ fn file_units(
         )),
     }
     doc.units = unit;
-    scale
+    // The largest length uncertainty, in the model's unit: the topology's tolerance is at
+    // least this (ISO 10303-43: points closer than it are the same point).
+    let uncertainty = uncertainties.into_iter().fold(0.0_f64, f64::max) / unit.to_mm();
+    (scale, uncertainty)
 }
 
 /// What reading one B-spline needs.
