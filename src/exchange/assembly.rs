@@ -10,7 +10,7 @@ use std::collections::{HashMap, HashSet};
 
 use super::{Diagnostic, Location, Origin, Origins, PlacedInstance, Topology};
 use crate::nurbs::transform::{IDENTITY, compose};
-use crate::topology::{AssemblyId, Model, Part, TopologyError};
+use crate::topology::{AssemblyId, EdgeId, FaceId, Model, Part, ShellId, SolidId, TopologyError};
 
 /// Deepest nesting of assemblies followed.
 pub(crate) const MAX_DEPTH: usize = 64;
@@ -28,6 +28,24 @@ pub(crate) struct Definitions {
     /// Per definition, per instance: the entity that places it (`#464`, `D47`; empty for a
     /// definition's own items).
     pub sources: Vec<Vec<String>>,
+}
+
+/// The model's items by their file id (`#41`, `D45`).
+pub(crate) fn parts_by_id(origins: &Origins) -> HashMap<&str, Part> {
+    let mut out = HashMap::new();
+    for (i, o) in origins.edges.iter().enumerate() {
+        out.insert(o.id.as_str(), Part::Edge(EdgeId(i)));
+    }
+    for (i, o) in origins.faces.iter().enumerate() {
+        out.insert(o.id.as_str(), Part::Face(FaceId(i)));
+    }
+    for (i, o) in origins.shells.iter().enumerate() {
+        out.insert(o.id.as_str(), Part::Shell(ShellId(i)));
+    }
+    for (i, o) in origins.solids.iter().enumerate() {
+        out.insert(o.id.as_str(), Part::Solid(SolidId(i)));
+    }
+    out
 }
 
 /// Applies the placements of `defs` to `topology` (whose items are each definition's once,

@@ -12,42 +12,41 @@ use nurbsx_parsers::iges::DirectoryEntry;
 use nurbsx_parsers::iges::records::{SubfigureDefinition308, SubfigureInstance408};
 
 use super::read::{Context, decoded, entity_location};
-use crate::exchange::assembly::{Definitions, place_all};
+use crate::exchange::assembly::{Definitions, parts_by_id, place_all};
 use crate::exchange::{Diagnostic, Location, Meta, Topology};
 use crate::nurbs::transform::compose;
-use crate::topology::{
-    Assembly, AssemblyId, EdgeId, FaceId, Instance, Model, Part, ShellId, SolidId,
-};
+use crate::topology::{Assembly, AssemblyId, Instance, Model, Part, ShellId, SolidId};
 
-/// The part a member entity became: a face in a shell becomes its shell (or that shell's
-/// solid), as sewing put it there.
-fn part_of(topology: &Topology, id: &str) -> Option<Part> {
-    let o = &topology.origins;
+/// The part each member entity became, by id: a face in a shell becomes its shell (or that
+/// shell's solid), as sewing put it there.
+fn parts(topology: &Topology) -> HashMap<&str, Part> {
     let m = &topology.model;
+    let mut solid_of: HashMap<usize, usize> = HashMap::new();
+    for (i, s) in m.solids.iter().enumerate() {
+        for sh in std::iter::once(&s.outer).chain(&s.voids) {
+            solid_of.insert(sh.0, i);
+        }
+    }
+    let mut shell_of: HashMap<usize, usize> = HashMap::new();
+    for (i, s) in m.shells.iter().enumerate() {
+        for (f, _) in &s.faces {
+            shell_of.entry(f.0).or_insert(i);
+        }
+    }
     let shell_part = |s: usize| {
-        m.solids
-            .iter()
-            .position(|x| x.outer.0 == s || x.voids.iter().any(|v| v.0 == s))
-            .map_or(Part::Shell(ShellId(s)), |i| Part::Solid(SolidId(i)))
+        solid_of
+            .get(&s)
+            .map_or(Part::Shell(ShellId(s)), |&i| Part::Solid(SolidId(i)))
     };
-    if let Some(i) = o.solids.iter().position(|x| x.id == id) {
-        return Some(Part::Solid(SolidId(i)));
+    let mut out = parts_by_id(&topology.origins);
+    for p in out.values_mut() {
+        *p = match *p {
+            Part::Shell(s) => shell_part(s.0),
+            Part::Face(f) => shell_of.get(&f.0).map_or(Part::Face(f), |&s| shell_part(s)),
+            other => other,
+        };
     }
-    if let Some(i) = o.shells.iter().position(|x| x.id == id) {
-        return Some(shell_part(i));
-    }
-    if let Some(i) = o.faces.iter().position(|x| x.id == id) {
-        return Some(
-            m.shells
-                .iter()
-                .position(|s| s.faces.iter().any(|(f, _)| f.0 == i))
-                .map_or(Part::Face(FaceId(i)), shell_part),
-        );
-    }
-    o.edges
-        .iter()
-        .position(|x| x.id == id)
-        .map(|i| Part::Edge(EdgeId(i)))
+    out
 }
 
 /// The 408's placement in the document's unit (see the module documentation), or `None`
@@ -103,6 +102,7 @@ pub(super) fn apply(cx: &Context<'_, '_>, topology: &mut Topology, diags: &mut V
         name: "file".to_owned(),
         instances: Vec::new(),
     });
+    let by_id = parts(topology);
     let mut nested: HashSet<usize> = HashSet::new();
     let mut not_placed = 0usize;
     let instance = |e: &DirectoryEntry, diags: &mut Vec<Diagnostic>| -> Option<Instance> {
@@ -160,7 +160,7 @@ pub(super) fn apply(cx: &Context<'_, '_>, topology: &mut Topology, diags: &mut V
                 }
                 continue;
             }
-            match part_of(topology, &format!("D{}", member.pointer)) {
+            match by_id.get(format!("D{}", member.pointer).as_str()).copied() {
                 Some(p) if seen.insert(p) => {
                     instances.push(Instance {
                         name: None,

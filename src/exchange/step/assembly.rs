@@ -28,8 +28,8 @@ use nurbsx_parsers::step::schema::DecodeError;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use super::geometry::Converter;
-use crate::exchange::assembly::{Definitions, place_all};
-use crate::exchange::{Diagnostic, Location, Origins, Topology};
+use crate::exchange::assembly::{Definitions, parts_by_id, place_all};
+use crate::exchange::{Diagnostic, Location, Topology};
 use crate::nurbs::sweep::Frame;
 use crate::nurbs::transform::{Affine, IDENTITY, compose};
 use crate::topology::{Assembly, AssemblyId, Instance, Model, Part};
@@ -134,25 +134,6 @@ impl<'r, 'a> Reader<'r, '_, '_, 'a> {
     fn frame(&self, id: u64, from: u64) -> Result<Affine, Diagnostic> {
         self.conv.frame(id, from).map(|f| matrix(&f))
     }
-}
-
-/// The ids of the model's items by their file id (`#41`).
-fn parts_by_id(origins: &Origins) -> HashMap<&str, Part> {
-    use crate::topology::{EdgeId, FaceId, ShellId, SolidId};
-    let mut out = HashMap::new();
-    for (i, o) in origins.edges.iter().enumerate() {
-        out.insert(o.id.as_str(), Part::Edge(EdgeId(i)));
-    }
-    for (i, o) in origins.faces.iter().enumerate() {
-        out.insert(o.id.as_str(), Part::Face(FaceId(i)));
-    }
-    for (i, o) in origins.shells.iter().enumerate() {
-        out.insert(o.id.as_str(), Part::Shell(ShellId(i)));
-    }
-    for (i, o) in origins.solids.iter().enumerate() {
-        out.insert(o.id.as_str(), Part::Solid(SolidId(i)));
-    }
-    out
 }
 
 /// Reads the assembly of `products` and applies its placements to `topology` (whose items
