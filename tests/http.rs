@@ -1909,3 +1909,62 @@ async fn convert_query_options_of_whole_parts() {
         .await;
     }
 }
+
+/// `/v1/info` says what each entity is in the part: the surfaces of faces (`face`), the
+/// curves of edges (`edge`), parameter-space curves (`pcurve`), and the rest `free` (the
+/// free edges sample: all of them; model JSON: all of it). Checked against the structure
+/// the same reply describes, and against the schema.
+#[tokio::test]
+async fn info_gives_each_entity_its_role_in_the_part() {
+    let doc = openapi().await;
+    let info = |text: String| async move {
+        let (_, body) = ok(app(), post_raw("/v1/info", None, text)).await;
+        json_of(&body)
+    };
+    let v = info(part_sample("box_fillet_chamfer_hole.step")).await;
+    conforms(&v, &schema_ref("InfoReport"), &doc, "$").unwrap();
+    let role = |id: &str| {
+        v["entities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["id"] == id)
+            .map(|e| e["role"].as_str().unwrap().to_owned())
+    };
+    let faces = v["structure"]["faces"].as_array().unwrap();
+    for f in faces {
+        assert_eq!(
+            role(f["surface"].as_str().unwrap()).as_deref(),
+            Some("face")
+        );
+    }
+    let count = |r: &str| {
+        v["entities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["role"] == r)
+            .count()
+    };
+    assert_eq!(count("face"), faces.len());
+    assert_eq!(count("free"), 0, "a closed box has no free geometry");
+    assert!(count("edge") >= v["structure"]["edges"].as_u64().unwrap() as usize);
+    for e in v["entities"].as_array().unwrap() {
+        if e["role"] == "pcurve" {
+            assert_eq!(e["dimension"], 2);
+        }
+    }
+    let v = info(part_sample("free_edges.step")).await;
+    let roles: Vec<&str> = v["entities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["role"].as_str().unwrap())
+        .collect();
+    assert!(
+        !roles.is_empty() && roles.iter().all(|r| *r == "free"),
+        "{roles:?}"
+    );
+    let v = info(circle().to_string()).await;
+    assert_eq!(v["entities"][0]["role"], "free");
+}

@@ -702,19 +702,16 @@ pub struct ConvertArgs {
     /// solids and assembly placements are left out (a warning says how many).
     #[arg(long)]
     pub geometry_only: bool,
-    /// IGES input: join boundary curve ends into loops, and sew trimmed faces (144) whose
-    /// boundaries coincide into shared edges, shells and solids, within TOL (default: the
-    /// file's resolution, Global parameter 19, or 1e-7 of the model's size, whichever is
-    /// larger). Give it for files whose faces leave gaps: `--sew-tolerance 1e-4`.
+    /// IGES input: join curve ends into loops and sew 144 faces into shells and solids within
+    /// TOL (default: the larger of the file's resolution and 1e-7 of the model's size).
     #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
     pub sew_tolerance: Option<f64>,
     /// IGES output: write solids and shells as 186 manifold solid B-rep objects (with
     /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
     #[arg(long)]
     pub iges_brep: bool,
-    /// Every violation of the standard is an error (exit 1), as `validate` reports it,
-    /// also those read anyway with their one meaning (warnings without it); the output is
-    /// still written.
+    /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
+    /// warning; the output is still written.
     #[arg(long)]
     pub strict: bool,
     /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
@@ -752,8 +749,8 @@ pub struct InfoArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Every violation of the standard is an error (exit 1), as `validate` reports it,
-    /// also those read anyway with their one meaning (warnings without it).
+    /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
+    /// warning.
     #[arg(long)]
     pub strict: bool,
 }

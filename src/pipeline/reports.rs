@@ -143,6 +143,10 @@ pub struct EntityInfo {
     pub geometry: Geometry,
     /// The source entity and line.
     pub source: Source,
+    /// What it is in the part: `face` (the surface of a face), `edge` (the curve of an
+    /// edge), `pcurve` (a parameter-space curve of a face boundary) or `free` (geometry no
+    /// face or edge uses: free curves and surfaces, and all of a file without faces).
+    pub role: &'static str,
 }
 
 /// `nurbsx validate` / `POST /v1/validate` for one file.

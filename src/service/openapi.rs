@@ -260,6 +260,9 @@ pub struct EntityInfoDoc {
     pub geometry: GeometryDoc,
     /// The source entity.
     pub source: SourceDoc,
+    /// What it is in the part: `face` (the surface of a face), `edge` (the curve of an
+    /// edge), `pcurve` (a parameter-space curve of a face boundary) or `free`.
+    pub role: String,
 }
 
 /// `POST /v1/info`.
