@@ -118,11 +118,7 @@ fn freecad_reimports_the_analytic_samples() {
 
 /// Parts that do not yet survive the conversion, each with the reason; the test requires
 /// them to fail (so a fix shows up here) and every other conversion to pass.
-const PARTS_KNOWN_TO_FAIL: &[(&str, &str)] = &[(
-    "assembly_links",
-    "STEP assembly placements (NEXT_ASSEMBLY_USAGE_OCCURRENCE) are not applied: the part \
-     used twice is written once (warning assembly.not_applied)",
-)];
+const PARTS_KNOWN_TO_FAIL: &[(&str, &str)] = &[];
 
 /// The whole-part samples (`samples/freecad/parts/`) through nurbsx in five directions that
 /// exercise every part reader and writer (STEP -> IGES 144, STEP -> IGES 186, IGES 186 ->

@@ -87,11 +87,7 @@ fn samples() -> Vec<(PathBuf, Value)> {
 
 /// Samples whose topology nurbsx does not read in full yet, with the reason; for these the
 /// tests check that the reader says so with an error diagnostic (never silently).
-const KNOWN_GAPS: &[(&str, &str)] = &[
-    // Product structure (NEXT_ASSEMBLY_USAGE_OCCURRENCE, MAPPED_ITEM) is not read: the
-    // parts placed several times appear once (not reported yet: see the report).
-    ("assembly_links.step", "assembly placements"),
-];
+const KNOWN_GAPS: &[(&str, &str)] = &[];
 
 /// Samples where Open CASCADE's reading adds edges the file does not have (ShapeFix splits
 /// or completes the boundary of a single B-spline face): compared with the file's own

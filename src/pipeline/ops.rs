@@ -414,7 +414,25 @@ pub fn write(
 /// STEP: an entity whose declared kind (a circle, a cylinder...) its geometry does not
 /// agree with is written with `.UNSPECIFIED.` form, with a warning each
 /// (`exchange::step::form_warnings`).
+///
+/// An assembly (read with its placements applied) is written flattened: every instance's
+/// items once per use, in root coordinates. For STEP, whose product structure could carry
+/// the instances, that is a warning (`assembly.flattened`); IGES output has subfigures
+/// (308/408) that nurbsx does not write, so there it is an info.
 pub fn drop_unwritable(doc: &mut Document, format: Format) {
+    let instances = doc.topology.instances.len();
+    if instances > 0 {
+        let message = format!(
+            "assembly written flattened: {instances} instance(s) written as their placed solids, shells and faces in root coordinates ({} solid(s), {} face(s)); the product structure is not written",
+            doc.topology.model.solids.len(),
+            doc.topology.model.faces.len()
+        );
+        doc.diagnostics.push(if format == Format::Step {
+            Diagnostic::warning("assembly.flattened", message, Location::default())
+        } else {
+            Diagnostic::info("assembly.flattened", message, Location::default())
+        });
+    }
     if format == Format::Step {
         let warnings = crate::exchange::step::form_warnings(doc);
         doc.diagnostics.extend(warnings);
@@ -873,6 +891,7 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
         edges: m.edges.len(),
         vertices: m.vertices.len(),
         assemblies: m.assemblies.len(),
+        instances: doc.topology.instances.clone(),
         area: totals.area,
         centroid: (totals.area > 0.0).then_some(totals.centroid),
         unmeasured_faces: totals.unmeasured,

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::exchange::{Diagnostic, Severity, Shape, Source};
+use crate::exchange::{Diagnostic, PlacedInstance, Severity, Shape, Source};
 use crate::nurbs::{Geometry, Point3};
 
 /// `nurbsx info --json` / `POST /v1/info`.
@@ -39,6 +39,11 @@ pub struct StructureInfo {
     pub vertices: usize,
     /// Assemblies (product structure kept as instances).
     pub assemblies: usize,
+    /// The assembly instances whose placements were applied, depth first: name path,
+    /// placing entity, product, placement in the parent and in root coordinates (3x4 rows
+    /// `[r r r t]`), and the ids of the solids/shells/faces/edges each placed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<PlacedInstance>,
     /// Total area of the faces that could be measured (trimmed regions).
     pub area: f64,
     /// Their area-weighted centroid.

@@ -64,7 +64,7 @@ use super::error::{ErrorBody, ErrorDetail};
         TessellateRequest, FileFormat, DirectionName, MeshFormatName, SchemaName, ClampName,
         GeometryDoc, GeometryInputDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
-        ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, SolidInfoDoc, ShellInfoDoc,
+        ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, InstanceInfoDoc, SolidInfoDoc, ShellInfoDoc,
         FaceInfoDoc, PartDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
         GeometryReply, OpNoteDoc, Health, Limits, InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
@@ -303,6 +303,10 @@ pub struct StructureInfoDoc {
     pub vertices: usize,
     /// Number of assemblies.
     pub assemblies: usize,
+    /// The assembly instances whose placements were applied, depth first (absent when
+    /// the file has no assembly).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<InstanceInfoDoc>,
     /// Total trimmed area of the measured faces.
     pub area: f64,
     /// Their area-weighted centroid.
@@ -310,6 +314,28 @@ pub struct StructureInfoDoc {
     pub centroid: Option<[f64; 3]>,
     /// Faces whose area could not be measured.
     pub unmeasured_faces: usize,
+}
+
+/// One placed instance of an assembly.
+#[derive(Serialize, ToSchema)]
+#[schema(as = InstanceInfo)]
+pub struct InstanceInfoDoc {
+    /// Instance names from the root down, `/`-separated: what follows `@` in the ids of
+    /// the items it placed (`#41@Bracket_2`).
+    pub path: String,
+    /// The entity that places it (`#464`: a NEXT_ASSEMBLY_USAGE_OCCURRENCE or MAPPED_ITEM;
+    /// `D45`: an IGES 408).
+    pub id: String,
+    /// The product (or subfigure) placed.
+    pub product: String,
+    /// Nesting level, 1 in a root assembly.
+    pub depth: usize,
+    /// Placement in the parent's coordinates, 3 rows `[r11 r12 r13 t1]`...: `x' = R x + T`.
+    pub placement: [[f64; 4]; 3],
+    /// Placement in root coordinates.
+    pub world: [[f64; 4]; 3],
+    /// Ids of the solids, shells, faces and free edges it placed itself.
+    pub places: Vec<String>,
 }
 
 /// One solid.

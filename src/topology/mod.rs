@@ -38,7 +38,7 @@ mod measure;
 mod mesh;
 mod sew;
 
-pub use assembly::{Assembly, Instance, Part, Placed};
+pub use assembly::{Assembly, Copied, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};

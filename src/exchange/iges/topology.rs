@@ -70,7 +70,9 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     let count = |t: i64| counts.get(&t).copied().unwrap_or(0);
-    // 143, 308 and 408 are not read into the topology: say so, visibly.
+    // 143 is not read into the topology, nor are subfigures without any (308/408 of
+    // curves and surfaces only): say so, visibly.
+    let no_topology = TOPOLOGY_TYPES.iter().all(|&(t, _)| count(t) == 0);
     for (t, what) in [
         (
             143,
@@ -78,10 +80,10 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         ),
         (
             408,
-            "subfigure instances (408) are not applied: the geometry of their 308 definitions is returned once, where the definition places it",
+            "subfigure instances (408) are not applied to free curves and surfaces: the geometry of their 308 definitions is returned once, where the definition places it",
         ),
     ] {
-        if count(t) > 0 {
+        if count(t) > 0 && (t != 408 || no_topology || cx.options.geometry_only) {
             diags.push(Diagnostic::warning(
                 "topology.not_read",
                 format!("{} x {what}", count(t)),
@@ -135,6 +137,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
     b.report(diags);
     doc.topology = b.topology;
+    super::subfigure::apply(cx, &mut doc.topology, diags);
 }
 
 /// Builds the topology of one file.

@@ -582,7 +582,7 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     /// An AXIS2_PLACEMENT_3D (ISO 10303-42 `build_axes`) or _2D (`build_2axes`, in z = 0).
-    fn frame(&self, id: u64, from: u64) -> Res<Frame> {
+    pub(super) fn frame(&self, id: u64, from: u64) -> Res<Frame> {
         let item = self.item(id, from, "AXIS2_PLACEMENT")?;
         let (location, frame) = match &item.record {
             R::Axis2Placement3d {

@@ -13,6 +13,7 @@ use nurbsx_parsers::step::{
 use rayon::prelude::*;
 
 use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity};
+use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
 use super::geometry::{Converter, Items};
@@ -28,8 +29,9 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 ///
 /// Per-entity problems give an error diagnostic and the entity is skipped; the boundary
 /// representation (faces, loops, edges, vertices, shells, solids) goes into
-/// [`Document::topology`] unless [`ImportOptions::geometry_only`]; the rest of the file
-/// (products, presentation) is ignored without comment. `Err` only when the file structure is broken (no
+/// [`Document::topology`] unless [`ImportOptions::geometry_only`], with the placements
+/// of the product structure applied (`assembly.rs`); the rest of the file (presentation)
+/// is ignored without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
@@ -53,23 +55,17 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut complex: Vec<&RawInstance<'_>> = Vec::new();
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
-    // Product structure (assemblies) is not read: its instances are counted to say so.
-    let mut assembly_links = 0usize;
+    // The product structure (assembly.rs).
+    let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
     for raw in &scanned.instances {
-        match raw.keyword_initial() {
-            None => complex.push(raw),
-            Some(b'N' | b'M') => {
-                if matches!(
-                    raw.keyword().map(canonical_name),
-                    Some("NEXT_ASSEMBLY_USAGE_OCCURRENCE" | "MAPPED_ITEM")
-                ) {
-                    assembly_links += 1;
-                }
-            }
-            Some(_) => {}
+        if raw.keyword_initial().is_none() {
+            complex.push(raw);
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
+        if maybe_product(raw) && indexed() {
+            product_candidates.push(raw);
+        }
         if maybe_bspline(raw) {
             if indexed() {
                 candidates.push(raw);
@@ -190,15 +186,6 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     placed.sort_by_key(|(offset, _)| *offset);
     doc.entities.extend(placed.into_iter().map(|(_, e)| e));
 
-    if assembly_links > 0 {
-        doc.diagnostics.push(Diagnostic::warning(
-            "assembly.not_applied",
-            format!(
-                "the file places parts in an assembly ({assembly_links} NEXT_ASSEMBLY_USAGE_OCCURRENCE / MAPPED_ITEM instance(s)); placements are not applied: every part is read once, in its own coordinates"
-            ),
-            Location::default(),
-        ));
-    }
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
         let c = super::topology::count(&converter);
@@ -216,6 +203,21 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
+        let products = super::assembly::decode(
+            &scanned,
+            &product_candidates,
+            &mut doc.diagnostics,
+            |e| match e {
+                DecodeError::Syntax(e) => parse_diagnostic(&e),
+                DecodeError::Schema(e) => schema_diagnostic(&e),
+            },
+        );
+        doc.diagnostics.extend(super::assembly::apply(
+            &converter,
+            &products,
+            &mut doc.topology,
+            options.limits.max_entities,
+        ));
         if !built.pcurve_entities.is_empty() {
             let mut users: std::collections::HashMap<String, Vec<String>> = Default::default();
             for (entity, edge) in built.pcurve_entities {
@@ -352,6 +354,15 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
         None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK", "b_spline_"]
             .iter()
             .any(|n| raw.body.contains(n)),
+    }
+}
+
+/// Cheap keyword test for the product structure (`assembly.rs`): simple instances by
+/// keyword, complex ones by a substring search of their body.
+fn maybe_product(raw: &RawInstance<'_>) -> bool {
+    match raw.keyword() {
+        Some(k) => is_product_entity(k),
+        None => maybe_complex_product(raw.body),
     }
 }
 

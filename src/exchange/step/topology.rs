@@ -46,9 +46,9 @@ pub(super) fn code(e: &TopologyError) -> &'static str {
         TopologyError::PcurveDeviates { .. } => "topology.pcurve_deviates",
         TopologyError::ShellNotClosed { .. } => "topology.shell_open",
         TopologyError::SolidShellOpen { .. } => "topology.solid_shell_open",
-        TopologyError::AssemblyCycle { .. } | TopologyError::AssemblyTooLarge { .. } => {
-            "topology.assembly"
-        }
+        TopologyError::AssemblyCycle { .. }
+        | TopologyError::AssemblyTooLarge { .. }
+        | TopologyError::PlacementInvalid { .. } => "topology.assembly",
     }
 }
 
