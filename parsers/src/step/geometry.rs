@@ -704,11 +704,19 @@ impl<'a> GeometryItem<'a> {
 
 impl<'a> Scanned<'a> {
     /// Decodes instance `raw` as one of [`GEOMETRY_ENTITIES`]; `Ok(None)` when it is
-    /// another entity.
+    /// another entity. The usual simple instances of a B-rep (placements, lines, circles,
+    /// elementary surfaces, surface curves and pcurves, vertices, edges, loops, faces,
+    /// shells) are read from their text in one pass (private to this decoder); any other
+    /// shape through the grammar, by attribute name, with the same item or the located
+    /// error.
+    #[inline]
     pub fn geometry_item(
         &self,
         raw: &RawInstance<'a>,
     ) -> Result<Option<GeometryItem<'a>>, DecodeError> {
+        if let Some(item) = super::geometry_text::read(raw, self.param_limits()) {
+            return Ok(Some(item));
+        }
         let inst = self.decode(raw)?;
         // The line and column are looked up only for an error (finding them counts the
         // lines before the instance, a visible cost when every instance is decoded).
