@@ -7,6 +7,8 @@
 //! what the EXPRESS *types* require (a REAL radius, a reference, a BOOLEAN); geometric
 //! rules (radius > 0, a non-zero direction) are the exchange layer's job.
 
+use std::borrow::Cow;
+
 use super::ast::{Body, Instance, Parameter};
 use super::error::SchemaError;
 use super::scan::{RawInstance, Scanned};
@@ -347,8 +349,9 @@ pub struct GeometryItem<'a> {
     pub name: Option<StepString<'a>>,
     /// The most specific entity type read (`CIRCLE`, `SEAM_CURVE`, `ADVANCED_FACE`...).
     pub entity: &'static str,
-    /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance).
-    pub entity_type: String,
+    /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance); for a
+    /// simple instance the long name, [`GeometryItem::entity`] (no allocation per item).
+    pub entity_type: Cow<'static, str>,
     /// The attributes.
     pub record: GeometryRecord<'a>,
 }
@@ -696,7 +699,10 @@ impl<'a> GeometryItem<'a> {
         Ok(Some(GeometryItem {
             name,
             entity,
-            entity_type: a.entity_type().to_owned(),
+            entity_type: match simple {
+                Some(e) => Cow::Borrowed(e),
+                None => Cow::Owned(a.entity_type().to_owned()),
+            },
             record,
         }))
     }

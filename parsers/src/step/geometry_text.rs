@@ -157,7 +157,7 @@ pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<Geo
     (r.i == r.b.len()).then(|| GeometryItem {
         name: Some(name),
         entity,
-        entity_type: entity.to_owned(),
+        entity_type: entity.into(),
         record,
     })
 }
