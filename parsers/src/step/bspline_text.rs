@@ -383,7 +383,7 @@ mod tests {
     use super::*;
     use crate::Limits;
     use crate::step::schema::{At, BSplineKind, bspline_kind};
-    use crate::step::test_files::{apply, edit, file, repo_files};
+    use crate::step::test_files::{check_damaged, edit, file, repo_files};
     use crate::step::{Scanned, scan};
     use proptest::prelude::*;
 
@@ -671,17 +671,8 @@ mod tests {
             max_params in 5usize..200,
             max_depth in 1usize..4,
         ) {
-            let statements = sample_statements();
-            let stmt = pick.get(statements);
-            let damaged = apply(stmt, &edits);
-            let text = file(&format!("#1=CARTESIAN_POINT('',(0.,0.,0.));\n{damaged}"));
-            check_text(&text, &Limits::default());
-            let tight = Limits {
-                max_params_per_entity: max_params,
-                max_nesting_depth: max_depth,
-                ..Limits::default()
-            };
-            check_text(&text, &tight);
+            let stmt: &String = pick.get(sample_statements());
+            check_damaged(stmt, &edits, max_params, max_depth, check_text);
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Test inputs shared by the one-pass readers' tests: every STEP file of the repository,
 //! a file around some DATA statements, and random damage to a statement.
 
+use crate::Limits;
 use proptest::prelude::*;
 
 pub(super) fn file(data: &str) -> String {
@@ -65,7 +66,7 @@ pub(super) fn edit() -> impl Strategy<Value = Edit> {
     ]
 }
 
-pub(super) fn apply(stmt: &str, edits: &[Edit]) -> String {
+fn apply(stmt: &str, edits: &[Edit]) -> String {
     let mut b = stmt.as_bytes().to_vec();
     for e in edits {
         // Keep `#id=` and the final `;` so the statement stays one instance.
@@ -110,4 +111,25 @@ pub(super) fn apply(stmt: &str, edits: &[Edit]) -> String {
         }
     }
     String::from_utf8_lossy(&b).into_owned()
+}
+
+/// `stmt` damaged by `edits`, after a point in a file, checked by a reader's `check_text`
+/// (which asserts its contract) under the default limits and under `max_params` parameters
+/// and `max_depth` nesting.
+pub(super) fn check_damaged(
+    stmt: &str,
+    edits: &[Edit],
+    max_params: usize,
+    max_depth: usize,
+    check_text: impl Fn(&str, &Limits) -> (usize, usize),
+) {
+    let damaged = apply(stmt, edits);
+    let text = file(&format!("#1=CARTESIAN_POINT('',(0.,0.,0.));\n{damaged}"));
+    check_text(&text, &Limits::default());
+    let tight = Limits {
+        max_params_per_entity: max_params,
+        max_nesting_depth: max_depth,
+        ..Limits::default()
+    };
+    check_text(&text, &tight);
 }
