@@ -179,7 +179,7 @@ fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
 /// 100 MB file with a million lines), it takes 16 bytes per KiB of input (1.6 % of the
 /// file), and a lookup counts newlines in at most one block (a whole-part read looks up the
 /// line of every entity, vertex, edge and face it makes: with 4 KiB blocks these counts
-/// were 5 % of its instructions).
+/// were 5 % of its instructions outside the pcurve fitting).
 #[derive(Debug, Default)]
 pub struct LineIndex {
     /// `blocks[k]` = (newlines in `text[..k * BLOCK]`, start of the line containing byte
