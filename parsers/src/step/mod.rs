@@ -31,13 +31,17 @@ mod ast;
 mod bspline_text;
 mod error;
 pub mod geometry;
+mod geometry_text;
 mod grammar;
+mod instance_text;
 pub mod product;
 mod scan;
 pub mod schema;
 mod specials;
 mod string;
 mod swar;
+#[cfg(test)]
+mod test_files;
 pub mod writer;
 
 pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};

@@ -1176,7 +1176,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 id: label,
                 geometry,
                 source: Source {
-                    entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                    entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
                     line: raw.map(|r| self.s.locate(r.offset).0),
                 },
                 meta,

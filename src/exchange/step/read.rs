@@ -786,9 +786,10 @@ impl<'a> Ctx<'_, 'a> {
         forms: &[&str],
         diags: &mut Vec<Diagnostic>,
     ) {
-        enumeration(form, forms, form_name, self.location(), diags);
+        let at = || self.location();
+        enumeration(form, forms, form_name, at, diags);
         if let KnotSpec::Explicit { knot_spec, .. } = spec {
-            enumeration(knot_spec, KNOT_TYPES, "knot_spec", self.location(), diags);
+            enumeration(knot_spec, KNOT_TYPES, "knot_spec", at, diags);
         }
     }
 
@@ -1067,12 +1068,13 @@ fn knot_rules(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<St
 
 /// Checks an enumeration value against its type's values in ISO 10303-42 (`knot_type`,
 /// `b_spline_curve_form`, `b_spline_surface_form`). A value outside them is non-conforming; the geometry does not
-/// depend on it.
+/// depend on it. `location` is asked for only when there is something to say (finding a
+/// line counts the lines before the instance).
 fn enumeration(
     value: &str,
     allowed: &[&str],
     what: &str,
-    location: Location,
+    location: impl FnOnce() -> Location,
     diags: &mut Vec<Diagnostic>,
 ) {
     if !allowed.iter().any(|a| a.eq_ignore_ascii_case(value)) {
@@ -1082,7 +1084,7 @@ fn enumeration(
                 "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
                 allowed.join(", ")
             ),
-            location,
+            location(),
         ));
     }
 }

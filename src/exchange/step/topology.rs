@@ -263,7 +263,7 @@ impl Build<'_, '_, '_, '_> {
         Origin {
             id: format!("#{id}"),
             source: Source {
-                entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
                 line: loc.line,
             },
             name: item
