@@ -143,7 +143,8 @@ pub(super) fn build(
     let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
     let diagonal = bounding_box_diagonal(&all);
     b.tolerance = (diagonal * RELATIVE_TOLERANCE).max(1e-9);
-    if uncertainty > b.tolerance {
+    // Without two distinct vertices there is nothing for a tolerance to join.
+    if uncertainty > b.tolerance && diagonal > 0.0 {
         // A declared uncertainty above a thousandth of the part would merge its features.
         if uncertainty <= MAX_UNCERTAINTY * diagonal {
             b.tolerance = uncertainty;
