@@ -441,6 +441,17 @@ pub fn read_points(text: &str) -> Result<(Vec<Point3>, usize), PipelineError> {
         }
         rows
     };
+    let rows: Vec<&Vec<f64>> = rows.iter().collect();
+    let (points, dimension) = points_of(&rows, |k| format!("point {k}"))?;
+    Ok((points, dimension))
+}
+
+/// Points from rows of 2 or 3 finite numbers (all 2: a 2-D fit, z = 0), each bad row a
+/// usage error naming it by `name(k)`.
+fn points_of(
+    rows: &[&Vec<f64>],
+    name: impl Fn(usize) -> String,
+) -> Result<(Vec<Point3>, usize), PipelineError> {
     let dimension = if rows.iter().all(|r| r.len() == 2) {
         2
     } else {
@@ -454,7 +465,7 @@ pub fn read_points(text: &str) -> Result<(Vec<Point3>, usize), PipelineError> {
             [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok([x, y, z]),
             _ => Err(PipelineError::usage(
                 "fit.points",
-                format!("point {k} must be 2 or 3 finite numbers, got {r:?}"),
+                format!("{} must be 2 or 3 finite numbers, got {r:?}", name(k)),
             )),
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -514,27 +525,9 @@ pub fn read_fit_data(text: &str) -> Result<(FitData, usize), PipelineError> {
         ));
     }
     let flat: Vec<&Vec<f64>> = rows.iter().flatten().collect();
-    let dimension = if flat.iter().all(|r| r.len() == 2) {
-        2
-    } else {
-        3
-    };
-    let points = flat
-        .iter()
-        .enumerate()
-        .map(|(k, r)| match r[..] {
-            [x, y] if x.is_finite() && y.is_finite() => Ok([x, y, 0.0]),
-            [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok([x, y, z]),
-            _ => Err(PipelineError::usage(
-                "fit.points",
-                format!(
-                    "grid point ({}, {}) must be 2 or 3 finite numbers, got {r:?}",
-                    k / nv.max(1),
-                    k % nv.max(1)
-                ),
-            )),
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let (points, dimension) = points_of(&flat, |k| {
+        format!("grid point ({}, {})", k / nv.max(1), k % nv.max(1))
+    })?;
     let grid = crate::nurbs::Grid::from_u_major(nu, nv, points)
         .ok_or_else(|| PipelineError::usage("fit.points", "the grid is not rectangular"))?;
     Ok((FitData::Grid(grid), dimension))
