@@ -197,7 +197,16 @@ def step_cases():
     # --- syntax
     d = c2.replace(b"#17 = B_SPLINE_CURVE_WITH_KNOTS(", b"#17 = b_spline_curve_with_knots(")
     line, col = inst_loc(d, 17)
-    emit("step_lowercase_keyword", ".step", d, code="step.syntax", line=line, column=col + 6, entity="#17")
+    # ISO 10303-21 clause 6.4: keywords are upper case; reported at the keyword (validate:
+    # error; convert reads it upper-cased, with a warning).
+    emit("step_lowercase_keyword", ".step", d, code="step.syntax.lowercase_keyword", line=line, column=col + 6, entity="#17")
+    # A lower-case typed parameter (LENGTH_MEASURE) inside an upper-case instance.
+    d = sub_in(c2, 31, b"LENGTH_MEASURE(1.E-07)", b"length_measure(1.E-07)")
+    at("step_lowercase_typed_parameter", d, b"length_measure", 31, "step.syntax.lowercase_keyword")
+    # A lower-case header keyword.
+    d = c2.replace(b"FILE_SCHEMA((", b"File_Schema((", 1)
+    line, col = line_col(d, d.index(b"File_Schema"))
+    emit("step_lowercase_header_keyword", ".step", d, code="step.syntax.lowercase_keyword", line=line, column=col)
     nest = b"(" * 100000 + b")" * 100000
     d = sub_in(c2, 19, b"(10.265009748379", nest + b",(10.265009748379")
     line, col = inst_loc(d, 19)
