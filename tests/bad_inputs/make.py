@@ -275,6 +275,53 @@ def step_cases():
     # Attribute counts of entities the schema tables know (DIRECTION: name, ratios).
     ent("step_direction_extra_attribute", sub_in(c2, 13, b"(0.,0.,1.))", b"(0.,0.,1.),5.)"), 13, "step.schema")
     ent("step_point_missing_attribute", sub_in(c2, 12, b"CARTESIAN_POINT('',(0.,0.,0.))", b"CARTESIAN_POINT((0.,0.,0.))"), 12, "step.schema")
+    # References to an instance of a type the attribute does not allow (ISO 10303-21
+    # clause 11; the attribute types of ISO 10303-41/-42/-43, subtypes admitted), through
+    # the topology, geometry and product structure of a FreeCAD part and assembly. Each is
+    # reported on the instance holding the reference.
+    bx = read("parts/box_fillet_chamfer_hole.step")
+    # #15 MANIFOLD_SOLID_BREP -> #16 CLOSED_SHELL -> #17 ADVANCED_FACE (#18 FACE_BOUND,
+    # #32 PLANE) ; #18 -> #19 EDGE_LOOP -> #20 ORIENTED_EDGE -> #21 EDGE_CURVE (#22, #24
+    # VERTEX_POINT, #26 SURFACE_CURVE (#27 LINE; #31, #43 PCURVE)); #31 PCURVE (#32, #37
+    # DEFINITIONAL_REPRESENTATION); #33 AXIS2_PLACEMENT_3D (#34 point, #35/#36 directions)
+    for name, eid, old, new in (
+        ("face_bound_to_vertex", 18, b"('',#19,", b"('',#22,"),
+        ("edge_loop_to_edge_curve", 19, b"(#20,", b"(#21,"),
+        ("oriented_edge_to_vertex", 20, b"*,#21,", b"*,#22,"),
+        ("edge_start_to_point", 21, b"('',#22,", b"('',#23,"),
+        ("edge_geometry_to_point", 21, b",#26,", b",#23,"),
+        ("vertex_geometry_to_direction", 22, b"#23)", b"#13)"),
+        ("face_geometry_to_curve", 17, b",#32,", b",#27,"),
+        ("face_bounds_to_loop", 17, b"(#18)", b"(#19)"),
+        ("shell_face_to_loop", 16, b"(#17,", b"(#19,"),
+        ("solid_outer_to_face", 15, b"#16)", b"#17)"),
+        ("surface_curve_3d_to_surface", 26, b"('',#27,", b"('',#32,"),
+        ("surface_curve_associated_to_line", 26, b"(#31,#43)", b"(#31,#27)"),
+        ("pcurve_basis_to_curve", 31, b"('',#32,", b"('',#27,"),
+        ("pcurve_reference_to_line", 31, b",#37)", b",#38)"),
+        ("plane_position_to_point", 32, b"#33)", b"#34)"),
+        ("axis_to_point", 33, b",#35,", b",#34,"),
+        ("line_dir_to_direction", 27, b",#29)", b",#30)"),
+        ("representation_context_to_point", 10, b",#1193)", b",#12)"),
+        ("representation_item_product", 10, b"(#11,#15)", b"(#11,#7)"),
+        ("product_definition_formation", 5, b",#6,", b",#7,"),
+        ("formation_of_product", 6, b"#7)", b"#5)"),
+        ("used_representation_product", 3, b"(#4,#10)", b"(#4,#5)"),
+    ):
+        ent(f"step_ref_{name}", sub_in(bx, eid, old, new), eid, "step.reference.type")
+    asm = read("parts/assembly_links.step")
+    # #464 NEXT_ASSEMBLY_USAGE_OCCURRENCE(#5, #35 PRODUCT_DEFINITION); #461 complex
+    # SHAPE_REPRESENTATION_RELATIONSHIP(#40, #10 representations; #462 transformation);
+    # #460 CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#461, #463 PRODUCT_DEFINITION_SHAPE).
+    for name, eid, old, new in (
+        ("nauo_related_formation", 464, b"#5,#35,$", b"#5,#36,$"),
+        ("relationship_rep_product", 461, b"('','',#40,#10)", b"('','',#40,#5)"),
+        ("relationship_transformation", 461, b"WITH_TRANSFORMATION(#462)", b"WITH_TRANSFORMATION(#463)"),
+        ("cdsr_relation", 460, b"(#461,#463)", b"(#462,#463)"),
+        ("cdsr_product_relation", 460, b"(#461,#463)", b"(#461,#464)"),
+        ("transformation_item", 462, b"('','',#11,", b"('','',#10,"),
+    ):
+        ent(f"step_ref_{name}", sub_in(asm, eid, old, new), eid, "step.reference.type")
     # The header's three entities (ISO 10303-21 clause 8.2), reported at HEADER.
     hl, hc = line_col(c2, c2.index(b"HEADER;"))
     d = re.sub(rb"(?s)FILE_NAME\(.*?\);\n", b"", c2, count=1)

@@ -119,7 +119,10 @@ pub fn upper_case_keywords(text: &mut String, listed: usize) -> (usize, Vec<Pars
 mod tests {
     use super::*;
 
-    fn upper(text: &str) -> (String, Vec<(usize, usize, Option<u64>, String)>) {
+    /// Line, column, `#id` and the keyword as written.
+    type Found = (usize, usize, Option<u64>, String);
+
+    fn upper(text: &str) -> (String, Vec<Found>) {
         let mut t = text.to_owned();
         let (n, found) = upper_case_keywords(&mut t, usize::MAX);
         assert_eq!(n, found.len());

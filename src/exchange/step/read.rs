@@ -326,7 +326,8 @@ fn header_conformance(text: &str, s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) 
 /// instance of the DATA section (ISO 10303-21 clause 10), not only those the geometry
 /// needs: each instance syntactically complete (an empty `#17 = ;` is an error), each
 /// simple instance of an entity the schema tables know with its EXPRESS attribute count,
-/// each reference naming an instance of the file, and no instance referring to itself
+/// each reference naming an instance of the file, of an entity type its attribute allows
+/// where the tables declare it (`REFERENCE_TYPES`), and no instance referring to itself
 /// through any chain of references.
 fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
     let mut ids = Vec::with_capacity(s.instances.len());
@@ -362,8 +363,12 @@ fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
             nurbsx_parsers::step::Body::Complex(_) => true,
         };
         if known {
-            if let Err(e) = Attributes::of(&inst, s.at(raw)) {
-                diags.push(schema_diagnostic(&e));
+            match Attributes::of(&inst, s.at(raw)) {
+                Ok(a) => diags.extend(s.reference_type_errors(&a).iter().map(|e| Diagnostic {
+                    code: "step.reference.type".to_owned(),
+                    ..schema_diagnostic(e)
+                })),
+                Err(e) => diags.push(schema_diagnostic(&e)),
             }
         }
     }
