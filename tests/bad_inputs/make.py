@@ -345,6 +345,29 @@ def join(recs):
     return ("\n".join(recs) + "\n").encode("latin-1")
 
 
+def add_entity(recs, etype, form, params):
+    """Append an entity (IGES 5.3 sections 2.2.4.4, 2.2.4.5): its two DE records after the
+    last D record, its P records (`params`, cut at commas into 64-column lines) after the
+    last P record, and the Terminate counts updated. Returns its DE sequence number."""
+    count = lambda s: sum(1 for r in recs if r[72:73] == s)
+    de, pstart = count("D") + 1, count("P") + 1
+    lines, text = [], params
+    while text:
+        cut = len(text) if len(text) <= 64 else text.rindex(",", 0, 64) + 1
+        lines.append(text[:cut])
+        text = text[cut:]
+    d1 = f"{etype:>8}{pstart:>8}" + f"{0:>8}" * 6 + f"{'00000000':>8}D{de:07d}"
+    d2 = f"{etype:>8}{0:>8}{0:>8}{len(lines):>8}{form:>8}" + " " * 24 + f"{0:>8}D{de + 1:07d}"
+    plines = [f"{l:<64} {de:07d}P{pstart + i:07d}" for i, l in enumerate(lines)]
+    last_d = max(i for i, r in enumerate(recs) if r[72:73] == "D")
+    recs[last_d + 1:last_d + 1] = [d1, d2]
+    last_p = max(i for i, r in enumerate(recs) if r[72:73] == "P")
+    recs[last_p + 1:last_p + 1] = plines
+    t = next(i for i, r in enumerate(recs) if r[72:73] == "T")
+    recs[t] = f"S{count('S'):7d}G{count('G'):7d}D{count('D'):7d}P{count('P'):7d}".ljust(72) + "T0000001"
+    return de
+
+
 def setp(recs, idx, text):
     """Replace columns 1-64 of a P record (keeping the DE back pointer and sequence)."""
     r = recs[idx]
@@ -557,6 +580,34 @@ def iges_cases():
         recs = list(srf)
         setfield(recs, didx(recs, 9), 7, value)
         emit(name, ".igs", join(recs), code="pointer.invalid", section="D", sequence=9, entity="D9")
+    # --- 402 Associativity Instance and 406 Property pointers (IGES 5.3 type 402 forms 1,
+    # 7, 9, 12-16, 18-21; type 406 forms 1 and 15, with the trailing pointer groups of
+    # section 2.2.4.5.2), appended to surf_poles4x3.igs (D1 144, D3 128, D5 142, D7 102,
+    # D9..D15 110): each reported on the 402/406's directory entry.
+    def assoc(name, etype, form, params, code):
+        recs = list(srf)
+        de = add_entity(recs, etype, form, params.replace("SELF", str(2 * 13 + 1)))
+        assert de == 27
+        emit(name, ".igs", join(recs), code=code, section="D", sequence=de, entity=f"D{de}")
+    assoc("iges_402_group_missing_member", 402, 7, "402,2,1,99;", "pointer.invalid")
+    assoc("iges_402_group_even_member", 402, 1, "402,2,1,4;", "pointer.invalid")
+    assoc("iges_402_ordered_group_cycle", 402, 14, "402,2,3,SELF;", "pointer.cycle")
+    assoc("iges_402_single_parent_missing_child", 402, 9, "402,1,2,1,3,77;", "pointer.invalid")
+    assoc("iges_402_external_index_missing", 402, 12, "402,1,3HABC,55;", "pointer.invalid")
+    assoc("iges_402_dimensioned_geometry_even", 402, 13, "402,1,1,2,3;", "pointer.invalid")
+    assoc("iges_402_planar_transform_not_124", 402, 16, "402,1,1,3,1;", "pointer.invalid")
+    assoc("iges_402_flow_connect_not_132", 402, 18, "402,2,0,1,0,0,0,0,0,0,1;", "pointer.invalid")
+    assoc("iges_402_segmented_view_not_410", 402, 19, "402,1,1,0.5,0,0,0,0;", "pointer.invalid")
+    assoc("iges_402_piping_flow_missing", 402, 20, "402,1,1,0,0,0,0,0,0,91;", "pointer.invalid")
+    assoc("iges_402_new_dimensioned_geometry_missing", 402, 21, "402,1,1,0,0,0.,99,0.,0.,0.;", "pointer.invalid")
+    assoc("iges_406_name_property_pointer_missing", 406, 15, "406,1,4HNAME,0,1,99;", "pointer.invalid")
+    # A count larger than the pointers that follow: the record ends early, at its only line.
+    recs = list(srf)
+    de = add_entity(recs, 402, 7, "402,3,1,3;")
+    emit("iges_402_group_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    recs = list(srf)
+    de = add_entity(recs, 406, 1, "406,3,1,2;")
+    emit("iges_406_levels_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
     # --- record structure (IGES 5.3 section 2.1): all errors for validate.
     recs = list(base)
     r = recs[pidx(recs, 3)]

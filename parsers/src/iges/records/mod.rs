@@ -10,6 +10,7 @@
 //! declaration too. Adding an entity is one declaration plus its record type.
 
 mod analytic_surfaces190_198;
+mod associativity402;
 mod bounded_surface143;
 mod brep_solid186;
 mod circular_arc100;
@@ -25,6 +26,7 @@ mod line110;
 mod loop508;
 mod plane108;
 mod point116;
+mod property406;
 mod revolution120;
 mod ruled_surface118;
 mod shell514;
@@ -113,6 +115,34 @@ pub const SCHEMAS: &[Schema] = &[
     analytic_surfaces190_198::SPHERE_SCHEMA,
     analytic_surfaces190_198::TORUS_SCHEMA,
 ];
+
+/// Declarations whose parameters depend on the form number: `(entity, forms, schema)`.
+/// The 402 Associativity Instance forms 1, 7, 9, 12-16 and 18-21 and the 406 Property forms
+/// 1 and 15; the other forms of these types are not declared (their pointers unchecked).
+pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
+    (&[1, 7, 14, 15], associativity402::GROUP),
+    (&[9], associativity402::SINGLE_PARENT),
+    (&[12], associativity402::EXTERNAL_REFERENCE_INDEX),
+    (&[13], associativity402::DIMENSIONED_GEOMETRY),
+    (&[16], associativity402::PLANAR),
+    (&[18], associativity402::FLOW),
+    (&[19], associativity402::SEGMENTED_VIEWS_VISIBLE),
+    (&[20], associativity402::PIPING_FLOW),
+    (&[21], associativity402::NEW_DIMENSIONED_GEOMETRY),
+    (&[1], property406::DEFINITION_LEVELS),
+    (&[15], property406::NAME),
+];
+
+/// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
+/// types whose parameters depend on the form, from [`FORM_SCHEMAS`].
+pub fn schema_of(entity: i64, form: i64) -> Option<&'static Schema> {
+    SCHEMAS.iter().find(|s| s.entity == entity).or_else(|| {
+        FORM_SCHEMAS
+            .iter()
+            .find(|(forms, s)| s.entity == entity && forms.contains(&form))
+            .map(|(_, s)| s)
+    })
+}
 
 /// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -408,7 +438,7 @@ impl<'a> Values<'a> {
             self.additional
                 .iter()
                 .filter(|&&p| p != 0)
-                .map(|&p| ("associativity or property pointer", p, &[][..])),
+                .map(|&p| ("associativity or property", p, &[][..])),
         );
         out
     }
