@@ -608,6 +608,52 @@ def iges_cases():
     recs = list(srf)
     de = add_entity(recs, 406, 1, "406,3,1,2;")
     emit("iges_406_levels_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    # --- DE fields in range (IGES 5.3 section 2.2.4.4), on the 126 at D1/D2 of
+    # curve_deg2_clamped.igs (Global parameter 16, line weight gradations, is 1). Each at
+    # the DE line holding the field (field 9 status digit pairs: blank, subordinate,
+    # entity use, hierarchy).
+    for name, line, field, value in (
+        ("entity_type_undefined", 1, 1, 999),
+        ("structure_positive", 1, 3, 5),
+        ("line_font_range", 1, 4, 6),
+        ("view_negative", 1, 6, -3),
+        ("transform_negative", 1, 7, -3),
+        ("label_display_negative", 1, 8, -1),
+        ("status_blank", 1, 9, "02000000"),
+        ("status_subordinate", 1, 9, "00040000"),
+        ("status_use_flag", 1, 9, "00000700"),
+        ("status_hierarchy", 1, 9, "00000003"),
+        ("line_weight_range", 2, 2, 2),
+        ("line_weight_negative", 2, 2, -1),
+        ("color_range", 2, 3, 9),
+        ("form_undefined", 2, 5, 7),
+    ):
+        recs = list(base)
+        setfield(recs, didx(recs, line), field, value)
+        if field == 1:
+            setfield(recs, didx(recs, 2), 1, value)  # field 11 repeats the type
+        emit(f"iges_de_{name}", ".igs", join(recs), code="iges.directory_field", section="D", sequence=line, entity="D1")
+    # DE pointer fields (negated for line font, level, color): to no entry, to an entity
+    # of another type, or of the right type and the wrong form (a level names a 406 form 1,
+    # a label display a 402 form 5). surf_poles4x3.igs, on the 110 at D9.
+    for name, field, value, extra in (
+        ("line_font_pointer_missing", 4, -99, None),
+        ("level_pointer_missing", 5, -99, None),
+        ("color_pointer_not_314", 13, -3, None),
+        ("view_not_410", 6, 3, None),
+        ("level_pointer_wrong_form", 5, -27, (406, 15, "406,1,4HNAME;")),
+        ("label_display_wrong_form", 8, 27, (402, 7, "402,1,3;")),
+    ):
+        recs = list(srf)
+        if extra:
+            assert add_entity(recs, *extra) == 27
+        if field == 13:
+            setfield(recs, didx(recs, 10), 3, value)
+        else:
+            setfield(recs, didx(recs, 9), field, value)
+        # (Changed in the middle and at the end: named as the source explicitly.)
+        emit(f"iges_de_{name}", ".igs", join(recs), code="pointer.invalid", section="D", sequence=9, entity="D9",
+             source="surf_poles4x3.igs")
     # --- record structure (IGES 5.3 section 2.1): all errors for validate.
     recs = list(base)
     r = recs[pidx(recs, 3)]

@@ -144,6 +144,70 @@ pub fn schema_of(entity: i64, form: i64) -> Option<&'static Schema> {
     })
 }
 
+/// The entity type numbers IGES 5.3 defines (chapter 4; 0 is the Null entity), besides the
+/// ranges of [`is_defined_entity_type`].
+const DEFINED_ENTITY_TYPES: &[i64] = &[
+    0, 100, 102, 104, 106, 108, 110, 112, 114, 116, 118, 120, 122, 123, 124, 125, 126, 128, 130,
+    132, 134, 136, 138, 140, 141, 142, 143, 144, 146, 148, 150, 152, 154, 156, 158, 160, 162, 164,
+    168, 180, 182, 184, 186, 190, 192, 194, 196, 198, 202, 204, 206, 208, 210, 212, 213, 214, 216,
+    218, 220, 222, 228, 230, 302, 304, 306, 308, 310, 312, 314, 316, 320, 322, 402, 404, 406, 408,
+    410, 412, 414, 416, 418, 420, 422, 430, 502, 504, 508, 510, 514,
+];
+
+/// Whether `entity` is an entity type number IGES 5.3 defines (section 2.2.4.4.1): one of
+/// chapter 4's, a macro instance (600-699, 10000-99999) or an implementor-defined entity
+/// (5001-9999).
+pub fn is_defined_entity_type(entity: i64) -> bool {
+    DEFINED_ENTITY_TYPES.contains(&entity)
+        || (600..=699).contains(&entity)
+        || (5001..=9999).contains(&entity)
+        || (10000..=99999).contains(&entity)
+}
+
+/// The form numbers chapter 4 defines for the entity types whose forms are checked
+/// (DE field 15); other types' forms are not judged. The 402 forms 5001-9999 are
+/// implementor-defined.
+const DEFINED_FORMS: &[(i64, &[i64])] = &[
+    (100, &[0]),
+    (102, &[0]),
+    (108, &[-1, 0, 1]),
+    (110, &[0, 1, 2]),
+    (112, &[0]),
+    (114, &[0]),
+    (116, &[0]),
+    (118, &[0, 1]),
+    (120, &[0]),
+    (122, &[0]),
+    (123, &[0]),
+    (124, &[0, 1, 10, 11, 12]),
+    (126, &[0, 1, 2, 3, 4, 5]),
+    (128, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]),
+    (141, &[0]),
+    (142, &[0]),
+    (143, &[0]),
+    (144, &[0]),
+    (186, &[0]),
+    (190, &[0, 1]),
+    (192, &[0, 1]),
+    (194, &[0, 1]),
+    (196, &[0, 1]),
+    (198, &[0, 1]),
+    (308, &[0]),
+    (402, &[1, 3, 4, 5, 7, 9, 12, 13, 14, 15, 16, 18, 19, 20, 21]),
+    (408, &[0]),
+    (502, &[1]),
+    (504, &[1]),
+    (508, &[0, 1]),
+    (510, &[1]),
+    (514, &[1, 2]),
+];
+
+/// Whether `form` is a form number of `entity`; `None` when its forms are not checked.
+pub fn is_defined_form(entity: i64, form: i64) -> Option<bool> {
+    let (_, forms) = DEFINED_FORMS.iter().find(|(e, _)| *e == entity)?;
+    Some(forms.contains(&form) || (entity == 402 && (5001..=9999).contains(&form)))
+}
+
 /// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Type {
