@@ -279,11 +279,12 @@ def step_cases():
     # clause 11; the attribute types of ISO 10303-41/-42/-43, subtypes admitted), through
     # the topology, geometry and product structure of a FreeCAD part and assembly. Each is
     # reported on the instance holding the reference.
-    bx = read("parts/box_fillet_chamfer_hole.step")
+    bx = read("parts/sphere_cap.step")
     # #15 MANIFOLD_SOLID_BREP -> #16 CLOSED_SHELL -> #17 ADVANCED_FACE (#18 FACE_BOUND,
-    # #32 PLANE) ; #18 -> #19 EDGE_LOOP -> #20 ORIENTED_EDGE -> #21 EDGE_CURVE (#22, #24
-    # VERTEX_POINT, #26 SURFACE_CURVE (#27 LINE; #31, #43 PCURVE)); #31 PCURVE (#32, #37
-    # DEFINITIONAL_REPRESENTATION); #33 AXIS2_PLACEMENT_3D (#34 point, #35/#36 directions)
+    # #33 SPHERICAL_SURFACE); #18 -> #19 EDGE_LOOP -> #20 ORIENTED_EDGE -> #21 EDGE_CURVE
+    # (#22, #24 VERTEX_POINT, #26 SEAM_CURVE (#27 CIRCLE; #32, #44 PCURVE)); #32 PCURVE
+    # (#33, #38 DEFINITIONAL_REPRESENTATION of #39 LINE); #34 AXIS2_PLACEMENT_3D (#35
+    # point, #36/#37 directions).
     for name, eid, old, new in (
         ("face_bound_to_vertex", 18, b"('',#19,", b"('',#22,"),
         ("edge_loop_to_edge_curve", 19, b"(#20,", b"(#21,"),
@@ -291,18 +292,19 @@ def step_cases():
         ("edge_start_to_point", 21, b"('',#22,", b"('',#23,"),
         ("edge_geometry_to_point", 21, b",#26,", b",#23,"),
         ("vertex_geometry_to_direction", 22, b"#23)", b"#13)"),
-        ("face_geometry_to_curve", 17, b",#32,", b",#27,"),
+        ("face_geometry_to_curve", 17, b",#33,", b",#27,"),
         ("face_bounds_to_loop", 17, b"(#18)", b"(#19)"),
         ("shell_face_to_loop", 16, b"(#17,", b"(#19,"),
         ("solid_outer_to_face", 15, b"#16)", b"#17)"),
-        ("surface_curve_3d_to_surface", 26, b"('',#27,", b"('',#32,"),
-        ("surface_curve_associated_to_line", 26, b"(#31,#43)", b"(#31,#27)"),
-        ("pcurve_basis_to_curve", 31, b"('',#32,", b"('',#27,"),
-        ("pcurve_reference_to_line", 31, b",#37)", b",#38)"),
-        ("plane_position_to_point", 32, b"#33)", b"#34)"),
-        ("axis_to_point", 33, b",#35,", b",#34,"),
-        ("line_dir_to_direction", 27, b",#29)", b",#30)"),
-        ("representation_context_to_point", 10, b",#1193)", b",#12)"),
+        ("seam_curve_3d_to_surface", 26, b"('',#27,", b"('',#33,"),
+        ("seam_curve_associated_to_line", 26, b"(#32,#44)", b"(#32,#27)"),
+        ("pcurve_basis_to_curve", 32, b"('',#33,", b"('',#27,"),
+        ("pcurve_reference_to_line", 32, b",#38)", b",#39)"),
+        ("sphere_position_to_point", 33, b"('',#34,", b"('',#35,"),
+        ("circle_position_to_direction", 27, b"('',#28,", b"('',#30,"),
+        ("axis_to_point", 34, b",#36,", b",#35,"),
+        ("line_dir_to_direction", 39, b",#41)", b",#42)"),
+        ("representation_context_to_point", 10, b",#83)", b",#12)"),
         ("representation_item_product", 10, b"(#11,#15)", b"(#11,#7)"),
         ("product_definition_formation", 5, b",#6,", b",#7,"),
         ("formation_of_product", 6, b"#7)", b"#5)"),

@@ -47,6 +47,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         Err(d) if !lower_case(d) => return first,
         _ => {}
     }
+    // The first reading is discarded before the copy is made and read.
+    drop(first);
     let mut upper = text.to_owned();
     let (count, listed) =
         nurbsx_parsers::step::upper_case_keywords(&mut upper, MAX_LOWER_CASE_LISTED);
@@ -57,7 +59,10 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             let d = parse_diagnostic(e);
             Diagnostic::nonconforming(
                 d.code,
-                format!("{}; read as upper case", d.message),
+                format!(
+                    "{}; read as upper case (ISO 10303-21 clause 6.4: keywords are upper case)",
+                    d.message
+                ),
                 d.location,
             )
         })

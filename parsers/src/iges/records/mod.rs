@@ -116,7 +116,7 @@ pub const SCHEMAS: &[Schema] = &[
     analytic_surfaces190_198::TORUS_SCHEMA,
 ];
 
-/// Declarations whose parameters depend on the form number: `(entity, forms, schema)`.
+/// Declarations whose parameters depend on the form number: `(forms, schema)`.
 /// The 402 Associativity Instance forms 1, 7, 9, 12-16 and 18-21 and the 406 Property forms
 /// 1 and 15; the other forms of these types are not declared (their pointers unchecked).
 pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
