@@ -311,6 +311,15 @@ def step_cases():
         ("used_representation_product", 3, b"(#4,#10)", b"(#4,#5)"),
     ):
         ent(f"step_ref_{name}", sub_in(bx, eid, old, new), eid, "step.reference.type")
+    # Units and the representation context (ISO 10303-41 `unit` = SELECT (named_unit,
+    # derived_unit); ISO 10303-43 global_unit/uncertainty contexts), through the complex
+    # context instance #27 and the uncertainty #31 of curve_deg2_clamped.step.
+    for name, eid, old, new in (
+        ("context_unit_is_point", 27, b"(#28,#29,#30)", b"(#28,#29,#26)"),
+        ("context_uncertainty_is_unit", 27, b"((#31))", b"((#30))"),
+        ("uncertainty_unit_is_point", 31, b"1.E-07),#28,", b"1.E-07),#26,"),
+    ):
+        ent(f"step_ref_{name}", sub_in(c2, eid, old, new), eid, "step.reference.type")
     asm = read("parts/assembly_links.step")
     # #464 NEXT_ASSEMBLY_USAGE_OCCURRENCE(#5, #35 PRODUCT_DEFINITION); #461 complex
     # SHAPE_REPRESENTATION_RELATIONSHIP(#40, #10 representations; #462 transformation);
