@@ -230,6 +230,110 @@ fn odd_inputs_read() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// Keywords in lower case (ISO 10303-21 clause 6.4 requires upper case): `convert` and
+/// `info` read every instance with its one meaning, the upper-case keyword, giving the
+/// sample's geometry and topology, and warn at each keyword (line, column, `#id`); with
+/// `--strict` those are errors. The lower-casing here is independent of the reader's: every
+/// run `[A-Z_][A-Z0-9_]*` directly followed by `(`, outside strings.
+#[test]
+fn lower_case_keywords_are_read_as_upper_case_with_a_warning() {
+    fn lower_keywords(text: &str) -> (String, Vec<(usize, usize)>) {
+        let b = text.as_bytes();
+        let (mut out, mut at) = (Vec::with_capacity(b.len()), Vec::new());
+        let (mut i, mut in_string) = (0, false);
+        while i < b.len() {
+            let c = b[i];
+            if c == b'\'' {
+                in_string = !in_string;
+            }
+            let starts = !in_string
+                && (c.is_ascii_uppercase() || c == b'_')
+                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b"_.".contains(&b[i - 1])));
+            if starts {
+                let end = i + b[i..]
+                    .iter()
+                    .take_while(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || **c == b'_')
+                    .count();
+                if b.get(end) == Some(&b'(') {
+                    let line = b[..i].iter().filter(|&&c| c == b'\n').count() + 1;
+                    let column = i - b[..i]
+                        .iter()
+                        .rposition(|&c| c == b'\n')
+                        .map_or(0, |p| p + 1)
+                        + 1;
+                    at.push((line, column));
+                    out.extend(b[i..end].to_ascii_lowercase());
+                    i = end;
+                    continue;
+                }
+            }
+            out.push(c);
+            i += 1;
+        }
+        (String::from_utf8(out).unwrap(), at)
+    }
+    for name in [
+        "curve_deg2_clamped.step",
+        "surf_poles4x3.step",
+        "brep_filleted_box_nurbs.step",
+    ] {
+        let original = String::from_utf8(sample(name)).unwrap();
+        let (lower, at) = lower_keywords(&original);
+        assert!(at.len() > 20, "{name}: {} keywords", at.len());
+        for strict in [false, true] {
+            let settings = pipeline::Settings {
+                strict,
+                ..pipeline::Settings::default()
+            };
+            let read = pipeline::load(lower.as_bytes(), None, &settings)
+                .unwrap()
+                .document;
+            let reference = pipeline::load(original.as_bytes(), None, &settings)
+                .unwrap()
+                .document;
+            let geo = |d: &exchange::Document| -> Vec<_> {
+                d.entities.iter().map(|e| e.geometry.clone()).collect()
+            };
+            assert!(geo(&read) == geo(&reference), "{name}: geometry differs");
+            assert_eq!(read.entities.len(), reference.entities.len(), "{name}");
+            assert_eq!(
+                read.topology, reference.topology,
+                "{name}: topology differs"
+            );
+            let found: Vec<_> = read
+                .diagnostics
+                .iter()
+                .filter(|d| d.code == "step.syntax.lowercase_keyword")
+                .collect();
+            // The first 100 one by one, then their count.
+            let listed = at.len().min(100);
+            assert_eq!(found.len(), listed + usize::from(at.len() > 100), "{name}");
+            let level = if strict {
+                exchange::Severity::Error
+            } else {
+                exchange::Severity::Warning
+            };
+            assert!(
+                found.iter().all(|d| d.severity == level),
+                "{name}: {found:?}"
+            );
+            for (d, (line, column)) in found.iter().zip(&at[..listed]) {
+                assert_eq!(
+                    (d.location.line, d.location.column),
+                    (Some(*line), Some(*column))
+                );
+            }
+            // The reference's own diagnostics are all there is besides.
+            assert_eq!(
+                read.diagnostics.len() - found.len(),
+                reference.diagnostics.len(),
+                "{name}: {:?}",
+                read.diagnostics
+            );
+        }
+    }
+}
+
 fn read_doc(bytes: &[u8]) -> exchange::Document {
     exchange::read(bytes, &ImportOptions::default()).unwrap()
 }

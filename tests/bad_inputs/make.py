@@ -197,7 +197,16 @@ def step_cases():
     # --- syntax
     d = c2.replace(b"#17 = B_SPLINE_CURVE_WITH_KNOTS(", b"#17 = b_spline_curve_with_knots(")
     line, col = inst_loc(d, 17)
-    emit("step_lowercase_keyword", ".step", d, code="step.syntax", line=line, column=col + 6, entity="#17")
+    # ISO 10303-21 clause 6.4: keywords are upper case; reported at the keyword (validate:
+    # error; convert reads it upper-cased, with a warning).
+    emit("step_lowercase_keyword", ".step", d, code="step.syntax.lowercase_keyword", line=line, column=col + 6, entity="#17")
+    # A lower-case typed parameter (LENGTH_MEASURE) inside an upper-case instance.
+    d = sub_in(c2, 31, b"LENGTH_MEASURE(1.E-07)", b"length_measure(1.E-07)")
+    at("step_lowercase_typed_parameter", d, b"length_measure", 31, "step.syntax.lowercase_keyword")
+    # A lower-case header keyword.
+    d = c2.replace(b"FILE_SCHEMA((", b"File_Schema((", 1)
+    line, col = line_col(d, d.index(b"File_Schema"))
+    emit("step_lowercase_header_keyword", ".step", d, code="step.syntax.lowercase_keyword", line=line, column=col)
     nest = b"(" * 100000 + b")" * 100000
     d = sub_in(c2, 19, b"(10.265009748379", nest + b",(10.265009748379")
     line, col = inst_loc(d, 19)
@@ -266,6 +275,64 @@ def step_cases():
     # Attribute counts of entities the schema tables know (DIRECTION: name, ratios).
     ent("step_direction_extra_attribute", sub_in(c2, 13, b"(0.,0.,1.))", b"(0.,0.,1.),5.)"), 13, "step.schema")
     ent("step_point_missing_attribute", sub_in(c2, 12, b"CARTESIAN_POINT('',(0.,0.,0.))", b"CARTESIAN_POINT((0.,0.,0.))"), 12, "step.schema")
+    # References to an instance of a type the attribute does not allow (ISO 10303-21
+    # clause 11; the attribute types of ISO 10303-41/-42/-43, subtypes admitted), through
+    # the topology, geometry and product structure of a FreeCAD part and assembly. Each is
+    # reported on the instance holding the reference.
+    bx = read("parts/sphere_cap.step")
+    # #15 MANIFOLD_SOLID_BREP -> #16 CLOSED_SHELL -> #17 ADVANCED_FACE (#18 FACE_BOUND,
+    # #33 SPHERICAL_SURFACE); #18 -> #19 EDGE_LOOP -> #20 ORIENTED_EDGE -> #21 EDGE_CURVE
+    # (#22, #24 VERTEX_POINT, #26 SEAM_CURVE (#27 CIRCLE; #32, #44 PCURVE)); #32 PCURVE
+    # (#33, #38 DEFINITIONAL_REPRESENTATION of #39 LINE); #34 AXIS2_PLACEMENT_3D (#35
+    # point, #36/#37 directions).
+    for name, eid, old, new in (
+        ("face_bound_to_vertex", 18, b"('',#19,", b"('',#22,"),
+        ("edge_loop_to_edge_curve", 19, b"(#20,", b"(#21,"),
+        ("oriented_edge_to_vertex", 20, b"*,#21,", b"*,#22,"),
+        ("edge_start_to_point", 21, b"('',#22,", b"('',#23,"),
+        ("edge_geometry_to_point", 21, b",#26,", b",#23,"),
+        ("vertex_geometry_to_direction", 22, b"#23)", b"#13)"),
+        ("face_geometry_to_curve", 17, b",#33,", b",#27,"),
+        ("face_bounds_to_loop", 17, b"(#18)", b"(#19)"),
+        ("shell_face_to_loop", 16, b"(#17,", b"(#19,"),
+        ("solid_outer_to_face", 15, b"#16)", b"#17)"),
+        ("seam_curve_3d_to_surface", 26, b"('',#27,", b"('',#33,"),
+        ("seam_curve_associated_to_line", 26, b"(#32,#44)", b"(#32,#27)"),
+        ("pcurve_basis_to_curve", 32, b"('',#33,", b"('',#27,"),
+        ("pcurve_reference_to_line", 32, b",#38)", b",#39)"),
+        ("sphere_position_to_point", 33, b"('',#34,", b"('',#35,"),
+        ("circle_position_to_direction", 27, b"('',#28,", b"('',#30,"),
+        ("axis_to_point", 34, b",#36,", b",#35,"),
+        ("line_dir_to_direction", 39, b",#41)", b",#42)"),
+        ("representation_context_to_point", 10, b",#83)", b",#12)"),
+        ("representation_item_product", 10, b"(#11,#15)", b"(#11,#7)"),
+        ("product_definition_formation", 5, b",#6,", b",#7,"),
+        ("formation_of_product", 6, b"#7)", b"#5)"),
+        ("used_representation_product", 3, b"(#4,#10)", b"(#4,#5)"),
+    ):
+        ent(f"step_ref_{name}", sub_in(bx, eid, old, new), eid, "step.reference.type")
+    # Units and the representation context (ISO 10303-41 `unit` = SELECT (named_unit,
+    # derived_unit); ISO 10303-43 global_unit/uncertainty contexts), through the complex
+    # context instance #27 and the uncertainty #31 of curve_deg2_clamped.step.
+    for name, eid, old, new in (
+        ("context_unit_is_point", 27, b"(#28,#29,#30)", b"(#28,#29,#26)"),
+        ("context_uncertainty_is_unit", 27, b"((#31))", b"((#30))"),
+        ("uncertainty_unit_is_point", 31, b"1.E-07),#28,", b"1.E-07),#26,"),
+    ):
+        ent(f"step_ref_{name}", sub_in(c2, eid, old, new), eid, "step.reference.type")
+    asm = read("parts/assembly_links.step")
+    # #464 NEXT_ASSEMBLY_USAGE_OCCURRENCE(#5, #35 PRODUCT_DEFINITION); #461 complex
+    # SHAPE_REPRESENTATION_RELATIONSHIP(#40, #10 representations; #462 transformation);
+    # #460 CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#461, #463 PRODUCT_DEFINITION_SHAPE).
+    for name, eid, old, new in (
+        ("nauo_related_formation", 464, b"#5,#35,$", b"#5,#36,$"),
+        ("relationship_rep_product", 461, b"('','',#40,#10)", b"('','',#40,#5)"),
+        ("relationship_transformation", 461, b"WITH_TRANSFORMATION(#462)", b"WITH_TRANSFORMATION(#463)"),
+        ("cdsr_relation", 460, b"(#461,#463)", b"(#462,#463)"),
+        ("cdsr_product_relation", 460, b"(#461,#463)", b"(#461,#464)"),
+        ("transformation_item", 462, b"('','',#11,", b"('','',#10,"),
+    ):
+        ent(f"step_ref_{name}", sub_in(asm, eid, old, new), eid, "step.reference.type")
     # The header's three entities (ISO 10303-21 clause 8.2), reported at HEADER.
     hl, hc = line_col(c2, c2.index(b"HEADER;"))
     d = re.sub(rb"(?s)FILE_NAME\(.*?\);\n", b"", c2, count=1)
@@ -287,6 +354,29 @@ def records(data):
 
 def join(recs):
     return ("\n".join(recs) + "\n").encode("latin-1")
+
+
+def add_entity(recs, etype, form, params):
+    """Append an entity (IGES 5.3 sections 2.2.4.4, 2.2.4.5): its two DE records after the
+    last D record, its P records (`params`, cut at commas into 64-column lines) after the
+    last P record, and the Terminate counts updated. Returns its DE sequence number."""
+    count = lambda s: sum(1 for r in recs if r[72:73] == s)
+    de, pstart = count("D") + 1, count("P") + 1
+    lines, text = [], params
+    while text:
+        cut = len(text) if len(text) <= 64 else text.rindex(",", 0, 64) + 1
+        lines.append(text[:cut])
+        text = text[cut:]
+    d1 = f"{etype:>8}{pstart:>8}" + f"{0:>8}" * 6 + f"{'00000000':>8}D{de:07d}"
+    d2 = f"{etype:>8}{0:>8}{0:>8}{len(lines):>8}{form:>8}" + " " * 24 + f"{0:>8}D{de + 1:07d}"
+    plines = [f"{l:<64} {de:07d}P{pstart + i:07d}" for i, l in enumerate(lines)]
+    last_d = max(i for i, r in enumerate(recs) if r[72:73] == "D")
+    recs[last_d + 1:last_d + 1] = [d1, d2]
+    last_p = max(i for i, r in enumerate(recs) if r[72:73] == "P")
+    recs[last_p + 1:last_p + 1] = plines
+    t = next(i for i, r in enumerate(recs) if r[72:73] == "T")
+    recs[t] = f"S{count('S'):7d}G{count('G'):7d}D{count('D'):7d}P{count('P'):7d}".ljust(72) + "T0000001"
+    return de
 
 
 def setp(recs, idx, text):
@@ -501,6 +591,80 @@ def iges_cases():
         recs = list(srf)
         setfield(recs, didx(recs, 9), 7, value)
         emit(name, ".igs", join(recs), code="pointer.invalid", section="D", sequence=9, entity="D9")
+    # --- 402 Associativity Instance and 406 Property pointers (IGES 5.3 type 402 forms 1,
+    # 7, 9, 12-16, 18-21; type 406 forms 1 and 15, with the trailing pointer groups of
+    # section 2.2.4.5.2), appended to surf_poles4x3.igs (D1 144, D3 128, D5 142, D7 102,
+    # D9..D15 110): each reported on the 402/406's directory entry.
+    def assoc(name, etype, form, params, code):
+        recs = list(srf)
+        de = add_entity(recs, etype, form, params.replace("SELF", str(2 * 13 + 1)))
+        assert de == 27
+        emit(name, ".igs", join(recs), code=code, section="D", sequence=de, entity=f"D{de}")
+    assoc("iges_402_group_missing_member", 402, 7, "402,2,1,99;", "pointer.invalid")
+    assoc("iges_402_group_even_member", 402, 1, "402,2,1,4;", "pointer.invalid")
+    assoc("iges_402_ordered_group_cycle", 402, 14, "402,2,3,SELF;", "pointer.cycle")
+    assoc("iges_402_single_parent_missing_child", 402, 9, "402,1,2,1,3,77;", "pointer.invalid")
+    assoc("iges_402_external_index_missing", 402, 12, "402,1,3HABC,55;", "pointer.invalid")
+    assoc("iges_402_dimensioned_geometry_even", 402, 13, "402,1,1,2,3;", "pointer.invalid")
+    assoc("iges_402_planar_transform_not_124", 402, 16, "402,1,1,3,1;", "pointer.invalid")
+    assoc("iges_402_flow_connect_not_132", 402, 18, "402,2,0,1,0,0,0,0,0,0,1;", "pointer.invalid")
+    assoc("iges_402_segmented_view_not_410", 402, 19, "402,1,1,0.5,0,0,0,0;", "pointer.invalid")
+    assoc("iges_402_piping_flow_missing", 402, 20, "402,1,1,0,0,0,0,0,0,91;", "pointer.invalid")
+    assoc("iges_402_new_dimensioned_geometry_missing", 402, 21, "402,1,1,0,0,0.,99,0.,0.,0.;", "pointer.invalid")
+    assoc("iges_406_name_property_pointer_missing", 406, 15, "406,1,4HNAME,0,1,99;", "pointer.invalid")
+    # A count larger than the pointers that follow: the record ends early, at its only line.
+    recs = list(srf)
+    de = add_entity(recs, 402, 7, "402,3,1,3;")
+    emit("iges_402_group_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    recs = list(srf)
+    de = add_entity(recs, 406, 1, "406,3,1,2;")
+    emit("iges_406_levels_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    # --- DE fields in range (IGES 5.3 section 2.2.4.4), on the 126 at D1/D2 of
+    # curve_deg2_clamped.igs (Global parameter 16, line weight gradations, is 1). Each at
+    # the DE line holding the field (field 9 status digit pairs: blank, subordinate,
+    # entity use, hierarchy).
+    for name, line, field, value in (
+        ("entity_type_undefined", 1, 1, 999),
+        ("structure_positive", 1, 3, 5),
+        ("line_font_range", 1, 4, 6),
+        ("view_negative", 1, 6, -3),
+        ("transform_negative", 1, 7, -3),
+        ("label_display_negative", 1, 8, -1),
+        ("status_blank", 1, 9, "02000000"),
+        ("status_subordinate", 1, 9, "00040000"),
+        ("status_use_flag", 1, 9, "00000700"),
+        ("status_hierarchy", 1, 9, "00000003"),
+        ("line_weight_range", 2, 2, 2),
+        ("line_weight_negative", 2, 2, -1),
+        ("color_range", 2, 3, 9),
+        ("form_undefined", 2, 5, 7),
+    ):
+        recs = list(base)
+        setfield(recs, didx(recs, line), field, value)
+        if field == 1:
+            setfield(recs, didx(recs, 2), 1, value)  # field 11 repeats the type
+        emit(f"iges_de_{name}", ".igs", join(recs), code="iges.directory_field", section="D", sequence=line, entity="D1")
+    # DE pointer fields (negated for line font, level, color): to no entry, to an entity
+    # of another type, or of the right type and the wrong form (a level names a 406 form 1,
+    # a label display a 402 form 5). surf_poles4x3.igs, on the 110 at D9.
+    for name, field, value, extra in (
+        ("line_font_pointer_missing", 4, -99, None),
+        ("level_pointer_missing", 5, -99, None),
+        ("color_pointer_not_314", 13, -3, None),
+        ("view_not_410", 6, 3, None),
+        ("level_pointer_wrong_form", 5, -27, (406, 15, "406,1,4HNAME;")),
+        ("label_display_wrong_form", 8, 27, (402, 7, "402,1,3;")),
+    ):
+        recs = list(srf)
+        if extra:
+            assert add_entity(recs, *extra) == 27
+        if field == 13:
+            setfield(recs, didx(recs, 10), 3, value)
+        else:
+            setfield(recs, didx(recs, 9), field, value)
+        # (Changed in the middle and at the end: named as the source explicitly.)
+        emit(f"iges_de_{name}", ".igs", join(recs), code="pointer.invalid", section="D", sequence=9, entity="D9",
+             source="surf_poles4x3.igs")
     # --- record structure (IGES 5.3 section 2.1): all errors for validate.
     recs = list(base)
     r = recs[pidx(recs, 3)]

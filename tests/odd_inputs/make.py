@@ -222,6 +222,25 @@ def iges_cases():
         emit("iges_short_lines_" + name[:-4], ".igs", "\n".join(r.rstrip() if r[72:73] != "P" else r for r in t.splitlines()) + "\n", n, name)
 
 
+def associativity_cases():
+    """Valid 402 Associativity Instances (a group, a planar associativity without a
+    transformation) and 406 Properties (a name, definition levels) that point at the
+    sample's entities: their pointers are declared and checked, and must give no finding.
+    The entities are appended by the bad-input generator's `add_entity`."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "bad_inputs_make", os.path.join(os.path.dirname(HERE), "bad_inputs", "make.py"))
+    bad = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bad)
+    recs = iges_records(read("surf_poles4x3.igs"))
+    bad.add_entity(recs, 402, 7, "402,3,1,3,17;")
+    bad.add_entity(recs, 402, 16, "402,1,2,0,9,11;")
+    bad.add_entity(recs, 406, 15, "406,1,4HSURF;")
+    bad.add_entity(recs, 406, 1, "406,2,1,2;")
+    bad.add_entity(recs, 402, 18, "402,2,1,0,0,1,0,0,0,0,27,8HPIPE RUN;")
+    emit("iges_associativities_and_properties", ".igs", "\n".join(recs) + "\n", 9, "surf_poles4x3.igs", 0)
+
+
 if __name__ == "__main__":
     for n in os.listdir(HERE):
         if n.endswith((".step", ".igs", ".expect")):
@@ -230,4 +249,5 @@ if __name__ == "__main__":
     unit_cases()
     iges_cases()
     planar_case()
+    associativity_cases()
     print(len([x for x in os.listdir(HERE) if x.endswith(".expect")]), "cases")

@@ -69,3 +69,196 @@ pub struct DirectoryEntry {
     /// Field 19: entity subscript number.
     pub subscript: i64,
 }
+
+/// A DE field outside the range IGES 5.3 section 2.2.4.4 gives it: the field number
+/// (1-20), the sequence number of the DE line holding it, and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldProblem {
+    /// The field number (1-20).
+    pub field: u8,
+    /// The sequence number of the DE line that holds it.
+    pub sequence: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl DirectoryEntry {
+    /// The fields of this entry outside their ranges (IGES 5.3 section 2.2.4.4): the entity
+    /// type a defined one (2.2.4.4.1), the form one of the type's (2.2.4.4.15, for the types
+    /// [`crate::iges::records::is_defined_form`] knows), the status digit pairs (2.2.4.4.9:
+    /// blank 0-1, subordinate 0-3, entity use 0-6, hierarchy 0-2), structure 0 or negated,
+    /// line font 0-5 or negated, level >= 0 or negated, view, transformation matrix and
+    /// label display 0 or positive, line weight 0 to the Global line weight gradations
+    /// (parameter 16, when given), color 0-8 or negated. Which entity a pointer names is
+    /// the pointer check's.
+    pub fn field_problems(&self, line_weight_gradations: Option<i64>) -> Vec<FieldProblem> {
+        let mut out = Vec::new();
+        let first = self.pointer;
+        let second = self.pointer + 1;
+        let mut bad = |field: u8, sequence: usize, message: String| {
+            out.push(FieldProblem {
+                field,
+                sequence,
+                message,
+            });
+        };
+        if !crate::iges::records::is_defined_entity_type(self.entity_type) {
+            bad(
+                1,
+                first,
+                format!(
+                    "entity type {} is not one IGES 5.3 defines",
+                    self.entity_type
+                ),
+            );
+        }
+        if crate::iges::records::is_defined_form(self.entity_type, self.form) == Some(false) {
+            bad(
+                15,
+                second,
+                format!(
+                    "form {} is not a form of entity type {}",
+                    self.form, self.entity_type
+                ),
+            );
+        }
+        let s = self.status;
+        for (name, value, max) in [
+            ("blank status", s.blank, 1),
+            ("subordinate entity switch", s.subordinate, 3),
+            ("entity use flag", s.use_flag, 6),
+            ("hierarchy", s.hierarchy, 2),
+        ] {
+            if value > max {
+                bad(
+                    9,
+                    first,
+                    format!("status number: {name} {value:02} is not 00-{max:02}"),
+                );
+            }
+        }
+        if self.structure > 0 {
+            bad(
+                3,
+                first,
+                format!(
+                    "structure {} is positive: it is 0 or a negated DE pointer",
+                    self.structure
+                ),
+            );
+        }
+        if self.line_font > 5 {
+            bad(
+                4,
+                first,
+                format!(
+                    "line font pattern {} is not 0-5 or a negated DE pointer",
+                    self.line_font
+                ),
+            );
+        }
+        for (field, name, value) in [
+            (6, "view", self.view),
+            (7, "transformation matrix", self.transform),
+            (8, "label display associativity", self.label_display),
+        ] {
+            if value < 0 {
+                bad(
+                    field,
+                    first,
+                    format!("{name} {value} is negative: it is 0 or a DE pointer"),
+                );
+            }
+        }
+        let weight_ok = self.line_weight >= 0
+            && line_weight_gradations.is_none_or(|g| self.line_weight <= g.max(0));
+        if !weight_ok {
+            bad(
+                12,
+                second,
+                match line_weight_gradations {
+                    Some(g) => format!(
+                        "line weight number {} is not 0-{g} (Global parameter 16)",
+                        self.line_weight
+                    ),
+                    None => format!("line weight number {} is negative", self.line_weight),
+                },
+            );
+        }
+        if self.color > 8 {
+            bad(
+                13,
+                second,
+                format!(
+                    "color number {} is not 0-8 or a negated DE pointer",
+                    self.color
+                ),
+            );
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entry(f: impl FnOnce(&mut DirectoryEntry)) -> Vec<u8> {
+        let mut e = DirectoryEntry {
+            pointer: 5,
+            entity_type: 126,
+            ..DirectoryEntry::default()
+        };
+        f(&mut e);
+        e.field_problems(Some(4)).iter().map(|p| p.field).collect()
+    }
+
+    /// The ends of each range pass; one past them fails, at the field.
+    #[test]
+    fn field_ranges_at_their_ends() {
+        assert_eq!(entry(|_| {}), Vec::<u8>::new());
+        let top = Status {
+            blank: 1,
+            subordinate: 3,
+            use_flag: 6,
+            hierarchy: 2,
+        };
+        assert_eq!(
+            entry(|e| {
+                e.status = top;
+                e.line_font = 5;
+                e.line_weight = 4;
+                e.color = 8;
+                e.form = 5;
+                e.structure = -7;
+                e.line_font = -9;
+                e.level = -11;
+                e.view = 3;
+            }),
+            Vec::<u8>::new()
+        );
+        assert_eq!(entry(|e| e.status.hierarchy = 3), vec![9]);
+        assert_eq!(entry(|e| e.line_weight = 5), vec![12]);
+        assert_eq!(entry(|e| e.color = 9), vec![13]);
+        assert_eq!(entry(|e| e.form = 6), vec![15]);
+        assert_eq!(entry(|e| e.entity_type = 127), vec![1]);
+        // Implementor-defined types and forms, macro instances: defined.
+        assert_eq!(entry(|e| e.entity_type = 5001), Vec::<u8>::new());
+        assert_eq!(entry(|e| e.entity_type = 600), Vec::<u8>::new());
+        assert_eq!(
+            entry(|e| {
+                e.entity_type = 402;
+                e.form = 5001;
+            }),
+            Vec::<u8>::new()
+        );
+        // The second-line fields are located on the second line.
+        let e = DirectoryEntry {
+            pointer: 5,
+            entity_type: 126,
+            color: 9,
+            ..DirectoryEntry::default()
+        };
+        assert_eq!(e.field_problems(None)[0].sequence, 6);
+    }
+}

@@ -312,7 +312,7 @@ impl<'a> IgesFile<'a> {
         }
     }
 
-    /// The DE pointers among an entity's parameters, by its declaration ([`records::SCHEMAS`]):
+    /// The DE pointers among an entity's parameters, by its declaration ([`records::schema_of`]):
     /// `(field name, pointer, entity types the field may name)`, zero pointers left out.
     /// `None` when the entity's type has no declaration.
     #[allow(clippy::type_complexity)]
@@ -320,9 +320,7 @@ impl<'a> IgesFile<'a> {
         &self,
         entry: &DirectoryEntry,
     ) -> Option<Result<Vec<(&'static str, i64, &'static [i64])>, ParseError>> {
-        let schema = records::SCHEMAS
-            .iter()
-            .find(|s| s.entity == entry.entity_type)?;
+        let schema = records::schema_of(entry.entity_type, entry.form)?;
         Some(
             self.read(entry, |r| records::read(schema, r).map(|v| v.pointers()))
                 .map(|(_, refs)| refs)

@@ -22,6 +22,8 @@
 //! - [`product`]: typed records of the product and representation structure that places
 //!   parts in an assembly (next_assembly_usage_occurrence, the representation relationships
 //!   with their transformations, mapped items); [`Scanned::product_item`] decodes one.
+//! - [`upper_case_keywords`]: a copy of a file with lower-case keywords (not conforming,
+//!   clause 6.4) upper-cased, each located, for a reader that reads them anyway.
 //! - [`writer`]: Part 21 text from a tree; [`Builder`] creates instances with fresh ids.
 //!
 //! Errors: [`ParseError`] (syntax/structure: line, column, `#id`), [`SchemaError`] (a
@@ -34,6 +36,7 @@ pub mod geometry;
 mod geometry_text;
 mod grammar;
 mod instance_text;
+mod keyword_case;
 pub mod product;
 mod scan;
 pub mod schema;
@@ -46,6 +49,7 @@ pub mod writer;
 
 pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};
 pub use error::{LineIndex, ParseError, ParseErrorKind, SchemaError};
+pub use keyword_case::upper_case_keywords;
 pub use scan::{
     Parsed, RawInstance, Scanned, SectionInfo, for_each_reference, parse, scan, scan_parallel,
 };

@@ -716,6 +716,223 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
     ),
 ];
 
+/// The entity types a reference attribute may name, transcribed from the attribute's
+/// EXPRESS type (ISO 10303-41, -42, -43; a SELECT type lists its members, an entity type
+/// admits its subtypes): `(entity declaring it, attribute, allowed types)`. Every
+/// reference inside the attribute's value (a list's elements too) is checked against it by
+/// [`Scanned::reference_type_errors`], for simple and complex instances alike. B-spline
+/// control points are checked where they are read (a pole that is not a CARTESIAN_POINT
+/// stops the curve from loading).
+pub const REFERENCE_TYPES: &[(&str, &str, &[&str])] = &[
+    // ISO 10303-42 clause 4: geometry.
+    ("PLACEMENT", "location", &["CARTESIAN_POINT"]),
+    ("VECTOR", "orientation", &["DIRECTION"]),
+    ("AXIS1_PLACEMENT", "axis", &["DIRECTION"]),
+    ("AXIS2_PLACEMENT_2D", "ref_direction", &["DIRECTION"]),
+    ("AXIS2_PLACEMENT_3D", "axis", &["DIRECTION"]),
+    ("AXIS2_PLACEMENT_3D", "ref_direction", &["DIRECTION"]),
+    ("LINE", "pnt", &["CARTESIAN_POINT"]),
+    ("LINE", "dir", &["VECTOR"]),
+    // axis2_placement = SELECT (axis2_placement_2d, axis2_placement_3d)
+    (
+        "CONIC",
+        "position",
+        &["AXIS2_PLACEMENT_2D", "AXIS2_PLACEMENT_3D"],
+    ),
+    ("POLYLINE", "points", &["CARTESIAN_POINT"]),
+    ("TRIMMED_CURVE", "basis_curve", &["CURVE"]),
+    // trimming_select = SELECT (cartesian_point, parameter_value): the references.
+    ("TRIMMED_CURVE", "trim_1", &["CARTESIAN_POINT"]),
+    ("TRIMMED_CURVE", "trim_2", &["CARTESIAN_POINT"]),
+    ("COMPOSITE_CURVE", "segments", &["COMPOSITE_CURVE_SEGMENT"]),
+    ("COMPOSITE_CURVE_SEGMENT", "parent_curve", &["CURVE"]),
+    ("SURFACE_CURVE", "curve_3d", &["CURVE"]),
+    // pcurve_or_surface = SELECT (pcurve, surface)
+    (
+        "SURFACE_CURVE",
+        "associated_geometry",
+        &["PCURVE", "SURFACE"],
+    ),
+    ("PCURVE", "basis_surface", &["SURFACE"]),
+    (
+        "PCURVE",
+        "reference_to_curve",
+        &["DEFINITIONAL_REPRESENTATION"],
+    ),
+    ("OFFSET_CURVE_2D", "basis_curve", &["CURVE"]),
+    ("OFFSET_CURVE_3D", "basis_curve", &["CURVE"]),
+    ("OFFSET_CURVE_3D", "ref_direction", &["DIRECTION"]),
+    ("ELEMENTARY_SURFACE", "position", &["AXIS2_PLACEMENT_3D"]),
+    ("SWEPT_SURFACE", "swept_curve", &["CURVE"]),
+    ("SURFACE_OF_LINEAR_EXTRUSION", "extrusion_axis", &["VECTOR"]),
+    (
+        "SURFACE_OF_REVOLUTION",
+        "axis_position",
+        &["AXIS1_PLACEMENT"],
+    ),
+    ("RECTANGULAR_TRIMMED_SURFACE", "basis_surface", &["SURFACE"]),
+    ("OFFSET_SURFACE", "basis_surface", &["SURFACE"]),
+    // ISO 10303-42 clause 5: topology.
+    ("VERTEX_POINT", "vertex_geometry", &["POINT"]),
+    ("EDGE", "edge_start", &["VERTEX"]),
+    ("EDGE", "edge_end", &["VERTEX"]),
+    ("EDGE_CURVE", "edge_geometry", &["CURVE"]),
+    ("ORIENTED_EDGE", "edge_element", &["EDGE"]),
+    ("PATH", "edge_list", &["ORIENTED_EDGE"]),
+    ("FACE_BOUND", "bound", &["LOOP"]),
+    ("FACE", "bounds", &["FACE_BOUND"]),
+    ("FACE_SURFACE", "face_geometry", &["SURFACE"]),
+    ("ORIENTED_FACE", "face_element", &["FACE"]),
+    ("VERTEX_LOOP", "loop_vertex", &["VERTEX"]),
+    ("POLY_LOOP", "polygon", &["CARTESIAN_POINT"]),
+    ("CONNECTED_FACE_SET", "cfs_faces", &["FACE"]),
+    (
+        "ORIENTED_CLOSED_SHELL",
+        "closed_shell_element",
+        &["CLOSED_SHELL"],
+    ),
+    // ISO 10303-42 clause 6: geometric models.
+    ("MANIFOLD_SOLID_BREP", "outer", &["CLOSED_SHELL"]),
+    ("BREP_WITH_VOIDS", "voids", &["ORIENTED_CLOSED_SHELL"]),
+    // shell = SELECT (vertex_shell, wire_shell, open_shell, closed_shell)
+    (
+        "SHELL_BASED_SURFACE_MODEL",
+        "sbsm_boundary",
+        &["VERTEX_SHELL", "WIRE_SHELL", "OPEN_SHELL", "CLOSED_SHELL"],
+    ),
+    (
+        "FACE_BASED_SURFACE_MODEL",
+        "fbsm_faces",
+        &["CONNECTED_FACE_SET"],
+    ),
+    // geometric_set_select = SELECT (point, curve, surface)
+    ("GEOMETRIC_SET", "elements", &["POINT", "CURVE", "SURFACE"]),
+    // ISO 10303-41 units and ISO 10303-43 contexts; unit = SELECT (named_unit,
+    // derived_unit).
+    ("NAMED_UNIT", "dimensions", &["DIMENSIONAL_EXPONENTS"]),
+    (
+        "CONVERSION_BASED_UNIT",
+        "conversion_factor",
+        &["MEASURE_WITH_UNIT"],
+    ),
+    (
+        "MEASURE_WITH_UNIT",
+        "unit_component",
+        &["NAMED_UNIT", "DERIVED_UNIT"],
+    ),
+    (
+        "GLOBAL_UNIT_ASSIGNED_CONTEXT",
+        "units",
+        &["NAMED_UNIT", "DERIVED_UNIT"],
+    ),
+    (
+        "GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT",
+        "uncertainty",
+        &["UNCERTAINTY_MEASURE_WITH_UNIT"],
+    ),
+    // ISO 10303-43 representations.
+    ("REPRESENTATION", "items", &["REPRESENTATION_ITEM"]),
+    (
+        "REPRESENTATION",
+        "context_of_items",
+        &["REPRESENTATION_CONTEXT"],
+    ),
+    // representation_or_representation_reference (ISO 10303-43 edition 3)
+    (
+        "REPRESENTATION_RELATIONSHIP",
+        "rep_1",
+        &["REPRESENTATION", "REPRESENTATION_REFERENCE"],
+    ),
+    (
+        "REPRESENTATION_RELATIONSHIP",
+        "rep_2",
+        &["REPRESENTATION", "REPRESENTATION_REFERENCE"],
+    ),
+    // transformation = SELECT (item_defined_transformation, functionally_defined_transformation)
+    (
+        "REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION",
+        "transformation_operator",
+        &[
+            "ITEM_DEFINED_TRANSFORMATION",
+            "FUNCTIONALLY_DEFINED_TRANSFORMATION",
+        ],
+    ),
+    (
+        "ITEM_DEFINED_TRANSFORMATION",
+        "transform_item_1",
+        &["REPRESENTATION_ITEM"],
+    ),
+    (
+        "ITEM_DEFINED_TRANSFORMATION",
+        "transform_item_2",
+        &["REPRESENTATION_ITEM"],
+    ),
+    ("MAPPED_ITEM", "mapping_source", &["REPRESENTATION_MAP"]),
+    ("MAPPED_ITEM", "mapping_target", &["REPRESENTATION_ITEM"]),
+    (
+        "REPRESENTATION_MAP",
+        "mapping_origin",
+        &["REPRESENTATION_ITEM"],
+    ),
+    (
+        "REPRESENTATION_MAP",
+        "mapped_representation",
+        &["REPRESENTATION"],
+    ),
+    // ISO 10303-41 product structure.
+    ("PRODUCT", "frame_of_reference", &["PRODUCT_CONTEXT"]),
+    ("PRODUCT_DEFINITION_FORMATION", "of_product", &["PRODUCT"]),
+    (
+        "PRODUCT_DEFINITION",
+        "formation",
+        &["PRODUCT_DEFINITION_FORMATION"],
+    ),
+    (
+        "PRODUCT_DEFINITION",
+        "frame_of_reference",
+        &["PRODUCT_DEFINITION_CONTEXT"],
+    ),
+    // product_definition_or_reference (ISO 10303-41 edition 3)
+    (
+        "PRODUCT_DEFINITION_RELATIONSHIP",
+        "relating_product_definition",
+        &["PRODUCT_DEFINITION", "PRODUCT_DEFINITION_REFERENCE"],
+    ),
+    (
+        "PRODUCT_DEFINITION_RELATIONSHIP",
+        "related_product_definition",
+        &["PRODUCT_DEFINITION", "PRODUCT_DEFINITION_REFERENCE"],
+    ),
+    // represented_definition = SELECT (general_property, property_definition,
+    // property_definition_relationship, shape_aspect, shape_aspect_relationship)
+    (
+        "PROPERTY_DEFINITION_REPRESENTATION",
+        "definition",
+        &[
+            "GENERAL_PROPERTY",
+            "PROPERTY_DEFINITION",
+            "PROPERTY_DEFINITION_RELATIONSHIP",
+            "SHAPE_ASPECT",
+            "SHAPE_ASPECT_RELATIONSHIP",
+        ],
+    ),
+    (
+        "PROPERTY_DEFINITION_REPRESENTATION",
+        "used_representation",
+        &["REPRESENTATION"],
+    ),
+    (
+        "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION",
+        "representation_relation",
+        &["SHAPE_REPRESENTATION_RELATIONSHIP"],
+    ),
+    (
+        "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION",
+        "represented_product_relation",
+        &["PRODUCT_DEFINITION_SHAPE"],
+    ),
+];
+
 /// Short names (ISO 10303-21 clause 12.2.4 allows them) confirmed in Open CASCADE's
 /// readers (`NamedForComplex(long, short)` in RWStepGeom) and the spec (c.4).
 const SHORT_NAMES: &[(&str, &str)] = &[
@@ -1142,6 +1359,33 @@ impl<'i, 'a> Attributes<'i, 'a> {
                 })
             })
             .collect()
+    }
+}
+
+impl Attributes<'_, '_> {
+    /// Each reference inside an attribute [`REFERENCE_TYPES`] declares, with the attribute's
+    /// position and name, the entity declaring it, and the types it allows.
+    fn declared_references(
+        &self,
+        mut f: impl FnMut(u64, (usize, &'static str), &'static str, &'static [&'static str]),
+    ) {
+        for s in &self.slots {
+            let Some((_, _, allowed)) = REFERENCE_TYPES
+                .iter()
+                .find(|(e, a, _)| *e == s.entity && *a == s.name)
+            else {
+                continue;
+            };
+            let mut stack = vec![s.value];
+            while let Some(p) = stack.pop() {
+                match p {
+                    Parameter::Reference(id) => f(*id, (s.position, s.name), s.entity, allowed),
+                    Parameter::List(l) => stack.extend(l.iter().rev()),
+                    Parameter::Typed(_, inner) => stack.push(inner),
+                    _ => {}
+                }
+            }
+        }
     }
 }
 
@@ -1591,6 +1835,66 @@ impl<'a> Scanned<'a> {
     }
 }
 
+impl Scanned<'_> {
+    /// The entity types instance `#id` is of, supertypes included (ISO 10303-11 SUBTYPE OF,
+    /// as [`SUPERTYPE_CHAINS`] and, for a complex instance, its partial records name them);
+    /// `None` when the instance is missing, does not decode, or names an entity type the
+    /// tables do not hold (it may be a subtype of anything).
+    fn types_of(&self, id: u64) -> Option<Cow<'static, [&'static str]>> {
+        let raw = self.get(id)?;
+        if let Some(keyword) = raw.keyword() {
+            let name = canonical_name(keyword);
+            return SUPERTYPE_CHAINS
+                .iter()
+                .find(|(e, _)| *e == name)
+                .map(|(_, chain)| Cow::Borrowed(*chain));
+        }
+        let inst = self.decode(raw).ok()?;
+        let mut types = Vec::new();
+        for r in inst.body.records() {
+            let name = canonical_name(r.keyword);
+            match SUPERTYPE_CHAINS.iter().find(|(e, _)| *e == name) {
+                Some((_, chain)) => types.extend_from_slice(chain),
+                None => types.push(OWN_ATTRIBUTES.iter().find(|(e, _)| *e == name)?.0),
+            }
+        }
+        Some(Cow::Owned(types))
+    }
+
+    /// Every reference of an instance, in an attribute whose EXPRESS type
+    /// [`REFERENCE_TYPES`] declares, that names an instance of another type (ISO 10303-21
+    /// clause 11: an instance name refers to an entity instance of the attribute's type;
+    /// ISO 10303-11 subtypes admitted). Missing targets are the dangling-reference check's;
+    /// targets of entity types the tables do not hold are not judged.
+    pub fn reference_type_errors(&self, a: &Attributes<'_, '_>) -> Vec<SchemaError> {
+        let mut errors = Vec::new();
+        a.declared_references(|id, attribute, entity, allowed| {
+            let Some(types) = self.types_of(id) else {
+                return;
+            };
+            if types.iter().any(|t| allowed.contains(t)) {
+                return;
+            }
+            let found = self.get(id).and_then(|raw| raw.keyword()).map_or_else(
+                || "complex instance".to_owned(),
+                |k| canonical_name(k).to_owned(),
+            );
+            errors.push(SchemaError {
+                entity: a.at.id,
+                entity_type: entity.to_owned(),
+                attribute: Some(attribute),
+                message: format!(
+                    "refers to #{id}, a {found}; the attribute's type allows {} (or a subtype)",
+                    allowed.join(" or ")
+                ),
+                line: a.at.line,
+                column: a.at.column,
+            });
+        });
+        errors
+    }
+}
+
 /// A unit (ISO 10303-41): only what the reader needs to find the length unit.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Unit<'a> {
@@ -1828,5 +2132,99 @@ mod point_text_tests {
             s.cartesian_point(s.get(3).unwrap()),
             Err(DecodeError::Syntax(_))
         ));
+    }
+}
+
+#[cfg(test)]
+mod reference_type_tests {
+    use super::*;
+    use crate::Limits;
+    use crate::step::scan;
+
+    /// Every declared attribute is an own attribute of its entity in [`OWN_ATTRIBUTES`]
+    /// (a misspelt name would silently check nothing).
+    #[test]
+    fn declared_attributes_exist() {
+        for (entity, attribute, allowed) in REFERENCE_TYPES {
+            let own = own_attributes(entity).unwrap_or_default();
+            assert!(own.contains(attribute), "{entity}.{attribute}");
+            assert!(!allowed.is_empty());
+        }
+    }
+
+    /// The reference-type errors of instance `#id` in a DATA section `data`, as
+    /// `(attribute name, message)`.
+    fn errors(data: &str, id: u64) -> Vec<(&'static str, String)> {
+        let text = format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n{data}\nENDSEC;END-ISO-10303-21;");
+        let s = scan(&text, &Limits::default()).unwrap();
+        let raw = s.get(id).unwrap();
+        let inst = s.decode(raw).unwrap();
+        let a = Attributes::of(&inst, s.at(raw)).unwrap();
+        s.reference_type_errors(&a)
+            .into_iter()
+            .map(|e| (e.attribute.unwrap().1, e.message))
+            .collect()
+    }
+
+    const POINT: &str = "#1=CARTESIAN_POINT('',(0.,0.,0.));#2=DIRECTION('',(0.,0.,1.));";
+
+    #[test]
+    fn subtypes_of_the_allowed_type_pass() {
+        // FACE_BOUND.bound: LOOP; EDGE_LOOP is LOOP's subtype (through PATH too).
+        let data = format!(
+            "{POINT}#3=VERTEX_POINT('',#1);#4=LINE('',#1,#5);#5=VECTOR('',#2,1.);\
+             #6=EDGE_CURVE('',#3,#3,#4,.T.);#7=ORIENTED_EDGE('',*,*,#6,.T.);\
+             #8=EDGE_LOOP('',(#7));#9=FACE_OUTER_BOUND('',#8,.T.);"
+        );
+        assert_eq!(errors(&data, 9), vec![]);
+        assert_eq!(errors(&data, 8), vec![]);
+        assert_eq!(errors(&data, 6), vec![]);
+    }
+
+    #[test]
+    fn a_reference_to_another_type_is_an_error() {
+        let data = format!("{POINT}#3=VERTEX_POINT('',#1);#9=FACE_BOUND('',#3,.T.);");
+        let e = errors(&data, 9);
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert_eq!(e[0].0, "bound");
+        assert!(
+            e[0].1.contains("#3, a VERTEX_POINT") && e[0].1.contains("LOOP"),
+            "{e:?}"
+        );
+        // Each wrong element of a list: EDGE_LOOP.edge_list holds ORIENTED_EDGEs.
+        let data = format!("{POINT}#8=EDGE_LOOP('',(#1,#2));");
+        assert_eq!(errors(&data, 8).len(), 2);
+        // A SELECT: SURFACE_CURVE.associated_geometry is a PCURVE or a SURFACE.
+        let data = format!(
+            "{POINT}#3=LINE('',#1,#4);#4=VECTOR('',#2,1.);\
+             #5=AXIS2_PLACEMENT_3D('',#1,#2,$);#6=PLANE('',#5);\
+             #7=SURFACE_CURVE('',#3,(#6,#3),.CURVE_3D.);"
+        );
+        let e = errors(&data, 7);
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert!(e[0].1.contains("#3, a LINE"), "{e:?}");
+    }
+
+    #[test]
+    fn complex_and_unknown_targets() {
+        // A complex instance whose partials name the allowed type passes; one that does
+        // not is an error; a target of an entity type the tables do not hold is not judged.
+        let ctx = "#4=( GEOMETRIC_REPRESENTATION_CONTEXT(3) REPRESENTATION_CONTEXT('','') );";
+        let data = format!(
+            "{POINT}{ctx}#5=SHAPE_REPRESENTATION('',(#1),#4);\
+             #6=SHAPE_REPRESENTATION('',(#1),#1);#7=SHAPE_REPRESENTATION('',(#1),#8);\
+             #8=SOME_OTHER_CONTEXT('');"
+        );
+        assert_eq!(errors(&data, 5), vec![]);
+        assert_eq!(errors(&data, 6).len(), 1);
+        assert_eq!(errors(&data, 7), vec![]);
+        let data = format!(
+            "{POINT}#4=( BOUNDED_CURVE() CURVE() GEOMETRIC_REPRESENTATION_ITEM() REPRESENTATION_ITEM('') );\
+             #5=(REPRESENTATION_ITEM('') GEOMETRIC_REPRESENTATION_ITEM() POINT() );\
+             #6=EDGE_CURVE('',#1,#1,#4,.T.);#7=EDGE_CURVE('',#1,#1,#5,.T.);"
+        );
+        // #6: edge_start/edge_end are points, not vertices; edge_geometry a curve.
+        assert_eq!(errors(&data, 6).len(), 2);
+        assert_eq!(errors(&data, 7).len(), 3);
     }
 }

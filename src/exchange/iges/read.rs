@@ -178,6 +178,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         ));
     }
     super::topology::read(&cx, &mut doc, &mut diags);
+    directory_fields(&file, options.conformance, &mut diags);
     if options.conformance {
         pointer_conformance(&file, &mut diags);
     }
@@ -310,6 +311,73 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
                     }
                 }
                 _ => {}
+            }
+        }
+    }
+}
+
+/// The DE fields outside their ranges (IGES 5.3 section 2.2.4.4, see
+/// `DirectoryEntry::field_problems`), each at its DE line; and the DE level and label
+/// display pointers naming an entity of the right type but the wrong form (a level
+/// pointer names a 406 form 1 Definition Levels property, section 2.2.4.4.5; a label
+/// display pointer a 402 form 5 Label Display associativity, section 2.2.4.4.8). Non-
+/// conforming: the entity is read the same, nothing depends on these fields; except an
+/// undefined entity type, whose entity cannot be read (an error). The pointer
+/// forms are checked with the other pointers, by the conformance check only.
+fn directory_fields(file: &IgesFile<'_>, conformance: bool, diags: &mut Vec<Diagnostic>) {
+    let gradations = file.global.line_weight_gradations;
+    for e in file.entries.iter().flatten() {
+        for p in e.field_problems(gradations) {
+            // An entity of an undefined type has no meaning to carry: an error.
+            let diagnostic = if p.field == 1 {
+                Diagnostic::error
+            } else {
+                Diagnostic::nonconforming
+            };
+            diags.push(diagnostic(
+                "iges.directory_field",
+                format!("DE field {}: {}", p.field, p.message),
+                Location {
+                    line: Some(e.line + (p.sequence - e.pointer)),
+                    sequence: Some(p.sequence),
+                    ..entity_location(e)
+                },
+            ));
+        }
+        if !conformance {
+            continue;
+        }
+        for (name, value, entity, form, what) in [
+            (
+                "level",
+                0i64.saturating_sub(e.level),
+                406,
+                1,
+                "a Definition Levels property",
+            ),
+            (
+                "label display associativity",
+                e.label_display,
+                402,
+                5,
+                "a Label Display associativity",
+            ),
+        ] {
+            let target = usize::try_from(value)
+                .ok()
+                .filter(|p| p % 2 == 1)
+                .and_then(|p| file.entries.get(p / 2));
+            if let Some(Ok(t)) = target {
+                if t.entity_type == entity && t.form != form {
+                    diags.push(Diagnostic::error(
+                        "pointer.invalid",
+                        format!(
+                            "DE {name} pointer names a {entity} of form {}; the field names {what} ({entity} form {form})",
+                            t.form
+                        ),
+                        entity_location(e),
+                    ));
+                }
             }
         }
     }

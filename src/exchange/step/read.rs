@@ -35,7 +35,61 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
+///
+/// A file with lower-case keywords (not conforming, ISO 10303-21 clause 6.4) is read again
+/// with its keywords upper-cased, each reported as a non-conforming finding at its line,
+/// column and `#id` (the first read, where none was met, is the only one otherwise).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
+    let first = read_text(text, options);
+    let lower_case = |d: &Diagnostic| d.code == LOWER_CASE_KEYWORD;
+    match &first {
+        Ok(doc) if !doc.diagnostics.iter().any(lower_case) => return first,
+        Err(d) if !lower_case(d) => return first,
+        _ => {}
+    }
+    // The first reading is discarded before the copy is made and read.
+    drop(first);
+    let mut upper = text.to_owned();
+    let (count, listed) =
+        nurbsx_parsers::step::upper_case_keywords(&mut upper, MAX_LOWER_CASE_LISTED);
+    let mut doc = read_text(&upper, options)?;
+    let mut found: Vec<Diagnostic> = listed
+        .iter()
+        .map(|e| {
+            let d = parse_diagnostic(e);
+            Diagnostic::nonconforming(
+                d.code,
+                format!(
+                    "{}; read as upper case (ISO 10303-21 clause 6.4: keywords are upper case)",
+                    d.message
+                ),
+                d.location,
+            )
+        })
+        .collect();
+    if count > listed.len() {
+        found.push(Diagnostic::nonconforming(
+            LOWER_CASE_KEYWORD,
+            format!(
+                "{count} keywords in all are not upper case; only the first {} are listed",
+                listed.len()
+            ),
+            Location::default(),
+        ));
+    }
+    found.append(&mut doc.diagnostics);
+    doc.diagnostics = found;
+    Ok(doc)
+}
+
+/// The code of a keyword with lower-case letters (ISO 10303-21 clause 6.4).
+const LOWER_CASE_KEYWORD: &str = "step.syntax.lowercase_keyword";
+/// How many lower-case keywords are listed one by one (a file written all in lower case has
+/// one per instance); the rest are counted.
+const MAX_LOWER_CASE_LISTED: usize = 100;
+
+/// [`read`] of a text read as written.
+fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
@@ -277,7 +331,8 @@ fn header_conformance(text: &str, s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) 
 /// instance of the DATA section (ISO 10303-21 clause 10), not only those the geometry
 /// needs: each instance syntactically complete (an empty `#17 = ;` is an error), each
 /// simple instance of an entity the schema tables know with its EXPRESS attribute count,
-/// each reference naming an instance of the file, and no instance referring to itself
+/// each reference naming an instance of the file, of an entity type its attribute allows
+/// where the tables declare it (`REFERENCE_TYPES`), and no instance referring to itself
 /// through any chain of references.
 fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
     let mut ids = Vec::with_capacity(s.instances.len());
@@ -313,8 +368,12 @@ fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
             nurbsx_parsers::step::Body::Complex(_) => true,
         };
         if known {
-            if let Err(e) = Attributes::of(&inst, s.at(raw)) {
-                diags.push(schema_diagnostic(&e));
+            match Attributes::of(&inst, s.at(raw)) {
+                Ok(a) => diags.extend(s.reference_type_errors(&a).iter().map(|e| Diagnostic {
+                    code: "step.reference.type".to_owned(),
+                    ..schema_diagnostic(e)
+                })),
+                Err(e) => diags.push(schema_diagnostic(&e)),
             }
         }
     }
@@ -458,6 +517,9 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
         }
         ParseErrorKind::ReferenceCycle(_) => {
             Diagnostic::error("step.reference_cycle", e.kind.to_string(), loc)
+        }
+        ParseErrorKind::LowercaseKeyword(_) => {
+            Diagnostic::error(LOWER_CASE_KEYWORD, e.kind.to_string(), loc)
         }
         ParseErrorKind::DanglingReference(_) => {
             Diagnostic::error("step.reference", e.kind.to_string(), loc)

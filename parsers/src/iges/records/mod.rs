@@ -10,6 +10,7 @@
 //! declaration too. Adding an entity is one declaration plus its record type.
 
 mod analytic_surfaces190_198;
+mod associativity402;
 mod bounded_surface143;
 mod brep_solid186;
 mod circular_arc100;
@@ -25,6 +26,7 @@ mod line110;
 mod loop508;
 mod plane108;
 mod point116;
+mod property406;
 mod revolution120;
 mod ruled_surface118;
 mod shell514;
@@ -113,6 +115,98 @@ pub const SCHEMAS: &[Schema] = &[
     analytic_surfaces190_198::SPHERE_SCHEMA,
     analytic_surfaces190_198::TORUS_SCHEMA,
 ];
+
+/// Declarations whose parameters depend on the form number: `(forms, schema)`.
+/// The 402 Associativity Instance forms 1, 7, 9, 12-16 and 18-21 and the 406 Property forms
+/// 1 and 15; the other forms of these types are not declared (their pointers unchecked).
+pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
+    (&[1, 7, 14, 15], associativity402::GROUP),
+    (&[9], associativity402::SINGLE_PARENT),
+    (&[12], associativity402::EXTERNAL_REFERENCE_INDEX),
+    (&[13], associativity402::DIMENSIONED_GEOMETRY),
+    (&[16], associativity402::PLANAR),
+    (&[18], associativity402::FLOW),
+    (&[19], associativity402::SEGMENTED_VIEWS_VISIBLE),
+    (&[20], associativity402::PIPING_FLOW),
+    (&[21], associativity402::NEW_DIMENSIONED_GEOMETRY),
+    (&[1], property406::DEFINITION_LEVELS),
+    (&[15], property406::NAME),
+];
+
+/// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
+/// types whose parameters depend on the form, from [`FORM_SCHEMAS`].
+pub fn schema_of(entity: i64, form: i64) -> Option<&'static Schema> {
+    SCHEMAS.iter().find(|s| s.entity == entity).or_else(|| {
+        FORM_SCHEMAS
+            .iter()
+            .find(|(forms, s)| s.entity == entity && forms.contains(&form))
+            .map(|(_, s)| s)
+    })
+}
+
+/// The entity type numbers IGES 5.3 defines (chapter 4; 0 is the Null entity), besides the
+/// ranges of [`is_defined_entity_type`].
+const DEFINED_ENTITY_TYPES: &[i64] = &[
+    0, 100, 102, 104, 106, 108, 110, 112, 114, 116, 118, 120, 122, 123, 124, 125, 126, 128, 130,
+    132, 134, 136, 138, 140, 141, 142, 143, 144, 146, 148, 150, 152, 154, 156, 158, 160, 162, 164,
+    168, 180, 182, 184, 186, 190, 192, 194, 196, 198, 202, 204, 206, 208, 210, 212, 213, 214, 216,
+    218, 220, 222, 228, 230, 302, 304, 306, 308, 310, 312, 314, 316, 320, 322, 402, 404, 406, 408,
+    410, 412, 414, 416, 418, 420, 422, 430, 502, 504, 508, 510, 514,
+];
+
+/// Whether `entity` is an entity type number IGES 5.3 defines (section 2.2.4.4.1): one of
+/// chapter 4's, a macro instance (600-699, 10000-99999) or an implementor-defined entity
+/// (5001-9999).
+pub fn is_defined_entity_type(entity: i64) -> bool {
+    DEFINED_ENTITY_TYPES.contains(&entity)
+        || (600..=699).contains(&entity)
+        || (5001..=9999).contains(&entity)
+        || (10000..=99999).contains(&entity)
+}
+
+/// The form numbers chapter 4 defines for the entity types whose forms are checked
+/// (DE field 15); other types' forms are not judged. The 402 forms 5001-9999 are
+/// implementor-defined.
+const DEFINED_FORMS: &[(i64, &[i64])] = &[
+    (100, &[0]),
+    (102, &[0]),
+    (108, &[-1, 0, 1]),
+    (110, &[0, 1, 2]),
+    (112, &[0]),
+    (114, &[0]),
+    (116, &[0]),
+    (118, &[0, 1]),
+    (120, &[0]),
+    (122, &[0]),
+    (123, &[0]),
+    (124, &[0, 1, 10, 11, 12]),
+    (126, &[0, 1, 2, 3, 4, 5]),
+    (128, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]),
+    (141, &[0]),
+    (142, &[0]),
+    (143, &[0]),
+    (144, &[0]),
+    (186, &[0]),
+    (190, &[0, 1]),
+    (192, &[0, 1]),
+    (194, &[0, 1]),
+    (196, &[0, 1]),
+    (198, &[0, 1]),
+    (308, &[0]),
+    (402, &[1, 3, 4, 5, 7, 9, 12, 13, 14, 15, 16, 18, 19, 20, 21]),
+    (408, &[0]),
+    (502, &[1]),
+    (504, &[1]),
+    (508, &[0, 1]),
+    (510, &[1]),
+    (514, &[1, 2]),
+];
+
+/// Whether `form` is a form number of `entity`; `None` when its forms are not checked.
+pub fn is_defined_form(entity: i64, form: i64) -> Option<bool> {
+    let (_, forms) = DEFINED_FORMS.iter().find(|(e, _)| *e == entity)?;
+    Some(forms.contains(&form) || (entity == 402 && (5001..=9999).contains(&form)))
+}
 
 /// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -408,7 +502,7 @@ impl<'a> Values<'a> {
             self.additional
                 .iter()
                 .filter(|&&p| p != 0)
-                .map(|&p| ("associativity or property pointer", p, &[][..])),
+                .map(|&p| ("associativity or property", p, &[][..])),
         );
         out
     }

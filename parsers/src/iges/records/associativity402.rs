@@ -1,0 +1,188 @@
+//! Entity 402, Associativity Instance (IGES 5.3, type 402): the forms whose parameters
+//! hold DE pointers, declared for the pointer and arity checks. nurbsx converts none of
+//! them; a group's members are read through the entities themselves.
+//!
+//! The parameter layout depends on the form (the Associativity Definition each form
+//! stands for, IGES 5.3 type 302 and the predefined forms of type 402):
+//!
+//! | forms | name | parameters |
+//! | --- | --- | --- |
+//! | 1, 7, 14, 15 | Group (un)ordered, with/without back pointers | `N`, `N` DE pointers |
+//! | 9 | Single Parent | `NP` (1), `NC`, the parent, `NC` children |
+//! | 12 | External Reference File Index | `N`, `N` × (symbolic name, DE pointer) |
+//! | 13 | Dimensioned Geometry | `ND` (1), `N`, the dimension, `N` geometry pointers |
+//! | 16 | Planar | `NM` (1), `N`, the 124 transformation, `N` DE pointers |
+//! | 18 | Flow | `NCF` (2), the six counts, type and function flags, then the lists |
+//! | 19 | Segmented Views Visible | `N`, `N` × (410 view, breakpoint, display flag, color, line font, line weight) |
+//! | 20 | Piping Flow | `NCF` (1), the six counts, type flag, then the lists |
+//! | 21 | Dimensioned Geometry (new) | `ND` (1), `N`, the dimension, orientation flag, angle, `N` × (pointer, location) |
+//!
+//! Colors and line fonts of form 19 are values or negated pointers (to 314 and 304) and are
+//! read as integers here.
+
+use super::{Count, Field, Schema, Type};
+
+/// Forms 1, 7, 14 and 15: `N`, then `N` pointers to the members.
+pub(super) const GROUP: Schema = Schema {
+    entity: 402,
+    name: "Group Associativity",
+    fields: &[
+        Field::one("N", Type::Integer),
+        Field::times("DE", Type::Pointer(&[]), Count::Field("N")),
+    ],
+};
+
+/// Form 9: `NP` (1), `NC`, the parent, then `NC` children.
+pub(super) const SINGLE_PARENT: Schema = Schema {
+    entity: 402,
+    name: "Single Parent Associativity",
+    fields: &[
+        Field::one("NP", Type::Flag),
+        Field::one("NC", Type::Integer),
+        Field::one("PDE", Type::Pointer(&[])),
+        Field::times("CDE", Type::Pointer(&[]), Count::Field("NC")),
+    ],
+};
+
+/// Form 12: `N`, then `N` pairs of a symbolic name and the entity it names.
+pub(super) const EXTERNAL_REFERENCE_INDEX: Schema = Schema {
+    entity: 402,
+    name: "External Reference File Index",
+    fields: &[
+        Field::one("N", Type::Integer),
+        Field::group(
+            "symbol",
+            Count::Field("N"),
+            &[
+                Field::one("NAME", Type::String),
+                Field::one("DE", Type::Pointer(&[])),
+            ],
+        ),
+    ],
+};
+
+/// Form 13: `ND` (1), `N`, the dimension entity, then `N` geometry entities.
+pub(super) const DIMENSIONED_GEOMETRY: Schema = Schema {
+    entity: 402,
+    name: "Dimensioned Geometry",
+    fields: &[
+        Field::one("ND", Type::Flag),
+        Field::one("N", Type::Integer),
+        Field::one("DIMEN", Type::Pointer(&[])),
+        Field::times("GEOM", Type::Pointer(&[]), Count::Field("N")),
+    ],
+};
+
+/// Form 16: `NM` (1), `N`, the transformation matrix (0 for none), then `N` entities.
+pub(super) const PLANAR: Schema = Schema {
+    entity: 402,
+    name: "Planar Associativity",
+    fields: &[
+        Field::one("NM", Type::Flag),
+        Field::one("N", Type::Integer),
+        Field::one("XFORM", Type::Pointer(&[124])),
+        Field::times("DE", Type::Pointer(&[]), Count::Field("N")),
+    ],
+};
+
+/// The lists of forms 18 and 20, after their counts and flags: flow associativities (402),
+/// connect points (132), joins, flow names, text display templates (312) and continuation
+/// flow associativities (402).
+const FLOW_LISTS: [Field; 6] = [
+    Field::times("FLOW", Type::Pointer(&[402]), Count::Field("NF")),
+    Field::times("CONNECT", Type::Pointer(&[132]), Count::Field("NC")),
+    Field::times("JOIN", Type::Pointer(&[]), Count::Field("NJ")),
+    Field::times("FLOW NAME", Type::String, Count::Field("NN")),
+    Field::times("TEXT", Type::Pointer(&[312]), Count::Field("NT")),
+    Field::times("CONTINUATION", Type::Pointer(&[402]), Count::Field("NP")),
+];
+
+/// Form 18: `NCF` (2), the counts NF, NC, NJ, NN, NT, NP, the type and function flags,
+/// then the lists.
+pub(super) const FLOW: Schema = Schema {
+    entity: 402,
+    name: "Flow Associativity",
+    fields: &[
+        Field::one("NCF", Type::Flag),
+        Field::one("NF", Type::Integer),
+        Field::one("NC", Type::Integer),
+        Field::one("NJ", Type::Integer),
+        Field::one("NN", Type::Integer),
+        Field::one("NT", Type::Integer),
+        Field::one("NP", Type::Integer),
+        Field::one("TF", Type::Flag),
+        Field::one("FF", Type::Flag),
+        FLOW_LISTS[0],
+        FLOW_LISTS[1],
+        FLOW_LISTS[2],
+        FLOW_LISTS[3],
+        FLOW_LISTS[4],
+        FLOW_LISTS[5],
+    ],
+};
+
+/// Form 19: `N`, then per segment the 410 view, breakpoint parameter, display flag, color,
+/// line font and line weight.
+pub(super) const SEGMENTED_VIEWS_VISIBLE: Schema = Schema {
+    entity: 402,
+    name: "Segmented Views Visible Associativity",
+    fields: &[
+        Field::one("N", Type::Integer),
+        Field::group(
+            "segment",
+            Count::Field("N"),
+            &[
+                Field::one("VIEW", Type::Pointer(&[410])),
+                Field::one("BREAKPOINT", Type::Real),
+                Field::one("DISPLAY", Type::Flag),
+                Field::one("COLOR", Type::Flag),
+                Field::one("FONT", Type::Flag),
+                Field::one("WEIGHT", Type::Flag),
+            ],
+        ),
+    ],
+};
+
+/// Form 20: `NCF` (1), the counts NF, NC, NJ, NN, NT, NP, the type flag, then the lists.
+pub(super) const PIPING_FLOW: Schema = Schema {
+    entity: 402,
+    name: "Piping Flow Associativity",
+    fields: &[
+        Field::one("NCF", Type::Flag),
+        Field::one("NF", Type::Integer),
+        Field::one("NC", Type::Integer),
+        Field::one("NJ", Type::Integer),
+        Field::one("NN", Type::Integer),
+        Field::one("NT", Type::Integer),
+        Field::one("NP", Type::Integer),
+        Field::one("TF", Type::Flag),
+        FLOW_LISTS[0],
+        FLOW_LISTS[1],
+        FLOW_LISTS[2],
+        FLOW_LISTS[3],
+        FLOW_LISTS[4],
+        FLOW_LISTS[5],
+    ],
+};
+
+/// Form 21: `ND` (1), `N`, the dimension entity, its orientation flag and angle, then per
+/// geometry entity its pointer and the dimension's location on it.
+pub(super) const NEW_DIMENSIONED_GEOMETRY: Schema = Schema {
+    entity: 402,
+    name: "Dimensioned Geometry (form 21)",
+    fields: &[
+        Field::one("ND", Type::Flag),
+        Field::one("N", Type::Integer),
+        Field::one("DIMEN", Type::Pointer(&[])),
+        Field::one("DIMORIENT", Type::Flag),
+        Field::one("ANGLE", Type::Real),
+        Field::group(
+            "geometry",
+            Count::Field("N"),
+            &[
+                Field::one("GEOM", Type::Pointer(&[])),
+                Field::one("LOC", Type::Point),
+            ],
+        ),
+    ],
+};
