@@ -1531,17 +1531,18 @@ fn apply_one(
         }
         (Geometry::Curve(c), &Operation::Elevate { by, .. }) => {
             check_degree(c.degree() + by)?;
-            curve(c.elevate(by)?)
+            curve(c.elevate_polling(by, &|| settings.cancel.is_set())?)
         }
         (Geometry::Surface(s), &Operation::Elevate { by, .. }) => {
+            let stop = || settings.cancel.is_set();
             let mut s = s.clone();
             if u {
                 check_degree(s.degree_u() + by)?;
-                s = s.elevate_u(by)?;
+                s = s.elevate_u_polling(by, &stop)?;
             }
             if v {
                 check_degree(s.degree_v() + by)?;
-                s = s.elevate_v(by)?;
+                s = s.elevate_v_polling(by, &stop)?;
             }
             surface(s)
         }

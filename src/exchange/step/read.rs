@@ -40,6 +40,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
         .map_err(|e| parse_diagnostic(&e))?;
+    let cancel = &options.cancel;
+    cancel.stop_read()?;
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     let schemas: Vec<String> = schema_names(&scanned.header)
         .iter()
@@ -57,7 +59,10 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
-    for raw in &scanned.instances {
+    for (k, raw) in scanned.instances.iter().enumerate() {
+        if k % crate::exchange::READ_POLL == 0 {
+            cancel.stop_read()?;
+        }
         if raw.keyword_initial().is_none() {
             complex.push(raw);
         }
@@ -79,10 +84,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
     // then converted (geometry.rs), which also says which B-splines it built into other
     // entities (trimmed, composite, swept): those are not converted again below.
+    let stopped = std::sync::atomic::AtomicBool::new(false);
     let decoded: Vec<(u64, Result<Option<GeometryItem<'_>>, DecodeError>)> = geometry_candidates
         .par_iter()
-        .map(|raw| (raw.id, scanned.geometry_item(raw)))
+        .map_init(
+            || 0,
+            |n, raw| {
+                if cancel.skip(n, &stopped) {
+                    return (raw.id, Ok(None));
+                }
+                (raw.id, scanned.geometry_item(raw))
+            },
+        )
         .collect();
+    cancel.stop_read()?;
     let mut items: Items<'_> = Items::default();
     items.reserve(decoded.len());
     for (id, r) in decoded {
@@ -135,6 +150,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         warnings: std::sync::Mutex::new(Vec::new()),
     };
     let mut converted = converter.run();
+    cancel.stop_read()?;
     let edges = std::mem::take(&mut converted.edges);
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
@@ -153,30 +169,37 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // (rayon keeps the file order in `collect`), then append results in order.
     let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
         .par_iter()
-        .map(|raw| {
-            let mut diags = Vec::new();
-            let ctx = Ctx {
-                s: &scanned,
-                raw,
-                options,
-                scale,
-            };
-            let result = match scanned.bspline(raw) {
-                Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
-                Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
-                Ok(None) => return (None, diags),
-                Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
-                Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
-            };
-            match result {
-                Ok(e) => (Some(e), diags),
-                Err(d) => {
-                    diags.push(d);
-                    (None, diags)
+        .map_init(
+            || 0,
+            |n, raw| {
+                if cancel.skip(n, &stopped) {
+                    return (None, Vec::new());
                 }
-            }
-        })
+                let mut diags = Vec::new();
+                let ctx = Ctx {
+                    s: &scanned,
+                    raw,
+                    options,
+                    scale,
+                };
+                let result = match scanned.bspline(raw) {
+                    Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
+                    Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
+                    Ok(None) => return (None, diags),
+                    Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
+                    Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+                };
+                match result {
+                    Ok(e) => (Some(e), diags),
+                    Err(d) => {
+                        diags.push(d);
+                        (None, diags)
+                    }
+                }
+            },
+        )
         .collect();
+    cancel.stop_read()?;
     let mut placed: Vec<(usize, Entity)> = converted.entities;
     for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
         doc.diagnostics.extend(diags);
@@ -201,6 +224,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         }
     } else {
         let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
+        cancel.stop_read()?;
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
         let products = super::assembly::decode(
@@ -231,8 +255,9 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         }
     }
     if options.conformance {
+        cancel.stop_read()?;
         header_conformance(text, &scanned, &mut doc.diagnostics);
-        conformance(&scanned, &mut doc.diagnostics);
+        conformance(&scanned, &mut doc.diagnostics, cancel)?;
     }
     // The same finding reached by two paths (a syntax error in a B-spline instance is met by
     // the scan and by the decoder) is reported once.
@@ -279,9 +304,16 @@ fn header_conformance(text: &str, s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) 
 /// simple instance of an entity the schema tables know with its EXPRESS attribute count,
 /// each reference naming an instance of the file, and no instance referring to itself
 /// through any chain of references.
-fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
+fn conformance(
+    s: &Scanned<'_>,
+    diags: &mut Vec<Diagnostic>,
+    cancel: &crate::exchange::Cancel,
+) -> Result<(), Diagnostic> {
     let mut ids = Vec::with_capacity(s.instances.len());
-    for raw in &s.instances {
+    for (k, raw) in s.instances.iter().enumerate() {
+        if k % crate::exchange::READ_POLL == 0 {
+            cancel.stop_read()?;
+        }
         if s.get(raw.id).map(|r| r.offset) != Some(raw.offset) {
             continue; // a duplicated id, reported by the scan
         }
@@ -319,6 +351,7 @@ fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
         }
     }
     diags.extend(s.find_cycles(ids).iter().map(parse_diagnostic));
+    Ok(())
 }
 
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
