@@ -1344,3 +1344,197 @@ async fn a_timed_out_elevation_frees_its_slot_within_a_second() {
     let limit = Duration::from_secs(1);
     times_out_and_frees_its_slot("/v1/degree-elevate", body, limit).await;
 }
+
+/// A request of `n` evaluations of the unit circle at `(k + 0.5) / n`.
+fn many_evaluations(n: u32) -> String {
+    let params: Vec<[f64; 1]> = (0..n)
+        .map(|k| [(f64::from(k) + 0.5) / f64::from(n)])
+        .collect();
+    json!({ "geometry": circle(), "params": params }).to_string()
+}
+
+/// Sends `body` (from [`many_evaluations`]) to `/v1/evaluate`, reads `keep` bytes of the
+/// reply, and returns the connection.
+async fn start_reading(addr: SocketAddr, body: &str, keep: usize) -> TcpStream {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    s.write_all(
+        format!(
+            "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\n\r\n{body}",
+            body.len()
+        )
+        .as_bytes(),
+    )
+    .await
+    .unwrap();
+    let mut got = vec![0u8; keep];
+    tokio::time::timeout(Duration::from_secs(20), s.read_exact(&mut got))
+        .await
+        .expect("the reply starts within 20 s")
+        .unwrap();
+    assert!(
+        got.starts_with(b"HTTP/1.1 200"),
+        "{}",
+        String::from_utf8_lossy(&got)
+    );
+    s
+}
+
+/// A streamed reply does not hold its computing slot for a client that will not take it:
+/// one that stops reading frees the slot within the write timeout (500 ms) + 1 s of the
+/// moment its buffers are full, one that closes its connection within 1 s, and one whose
+/// request passes the time limit (2 s) while its reply streams gets a cut-off reply (no
+/// last chunk) and frees the slot within 1 s of the limit. The whole evaluation (400,000
+/// points, a 29 MB reply) takes several seconds in a debug build.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_streamed_reply_frees_its_slot_when_the_client_stops_taking_it() {
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        write_timeout: Duration::from_millis(500),
+        ..config()
+    })
+    .await;
+    let addr = server.addr;
+    let body = many_evaluations(400_000);
+    // Stops reading: the socket buffers and the chunk queue fill, then the write timeout.
+    let stalled = start_reading(addr, &body, 4096).await;
+    let since = Instant::now();
+    wait_for(
+        addr,
+        "nurbsx_compute_slots_busy",
+        0.0,
+        Duration::from_secs(5),
+    )
+    .await;
+    let took = since.elapsed();
+    assert!(took < Duration::from_millis(3500), "{took:?}");
+    drop(stalled);
+
+    // Goes away: the queue closes.
+    let gone = start_reading(addr, &body, 4096).await;
+    drop(gone);
+    slot_freed_within_a_second(addr).await;
+
+    // Reads everything, but the time limit passes while the reply streams.
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        request_timeout: Duration::from_secs(2),
+        ..config()
+    })
+    .await;
+    let started = Instant::now();
+    let mut reader = start_reading(server.addr, &body, 12).await;
+    let mut rest = Vec::new();
+    tokio::time::timeout(Duration::from_secs(30), reader.read_to_end(&mut rest))
+        .await
+        .expect("the reply ends")
+        .ok();
+    let ended = started.elapsed();
+    assert!(
+        ended < Duration::from_secs(3),
+        "the reply is cut at the time limit: {ended:?}"
+    );
+    assert!(
+        !rest.ends_with(b"\r\n0\r\n\r\n"),
+        "a cut reply has no last chunk"
+    );
+    slot_freed_within_a_second(server.addr).await;
+}
+
+/// The peak resident memory (VmHWM) of a process, in bytes.
+#[cfg(target_os = "linux")]
+fn peak_rss(pid: u32) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .unwrap_or_else(|| panic!("no VmHWM in {status}"));
+    kb * 1024
+}
+
+/// The documented bound (README "HTTP service", peak RSS table) on the server's peak
+/// memory while it streams 1 million evaluations.
+const STREAMED_EVALUATION_RSS_BOUND: u64 = 64 << 20;
+
+/// The real server streams 1,000,000 evaluations (a 13 MB request, a 73 MB reply) with a
+/// peak resident memory under [`STREAMED_EVALUATION_RSS_BOUND`], less than the reply
+/// itself (built whole, the reply alone would pass it); every result is there, in order,
+/// on the circle.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_large_evaluation_streams_in_bounded_memory() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+        .args(["serve", "--addr", "127.0.0.1:0", "--concurrency", "1"])
+        .args(["--max-reply-bytes", "1GiB"])
+        .env("RUST_LOG", "info")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel::<String>();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if line.contains("nurbsx service listening") {
+                let addr = line
+                    .split_whitespace()
+                    .find_map(|w| w.strip_prefix("addr="))
+                    .unwrap_or_default()
+                    .to_owned();
+                let _ = addr_tx.send(addr);
+            }
+        }
+    });
+    let addr: SocketAddr = addr_rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("the startup line names the address")
+        .parse()
+        .unwrap();
+    let n = 1_000_000;
+    let body = many_evaluations(n);
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    write!(
+        s,
+        "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n",
+        body.len()
+    )
+    .unwrap();
+    s.write_all(body.as_bytes()).unwrap();
+    drop(body);
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let peak = peak_rss(child.id());
+    let _ = child.kill();
+    let _ = child.wait();
+    let text = String::from_utf8(raw).unwrap();
+    let (head, chunked) = text.split_once("\r\n\r\n").unwrap();
+    assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+    let reply = dechunk(chunked);
+    let v: Value = serde_json::from_str(&reply).unwrap();
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), n as usize);
+    for (k, r) in results.iter().enumerate().step_by(997) {
+        let u = (k as f64 + 0.5) / f64::from(n);
+        assert_eq!(r["at"][0].as_f64().unwrap(), u);
+        let (x, y) = (
+            r["point"][0].as_f64().unwrap(),
+            r["point"][1].as_f64().unwrap(),
+        );
+        assert!((x.hypot(y) - 1.0).abs() < 1e-12, "{r}");
+    }
+    eprintln!(
+        "streamed {} reply bytes; server peak RSS {} MiB",
+        reply.len(),
+        peak >> 20
+    );
+    assert!(
+        peak < STREAMED_EVALUATION_RSS_BOUND && peak < reply.len() as u64,
+        "peak RSS {peak} bytes for a reply of {} bytes",
+        reply.len()
+    );
+}
