@@ -203,7 +203,13 @@ pub async fn info(
     path = "/v1/evaluate",
     tag = "geometry",
     request_body = EvaluateRequest,
-    responses((status = 200, description = "One result per parameter", body = EvalReportDoc), FileErrors)
+    responses(
+        (status = 200, description = "One result per parameter. A reply over 64 KiB is \
+                                      streamed (chunked) once its first 64 KiB are ready; an \
+                                      error after that cuts the transfer off (no last chunk)",
+            body = EvalReportDoc),
+        FileErrors
+    )
 )]
 pub async fn evaluate(
     State(state): State<Arc<AppState>>,
@@ -511,7 +517,9 @@ pub async fn unclamp(
         (status = 200, description = "OBJ text, SVG, binary glTF 2.0 (one node per face or \
                                       curve, named by its id in the file) or binary STL; \
                                       header X-Nurbsx-Left-Out: a JSON array of diagnostics \
-                                      saying what the output leaves out (`[]`: nothing)",
+                                      saying what the output leaves out (`[]`: nothing). A \
+                                      reply over 64 KiB is streamed (chunked); an error after \
+                                      its start cuts the transfer off",
             content(
                 (String = "text/plain"),
                 (String = "image/svg+xml"),
