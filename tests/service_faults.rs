@@ -124,6 +124,14 @@ fn dechunk(mut body: &str) -> String {
     }
 }
 
+/// The head of a keep-alive JSON POST to `path` announcing `len` body bytes.
+fn post_head(path: &str, len: usize) -> String {
+    format!(
+        "POST {path} HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+         Content-Length: {len}\r\n\r\n"
+    )
+}
+
 fn evaluate_body() -> String {
     json!({ "geometry": circle(), "params": [[0.1], [0.6]] }).to_string()
 }
@@ -834,16 +842,10 @@ async fn a_gone_client_frees_its_slot() {
     })
     .to_string();
     let mut s = TcpStream::connect(server.addr).await.unwrap();
-    s.write_all(
-        format!(
-            "POST /v1/tessellate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
-             Content-Length: {}\r\n\r\n{body}",
-            body.len()
-        )
-        .as_bytes(),
-    )
-    .await
-    .unwrap();
+    let head = post_head("/v1/tessellate", body.len());
+    s.write_all(format!("{head}{body}").as_bytes())
+        .await
+        .unwrap();
     wait_for(
         server.addr,
         "nurbsx_compute_slots_busy",
@@ -1185,16 +1187,10 @@ async fn idle_connections_close_after_the_idle_timeout_and_busy_ones_do_not() {
     let body = evaluate_body();
     let (first, second) = body.split_at(body.len() / 2);
     let mut busy = TcpStream::connect(server.addr).await.unwrap();
-    busy.write_all(
-        format!(
-            "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
-             Content-Length: {}\r\n\r\n{first}",
-            body.len()
-        )
-        .as_bytes(),
-    )
-    .await
-    .unwrap();
+    let head = post_head("/v1/evaluate", body.len());
+    busy.write_all(format!("{head}{first}").as_bytes())
+        .await
+        .unwrap();
     tokio::time::sleep(Duration::from_millis(2500)).await;
     busy.write_all(second.as_bytes()).await.unwrap();
     assert_eq!(read_reply(&mut busy).await, 200);
@@ -1357,16 +1353,10 @@ fn many_evaluations(n: u32) -> String {
 /// reply, and returns the connection.
 async fn start_reading(addr: SocketAddr, body: &str, keep: usize) -> TcpStream {
     let mut s = TcpStream::connect(addr).await.unwrap();
-    s.write_all(
-        format!(
-            "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
-             Content-Length: {}\r\n\r\n{body}",
-            body.len()
-        )
-        .as_bytes(),
-    )
-    .await
-    .unwrap();
+    let head = post_head("/v1/evaluate", body.len());
+    s.write_all(format!("{head}{body}").as_bytes())
+        .await
+        .unwrap();
     let mut got = vec![0u8; keep];
     tokio::time::timeout(Duration::from_secs(20), s.read_exact(&mut got))
         .await

@@ -311,10 +311,6 @@ impl Gate {
 
 /// Logs a panic of request work (a bug); the client gets a generic 500.
 fn panicked(payload: &(dyn std::any::Any + Send)) {
-    let what = payload
-        .downcast_ref::<&str>()
-        .map(|s| (*s).to_owned())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "non-string panic payload".to_owned());
+    let what = super::error::panic_text(payload);
     tracing::error!(panic = %what, "request computation panicked");
 }

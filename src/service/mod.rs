@@ -433,11 +433,7 @@ async fn record(State(state): State<Arc<AppState>>, req: Request, next: Next) ->
 /// A panic on the async side (a bug: handlers only extract and render) becomes the same
 /// generic JSON 500 as a panic in pipeline work; the payload goes to the log only.
 fn panic_reply(payload: Box<dyn std::any::Any + Send + 'static>) -> Response {
-    let what = payload
-        .downcast_ref::<&str>()
-        .map(|s| (*s).to_owned())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "non-string panic payload".to_owned());
+    let what = error::panic_text(payload.as_ref());
     tracing::error!(panic = %what, "request handler panicked");
     ApiError::internal().into_response()
 }
