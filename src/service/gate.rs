@@ -268,7 +268,8 @@ impl Gate {
     /// [`ReplyWriter`] that streams it ([`super::reply`]); returns the reply's head (set
     /// with [`ReplyWriter::head`]) and body once the first chunk is ready, or the error
     /// `work` met before that. The slot stays taken until the reply is written; the stop
-    /// signal fires when the client is gone, at `deadline`, or at [`Gate::stop_all`].
+    /// signal fires when the client is gone (the time limit dropping the request counts),
+    /// at `deadline` once the reply streams, or at [`Gate::stop_all`].
     pub async fn stream<H, F>(
         &self,
         deadline: std::time::Instant,
@@ -284,14 +285,21 @@ impl Gate {
         let (tx, rx) = reply::queue();
         let gone = tx.clone();
         let all = self.stop_all.clone();
+        // Until the reply streams, the time limit answers (503 `timeout`) and drops the
+        // queue; from then on the deadline stops the work here.
+        let streaming = Arc::new(AtomicBool::new(false));
+        let started = streaming.clone();
         let cancel = Cancel::new(move || {
-            gone.is_closed() || all.load(Ordering::Acquire) || std::time::Instant::now() >= deadline
+            gone.is_closed()
+                || all.load(Ordering::Acquire)
+                || (started.load(Ordering::Acquire) && std::time::Instant::now() >= deadline)
         });
         let mut writer = ReplyWriter::new(
             tx,
             tokio::runtime::Handle::current(),
             write_timeout,
             deadline,
+            streaming,
         );
         let mean = self.mean_work_us.clone();
         tokio::task::spawn_blocking(move || {

@@ -16,6 +16,8 @@
 
 use std::io;
 use std::pin::Pin;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::task::{Context, Poll};
 use std::time::{Duration, Instant};
 
@@ -60,18 +62,22 @@ pub struct ReplyWriter<H> {
     deadline: Instant,
     /// The head, until the first chunk is sent.
     head: Option<H>,
-    /// Whether chunks have been sent (so the status is out).
-    streaming: bool,
+    /// Whether chunks have been sent (so the status is out); shared with the stop signal,
+    /// which from then on watches the deadline (before, the time limit answers and drops
+    /// the queue).
+    streaming: Arc<AtomicBool>,
     buf: Vec<u8>,
 }
 
 impl<H> ReplyWriter<H> {
-    /// A writer into `tx`; `runtime` runs the waits for room.
+    /// A writer into `tx`; `runtime` runs the waits for room; `streaming` is set when the
+    /// first chunk leaves.
     pub fn new(
         tx: mpsc::Sender<Message<H>>,
         runtime: tokio::runtime::Handle,
         write_timeout: Duration,
         deadline: Instant,
+        streaming: Arc<AtomicBool>,
     ) -> Self {
         ReplyWriter {
             tx,
@@ -79,9 +85,13 @@ impl<H> ReplyWriter<H> {
             write_timeout,
             deadline,
             head: None,
-            streaming: false,
+            streaming,
             buf: Vec::new(),
         }
+    }
+
+    fn streaming(&self) -> bool {
+        self.streaming.load(Ordering::Acquire)
     }
 
     /// What the reply's head needs (status 200, its headers); set before the first chunk
@@ -112,12 +122,12 @@ impl<H> ReplyWriter<H> {
 
     /// Sends the buffered bytes as a chunk (after the head, the first time).
     fn push(&mut self) -> io::Result<()> {
-        if !self.streaming {
+        if !self.streaming() {
             let head = self.head.take().ok_or_else(|| {
                 io::Error::other("a streamed reply was written before its head was set")
             })?;
             self.send(Message::Head(head))?;
-            self.streaming = true;
+            self.streaming.store(true, Ordering::Release);
         }
         let chunk = std::mem::replace(&mut self.buf, Vec::with_capacity(CHUNK_BYTES));
         self.send(Message::Data(Bytes::from(chunk)))
@@ -126,7 +136,7 @@ impl<H> ReplyWriter<H> {
     /// Ends the reply with the computation's result: the rest and the end, or the error.
     pub fn end(mut self, result: Result<(), ApiError>) {
         let sent = match result {
-            Ok(()) if !self.streaming => match self.head.take() {
+            Ok(()) if !self.streaming() => match self.head.take() {
                 Some(head) => {
                     let whole = Bytes::from(std::mem::take(&mut self.buf));
                     self.send(Message::Whole(head, whole))
