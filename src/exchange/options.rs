@@ -36,15 +36,15 @@ impl Cancel {
         Ok(())
     }
 
-    /// For a reader's parallel loop: whether to skip the next item because the signal has
-    /// fired. Polls it on every [`READ_POLL`]th item of a thread's run (`count` counts
-    /// them) and keeps the answer in `stopped`, shared by the loop's threads; the caller
-    /// calls [`Cancel::stop_read`] after the loop.
-    pub(crate) fn skip(&self, count: &mut usize, stopped: &AtomicBool) -> bool {
-        if *count % READ_POLL == 0 && self.is_set() {
+    /// For a reader's parallel loop: whether to skip item `index` because the signal has
+    /// fired. Polls it at every [`READ_POLL`]th index (each thread takes a run of
+    /// consecutive items, so it polls at least every [`READ_POLL`] of its items) and keeps
+    /// the answer in `stopped`, shared by the loop's threads; the caller calls
+    /// [`Cancel::stop_read`] after the loop.
+    pub(crate) fn skip(&self, index: usize, stopped: &AtomicBool) -> bool {
+        if index % READ_POLL == 0 && self.is_set() {
             stopped.store(true, Ordering::Relaxed);
         }
-        *count += 1;
         stopped.load(Ordering::Relaxed)
     }
 }

@@ -154,17 +154,15 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let results: Vec<(Outcome, Vec<Diagnostic>)> = file
         .entries
         .par_iter()
-        .map_init(
-            || 0,
-            |n, entry| {
-                if cancel.skip(n, &stopped) {
-                    return (Outcome::Nothing, Vec::new());
-                }
-                let mut diags = Vec::new();
-                let outcome = read_entry(&cx, entry, &users, &members, &mut diags);
-                (outcome, diags)
-            },
-        )
+        .enumerate()
+        .map(|(k, entry)| {
+            if cancel.skip(k, &stopped) {
+                return (Outcome::Nothing, Vec::new());
+            }
+            let mut diags = Vec::new();
+            let outcome = read_entry(&cx, entry, &users, &members, &mut diags);
+            (outcome, diags)
+        })
         .collect();
     cancel.stop_read()?;
     let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();

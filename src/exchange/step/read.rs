@@ -87,15 +87,13 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let stopped = std::sync::atomic::AtomicBool::new(false);
     let decoded: Vec<(u64, Result<Option<GeometryItem<'_>>, DecodeError>)> = geometry_candidates
         .par_iter()
-        .map_init(
-            || 0,
-            |n, raw| {
-                if cancel.skip(n, &stopped) {
-                    return (raw.id, Ok(None));
-                }
-                (raw.id, scanned.geometry_item(raw))
-            },
-        )
+        .enumerate()
+        .map(|(k, raw)| {
+            if cancel.skip(k, &stopped) {
+                return (raw.id, Ok(None));
+            }
+            (raw.id, scanned.geometry_item(raw))
+        })
         .collect();
     cancel.stop_read()?;
     let mut items: Items<'_> = Items::default();
@@ -169,35 +167,33 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // (rayon keeps the file order in `collect`), then append results in order.
     let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
         .par_iter()
-        .map_init(
-            || 0,
-            |n, raw| {
-                if cancel.skip(n, &stopped) {
-                    return (None, Vec::new());
+        .enumerate()
+        .map(|(k, raw)| {
+            if cancel.skip(k, &stopped) {
+                return (None, Vec::new());
+            }
+            let mut diags = Vec::new();
+            let ctx = Ctx {
+                s: &scanned,
+                raw,
+                options,
+                scale,
+            };
+            let result = match scanned.bspline(raw) {
+                Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
+                Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
+                Ok(None) => return (None, diags),
+                Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
+                Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+            };
+            match result {
+                Ok(e) => (Some(e), diags),
+                Err(d) => {
+                    diags.push(d);
+                    (None, diags)
                 }
-                let mut diags = Vec::new();
-                let ctx = Ctx {
-                    s: &scanned,
-                    raw,
-                    options,
-                    scale,
-                };
-                let result = match scanned.bspline(raw) {
-                    Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
-                    Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
-                    Ok(None) => return (None, diags),
-                    Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
-                    Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
-                };
-                match result {
-                    Ok(e) => (Some(e), diags),
-                    Err(d) => {
-                        diags.push(d);
-                        (None, diags)
-                    }
-                }
-            },
-        )
+            }
+        })
         .collect();
     cancel.stop_read()?;
     let mut placed: Vec<(usize, Entity)> = converted.entities;
