@@ -991,6 +991,8 @@ fn options_come_from_flags_and_environment_variables() {
         .env("NURBSX_MAX_UPLOAD_BYTES", "2MiB")
         .env("NURBSX_MIN_UPLOAD_RATE", "3KiB")
         .env("NURBSX_HEADER_TIMEOUT", "4s")
+        .env("NURBSX_IDLE_TIMEOUT", "5s")
+        .env("NURBSX_WRITE_TIMEOUT", "6s")
         .env("NURBSX_DRAIN", "0s")
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -1010,12 +1012,16 @@ fn options_come_from_flags_and_environment_variables() {
         "max_upload_bytes=2097152 ",
         "min_upload_rate=3072 ",
         "header_timeout_ms=4000 ",
+        "idle_timeout_ms=5000 ",
+        "write_timeout_ms=6000 ",
         "drain_ms=0 ",
     ] {
         assert!(line.contains(field), "{field} in {line}");
     }
     for (name, value) in [
         ("NURBSX_HEADER_TIMEOUT", "0s"),
+        ("NURBSX_IDLE_TIMEOUT", "0s"),
+        ("NURBSX_WRITE_TIMEOUT", "0s"),
         ("NURBSX_MIN_UPLOAD_RATE", "0"),
         ("NURBSX_MAX_UPLOADS", "0"),
     ] {
