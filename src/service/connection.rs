@@ -60,7 +60,10 @@ impl Activity {
     }
 
     fn at(&self, ms: u64) -> Instant {
-        self.opened + Duration::from_millis(ms)
+        // (Saturating: no panic on an absurd offset.)
+        self.opened
+            .checked_add(Duration::from_millis(ms))
+            .unwrap_or(self.opened)
     }
 
     /// A request arrived: counted in flight until the returned guard (moved into its reply
@@ -74,20 +77,21 @@ impl Activity {
         InFlight(self.clone())
     }
 
-    /// When the connection may be closed for silence: `None` while a request is in flight.
+    /// When the connection may be closed for silence: `None` while a request is in flight
+    /// (or when the timeout is too long for the clock).
     pub fn deadline(&self, header_timeout: Duration, idle_timeout: Duration) -> Option<Instant> {
         if self.in_flight.load(Ordering::Acquire) > 0 {
             return None;
         }
         let since = self.at(self.idle_since_ms.load(Ordering::Acquire));
         let first_byte = self.first_byte_ms.load(Ordering::Acquire);
-        Some(if !self.served.load(Ordering::Acquire) {
-            since + header_timeout
+        if !self.served.load(Ordering::Acquire) {
+            since.checked_add(header_timeout)
         } else if first_byte != NEVER && !self.http2.load(Ordering::Acquire) {
-            self.at(first_byte) + header_timeout
+            self.at(first_byte).checked_add(header_timeout)
         } else {
-            since + idle_timeout
-        })
+            since.checked_add(idle_timeout)
+        }
     }
 }
 

@@ -359,8 +359,12 @@ pub struct Deadline(pub Instant);
 /// The whole-request time limit: until the reply's head here, and for a streamed reply's
 /// work through [`Deadline`].
 async fn time_limit(State(state): State<Arc<AppState>>, mut req: Request, next: Next) -> Response {
-    req.extensions_mut()
-        .insert(Deadline(Instant::now() + state.request_timeout));
+    let now = Instant::now();
+    // (A limit too large for the clock means none: about 34 years.)
+    let deadline = now
+        .checked_add(state.request_timeout)
+        .unwrap_or(now + Duration::from_secs(1 << 30));
+    req.extensions_mut().insert(Deadline(deadline));
     match tokio::time::timeout(state.request_timeout, next.run(req)).await {
         Ok(response) => response,
         Err(_elapsed) => close_after(
