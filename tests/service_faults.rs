@@ -65,6 +65,17 @@ async fn request(
     path: &str,
     body: &str,
 ) -> (u16, String, Duration) {
+    let (status, _head, body, took) = request_with_head(addr, method, path, body).await;
+    (status, body, took)
+}
+
+/// [`request`], also giving the reply's head (status line and header fields).
+async fn request_with_head(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: &str,
+) -> (u16, String, String, Duration) {
     let start = Instant::now();
     let mut s = TcpStream::connect(addr).await.unwrap();
     let head = format!(
@@ -84,10 +95,41 @@ async fn request(
         .get(9..12)
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("no status line in {text:?}"));
-    let body = text
-        .find("\r\n\r\n")
-        .map_or(String::new(), |i| text[i + 4..].to_owned());
-    (status, body, start.elapsed())
+    let (head, body) = text.split_once("\r\n\r\n").unwrap_or((&text, ""));
+    let body = if head
+        .to_ascii_lowercase()
+        .contains("transfer-encoding: chunked")
+    {
+        dechunk(body)
+    } else {
+        body.to_owned()
+    };
+    (status, head.to_owned(), body, start.elapsed())
+}
+
+/// The content of a complete chunked HTTP/1.1 body (RFC 9112 section 7.1); panics on a
+/// body cut off before its last chunk.
+fn dechunk(mut body: &str) -> String {
+    let mut out = String::new();
+    loop {
+        let (size, rest) = body.split_once("\r\n").expect("a chunk size line");
+        let size = usize::from_str_radix(size.trim(), 16).expect("a hexadecimal chunk size");
+        if size == 0 {
+            return out;
+        }
+        out.push_str(&rest[..size]);
+        body = rest[size..]
+            .strip_prefix("\r\n")
+            .expect("CRLF after a chunk");
+    }
+}
+
+/// The head of a keep-alive JSON POST to `path` announcing `len` body bytes.
+fn post_head(path: &str, len: usize) -> String {
+    format!(
+        "POST {path} HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+         Content-Length: {len}\r\n\r\n"
+    )
 }
 
 fn evaluate_body() -> String {
@@ -800,16 +842,10 @@ async fn a_gone_client_frees_its_slot() {
     })
     .to_string();
     let mut s = TcpStream::connect(server.addr).await.unwrap();
-    s.write_all(
-        format!(
-            "POST /v1/tessellate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
-             Content-Length: {}\r\n\r\n{body}",
-            body.len()
-        )
-        .as_bytes(),
-    )
-    .await
-    .unwrap();
+    let head = post_head("/v1/tessellate", body.len());
+    s.write_all(format!("{head}{body}").as_bytes())
+        .await
+        .unwrap();
     wait_for(
         server.addr,
         "nurbsx_compute_slots_busy",
@@ -955,6 +991,8 @@ fn options_come_from_flags_and_environment_variables() {
         .env("NURBSX_MAX_UPLOAD_BYTES", "2MiB")
         .env("NURBSX_MIN_UPLOAD_RATE", "3KiB")
         .env("NURBSX_HEADER_TIMEOUT", "4s")
+        .env("NURBSX_IDLE_TIMEOUT", "5s")
+        .env("NURBSX_WRITE_TIMEOUT", "6s")
         .env("NURBSX_DRAIN", "0s")
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -974,12 +1012,16 @@ fn options_come_from_flags_and_environment_variables() {
         "max_upload_bytes=2097152 ",
         "min_upload_rate=3072 ",
         "header_timeout_ms=4000 ",
+        "idle_timeout_ms=5000 ",
+        "write_timeout_ms=6000 ",
         "drain_ms=0 ",
     ] {
         assert!(line.contains(field), "{field} in {line}");
     }
     for (name, value) in [
         ("NURBSX_HEADER_TIMEOUT", "0s"),
+        ("NURBSX_IDLE_TIMEOUT", "0s"),
+        ("NURBSX_WRITE_TIMEOUT", "0s"),
         ("NURBSX_MIN_UPLOAD_RATE", "0"),
         ("NURBSX_MAX_UPLOADS", "0"),
     ] {
@@ -990,4 +1032,505 @@ fn options_come_from_flags_and_environment_variables() {
             .unwrap();
         assert_eq!(out.status.code(), Some(2), "{name}={value}: {out:?}");
     }
+}
+
+/// A model-JSON surface: an `n` x `n` net of degree `p` both ways on uniform knots.
+fn surface(n: usize, p: usize) -> Value {
+    let spans = n - p;
+    let mut knots = vec![0.0; p];
+    knots.extend((0..=spans).map(|k| k as f64 / spans as f64));
+    knots.extend(vec![1.0; p]);
+    let net: Vec<Vec<[f64; 3]>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| {
+                    let (x, y) = (i as f64, j as f64);
+                    [x, y, (0.3 * x).sin() * (0.2 * y).cos()]
+                })
+                .collect()
+        })
+        .collect();
+    json!({ "degree_u": p, "degree_v": p, "knots_u": knots, "knots_v": knots,
+            "control_points": net })
+}
+
+/// The streamed evaluation reply is, byte for byte, the JSON of the report the pipeline
+/// builds whole (what the CLI prints), so values, digits and field order are the same: for
+/// a reply smaller than one chunk (sent whole, with Content-Length) and for replies of many
+/// chunks (sent chunked), on a curve and a surface, with derivatives, normals and
+/// curvature.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_streamed_evaluation_is_the_whole_report_byte_for_byte() {
+    use nurbsx::pipeline::{EvalRequest, InputKind, Settings};
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        ..config()
+    })
+    .await;
+    let curve_params: Vec<Vec<f64>> = (0..20_000).map(|k| vec![f64::from(k) / 19_999.0]).collect();
+    let grid: Vec<Vec<f64>> = (0..3_600)
+        .map(|k| vec![f64::from(k / 60) / 59.0, f64::from(k % 60) / 59.0])
+        .collect();
+    let cases = [
+        (circle(), vec![vec![0.1], vec![0.6]], 0, false, false),
+        (circle(), curve_params, 2, true, true),
+        (surface(8, 3), grid, 2, true, true),
+    ];
+    for (geometry, params, derivatives, normals, curvature) in cases {
+        let body = json!({ "geometry": geometry, "params": params, "derivatives": derivatives,
+                           "normals": normals, "curvature": curvature })
+        .to_string();
+        let (status, head, reply, _) =
+            request_with_head(server.addr, "POST", "/v1/evaluate", &body).await;
+        assert_eq!(status, 200, "{reply}");
+        let settings = Settings::default();
+        let loaded = nurbsx::pipeline::load(
+            geometry.to_string().as_bytes(),
+            Some(InputKind::Json),
+            &settings,
+        )
+        .unwrap();
+        let request = EvalRequest {
+            entity: None,
+            params,
+            derivatives,
+            normals,
+            curvature,
+        };
+        let whole = nurbsx::pipeline::evaluate(&loaded.document, &request, &settings).unwrap();
+        let expected = serde_json::to_string(&whole).unwrap();
+        assert!(
+            reply == expected,
+            "the streamed reply differs from the report"
+        );
+        let chunked = head
+            .to_ascii_lowercase()
+            .contains("transfer-encoding: chunked");
+        assert_eq!(
+            chunked,
+            expected.len() > nurbsx::service::reply::CHUNK_BYTES,
+            "{} bytes: {head}",
+            expected.len()
+        );
+    }
+}
+
+/// Reads one HTTP/1.1 reply with a `Content-Length` from a keep-alive connection: its
+/// status.
+async fn read_reply(s: &mut TcpStream) -> u16 {
+    let mut data = Vec::new();
+    let mut buf = [0u8; 4096];
+    let (head_end, length) = loop {
+        let n = tokio::time::timeout(Duration::from_secs(10), s.read(&mut buf))
+            .await
+            .expect("a reply within 10 s")
+            .unwrap();
+        assert!(n > 0, "closed before the reply");
+        data.extend_from_slice(&buf[..n]);
+        if let Some(i) = data.windows(4).position(|w| w == b"\r\n\r\n") {
+            let head = String::from_utf8_lossy(&data[..i]).to_ascii_lowercase();
+            let length: usize = head
+                .lines()
+                .find_map(|l| l.strip_prefix("content-length:"))
+                .and_then(|v| v.trim().parse().ok())
+                .unwrap_or_else(|| panic!("no content-length in {head}"));
+            break (i + 4, length);
+        }
+    };
+    while data.len() < head_end + length {
+        let n = s.read(&mut buf).await.unwrap();
+        assert!(n > 0, "closed inside the reply");
+        data.extend_from_slice(&buf[..n]);
+    }
+    String::from_utf8_lossy(&data[9..12]).parse().unwrap()
+}
+
+/// The idle timeout (1.5 s here) and the header timeout (300 ms) are separate: a keep-alive
+/// connection silent for 1 s between requests is still served, then closed about 1.5 s
+/// after its last reply (not before 1.4 s, and within 2.5 s); a request head begun after a
+/// pause must still be complete within the header timeout; and a connection whose request
+/// is in flight (its body arriving over 2.5 s) is not closed as idle, and is kept alive
+/// after its reply.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn idle_connections_close_after_the_idle_timeout_and_busy_ones_do_not() {
+    let server = start(ServeConfig {
+        header_timeout: Duration::from_millis(300),
+        idle_timeout: Duration::from_millis(1500),
+        ..config()
+    })
+    .await;
+    let get = b"GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n";
+    let mut idle = TcpStream::connect(server.addr).await.unwrap();
+    idle.write_all(get).await.unwrap();
+    assert_eq!(read_reply(&mut idle).await, 200);
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    idle.write_all(get).await.unwrap();
+    assert_eq!(read_reply(&mut idle).await, 200);
+    let since = Instant::now();
+    assert!(closed_within(&mut idle, Duration::from_secs(3)).await);
+    let took = since.elapsed();
+    assert!(
+        took >= Duration::from_millis(1400) && took < Duration::from_millis(2500),
+        "closed {took:?} after the last reply"
+    );
+
+    let mut slow_head = TcpStream::connect(server.addr).await.unwrap();
+    slow_head.write_all(get).await.unwrap();
+    assert_eq!(read_reply(&mut slow_head).await, 200);
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    slow_head
+        .write_all(b"GET /healthz HTTP/1.1\r\n")
+        .await
+        .unwrap();
+    let since = Instant::now();
+    assert!(closed_within(&mut slow_head, Duration::from_secs(3)).await);
+    let took = since.elapsed();
+    assert!(
+        took >= Duration::from_millis(250) && took < Duration::from_millis(1000),
+        "a half-sent head was closed after {took:?}"
+    );
+
+    let body = evaluate_body();
+    let (first, second) = body.split_at(body.len() / 2);
+    let mut busy = TcpStream::connect(server.addr).await.unwrap();
+    let head = post_head("/v1/evaluate", body.len());
+    busy.write_all(format!("{head}{first}").as_bytes())
+        .await
+        .unwrap();
+    tokio::time::sleep(Duration::from_millis(2500)).await;
+    busy.write_all(second.as_bytes()).await.unwrap();
+    assert_eq!(read_reply(&mut busy).await, 200);
+    busy.write_all(get).await.unwrap();
+    assert_eq!(read_reply(&mut busy).await, 200);
+}
+
+/// An HTTP/2 client with prior knowledge (h2c) is served on the same port: two requests at
+/// once on one connection, each answered 200 over HTTP/2 with the right values. On
+/// shutdown with that connection open, `/readyz` over it turns 503 during the drain, the
+/// server ends the connection, and `serve_on` returns within drain (1 s) + 1 s.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn http2_prior_knowledge_is_served_and_drained() {
+    use http_body_util::{BodyExt, Full};
+    use hyper::body::Bytes;
+    use hyper_util::rt::{TokioExecutor, TokioIo};
+    let mut server = start(ServeConfig {
+        drain: Duration::from_secs(1),
+        ..config()
+    })
+    .await;
+    let addr = server.addr;
+    let stream = TcpStream::connect(addr).await.unwrap();
+    let (sender, connection) =
+        hyper::client::conn::http2::handshake(TokioExecutor::new(), TokioIo::new(stream))
+            .await
+            .unwrap();
+    let mut connection = tokio::spawn(connection);
+    let call = |method: &str, path: &str, body: String| {
+        let mut sender = sender.clone();
+        let request = hyper::Request::builder()
+            .method(method)
+            .uri(format!("http://{addr}{path}"))
+            .header("content-type", "application/json")
+            .body(Full::new(Bytes::from(body)))
+            .unwrap();
+        async move {
+            let reply = sender.send_request(request).await.unwrap();
+            assert_eq!(reply.version(), hyper::Version::HTTP_2);
+            let status = reply.status().as_u16();
+            let body = reply.into_body().collect().await.unwrap().to_bytes();
+            (status, String::from_utf8_lossy(&body).into_owned())
+        }
+    };
+    let a = json!({ "geometry": circle(), "params": [[0.125]] }).to_string();
+    let b = json!({ "geometry": circle(), "params": [[0.375]] }).to_string();
+    let (ra, rb) = tokio::join!(
+        call("POST", "/v1/evaluate", a),
+        call("POST", "/v1/evaluate", b)
+    );
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    for ((status, body), x) in [(ra, h), (rb, -h)] {
+        assert_eq!(status, 200, "{body}");
+        let v: Value = serde_json::from_str(&body).unwrap();
+        let p = &v["results"][0]["point"];
+        assert!((p[0].as_f64().unwrap() - x).abs() < 1e-12, "{v}");
+        assert!((p[1].as_f64().unwrap() - h).abs() < 1e-12, "{v}");
+    }
+    let (status, _) = call("GET", "/readyz", String::new()).await;
+    assert_eq!(status, 200);
+
+    let asked = Instant::now();
+    server.stop.take().unwrap().send(()).unwrap();
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let (status, body) = call("GET", "/readyz", String::new()).await;
+    assert_eq!(status, 503, "{body}");
+    tokio::time::timeout(Duration::from_secs(2), &mut server.task)
+        .await
+        .expect("shutdown within drain + 1 s")
+        .unwrap()
+        .unwrap();
+    assert!(
+        asked.elapsed() >= Duration::from_secs(1),
+        "{:?}",
+        asked.elapsed()
+    );
+    tokio::time::timeout(Duration::from_secs(1), &mut connection)
+        .await
+        .expect("the server ended the HTTP/2 connection")
+        .unwrap()
+        .ok();
+}
+
+/// A STEP file of `n` B-spline curves on the same three points: little text per curve, so
+/// that reading is mostly the curves' decoding (polled), little the syntax scan (which is
+/// not).
+fn many_curves_step(n: usize) -> String {
+    let mut text = String::from(
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n\
+         FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n\
+         #1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=CARTESIAN_POINT('',(0.5,1.,0.));\n\
+         #3=CARTESIAN_POINT('',(1.,0.,1.));\n",
+    );
+    for k in 0..n {
+        text.push_str(&format!(
+            "#{}=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);\n",
+            k + 4
+        ));
+    }
+    text.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+    text
+}
+
+/// Sends `body` to `path` on a server with the time limit `limit`, checks that the work
+/// started (a slot busy), that the reply is 503 `timeout`, and that the slot is free within
+/// 1 s of it.
+async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration) {
+    let server = start(ServeConfig {
+        request_timeout: limit,
+        max_reply_bytes: usize::MAX,
+        ..config()
+    })
+    .await;
+    let addr = server.addr;
+    let path = path.to_owned();
+    let call = tokio::spawn(async move { request(addr, "POST", &path, &body).await });
+    wait_for(
+        addr,
+        "nurbsx_compute_slots_busy",
+        1.0,
+        Duration::from_secs(10),
+    )
+    .await;
+    let (status, reply, _) = call.await.unwrap();
+    assert_eq!(status, 503, "{reply}");
+    assert!(reply.contains("\"timeout\""), "{reply}");
+    slot_freed_within_a_second(addr).await;
+}
+
+/// Reading a large STEP file (120,000 curves, 10 MB: in a debug build about 0.7 s of syntax
+/// scan, which does not poll, then 3.4 s of decoding, which does) stops when its request
+/// times out at 2.5 s: the slot is free within 1 s of the 503.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_timed_out_read_frees_its_slot_within_a_second() {
+    let limit = Duration::from_millis(2500);
+    let step = many_curves_step(120_000);
+    let body = json!({ "file": step, "params": [[0.5]] }).to_string();
+    times_out_and_frees_its_slot("/v1/evaluate", body, limit).await;
+}
+
+/// Elevating one surface (a 64 x 64 net of degree 5 by 20 both ways: 1.5 million poles
+/// out, about 2.3 s of elevation in a debug build, polled once per Bezier strip) stops when
+/// its request times out at 1 s: the slot is free within 1 s of the 503.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_timed_out_elevation_frees_its_slot_within_a_second() {
+    let body = json!({ "geometry": surface(64, 5), "by": 20 }).to_string();
+    let limit = Duration::from_secs(1);
+    times_out_and_frees_its_slot("/v1/degree-elevate", body, limit).await;
+}
+
+/// A request of `n` evaluations of the unit circle at `(k + 0.5) / n`.
+fn many_evaluations(n: u32) -> String {
+    let params: Vec<[f64; 1]> = (0..n)
+        .map(|k| [(f64::from(k) + 0.5) / f64::from(n)])
+        .collect();
+    json!({ "geometry": circle(), "params": params }).to_string()
+}
+
+/// Sends `body` (from [`many_evaluations`]) to `/v1/evaluate`, reads `keep` bytes of the
+/// reply, and returns the connection.
+async fn start_reading(addr: SocketAddr, body: &str, keep: usize) -> TcpStream {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    let head = post_head("/v1/evaluate", body.len());
+    s.write_all(format!("{head}{body}").as_bytes())
+        .await
+        .unwrap();
+    let mut got = vec![0u8; keep];
+    tokio::time::timeout(Duration::from_secs(20), s.read_exact(&mut got))
+        .await
+        .expect("the reply starts within 20 s")
+        .unwrap();
+    assert!(
+        got.starts_with(b"HTTP/1.1 200"),
+        "{}",
+        String::from_utf8_lossy(&got)
+    );
+    s
+}
+
+/// A streamed reply does not hold its computing slot for a client that will not take it:
+/// one that stops reading frees the slot within the write timeout (500 ms) + 1 s of the
+/// moment its buffers are full, one that closes its connection within 1 s, and one whose
+/// request passes the time limit (2 s) while its reply streams gets a cut-off reply (no
+/// last chunk) and frees the slot within 1 s of the limit. The whole evaluation (400,000
+/// points, a 29 MB reply) takes several seconds in a debug build.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_streamed_reply_frees_its_slot_when_the_client_stops_taking_it() {
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        write_timeout: Duration::from_millis(500),
+        ..config()
+    })
+    .await;
+    let addr = server.addr;
+    let body = many_evaluations(400_000);
+    // Stops reading: the socket buffers and the chunk queue fill, then the write timeout.
+    let stalled = start_reading(addr, &body, 4096).await;
+    let since = Instant::now();
+    wait_for(
+        addr,
+        "nurbsx_compute_slots_busy",
+        0.0,
+        Duration::from_secs(5),
+    )
+    .await;
+    let took = since.elapsed();
+    assert!(took < Duration::from_millis(3500), "{took:?}");
+    drop(stalled);
+
+    // Goes away: the queue closes.
+    let gone = start_reading(addr, &body, 4096).await;
+    drop(gone);
+    slot_freed_within_a_second(addr).await;
+
+    // Reads everything, but the time limit passes while the reply streams.
+    let server = start(ServeConfig {
+        max_reply_bytes: usize::MAX,
+        request_timeout: Duration::from_secs(2),
+        ..config()
+    })
+    .await;
+    let started = Instant::now();
+    let mut reader = start_reading(server.addr, &body, 12).await;
+    let mut rest = Vec::new();
+    tokio::time::timeout(Duration::from_secs(30), reader.read_to_end(&mut rest))
+        .await
+        .expect("the reply ends")
+        .ok();
+    let ended = started.elapsed();
+    assert!(
+        ended < Duration::from_secs(3),
+        "the reply is cut at the time limit: {ended:?}"
+    );
+    assert!(
+        !rest.ends_with(b"\r\n0\r\n\r\n"),
+        "a cut reply has no last chunk"
+    );
+    slot_freed_within_a_second(server.addr).await;
+}
+
+/// The peak resident memory (VmHWM) of a process, in bytes.
+#[cfg(target_os = "linux")]
+fn peak_rss(pid: u32) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .unwrap_or_else(|| panic!("no VmHWM in {status}"));
+    kb * 1024
+}
+
+/// The documented bound (README "HTTP service", peak RSS table) on the server's peak
+/// memory while it streams 1 million evaluations.
+const STREAMED_EVALUATION_RSS_BOUND: u64 = 64 << 20;
+
+/// The real server streams 1,000,000 evaluations (a 13 MB request, a 73 MB reply) with a
+/// peak resident memory under [`STREAMED_EVALUATION_RSS_BOUND`], less than the reply
+/// itself (built whole, the reply alone would pass it); every result is there, in order,
+/// on the circle.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_large_evaluation_streams_in_bounded_memory() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+        .args(["serve", "--addr", "127.0.0.1:0", "--concurrency", "1"])
+        .args(["--max-reply-bytes", "1GiB"])
+        .env("RUST_LOG", "info")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel::<String>();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if line.contains("nurbsx service listening") {
+                let addr = line
+                    .split_whitespace()
+                    .find_map(|w| w.strip_prefix("addr="))
+                    .unwrap_or_default()
+                    .to_owned();
+                let _ = addr_tx.send(addr);
+            }
+        }
+    });
+    let addr: SocketAddr = addr_rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("the startup line names the address")
+        .parse()
+        .unwrap();
+    let n = 1_000_000;
+    let body = many_evaluations(n);
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    write!(
+        s,
+        "POST /v1/evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n",
+        body.len()
+    )
+    .unwrap();
+    s.write_all(body.as_bytes()).unwrap();
+    drop(body);
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let peak = peak_rss(child.id());
+    let _ = child.kill();
+    let _ = child.wait();
+    let text = String::from_utf8(raw).unwrap();
+    let (head, chunked) = text.split_once("\r\n\r\n").unwrap();
+    assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+    let reply = dechunk(chunked);
+    let v: Value = serde_json::from_str(&reply).unwrap();
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), n as usize);
+    for (k, r) in results.iter().enumerate().step_by(997) {
+        let u = (k as f64 + 0.5) / f64::from(n);
+        assert_eq!(r["at"][0].as_f64().unwrap(), u);
+        let (x, y) = (
+            r["point"][0].as_f64().unwrap(),
+            r["point"][1].as_f64().unwrap(),
+        );
+        assert!((x.hypot(y) - 1.0).abs() < 1e-12, "{r}");
+    }
+    eprintln!(
+        "streamed {} reply bytes; server peak RSS {} MiB",
+        reply.len(),
+        peak >> 20
+    );
+    assert!(
+        peak < STREAMED_EVALUATION_RSS_BOUND && peak < reply.len() as u64,
+        "peak RSS {peak} bytes for a reply of {} bytes",
+        reply.len()
+    );
 }

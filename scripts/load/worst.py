@@ -111,6 +111,13 @@ def main():
                   "/v1/evaluate", "application/json",
                   json.dumps({"geometry": PATCH, "derivatives": 2, "normals": True, "curvature": True,
                               "params": [[(i % 243) / 242, (i // 243) / 242] for i in range(n)]})))
+    # Evaluate: 2 M curve points with the reply limit raised to 1 GiB: a 140 MiB reply,
+    # streamed (the server holds a few chunks of it at a time).
+    n = 2_000_000
+    cases.append(("evaluate, 2 M curve points, streamed (`--max-reply-bytes 1GiB`)",
+                  "/v1/evaluate", "application/json",
+                  json.dumps({"geometry": CIRCLE, "params": [[i / n] for i in range(n)]}),
+                  ["--max-reply-bytes", "1GiB"]))
     # Evaluate: a 64 MiB body of 10 M points, refused by the reply estimate.
     text = '{"geometry":' + json.dumps(CIRCLE) + ',"params":['
     text += ",".join(["[0.5]"] * 10_000_000) + "]}"
@@ -132,9 +139,10 @@ def main():
                   "application/json", json.dumps(surface)))
     print("| case | request | status | reply | time | idle RSS | peak RSS |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
-    for name, path, ctype, body in cases:
+    for name, path, ctype, body, *case_extra in cases:
         body = body.encode()
-        status, data, took, idle, peak = run_case(args.binary, extra, path, body, ctype)
+        case_args = extra + (case_extra[0] if case_extra else [])
+        status, data, took, idle, peak = run_case(args.binary, case_args, path, body, ctype)
         if path.startswith("/v1/convert") and status == 200:
             step = data
         print(f"| {name} | {len(body) / 2**20:.1f} MiB | {status} | {len(data) / 2**20:.1f} MiB "

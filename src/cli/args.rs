@@ -1439,11 +1439,21 @@ pub struct ServeArgs {
     #[arg(long, env = "NURBSX_MIN_UPLOAD_RATE", value_name = "SIZE", default_value = "16KiB",
           value_parser = parse_bytes)]
     pub min_upload_rate: usize,
-    /// Time a connection has to send a complete request head, from opening or from the end
-    /// of its previous reply (also the keep-alive idle timeout).
+    /// Time a connection has to send a complete request head, from opening or from the first
+    /// byte of a later request.
     #[arg(long, env = "NURBSX_HEADER_TIMEOUT", value_name = "DURATION", default_value = "10s",
           value_parser = parse_duration)]
     pub header_timeout: Duration,
+    /// How long a keep-alive connection (HTTP/1.1 or HTTP/2) may stay idle between requests
+    /// before the server closes it.
+    #[arg(long, env = "NURBSX_IDLE_TIMEOUT", value_name = "DURATION", default_value = "60s",
+          value_parser = parse_duration)]
+    pub idle_timeout: Duration,
+    /// How long a streamed reply waits for a client to take its next chunk before the work
+    /// stops and the connection is closed.
+    #[arg(long, env = "NURBSX_WRITE_TIMEOUT", value_name = "DURATION", default_value = "30s",
+          value_parser = parse_duration)]
+    pub write_timeout: Duration,
     /// After SIGTERM: how long to keep serving with /readyz at 503 before closing.
     #[arg(long, env = "NURBSX_DRAIN", value_name = "DURATION", default_value = "5s",
           value_parser = parse_duration)]

@@ -502,10 +502,12 @@ fn serve(ctx: &Context, a: args::ServeArgs) -> Result<Outcome, CliError> {
         || a.max_upload_bytes == 0
         || a.min_upload_rate == 0
         || a.header_timeout.is_zero()
+        || a.idle_timeout.is_zero()
+        || a.write_timeout.is_zero()
     {
         return Err(CliError::Usage(
-            "--max-body, --timeout, --max-reply-bytes, --max-upload-bytes, --min-upload-rate \
-             and --header-timeout must be above zero"
+            "--max-body, --timeout, --max-reply-bytes, --max-upload-bytes, --min-upload-rate, \
+             --header-timeout, --idle-timeout and --write-timeout must be above zero"
                 .into(),
         ));
     }
@@ -518,6 +520,8 @@ fn serve(ctx: &Context, a: args::ServeArgs) -> Result<Outcome, CliError> {
         max_upload_bytes: a.max_upload_bytes,
         min_upload_rate: u64::try_from(a.min_upload_rate).unwrap_or(u64::MAX),
         header_timeout: a.header_timeout,
+        idle_timeout: a.idle_timeout,
+        write_timeout: a.write_timeout,
         drain: a.drain,
         settings: ctx.settings.clone(),
         ..Default::default()

@@ -548,7 +548,7 @@ pub fn tessellate(ctx: &Context, a: TessellateArgs) -> Result<Outcome, CliError>
     let (faces, edges) = (plan.faces.len(), plan.edges.len());
     diagnostics.extend(plan.left_out);
     ctx.report.diagnostics(&name, &diagnostics);
-    let file = pipeline::tessellate(
+    let file = pipeline::tessellate_file(
         &loaded.document,
         a.entity.as_deref(),
         a.tolerance,

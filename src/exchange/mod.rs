@@ -35,7 +35,7 @@ pub use document::{
 pub use nurbsx_parsers::signature::{
     CODES as NOT_EXCHANGE_CODES, NotExchange, describe as describe_content,
 };
-pub use options::{ExportOptions, ImportOptions, StepSchema};
+pub use options::{Cancel, ExportOptions, ImportOptions, READ_POLL, StepSchema};
 pub use units::LengthUnit;
 
 pub use nurbsx_parsers::Format;

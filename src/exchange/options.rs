@@ -1,8 +1,67 @@
-//! Import and export policies.
+//! Import and export policies, and the stop signal long work polls.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use nurbsx_parsers::Limits;
 
-use super::LengthUnit;
+use super::{Diagnostic, LengthUnit, Location};
+
+/// A request's stop signal; the default never fires (the CLI). Long work (the readers'
+/// loops here, the pipeline's operations) polls it at bounded intervals and stops once it
+/// has fired; it stays fired.
+#[derive(Clone, Default)]
+pub struct Cancel(Option<Arc<dyn Fn() -> bool + Send + Sync>>);
+
+impl Cancel {
+    /// A signal that fires when `stop` returns true.
+    pub fn new(stop: impl Fn() -> bool + Send + Sync + 'static) -> Self {
+        Cancel(Some(Arc::new(stop)))
+    }
+
+    /// Whether the work should stop now.
+    pub fn is_set(&self) -> bool {
+        self.0.as_ref().is_some_and(|stop| stop())
+    }
+
+    /// For a reader: `Err` (code `cancelled`) once the signal has fired.
+    pub(crate) fn stop_read(&self) -> Result<(), Diagnostic> {
+        if self.is_set() {
+            return Err(Diagnostic::error(
+                "cancelled",
+                "reading was stopped: its request timed out or the server is shutting down",
+                Location::default(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// For a reader's parallel loop: whether to skip item `index` because the signal has
+    /// fired. Polls it at every [`READ_POLL`]th index (each thread takes a run of
+    /// consecutive items, so it polls at least every [`READ_POLL`] of its items) and keeps
+    /// the answer in `stopped`, shared by the loop's threads; the caller calls
+    /// [`Cancel::stop_read`] after the loop.
+    pub(crate) fn skip(&self, index: usize, stopped: &AtomicBool) -> bool {
+        if index % READ_POLL == 0 && self.is_set() {
+            stopped.store(true, Ordering::Relaxed);
+        }
+        stopped.load(Ordering::Relaxed)
+    }
+}
+
+impl std::fmt::Debug for Cancel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "Cancel(armed)"
+        } else {
+            "Cancel(never)"
+        })
+    }
+}
+
+/// Instances (STEP) or entries (IGES) a reader handles between two polls of the stop
+/// signal: a poll costs far less than one instance's decoding.
+pub const READ_POLL: usize = 4096;
 
 /// How to read a file.
 #[derive(Debug, Clone, Default)]
@@ -29,6 +88,9 @@ pub struct ImportOptions {
     /// schema tables know the entity, its references resolved and free of cycles, not only
     /// the instances the geometry uses.
     pub conformance: bool,
+    /// The stop signal the read loops poll (every [`READ_POLL`] items and between stages);
+    /// a stopped read is `Err` with code `cancelled`. The pipeline sets it from its own.
+    pub cancel: Cancel,
 }
 
 /// The STEP application protocol to write.

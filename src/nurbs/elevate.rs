@@ -118,6 +118,8 @@ pub(super) fn clamp_flat(
 /// Each pass extracts one Bezier segment by knot insertion, elevates it with the
 /// coefficients `C(p, j) C(t, i - j) / C(p + t, i)` (eq. 5.36, seed 000 eq. 2-65 for repeated
 /// elevation), and removes the inserted knots again from the previous segment's seam.
+/// `stop` is polled once per segment (the work between two polls is one segment's
+/// `O((p + t) p dim)`); `None` when it returned true.
 // Index loops and counters mirror A5.9's pseudo-code line by line, which is how it is checked.
 #[allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 pub(super) fn elevate_flat(
@@ -126,7 +128,8 @@ pub(super) fn elevate_flat(
     pw: &[f64],
     dim: usize,
     t: usize,
-) -> (Vec<f64>, Vec<f64>) {
+    stop: &dyn Fn() -> bool,
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let np = pw.len() / dim;
     let n = np - 1;
     let m = n + p + 1;
@@ -177,6 +180,9 @@ pub(super) fn elevate_flat(
     bpts.copy_from_slice(&pw[..(p + 1) * dim]);
 
     while b < m {
+        if stop() {
+            return None;
+        }
         let i0 = b;
         while b < m && knots[b] == knots[b + 1] {
             b += 1;
@@ -287,7 +293,7 @@ pub(super) fn elevate_flat(
         }
     }
     debug_assert_eq!(mh - ph, out_poles);
-    (uh, qw)
+    Some((uh, qw))
 }
 
 /// Checks `p + t <= MAX_DEGREE` and `t >= 1`.
@@ -306,16 +312,18 @@ fn check_elevation(p: usize, t: usize) -> Result<usize, GeometryError> {
     }
 }
 
-/// Clamps (if needed) and elevates a flat B-spline by `t`.
+/// Clamps (if needed) and elevates a flat B-spline by `t`, polling `stop` per segment
+/// ([`GeometryError::Stopped`] when it fired).
 fn clamp_and_elevate(
     p: usize,
     knots: &[f64],
     poles: &[f64],
     dim: usize,
     t: usize,
-) -> (Vec<f64>, Vec<f64>) {
+    stop: &dyn Fn() -> bool,
+) -> Result<(Vec<f64>, Vec<f64>), GeometryError> {
     let (k, pw) = clamp_flat(p, knots, poles, dim);
-    elevate_flat(p, &k, &pw, dim, t)
+    elevate_flat(p, &k, &pw, dim, t, stop).ok_or(GeometryError::Stopped)
 }
 
 impl NurbsCurve {
@@ -331,9 +339,19 @@ impl NurbsCurve {
     /// Errors: `t == 0` ([`GeometryError::InvalidArgument`]); `p + t > MAX_DEGREE`
     /// ([`GeometryError::BadDegree`]).
     pub fn elevate(&self, t: usize) -> Result<NurbsCurve, GeometryError> {
+        self.elevate_polling(t, &|| false)
+    }
+
+    /// [`NurbsCurve::elevate`], polling `stop` once per Bezier segment of A5.9:
+    /// [`GeometryError::Stopped`] once it returns true.
+    pub fn elevate_polling(
+        &self,
+        t: usize,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<NurbsCurve, GeometryError> {
         check_elevation(self.degree(), t)?;
         let hw = flatten(&self.homogeneous());
-        let (k, q) = clamp_and_elevate(self.degree(), self.knots(), &hw, 4, t);
+        let (k, q) = clamp_and_elevate(self.degree(), self.knots(), &hw, 4, t, stop)?;
         NurbsCurve::from_homogeneous(
             self.degree() + t,
             k,
@@ -349,11 +367,21 @@ impl NurbsSurface {
     /// direction): every row of the homogeneous net is elevated in one pass of A5.9 over
     /// the u knot vector. Same geometry and domain; the u knot vector comes back clamped.
     pub fn elevate_u(&self, t: usize) -> Result<NurbsSurface, GeometryError> {
+        self.elevate_u_polling(t, &|| false)
+    }
+
+    /// [`NurbsSurface::elevate_u`], polling `stop` once per Bezier strip of the u pass
+    /// (every row's segment at once): [`GeometryError::Stopped`] once it returns true.
+    pub fn elevate_u_polling(
+        &self,
+        t: usize,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<NurbsSurface, GeometryError> {
         check_elevation(self.degree_u(), t)?;
         let net = self.homogeneous();
         let nv = net.nv();
         let flat: Vec<f64> = flatten(net.as_slice());
-        let (k, q) = clamp_and_elevate(self.degree_u(), self.knots_u(), &flat, 4 * nv, t);
+        let (k, q) = clamp_and_elevate(self.degree_u(), self.knots_u(), &flat, 4 * nv, t, stop)?;
         let nu = q.len() / (4 * nv);
         let grid = Grid::from_u_major(nu, nv, unflatten(&q))
             .ok_or_else(|| GeometryError::InvalidArgument("elevated net shape".into()))?;
@@ -371,11 +399,21 @@ impl NurbsSurface {
     /// Degree elevation by `t >= 1` in v (A5.10, v direction): the net is transposed so the
     /// columns become contiguous poles, elevated by A5.9, and transposed back.
     pub fn elevate_v(&self, t: usize) -> Result<NurbsSurface, GeometryError> {
+        self.elevate_v_polling(t, &|| false)
+    }
+
+    /// [`NurbsSurface::elevate_v`], polling `stop` as [`NurbsSurface::elevate_u_polling`]
+    /// does.
+    pub fn elevate_v_polling(
+        &self,
+        t: usize,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<NurbsSurface, GeometryError> {
         check_elevation(self.degree_v(), t)?;
         let net = self.homogeneous().transposed();
         let nu = net.nv();
         let flat: Vec<f64> = flatten(net.as_slice());
-        let (k, q) = clamp_and_elevate(self.degree_v(), self.knots_v(), &flat, 4 * nu, t);
+        let (k, q) = clamp_and_elevate(self.degree_v(), self.knots_v(), &flat, 4 * nu, t, stop)?;
         let nv = q.len() / (4 * nu);
         let grid = Grid::from_u_major(nv, nu, unflatten(&q))
             .ok_or_else(|| GeometryError::InvalidArgument("elevated net shape".into()))?

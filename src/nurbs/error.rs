@@ -129,6 +129,9 @@ pub enum GeometryError {
     /// An operation's argument is invalid (the message says which and why).
     #[error("{0}")]
     InvalidArgument(String),
+    /// The caller's stop signal fired during a long operation (degree elevation polls it).
+    #[error("the operation was stopped")]
+    Stopped,
     /// An operation cannot be done within the requested tolerance (knot removal, degree
     /// reduction, join).
     #[error("{what}: error bound {bound:e} exceeds tolerance {tolerance:e}")]

@@ -295,7 +295,7 @@ fn refine(
     const DIM: usize = 4;
     let (ck, cflat) = clamp_flat(p, knots, flat, DIM);
     let residual_bound = |red: &[f64]| -> Option<(Vec<f64>, f64)> {
-        let (ek, eflat) = elevate_flat(p - 1, rk, red, DIM, 1);
+        let (ek, eflat) = elevate_flat(p - 1, rk, red, DIM, 1, &|| false)?;
         if ek != ck || eflat.len() != cflat.len() {
             return None;
         }

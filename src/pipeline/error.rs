@@ -82,6 +82,9 @@ impl std::error::Error for PipelineError {}
 
 impl From<crate::nurbs::GeometryError> for PipelineError {
     fn from(e: crate::nurbs::GeometryError) -> Self {
+        if matches!(e, crate::nurbs::GeometryError::Stopped) {
+            return super::cancelled();
+        }
         PipelineError::new(
             ErrorKind::Geometry,
             "geometry",

@@ -168,7 +168,17 @@ pub fn load(
     let mut document = match kind {
         InputKind::Json => load_json(bytes)?,
         InputKind::Step | InputKind::Iges => {
-            exchange::read(bytes, &settings.import).map_err(PipelineError::from_exchange)?
+            let import = exchange::ImportOptions {
+                cancel: settings.cancel.clone(),
+                ..settings.import.clone()
+            };
+            exchange::read(bytes, &import).map_err(|d| {
+                if settings.cancel.is_set() {
+                    super::cancelled()
+                } else {
+                    PipelineError::from_exchange(d)
+                }
+            })?
         }
     };
     if settings.strict {

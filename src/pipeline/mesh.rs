@@ -15,7 +15,7 @@
 //! watertight (every edge shared by two triangles) with no zero-area triangle.
 
 use std::collections::HashMap;
-use std::fmt::Write as _;
+use std::io::Write as _;
 
 use crate::exchange::{Diagnostic, Document, Entity, Location, Topology};
 use crate::nurbs::tessellate::{Mesh, Polyline};
@@ -480,58 +480,69 @@ pub fn tessellate_all(
 }
 
 /// Wavefront OBJ: one `o` group per entity, welded `v`ertices, `f` triangles and `l` lines
-/// (indices are 1-based and global).
-pub fn obj(faces: &[FaceMesh], curves: &[CurveLine]) -> String {
-    let mut out = String::from("# nurbsx tessellation\n");
+/// (indices are 1-based and global), written as it is formatted.
+pub fn write_obj(
+    out: &mut dyn std::io::Write,
+    faces: &[FaceMesh],
+    curves: &[CurveLine],
+) -> std::io::Result<()> {
+    let out = &mut std::io::BufWriter::new(out);
+    out.write_all(b"# nurbsx tessellation\n")?;
     let mut base = 1usize;
     for f in faces {
-        let _ = writeln!(out, "o {}", f.entity);
+        writeln!(out, "o {}", f.entity)?;
         for p in &f.positions {
-            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+            writeln!(out, "v {} {} {}", p[0], p[1], p[2])?;
         }
         for t in &f.triangles {
             let [a, b, c] = t.map(|v| base + v as usize);
-            let _ = writeln!(out, "f {a} {b} {c}");
+            writeln!(out, "f {a} {b} {c}")?;
         }
         base += f.positions.len();
     }
     for c in curves {
-        let _ = writeln!(out, "o {}", c.entity);
+        writeln!(out, "o {}", c.entity)?;
         for p in &c.points {
-            let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+            writeln!(out, "v {} {} {}", p[0], p[1], p[2])?;
         }
-        out.push('l');
+        out.write_all(b"l")?;
         for k in 0..c.points.len() {
-            let _ = write!(out, " {}", base + k);
+            write!(out, " {}", base + k)?;
         }
-        out.push('\n');
+        out.write_all(b"\n")?;
         base += c.points.len();
     }
-    out
+    out.flush()
+}
+
+/// The size of [`write_stl`]'s file: 84 bytes and 50 per triangle.
+pub fn stl_bytes(faces: &[FaceMesh]) -> usize {
+    let count: usize = faces.iter().map(|f| f.triangles.len()).sum();
+    count.saturating_mul(50).saturating_add(84)
 }
 
 /// Binary STL: an 80-byte header, the triangle count, then per triangle its unit normal,
 /// three vertices (little-endian `f32`) and a zero attribute word.
-pub fn stl(faces: &[FaceMesh]) -> Vec<u8> {
+pub fn write_stl(out: &mut dyn std::io::Write, faces: &[FaceMesh]) -> std::io::Result<()> {
+    let out = &mut std::io::BufWriter::new(out);
     let count: usize = faces.iter().map(|f| f.triangles.len()).sum();
-    let mut out = Vec::with_capacity(84 + 50 * count);
     let mut header = [b' '; 80];
     let title = b"nurbsx tessellation (binary STL)";
     header[..title.len()].copy_from_slice(title);
-    out.extend_from_slice(&header);
-    out.extend_from_slice(&u32::try_from(count).unwrap_or(u32::MAX).to_le_bytes());
+    out.write_all(&header)?;
+    out.write_all(&u32::try_from(count).unwrap_or(u32::MAX).to_le_bytes())?;
     for f in faces {
         for t in &f.triangles {
             let [a, b, c] = t.map(|v| f.positions[v as usize]);
             for p in [triangle_normal(a, b, c), a, b, c] {
                 for x in p {
-                    out.extend_from_slice(&(x as f32).to_le_bytes());
+                    out.write_all(&(x as f32).to_le_bytes())?;
                 }
             }
-            out.extend_from_slice(&0u16.to_le_bytes());
+            out.write_all(&0u16.to_le_bytes())?;
         }
     }
-    out
+    out.flush()
 }
 
 /// Binary glTF 2.0 (`.glb`): one node and mesh per entity; surfaces as indexed triangles,

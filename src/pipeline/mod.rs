@@ -24,8 +24,9 @@ pub use export::{write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFile, MeshFormat,
-    OpNote, Operation, affine, apply, check_evaluation, check_file_reply, convert, drop_unwritable,
-    evaluate, info, select, tessellate, validate, write,
+    OpNote, Operation, Tessellated, affine, apply, check_evaluation, check_file_reply, convert,
+    drop_unwritable, evaluate, evaluate_each, info, select, tessellate, tessellate_file, validate,
+    write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, FaceInfo, InfoReport,

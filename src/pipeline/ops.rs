@@ -1022,8 +1022,36 @@ pub fn evaluate(
     request: &EvalRequest,
     settings: &Settings,
 ) -> Result<EvalReport, PipelineError> {
+    let mut results = Vec::with_capacity(request.params.len());
+    let entity = evaluate_each(
+        doc,
+        request,
+        request.params.iter().map(Vec::as_slice),
+        settings,
+        |r| {
+            results.push(r);
+            Ok(())
+        },
+    )?;
+    Ok(EvalReport {
+        entity: entity.id.clone(),
+        results,
+    })
+}
+
+/// [`evaluate`] at `params` (in place of `request.params`, which is not read), handing
+/// each result to `each` in order instead of collecting them: the service streams them
+/// ([`EvalReport`]'s JSON written result by result), so its memory does not grow with the
+/// parameter count. Stops at the first error of `each`. The entity evaluated.
+pub fn evaluate_each<'d, 'p>(
+    doc: &'d Document,
+    request: &EvalRequest,
+    params: impl ExactSizeIterator<Item = &'p [f64]>,
+    settings: &Settings,
+    mut each: impl FnMut(EvalResult) -> Result<(), PipelineError>,
+) -> Result<&'d Entity, PipelineError> {
     use serde_json::{Map, Value, json};
-    let entity = check_evaluation(doc, request, request.params.len(), settings)?;
+    let entity = check_evaluation(doc, request, params.len(), settings)?;
     let dim = entity.geometry.dimension();
     let coords = |p: Point3| -> Value { json!(p[..dim]) };
     let failure = |e: crate::nurbs::GeometryError| json!({ "error": e.to_string() });
@@ -1035,12 +1063,11 @@ pub fn evaluate(
             Location::at_entity(entity.id.clone()),
         )
     };
-    let mut results = Vec::with_capacity(request.params.len());
-    for (k, at) in request.params.iter().enumerate() {
+    for (k, at) in params.enumerate() {
         if k % EVAL_POLL == 0 {
             settings.cancel.check()?;
         }
-        let result = match (&entity.geometry, at.as_slice()) {
+        let result = match (&entity.geometry, at) {
             (Geometry::Curve(c), &[u]) => {
                 let u = snap_to_domain(u, c.domain());
                 let ders = c.derivatives(u, request.derivatives).map_err(at_error)?;
@@ -1068,7 +1095,7 @@ pub fn evaluate(
                     }
                 });
                 EvalResult {
-                    at: at.clone(),
+                    at: at.to_vec(),
                     point: ders[0][..dim].to_vec(),
                     derivatives,
                     normal,
@@ -1115,7 +1142,7 @@ pub fn evaluate(
                     }),
                 });
                 EvalResult {
-                    at: at.clone(),
+                    at: at.to_vec(),
                     point: skl[0][0][..dim].to_vec(),
                     derivatives,
                     normal,
@@ -1136,12 +1163,9 @@ pub fn evaluate(
                 ));
             }
         };
-        results.push(result);
+        each(result)?;
     }
-    Ok(EvalReport {
-        entity: entity.id.clone(),
-        results,
-    })
+    Ok(entity)
 }
 
 /// The checks [`evaluate`] makes before any work, for `count` parameters (the caller may
@@ -1507,17 +1531,18 @@ fn apply_one(
         }
         (Geometry::Curve(c), &Operation::Elevate { by, .. }) => {
             check_degree(c.degree() + by)?;
-            curve(c.elevate(by)?)
+            curve(c.elevate_polling(by, &|| settings.cancel.is_set())?)
         }
         (Geometry::Surface(s), &Operation::Elevate { by, .. }) => {
+            let stop = || settings.cancel.is_set();
             let mut s = s.clone();
             if u {
                 check_degree(s.degree_u() + by)?;
-                s = s.elevate_u(by)?;
+                s = s.elevate_u_polling(by, &stop)?;
             }
             if v {
                 check_degree(s.degree_v() + by)?;
-                s = s.elevate_v(by)?;
+                s = s.elevate_v_polling(by, &stop)?;
             }
             surface(s)
         }
@@ -1794,10 +1819,10 @@ const CURVE_POINT_BYTES: f64 = 3.0 * NUMBER_BYTES + 16.0;
 const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
 
 /// Tessellates one entity (or all with `entity = None`) under a chord tolerance (curves by
-/// the osculating-circle rule, surfaces to crack-free grids welded at seams and poles) and
-/// writes the result: OBJ, binary STL, binary glTF 2.0 or an SVG or PNG picture
-/// ([`super::mesh`], [`super::picture`]). What the format cannot hold is left out as
-/// [`super::mesh::plan`] says (call it first to report the warnings).
+/// the osculating-circle rule, surfaces to crack-free grids welded at seams and poles), to
+/// be written ([`Tessellated::write`]) as OBJ, binary STL, binary glTF 2.0 or an SVG or
+/// PNG picture ([`super::mesh`], [`super::picture`]). What the format cannot hold is left
+/// out as [`super::mesh::plan`] says (call it first to report the warnings).
 ///
 /// Before any mesh is built, the vertex count is estimated for every entity
 /// ([`crate::nurbs::NurbsCurve::tessellation_estimate`]) and the request refused when the
@@ -1807,15 +1832,15 @@ const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
 ///
 /// A document with faces is drawn as a part (see [`super::mesh`]): faces trimmed, edges as
 /// lines, the free entities as before; faces that cannot be meshed are left out with a
-/// warning in [`MeshFile::diagnostics`].
+/// warning in the mesh's diagnostics.
 pub fn tessellate(
     doc: &Document,
     entity: Option<&str>,
     tolerance: f64,
     format: MeshFormat,
     settings: &Settings,
-) -> Result<MeshFile, PipelineError> {
-    use super::{mesh, picture};
+) -> Result<Tessellated, PipelineError> {
+    use super::mesh;
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::usage(
             "tessellate.tolerance",
@@ -1873,27 +1898,95 @@ pub fn tessellate(
         "use a larger tolerance or fewer entities",
         settings,
     )?;
-    let mesh::Tessellation {
-        faces,
-        curves,
-        diagnostics,
-    } = mesh::tessellate_all(&plan, tolerance, settings)?;
-    let out = match format {
-        MeshFormat::Obj => mesh::obj(&faces, &curves).into_bytes(),
-        MeshFormat::Stl => mesh::stl(&faces),
-        MeshFormat::Glb => mesh::glb(&faces, &curves),
-        MeshFormat::Svg => picture::svg(&faces, &curves, doc.units.short_name()).into_bytes(),
-        MeshFormat::Png => picture::png(&picture::svg(&faces, &curves, doc.units.short_name()))?,
-    };
-    check_reply(
-        out.len() as f64,
-        "mesh output",
-        "use a larger tolerance or fewer entities",
-        settings,
-    )?;
+    Ok(Tessellated {
+        mesh: mesh::tessellate_all(&plan, tolerance, settings)?,
+        format,
+        units: doc.units.short_name(),
+    })
+}
+
+/// A tessellation ready to be written: [`tessellate`]'s mesh, the format and the unit
+/// (for pictures).
+#[derive(Debug)]
+pub struct Tessellated {
+    /// The meshes and what the meshing noticed.
+    pub mesh: super::mesh::Tessellation,
+    format: MeshFormat,
+    units: &'static str,
+}
+
+impl Tessellated {
+    /// Writes the file into `out`, after checking its exact size against
+    /// [`Settings::max_reply_bytes`]. OBJ and STL are written as they are formatted (so a
+    /// streamed reply never holds the whole text; OBJ's size is counted by a formatting
+    /// pass that keeps nothing); glTF and the pictures are built whole first. A failed
+    /// write means the reader went away: the error is [`super::cancelled`].
+    pub fn write(
+        &self,
+        out: &mut dyn std::io::Write,
+        settings: &Settings,
+    ) -> Result<(), PipelineError> {
+        use super::{mesh, picture};
+        let (faces, curves) = (&self.mesh.faces, &self.mesh.curves);
+        let whole = match self.format {
+            MeshFormat::Obj | MeshFormat::Stl => None,
+            MeshFormat::Glb => Some(mesh::glb(faces, curves)),
+            MeshFormat::Svg => Some(picture::svg(faces, curves, self.units).into_bytes()),
+            MeshFormat::Png => Some(picture::png(&picture::svg(faces, curves, self.units))?),
+        };
+        let size = match (&whole, self.format) {
+            (Some(bytes), _) => bytes.len(),
+            (None, MeshFormat::Stl) => mesh::stl_bytes(faces),
+            (None, _) => {
+                let mut counted = ByteCount(0);
+                mesh::write_obj(&mut counted, faces, curves).map_err(|_| super::cancelled())?;
+                counted.0
+            }
+        };
+        check_reply(
+            size as f64,
+            "mesh output",
+            "use a larger tolerance or fewer entities",
+            settings,
+        )?;
+        match (whole, self.format) {
+            (Some(bytes), _) => out.write_all(&bytes),
+            (None, MeshFormat::Stl) => mesh::write_stl(out, faces),
+            (None, _) => mesh::write_obj(out, faces, curves),
+        }
+        .map_err(|_| super::cancelled())
+    }
+}
+
+/// An `io::Write` that keeps only the number of bytes written.
+struct ByteCount(usize);
+
+impl std::io::Write for ByteCount {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0 += bytes.len();
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// [`tessellate`] and [`Tessellated::write`] into memory: the file and the meshing's
+/// warnings.
+pub fn tessellate_file(
+    doc: &Document,
+    entity: Option<&str>,
+    tolerance: f64,
+    format: MeshFormat,
+    settings: &Settings,
+) -> Result<MeshFile, PipelineError> {
+    let tessellated = tessellate(doc, entity, tolerance, format, settings)?;
+    let mut bytes = Vec::new();
+    tessellated.write(&mut bytes, settings)?;
     Ok(MeshFile {
-        bytes: out,
-        diagnostics,
+        bytes,
+        diagnostics: tessellated.mesh.diagnostics,
     })
 }
 

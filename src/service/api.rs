@@ -146,8 +146,8 @@ pub struct EvaluateRequest {
 }
 
 /// Evaluation parameters as they arrive: `[[u], ...]` or `[[u, v], ...]`, kept flat (8
-/// bytes per number instead of a vector per point, 56 bytes and more), so that a request
-/// is measured against the point and reply limits before it costs a vector per point.
+/// bytes per number instead of a vector per point, 56 bytes and more) from parsing to the
+/// evaluation, which reads them in place ([`crate::pipeline::evaluate_each`]).
 /// All tuples have the same length (else the request is malformed).
 #[derive(Debug, Default)]
 pub struct ParamList {
@@ -168,15 +168,10 @@ impl ParamList {
         self.values.is_empty()
     }
 
-    /// One vector per tuple, as the pipeline takes them.
-    pub fn into_vecs(self) -> Vec<Vec<f64>> {
-        if self.arity == 0 {
-            return Vec::new();
-        }
-        self.values
-            .chunks_exact(self.arity)
-            .map(<[f64]>::to_vec)
-            .collect()
+    /// The tuples in order, each a slice of the flat list.
+    pub fn tuples(&self) -> std::slice::ChunksExact<'_, f64> {
+        // With no tuples (arity 0) the list is empty, and so are its chunks of 1.
+        self.values.chunks_exact(self.arity.max(1))
     }
 }
 

@@ -96,6 +96,15 @@ impl ApiError {
     }
 }
 
+/// The text of a panic's payload (a bug, for the log only).
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "non-string panic payload".to_owned())
+}
+
 /// The HTTP status for a pipeline failure class (see [`ErrorKind`]).
 pub fn status_of(kind: ErrorKind) -> StatusCode {
     match kind {

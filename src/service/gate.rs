@@ -17,7 +17,11 @@
 //! - the permit moves into the blocking task with the request's stop signal
 //!   ([`crate::pipeline::Cancel`]): when the request's future is dropped (time limit,
 //!   connection closed) or [`Gate::stop_all`] is called, the computation stops at its next
-//!   poll and frees its slot; the count of busy slots never lies.
+//!   poll and frees its slot; the count of busy slots never lies;
+//! - a streamed reply ([`Gate::stream`]) keeps its slot until its last chunk is taken by
+//!   the client; its stop signal fires when the client is gone, when the request's time
+//!   limit passes (also while streaming) or when the client leaves a chunk untaken for the
+//!   write timeout.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -26,6 +30,7 @@ use std::time::Duration;
 use tokio::sync::Semaphore;
 
 use super::error::ApiError;
+use super::reply::{self, ReplyWriter};
 use crate::pipeline::Cancel;
 
 /// How many requests may wait per computing slot: enough for 32 keep-alive clients on 2
@@ -196,6 +201,35 @@ impl Gate {
             .saturating_sub(self.permits.available_permits().min(self.slots))
     }
 
+    /// A computing slot, waiting at most [`QUEUE_WAIT`].
+    async fn slot(&self) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+        match tokio::time::timeout(QUEUE_WAIT, self.permits.clone().acquire_owned()).await {
+            Ok(Ok(permit)) => Ok(permit),
+            Ok(Err(_closed)) => Err(ApiError::overloaded("the server is shutting down")),
+            Err(_elapsed) => Err(self.overloaded(format!(
+                "all {} computing slots stayed busy for {} ms; retry shortly",
+                self.slots,
+                QUEUE_WAIT.as_millis()
+            ))),
+        }
+    }
+
+    /// Runs `work`, adding its duration to the measured pace.
+    fn timed<T>(mean: &AtomicU64, work: impl FnOnce() -> T) -> T {
+        let start = std::time::Instant::now();
+        let result = work();
+        let took = u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX);
+        // A lost update between two requests ending together only delays the average.
+        let old = mean.load(Ordering::Relaxed);
+        let new = if old == 0 {
+            took
+        } else {
+            old - old / 8 + took / 8
+        };
+        mean.store(new.max(1), Ordering::Relaxed);
+        result
+    }
+
     /// Runs CPU-bound `work` on the blocking pool once a slot is free (waiting at most
     /// [`QUEUE_WAIT`]), giving it the request's stop signal to poll. A panic in `work`
     /// becomes a logged 500 with a generic message.
@@ -204,19 +238,7 @@ impl Gate {
         F: FnOnce(Cancel) -> Result<T, ApiError> + Send + 'static,
         T: Send + 'static,
     {
-        let permit = match tokio::time::timeout(QUEUE_WAIT, self.permits.clone().acquire_owned())
-            .await
-        {
-            Ok(Ok(permit)) => permit,
-            Ok(Err(_closed)) => return Err(ApiError::overloaded("the server is shutting down")),
-            Err(_elapsed) => {
-                return Err(self.overloaded(format!(
-                    "all {} computing slots stayed busy for {} ms; retry shortly",
-                    self.slots,
-                    QUEUE_WAIT.as_millis()
-                )));
-            }
-        };
+        let permit = self.slot().await?;
         let span = tracing::Span::current();
         let stop = Arc::new(AtomicBool::new(false));
         let _stop_on_drop = StopOnDrop(stop.clone());
@@ -227,29 +249,12 @@ impl Gate {
         let handle = tokio::task::spawn_blocking(move || {
             let _permit = permit;
             let _entered = span.enter();
-            let start = std::time::Instant::now();
-            let result = work(cancel);
-            let took = u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX);
-            // A lost update between two requests ending together only delays the average.
-            let old = mean.load(Ordering::Relaxed);
-            let new = if old == 0 {
-                took
-            } else {
-                old - old / 8 + took / 8
-            };
-            mean.store(new.max(1), Ordering::Relaxed);
-            result
+            Self::timed(&mean, || work(cancel))
         });
         match handle.await {
             Ok(result) => result,
             Err(e) if e.is_panic() => {
-                let payload = e.into_panic();
-                let what = payload
-                    .downcast_ref::<&str>()
-                    .map(|s| (*s).to_owned())
-                    .or_else(|| payload.downcast_ref::<String>().cloned())
-                    .unwrap_or_else(|| "non-string panic payload".to_owned());
-                tracing::error!(panic = %what, "request computation panicked");
+                panicked(e.into_panic().as_ref());
                 Err(ApiError::internal())
             }
             Err(e) => {
@@ -258,4 +263,62 @@ impl Gate {
             }
         }
     }
+
+    /// Runs `work` as [`Gate::run`] does, but `work` writes its reply into a
+    /// [`ReplyWriter`] that streams it ([`super::reply`]); returns the reply's head (set
+    /// with [`ReplyWriter::head`]) and body once the first chunk is ready, or the error
+    /// `work` met before that. The slot stays taken until the reply is written; the stop
+    /// signal fires when the client is gone (the time limit dropping the request counts),
+    /// at `deadline` once the reply streams, or at [`Gate::stop_all`].
+    pub async fn stream<H, F>(
+        &self,
+        deadline: std::time::Instant,
+        write_timeout: Duration,
+        work: F,
+    ) -> Result<(H, axum::body::Body), ApiError>
+    where
+        F: FnOnce(Cancel, &mut ReplyWriter<H>) -> Result<(), ApiError> + Send + 'static,
+        H: Send + 'static,
+    {
+        let permit = self.slot().await?;
+        let span = tracing::Span::current();
+        let (tx, rx) = reply::queue();
+        let gone = tx.clone();
+        let all = self.stop_all.clone();
+        // Until the reply streams, the time limit answers (503 `timeout`) and drops the
+        // queue; from then on the deadline stops the work here.
+        let streaming = Arc::new(AtomicBool::new(false));
+        let started = streaming.clone();
+        let cancel = Cancel::new(move || {
+            gone.is_closed()
+                || all.load(Ordering::Acquire)
+                || (started.load(Ordering::Acquire) && std::time::Instant::now() >= deadline)
+        });
+        let mut writer = ReplyWriter::new(
+            tx,
+            tokio::runtime::Handle::current(),
+            write_timeout,
+            deadline,
+            streaming,
+        );
+        let mean = self.mean_work_us.clone();
+        tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            let _entered = span.enter();
+            let result = Self::timed(&mean, || {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(cancel, &mut writer)))
+            });
+            writer.end(result.unwrap_or_else(|payload| {
+                panicked(payload.as_ref());
+                Err(ApiError::internal())
+            }));
+        });
+        reply::receive(rx).await
+    }
+}
+
+/// Logs a panic of request work (a bug); the client gets a generic 500.
+fn panicked(payload: &(dyn std::any::Any + Send)) {
+    let what = super::error::panic_text(payload);
+    tracing::error!(panic = %what, "request computation panicked");
 }

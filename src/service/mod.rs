@@ -18,18 +18,23 @@
 //! - Bodies: see [`upload`]; work: see [`gate`]. Time limit: [`ServeConfig::request_timeout`]
 //!   covers the whole request (body upload included); past it the reply is 503 `timeout`
 //!   and the computation stops at its next poll.
-//! - Connections ([`serve_on`]): HTTP/1.1; a connection must deliver a complete request
-//!   head within [`ServeConfig::header_timeout`] of opening and of the end of its previous
-//!   reply (so it is also the keep-alive idle timeout); on shutdown, see [`serve_on`].
+//! - Connections ([`serve_on`]): HTTP/1.1 and HTTP/2 over cleartext with prior knowledge
+//!   (h2c, RFC 9113 section 3.3), told apart by the connection preface; timeouts in
+//!   [`connection`]: a request head within [`ServeConfig::header_timeout`], silence between
+//!   requests up to [`ServeConfig::idle_timeout`]; on shutdown, see [`serve_on`].
+//! - Large replies (`/v1/evaluate` results, `/v1/tessellate` OBJ and STL) are streamed in
+//!   chunks ([`reply`]): memory is bounded by the chunk queue, not by the reply's size.
 
 pub mod api;
 pub mod assets;
+pub mod connection;
 pub mod error;
 pub mod extract;
 pub mod gate;
 pub mod metrics;
 pub mod openapi;
 pub mod pages;
+pub mod reply;
 pub mod routes;
 pub mod upload;
 
@@ -80,9 +85,15 @@ pub struct ServeConfig {
     /// Slowest average upload accepted after [`upload::UPLOAD_GRACE`], bytes per second
     /// (default 16 KiB/s).
     pub min_upload_rate: u64,
-    /// Time a connection has to deliver a request head, from opening or from the end of
-    /// its previous reply (default 10 s): the header-read and keep-alive idle timeout.
+    /// Time a connection has to deliver a complete request head, from opening or from the
+    /// first byte of a later request (default 10 s).
     pub header_timeout: Duration,
+    /// How long a connection may stay silent between requests before it is closed
+    /// (default 60 s; HTTP/1.1 keep-alive and HTTP/2 alike).
+    pub idle_timeout: Duration,
+    /// How long a streamed reply waits for the client to take its next chunk (default
+    /// 30 s); past it the work stops and the reply is cut off.
+    pub write_timeout: Duration,
     /// How long the server keeps serving after SIGTERM with `/readyz` at 503 (default 5 s).
     pub drain: Duration,
     /// Pipeline limits and policies.
@@ -101,6 +112,8 @@ impl Default for ServeConfig {
             max_upload_bytes: 256 << 20,
             min_upload_rate: 16 << 10,
             header_timeout: Duration::from_secs(10),
+            idle_timeout: Duration::from_secs(60),
+            write_timeout: Duration::from_secs(30),
             drain: Duration::from_secs(5),
             settings: Settings::default(),
         }
@@ -126,6 +139,8 @@ pub struct AppState {
     pub request_timeout: Duration,
     /// The largest request body.
     pub max_body_bytes: usize,
+    /// How long a streamed reply waits for the client ([`ServeConfig::write_timeout`]).
+    pub write_timeout: Duration,
 }
 
 impl AppState {
@@ -190,6 +205,7 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
         max_concurrency: config.max_concurrency,
         request_timeout: config.request_timeout,
         max_body_bytes: config.max_body_bytes,
+        write_timeout: config.write_timeout,
     });
     let work = Router::new()
         .route("/v1/convert", post(routes::convert))
@@ -335,8 +351,20 @@ async fn receive_then_admit(
     }
 }
 
-/// The whole-request time limit.
-async fn time_limit(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
+/// When a request's time limit ends (a request extension): a streamed reply's work stops
+/// then too ([`gate::Gate::stream`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Deadline(pub Instant);
+
+/// The whole-request time limit: until the reply's head here, and for a streamed reply's
+/// work through [`Deadline`].
+async fn time_limit(State(state): State<Arc<AppState>>, mut req: Request, next: Next) -> Response {
+    let now = Instant::now();
+    // (A limit too large for the clock means none: about 34 years.)
+    let deadline = now
+        .checked_add(state.request_timeout)
+        .unwrap_or(now + Duration::from_secs(1 << 30));
+    req.extensions_mut().insert(Deadline(deadline));
     match tokio::time::timeout(state.request_timeout, next.run(req)).await {
         Ok(response) => response,
         Err(_elapsed) => close_after(
@@ -409,11 +437,7 @@ async fn record(State(state): State<Arc<AppState>>, req: Request, next: Next) ->
 /// A panic on the async side (a bug: handlers only extract and render) becomes the same
 /// generic JSON 500 as a panic in pipeline work; the payload goes to the log only.
 fn panic_reply(payload: Box<dyn std::any::Any + Send + 'static>) -> Response {
-    let what = payload
-        .downcast_ref::<&str>()
-        .map(|s| (*s).to_owned())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "non-string panic payload".to_owned());
+    let what = error::panic_text(payload.as_ref());
     tracing::error!(panic = %what, "request handler panicked");
     ApiError::internal().into_response()
 }
@@ -479,8 +503,7 @@ pub async fn serve_on(
     config: ServeConfig,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    use hyper_util::rt::{TokioIo, TokioTimer};
-    use hyper_util::service::TowerToHyperService;
+    use hyper_util::rt::{TokioExecutor, TokioIo, TokioTimer};
     use tower::ServiceExt as _;
 
     let (router, state) = build(&config);
@@ -488,6 +511,7 @@ pub async fn serve_on(
     tracing::info!(
         addr = %local,
         version = env!("CARGO_PKG_VERSION"),
+        protocols = "http/1.1, h2c (prior knowledge)",
         compute_slots = config.max_concurrency,
         queue = config.max_concurrency.saturating_mul(gate::QUEUE_FACTOR),
         max_body_bytes = config.max_body_bytes,
@@ -497,15 +521,24 @@ pub async fn serve_on(
         min_upload_rate = config.min_upload_rate,
         request_timeout_ms = config.request_timeout.as_millis() as u64,
         header_timeout_ms = config.header_timeout.as_millis() as u64,
+        idle_timeout_ms = config.idle_timeout.as_millis() as u64,
+        write_timeout_ms = config.write_timeout.as_millis() as u64,
         drain_ms = config.drain.as_millis() as u64,
         "nurbsx service listening"
     );
-    let service = TowerToHyperService::new(
-        router.map_request(|req: Request<hyper::body::Incoming>| req.map(Body::new)),
-    );
-    let mut http = hyper::server::conn::http1::Builder::new();
-    http.timer(TokioTimer::new())
-        .header_read_timeout(config.header_timeout);
+    // HTTP/1.1, or HTTP/2 when the connection opens with its preface. The header and idle
+    // timeouts are the connection task's ([`connection::Activity`]), the same for both.
+    let mut http = hyper_util::server::conn::auto::Builder::new(TokioExecutor::new());
+    http.http1()
+        .timer(TokioTimer::new())
+        .header_read_timeout(None)
+        .keep_alive(true);
+    http.http2().timer(TokioTimer::new());
+    let http = Arc::new(http);
+    let (header_timeout, idle_timeout) = (config.header_timeout, config.idle_timeout);
+    // How often a connection task looks at its silence deadline.
+    let tick = (header_timeout.min(idle_timeout) / 4)
+        .clamp(Duration::from_millis(20), Duration::from_secs(1));
     // Set at the end of the drain: every connection finishes its exchange and closes.
     let (closing_tx, closing_rx) = tokio::sync::watch::channel(false);
     let mut connections = tokio::task::JoinSet::new();
@@ -543,14 +576,46 @@ pub async fn serve_on(
             () = drained => break,
             accepted = accept => match accepted {
                 Ok((stream, _peer)) => {
-                    let conn = http.serve_connection(TokioIo::new(stream), service.clone());
+                    let activity = connection::Activity::new();
+                    let service = {
+                        let activity = activity.clone();
+                        let router = router.clone();
+                        hyper::service::service_fn(move |req: Request<hyper::body::Incoming>| {
+                            let http2 = req.version() == axum::http::Version::HTTP_2;
+                            let in_flight = activity.begin(http2);
+                            let call = router.clone().oneshot(req.map(Body::new));
+                            async move {
+                                let (mut parts, body) = match call.await {
+                                    Ok(response) => response.into_parts(),
+                                    Err(never) => match never {},
+                                };
+                                if http2 {
+                                    // Connection-specific fields are not HTTP/2's (RFC 9113
+                                    // section 8.2.2); GOAWAY ends the connection instead.
+                                    parts.headers.remove(header::CONNECTION);
+                                }
+                                Ok::<_, std::convert::Infallible>(Response::from_parts(
+                                    parts,
+                                    connection::GuardedBody::new(body, in_flight),
+                                ))
+                            }
+                        })
+                    };
                     let mut closing = closing_rx.clone();
                     let open = OpenConnection::count(state.clone());
+                    let http = http.clone();
                     connections.spawn(async move {
                         let _open = open;
+                        let io = TokioIo::new(connection::Tracked::new(stream, activity.clone()));
+                        let conn = http.serve_connection(io, service);
                         let mut conn = std::pin::pin!(conn);
                         let mut told = false;
+                        // Set when the connection is closed for silence: it is dropped if
+                        // it has not ended by then.
+                        let mut give_up: Option<tokio::time::Instant> = None;
                         loop {
+                            let now = tokio::time::Instant::now();
+                            let wake = give_up.unwrap_or(now + tick).min(now + tick);
                             tokio::select! {
                                 result = conn.as_mut() => {
                                     if let Err(e) = result {
@@ -560,9 +625,23 @@ pub async fn serve_on(
                                 }
                                 changed = closing.changed(), if !told => {
                                     told = changed.is_err() || *closing.borrow();
-                                    if told {
+                                    if told && give_up.is_none() {
                                         // Idle: closed now; mid-exchange: after its reply.
                                         conn.as_mut().graceful_shutdown();
+                                    }
+                                }
+                                () = tokio::time::sleep_until(wake) => {
+                                    let now = tokio::time::Instant::now();
+                                    if give_up.is_some_and(|t| now >= t) {
+                                        tracing::debug!("dropping a silent connection");
+                                        break;
+                                    }
+                                    let silent = activity
+                                        .deadline(header_timeout, idle_timeout)
+                                        .is_some_and(|d| now >= d);
+                                    if silent && give_up.is_none() && !told {
+                                        conn.as_mut().graceful_shutdown();
+                                        give_up = Some(now + CLOSE_GRACE);
                                     }
                                 }
                             }

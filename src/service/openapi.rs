@@ -565,7 +565,8 @@ pub struct Health {
 pub struct Limits {
     /// Largest request body in bytes (over it: 413 `limit.body_bytes`).
     pub max_body_bytes: usize,
-    /// Largest reply an operation may build, in bytes (over it: 413 `limit.reply_bytes`).
+    /// Largest reply an operation may produce, in bytes, estimated before the work (over
+    /// it: 413 `limit.reply_bytes`); streamed replies are bounded by it too.
     pub max_reply_bytes: usize,
     /// Per-request time limit in milliseconds (over it: 503 `timeout`).
     pub request_timeout_ms: u64,

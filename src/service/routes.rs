@@ -3,13 +3,14 @@
 
 use std::sync::Arc;
 
-use axum::Json;
+use std::io::Write as _;
+
 use axum::extract::State;
 use axum::http::{HeaderMap, HeaderValue, header};
 use axum::response::{IntoResponse, Response};
+use axum::{Extension, Json};
 use serde::Serialize;
 
-use super::AppState;
 use super::api::{
     ConvertQuery, DecomposeRequest, DerivativeCurveRequest, ElevateRequest, EvaluateRequest, Input,
     InsertKnotRequest, IsoRequest, JoinRequest, KnotEndsRequest, OperationRequest, PeriodicRequest,
@@ -21,6 +22,7 @@ use super::extract::{ApiJson, ApiQuery, FileBody};
 use super::openapi::{
     ConvertJsonReply, EvalReportDoc, FileErrors, GeometryReply, InfoReportDoc, ValidationReportDoc,
 };
+use super::{AppState, Deadline};
 use crate::exchange::{ExportOptions, Format};
 use crate::pipeline::{self, ConvertReport, ConvertRequest, EvalRequest, Loaded, Operation};
 
@@ -201,14 +203,21 @@ pub async fn info(
     path = "/v1/evaluate",
     tag = "geometry",
     request_body = EvaluateRequest,
-    responses((status = 200, description = "One result per parameter", body = EvalReportDoc), FileErrors)
+    responses(
+        (status = 200, description = "One result per parameter. A reply over 64 KiB is \
+                                      streamed (chunked) once its first 64 KiB are ready; an \
+                                      error after that cuts the transfer off (no last chunk)",
+            body = EvalReportDoc),
+        FileErrors
+    )
 )]
 pub async fn evaluate(
     State(state): State<Arc<AppState>>,
+    Extension(Deadline(deadline)): Extension<Deadline>,
     ApiJson(req): ApiJson<EvaluateRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, req.format)?;
-    let mut request = EvalRequest {
+    let request = EvalRequest {
         entity: req.entity,
         params: Vec::new(),
         derivatives: req.derivatives,
@@ -217,18 +226,36 @@ pub async fn evaluate(
     };
     let params = req.params;
     let mut settings = state.settings.clone();
-    let report = state
+    let ((), body) = state
         .gate
-        .run(move |cancel| {
+        .stream(deadline, state.write_timeout, move |cancel, out| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
-            // Limits first, while the parameters are still flat.
-            pipeline::check_evaluation(&loaded.document, &request, params.len(), &settings)?;
-            request.params = params.into_vecs();
-            Ok(pipeline::evaluate(&loaded.document, &request, &settings)?)
+            let document = &loaded.document;
+            let entity = pipeline::check_evaluation(document, &request, params.len(), &settings)?;
+            out.head(());
+            // The JSON of `EvalReport` ({"entity": ..., "results": [...]}, as serde writes
+            // it), result by result.
+            let written = |e: std::io::Error| {
+                tracing::debug!(error = %e, "an evaluation reply was not taken");
+                pipeline::cancelled()
+            };
+            out.write_all(b"{\"entity\":").map_err(written)?;
+            serde_json::to_writer(&mut *out, &entity.id).map_err(|e| written(e.into()))?;
+            out.write_all(b",\"results\":[").map_err(written)?;
+            let mut first = true;
+            pipeline::evaluate_each(document, &request, params.tuples(), &settings, |r| {
+                if !first {
+                    out.write_all(b",").map_err(written)?;
+                }
+                first = false;
+                serde_json::to_writer(&mut *out, &r).map_err(|e| written(e.into()))
+            })?;
+            out.write_all(b"]}").map_err(written)?;
+            Ok(())
         })
         .await?;
-    Ok(Json(report).into_response())
+    Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
 }
 
 /// Loads, applies `op`, and renders in the input's form: model JSON in gives
@@ -490,7 +517,9 @@ pub async fn unclamp(
         (status = 200, description = "OBJ text, SVG, binary glTF 2.0 (one node per face or \
                                       curve, named by its id in the file) or binary STL; \
                                       header X-Nurbsx-Left-Out: a JSON array of diagnostics \
-                                      saying what the output leaves out (`[]`: nothing)",
+                                      saying what the output leaves out (`[]`: nothing). A \
+                                      reply over 64 KiB is streamed (chunked); an error after \
+                                      its start cuts the transfer off",
             content(
                 (String = "text/plain"),
                 (String = "image/svg+xml"),
@@ -502,14 +531,15 @@ pub async fn unclamp(
 )]
 pub async fn tessellate(
     State(state): State<Arc<AppState>>,
+    Extension(Deadline(deadline)): Extension<Deadline>,
     ApiJson(req): ApiJson<TessellateRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, None)?;
     let format = req.format;
     let mut settings = state.settings.clone();
-    let (mut left_out, file) = state
+    let (left_out, body) = state
         .gate
-        .run(move |cancel| {
+        .stream(deadline, state.write_timeout, move |cancel, out| {
             settings.cancel = cancel;
             let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
             let plan =
@@ -521,7 +551,13 @@ pub async fn tessellate(
                 format.into(),
                 &settings,
             )?;
-            Ok((plan.left_out, mesh))
+            // What the mesh leaves out: the plan's (entities not drawn) and the meshing's
+            // (faces that could not be meshed), for the reply's headers.
+            let mut left_out = plan.left_out;
+            left_out.extend(mesh.mesh.diagnostics.iter().cloned());
+            out.head(left_out);
+            mesh.write(out, &settings)?;
+            Ok(())
         })
         .await?;
     let media = match format {
@@ -530,12 +566,9 @@ pub async fn tessellate(
         super::api::MeshFormatName::Glb => "model/gltf-binary",
         super::api::MeshFormatName::Stl => "model/stl",
     };
-    // What the mesh leaves out: the plan's (entities not drawn) and the meshing's (faces
-    // that could not be meshed), counted in X-Nurbsx-Diagnostics and given as JSON in
-    // X-Nurbsx-Left-Out (non-ASCII escaped: header values are visible ASCII, RFC 9110
-    // section 5.5).
-    left_out.extend(file.diagnostics);
-    let mut response = ([(header::CONTENT_TYPE, media)], file.bytes).into_response();
+    // Counted in X-Nurbsx-Diagnostics and given as JSON in X-Nurbsx-Left-Out (non-ASCII
+    // escaped: header values are visible ASCII, RFC 9110 section 5.5).
+    let mut response = ([(header::CONTENT_TYPE, media)], body).into_response();
     response
         .headers_mut()
         .insert("x-nurbsx-diagnostics", HeaderValue::from(left_out.len()));

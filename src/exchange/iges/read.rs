@@ -110,6 +110,8 @@ impl Context<'_, '_> {
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     let file =
         iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
+    let cancel = &options.cancel;
+    cancel.stop_read()?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
     let file_unit = units(&file, &mut diags);
     let units = options.target_units.unwrap_or(file_unit);
@@ -148,15 +150,21 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     // Entities decode independently once the file is split and the maps are known:
     // decode them on the rayon threads (`collect` keeps file order), then append the
     // results and their diagnostics in that order, as a sequential loop would.
+    let stopped = std::sync::atomic::AtomicBool::new(false);
     let results: Vec<(Outcome, Vec<Diagnostic>)> = file
         .entries
         .par_iter()
-        .map(|entry| {
+        .enumerate()
+        .map(|(k, entry)| {
+            if cancel.skip(k, &stopped) {
+                return (Outcome::Nothing, Vec::new());
+            }
             let mut diags = Vec::new();
             let outcome = read_entry(&cx, entry, &users, &members, &mut diags);
             (outcome, diags)
         })
         .collect();
+    cancel.stop_read()?;
     let mut skipped: BTreeMap<i64, usize> = BTreeMap::new();
     for (outcome, entry_diags) in results {
         diags.extend(entry_diags);
@@ -178,6 +186,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         ));
     }
     super::topology::read(&cx, &mut doc, &mut diags);
+    cancel.stop_read()?;
     directory_fields(&file, options.conformance, &mut diags);
     if options.conformance {
         pointer_conformance(&file, &mut diags);

@@ -94,6 +94,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
         .map_err(|e| parse_diagnostic(&e))?;
+    let cancel = &options.cancel;
+    cancel.stop_read()?;
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     let schemas: Vec<String> = schema_names(&scanned.header)
         .iter()
@@ -111,7 +113,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
-    for raw in &scanned.instances {
+    for (k, raw) in scanned.instances.iter().enumerate() {
+        if k % crate::exchange::READ_POLL == 0 {
+            cancel.stop_read()?;
+        }
         if raw.keyword_initial().is_none() {
             complex.push(raw);
         }
@@ -133,10 +138,18 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
     // then converted (geometry.rs), which also says which B-splines it built into other
     // entities (trimmed, composite, swept): those are not converted again below.
+    let stopped = std::sync::atomic::AtomicBool::new(false);
     let decoded: Vec<(u64, Result<Option<GeometryItem<'_>>, DecodeError>)> = geometry_candidates
         .par_iter()
-        .map(|raw| (raw.id, scanned.geometry_item(raw)))
+        .enumerate()
+        .map(|(k, raw)| {
+            if cancel.skip(k, &stopped) {
+                return (raw.id, Ok(None));
+            }
+            (raw.id, scanned.geometry_item(raw))
+        })
         .collect();
+    cancel.stop_read()?;
     let mut items: Items<'_> = Items::default();
     items.reserve(decoded.len());
     for (id, r) in decoded {
@@ -189,6 +202,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         warnings: std::sync::Mutex::new(Vec::new()),
     };
     let mut converted = converter.run();
+    cancel.stop_read()?;
     let edges = std::mem::take(&mut converted.edges);
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
@@ -207,7 +221,11 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // (rayon keeps the file order in `collect`), then append results in order.
     let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
         .par_iter()
-        .map(|raw| {
+        .enumerate()
+        .map(|(k, raw)| {
+            if cancel.skip(k, &stopped) {
+                return (None, Vec::new());
+            }
             let mut diags = Vec::new();
             let ctx = Ctx {
                 s: &scanned,
@@ -231,6 +249,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
         })
         .collect();
+    cancel.stop_read()?;
     let mut placed: Vec<(usize, Entity)> = converted.entities;
     for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
         doc.diagnostics.extend(diags);
@@ -255,6 +274,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
     } else {
         let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
+        cancel.stop_read()?;
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
         let products = super::assembly::decode(
@@ -285,8 +305,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
     }
     if options.conformance {
+        cancel.stop_read()?;
         header_conformance(text, &scanned, &mut doc.diagnostics);
-        conformance(&scanned, &mut doc.diagnostics);
+        conformance(&scanned, &mut doc.diagnostics, cancel)?;
     }
     // The same finding reached by two paths (a syntax error in a B-spline instance is met by
     // the scan and by the decoder) is reported once.
@@ -334,9 +355,16 @@ fn header_conformance(text: &str, s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) 
 /// each reference naming an instance of the file, of an entity type its attribute allows
 /// where the tables declare it (`REFERENCE_TYPES`), and no instance referring to itself
 /// through any chain of references.
-fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
+fn conformance(
+    s: &Scanned<'_>,
+    diags: &mut Vec<Diagnostic>,
+    cancel: &crate::exchange::Cancel,
+) -> Result<(), Diagnostic> {
     let mut ids = Vec::with_capacity(s.instances.len());
-    for raw in &s.instances {
+    for (k, raw) in s.instances.iter().enumerate() {
+        if k % crate::exchange::READ_POLL == 0 {
+            cancel.stop_read()?;
+        }
         if s.get(raw.id).map(|r| r.offset) != Some(raw.offset) {
             continue; // a duplicated id, reported by the scan
         }
@@ -378,6 +406,7 @@ fn conformance(s: &Scanned<'_>, diags: &mut Vec<Diagnostic>) {
         }
     }
     diags.extend(s.find_cycles(ids).iter().map(parse_diagnostic));
+    Ok(())
 }
 
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
