@@ -36,12 +36,14 @@ mod check;
 mod error;
 mod measure;
 mod mesh;
+mod pcurve;
 mod sew;
 
 pub use assembly::{Assembly, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
+pub use pcurve::{EdgePcurve, PcurveMethod, edge_pcurve};
 pub use sew::Sewing;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};

@@ -8,7 +8,7 @@
 //!    points of one at seven interior parameters lie on the other) become one edge; the
 //!    coedges that used the other copy use it, with their direction and their pcurve carried
 //!    over (by the affine parameter map when the copies are parameterised alike, else
-//!    re-projected onto the face's surface, [`crate::nurbs::project`]);
+//!    computed again on the face's surface, [`super::edge_pcurve`]);
 //! 3. faces connected through shared edges form shells; orientations are propagated so that
 //!    every shared edge is used once in each direction (clause 5, closed_shell); a shell in
 //!    which every edge is shared so becomes closed and bounds a solid, turned outward when
@@ -21,7 +21,6 @@
 use std::collections::{BTreeMap, HashMap};
 
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{NurbsCurve, Point3};
 
@@ -192,10 +191,10 @@ fn carried_pcurve(
         }
         Match::Other { .. } => {
             let surface = &m.faces.get(face.0)?.surface;
-            pcurve_by_projection(surface, &et.curve, et.range, et.tolerance)
+            super::edge_pcurve(surface, &et.curve, et.range, et.tolerance)
                 .ok()
-                .filter(|(_, dev)| *dev <= et.tolerance)
-                .map(|(p, _)| p)
+                .filter(|p| p.deviation <= et.tolerance)
+                .map(|p| p.curve)
         }
     }
 }

@@ -8,7 +8,8 @@
 //!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
 //!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
 //!   elsewhere (the analytic surfaces, whose IGES parameters are not the NURBS ones) the
-//!   pcurve is computed by projection ([`pcurve_by_projection`]) within the edge tolerance.
+//!   pcurve is computed ([`edge_pcurve`]: exact on planes and along isocurves, else by
+//!   projection within the edge tolerance).
 //!   The edges' ends become vertices shared across the file within the tolerance (the larger
 //!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size).
 //! - 186 Manifold Solid B-Rep Object with 514 Shell, 510 Face, 508 Loop, 504 Edge List and
@@ -31,11 +32,12 @@ use nurbsx_parsers::iges::records::{
 
 use super::read::{Context, decoded, entity_location};
 use crate::exchange::{Diagnostic, Document, Entity, Location, Meta, Origin, Source, Topology};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
-use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+use crate::topology::{
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
+};
 
 /// Relative tolerance of shared vertices (of the model's size).
 const REL_TOL: f64 = 1e-7;
@@ -556,7 +558,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// The pcurve of edge `e` on `surface`: the file's parameter-space curve where the
     /// surface is a 128 (whose (u, v) are the NURBS surface's; reparameterised affinely to
-    /// the edge's range, in whichever direction matches the edge), else by projection.
+    /// the edge's range, in whichever direction matches the edge), else [`edge_pcurve`]
+    /// (exact on planes and along isocurves, else by projection).
     fn pcurve(
         &mut self,
         surface: (&Entity, &NurbsSurface),
@@ -587,10 +590,10 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 })
             })
             .or_else(|| {
-                pcurve_by_projection(s, &edge.curve, (a, b), tol)
+                edge_pcurve(s, &edge.curve, (a, b), tol)
                     .ok()
-                    .filter(|(_, d)| *d <= tol)
-                    .map(|(c, _)| c)
+                    .filter(|p| p.deviation <= tol)
+                    .map(|p| p.curve)
             });
         if found.is_none() {
             self.no_pcurve += 1;

@@ -22,12 +22,13 @@ use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
 use super::geometry::{Converter, EdgeOut};
 use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{
     Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
 };
-use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+use crate::topology::{
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
+};
 
 /// Relative tolerance of the topology (of the part's size).
 const RELATIVE_TOLERANCE: f64 = 1e-7;
@@ -182,7 +183,7 @@ pub(super) fn build(
         b.diagnostics.push(Diagnostic::warning(
             "pcurve.not_computed",
             format!(
-                "{} coedge(s) have no parameter-space curve: their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
+                "{} coedge(s) have no parameter-space curve: no exact one applies and their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
                 b.missing_pcurves, b.tolerance
             ),
             Location::default(),
@@ -554,8 +555,9 @@ impl Build<'_, '_, '_, '_> {
         self.topology.origins.faces.push(o);
     }
 
-    /// The pcurve of every coedge on the face's NURBS surface, by projection of the edge's
-    /// 3-D curve ([`pcurve_by_projection`], within the edge tolerance). A seam edge (used
+    /// The pcurve of every coedge on the face's NURBS surface ([`edge_pcurve`]: exact on
+    /// planes and along isocurves, else projected within the edge tolerance; the file's
+    /// PCURVEs are in the analytic surface's parameters, not the NURBS ones). A seam edge (used
     /// twice by the face) gets both sides of the seam: the coedge that runs with the face
     /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
     /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
@@ -574,10 +576,10 @@ impl Build<'_, '_, '_, '_> {
                 let p = cache
                     .entry(c.edge)
                     .or_insert_with(|| {
-                        pcurve_by_projection(surface, &edge.curve, edge.range, edge.tolerance)
+                        edge_pcurve(surface, &edge.curve, edge.range, edge.tolerance)
                             .ok()
-                            .filter(|(_, deviation)| *deviation <= edge.tolerance)
-                            .map(|(p, _)| p)
+                            .filter(|p| p.deviation <= edge.tolerance)
+                            .map(|p| p.curve)
                     })
                     .clone();
                 c.pcurve = match p {
