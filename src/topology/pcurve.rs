@@ -263,9 +263,11 @@ fn iso(
         return None;
     };
     let (lo, hi) = lo_hi[free];
+    // Closed: the isocurve's ends meet (a clamped circle, or an unclamped periodic profile
+    // whose first and last poles differ).
     let closed = {
-        let poles = line.control_points();
-        dist(poles[0], poles[poles.len() - 1]) <= EXACT * size
+        let (la, lb) = line.domain();
+        dist(line.point_at_unchecked(la), line.point_at_unchecked(lb)) <= EXACT * size
     };
     let end = |t: f64, start: bool| -> Option<f64> {
         let (x, d) = invert_curve(&line, curve.point_at_unchecked(t))?;
