@@ -3,6 +3,7 @@
 //! ```text
 //! cargo run --release --example gen_large -- --step /tmp/big.step --iges /tmp/big.igs [--mb 100] [--iges-mb 80]
 //! cargo run --release --example gen_large -- --analytic-step /tmp/brep.step [--mb 100]
+//! cargo run --release --example gen_large -- --brep-step /tmp/nurbs_brep.step [--mb 100]
 //! ```
 //! The STEP file is about `--mb` MB (default 100), the IGES file `--iges-mb` MB (default 80).
 //! The entity mix is described in `benches/common/gen.rs`. The files are not committed.
@@ -12,6 +13,11 @@
 //! fillets and a hole: planes, cylinders, spheres, lines, circles, B-spline pcurves, the
 //! topology, as Open CASCADE writes them), each copy's instance ids shifted past the
 //! previous copy's, until the file is about `--mb` MB.
+//!
+//! `--brep-step` does the same with `samples/freecad/brep_filleted_box_nurbs.step` (the
+//! filleted box with B-spline faces: B_SPLINE_SURFACE_WITH_KNOTS faces bounded by
+//! B_SPLINE_CURVE_WITH_KNOTS edges, every vertex, edge, loop, face, shell and the solid),
+//! the file for the whole-part read of B-spline faces.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 #[path = "../benches/common/gen.rs"]
@@ -26,29 +32,32 @@ fn main() {
     let mut mb = 100.0_f64;
     let mut iges_mb = 80.0_f64;
     let mut analytic = None;
+    let mut brep = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--step" => step = it.next().cloned(),
             "--iges" => iges = it.next().cloned(),
             "--analytic-step" => analytic = it.next().cloned(),
+            "--brep-step" => brep = it.next().cloned(),
             "--mb" => mb = it.next().and_then(|s| s.parse().ok()).expect("--mb N"),
             "--iges-mb" => iges_mb = it.next().and_then(|s| s.parse().ok()).expect("--iges-mb N"),
             other => panic!(
-                "unknown argument {other}; usage: --step FILE --iges FILE [--mb N] [--iges-mb N]"
+                "unknown argument {other}; usage: --step FILE --iges FILE [--mb N] [--iges-mb N], or --analytic-step FILE / --brep-step FILE [--mb N]"
             ),
         }
     }
-    if let Some(path) = &analytic {
-        let (text, copies) = analytic_brep((mb * 1e6) as usize);
+    for (path, sample) in [
+        (&analytic, "analytic/filleted_box_with_hole.step"),
+        (&brep, "brep_filleted_box_nurbs.step"),
+    ] {
+        let Some(path) = path else { continue };
+        let (text, copies) = copies_of(sample, (mb * 1e6) as usize);
         std::fs::write(path, &text).expect("write output file");
-        println!(
-            "{path}: {} bytes, {copies} copies of the filleted box",
-            text.len()
-        );
+        println!("{path}: {} bytes, {copies} copies of {sample}", text.len());
     }
     if step.is_none() && iges.is_none() {
-        if analytic.is_some() {
+        if analytic.is_some() || brep.is_some() {
             return;
         }
         eprintln!("usage: gen_large --step FILE --iges FILE [--mb 100] [--iges-mb 80]");
@@ -66,14 +75,14 @@ fn main() {
     }
 }
 
-/// Copies of the filleted box's DATA section with shifted ids, in one STEP file of about
-/// `size` bytes; returns the text and the number of copies.
-fn analytic_brep(size: usize) -> (String, usize) {
-    let sample = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/samples/freecad/analytic/filleted_box_with_hole.step"
+/// Copies of the DATA section of `samples/freecad/{sample}` with shifted ids, in one STEP
+/// file of about `size` bytes; returns the text and the number of copies.
+fn copies_of(sample: &str, size: usize) -> (String, usize) {
+    let sample = std::fs::read_to_string(format!(
+        "{}/samples/freecad/{sample}",
+        env!("CARGO_MANIFEST_DIR")
     ))
-    .expect("the filleted box sample");
+    .expect("the sample file");
     let start = sample.find("DATA;").expect("DATA;") + "DATA;".len();
     let end = sample.rfind("ENDSEC;").expect("ENDSEC;");
     let (header, data) = (&sample[..start], &sample[start..end]);

@@ -129,6 +129,9 @@ fn every_help_teaches_an_example_and_the_exit_codes() {
         "insert-knot",
         "tessellate",
         "serve",
+        "fit",
+        "measure",
+        "compare",
     ];
     let top = nurbsx(["--help"]);
     assert_exit(&top, 0);
@@ -2792,4 +2795,554 @@ fn fit_passes_through_the_points_of_a_text_file() {
         ]),
         2,
     );
+}
+
+/// A part sample of `samples/freecad/parts`.
+fn part(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("samples/freecad/parts")
+        .join(name)
+}
+
+/// `nurbsx info --json FILE`'s structure object.
+fn structure_of(file: &Path) -> Value {
+    let o = nurbsx(["info".as_ref(), "--json".as_ref(), file.as_os_str()]);
+    assert_exit(&o, 0);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    v["structure"].clone()
+}
+
+/// The IGES entity types of a file's directory entries (IGES 5.3 section 2.2.4: columns
+/// 1-8 of every odd D line).
+fn iges_entity_types(text: &str) -> Vec<u32> {
+    text.lines()
+        .filter(|l| l.len() >= 80 && l.as_bytes()[72] == b'D')
+        .filter(|l| l[73..80].trim().parse::<u32>().is_ok_and(|n| n % 2 == 1))
+        .map(|l| l[..8].trim().parse().unwrap())
+        .collect()
+}
+
+/// `--iges-brep` writes the solid as a 186 manifold solid B-rep object (with its 514 shell
+/// and 510 faces) and no 144; without it the faces are 144 trimmed surfaces and no 186.
+/// Both read back as the same solid: one closed shell, 19 faces, the volume FreeCAD
+/// measured on the part it made (`box_fillet_chamfer_hole.source.json`: 22008.27328) within
+/// 1e-6 relative.
+#[test]
+fn iges_brep_writes_a_manifold_solid_and_faces_mode_trimmed_surfaces() {
+    let dir = temp_dir("iges-brep");
+    let source = part("box_fillet_chamfer_hole.step");
+    let truth: Value = serde_json::from_str(
+        &std::fs::read_to_string(part("box_fillet_chamfer_hole.source.json")).unwrap(),
+    )
+    .unwrap();
+    let volume = truth["totals"]["volume"].as_f64().unwrap();
+    for brep in [false, true] {
+        let out = dir.join(format!("box-{brep}.igs"));
+        let mut args = vec![
+            "convert".as_ref(),
+            source.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        if brep {
+            args.push("--iges-brep".as_ref());
+        }
+        assert_exit(&nurbsx(args), 0);
+        let types = iges_entity_types(&std::fs::read_to_string(&out).unwrap());
+        let count = |t: u32| types.iter().filter(|&&x| x == t).count();
+        if brep {
+            assert_eq!(
+                (count(186), count(514), count(510)),
+                (1, 1, 19),
+                "{types:?}"
+            );
+            assert_eq!(count(144), 0);
+        } else {
+            assert_eq!((count(186), count(144)), (0, 19), "{types:?}");
+        }
+        let s = structure_of(&out);
+        assert_eq!(s["solids"].as_array().unwrap().len(), 1, "{brep}: {s}");
+        assert_eq!(s["faces"].as_array().unwrap().len(), 19);
+        let got = s["solids"][0]["volume"].as_f64().unwrap();
+        assert!(
+            ((got - volume) / volume).abs() < 1e-6,
+            "{brep}: {got} vs {volume}"
+        );
+    }
+}
+
+/// `--geometry-only` keeps the surfaces and curves, leaves faces, shells and solids out,
+/// and says so on stderr (a warning, shown by default); the written STEP has no face.
+#[test]
+fn geometry_only_leaves_the_topology_out_and_says_so() {
+    let dir = temp_dir("geometry-only");
+    let out = dir.join("box.step");
+    let source = part("box_fillet_chamfer_hole.step");
+    let o = nurbsx([
+        "convert".as_ref(),
+        source.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--geometry-only".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("warning[topology.not_read]"),
+        "{}",
+        stderr(&o)
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!text.contains("ADVANCED_FACE") && !text.contains("MANIFOLD_SOLID_BREP"));
+    assert!(text.contains("B_SPLINE_SURFACE"));
+    let s = structure_of(&out);
+    assert_eq!(s["faces"].as_array().map_or(0, Vec::len), 0, "{s}");
+    // Without the flag the same input gives the solid.
+    let whole = dir.join("whole.step");
+    assert_exit(
+        &nurbsx([
+            "convert".as_ref(),
+            source.as_os_str(),
+            "-o".as_ref(),
+            whole.as_os_str(),
+        ]),
+        0,
+    );
+    assert_eq!(structure_of(&whole)["solids"].as_array().unwrap().len(), 1);
+}
+
+/// The extruded B-spline part's IGES 144 file with one seam line moved by 1e-5 in y (the
+/// side face's boundary then leaves a 1e-5 gap at two corners).
+fn gapped_extrusion() -> String {
+    let text = std::fs::read_to_string(part("extrude_bspline.igs")).unwrap();
+    let line = "110,8.,7.166666667,15.,8.,7.166666667,0.;";
+    assert!(text.contains(line), "the sample changed: update this test");
+    text.replace(line, "110,8.,7.166676667,15.,8.,7.166676667,0.;")
+}
+
+/// `--sew-tolerance`: a 1e-5 gap is more than the file's default tolerance (1e-7 of the
+/// part's size), so the side face is refused (`topology.loop_open`) and no solid comes out;
+/// with `--sew-tolerance 1e-4` the loop closes, the three faces are sewn and the STEP
+/// output holds one solid of three faces, as FreeCAD's source part.
+#[test]
+fn sew_tolerance_closes_gaps_the_default_leaves_open() {
+    let dir = temp_dir("sew-tolerance");
+    let input = dir.join("gap.igs");
+    std::fs::write(&input, gapped_extrusion()).unwrap();
+    let out = dir.join("gap.step");
+    let run = |extra: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "convert".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        nurbsx(args)
+    };
+    // An entity read with an error diagnostic: exit code 1, after writing the rest.
+    let o = run(&[]);
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("error[topology.loop_open]"),
+        "{}",
+        stderr(&o)
+    );
+    let s = structure_of(&out);
+    assert_eq!(s["solids"].as_array().map_or(0, Vec::len), 0, "{s}");
+
+    let o = run(&["--sew-tolerance", "1e-4"]);
+    assert_exit(&o, 0);
+    assert!(!stderr(&o).contains("loop_open"), "{}", stderr(&o));
+    let s = structure_of(&out);
+    assert_eq!(s["solids"].as_array().unwrap().len(), 1, "{s}");
+    assert_eq!(s["faces"].as_array().unwrap().len(), 3);
+    assert_eq!(s["shells"][0]["closed"], true);
+    // The STEP output declares the tolerance the faces were sewn within (so the re-read
+    // above joins them again).
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(0.0001)"));
+    // Not a positive length: a usage error.
+    assert_exit(&run(&["--sew-tolerance", "0"]), 2);
+}
+
+/// `validate --format sarif` against the OASIS SARIF 2.1.0 JSON schema (`sarif-2.1.0.json`
+/// as Microsoft's SARIF multitool ships it in the npm package
+/// `@microsoft/sarif-multitool-linux`), checked by the JSON-schema validator `ajv` (draft
+/// 07, with `ajv-formats` for the uri and date-time formats): a valid file, a batch of
+/// broken ones with located results of every kind (STEP line/column, IGES section and
+/// sequence, model JSON), and a missing file. Needs Node and the packages:
+/// `npm install --prefix DIR @microsoft/sarif-multitool-linux ajv ajv-formats`, then
+/// `NURBSX_SARIF_SCHEMA=DIR/node_modules cargo test --test cli -- --ignored sarif_schema`.
+#[test]
+#[ignore = "needs Node.js and the npm packages of NURBSX_SARIF_SCHEMA"]
+fn sarif_schema_accepts_validate_output() {
+    let modules = std::env::var("NURBSX_SARIF_SCHEMA")
+        .expect("NURBSX_SARIF_SCHEMA=<node_modules folder holding the schema and ajv>");
+    let schema = Path::new(&modules).join("@microsoft/sarif-multitool-linux/sarif-2.1.0.json");
+    assert!(schema.is_file(), "{} is missing", schema.display());
+    let dir = temp_dir("sarif-schema");
+    let script = dir.join("check.js");
+    std::fs::write(
+        &script,
+        "const Ajv = require('ajv');\n\
+         const addFormats = require('ajv-formats');\n\
+         const fs = require('fs');\n\
+         const schema = JSON.parse(fs.readFileSync(process.argv[2], 'utf8'));\n\
+         delete schema['$schema'];\n\
+         const ajv = new Ajv({ strict: false, allErrors: true });\n\
+         addFormats(ajv);\n\
+         const check = ajv.compile(schema);\n\
+         const doc = JSON.parse(fs.readFileSync(process.argv[3], 'utf8'));\n\
+         if (!check(doc)) { console.log(JSON.stringify(check.errors, null, 1)); process.exit(1); }\n\
+         console.log('valid');\n",
+    )
+    .unwrap();
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs");
+    let mut broken: Vec<PathBuf> = std::fs::read_dir(&bad)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("step" | "igs" | "json")
+            )
+        })
+        .collect();
+    broken.sort();
+    assert!(broken.len() > 20, "{} broken inputs", broken.len());
+    let valid = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts/flange.step");
+    let cases: Vec<(&str, Vec<PathBuf>, i32)> = vec![
+        ("valid", vec![valid], 0),
+        ("broken", broken, 1),
+        ("missing", vec![dir.join("nosuch.step")], 2),
+    ];
+    for (name, files, code_expected) in cases {
+        let mut args = vec!["validate".into(), "--format".into(), "sarif".into()];
+        args.extend(files.iter().map(|p| p.clone().into_os_string()));
+        let o = nurbsx(args);
+        assert_eq!(code(&o), code_expected, "{name}: {}", stderr(&o));
+        let sarif = dir.join(format!("{name}.sarif"));
+        std::fs::write(&sarif, &o.stdout).unwrap();
+        let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let results = doc["runs"][0]["results"].as_array().map_or(0, Vec::len);
+        if name != "valid" {
+            assert!(results > 0, "{name}: no result");
+        }
+        let checked = Command::new("node")
+            .arg(&script)
+            .arg(&schema)
+            .arg(&sarif)
+            .env("NODE_PATH", &modules)
+            .output()
+            .unwrap();
+        assert!(
+            checked.status.success(),
+            "{name} ({results} results) does not conform to SARIF 2.1.0: {}{}",
+            stdout(&checked),
+            stderr(&checked)
+        );
+    }
+}
+
+/// `convert --strict` and `info --strict`: a violation the reader reads anyway (a byte that
+/// is neither ASCII nor UTF-8 in a STEP string, ISO 10303-21 section 6.4.3) is a warning
+/// and exit 0 without the flag, an error and exit 1 with it, as `validate` reports it; the
+/// output is written either way.
+#[test]
+fn strict_makes_violations_errors_in_convert_and_info() {
+    let dir = temp_dir("strict");
+    let source = std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/curve_circle_nurbs.step"),
+    )
+    .unwrap();
+    let at = source
+        .windows(9)
+        .position(|w| w == b"PRODUCT('")
+        .expect("a PRODUCT name")
+        + 9;
+    // "零件" (part) in GBK: legacy Chinese encoding, not UTF-8.
+    let mut bytes = source[..at].to_vec();
+    bytes.extend_from_slice(&[0xC1, 0xE3, 0xBC, 0xFE]);
+    bytes.extend_from_slice(&source[at..]);
+    let input = dir.join("gbk.step");
+    std::fs::write(&input, bytes).unwrap();
+    let out = dir.join("gbk.igs");
+    for strict in [false, true] {
+        let _ = std::fs::remove_file(&out);
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "convert".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        let mut info: Vec<&std::ffi::OsStr> = vec!["info".as_ref(), input.as_os_str()];
+        if strict {
+            args.push("--strict".as_ref());
+            info.push("--strict".as_ref());
+        }
+        let level = if strict { "error" } else { "warning" };
+        for o in [nurbsx(args), nurbsx(info)] {
+            assert_exit(&o, i32::from(strict));
+            assert!(
+                stderr(&o).contains(&format!("{level}[encoding.not_utf8]")),
+                "{strict}: {}",
+                stderr(&o)
+            );
+        }
+        assert!(out.is_file(), "{strict}: the output is written");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// fit (least squares, grids), measure, compare
+
+fn curve_file(path: &Path) -> nurbsx::nurbs::NurbsCurve {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn fit_least_squares_and_grids_report_the_residual() {
+    let dir = temp_dir("fit-ls");
+    let points = dir.join("p.json");
+    let q: Vec<[f64; 3]> = (0..50)
+        .map(|k| {
+            let t = f64::from(k) * 0.2;
+            [t.cos(), t.sin(), 0.1 * t + 0.01 * (7.0 * t).sin()]
+        })
+        .collect();
+    std::fs::write(&points, serde_json::to_string(&q).unwrap()).unwrap();
+    let out = dir.join("c.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        points.as_os_str(),
+        "--poles".as_ref(),
+        "9".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    let c = curve_file(&out);
+    assert_eq!(c.num_poles(), 9);
+    // The ends are interpolated, bit for bit (numbers are read back exactly).
+    assert_eq!(c.control_points()[0], q[0]);
+    assert_eq!(c.control_points()[8], q[49]);
+    // The summary names the method and the residual, which is the library's figure.
+    let fit =
+        nurbsx::nurbs::fit::approximate(&q, 3, 9, nurbsx::nurbs::fit::ParamMethod::ChordLength, 3)
+            .unwrap();
+    let text = stderr(&o);
+    assert!(text.contains("least-squares of 50 points"), "{text}");
+    let max: f64 = text
+        .split("residual max ")
+        .nth(1)
+        .and_then(|rest| rest.split(',').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        (max - fit.residual.max).abs() <= 1e-12 * fit.residual.max,
+        "{text}"
+    );
+    // A pole count outside degree + 1 .. points - 1 is a usage error.
+    for n in ["3", "50"] {
+        let o = nurbsx([
+            "fit".as_ref(),
+            points.as_os_str(),
+            "--poles".as_ref(),
+            n.as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert!(
+            code(&o) != 0 && !stderr(&o).contains("panicked"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // A grid: interpolation through every point (the corners are poles), then least squares.
+    let grid: Vec<Vec<[f64; 3]>> = (0..7)
+        .map(|i| {
+            (0..5)
+                .map(|j| {
+                    let (x, y) = (f64::from(i), f64::from(j) * 1.5);
+                    [x, y, (0.5 * x).sin() * (0.3 * y).cos()]
+                })
+                .collect()
+        })
+        .collect();
+    let gpath = dir.join("grid.json");
+    std::fs::write(&gpath, serde_json::to_string(&grid).unwrap()).unwrap();
+    let sout = dir.join("s.json");
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "--degree-v".as_ref(),
+        "2".as_ref(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("interpolation of 7 x 5 points"),
+        "{}",
+        stderr(&o)
+    );
+    let s: nurbsx::nurbs::NurbsSurface =
+        serde_json::from_str(&std::fs::read_to_string(&sout).unwrap()).unwrap();
+    assert_eq!((s.degree_u(), s.degree_v()), (3, 2));
+    assert_eq!((s.control_points().nu(), s.control_points().nv()), (7, 5));
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "--poles".as_ref(),
+        "5".as_ref(),
+        "--poles-v".as_ref(),
+        "4".as_ref(),
+        "--degree-v".as_ref(),
+        "2".as_ref(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
+    let s: nurbsx::nurbs::NurbsSurface =
+        serde_json::from_str(&std::fs::read_to_string(&sout).unwrap()).unwrap();
+    assert_eq!((s.control_points().nu(), s.control_points().nv()), (5, 4));
+    assert_eq!(*s.control_points().get(4, 3), grid[6][4]);
+    // A ragged grid is a usage error.
+    std::fs::write(&gpath, "[[[0,0,0],[1,0,0]],[[0,1,0]]]").unwrap();
+    let o = nurbsx([
+        "fit".as_ref(),
+        gpath.as_os_str(),
+        "-o".as_ref(),
+        sout.as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+}
+
+#[test]
+fn measure_the_circle_length_and_closest_point() {
+    let circle = data("circle.json");
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-10".as_ref(),
+        "--closest".as_ref(),
+        "3,4".as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 0);
+    let v = json(&o);
+    let e = &v["entities"][0];
+    assert_eq!(e["kind"], "curve");
+    let length = e["length"]["value"].as_f64().unwrap();
+    assert!((length - 2.0 * std::f64::consts::PI).abs() < 1e-10, "{v}");
+    assert_eq!(e["length"]["converged"], true);
+    // The closest point to (3, 4) on the unit circle is (0.6, 0.8), at distance 4.
+    let d = e["closest"]["distance"].as_f64().unwrap();
+    assert!((d - 4.0).abs() < 1e-12, "{v}");
+    let p = floats(&e["closest"]["point"]);
+    assert!(
+        (p[0] - 0.6).abs() < 1e-9 && (p[1] - 0.8).abs() < 1e-9,
+        "{p:?}"
+    );
+    assert_eq!(v["nearest"], "0");
+    // An unreachable tolerance: exit 1 with a warning naming the estimate.
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-300".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("measure.not_converged"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("NOT converged"), "{}", stdout(&o));
+    let o = nurbsx([
+        "measure".as_ref(),
+        circle.as_os_str(),
+        "--closest".as_ref(),
+        "1,2,3,4".as_ref(),
+    ]);
+    assert_exit(&o, 2);
+}
+
+#[test]
+fn compare_ignores_the_parameterisation_and_sees_a_move() {
+    let dir = temp_dir("compare");
+    let circle = data("circle.json");
+    let (reversed, elevated, moved) = (
+        dir.join("rev.json"),
+        dir.join("up.step"),
+        dir.join("moved.json"),
+    );
+    assert_exit(
+        &nurbsx([
+            "reverse".as_ref(),
+            circle.as_os_str(),
+            "-o".as_ref(),
+            reversed.as_os_str(),
+        ]),
+        0,
+    );
+    assert_exit(
+        &nurbsx([
+            "elevate".as_ref(),
+            reversed.as_os_str(),
+            "--by".as_ref(),
+            "2".as_ref(),
+            "-o".as_ref(),
+            elevated.as_os_str(),
+        ]),
+        0,
+    );
+    assert_exit(
+        &nurbsx([
+            "transform".as_ref(),
+            circle.as_os_str(),
+            "--translate".as_ref(),
+            "0.3,0.4,0".as_ref(),
+            "-o".as_ref(),
+            moved.as_os_str(),
+        ]),
+        0,
+    );
+    for other in [&reversed, &elevated] {
+        let o = nurbsx([
+            "compare".as_ref(),
+            circle.as_os_str(),
+            other.as_os_str(),
+            "--tolerance".as_ref(),
+            "1e-9".as_ref(),
+            "--json".as_ref(),
+        ]);
+        assert_exit(&o, 0);
+        let v = json(&o);
+        assert!(v["distance"].as_f64().unwrap() < 1e-9, "{v}");
+        assert_eq!(v["within_tolerance"], true);
+    }
+    let o = nurbsx([
+        "compare".as_ref(),
+        circle.as_os_str(),
+        moved.as_os_str(),
+        "--tolerance".as_ref(),
+        "1e-3".as_ref(),
+        "--json".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+    let v = json(&o);
+    assert!((v["distance"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{v}");
+    assert_eq!(v["within_tolerance"], false);
+    // Without --tolerance: a report and exit 0.
+    let o = nurbsx(["compare".as_ref(), circle.as_os_str(), moved.as_os_str()]);
+    assert_exit(&o, 0);
+    let text = stdout(&o);
+    let number: f64 = text
+        .strip_prefix("Hausdorff distance ")
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!((number - 0.5).abs() < 1e-9, "{text}");
 }

@@ -732,7 +732,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 30] = [
+const ROUTES: [(&str, &str); 31] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -755,6 +755,7 @@ const ROUTES: [(&str, &str); 30] = [
     ("post", "/v1/derivative-curve"),
     ("post", "/v1/make"),
     ("post", "/v1/fit"),
+    ("post", "/v1/measure"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -1773,7 +1774,7 @@ async fn fit_interpolates_the_points_of_example_9_1() {
         [-4.0, 0.0],
         [-4.0, -3.0],
     ];
-    let v = operation("/v1/fit", &json!({ "points": q, "degree": 3 })).await;
+    let v = fit_reply(&json!({ "points": q, "degree": 3 })).await;
     let c = curve_of(&v["geometry"]);
     assert_eq!(c.dimension(), 2);
     let want = [0., 0., 0., 0., 28.0 / 51.0, 1., 1., 1., 1.];
@@ -1810,6 +1811,313 @@ async fn fit_interpolates_the_points_of_example_9_1() {
         ),
         StatusCode::UNPROCESSABLE_ENTITY,
         "geometry",
+    )
+    .await;
+}
+
+/// A part sample of `samples/freecad/parts`.
+fn part_sample(name: &str) -> String {
+    std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples/freecad/parts")
+            .join(name),
+    )
+    .unwrap()
+}
+
+/// `POST /v1/convert` with the JSON reply: the report and the file text.
+async fn convert_json(query: &str, content_type: &str, body: String) -> (Value, String) {
+    let mut req = post_raw(&format!("/v1/convert?{query}"), Some(content_type), body);
+    req.headers_mut()
+        .insert(header::ACCEPT, "application/json".parse().unwrap());
+    let (_, body) = ok(app(), req).await;
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("ConvertJsonReply"), &openapi().await, "$").unwrap();
+    let file = v["file"].as_str().unwrap().to_owned();
+    (v["report"].clone(), file)
+}
+
+/// The `structure` of `/v1/info` on a file text.
+async fn structure(file: String) -> Value {
+    let (_, body) = ok(app(), post_raw("/v1/info", None, file)).await;
+    json_of(&body)["structure"].clone()
+}
+
+/// The query options of whole-part conversion, as the CLI's flags: `iges_brep` writes a
+/// 186 solid (no 144), `geometry_only` leaves faces and solids out with a visible warning,
+/// and `sew_tolerance` closes a 1e-5 gap in an IGES 144 part that the default tolerance
+/// leaves open (a non-positive value is a 400).
+#[tokio::test]
+async fn convert_query_options_of_whole_parts() {
+    let step = part_sample("box_fillet_chamfer_hole.step");
+    // iges_brep: one 186 (columns 1-8 of a D line), no 144; read back as one solid.
+    for brep in [false, true] {
+        let (_, iges) = convert_json(
+            &format!("to=iges&iges_brep={brep}"),
+            "model/step",
+            step.clone(),
+        )
+        .await;
+        let count = |t: &str| {
+            iges.lines()
+                .filter(|l| l.len() >= 80 && &l[72..73] == "D" && l[..8].trim() == t)
+                .count()
+        };
+        if brep {
+            assert_eq!((count("186"), count("144")), (2, 0));
+        } else {
+            assert_eq!((count("186"), count("144")), (0, 38));
+        }
+        let s = structure(iges).await;
+        assert_eq!(s["solids"].as_array().unwrap().len(), 1, "{brep}: {s}");
+    }
+    // geometry_only: the surfaces without faces, and the warning that says so.
+    let (report, out) = convert_json("to=step&geometry_only=true", "model/step", step).await;
+    assert!(!out.contains("ADVANCED_FACE") && out.contains("B_SPLINE_SURFACE"));
+    assert!(
+        report["diagnostics"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|d| d["code"] == "topology.not_read" && d["severity"] == "warning"),
+        "{report}"
+    );
+    // sew_tolerance on an IGES 144 part with a 1e-5 gap (one seam line moved in y).
+    let line = "110,8.,7.166666667,15.,8.,7.166666667,0.;";
+    let text = part_sample("extrude_bspline.igs");
+    assert!(text.contains(line), "the sample changed: update this test");
+    let gapped = text.replace(line, "110,8.,7.166676667,15.,8.,7.166676667,0.;");
+    for (query, solids) in [("to=step", 0), ("to=step&sew_tolerance=1e-4", 1)] {
+        let (_, out) = convert_json(query, "model/iges", gapped.clone()).await;
+        let s = structure(out).await;
+        assert_eq!(
+            s["solids"].as_array().map_or(0, Vec::len),
+            solids,
+            "{query}: {s}"
+        );
+    }
+    for bad in ["0", "-1e-3"] {
+        expect_error(
+            app(),
+            post_raw(
+                &format!("/v1/convert?to=step&sew_tolerance={bad}"),
+                Some("model/iges"),
+                gapped.clone(),
+            ),
+            StatusCode::BAD_REQUEST,
+            "request.sew_tolerance",
+        )
+        .await;
+    }
+}
+
+/// `/v1/info` says what each entity is in the part: the surfaces of faces (`face`), the
+/// curves of edges (`edge`), parameter-space curves (`pcurve`), and the rest `free` (the
+/// free edges sample: all of them; model JSON: all of it). Checked against the structure
+/// the same reply describes, and against the schema.
+#[tokio::test]
+async fn info_gives_each_entity_its_role_in_the_part() {
+    let doc = openapi().await;
+    let info = |text: String| async move {
+        let (_, body) = ok(app(), post_raw("/v1/info", None, text)).await;
+        json_of(&body)
+    };
+    let v = info(part_sample("box_fillet_chamfer_hole.step")).await;
+    conforms(&v, &schema_ref("InfoReport"), &doc, "$").unwrap();
+    let role = |id: &str| {
+        v["entities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["id"] == id)
+            .map(|e| e["role"].as_str().unwrap().to_owned())
+    };
+    let faces = v["structure"]["faces"].as_array().unwrap();
+    for f in faces {
+        assert_eq!(
+            role(f["surface"].as_str().unwrap()).as_deref(),
+            Some("face")
+        );
+    }
+    let count = |r: &str| {
+        v["entities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["role"] == r)
+            .count()
+    };
+    assert_eq!(count("face"), faces.len());
+    assert_eq!(count("free"), 0, "a closed box has no free geometry");
+    assert!(count("edge") >= v["structure"]["edges"].as_u64().unwrap() as usize);
+    for e in v["entities"].as_array().unwrap() {
+        if e["role"] == "pcurve" {
+            assert_eq!(e["dimension"], 2);
+        }
+    }
+    let v = info(part_sample("free_edges.step")).await;
+    let roles: Vec<&str> = v["entities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["role"].as_str().unwrap())
+        .collect();
+    assert!(
+        !roles.is_empty() && roles.iter().all(|r| *r == "free"),
+        "{roles:?}"
+    );
+    let v = info(circle().to_string()).await;
+    assert_eq!(v["entities"][0]["role"], "free");
+}
+
+// ---------------------------------------------------------------------------------------
+// /v1/fit with poles and grids, /v1/measure
+
+async fn fit_reply(body: &Value) -> Value {
+    let (_, bytes) = ok(app(), post_json("/v1/fit", body)).await;
+    let v = json_of(&bytes);
+    conforms(&v, &schema_ref("FitReply"), &openapi().await, "$").unwrap_or_else(|e| panic!("{e}"));
+    v
+}
+
+#[tokio::test]
+async fn fit_least_squares_and_grids_with_the_residual() {
+    let q: Vec<[f64; 3]> = (0..40)
+        .map(|k| {
+            let t = f64::from(k) * 0.25;
+            [t, t.sin(), 0.2 * (3.0 * t).cos()]
+        })
+        .collect();
+    let v =
+        fit_reply(&json!({ "points": q, "degree": 3, "poles": 10, "params": "centripetal" })).await;
+    let c = curve_of(&v["geometry"]);
+    assert_eq!(c.num_poles(), 10);
+    let want =
+        nurbsx::nurbs::fit::approximate(&q, 3, 10, nurbsx::nurbs::fit::ParamMethod::Centripetal, 3)
+            .unwrap();
+    assert_eq!(v["fit"]["method"], "least_squares");
+    assert_eq!(v["fit"]["points"], json!([40]));
+    assert_eq!(v["fit"]["poles"], json!([10]));
+    // The same computation on the same numbers (read back exactly): the same bits.
+    let near = |got: &Value, want: f64| got.as_f64().unwrap().to_bits() == want.to_bits();
+    assert!(near(&v["fit"]["residual_max"], want.residual.max), "{v}");
+    assert!(near(&v["fit"]["residual_rms"], want.residual.rms), "{v}");
+    // Interpolation reports a residual at round-off.
+    let v = fit_reply(&json!({ "points": q })).await;
+    assert_eq!(v["fit"]["method"], "interpolation");
+    assert!(v["fit"]["residual_max"].as_f64().unwrap() < 1e-12 * 10.0);
+    // A grid: the surface passes through every point.
+    let grid: Vec<Vec<[f64; 3]>> = (0..6)
+        .map(|i| {
+            (0..8)
+                .map(|j| {
+                    let (x, y) = (f64::from(i), 0.5 * f64::from(j));
+                    [x, y, (x * y).sin()]
+                })
+                .collect()
+        })
+        .collect();
+    let v = fit_reply(&json!({ "points": grid, "degree": 2, "degree_v": 3 })).await;
+    let s = surface_of(&v["geometry"]);
+    assert_eq!((s.degree_u(), s.degree_v()), (2, 3));
+    assert_eq!(v["fit"]["points"], json!([6, 8]));
+    assert!(v["fit"]["residual_max"].as_f64().unwrap() < 1e-12 * 6.0);
+    let v = fit_reply(&json!({ "points": grid, "poles": 4, "poles_v": 5 })).await;
+    assert_eq!(v["fit"]["poles"], json!([4, 5]));
+    // As a file, the residual travels in headers.
+    let (headers, _) = ok(
+        app(),
+        post_json(
+            "/v1/fit",
+            &json!({ "points": q, "poles": 10, "params": "centripetal", "format": "step" }),
+        ),
+    )
+    .await;
+    let max: f64 = headers["x-nurbsx-residual-max"]
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((max - want.residual.max).abs() <= 1e-12 * want.residual.max);
+    // Pole counts out of range and v options on points are refused.
+    expect_error(
+        app(),
+        post_json("/v1/fit", &json!({ "points": q, "poles": 40 })),
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "geometry",
+    )
+    .await;
+    expect_error(
+        app(),
+        post_json("/v1/fit", &json!({ "points": q, "degree_v": 2 })),
+        StatusCode::BAD_REQUEST,
+        "fit.arguments",
+    )
+    .await;
+}
+
+#[tokio::test]
+async fn measure_lengths_areas_and_closest_points() {
+    // The unit circle: length 2 pi, closest point to (3, 4) at distance 4.
+    let body = json!({ "geometry": circle(), "closest": [3.0, 4.0], "tolerance": 1e-11 });
+    let (_, bytes) = ok(app(), post_json("/v1/measure", &body)).await;
+    let v = json_of(&bytes);
+    conforms(&v, &schema_ref("MeasureReport"), &openapi().await, "$").unwrap();
+    let e = &v["entities"][0];
+    assert!(
+        (e["length"]["value"].as_f64().unwrap() - 2.0 * std::f64::consts::PI).abs() < 1e-11,
+        "{v}"
+    );
+    assert!(
+        (e["closest"]["distance"].as_f64().unwrap() - 4.0).abs() < 1e-12,
+        "{v}"
+    );
+    assert_eq!(v["converged"], true);
+    // The bilinear patch S(u, v) = (2u, 3v, 1 + u v): area by an independent rule
+    // (|S_u x S_v| = sqrt(9 v^2 + 4 u^2 + 36), Simpson on a 400 x 400 grid, error ~1e-11).
+    let body = json!({ "geometry": [circle(), bilinear()], "entity": "1", "tolerance": 1e-10 });
+    let (_, bytes) = ok(app(), post_json("/v1/measure", &body)).await;
+    let v = json_of(&bytes);
+    conforms(&v, &schema_ref("MeasureReport"), &openapi().await, "$").unwrap();
+    let n = 400;
+    let f = |u: f64, w: f64| (9.0 * w * w + 4.0 * u * u + 36.0).sqrt();
+    let simpson = |k: usize| {
+        if k == 0 || k == n {
+            1.0
+        } else if k % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        }
+    };
+    let mut area = 0.0;
+    for i in 0..=n {
+        for j in 0..=n {
+            area += simpson(i) * simpson(j) * f(i as f64 / n as f64, j as f64 / n as f64);
+        }
+    }
+    area /= (3.0 * n as f64) * (3.0 * n as f64);
+    let got = v["entities"][0]["area"]["value"].as_f64().unwrap();
+    assert!((got - area).abs() < 1e-9, "{got} vs {area}");
+    assert_eq!(v["entities"].as_array().unwrap().len(), 1);
+    expect_error(
+        app(),
+        post_json(
+            "/v1/measure",
+            &json!({ "geometry": circle(), "closest": [1.0] }),
+        ),
+        StatusCode::BAD_REQUEST,
+        "measure.point",
+    )
+    .await;
+    expect_error(
+        app(),
+        post_json(
+            "/v1/measure",
+            &json!({ "geometry": circle(), "tolerance": -1.0 }),
+        ),
+        StatusCode::BAD_REQUEST,
+        "measure.tolerance",
     )
     .await;
 }

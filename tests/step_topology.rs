@@ -87,11 +87,7 @@ fn samples() -> Vec<(PathBuf, Value)> {
 
 /// Samples whose topology nurbsx does not read in full yet, with the reason; for these the
 /// tests check that the reader says so with an error diagnostic (never silently).
-const KNOWN_GAPS: &[(&str, &str)] = &[
-    // Product structure (NEXT_ASSEMBLY_USAGE_OCCURRENCE, MAPPED_ITEM) is not read: the
-    // parts placed several times appear once (not reported yet: see the report).
-    ("assembly_links.step", "assembly placements"),
-];
+const KNOWN_GAPS: &[(&str, &str)] = &[];
 
 /// Samples where Open CASCADE's reading adds edges the file does not have (ShapeFix splits
 /// or completes the boundary of a single B-spline face): compared with the file's own
@@ -692,4 +688,65 @@ fn outer_bound_is_found_when_not_declared() {
     let want = freecad["faces"][0]["area"].as_f64().unwrap();
     let area = back.topology.model.measure_face(f).unwrap().area;
     assert!((area - want).abs() <= 1e-6 * want, "{area} vs {want}");
+}
+
+/// The file's length uncertainty (ISO 10303-43 `global_uncertainty_assigned_context`) is
+/// the tolerance of its topology when it is larger than nurbsx's own (1e-7 of the part):
+/// the filleted box with one vertex moved 1e-5 off its edges is refused under the file's
+/// 1e-7 and read as the whole solid under a declared 1e-4; an absurd uncertainty (1e3 on
+/// a 40 mm part) is ignored with a warning. And nurbsx writes the model's tolerance as the
+/// uncertainty, so what it joined is joined again on re-reading.
+#[test]
+fn the_files_uncertainty_is_the_topology_tolerance() {
+    let text =
+        std::fs::read_to_string(root().join("samples/freecad/parts/box_fillet_chamfer_hole.step"))
+            .unwrap();
+    let vertex = "#23 = CARTESIAN_POINT('',(-1.110223024625E-16,4.,1.5));";
+    let uncertainty = "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07)";
+    assert!(
+        text.contains(vertex) && text.contains(uncertainty),
+        "sample changed"
+    );
+    let moved = text.replace(vertex, "#23 = CARTESIAN_POINT('',(1.E-05,4.,1.5));");
+    let read = |t: &str| exchange::read(t.as_bytes(), &ImportOptions::default()).unwrap();
+    let errors = |d: &Document| {
+        d.diagnostics
+            .iter()
+            .filter(|x| x.severity == Severity::Error)
+            .count()
+    };
+    let declared = |d: &Document| d.topology.model.solids.len();
+
+    let strict = read(&moved);
+    assert!(errors(&strict) > 0);
+    assert_eq!(declared(&strict), 0);
+
+    let loose = read(&moved.replace(
+        uncertainty,
+        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-04)",
+    ));
+    assert_eq!(errors(&loose), 0, "{:?}", loose.diagnostics);
+    assert_eq!(declared(&loose), 1);
+    assert_eq!(loose.topology.model.faces.len(), 19);
+
+    let absurd = read(&moved.replace(
+        uncertainty,
+        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E+03)",
+    ));
+    assert!(
+        absurd
+            .diagnostics
+            .iter()
+            .any(|d| d.code == "step.uncertainty_ignored" && d.severity == Severity::Warning),
+        "{:?}",
+        absurd.diagnostics
+    );
+    assert_eq!(declared(&absurd), 0);
+
+    // Written back: the uncertainty is the model's tolerance, and the re-read is whole.
+    let out = exchange::write(&loose, Format::Step, &ExportOptions::default()).unwrap();
+    assert!(out.contains("UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(0.0001)"));
+    let again = read(&out);
+    assert_eq!(errors(&again), 0, "{:?}", again.diagnostics);
+    assert_eq!(declared(&again), 1);
 }

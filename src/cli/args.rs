@@ -507,25 +507,79 @@ pub enum Command {
         )
     )]
     Make(MakeArgs),
-    /// Fit a curve through points: global interpolation (NURBS Book A9.1).
+    /// Fit a curve to points or a surface to a grid: interpolation or least squares.
     #[command(
-        long_about = "Interpolate a polynomial B-spline curve of --degree through every point \
-                      of POINTS (NURBS Book A9.1): parameters by --params (uniform, chord or \
-                      centripetal), knots by averaging, the linear system solved by LU with \
-                      partial pivoting (a singular system is refused). POINTS is a JSON array \
-                      of [x, y] or [x, y, z], or text with one point per line (commas or \
-                      spaces; `#` comments). At most 2000 points.",
+        long_about = "Fit a polynomial B-spline to POINTS. Without --poles the result passes \
+                      through every point (curves: NURBS Book A9.1; grids: A9.4); with \
+                      --poles N it is the least-squares fit with N poles (section 9.4.1, \
+                      knots by eqs. 9.68/9.69; grids: A9.7), the first and last points (a \
+                      grid's corners) interpolated. Parameters by --params (uniform, chord \
+                      or centripetal; a grid's rows' parameters averaged, A9.3), knots by \
+                      averaging for interpolation. The summary gives the residual: the \
+                      largest and RMS distance of the points from the result at their \
+                      parameters. POINTS is a JSON array of [x, y] or [x, y, z] or text \
+                      with one point per line (commas or spaces; `#` comments), at most \
+                      2000; a grid is a JSON array of rows of points (row i at the i-th u, \
+                      every row as long), at most 2000 per direction and 250000 in all.",
         after_help = concat!(
             "Examples:\n",
             "  nurbsx fit points.csv --degree 3 -o curve.step\n",
-            "  nurbsx fit points.json --degree 5 --params centripetal -o curve.json\n\n",
+            "  nurbsx fit points.json --degree 5 --params centripetal -o curve.json\n",
+            "  nurbsx fit points.csv --degree 3 --poles 12 -o smooth.json\n",
+            "  nurbsx fit grid.json --degree 3 --degree-v 2 -o patch.step\n",
+            "  nurbsx fit grid.json --degree 3 --poles 8 --poles-v 6 -o approx.igs\n\n",
             "Exit codes:\n",
             "  0  written\n",
             "  1  over the point limit, coincident points or a singular system\n",
-            "  2  usage or I/O error (unreadable points, too few points for the degree)"
+            "  2  usage or I/O error (unreadable points, too few points for the degree, a pole \n",
+            "     count outside degree + 1 .. points - 1)"
         )
     )]
     Fit(FitArgs),
+    // --- measure and compare ---
+    /// Measure curves and surfaces: lengths, areas, closest points.
+    #[command(
+        long_about = "Measure every curve and surface of IN (or the one --entity names): a \
+                      curve's length and a surface's area by adaptive Gauss-Kronrod \
+                      quadrature (7/15 points per direction, cut at the knots, the worst \
+                      piece halved until the error estimate |K15 - G7| adds up to at most \
+                      --tolerance), and with --closest X,Y,Z each one's closest point to X,Y,Z \
+                      (NURBS Book section 6.1: a sampling of every knot span starts Newton's \
+                      iteration) and the nearest entity.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx measure circle.json\n",
+            "  nurbsx measure part.step --tolerance 1e-6 --json\n",
+            "  nurbsx measure ball.igs --closest 1,2,3 --entity D1\n\n",
+            "Exit codes:\n",
+            "  0  measured to the tolerance\n",
+            "  1  invalid input, or a length or area whose error estimate stayed above the \n",
+            "     tolerance (the piece limit was reached; the value and estimate are reported)\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Measure(MeasureArgs),
+    /// The Hausdorff distance between the geometry of two files.
+    #[command(
+        long_about = "Compare the geometry of A and B: curves with curves, surfaces with \
+                      surfaces. Each curve and surface of one file is sampled in every knot \
+                      span, and each sample inverted (NURBS Book section 6.1) onto the nearest \
+                      entity of the other file, in both directions; the largest distance found \
+                      is the Hausdorff distance. It does not depend on how either file \
+                      parameterises its geometry. B is read in A's length unit.",
+        after_help = concat!(
+            "Examples:\n",
+            "  nurbsx compare part.step part.igs\n",
+            "  nurbsx compare a.json b.json --tolerance 1e-9 --json\n\n",
+            "Exit codes:\n",
+            "  0  compared (within --tolerance when given)\n",
+            "  1  the distance is above --tolerance, or an input is invalid, or one file has \n",
+            "     curves (surfaces) and the other none\n",
+            "  2  usage or I/O error"
+        )
+    )]
+    Compare(CompareArgs),
+    // --- end of measure and compare ---
     /// Tessellate curves and surfaces into OBJ, STL, glTF, or an SVG or PNG picture.
     #[command(after_help = concat!(
         "Examples:\n",
@@ -702,15 +756,18 @@ pub struct ConvertArgs {
     /// solids and assembly placements are left out (a warning says how many).
     #[arg(long)]
     pub geometry_only: bool,
-    /// IGES input: sew trimmed faces (144) whose boundaries coincide within TOL into shared
-    /// edges, shells and solids (default: the file's resolution, Global parameter 19, or
-    /// 1e-7 of the model's size, whichever is larger).
+    /// IGES input: join curve ends into loops and sew 144 faces into shells and solids within
+    /// TOL (default: the larger of the file's resolution and 1e-7 of the model's size).
     #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
     pub sew_tolerance: Option<f64>,
     /// IGES output: write solids and shells as 186 manifold solid B-rep objects (with
     /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
     #[arg(long)]
     pub iges_brep: bool,
+    /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
+    /// warning; the output is still written.
+    #[arg(long)]
+    pub strict: bool,
     /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).
     #[arg(short = 'j', long, value_name = "N",
           value_parser = clap::value_parser!(u16).range(1..=256))]
@@ -746,6 +803,10 @@ pub struct InfoArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
+    /// warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Output formats of `validate`.
@@ -1239,19 +1300,70 @@ pub enum ParamsArg {
 /// `nurbsx fit`.
 #[derive(Debug, Args)]
 pub struct FitArgs {
-    /// The points (JSON array or text, one point per line).
+    /// The points (JSON array or text, one point per line) or a grid (JSON array of rows).
     #[arg(value_name = "POINTS")]
     pub input: PathBuf,
     /// Output.
     #[command(flatten)]
     pub out: OutputArgs,
-    /// Degree of the curve.
+    /// Degree of the curve (of a surface along u).
     #[arg(long, value_name = "P", default_value_t = 3)]
     pub degree: usize,
+    /// Degree of a surface along v (default: --degree).
+    #[arg(long, value_name = "Q")]
+    pub degree_v: Option<usize>,
+    /// Least squares with this many poles (of a surface along u); without it the fit
+    /// interpolates.
+    #[arg(long, value_name = "N")]
+    pub poles: Option<usize>,
+    /// Poles of a least-squares surface along v (default: --poles).
+    #[arg(long, value_name = "M", requires = "poles")]
+    pub poles_v: Option<usize>,
     /// How the points get their parameters.
     #[arg(long, value_enum, default_value_t = ParamsArg::Chord)]
     pub params: ParamsArg,
 }
+
+// --- measure and compare ---
+
+/// `nurbsx measure`.
+#[derive(Debug, Args)]
+pub struct MeasureArgs {
+    /// Input file (STEP, IGES or model JSON).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Only this entity (default: every curve and surface).
+    #[arg(long, value_name = "ID")]
+    pub entity: Option<String>,
+    /// Also find each entity's point closest to X,Y,Z.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_numbers, allow_hyphen_values = true)]
+    pub closest: Option<NumberList>,
+    /// Largest error estimate of a length (model units) or an area (model units squared).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance, default_value_t = 1e-9)]
+    pub tolerance: f64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `nurbsx compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The first file (STEP, IGES or model JSON).
+    #[arg(value_name = "A")]
+    pub first: PathBuf,
+    /// The second file, read in the first one's length unit.
+    #[arg(value_name = "B")]
+    pub second: PathBuf,
+    /// Exit 1 when the distance is above T (model units of A).
+    #[arg(long, value_name = "T", value_parser = parse_tolerance)]
+    pub tolerance: Option<f64>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+// --- end of measure and compare ---
 
 /// A tessellation output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -84,6 +84,7 @@ pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
     settings.import.trim_to_parameter_range = a.trim_to_range;
     settings.import.geometry_only = a.geometry_only;
     settings.import.sew_tolerance = a.sew_tolerance;
+    settings.strict = a.strict;
     let request = ConvertRequest {
         to: a.to.map(format_of),
         export: ExportOptions {

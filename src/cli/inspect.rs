@@ -30,7 +30,13 @@ pub fn no_bspline_warning(diagnostics: usize) -> Diagnostic {
 /// as a table on stdout (diagnostics on stderr) or as one JSON document (diagnostics inside).
 pub fn info(ctx: &Context, a: InfoArgs) -> Result<Outcome, CliError> {
     let name = display_name(&a.input);
-    let loaded = load_file(ctx, &a.input)?;
+    let loaded = if a.strict {
+        let mut strict = ctx.clone();
+        strict.settings.strict = true;
+        load_file(&strict, &a.input)?
+    } else {
+        load_file(ctx, &a.input)?
+    };
     let mut report = pipeline::info(&loaded);
     let outcome = outcome_of(&report.diagnostics);
     let text = if a.json {

@@ -26,6 +26,7 @@ mod convert;
 mod evaluate;
 mod help;
 mod inspect;
+mod measure;
 mod modify;
 mod output;
 mod report;
@@ -241,6 +242,8 @@ fn run(cli: Cli, reporter: &Reporter) -> Result<Outcome, CliError> {
         Command::DerivativeCurve(a) => modify::derivative_curve(&ctx, a),
         Command::Make(a) => modify::make(&ctx, a),
         Command::Fit(a) => modify::fit(&ctx, a),
+        Command::Measure(a) => measure::measure(&ctx, a),
+        Command::Compare(a) => measure::compare(&ctx, a),
         Command::Tessellate(a) => modify::tessellate(&ctx, a),
         Command::Serve(a) => serve(&ctx, a),
         Command::Help(a) => help::help(&ctx, a),

@@ -327,29 +327,55 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
 /// `nurbsx fit`.
 pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
     use crate::nurbs::fit::ParamMethod;
-    use crate::pipeline::construct::{fit, read_points};
+    use crate::pipeline::construct::{FitSpec, fit, read_fit_data};
     let (bytes, _) = super::read_input(&a.input, &ctx.settings)?;
     let text = String::from_utf8(bytes)
         .map_err(|_| CliError::Usage(format!("{} is not UTF-8 text", a.input.display())))?;
-    let (points, dimension) = read_points(&text).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let (data, dimension) = read_fit_data(&text).map_err(|e| CliError::pipeline(&a.input, e))?;
     let method = match a.params {
         ParamsArg::Uniform => ParamMethod::Uniform,
         ParamsArg::Chord => ParamMethod::ChordLength,
         ParamsArg::Centripetal => ParamMethod::Centripetal,
     };
-    let document =
-        fit(&points, dimension, a.degree, method).map_err(|e| CliError::pipeline(&a.input, e))?;
+    let spec = FitSpec {
+        degree: a.degree,
+        degree_v: a.degree_v,
+        poles: a.poles,
+        poles_v: a.poles_v,
+        method,
+    };
+    let (document, report) =
+        fit(&data, dimension, spec).map_err(|e| CliError::pipeline(&a.input, e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
     let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
         .map_err(|e| CliError::pipeline(&a.out.output, e))?;
     write_output(&a.out.output, &text)?;
+    let sizes = |v: &[usize]| {
+        v.iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(" x ")
+    };
     ctx.report.summary(&format!(
-        "{} -> {}: interpolated {} points by a curve of degree {} as {}",
+        "{} -> {}: {} of {} points by a {} of degree {} with {} poles as {}; residual max \
+         {:e}, rms {:e}",
         display_name(&a.input),
         display_name(&a.out.output),
-        points.len(),
-        a.degree,
-        target.name().to_ascii_uppercase()
+        report.method.replace('_', "-"),
+        sizes(&report.points),
+        if report.points.len() == 1 {
+            "curve"
+        } else {
+            "surface"
+        },
+        match a.degree_v {
+            Some(q) if report.points.len() == 2 => format!("{} x {q}", a.degree),
+            _ => a.degree.to_string(),
+        },
+        sizes(&report.poles),
+        target.name().to_ascii_uppercase(),
+        report.residual_max,
+        report.residual_rms,
     ));
     Ok(outcome_of(&document.diagnostics))
 }

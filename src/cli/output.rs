@@ -145,6 +145,26 @@ pub fn info_text(file: &str, r: &InfoReport) -> String {
             let _ = write!(s, " ({} face(s) not measurable)", st.unmeasured_faces);
         }
         s.push('\n');
+        for i in &st.instances {
+            let m = &i.placement;
+            let _ = writeln!(
+                s,
+                "instance {}{}: {} ({}), placement [{}], places {}",
+                "  ".repeat(i.depth.saturating_sub(1)),
+                i.path,
+                i.product,
+                i.id,
+                m.iter()
+                    .map(|r| r.iter().map(|x| num(*x)).collect::<Vec<_>>().join(" "))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                if i.places.is_empty() {
+                    "its sub-instances".to_owned()
+                } else {
+                    i.places.join(", ")
+                }
+            );
+        }
         for solid in &st.solids {
             let _ = writeln!(
                 s,

@@ -45,6 +45,33 @@ pub struct Topology {
     pub model: Model,
     /// Provenance of each vertex, edge, face, shell, solid and assembly of `model`.
     pub origins: Origins,
+    /// The assembly tree the reader applied, depth first: every named instance (a STEP
+    /// next_assembly_usage_occurrence or mapped_item, an IGES 408) with its placement. The
+    /// items it placed are in `model` in root coordinates, their origin ids carrying the
+    /// instance's path after `@` (`#41@Bracket_2`).
+    pub instances: Vec<PlacedInstance>,
+}
+
+/// One placed use of a product (or subfigure) in an assembly.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlacedInstance {
+    /// The instance names from the root down, `/`-separated: what follows `@` in the ids
+    /// of the items it placed.
+    pub path: String,
+    /// The file entity that places it: `#464` (a NEXT_ASSEMBLY_USAGE_OCCURRENCE), `#90` (a
+    /// MAPPED_ITEM), `D45` (an IGES 408).
+    pub id: String,
+    /// The product (or subfigure) placed.
+    pub product: String,
+    /// Nesting level: 1 for an instance in a root assembly.
+    pub depth: usize,
+    /// Where it goes in its parent's coordinates: `x' = R x + T` as 3 rows `[r r r t]`.
+    pub placement: [[f64; 4]; 3],
+    /// Where it goes in root coordinates (the placements composed from the root down).
+    pub world: [[f64; 4]; 3],
+    /// The ids of the solids, shells, faces and free edges this instance itself placed (in
+    /// `model`, root coordinates); those of its sub-instances are listed under them.
+    pub places: Vec<String>,
 }
 
 impl Topology {

@@ -14,6 +14,7 @@
 //! Per-entity problems never abort a file: the entity is skipped with an error diagnostic
 //! and the others load. Only a file that cannot be read at all gives `Err`.
 
+mod assembly;
 mod diagnostic;
 mod document;
 pub mod iges;
@@ -27,7 +28,8 @@ mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
 pub use document::{
-    Document, Entity, Meta, Origin, Origins, ParameterRange, Shape, Source, Topology,
+    Document, Entity, Meta, Origin, Origins, ParameterRange, PlacedInstance, Shape, Source,
+    Topology,
 };
 /// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
 pub use nurbsx_parsers::signature::{

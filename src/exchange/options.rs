@@ -20,9 +20,9 @@ pub struct ImportOptions {
     /// shells, solids or assembly placements ([`Document::topology`](super::Document)
     /// stays empty, and a warning says what was left out).
     pub geometry_only: bool,
-    /// IGES: how close the boundaries of trimmed faces (144) must be to be sewn into shared
-    /// edges (`None`: the file's resolution, Global parameter 19, or 1e-7 of the model's
-    /// size, whichever is larger).
+    /// IGES: how close boundary curve ends must be to join into loops, and the boundaries of
+    /// trimmed faces (144) to be sewn into shared edges (`None`: the file's resolution,
+    /// Global parameter 19, or 1e-7 of the model's size, whichever is larger).
     pub sew_tolerance: Option<f64>,
     /// Also check what reading does not need (the conformance check `validate` runs):
     /// STEP: every instance of the file decoded, its attribute count checked where the

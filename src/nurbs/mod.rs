@@ -34,7 +34,11 @@
 //! - [`project`]: point inversion on surfaces (section 6.1) and pcurves of curves lying on
 //!   surfaces, fitted at the curve's own parameters.
 //! - [`fit`]: global curve interpolation (A9.1) with uniform, chord-length and centripetal
-//!   parameters and averaged knots.
+//!   parameters and averaged knots; least-squares curve approximation with a given pole
+//!   count (section 9.4.1); surface interpolation (A9.4) and approximation (A9.7) over a
+//!   grid; each with the residual at the data points.
+//! - [`measure`]: curve length and surface area by adaptive Gauss-Kronrod quadrature with
+//!   an error estimate, and the directed (one-sided Hausdorff) distance between shapes.
 //! - [`tessellate`]: adaptive tessellation of curves (osculating-circle rule, seed 004) and
 //!   surfaces.
 
@@ -56,6 +60,7 @@ pub mod insert;
 mod kernels;
 pub mod knots;
 pub mod layout;
+pub mod measure;
 pub mod periodic;
 pub mod project;
 pub mod reduce;

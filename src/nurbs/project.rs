@@ -126,10 +126,6 @@ pub fn invert_surface(
 /// `None` only for a curve whose derivatives are not finite there.
 pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
     let domain = curve.domain();
-    let size = curve
-        .control_points()
-        .iter()
-        .fold(1.0f64, |m, q| m.max(norm(*q)));
     let mut samples: Vec<(f64, f64)> = start_parameters(curve.knots(), curve.degree(), domain)
         .into_iter()
         .map(|u| (dist(curve.point_at_unchecked(u), point), u))
@@ -137,33 +133,62 @@ pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
     samples.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut best: Option<(f64, f64)> = None;
     for &(_, start) in samples.iter().take(STARTS) {
-        let mut u = start;
-        for _ in 0..MAX_NEWTON {
-            let d = curve.derivatives(u, 2).ok()?;
-            let r = sub(d[0], point);
-            let distance = norm(r);
-            if best.is_none_or(|b| distance < b.1) {
-                best = Some((u, distance));
-            }
-            let f = dot(d[1], r);
-            // Eq. 6.4: zero distance, or r perpendicular to the tangent.
-            if distance <= 1e-15 * size || f.abs() <= 1e-12 * norm(d[1]) * distance {
-                break;
-            }
-            // Eq. 6.3: u' = u - f / f', f' = C'' . r + |C'|^2.
-            let fp = dot(d[2], r) + dot(d[1], d[1]);
-            if fp == 0.0 || !fp.is_finite() {
-                break;
-            }
-            let next = clamp_to(u - f / fp, domain);
-            // Eq. 6.5: the parameter no longer moves.
-            if (next - u).abs() <= 1e-15 * (domain.1 - domain.0).max(1.0) {
-                break;
-            }
-            u = next;
+        let found = curve_newton(curve, point, start)?;
+        if best.is_none_or(|b| found.1 < b.1) {
+            best = Some(found);
         }
     }
     best
+}
+
+/// [`invert_curve`] started at the parameter `start` (the parameter of a nearby point the
+/// caller found) instead of a sampling of the curve.
+pub fn invert_curve_near(curve: &NurbsCurve, point: Point3, start: f64) -> Option<(f64, f64)> {
+    let domain = curve.domain();
+    curve_newton(curve, point, clamp_to(start, domain))
+}
+
+/// Newton's iteration of [`invert_curve`] from `start`: the best `(u, distance)` it met.
+fn curve_newton(curve: &NurbsCurve, point: Point3, start: f64) -> Option<(f64, f64)> {
+    let domain = curve.domain();
+    let size = curve
+        .control_points()
+        .iter()
+        .fold(1.0f64, |m, q| m.max(norm(*q)));
+    let mut best: Option<(f64, f64)> = None;
+    let mut u = start;
+    for _ in 0..MAX_NEWTON {
+        let d = curve.derivatives(u, 2).ok()?;
+        let r = sub(d[0], point);
+        let distance = norm(r);
+        if best.is_none_or(|b| not_farther(distance, b.1)) {
+            best = Some((u, distance));
+        }
+        let f = dot(d[1], r);
+        // Eq. 6.4: zero distance, or r perpendicular to the tangent.
+        if distance <= 1e-15 * size || f.abs() <= 1e-12 * norm(d[1]) * distance {
+            break;
+        }
+        // Eq. 6.3: u' = u - f / f', f' = C'' . r + |C'|^2.
+        let fp = dot(d[2], r) + dot(d[1], d[1]);
+        if fp == 0.0 || !fp.is_finite() {
+            break;
+        }
+        let next = clamp_to(u - f / fp, domain);
+        // Eq. 6.5: the parameter no longer moves.
+        if (next - u).abs() <= 1e-15 * (domain.1 - domain.0).max(1.0) {
+            break;
+        }
+        u = next;
+    }
+    best
+}
+
+/// Whether a later Newton iterate at distance `d` replaces the best one at `best`: when it
+/// is nearer, or as near up to round-off (near a minimum the distance changes only to
+/// second order, so the later, better converged parameters are kept).
+fn not_farther(d: f64, best: f64) -> bool {
+    d <= best * (1.0 + 8.0 * f64::EPSILON)
 }
 
 /// Distinct starts of a search without a guess.
@@ -184,7 +209,7 @@ fn newton(
         let (suu, suv, svv) = (skl[2][0], skl[1][1], skl[0][2]);
         let r = sub(s, point);
         let d = norm(r);
-        if best.is_none_or(|b| d < b.distance) {
+        if best.is_none_or(|b| not_farther(d, b.distance)) {
             best = Some(Inversion { u, v, distance: d });
         }
         let f = dot(r, su);

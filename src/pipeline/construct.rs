@@ -9,6 +9,8 @@ use crate::nurbs::conic::{ConicKind, conic_arc, line_segment};
 use crate::nurbs::sweep::{self, Frame};
 use crate::nurbs::{Geometry, NurbsCurve, Point3};
 
+use serde::Serialize;
+
 use super::PipelineError;
 
 /// What to build. Angles are in degrees; axes need not be unit vectors; `reference` (the
@@ -439,6 +441,17 @@ pub fn read_points(text: &str) -> Result<(Vec<Point3>, usize), PipelineError> {
         }
         rows
     };
+    let rows: Vec<&Vec<f64>> = rows.iter().collect();
+    let (points, dimension) = points_of(&rows, |k| format!("point {k}"))?;
+    Ok((points, dimension))
+}
+
+/// Points from rows of 2 or 3 finite numbers (all 2: a 2-D fit, z = 0), each bad row a
+/// usage error naming it by `name(k)`.
+fn points_of(
+    rows: &[&Vec<f64>],
+    name: impl Fn(usize) -> String,
+) -> Result<(Vec<Point3>, usize), PipelineError> {
     let dimension = if rows.iter().all(|r| r.len() == 2) {
         2
     } else {
@@ -452,22 +465,162 @@ pub fn read_points(text: &str) -> Result<(Vec<Point3>, usize), PipelineError> {
             [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok([x, y, z]),
             _ => Err(PipelineError::usage(
                 "fit.points",
-                format!("point {k} must be 2 or 3 finite numbers, got {r:?}"),
+                format!("{} must be 2 or 3 finite numbers, got {r:?}", name(k)),
             )),
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((points, dimension))
 }
 
-/// The curve of degree `degree` through `points` (A9.1, `crate::nurbs::fit`) as a document.
+/// The data of a fit: points along a curve, or a grid of points over a surface.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FitData {
+    /// Points, in order.
+    Points(Vec<Point3>),
+    /// Rows of points: row `i` along v at the `i`-th u.
+    Grid(crate::nurbs::Grid<Point3>),
+}
+
+/// Reads fit data: a grid (a JSON array of rows of `[x, y]` or `[x, y, z]`, every row as
+/// long) or points ([`read_points`]). At most [`crate::nurbs::fit::MAX_FIT_POINTS`] rows
+/// and points per row, and [`crate::nurbs::fit::MAX_FIT_GRID_POINTS`] in all. Returns the
+/// data and its dimension (2 when every point has 2 numbers).
+pub fn read_fit_data(text: &str) -> Result<(FitData, usize), PipelineError> {
+    use crate::nurbs::fit::{MAX_FIT_GRID_POINTS, MAX_FIT_POINTS};
+    let grid_like = text.trim_start().strip_prefix('[').is_some_and(|rest| {
+        rest.trim_start().starts_with('[') && {
+            let inner = rest.trim_start()[1..].trim_start();
+            inner.starts_with('[')
+        }
+    });
+    if !grid_like {
+        let (points, dimension) = read_points(text)?;
+        return Ok((FitData::Points(points), dimension));
+    }
+    let rows: Vec<Vec<Vec<f64>>> = serde_json::from_str(text).map_err(|e| {
+        PipelineError::usage(
+            "fit.points",
+            format!("the grid is not a JSON array of rows of [x, y(, z)]: {e}"),
+        )
+    })?;
+    let (nu, nv) = (rows.len(), rows.first().map_or(0, Vec::len));
+    if nu > MAX_FIT_POINTS || nv > MAX_FIT_POINTS || nu.saturating_mul(nv) > MAX_FIT_GRID_POINTS {
+        return Err(PipelineError::new(
+            super::ErrorKind::Limit,
+            "limit.fit_points",
+            format!(
+                "a grid of {nu} x {nv} points: at most {MAX_FIT_POINTS} per direction and \
+                 {MAX_FIT_GRID_POINTS} in all"
+            ),
+            crate::exchange::Location::default(),
+        ));
+    }
+    if let Some(i) = rows.iter().position(|r| r.len() != nv) {
+        return Err(PipelineError::usage(
+            "fit.points",
+            format!(
+                "row {i} of the grid has {} points, row 0 has {nv}",
+                rows[i].len()
+            ),
+        ));
+    }
+    let flat: Vec<&Vec<f64>> = rows.iter().flatten().collect();
+    let (points, dimension) = points_of(&flat, |k| {
+        format!("grid point ({}, {})", k / nv.max(1), k % nv.max(1))
+    })?;
+    let grid = crate::nurbs::Grid::from_u_major(nu, nv, points)
+        .ok_or_else(|| PipelineError::usage("fit.points", "the grid is not rectangular"))?;
+    Ok((FitData::Grid(grid), dimension))
+}
+
+/// How to fit: degrees, pole counts (absent: interpolate) and the parameter method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FitSpec {
+    /// Degree (along u for a grid).
+    pub degree: usize,
+    /// Degree along v for a grid (default: `degree`).
+    pub degree_v: Option<usize>,
+    /// Pole count of a least-squares fit (along u for a grid); absent: interpolation.
+    pub poles: Option<usize>,
+    /// Pole count along v of a least-squares grid fit (default: `poles`).
+    pub poles_v: Option<usize>,
+    /// The parameter method.
+    pub method: crate::nurbs::fit::ParamMethod,
+}
+
+/// What a fit did: the method, the sizes, and the measured residual.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitReport {
+    /// `interpolation` or `least_squares`.
+    pub method: &'static str,
+    /// Data points (`[n]` along a curve, `[rows, columns]` of a grid).
+    pub points: Vec<usize>,
+    /// Poles of the result (`[n]` or `[nu, nv]`).
+    pub poles: Vec<usize>,
+    /// The largest distance of a data point from the result at its parameters.
+    pub residual_max: f64,
+    /// The root mean square of those distances.
+    pub residual_rms: f64,
+}
+
+/// Fits a curve to points or a surface to a grid (`crate::nurbs::fit`: A9.1, least squares
+/// of section 9.4.1, A9.4, A9.7) and returns it as a document with the fit's report.
 pub fn fit(
-    points: &[Point3],
+    data: &FitData,
     dimension: usize,
-    degree: usize,
-    method: crate::nurbs::fit::ParamMethod,
-) -> Result<Document, PipelineError> {
-    let c = crate::nurbs::fit::interpolate(points, degree, method, dimension)?;
-    Ok(document(Geometry::Curve(c), None))
+    spec: FitSpec,
+) -> Result<(Document, FitReport), PipelineError> {
+    use crate::nurbs::fit::{SurfaceFitShape, approximate, fit_surface, interpolate};
+    let method = if spec.poles.is_some() {
+        "least_squares"
+    } else {
+        "interpolation"
+    };
+    match data {
+        FitData::Points(points) => {
+            if spec.degree_v.is_some() || spec.poles_v.is_some() {
+                return Err(PipelineError::usage(
+                    "fit.arguments",
+                    "a degree or pole count along v needs a grid of points",
+                ));
+            }
+            let fit = match spec.poles {
+                None => interpolate(points, spec.degree, spec.method, dimension)?,
+                Some(n) => approximate(points, spec.degree, n, spec.method, dimension)?,
+            };
+            let report = FitReport {
+                method,
+                points: vec![points.len()],
+                poles: vec![fit.curve.num_poles()],
+                residual_max: fit.residual.max,
+                residual_rms: fit.residual.rms,
+            };
+            Ok((document(Geometry::Curve(fit.curve), None), report))
+        }
+        FitData::Grid(grid) => {
+            if spec.poles.is_none() && spec.poles_v.is_some() {
+                return Err(PipelineError::usage(
+                    "fit.arguments",
+                    "a pole count along v needs one along u (--poles)",
+                ));
+            }
+            let shape = SurfaceFitShape {
+                degree_u: spec.degree,
+                degree_v: spec.degree_v.unwrap_or(spec.degree),
+                poles: spec.poles.map(|n| (n, spec.poles_v.unwrap_or(n))),
+            };
+            let fit = fit_surface(grid, shape, spec.method, dimension)?;
+            let net = fit.surface.control_points();
+            let report = FitReport {
+                method,
+                points: vec![grid.nu(), grid.nv()],
+                poles: vec![net.nu(), net.nv()],
+                residual_max: fit.residual.max,
+                residual_rms: fit.residual.rms,
+            };
+            Ok((document(Geometry::Surface(fit.surface), None), report))
+        }
+    }
 }
 
 /// The kinds `make` builds.

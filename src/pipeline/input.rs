@@ -28,6 +28,9 @@ pub struct Settings {
     pub max_reply_bytes: usize,
     /// The stop signal long operations poll (default: never).
     pub cancel: super::Cancel,
+    /// Every violation of the standard that the reader read anyway is an error, as
+    /// `validate` reports it (`convert --strict`, `info --strict`), not a warning.
+    pub strict: bool,
 }
 
 impl Default for Settings {
@@ -40,6 +43,7 @@ impl Default for Settings {
             max_mesh_vertices: 20_000_000,
             max_reply_bytes: usize::MAX,
             cancel: super::Cancel::default(),
+            strict: false,
         }
     }
 }
@@ -161,12 +165,18 @@ pub fn load(
             ));
         }
     };
-    let document = match kind {
+    let mut document = match kind {
         InputKind::Json => load_json(bytes)?,
         InputKind::Step | InputKind::Iges => {
             exchange::read(bytes, &settings.import).map_err(PipelineError::from_exchange)?
         }
     };
+    if settings.strict {
+        document.diagnostics = std::mem::take(&mut document.diagnostics)
+            .into_iter()
+            .map(crate::exchange::Diagnostic::for_conformance)
+            .collect();
+    }
     Ok(Loaded { kind, document })
 }
 

@@ -12,6 +12,7 @@ pub mod construct;
 mod error;
 mod export;
 mod input;
+pub mod measure;
 pub mod mesh;
 mod ops;
 pub mod picture;

@@ -19,7 +19,7 @@ const NUMBER_BYTES: f64 = 25.0;
 /// Refuses work whose reply would exceed [`Settings::max_reply_bytes`]: `estimate` is the
 /// reply size worked out before the work, `what` names the reply, `advice` says how to
 /// shrink it.
-fn check_reply(
+pub(super) fn check_reply(
     estimate: f64,
     what: &str,
     advice: &str,
@@ -414,7 +414,25 @@ pub fn write(
 /// STEP: an entity whose declared kind (a circle, a cylinder...) its geometry does not
 /// agree with is written with `.UNSPECIFIED.` form, with a warning each
 /// (`exchange::step::form_warnings`).
+///
+/// An assembly (read with its placements applied) is written flattened: every instance's
+/// items once per use, in root coordinates. For STEP, whose product structure could carry
+/// the instances, that is a warning (`assembly.flattened`); IGES output has subfigures
+/// (308/408) that nurbsx does not write, so there it is an info.
 pub fn drop_unwritable(doc: &mut Document, format: Format) {
+    let instances = doc.topology.instances.len();
+    if instances > 0 {
+        let message = format!(
+            "assembly written flattened: {instances} instance(s) written as their placed solids, shells and faces in root coordinates ({} solid(s), {} face(s)); the product structure is not written",
+            doc.topology.model.solids.len(),
+            doc.topology.model.faces.len()
+        );
+        doc.diagnostics.push(if format == Format::Step {
+            Diagnostic::warning("assembly.flattened", message, Location::default())
+        } else {
+            Diagnostic::info("assembly.flattened", message, Location::default())
+        });
+    }
     if format == Format::Step {
         let warnings = crate::exchange::step::form_warnings(doc);
         doc.diagnostics.extend(warnings);
@@ -786,7 +804,13 @@ pub fn info(loaded: &Loaded) -> InfoReport {
         format: loaded.kind.name().to_owned(),
         schema: doc.schema.clone(),
         units: units_info(doc.units),
-        entities: doc.entities.iter().map(entity_info).collect(),
+        entities: {
+            let roles = entity_roles(doc);
+            doc.entities
+                .iter()
+                .map(|e| entity_info(e, roles.get(e.id.as_str()).copied().unwrap_or("free")))
+                .collect()
+        },
         structure: structure_info(doc),
         diagnostics: doc.diagnostics.clone(),
     }
@@ -801,10 +825,13 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
     let totals = m.totals();
     let id =
         |v: &[exchange::Origin], i: usize| v.get(i).map_or_else(|| i.to_string(), |x| x.id.clone());
+    // By id once (a search per face would be quadratic on a large part).
+    let by_id: std::collections::HashMap<&str, &Entity> =
+        doc.entities.iter().map(|e| (e.id.as_str(), e)).collect();
     let shape_of = |entity: &Option<String>| {
         entity
-            .as_ref()
-            .and_then(|e| doc.entities.iter().find(|x| &x.id == e))
+            .as_deref()
+            .and_then(|e| by_id.get(e))
             .and_then(|x| x.meta.shape)
     };
     let faces = m
@@ -864,13 +891,47 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
         edges: m.edges.len(),
         vertices: m.vertices.len(),
         assemblies: m.assemblies.len(),
+        instances: doc.topology.instances.clone(),
         area: totals.area,
         centroid: (totals.area > 0.0).then_some(totals.centroid),
         unmeasured_faces: totals.unmeasured,
     })
 }
 
-fn entity_info(e: &Entity) -> EntityInfo {
+/// The role of every entity the topology uses, by id (the others are free): face
+/// surfaces, edge curves, the 3-D curves a face boundary used (`meta.used_by`: the
+/// boundary's copy of an edge, as both sides of an IGES 144 seam before sewing), and the
+/// 2-D curves, which in a part are parameter-space curves of face boundaries (an IGES 508
+/// names them without `used_by`).
+fn entity_roles(doc: &Document) -> std::collections::HashMap<&str, &'static str> {
+    let o = &doc.topology.origins;
+    let mut roles = std::collections::HashMap::new();
+    if doc.topology.is_empty() {
+        return roles;
+    }
+    for e in &doc.entities {
+        if let Geometry::Curve(c) = &e.geometry {
+            if c.dimension() == 2 {
+                roles.insert(e.id.as_str(), "pcurve");
+            } else if !e.meta.used_by.is_empty() {
+                roles.insert(e.id.as_str(), "edge");
+            }
+        }
+    }
+    for x in &o.edges {
+        if let Some(id) = &x.entity {
+            roles.insert(id.as_str(), "edge");
+        }
+    }
+    for x in &o.faces {
+        if let Some(id) = &x.entity {
+            roles.insert(id.as_str(), "face");
+        }
+    }
+    roles
+}
+
+fn entity_info(e: &Entity, role: &'static str) -> EntityInfo {
     match &e.geometry {
         Geometry::Curve(c) => EntityInfo {
             id: e.id.clone(),
@@ -887,6 +948,7 @@ fn entity_info(e: &Entity) -> EntityInfo {
             domain: vec![c.domain()],
             geometry: e.geometry.clone(),
             source: e.source.clone(),
+            role,
         },
         Geometry::Surface(s) => {
             let net = s.control_points();
@@ -908,6 +970,7 @@ fn entity_info(e: &Entity) -> EntityInfo {
                 domain: vec![du, dv],
                 geometry: e.geometry.clone(),
                 source: e.source.clone(),
+                role,
             }
         }
     }

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::exchange::{Diagnostic, Severity, Shape, Source};
+use crate::exchange::{Diagnostic, PlacedInstance, Severity, Shape, Source};
 use crate::nurbs::{Geometry, Point3};
 
 /// `nurbsx info --json` / `POST /v1/info`.
@@ -39,6 +39,11 @@ pub struct StructureInfo {
     pub vertices: usize,
     /// Assemblies (product structure kept as instances).
     pub assemblies: usize,
+    /// The assembly instances whose placements were applied, depth first: name path,
+    /// placing entity, product, placement in the parent and in root coordinates (3x4 rows
+    /// `[r r r t]`), and the ids of the solids/shells/faces/edges each placed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<PlacedInstance>,
     /// Total area of the faces that could be measured (trimmed regions).
     pub area: f64,
     /// Their area-weighted centroid.
@@ -138,6 +143,10 @@ pub struct EntityInfo {
     pub geometry: Geometry,
     /// The source entity and line.
     pub source: Source,
+    /// What it is in the part: `face` (the surface of a face), `edge` (the curve of an
+    /// edge), `pcurve` (a parameter-space curve of a face boundary) or `free` (geometry no
+    /// face or edge uses: free curves and surfaces, and all of a file without faces).
+    pub role: &'static str,
 }
 
 /// `nurbsx validate` / `POST /v1/validate` for one file.

@@ -393,9 +393,25 @@ pub struct ConvertQuery {
     /// `true`: IGES output writes solids and shells as 186 manifold solid B-rep objects
     /// instead of 144 trimmed surfaces.
     pub iges_brep: Option<bool>,
+    /// IGES input: the tolerance within which boundary curve ends are joined into loops
+    /// and trimmed faces (144) are sewn into shells and solids (a positive length in the
+    /// file's unit; default: the file's resolution or 1e-7 of the model's size, whichever
+    /// is larger).
+    pub sew_tolerance: Option<f64>,
 }
 
 impl ConvertQuery {
+    /// The sewing tolerance, checked (absent: the reader's default).
+    pub fn sew_tolerance(&self) -> Result<Option<f64>, ApiError> {
+        match self.sew_tolerance {
+            Some(t) if !(t.is_finite() && t > 0.0) => Err(ApiError::bad_request(
+                "request.sew_tolerance",
+                format!("sew_tolerance must be a positive length, got {t}"),
+            )),
+            t => Ok(t),
+        }
+    }
+
     /// The output unit, parsed.
     pub fn units(&self) -> Result<Option<LengthUnit>, ApiError> {
         self.units
@@ -847,16 +863,25 @@ impl MakeRequest {
     }
 }
 
-/// `POST /v1/fit`: global interpolation (NURBS Book A9.1).
+/// `POST /v1/fit`: a curve through points or a surface through a grid (A9.1, A9.4), or
+/// with `poles` the least-squares fit (section 9.4.1, A9.7).
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FitRequest {
-    /// The points: `[[x, y], ...]` or `[[x, y, z], ...]` (at most 2000).
+    /// The points `[[x, y], ...]` or `[[x, y, z], ...]` (at most 2000), or a grid: rows of
+    /// points `[[[x, y, z], ...], ...]`, row `i` at the `i`-th u, every row as long (at most
+    /// 2000 per direction, 250000 in all).
     #[schema(value_type = Vec<Vec<f64>>)]
     pub points: Box<RawValue>,
-    /// Degree (default 3).
+    /// Degree (along u for a grid; default 3).
     #[serde(default = "three")]
     pub degree: usize,
+    /// Degree along v for a grid (default: `degree`).
+    pub degree_v: Option<usize>,
+    /// Least squares with this many poles (along u for a grid); absent: interpolation.
+    pub poles: Option<usize>,
+    /// Poles along v of a least-squares grid fit (default: `poles`).
+    pub poles_v: Option<usize>,
     /// Parameter method (default `chord`).
     #[serde(default)]
     pub params: ParamsName,
@@ -890,3 +915,43 @@ impl From<ParamsName> for crate::nurbs::fit::ParamMethod {
         }
     }
 }
+
+// --- measure ---
+
+/// `POST /v1/measure`: lengths, areas and closest points.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MeasureRequest {
+    /// Model JSON.
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<Box<RawValue>>,
+    /// A STEP or IGES file's text.
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+    /// Only this entity (default: all).
+    pub entity: Option<String>,
+    /// A point `[x, y, z]` (or `[x, y]`): each entity's closest point to it is found.
+    pub closest: Option<Vec<f64>>,
+    /// Largest error estimate of a length (model units) or area (model units squared);
+    /// default 1e-9.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+impl MeasureRequest {
+    /// The point of `closest`, checked.
+    pub fn point(&self) -> Result<Option<crate::nurbs::Point3>, ApiError> {
+        match self.closest.as_deref() {
+            None => Ok(None),
+            Some(&[x, y]) => Ok(Some([x, y, 0.0])),
+            Some(&[x, y, z]) => Ok(Some([x, y, z])),
+            Some(other) => Err(ApiError::bad_request(
+                "measure.point",
+                format!("closest takes 2 or 3 numbers, got {}", other.len()),
+            )),
+        }
+    }
+}
+
+// --- end of measure ---

@@ -49,6 +49,7 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::derivative_curve,
         super::routes::make,
         super::routes::fit,
+        super::routes::measure,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -63,13 +64,15 @@ use super::error::{ErrorBody, ErrorDetail};
         TessellateRequest, FileFormat, DirectionName, MeshFormatName, SchemaName, ClampName,
         GeometryDoc, GeometryInputDoc, CurveDoc, SurfaceDoc, LocationDoc, DiagnosticDoc, SeverityDoc,
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
-        ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, SolidInfoDoc, ShellInfoDoc,
+        ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, InstanceInfoDoc, SolidInfoDoc, ShellInfoDoc,
         FaceInfoDoc, PartDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
         GeometryReply, OpNoteDoc, Health, Limits, InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
-        super::api::FitRequest, super::api::ParamsName,
+        super::api::FitRequest, super::api::ParamsName, FitReply, FitReportDoc,
+        super::api::MeasureRequest, MeasureReportDoc, EntityMeasureDoc, QuantityDoc,
+        ClosestPointDoc,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),
@@ -260,6 +263,9 @@ pub struct EntityInfoDoc {
     pub geometry: GeometryDoc,
     /// The source entity.
     pub source: SourceDoc,
+    /// What it is in the part: `face` (the surface of a face), `edge` (the curve of an
+    /// edge), `pcurve` (a parameter-space curve of a face boundary) or `free`.
+    pub role: String,
 }
 
 /// `POST /v1/info`.
@@ -297,6 +303,10 @@ pub struct StructureInfoDoc {
     pub vertices: usize,
     /// Number of assemblies.
     pub assemblies: usize,
+    /// The assembly instances whose placements were applied, depth first (absent when
+    /// the file has no assembly).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<InstanceInfoDoc>,
     /// Total trimmed area of the measured faces.
     pub area: f64,
     /// Their area-weighted centroid.
@@ -304,6 +314,28 @@ pub struct StructureInfoDoc {
     pub centroid: Option<[f64; 3]>,
     /// Faces whose area could not be measured.
     pub unmeasured_faces: usize,
+}
+
+/// One placed instance of an assembly.
+#[derive(Serialize, ToSchema)]
+#[schema(as = InstanceInfo)]
+pub struct InstanceInfoDoc {
+    /// Instance names from the root down, `/`-separated: what follows `@` in the ids of
+    /// the items it placed (`#41@Bracket_2`).
+    pub path: String,
+    /// The entity that places it (`#464`: a NEXT_ASSEMBLY_USAGE_OCCURRENCE or MAPPED_ITEM;
+    /// `D45`: an IGES 408).
+    pub id: String,
+    /// The product (or subfigure) placed.
+    pub product: String,
+    /// Nesting level, 1 in a root assembly.
+    pub depth: usize,
+    /// Placement in the parent's coordinates, 3 rows `[r11 r12 r13 t1]`...: `x' = R x + T`.
+    pub placement: [[f64; 4]; 3],
+    /// Placement in root coordinates.
+    pub world: [[f64; 4]; 3],
+    /// Ids of the solids, shells, faces and free edges it placed itself.
+    pub places: Vec<String>,
 }
 
 /// One solid.
@@ -538,3 +570,98 @@ pub struct Limits {
     /// Per-request time limit in milliseconds (over it: 503 `timeout`).
     pub request_timeout_ms: u64,
 }
+
+// --- fit and measure ---
+
+/// The reply of `POST /v1/fit` for model JSON.
+#[derive(Serialize, ToSchema)]
+#[allow(dead_code)]
+pub struct FitReply {
+    /// The fitted curve or surface.
+    pub geometry: GeometryDoc,
+    /// What the fit did and its residual.
+    pub fit: FitReportDoc,
+}
+
+/// What a fit did (mirror of `pipeline::construct::FitReport`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = FitReport)]
+#[allow(dead_code)]
+pub struct FitReportDoc {
+    /// `interpolation` or `least_squares`.
+    pub method: String,
+    /// Data points: `[n]` along a curve, `[rows, columns]` of a grid.
+    pub points: Vec<usize>,
+    /// Poles of the result: `[n]` or `[nu, nv]`.
+    pub poles: Vec<usize>,
+    /// The largest distance of a data point from the result at its parameters.
+    pub residual_max: f64,
+    /// The root mean square of those distances.
+    pub residual_rms: f64,
+}
+
+/// The reply of `POST /v1/measure` (mirror of `pipeline::measure::MeasureReport`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = MeasureReport)]
+#[allow(dead_code)]
+pub struct MeasureReportDoc {
+    /// The tolerance asked for.
+    pub tolerance: f64,
+    /// One per entity measured.
+    pub entities: Vec<EntityMeasureDoc>,
+    /// With `closest`: the id of the entity nearest to the point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nearest: Option<String>,
+    /// Whether every length and area reached the tolerance.
+    pub converged: bool,
+}
+
+/// What was measured on one entity (mirror of `pipeline::measure::EntityMeasure`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = EntityMeasure)]
+#[allow(dead_code)]
+pub struct EntityMeasureDoc {
+    /// The entity's id.
+    pub id: String,
+    /// `curve` or `surface`.
+    pub kind: String,
+    /// A curve's length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length: Option<QuantityDoc>,
+    /// A surface's area.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area: Option<QuantityDoc>,
+    /// The closest point (with `closest`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closest: Option<ClosestPointDoc>,
+}
+
+/// A length or area (mirror of `pipeline::measure::Quantity`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = Quantity)]
+#[allow(dead_code)]
+pub struct QuantityDoc {
+    /// The value.
+    pub value: f64,
+    /// The estimate of its error (sum of `|Kronrod - Gauss|` over the pieces).
+    pub error_estimate: f64,
+    /// Whether the estimate reached the tolerance (else the piece limit came first).
+    pub converged: bool,
+    /// Pieces (curves) or cells (surfaces) the domain was cut into.
+    pub pieces: usize,
+}
+
+/// An entity's closest point (mirror of `pipeline::measure::ClosestPoint`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = ClosestPoint)]
+#[allow(dead_code)]
+pub struct ClosestPointDoc {
+    /// `[u]` or `[u, v]`.
+    pub parameters: Vec<f64>,
+    /// The point.
+    pub point: Vec<f64>,
+    /// Its distance from the requested point.
+    pub distance: f64,
+}
+
+// --- end of fit and measure ---

@@ -149,7 +149,8 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/reverse</code>, <code>/v1/reparameterize</code>, <code>/v1/transform</code></td><td>direction, domain, affine map</td></tr>
 <tr><td><code>POST /v1/iso</code>, <code>/v1/periodic</code>, <code>/v1/derivative-curve</code></td><td>iso-curves, periodic form, derivative curves (A3.3)</td></tr>
 <tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
-<tr><td><code>POST /v1/fit</code></td><td>a curve interpolating points (A9.1)</td></tr>
+<tr><td><code>POST /v1/fit</code></td><td>a curve or surface fitted to points or a grid: interpolation (A9.1, A9.4) or least squares (A9.7), with the residual</td></tr>
+<tr><td><code>POST /v1/measure</code></td><td>curve lengths, surface areas (to a tolerance) and closest points</td></tr>
 <tr><td><code>POST /v1/tessellate</code></td><td>OBJ, SVG, binary glTF (one node per face or curve, named by its id) or STL under a chord tolerance</td></tr>
 <tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code>, <code>/limits</code></td><td>liveness, readiness, Prometheus metrics, request limits</td></tr>
 </table>

@@ -104,6 +104,7 @@ pub async fn convert(
     };
     let mut settings = state.settings.clone();
     settings.import.geometry_only = query.geometry_only.unwrap_or(false);
+    settings.import.sew_tolerance = query.sew_tolerance()?;
     let output = state
         .gate
         .run(move |cancel| {
@@ -578,20 +579,26 @@ pub async fn make(
 ) -> Result<Response, ApiError> {
     let format = req.format;
     let shape = req.shape()?;
-    built(state, format, move || pipeline::construct::make(&shape)).await
+    built(state, format, move || {
+        pipeline::construct::make(&shape).map(|d| (d, None))
+    })
+    .await
 }
 
-/// Interpolates a curve through points (NURBS Book A9.1).
+/// Fits a curve to points or a surface to a grid: interpolation (A9.1, A9.4) or, with
+/// `poles`, least squares (section 9.4.1, A9.7). The reply carries the residual.
 #[utoipa::path(
     post,
     path = "/v1/fit",
     tag = "geometry",
     request_body = super::api::FitRequest,
     responses(
-        (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
-                                      file with `format`",
+        (status = 200, description = "Model JSON `{\"geometry\": ..., \"fit\": ...}` \
+                                      (default), or a STEP/IGES file with `format` and the \
+                                      residual in `X-Nurbsx-Residual-Max` and \
+                                      `X-Nurbsx-Residual-Rms`",
             content(
-                (GeometryReply = "application/json"),
+                (super::openapi::FitReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -603,29 +610,86 @@ pub async fn fit(
     ApiJson(req): ApiJson<super::api::FitRequest>,
 ) -> Result<Response, ApiError> {
     let format = req.format;
-    let method = req.params.into();
-    let degree = req.degree;
+    let spec = pipeline::construct::FitSpec {
+        degree: req.degree,
+        degree_v: req.degree_v,
+        poles: req.poles,
+        poles_v: req.poles_v,
+        method: req.params.into(),
+    };
     let points = req.points;
     built(state, format, move || {
-        let (points, dimension) = pipeline::construct::read_points(points.get())?;
-        pipeline::construct::fit(&points, dimension, degree, method)
+        let (data, dimension) = pipeline::construct::read_fit_data(points.get())?;
+        let (document, report) = pipeline::construct::fit(&data, dimension, spec)?;
+        Ok((document, Some(report)))
     })
     .await
 }
 
-/// Runs `build` on a computing slot and replies with the document: model JSON
-/// `{"geometry": ...}`, or a file in `format`.
-async fn built(
-    state: Arc<AppState>,
-    format: Option<super::api::FileFormat>,
-    build: impl FnOnce() -> Result<crate::exchange::Document, pipeline::PipelineError> + Send + 'static,
+// --- measure ---
+
+/// Measures curves and surfaces: lengths and areas to a tolerance (adaptive Gauss-Kronrod)
+/// and, with `closest`, each entity's closest point (NURBS Book section 6.1).
+#[utoipa::path(
+    post,
+    path = "/v1/measure",
+    tag = "geometry",
+    request_body = super::api::MeasureRequest,
+    responses(
+        (status = 200, description = "One result per entity", body = super::openapi::MeasureReportDoc),
+        FileErrors
+    )
+)]
+pub async fn measure(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::MeasureRequest>,
 ) -> Result<Response, ApiError> {
+    let closest = req.point()?;
+    let request = pipeline::measure::MeasureRequest {
+        entity: req.entity,
+        closest,
+        tolerance: req.tolerance,
+    };
+    let input = Input::from_fields(req.geometry, req.file, req.format)?;
     let mut settings = state.settings.clone();
-    let (document, text) = state
+    let report = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
-            let document = build()?;
+            let loaded = pipeline::load(&input.bytes, input.hint, &settings)?;
+            Ok(pipeline::measure::measure(
+                &loaded.document,
+                &request,
+                &settings,
+            )?)
+        })
+        .await?;
+    Ok(Json(report).into_response())
+}
+
+// --- end of measure ---
+
+/// Runs `build` on a computing slot and replies with the document: model JSON
+/// `{"geometry": ...}` (with `fit` when the build reports a fit), or a file in `format`
+/// (a fit's residual in `X-Nurbsx-Residual-Max` / `-Rms`).
+async fn built(
+    state: Arc<AppState>,
+    format: Option<super::api::FileFormat>,
+    build: impl FnOnce() -> Result<
+        (
+            crate::exchange::Document,
+            Option<pipeline::construct::FitReport>,
+        ),
+        pipeline::PipelineError,
+    > + Send
+    + 'static,
+) -> Result<Response, ApiError> {
+    let mut settings = state.settings.clone();
+    let (document, report, text) = state
+        .gate
+        .run(move |cancel| {
+            settings.cancel = cancel;
+            let (document, report) = build()?;
             pipeline::check_file_reply(&document, &settings)?;
             let text = match format {
                 Some(f) => Some(pipeline::write(
@@ -635,16 +699,29 @@ async fn built(
                 )?),
                 None => None,
             };
-            Ok((document, text))
+            Ok((document, report, text))
         })
         .await?;
     match (format, text) {
-        (Some(f), Some(text)) => Ok(file_reply(
-            f.kind().format().unwrap_or(Format::Step),
-            text,
-            document.entities.len(),
-            document.diagnostics.len(),
-        )),
+        (Some(f), Some(text)) => {
+            let mut response = file_reply(
+                f.kind().format().unwrap_or(Format::Step),
+                text,
+                document.entities.len(),
+                document.diagnostics.len(),
+            );
+            if let Some(r) = &report {
+                for (name, value) in [
+                    ("x-nurbsx-residual-max", r.residual_max),
+                    ("x-nurbsx-residual-rms", r.residual_rms),
+                ] {
+                    if let Ok(v) = HeaderValue::from_str(&format!("{value:e}")) {
+                        response.headers_mut().insert(name, v);
+                    }
+                }
+            }
+            Ok(response)
+        }
         _ => {
             let geometry = document
                 .entities
@@ -655,7 +732,14 @@ async fn built(
                     tracing::error!(error = %e, "serialising geometry failed");
                     ApiError::internal()
                 })?;
-            Ok(Json(serde_json::json!({ "geometry": geometry })).into_response())
+            let mut reply = serde_json::json!({ "geometry": geometry });
+            if let Some(r) = &report {
+                reply["fit"] = serde_json::to_value(r).map_err(|e| {
+                    tracing::error!(error = %e, "serialising the fit report failed");
+                    ApiError::internal()
+                })?;
+            }
+            Ok(Json(reply).into_response())
         }
     }
 }

@@ -2,11 +2,16 @@
 //! structure with ISO 10303-42 item_defined_transformation / mapped_item; IGES 5.3 408
 //! singular subfigure instances with 124 transforms).
 
-use super::{AssemblyId, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError};
-use crate::nurbs::transform::{Affine, IDENTITY, compose};
+use std::collections::HashMap;
+
+use super::{
+    AssemblyId, Coedge, Edge, EdgeId, Face, FaceId, Loop, Model, Shell, ShellId, Solid, SolidId,
+    TopologyError, Vertex, VertexId,
+};
+use crate::nurbs::transform::{Affine, IDENTITY, apply, compose};
 
 /// What an instance places.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Part {
     /// A solid.
     Solid(SolidId),
@@ -126,5 +131,233 @@ impl Model {
             }
         }
         Ok(out)
+    }
+}
+
+/// Which items of the source model a placed copy came from, index-aligned with the items
+/// [`Model::place`] appended to the target (`vertices[k]` is the source vertex of the k-th
+/// vertex appended, and so on).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Copied {
+    /// Source vertices.
+    pub vertices: Vec<VertexId>,
+    /// Source edges.
+    pub edges: Vec<EdgeId>,
+    /// Source faces.
+    pub faces: Vec<FaceId>,
+    /// Source shells.
+    pub shells: Vec<ShellId>,
+    /// Source solids.
+    pub solids: Vec<SolidId>,
+}
+
+/// Checks that `m` is finite with a linear part of positive determinant, and returns the
+/// factor by which it may stretch a length at most (the Frobenius norm of the linear part,
+/// an upper bound of its largest singular value).
+fn stretch(m: &Affine) -> Result<f64, TopologyError> {
+    let invalid = |reason: &str| TopologyError::PlacementInvalid {
+        placement: *m,
+        reason: reason.to_owned(),
+    };
+    if !m.iter().flatten().all(|x| x.is_finite()) {
+        return Err(invalid("not finite"));
+    }
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if det.is_nan() || det <= 0.0 {
+        return Err(invalid(
+            "the determinant of its linear part is not positive (a mirror or a collapse)",
+        ));
+    }
+    let frobenius = (0..3)
+        .flat_map(|r| (0..3).map(move |c| (r, c)))
+        .map(|(r, c)| m[r][c] * m[r][c])
+        .sum::<f64>()
+        .sqrt();
+    Ok(frobenius)
+}
+
+impl Model {
+    /// The vertices, edges, faces and shells `part` uses (each once), in the order a copy
+    /// visits them; `None` for an assembly or a missing item.
+    fn part_items(&self, part: Part) -> Option<(Vec<ShellId>, Vec<FaceId>, Vec<EdgeId>)> {
+        let mut shells: Vec<ShellId> = Vec::new();
+        let mut faces: Vec<FaceId> = Vec::new();
+        let mut edges: Vec<EdgeId> = Vec::new();
+        match part {
+            Part::Solid(s) => {
+                let solid = self.solids.get(s.0)?;
+                shells.push(solid.outer);
+                shells.extend(&solid.voids);
+            }
+            Part::Shell(s) => shells.push(s),
+            Part::Face(f) => faces.push(f),
+            Part::Edge(e) => edges.push(e),
+            Part::Assembly(_) => return None,
+        }
+        let mut seen_faces = std::collections::HashSet::new();
+        faces.retain(|f| seen_faces.insert(*f));
+        for s in &shells {
+            for &(f, _) in &self.shells.get(s.0)?.faces {
+                if seen_faces.insert(f) {
+                    faces.push(f);
+                }
+            }
+        }
+        let mut seen_edges: std::collections::HashSet<EdgeId> = edges.iter().copied().collect();
+        for f in &faces {
+            for l in &self.faces.get(f.0)?.loops {
+                for c in &l.coedges {
+                    if seen_edges.insert(c.edge) {
+                        edges.push(c.edge);
+                    }
+                }
+            }
+        }
+        Some((shells, faces, edges))
+    }
+
+    /// How many items copying `part` with [`Model::place`] appends (vertices, edges, faces,
+    /// shells and solids), to check a budget before copying.
+    pub fn part_size(&self, part: Part) -> Result<usize, TopologyError> {
+        let (shells, faces, edges) = self.part_items(part).ok_or(TopologyError::Missing {
+            what: "part",
+            index: 0,
+        })?;
+        let mut vertices = std::collections::HashSet::new();
+        for e in &edges {
+            if let Some(edge) = self.edges.get(e.0) {
+                vertices.insert(edge.start);
+                vertices.insert(edge.end);
+            }
+        }
+        let solids = usize::from(matches!(part, Part::Solid(_)));
+        Ok(vertices.len() + edges.len() + faces.len() + shells.len() + solids)
+    }
+
+    /// Appends a copy of `part` (a solid, shell, face or free edge with everything it uses)
+    /// to `target`, its geometry mapped exactly by `placement` (control points transformed,
+    /// weights and knots kept: NURBS affine invariance, NURBS Book section 4.4; the
+    /// parameter-space curves stay as they are, the surfaces keeping their parameters), and
+    /// returns the copy and the source of each appended item. Tolerances grow with the
+    /// placement's stretch. Shared edges and vertices of the part stay shared in the copy.
+    /// Refuses an assembly (flatten it first with [`Model::flatten`]), a missing item, and
+    /// a placement that is not finite or would mirror (ISO 10303-42 axis placements never
+    /// do; a mirrored solid would need its loops reversed).
+    pub fn place(
+        &self,
+        part: Part,
+        placement: &Affine,
+        target: &mut Model,
+    ) -> Result<(Part, Copied), TopologyError> {
+        let grow = stretch(placement)?.max(1.0);
+        let missing = |what: &'static str, index: usize| TopologyError::Missing { what, index };
+        let geometry = |e: crate::nurbs::GeometryError| TopologyError::PlacementInvalid {
+            placement: *placement,
+            reason: e.to_string(),
+        };
+        let (shells, faces, edges) = self.part_items(part).ok_or_else(|| missing("part", 0))?;
+        let mut copied = Copied::default();
+        // Build the copies first, then append them all (nothing appended on an error).
+        let mut vertex_map: HashMap<VertexId, VertexId> = HashMap::new();
+        let mut new_vertices = Vec::new();
+        let mut edge_map: HashMap<EdgeId, EdgeId> = HashMap::new();
+        let mut new_edges = Vec::with_capacity(edges.len());
+        for &e in &edges {
+            let edge = self.edges.get(e.0).ok_or_else(|| missing("edge", e.0))?;
+            let mut ends = [edge.start, edge.end];
+            for v in &mut ends {
+                let next = VertexId(target.vertices.len() + new_vertices.len());
+                let id = *vertex_map.entry(*v).or_insert(next);
+                if id == next {
+                    let vertex = self
+                        .vertices
+                        .get(v.0)
+                        .ok_or_else(|| missing("vertex", v.0))?;
+                    new_vertices.push(Vertex {
+                        point: apply(placement, vertex.point),
+                        tolerance: vertex.tolerance * grow,
+                    });
+                    copied.vertices.push(*v);
+                }
+                *v = id;
+            }
+            edge_map.insert(e, EdgeId(target.edges.len() + new_edges.len()));
+            new_edges.push(Edge {
+                curve: edge.curve.transform(placement).map_err(geometry)?,
+                range: edge.range,
+                start: ends[0],
+                end: ends[1],
+                tolerance: edge.tolerance * grow,
+            });
+            copied.edges.push(e);
+        }
+        let mut face_map: HashMap<FaceId, FaceId> = HashMap::new();
+        let mut new_faces = Vec::with_capacity(faces.len());
+        for &f in &faces {
+            let face = self.faces.get(f.0).ok_or_else(|| missing("face", f.0))?;
+            let loops = face
+                .loops
+                .iter()
+                .map(|l| Loop {
+                    outer: l.outer,
+                    coedges: l
+                        .coedges
+                        .iter()
+                        .map(|c| Coedge {
+                            edge: edge_map[&c.edge],
+                            forward: c.forward,
+                            pcurve: c.pcurve.clone(),
+                            pcurve_deviation: c.pcurve_deviation.map(|d| d * grow),
+                        })
+                        .collect(),
+                })
+                .collect();
+            face_map.insert(f, FaceId(target.faces.len() + new_faces.len()));
+            new_faces.push(Face {
+                surface: face.surface.transform(placement).map_err(geometry)?,
+                loops,
+                same_sense: face.same_sense,
+            });
+            copied.faces.push(f);
+        }
+        let mut shell_map: HashMap<ShellId, ShellId> = HashMap::new();
+        let mut new_shells = Vec::with_capacity(shells.len());
+        for &s in &shells {
+            let shell = self.shells.get(s.0).ok_or_else(|| missing("shell", s.0))?;
+            shell_map.insert(s, ShellId(target.shells.len() + new_shells.len()));
+            new_shells.push(Shell {
+                faces: shell
+                    .faces
+                    .iter()
+                    .map(|&(f, o)| (face_map[&f], o))
+                    .collect(),
+                closed: shell.closed,
+            });
+            copied.shells.push(s);
+        }
+        let placed = match part {
+            Part::Solid(s) => {
+                copied.solids.push(s);
+                Part::Solid(SolidId(target.solids.len()))
+            }
+            Part::Shell(s) => Part::Shell(shell_map[&s]),
+            Part::Face(f) => Part::Face(face_map[&f]),
+            Part::Edge(e) => Part::Edge(edge_map[&e]),
+            Part::Assembly(a) => return Err(missing("part (an assembly)", a.0)),
+        };
+        target.vertices.extend(new_vertices);
+        target.edges.extend(new_edges);
+        target.faces.extend(new_faces);
+        target.shells.extend(new_shells);
+        if let Part::Solid(s) = part {
+            let solid = &self.solids[s.0];
+            target.solids.push(Solid {
+                outer: shell_map[&solid.outer],
+                voids: solid.voids.iter().map(|v| shell_map[v]).collect(),
+            });
+        }
+        Ok((placed, copied))
     }
 }

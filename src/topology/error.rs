@@ -108,6 +108,15 @@ pub enum TopologyError {
         /// The chain that closes the cycle.
         chain: Vec<AssemblyId>,
     },
+    /// A placement that is not a proper rigid-or-scaling map (not finite, or its linear part
+    /// has a determinant <= 0: a mirror would turn the solids inside out).
+    #[error("placement {placement:?} is not usable: {reason}")]
+    PlacementInvalid {
+        /// The 3x4 matrix.
+        placement: [[f64; 4]; 3],
+        /// Why.
+        reason: String,
+    },
     /// Flattening an assembly would give more instances or deeper nesting than allowed.
     #[error("assembly {root:?} expands beyond {limit} {what}")]
     AssemblyTooLarge {

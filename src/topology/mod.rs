@@ -39,7 +39,7 @@ mod mesh;
 mod pcurve;
 mod sew;
 
-pub use assembly::{Assembly, Instance, Part, Placed};
+pub use assembly::{Assembly, Copied, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
@@ -168,6 +168,15 @@ impl Model {
     /// An empty model.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The largest tolerance of a vertex or an edge (0 for a model without them): how far
+    /// apart two points of the model may be and still be the same point, which a writer
+    /// declares so that a reader joins what this model joins.
+    pub fn max_tolerance(&self) -> f64 {
+        let vertices = self.vertices.iter().map(|v| v.tolerance);
+        let edges = self.edges.iter().map(|e| e.tolerance);
+        vertices.chain(edges).fold(0.0, f64::max)
     }
 
     /// Adds a vertex. Refuses a non-finite point or a negative/non-finite tolerance.

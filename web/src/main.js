@@ -343,10 +343,24 @@ function renderTree(info) {
         el('ul', {}, surfaces.map((e) => el('li', {}, selectButton(e.id, `Surface ${e.id}`, `degree ${e.degree.join('×')}`)))))));
     }
   }
-  const curves = info.entities.filter((e) => e.kind === 'curve' && e.dimension === 3);
-  if (curves.length) {
-    parts.push(el('li', {}, el('details', { open: !s }, el('summary', {}, `Curves (${curves.length})`),
-      el('ul', {}, curves.map((e) => el('li', {}, selectButton(e.id, `Curve ${e.id}`, `degree ${e.degree[0]}, ${e.poles[0]} poles`)))))));
+  // In a part, free geometry (role "free": used by no face or edge) is listed apart from the
+  // edge curves; a file without faces has only free geometry.
+  const curveRow = (e) => el('li', {}, selectButton(e.id, `Curve ${e.id}`, `degree ${e.degree[0]}, ${e.poles[0]} poles`));
+  const curves3 = info.entities.filter((e) => e.kind === 'curve' && e.dimension === 3);
+  const free = curves3.filter((e) => e.role === 'free');
+  const edges = curves3.filter((e) => e.role !== 'free');
+  if (free.length) {
+    parts.push(el('li', {}, el('details', { open: true, id: 'free-curves' }, el('summary', {}, `${s ? 'Free curves' : 'Curves'} (${free.length})`),
+      el('ul', {}, free.map(curveRow)))));
+  }
+  const freeSurfaces = s ? info.entities.filter((e) => e.kind === 'surface' && e.role === 'free') : [];
+  if (freeSurfaces.length) {
+    parts.push(el('li', {}, el('details', { open: true }, el('summary', {}, `Free surfaces (${freeSurfaces.length})`),
+      el('ul', {}, freeSurfaces.map((e) => el('li', {}, selectButton(e.id, `Surface ${e.id}`, `degree ${e.degree.join('×')}`)))))));
+  }
+  if (edges.length) {
+    parts.push(el('li', {}, el('details', { open: false }, el('summary', {}, `Edge curves (${edges.length})`),
+      el('ul', {}, edges.map(curveRow)))));
   }
   const summary = s
     ? `${s.solids.length} solid(s), ${s.shells.length} shell(s), ${s.faces.length} face(s), ${s.edges} edges, ${s.vertices} vertices; area ${num(s.area, 6)} ${units}²`

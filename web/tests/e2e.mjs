@@ -119,6 +119,10 @@ async function partTest(base) {
     'one tree row per face of nurbsx info', `${rows.length} rows`);
   const solidRows = await page.$$eval('#tree li.solid', (x) => x.length);
   check(solidRows === s.solids.length, 'one tree node per solid', `${solidRows}`);
+  const freeIds = info.entities.filter((e) => e.kind === 'curve' && e.dimension === 3 && e.role === 'free').map((e) => e.id);
+  const freeRows = await page.$$eval('#free-curves [data-select]', (b) => b.map((x) => x.dataset.select));
+  check(freeRows.length === freeIds.length && freeRows.every((id) => freeIds.includes(id)),
+    'the free curves listed apart are those nurbsx info calls free', `${freeRows.length} rows, ${freeIds.length} free`);
 
   const view = await page.evaluate(() => window.nurbsxPage.view());
   const shown = view.faces.filter((id) => faceIds.has(id) || surfaceToFace.has(id));

@@ -7,6 +7,8 @@
 //! what the EXPRESS *types* require (a REAL radius, a reference, a BOOLEAN); geometric
 //! rules (radius > 0, a non-zero direction) are the exchange layer's job.
 
+use std::borrow::Cow;
+
 use super::ast::{Body, Instance, Parameter};
 use super::error::SchemaError;
 use super::scan::{RawInstance, Scanned};
@@ -347,8 +349,9 @@ pub struct GeometryItem<'a> {
     pub name: Option<StepString<'a>>,
     /// The most specific entity type read (`CIRCLE`, `SEAM_CURVE`, `ADVANCED_FACE`...).
     pub entity: &'static str,
-    /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance).
-    pub entity_type: String,
+    /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance); for a
+    /// simple instance the long name, [`GeometryItem::entity`] (no allocation per item).
+    pub entity_type: Cow<'static, str>,
     /// The attributes.
     pub record: GeometryRecord<'a>,
 }
@@ -696,7 +699,10 @@ impl<'a> GeometryItem<'a> {
         Ok(Some(GeometryItem {
             name,
             entity,
-            entity_type: a.entity_type().to_owned(),
+            entity_type: match simple {
+                Some(e) => Cow::Borrowed(e),
+                None => Cow::Owned(a.entity_type().to_owned()),
+            },
             record,
         }))
     }
@@ -704,11 +710,19 @@ impl<'a> GeometryItem<'a> {
 
 impl<'a> Scanned<'a> {
     /// Decodes instance `raw` as one of [`GEOMETRY_ENTITIES`]; `Ok(None)` when it is
-    /// another entity.
+    /// another entity. The usual simple instances of a B-rep (placements, lines, circles,
+    /// elementary surfaces, surface curves and pcurves, vertices, edges, loops, faces,
+    /// shells) are read from their text in one pass (private to this decoder); any other
+    /// shape through the grammar, by attribute name, with the same item or the located
+    /// error.
+    #[inline]
     pub fn geometry_item(
         &self,
         raw: &RawInstance<'a>,
     ) -> Result<Option<GeometryItem<'a>>, DecodeError> {
+        if let Some(item) = super::geometry_text::read(raw, self.param_limits()) {
+            return Ok(Some(item));
+        }
         let inst = self.decode(raw)?;
         // The line and column are looked up only for an error (finding them counts the
         // lines before the instance, a visible cost when every instance is decoded).

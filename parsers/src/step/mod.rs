@@ -19,6 +19,9 @@
 //!   curves and pcurves, elementary and swept surfaces, rectangular trimmed surfaces) and of
 //!   the topology that bounds them (vertex points, edge curves, loops, faces), through the
 //!   same attribute tables; [`Scanned::geometry_item`] decodes one.
+//! - [`product`]: typed records of the product and representation structure that places
+//!   parts in an assembly (next_assembly_usage_occurrence, the representation relationships
+//!   with their transformations, mapped items); [`Scanned::product_item`] decodes one.
 //! - [`writer`]: Part 21 text from a tree; [`Builder`] creates instances with fresh ids.
 //!
 //! Errors: [`ParseError`] (syntax/structure: line, column, `#id`), [`SchemaError`] (a
@@ -28,12 +31,17 @@ mod ast;
 mod bspline_text;
 mod error;
 pub mod geometry;
+mod geometry_text;
 mod grammar;
+mod instance_text;
+pub mod product;
 mod scan;
 pub mod schema;
 mod specials;
 mod string;
 mod swar;
+#[cfg(test)]
+mod test_files;
 pub mod writer;
 
 pub use ast::{Body, DataSection, Exchange, Instance, Parameter, Record, schema_names};

@@ -196,6 +196,85 @@ pub const OWN_ATTRIBUTES: &[(&str, &[&str])] = &[
     ("FACE_BASED_SURFACE_MODEL", &["fbsm_faces"]),
     ("GEOMETRIC_SET", &["elements"]),
     ("GEOMETRIC_CURVE_SET", &[]),
+    // ISO 10303-41 product structure and ISO 10303-43 representation structure (the
+    // assembly: which product definition uses which, and where its shape goes).
+    (
+        "PRODUCT",
+        &["id", "name", "description", "frame_of_reference"],
+    ),
+    (
+        "PRODUCT_DEFINITION_FORMATION",
+        &["id", "description", "of_product"],
+    ),
+    (
+        "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
+        &["make_or_buy"],
+    ),
+    (
+        "PRODUCT_DEFINITION",
+        &["id", "description", "formation", "frame_of_reference"],
+    ),
+    (
+        "PRODUCT_DEFINITION_WITH_ASSOCIATED_DOCUMENTS",
+        &["documentation_ids"],
+    ),
+    (
+        "PROPERTY_DEFINITION",
+        &["name", "description", "definition"],
+    ),
+    ("PRODUCT_DEFINITION_SHAPE", &[]),
+    (
+        "PROPERTY_DEFINITION_REPRESENTATION",
+        &["definition", "used_representation"],
+    ),
+    ("SHAPE_DEFINITION_REPRESENTATION", &[]),
+    (
+        "PRODUCT_DEFINITION_RELATIONSHIP",
+        &[
+            "id",
+            "name",
+            "description",
+            "relating_product_definition",
+            "related_product_definition",
+        ],
+    ),
+    ("PRODUCT_DEFINITION_USAGE", &[]),
+    ("ASSEMBLY_COMPONENT_USAGE", &["reference_designator"]),
+    ("NEXT_ASSEMBLY_USAGE_OCCURRENCE", &[]),
+    (
+        "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION",
+        &["representation_relation", "represented_product_relation"],
+    ),
+    (
+        "REPRESENTATION_RELATIONSHIP",
+        &["name", "description", "rep_1", "rep_2"],
+    ),
+    (
+        "REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION",
+        &["transformation_operator"],
+    ),
+    ("SHAPE_REPRESENTATION_RELATIONSHIP", &[]),
+    (
+        "ITEM_DEFINED_TRANSFORMATION",
+        &[
+            "name",
+            "description",
+            "transform_item_1",
+            "transform_item_2",
+        ],
+    ),
+    ("SHAPE_REPRESENTATION", &[]),
+    ("ADVANCED_BREP_SHAPE_REPRESENTATION", &[]),
+    ("FACETED_BREP_SHAPE_REPRESENTATION", &[]),
+    ("MANIFOLD_SURFACE_SHAPE_REPRESENTATION", &[]),
+    ("GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION", &[]),
+    ("GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION", &[]),
+    ("EDGE_BASED_WIREFRAME_SHAPE_REPRESENTATION", &[]),
+    ("MAPPED_ITEM", &["mapping_source", "mapping_target"]),
+    (
+        "REPRESENTATION_MAP",
+        &["mapping_origin", "mapped_representation"],
+    ),
 ];
 
 const CURVE_CHAIN: [&str; 5] = [
@@ -515,6 +594,121 @@ pub const SUPERTYPE_CHAINS: &[(&str, &[&str])] = &[
         "PLANE_ANGLE_MEASURE_WITH_UNIT",
         &["MEASURE_WITH_UNIT", "PLANE_ANGLE_MEASURE_WITH_UNIT"],
     ),
+    // ISO 10303-41 / -43 product and representation structure (the EXPRESS SUBTYPE OF
+    // chains, root first).
+    ("PRODUCT", &["PRODUCT"]),
+    (
+        "PRODUCT_DEFINITION_FORMATION",
+        &["PRODUCT_DEFINITION_FORMATION"],
+    ),
+    (
+        "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
+        &[
+            "PRODUCT_DEFINITION_FORMATION",
+            "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
+        ],
+    ),
+    ("PRODUCT_DEFINITION", &["PRODUCT_DEFINITION"]),
+    (
+        "PRODUCT_DEFINITION_WITH_ASSOCIATED_DOCUMENTS",
+        &[
+            "PRODUCT_DEFINITION",
+            "PRODUCT_DEFINITION_WITH_ASSOCIATED_DOCUMENTS",
+        ],
+    ),
+    (
+        "PRODUCT_DEFINITION_SHAPE",
+        &["PROPERTY_DEFINITION", "PRODUCT_DEFINITION_SHAPE"],
+    ),
+    (
+        "SHAPE_DEFINITION_REPRESENTATION",
+        &[
+            "PROPERTY_DEFINITION_REPRESENTATION",
+            "SHAPE_DEFINITION_REPRESENTATION",
+        ],
+    ),
+    (
+        "NEXT_ASSEMBLY_USAGE_OCCURRENCE",
+        &[
+            "PRODUCT_DEFINITION_RELATIONSHIP",
+            "PRODUCT_DEFINITION_USAGE",
+            "ASSEMBLY_COMPONENT_USAGE",
+            "NEXT_ASSEMBLY_USAGE_OCCURRENCE",
+        ],
+    ),
+    (
+        "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION",
+        &["CONTEXT_DEPENDENT_SHAPE_REPRESENTATION"],
+    ),
+    (
+        "REPRESENTATION_RELATIONSHIP",
+        &["REPRESENTATION_RELATIONSHIP"],
+    ),
+    (
+        "SHAPE_REPRESENTATION_RELATIONSHIP",
+        &[
+            "REPRESENTATION_RELATIONSHIP",
+            "SHAPE_REPRESENTATION_RELATIONSHIP",
+        ],
+    ),
+    (
+        "ITEM_DEFINED_TRANSFORMATION",
+        &["ITEM_DEFINED_TRANSFORMATION"],
+    ),
+    (
+        "SHAPE_REPRESENTATION",
+        &["REPRESENTATION", "SHAPE_REPRESENTATION"],
+    ),
+    (
+        "ADVANCED_BREP_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "ADVANCED_BREP_SHAPE_REPRESENTATION",
+        ],
+    ),
+    (
+        "FACETED_BREP_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "FACETED_BREP_SHAPE_REPRESENTATION",
+        ],
+    ),
+    (
+        "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
+        ],
+    ),
+    (
+        "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION",
+        ],
+    ),
+    (
+        "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION",
+        ],
+    ),
+    (
+        "EDGE_BASED_WIREFRAME_SHAPE_REPRESENTATION",
+        &[
+            "REPRESENTATION",
+            "SHAPE_REPRESENTATION",
+            "EDGE_BASED_WIREFRAME_SHAPE_REPRESENTATION",
+        ],
+    ),
+    ("MAPPED_ITEM", &[RI, "MAPPED_ITEM"]),
+    ("REPRESENTATION_MAP", &["REPRESENTATION_MAP"]),
     ("REPRESENTATION_CONTEXT", &["REPRESENTATION_CONTEXT"]),
     (
         "GEOMETRIC_REPRESENTATION_CONTEXT",

@@ -28,6 +28,7 @@ mod chain;
 mod curves;
 mod forms;
 mod read;
+mod subfigure;
 mod surfaces;
 mod topology;
 mod vector;

@@ -97,7 +97,9 @@ impl Context<'_, '_> {
 /// `topology.pcurve_deviates`, `pcurve.not_computed`, `topology.shell_open`,
 /// `topology.solid_shell_open`, `topology.wrong_entity`, `topology.geometry_missing`,
 /// `topology.no_model_curve`, `topology.vertex_use`, `topology.edge_composite`,
-/// `topology.edge_tolerance`, `topology.outer_missing`), the conversions' codes
+/// `topology.edge_tolerance`, `topology.outer_missing`), the subfigures' codes
+/// (`assembly.placed`, `assembly.refused`, `assembly.not_placed`,
+/// `assembly.geometry_not_placed`), the conversions' codes
 /// (`form_mismatch`, `conic.degenerate`, `conic_point_off`, `arc_radius_mismatch`,
 /// `unbounded.not_represented`, `points.not_represented`, `annotation.not_represented`,
 /// `vectors_dropped`, `spline_gap`, `spline_terminate`, `composite_gap`,

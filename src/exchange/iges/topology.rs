@@ -72,7 +72,9 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     let count = |t: i64| counts.get(&t).copied().unwrap_or(0);
-    // 143, 308 and 408 are not read into the topology: say so, visibly.
+    // 143 is not read into the topology, nor are subfigures without any (308/408 of
+    // curves and surfaces only): say so, visibly.
+    let no_topology = TOPOLOGY_TYPES.iter().all(|&(t, _)| count(t) == 0);
     for (t, what) in [
         (
             143,
@@ -80,10 +82,10 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         ),
         (
             408,
-            "subfigure instances (408) are not applied: the geometry of their 308 definitions is returned once, where the definition places it",
+            "subfigure instances (408) are not applied to free curves and surfaces: the geometry of their 308 definitions is returned once, where the definition places it",
         ),
     ] {
-        if count(t) > 0 {
+        if count(t) > 0 && (t != 408 || no_topology || cx.options.geometry_only) {
             diags.push(Diagnostic::warning(
                 "topology.not_read",
                 format!("{} x {what}", count(t)),
@@ -137,6 +139,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
     b.report(diags);
     doc.topology = b.topology;
+    super::subfigure::apply(cx, &mut doc.topology, diags);
 }
 
 /// Builds the topology of one file.
@@ -190,7 +193,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .flatten()
                 .fold(size, |m, x| if x.is_finite() { m.max(x.abs()) } else { m });
         }
-        let tol = (REL_TOL * size).max(cx.file.global.resolution.unwrap_or(0.0));
+        // The user's sewing tolerance is their word on how precise the file is: boundary
+        // curve ends are joined into loops within it too, not only faces into shells (a gap
+        // inside a loop that sewing would close must not first refuse the face).
+        let tol = cx
+            .options
+            .sew_tolerance
+            .unwrap_or_else(|| (REL_TOL * size).max(cx.file.global.resolution.unwrap_or(0.0)));
         Builder {
             cx,
             by_de,
@@ -232,7 +241,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         if loose.len() < 2 {
             return;
         }
-        let tol = self.cx.options.sew_tolerance.unwrap_or(self.tol);
+        let tol = self.tol;
         let before = self.topology.model.clone();
         let sewing = match self.topology.model.sew(&loose, tol) {
             Ok(s) => s,

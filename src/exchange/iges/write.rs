@@ -66,7 +66,8 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             Geometry::Surface(s) => items.surface(Cow::Borrowed(s), &e.meta, 0),
         };
     }
-    let (start, global) = header(options, unit, items.max_coord, items.des.len())?;
+    let tolerance = document.topology.model.max_tolerance() * factor.unwrap_or(1.0);
+    let (start, global) = header(options, unit, items.max_coord, tolerance, items.des.len())?;
     // About 20 bytes a real with its delimiter, 64 of each 81 columns holding data.
     let p_bytes = items.reals.saturating_mul(28) + items.des.len() * 100;
     writer::write_with(
@@ -200,6 +201,7 @@ fn header(
     options: &ExportOptions,
     unit: crate::exchange::LengthUnit,
     max_coord: f64,
+    tolerance: f64,
     count: usize,
 ) -> Result<(String, Global), Diagnostic> {
     let date = iges_date(options.timestamp.as_deref())?;
@@ -223,8 +225,11 @@ fn header(
         line_weight_gradations: Some(1),
         max_line_width: Some(0.01),
         date: Some(date.clone()),
-        // 1e-7 mm expressed in the file's unit: well below any modelling tolerance.
-        resolution: Some(1e-7 / unit.to_mm()),
+        // 1e-7 mm expressed in the file's unit (well below any modelling tolerance), or
+        // the model's own tolerance when larger (a part sewn within a user's tolerance),
+        // so that a reader joins what the model joins (Global parameter 19, IGES 5.3
+        // section 2.2.4.3).
+        resolution: Some((1e-7 / unit.to_mm()).max(tolerance)),
         max_coordinate: Some(max_coord),
         author: None,
         organization: None,

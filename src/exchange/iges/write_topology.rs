@@ -15,7 +15,8 @@
 //!   and the vertices in one 502 Vertex List (each written once however many loops use it),
 //!   each coedge with its orientation flag and its 2-D pcurve when it has one (IGES 5.3
 //!   types 186, 502-514). A face's orientation in its shell is the 514 OF flag (the shell's
-//!   orientation combined with the face's `same_sense`).
+//!   orientation combined with the face's `same_sense`); the loops of a face with
+//!   `same_sense` false run the other way round, as in a 144.
 //!
 //! Every entity another one names is written physically dependent (DE status digits 3-4 =
 //! 01), so a reader takes the 144s and 186s as the roots.
@@ -31,7 +32,7 @@ use nurbsx_parsers::iges::records::{
 use super::write::Items;
 use crate::exchange::{Document, Entity, Meta, ParameterRange};
 use crate::nurbs::NurbsCurve;
-use crate::topology::{Coedge, EdgeId, Face, FaceId, Model, VertexId};
+use crate::topology::{Coedge, EdgeId, Face, FaceId, Loop, Model, VertexId};
 
 /// Relative distance (of the surface's parameter domain) within which consecutive pcurves
 /// of a loop must meet for the loop to be written in parameter space too.
@@ -134,7 +135,7 @@ pub(super) fn write<'d>(
             ordered.sort_by_key(|l| !l.outer);
             for l in &ordered {
                 let mut uses = Vec::with_capacity(l.coedges.len());
-                for c in &l.coedges {
+                for (c, forward) in written_coedges(face, l) {
                     let pcurve = c.pcurve.as_ref().map(|p| {
                         let mut meta = Meta::default();
                         let range = model.edges[c.edge.0].range;
@@ -145,7 +146,7 @@ pub(super) fn write<'d>(
                         kind: 0,
                         edge: edge_list,
                         index: w.edge_index(c.edge),
-                        orientation: i64::from(c.forward),
+                        orientation: i64::from(forward),
                         parameter_curves: pcurve.map(|p| (0, p)).into_iter().collect(),
                     });
                 }
@@ -223,6 +224,21 @@ impl Brep {
     }
 }
 
+/// A loop's coedges as IGES writes them, each with its direction along its edge. A 144 has
+/// no orientation of its own (its side is its surface's normal, with the region on the left
+/// of its boundaries seen from there, IGES 5.3 section 4.34), and neither has a 510 (its
+/// shell's OF flag turns it over as a whole, section 4.151, which the writer sets from
+/// `same_sense`). So a face on the other side of its surface (`same_sense` false) has its
+/// loops run the other way round: a reader orients it as the surface does and does not
+/// take the loops for the face's side.
+fn written_coedges<'d>(face: &Face, l: &'d Loop) -> Vec<(&'d Coedge, bool)> {
+    if face.same_sense {
+        l.coedges.iter().map(|c| (c, c.forward)).collect()
+    } else {
+        l.coedges.iter().rev().map(|c| (c, !c.forward)).collect()
+    }
+}
+
 /// A face as a 144 with its 142 boundaries (module documentation).
 fn trimmed_face<'d>(
     model: &'d Model,
@@ -236,16 +252,7 @@ fn trimmed_face<'d>(
     ordered.sort_by_key(|l| !l.outer);
     let mut boundaries = Vec::with_capacity(ordered.len());
     for l in &ordered {
-        // A 144 has no orientation of its own: its side is its surface's normal, with the
-        // region on the left of its boundaries seen from there (IGES 5.3 section 4.34). A
-        // face on the other side of its surface (`same_sense` false) has its loops run the
-        // other way round, so a reader orients it as the surface does and does not take the
-        // loops for the face's side.
-        let coedges: Vec<(&'d Coedge, bool)> = if face.same_sense {
-            l.coedges.iter().map(|c| (c, c.forward)).collect()
-        } else {
-            l.coedges.iter().rev().map(|c| (c, !c.forward)).collect()
-        };
+        let coedges = written_coedges(face, l);
         // Model space: one 126 per coedge, in the loop's direction.
         let mut model_pieces = Vec::with_capacity(coedges.len());
         for &(c, forward) in &coedges {

@@ -437,6 +437,8 @@ pub(super) struct Converter<'m, 's, 'a> {
     pub scale: f64,
     /// Radians per unit of the file's plane angle.
     pub radians: f64,
+    /// The file's length uncertainty in the model's unit (0 when it declares none).
+    pub uncertainty: f64,
     /// Converts a B-spline instance (the reader's own B-spline path).
     pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Entity>, Diagnostic> + Sync),
     /// Warnings found while converting (parallel workers push here).
@@ -460,6 +462,15 @@ pub(super) struct Output {
 type Res<T> = Result<T, Diagnostic>;
 
 impl<'a> Converter<'_, '_, 'a> {
+    /// How far an edge's vertex may be from its curve of extent `size`: 1e-7 of the size,
+    /// or the file's length uncertainty when larger (ISO 10303-43: points closer than it
+    /// are the same), but never more than a thousandth of the size.
+    fn vertex_tolerance(&self, size: f64) -> f64 {
+        (size * 1e-7)
+            .max(1e-9)
+            .max(self.uncertainty.min(size * 1e-3))
+    }
+
     pub(super) fn location(&self, id: u64) -> Location {
         let (line, column) = self
             .s
@@ -571,7 +582,7 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     /// An AXIS2_PLACEMENT_3D (ISO 10303-42 `build_axes`) or _2D (`build_2axes`, in z = 0).
-    fn frame(&self, id: u64, from: u64) -> Res<Frame> {
+    pub(super) fn frame(&self, id: u64, from: u64) -> Res<Frame> {
         let item = self.item(id, from, "AXIS2_PLACEMENT")?;
         let (location, frame) = match &item.record {
             R::Axis2Placement3d {
@@ -1165,7 +1176,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 id: label,
                 geometry,
                 source: Source {
-                    entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                    entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
                     line: raw.map(|r| self.s.locate(r.offset).0),
                 },
                 meta,
@@ -1257,7 +1268,7 @@ impl<'a> Converter<'_, '_, 'a> {
         };
         // The vertices must lie on the curve for the inverse to be the exact parameter.
         let size = norm(sub(p0, p1)).max(norm(basis.point(0.0)));
-        let tol = (size * 1e-7).max(1e-9);
+        let tol = self.vertex_tolerance(size);
         let mut diags = Vec::new();
         for (v, p, t) in [(edge_start, p0, t0), (edge_end, p1, t1)] {
             let off = norm(sub(basis.point(t), p));
@@ -1301,7 +1312,8 @@ impl<'a> Converter<'_, '_, 'a> {
     /// An edge over a curve that is a NURBS already (B-spline, polyline, trimmed or
     /// composite curve): the whole curve when its ends are the vertices (in the sense of
     /// the edge), else the range between the vertices' parameters on it (point inversion,
-    /// NURBS Book section 6.1; the vertices must lie on the curve within 1e-7 of its size),
+    /// NURBS Book section 6.1; the vertices must lie on the curve within
+    /// [`Converter::vertex_tolerance`]),
     /// in the curve's own direction as for conics: the whole curve with that range when it
     /// lies in the curve's domain, else (a range over the seam of a closed curve) the piece.
     fn nurbs_edge(
@@ -1315,7 +1327,7 @@ impl<'a> Converter<'_, '_, 'a> {
     ) -> Res<(NurbsCurve, Option<(f64, f64)>)> {
         let (from, to) = if same_sense { (p0, p1) } else { (p1, p0) };
         let (a, b) = curve.domain();
-        let tol = (bounding_box_diagonal(curve.control_points()) * 1e-7).max(1e-9);
+        let tol = self.vertex_tolerance(bounding_box_diagonal(curve.control_points()));
         let near = |p: Point3, q: Point3| norm(sub(p, q)) <= tol;
         if near(curve.point_at_unchecked(a), from) && near(curve.point_at_unchecked(b), to) {
             return Ok((curve.clone(), None));

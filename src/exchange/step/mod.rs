@@ -26,7 +26,8 @@
 //! | `flag_mismatch` | warning (info for `.F.` on closed geometry) | `closed_curve`/`u_closed`/`v_closed` disagrees with the geometry |
 //! | `units` | info | the file's length unit |
 //! | `units_converted` | info | coordinates scaled to the requested unit |
-//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units; no plane-angle unit (radians assumed) |
+//! | `units_missing`, `units_ambiguous`, `units_unknown` | warning | no / several / unrecognised length units; no plane-angle unit (radians assumed); an unreadable length uncertainty |
+//! | `step.uncertainty_ignored` | warning | the file's length uncertainty is above 1e-3 of the part's size; the topology is read within 1e-7 of the size |
 //! | `geometry.unbounded` | warning | an unbounded line, parabola, hyperbola or surface that no trim, edge or face bounds: not represented |
 //! | `geometry.unsupported` | error | an OFFSET_CURVE/OFFSET_SURFACE (no exact rational form), or a point trim on a B-spline without a parameter |
 //! | `pcurve.not_converted` | warning | analytic parameter-space curves of PCURVEs (one diagnostic listing them) |
@@ -40,8 +41,13 @@
 //! | `topology.pcurve_deviates` | error | a projected pcurve the face check refuses: the face is kept without pcurves |
 //! | `pcurve.not_computed` | warning | coedges whose 3-D edge did not project onto the face surface within the edge tolerance (one diagnostic) |
 //! | `topology.not_read` | warning | `geometry_only`: how many faces, edges, shells and solids were left out |
-//! | `assembly.not_applied` | warning | the file has assembly instances; their placements are not applied |
+//! | `assembly.placed` | info | assembly placements applied: how many part instances were placed in root coordinates |
+//! | `assembly.refused` | error | a product structure that contains itself, nests deeper than 64 levels or expands to more than 100,000 instances: no placement is applied, every part is kept once in its own coordinates |
+//! | `assembly.not_placed` | error/warning | a usage whose placement is not an ITEM_DEFINED_TRANSFORMATION of axis placements, or a MAPPED_ITEM without a REPRESENTATION_MAP: that instance is not placed |
+//! | `assembly.placement_missing` | warning | a usage with no CONTEXT_DEPENDENT_SHAPE_REPRESENTATION: placed in its own coordinates |
+//! | `assembly.geometry_not_placed` | warning | GEOMETRIC_SETs in placed products: their free curves and surfaces are kept once, unplaced |
 
+mod assembly;
 mod geometry;
 mod implicit;
 mod read;

@@ -13,6 +13,7 @@ use nurbsx_parsers::step::{
 use rayon::prelude::*;
 
 use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity};
+use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
 use super::geometry::{Converter, Items};
@@ -28,8 +29,9 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 ///
 /// Per-entity problems give an error diagnostic and the entity is skipped; the boundary
 /// representation (faces, loops, edges, vertices, shells, solids) goes into
-/// [`Document::topology`] unless [`ImportOptions::geometry_only`]; the rest of the file
-/// (products, presentation) is ignored without comment. `Err` only when the file structure is broken (no
+/// [`Document::topology`] unless [`ImportOptions::geometry_only`], with the placements
+/// of the product structure applied (`assembly.rs`); the rest of the file (presentation)
+/// is ignored without comment. `Err` only when the file structure is broken (no
 /// `ISO-10303-21;`/`HEADER;`, or an input limit). Only instances that may be B-splines (and
 /// the points, units and contexts they need) are decoded, so syntax errors in other
 /// instances are not reported.
@@ -53,23 +55,17 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let mut candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut complex: Vec<&RawInstance<'_>> = Vec::new();
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
-    // Product structure (assemblies) is not read: its instances are counted to say so.
-    let mut assembly_links = 0usize;
+    // The product structure (assembly.rs).
+    let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
     for raw in &scanned.instances {
-        match raw.keyword_initial() {
-            None => complex.push(raw),
-            Some(b'N' | b'M') => {
-                if matches!(
-                    raw.keyword().map(canonical_name),
-                    Some("NEXT_ASSEMBLY_USAGE_OCCURRENCE" | "MAPPED_ITEM")
-                ) {
-                    assembly_links += 1;
-                }
-            }
-            Some(_) => {}
+        if raw.keyword_initial().is_none() {
+            complex.push(raw);
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
+        if maybe_product(raw) && indexed() {
+            product_candidates.push(raw);
+        }
         if maybe_bspline(raw) {
             if indexed() {
                 candidates.push(raw);
@@ -78,7 +74,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             geometry_candidates.push(raw);
         }
     }
-    let scale = file_units(&scanned, &complex, options, &mut doc);
+    let (scale, uncertainty) = file_units(&scanned, &complex, options, &mut doc);
 
     // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
     // then converted (geometry.rs), which also says which B-splines it built into other
@@ -134,6 +130,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         items: &items,
         scale,
         radians,
+        uncertainty,
         bspline: &bspline,
         warnings: std::sync::Mutex::new(Vec::new()),
     };
@@ -189,15 +186,6 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     placed.sort_by_key(|(offset, _)| *offset);
     doc.entities.extend(placed.into_iter().map(|(_, e)| e));
 
-    if assembly_links > 0 {
-        doc.diagnostics.push(Diagnostic::warning(
-            "assembly.not_applied",
-            format!(
-                "the file places parts in an assembly ({assembly_links} NEXT_ASSEMBLY_USAGE_OCCURRENCE / MAPPED_ITEM instance(s)); placements are not applied: every part is read once, in its own coordinates"
-            ),
-            Location::default(),
-        ));
-    }
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
         let c = super::topology::count(&converter);
@@ -212,9 +200,24 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
             ));
         }
     } else {
-        let built = super::topology::build(&converter, &edges, &doc.entities);
+        let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
+        let products = super::assembly::decode(
+            &scanned,
+            &product_candidates,
+            &mut doc.diagnostics,
+            |e| match e {
+                DecodeError::Syntax(e) => parse_diagnostic(&e),
+                DecodeError::Schema(e) => schema_diagnostic(&e),
+            },
+        );
+        doc.diagnostics.extend(super::assembly::apply(
+            &converter,
+            &products,
+            &mut doc.topology,
+            options.limits.max_entities,
+        ));
         if !built.pcurve_entities.is_empty() {
             let mut users: std::collections::HashMap<String, Vec<String>> = Default::default();
             for (entity, edge) in built.pcurve_entities {
@@ -354,6 +357,15 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
     }
 }
 
+/// Cheap keyword test for the product structure (`assembly.rs`): simple instances by
+/// keyword, complex ones by a substring search of their body.
+fn maybe_product(raw: &RawInstance<'_>) -> bool {
+    match raw.keyword() {
+        Some(k) => is_product_entity(k),
+        None => maybe_complex_product(raw.body),
+    }
+}
+
 /// Cheap keyword test for the other geometry and topology entities (`geometry.rs`):
 /// simple instances by keyword, every complex instance (few, and the decoder ignores those
 /// without a geometry partial).
@@ -469,14 +481,15 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
 }
 
 /// Finds the file's length unit, records it in `doc`, and returns the factor to apply to
-/// coordinates (1 unless a conversion is needed).
+/// coordinates (1 unless a conversion is needed) and the file's largest length uncertainty
+/// in the model's unit (0 when it declares none).
 fn file_units(
     s: &Scanned<'_>,
     complex: &[&RawInstance<'_>],
     options: &ImportOptions,
     doc: &mut Document,
-) -> f64 {
-    let (found, problems) = context_units(s, complex);
+) -> (f64, f64) {
+    let (found, problems, uncertainties) = context_units(s, complex);
     let loc = |id: u64, offset: usize| {
         let (line, column) = s.locate(offset);
         Location {
@@ -572,7 +585,10 @@ fn file_units(
         )),
     }
     doc.units = unit;
-    scale
+    // The largest length uncertainty, in the model's unit: the topology's tolerance is at
+    // least this (ISO 10303-43: points closer than it are the same point).
+    let uncertainty = uncertainties.into_iter().fold(0.0_f64, f64::max) / unit.to_mm();
+    (scale, uncertainty)
 }
 
 /// What reading one B-spline needs.
@@ -770,9 +786,10 @@ impl<'a> Ctx<'_, 'a> {
         forms: &[&str],
         diags: &mut Vec<Diagnostic>,
     ) {
-        enumeration(form, forms, form_name, self.location(), diags);
+        let at = || self.location();
+        enumeration(form, forms, form_name, at, diags);
         if let KnotSpec::Explicit { knot_spec, .. } = spec {
-            enumeration(knot_spec, KNOT_TYPES, "knot_spec", self.location(), diags);
+            enumeration(knot_spec, KNOT_TYPES, "knot_spec", at, diags);
         }
     }
 
@@ -1051,12 +1068,13 @@ fn knot_rules(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<St
 
 /// Checks an enumeration value against its type's values in ISO 10303-42 (`knot_type`,
 /// `b_spline_curve_form`, `b_spline_surface_form`). A value outside them is non-conforming; the geometry does not
-/// depend on it.
+/// depend on it. `location` is asked for only when there is something to say (finding a
+/// line counts the lines before the instance).
 fn enumeration(
     value: &str,
     allowed: &[&str],
     what: &str,
-    location: Location,
+    location: impl FnOnce() -> Location,
     diags: &mut Vec<Diagnostic>,
 ) {
     if !allowed.iter().any(|a| a.eq_ignore_ascii_case(value)) {
@@ -1066,7 +1084,7 @@ fn enumeration(
                 "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
                 allowed.join(", ")
             ),
-            location,
+            location(),
         ));
     }
 }

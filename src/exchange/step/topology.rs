@@ -33,6 +33,9 @@ use crate::topology::{
 /// Relative tolerance of the topology (of the part's size).
 const RELATIVE_TOLERANCE: f64 = 1e-7;
 
+/// The largest file uncertainty taken as the topology's tolerance (of the part's size).
+const MAX_UNCERTAINTY: f64 = 1e-3;
+
 /// The stable diagnostic code of a refused piece of topology.
 pub(super) fn code(e: &TopologyError) -> &'static str {
     match e {
@@ -44,9 +47,9 @@ pub(super) fn code(e: &TopologyError) -> &'static str {
         TopologyError::PcurveDeviates { .. } => "topology.pcurve_deviates",
         TopologyError::ShellNotClosed { .. } => "topology.shell_open",
         TopologyError::SolidShellOpen { .. } => "topology.solid_shell_open",
-        TopologyError::AssemblyCycle { .. } | TopologyError::AssemblyTooLarge { .. } => {
-            "topology.assembly"
-        }
+        TopologyError::AssemblyCycle { .. }
+        | TopologyError::AssemblyTooLarge { .. }
+        | TopologyError::PlacementInvalid { .. } => "topology.assembly",
     }
 }
 
@@ -105,11 +108,13 @@ pub(super) struct Built {
 }
 
 /// Builds the topology of the decoded items over the converted edges and the document's
-/// entities (face surfaces by id).
+/// entities (face surfaces by id). The tolerance is [`RELATIVE_TOLERANCE`] of the
+/// vertices' box, or the file's length `uncertainty` (model unit) when that is larger.
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
     edges: &HashMap<u64, EdgeOut>,
     entities: &[Entity],
+    uncertainty: f64,
 ) -> Built {
     let mut ids: Vec<u64> = conv.items.keys().copied().collect();
     ids.sort_unstable();
@@ -137,7 +142,24 @@ pub(super) fn build(
         }
     }
     let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
-    b.tolerance = (bounding_box_diagonal(&all) * RELATIVE_TOLERANCE).max(1e-9);
+    let diagonal = bounding_box_diagonal(&all);
+    b.tolerance = (diagonal * RELATIVE_TOLERANCE).max(1e-9);
+    // Without two distinct vertices there is nothing for a tolerance to join.
+    if uncertainty > b.tolerance && diagonal > 0.0 {
+        // A declared uncertainty above a thousandth of the part would merge its features.
+        if uncertainty <= MAX_UNCERTAINTY * diagonal {
+            b.tolerance = uncertainty;
+        } else {
+            b.diagnostics.push(Diagnostic::warning(
+                "step.uncertainty_ignored",
+                format!(
+                    "the file's length uncertainty {uncertainty:e} is more than {MAX_UNCERTAINTY:e} of the part's size {diagonal:e}; the topology is read within {:e} instead",
+                    b.tolerance
+                ),
+                Location::default(),
+            ));
+        }
+    }
     for (id, p) in points {
         match b.topology.model.add_vertex(p, b.tolerance) {
             Ok(v) => {
@@ -243,7 +265,7 @@ impl Build<'_, '_, '_, '_> {
         Origin {
             id: format!("#{id}"),
             source: Source {
-                entity: item.map_or_else(String::new, |i| i.entity_type.clone()),
+                entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
                 line: loc.line,
             },
             name: item

@@ -172,12 +172,17 @@ pub(super) type UnitProblem = (u64, usize, String);
 /// is the file's complex instances in file order (a context assigning units is one,
 /// ISO 10303-42 `global_unit_assigned_context` being a partial of it); simple instances
 /// cannot be and are not passed.
+///
+/// The third list holds the contexts' length uncertainties in millimetres
+/// (`GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT` naming `UNCERTAINTY_MEASURE_WITH_UNIT`s whose unit
+/// is a length, ISO 10303-43 `global_uncertainty_assigned_context`).
 pub(super) fn context_units(
     s: &Scanned<'_>,
     complex: &[&RawInstance<'_>],
-) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>) {
+) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>, Vec<f64>) {
     let mut found = Vec::new();
     let mut problems = Vec::new();
+    let mut uncertainties = Vec::new();
     // A SIMD substring search: rational B-splines are complex instances too, and their
     // long bodies are searched in full.
     let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
@@ -200,6 +205,13 @@ pub(super) fn context_units(
                 continue;
             }
         };
+        for &u in &ctx.uncertainty {
+            match length_uncertainty(s, u, raw) {
+                Ok(Some(mm)) => uncertainties.push(mm),
+                Ok(None) => {}
+                Err(m) => problems.push((raw.id, raw.offset, m)),
+            }
+        }
         let mut lengths = Vec::new();
         for u in ctx.units {
             match resolve_length(s, u, raw) {
@@ -222,7 +234,29 @@ pub(super) fn context_units(
             )),
         }
     }
-    (found, problems)
+    (found, problems, uncertainties)
+}
+
+/// The uncertainty measure `#id` in millimetres when its unit is a length (`None` for an
+/// angle or other unit); it must be a finite value > 0.
+fn length_uncertainty(
+    s: &Scanned<'_>,
+    id: u64,
+    referrer: &RawInstance<'_>,
+) -> Result<Option<f64>, String> {
+    let raw = s
+        .get(id)
+        .ok_or_else(|| format!("uncertainty #{id} (from #{}) is not defined", referrer.id))?;
+    let inst = s.decode(raw).map_err(|e| e.to_string())?;
+    let m = MeasureWithUnit::from_instance(&inst, s.at(raw)).map_err(|e| e.to_string())?;
+    let Some(unit) = resolve_length(s, m.unit, raw)? else {
+        return Ok(None);
+    };
+    let mm = m.value * unit.mm;
+    if !(mm.is_finite() && mm > 0.0) {
+        return Err(format!("uncertainty #{id} is {} (must be > 0)", m.value));
+    }
+    Ok(Some(mm))
 }
 
 /// A plane-angle unit found in a file: radians per unit and how the file names it.

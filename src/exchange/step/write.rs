@@ -83,6 +83,8 @@ struct Frame {
     b: Builder,
     unit: LengthUnit,
     scale: f64,
+    /// The length uncertainty declared in the contexts (output unit).
+    uncertainty: f64,
     proto: Protocol,
     name: String,
     rep: u64,
@@ -214,12 +216,16 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
         vec![s("part"), Parameter::Null, Parameter::refs(&[product])],
     );
 
-    let ctx3 = context(&mut b, unit, 3);
+    // 1e-7 as Open CASCADE writes, or the model's own tolerance when larger (a part sewn
+    // within a user's tolerance), so that a reader joins what the model joins.
+    let uncertainty = (document.topology.model.max_tolerance() * scale).max(1e-7);
+    let ctx3 = context(&mut b, unit, 3, uncertainty);
     let placement = axis_placement(&mut b);
     Frame {
         b,
         unit,
         scale,
+        uncertainty,
         proto,
         name: name.to_owned(),
         rep,
@@ -260,9 +266,10 @@ fn finish(
     shape_items: &[u64],
     curves2: &[u64],
 ) -> Vec<Record<'static>> {
-    let (b, unit, proto, name, rep, ctx3, placement) = (
+    let (b, unit, uncertainty, proto, name, rep, ctx3, placement) = (
         &mut f.b,
         f.unit,
+        f.uncertainty,
         &f.proto,
         f.name.as_str(),
         f.rep,
@@ -280,7 +287,7 @@ fn finish(
         )),
     );
     if !curves2.is_empty() {
-        let ctx2 = context(b, unit, 2);
+        let ctx2 = context(b, unit, 2, uncertainty);
         let set = b.simple("GEOMETRIC_CURVE_SET", vec![s(""), Parameter::refs(curves2)]);
         b.simple(
             "GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION",
@@ -613,9 +620,9 @@ fn counts(mults: &[usize]) -> Vec<i64> {
         .collect()
 }
 
-/// The representation context with length, angle and solid-angle units and a 1e-7
-/// uncertainty (in the length unit), as Open CASCADE writes it.
-fn context(b: &mut Builder, unit: LengthUnit, dimension: i64) -> u64 {
+/// The representation context with length, angle and solid-angle units and the length
+/// uncertainty `uncertainty` (in the length unit; Open CASCADE writes 1e-7).
+fn context(b: &mut Builder, unit: LengthUnit, dimension: i64, uncertainty: f64) -> u64 {
     let length = length_unit(b, unit);
     let angle = b.complex(vec![
         rec("NAMED_UNIT", vec![Parameter::Derived]),
@@ -636,7 +643,7 @@ fn context(b: &mut Builder, unit: LengthUnit, dimension: i64) -> u64 {
     let unc = b.simple(
         "UNCERTAINTY_MEASURE_WITH_UNIT",
         vec![
-            Parameter::Typed("LENGTH_MEASURE", Box::new(Parameter::Real(1e-7))),
+            Parameter::Typed("LENGTH_MEASURE", Box::new(Parameter::Real(uncertainty))),
             Parameter::Reference(length),
             s("distance_accuracy_value"),
             s("confusion accuracy"),
