@@ -8,19 +8,30 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
 
 use nurbsx::exchange::{self, Document, ImportOptions};
-use nurbsx::nurbs::vector::dist;
-use nurbsx::topology::{PcurveMethod, edge_pcurve};
+use nurbsx::nurbs::vector::{cross, dist, dot, norm, sub};
+use nurbsx::topology::{PcurveMethod, exact_pcurve};
 use serde_json::Value;
 
 fn parts() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts")
 }
 
-fn read(name: &str) -> Document {
+/// The document of a part file, read once per test run (both tests walk every file).
+fn read(name: &str) -> &'static Document {
+    static READ: OnceLock<Mutex<BTreeMap<String, &'static Document>>> = OnceLock::new();
+    let cache = READ.get_or_init(Default::default);
+    if let Some(doc) = cache.lock().unwrap().get(name) {
+        return doc;
+    }
     let bytes = std::fs::read(parts().join(name)).unwrap();
-    exchange::read(&bytes, &ImportOptions::default()).unwrap()
+    let doc: &'static Document = Box::leak(Box::new(
+        exchange::read(&bytes, &ImportOptions::default()).unwrap(),
+    ));
+    cache.lock().unwrap().insert(name.to_owned(), doc);
+    doc
 }
 
 fn reading(file: &str) -> Value {
@@ -46,12 +57,14 @@ fn files() -> Vec<(String, String)> {
 }
 
 /// Samples along an edge for the independent check.
-const DENSE: usize = 400;
+const DENSE: usize = 200;
 
-/// Every exact pcurve (planes: the affine map; isocurves) against its 3-D curve:
-/// `|S(pcurve(t)) - C(t)| <= 1e-12` of the part's size at `DENSE + 1` parameters of the
-/// edge's range; the pcurves the reader stored on the coedges likewise within the edge
-/// tolerance. Both exact kinds occur among the parts.
+/// Every exact pcurve (planes: the affine map; isocurves) against its 3-D curve at
+/// `DENSE + 1` parameters of the edge's range: `|S(pcurve(t)) - C(t)| <= 1e-12` of the part's
+/// size, plus on a plane the curve's own distance from the plane (computed here from the
+/// plane's poles: the affine map projects orthogonally, and an IGES edge written with fewer
+/// digits than its plane lies up to 5e-10 off it); the pcurves the reader stored on the
+/// coedges within the edge tolerance. Both exact kinds occur among the parts.
 #[test]
 fn exact_pcurves_lie_on_their_edges() {
     let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
@@ -67,36 +80,51 @@ fn exact_pcurves_lie_on_their_edges() {
                     let e = &m.edges[c.edge.0];
                     let (a, b) = e.range;
                     let at = |t: f64| (a + (b - a) * t).min(b);
-                    let p = edge_pcurve(s, &e.curve, e.range, e.tolerance).unwrap();
-                    let kind = match p.method {
-                        PcurveMethod::Affine => "affine",
-                        PcurveMethod::Iso => "iso",
-                        PcurveMethod::Projected => "projected",
+                    let p = exact_pcurve(s, &e.curve, e.range, e.tolerance);
+                    let kind = match p.as_ref().map(|p| p.method) {
+                        Some(PcurveMethod::Affine) => "affine",
+                        Some(PcurveMethod::Iso) => "iso",
+                        _ => "projected",
                     };
                     *counts.entry(kind).or_default() += 1;
-                    let stored = c.pcurve.as_ref().expect("every coedge has a pcurve");
+                    // The plane's unit normal, for the affine pcurves.
+                    let g = s.control_points();
+                    let (p00, p10, p01) = (*g.get(0, 0), *g.get(1, 0), *g.get(0, 1));
+                    let n = cross(sub(p10, p00), sub(p01, p00));
+                    let n = n.map(|x| x / norm(n));
+                    // Coedges left without one are reported (`pcurve.not_computed`) and
+                    // listed in KNOWN by the test below.
+                    let stored = c.pcurve.as_ref();
                     for k in 0..=DENSE {
                         let t = at(k as f64 / DENSE as f64);
                         let want = e.curve.point_at_unchecked(t);
-                        let [u, v, _] = p.curve.point_at_unchecked(t);
-                        if p.method != PcurveMethod::Projected {
+                        if let Some(p) = &p {
+                            let [u, v, _] = p.curve.point_at_unchecked(t);
+                            let ((u0, u1), (v0, v1)) = s.domain();
+                            let on = s.point_at(u.clamp(u0, u1), v.clamp(v0, v1)).unwrap();
+                            let off = if p.method == PcurveMethod::Affine {
+                                dot(sub(want, p00), n).abs()
+                            } else {
+                                0.0
+                            };
+                            let d = dist(on, want);
+                            assert!(
+                                d <= 1e-12 * size + off,
+                                "{name} face {f}: {kind} pcurve {d:e} from its edge at t = {t} \
+                                 ({off:e} off the plane)"
+                            );
+                        }
+                        if let Some(stored) = stored {
+                            let (sa, sb) = stored.domain();
+                            let [u, v, _] = stored.point_at_unchecked(t.clamp(sa, sb));
                             let ((u0, u1), (v0, v1)) = s.domain();
                             let on = s.point_at(u.clamp(u0, u1), v.clamp(v0, v1)).unwrap();
                             let d = dist(on, want);
                             assert!(
-                                d <= 1e-12 * size,
-                                "{name} face {f}: {kind} pcurve {d:e} from its edge at t = {t}"
+                                d <= e.tolerance,
+                                "{name} face {f}: stored pcurve {d:e} from its edge at t = {t}"
                             );
                         }
-                        let (sa, sb) = stored.domain();
-                        let [u, v, _] = stored.point_at_unchecked(t.clamp(sa, sb));
-                        let ((u0, u1), (v0, v1)) = s.domain();
-                        let on = s.point_at(u.clamp(u0, u1), v.clamp(v0, v1)).unwrap();
-                        let d = dist(on, want);
-                        assert!(
-                            d <= e.tolerance,
-                            "{name} face {f}: stored pcurve {d:e} from its edge at t = {t}"
-                        );
                     }
                 }
             }
@@ -116,7 +144,7 @@ const KNOWN: &[(&str, &str)] = &[
     ("pipe_elbow.step", SEAM),
     ("pipe_elbow.igs", SEAM),
     ("pipe_elbow_brep.igs", SEAM),
-    ("extrude_bspline.step", SEAM),
+    ("extrude_bspline.step", FREECAD_OFF),
     ("extrude_bspline.igs", SEAM),
     ("extrude_bspline_brep.igs", SEAM),
     ("box_fillet_chamfer_hole.igs", IGES),
@@ -147,6 +175,9 @@ const SEAM: &str = "an edge crosses the seam of its closed surface: no pcurve";
 /// IGES faces whose edges are not isocurves in the same parameterisation (projection fails
 /// on the seam or apex).
 const IGES: &str = "IGES edges across a seam or apex: no pcurve";
+/// FreeCAD's figures are off: the area and volume of this part are checked against exact
+/// rational arithmetic in [`extrude_bspline_against_exact_rationals`].
+const FREECAD_OFF: &str = "FreeCAD's area/volume off by 2e-4 (ours agree with exact rationals)";
 /// Faces of B-spline surfaces whose area or volume FreeCAD (Open CASCADE's integration)
 /// reports 5e-7 to 4e-3 apart from the Green's theorem figure; not resolved which is off.
 const FREECAD: &str = "B-spline faces: FreeCAD's area/volume differ by more than 1e-6";
@@ -186,8 +217,7 @@ fn every_part_is_measured_against_freecad() {
             for l in &face.loops {
                 for c in &l.coedges {
                     let e = &m.edges[c.edge.0];
-                    let p = edge_pcurve(&face.surface, &e.curve, e.range, e.tolerance).unwrap();
-                    exact &= p.method != PcurveMethod::Projected;
+                    exact &= exact_pcurve(&face.surface, &e.curve, e.range, e.tolerance).is_some();
                 }
             }
         }
@@ -252,4 +282,84 @@ fn every_part_is_measured_against_freecad() {
     }
     assert!(unexpected.is_empty(), "{}", unexpected.join("\n"));
     assert!(checked >= 31, "only {checked} files compared");
+}
+
+/// `extrude_bspline.step`: a closed periodic uniform cubic B-spline profile (the poles of
+/// its `#33`, knots -3..11 step 1) extruded by 15 along z. Its enclosed area is a polynomial
+/// integral, `A = ∮ x dy` over the 8 spans in the power basis of the uniform cubic B-spline
+/// (each span `P(t) = [1 t t² t³] M [P_i .. P_i+3]`, `M` with entries in sixths), computed
+/// here in exact rationals: `A = 7843/24`. Its perimeter `L` by composite Simpson on each span
+/// (20 000 intervals, error far below 1e-12). The solid's volume must be `15 A` and its area
+/// `15 L + 2 A` within 1e-12 relative; FreeCAD's own figures are 4e-4 and 2e-4 off.
+#[test]
+fn extrude_bspline_against_exact_rationals() {
+    use num_rational::BigRational as Q;
+    use num_traits::ToPrimitive;
+    const P: [(i64, i64); 11] = [
+        (12, 0),
+        (9, 9),
+        (0, 7),
+        (-10, 10),
+        (-12, 0),
+        (-6, -8),
+        (0, -12),
+        (9, -7),
+        (12, 0),
+        (9, 9),
+        (0, 7),
+    ];
+    // Rows: pole k of the span; columns: the coefficient of t^d, times 6.
+    const M: [[i64; 4]; 4] = [[1, -3, 3, -1], [4, 0, -6, 3], [1, 3, 3, -3], [0, 0, 0, 1]];
+    let q = |n: i64, d: i64| Q::new(n.into(), d.into());
+    let mut area = q(0, 1);
+    let mut perimeter = 0.0;
+    for i in 0..8 {
+        let coef = |axis: usize, d: usize| -> Q {
+            (0..4)
+                .map(|k| q(M[k][d] * if axis == 0 { P[i + k].0 } else { P[i + k].1 }, 6))
+                .fold(q(0, 1), |a, b| a + b)
+        };
+        // ∫_0^1 x(t) y'(t) dt = Σ_d Σ_e x_d e y_e / (d + e).
+        for d in 0..4 {
+            for e in 1..4 {
+                area += coef(0, d) * coef(1, e) * q(e as i64, (d + e) as i64);
+            }
+        }
+        let speed = |t: f64| {
+            let (mut dx, mut dy) = (0.0, 0.0);
+            for e in 1..4 {
+                let w = e as f64 * t.powi(e as i32 - 1);
+                dx += w * coef(0, e).to_f64().unwrap();
+                dy += w * coef(1, e).to_f64().unwrap();
+            }
+            dx.hypot(dy)
+        };
+        let n = 20_000;
+        let h = 1.0 / n as f64;
+        let mut sum = speed(0.0) + speed(1.0);
+        for j in 1..n {
+            sum += if j % 2 == 1 { 4.0 } else { 2.0 } * speed(j as f64 * h);
+        }
+        perimeter += sum * h / 3.0;
+    }
+    assert_eq!(area, q(7843, 24));
+    let a = area.to_f64().unwrap();
+    let doc = read("extrude_bspline.step");
+    let m = &doc.topology.model;
+    let mut measured = 0.0;
+    for face in &m.faces {
+        measured += m.measure_face(face).unwrap().area;
+    }
+    let want = 15.0 * perimeter + 2.0 * a;
+    assert!(
+        (measured - want).abs() <= 1e-12 * want,
+        "area {measured} vs {want}"
+    );
+    assert_eq!(m.solids.len(), 1);
+    let volume = m.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    assert!(
+        (volume - 15.0 * a).abs() <= 1e-12 * 15.0 * a,
+        "volume {volume} vs {}",
+        15.0 * a
+    );
 }

@@ -252,8 +252,11 @@ fn newton(
 }
 
 /// Whether the surface meets itself along `u = min` and `u = max` (first and last pole
-/// columns equal, end knots clamped), so a point there has two u parameters.
-fn closed_in(surface: &NurbsSurface, along_u: bool) -> bool {
+/// columns equal within `within` or rounding, end knots clamped), so a point there has two u
+/// parameters. `within` is the caller's tolerance: a surface of revolution written with a
+/// rounded angle (IGES 120 with `TA = 6.283185307`) is open by 1e-9 but closed for any
+/// curve given within a tolerance of 1e-6.
+fn closed_in(surface: &NurbsSurface, along_u: bool, within: f64) -> bool {
     let g = surface.control_points();
     let (n, m) = (g.nu(), g.nv());
     let (knots, p) = if along_u {
@@ -266,11 +269,12 @@ fn closed_in(surface: &NurbsSurface, along_u: bool) -> bool {
             .iter()
             .all(|&k| k == knots[knots.len() - 1]);
     let size = g.as_slice().iter().fold(1.0f64, |a, q| a.max(norm(*q)));
+    let gap = within.max(1e-12 * size);
     clamped
         && if along_u {
-            (0..m).all(|j| dist(*g.get(0, j), *g.get(n - 1, j)) <= 1e-12 * size)
+            (0..m).all(|j| dist(*g.get(0, j), *g.get(n - 1, j)) <= gap)
         } else {
-            (0..n).all(|i| dist(*g.get(i, 0), *g.get(i, m - 1)) <= 1e-12 * size)
+            (0..n).all(|i| dist(*g.get(i, 0), *g.get(i, m - 1)) <= gap)
         }
 }
 
@@ -364,7 +368,10 @@ fn project_points(
     previous: Option<(f64, f64)>,
 ) -> Result<Vec<Point3>, GeometryError> {
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let closed = (closed_in(surface, true), closed_in(surface, false));
+    let closed = (
+        closed_in(surface, true, tolerance),
+        closed_in(surface, false, tolerance),
+    );
     let mut uv: Vec<Point3> = Vec::with_capacity(t.len());
     let mut free: Vec<(bool, bool)> = Vec::with_capacity(t.len());
     let continued = previous.is_some();

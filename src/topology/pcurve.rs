@@ -66,7 +66,8 @@ const MIN_SAMPLES: usize = 32;
 const EXACT: f64 = 1e-12;
 
 /// The pcurve of the part `range` of `curve` on `surface` (see the module): exact for
-/// affine surfaces and iso-parametric edges, else projected within `tolerance`.
+/// affine surfaces and iso-parametric edges ([`exact_pcurve`]), else projected within
+/// `tolerance`.
 ///
 /// Errors: those of [`pcurve_by_projection`] when no exact pcurve applies.
 pub fn edge_pcurve(
@@ -75,25 +76,8 @@ pub fn edge_pcurve(
     range: (f64, f64),
     tolerance: f64,
 ) -> Result<EdgePcurve, GeometryError> {
-    let (a, b) = range;
-    let (ca, cb) = curve.domain();
-    if a.is_finite() && b.is_finite() && a < b && a >= ca && b <= cb {
-        let size = bounding_box_diagonal(surface.control_points().as_slice());
-        let exact = affine(surface, curve)
-            .map(|p| (p, PcurveMethod::Affine))
-            .or_else(|| iso(surface, curve, range, size).map(|p| (p, PcurveMethod::Iso)));
-        if let Some((p, method)) = exact {
-            let deviation = deviation(surface, curve, &p, range);
-            if deviation <= EXACT * size
-                || (method == PcurveMethod::Affine && deviation <= tolerance)
-            {
-                return Ok(EdgePcurve {
-                    curve: p,
-                    deviation,
-                    method,
-                });
-            }
-        }
+    if let Some(p) = exact_pcurve(surface, curve, range, tolerance) {
+        return Ok(p);
     }
     let (p, deviation) = pcurve_by_projection(surface, curve, range, tolerance)?;
     Ok(EdgePcurve {
@@ -101,6 +85,35 @@ pub fn edge_pcurve(
         deviation,
         method: PcurveMethod::Projected,
     })
+}
+
+/// The exact pcurve of the part `range` of `curve` on `surface`, when one applies (see the
+/// module): an iso-parametric one whose measured deviation is rounding (1e-12 of the
+/// surface's size), or the affine map of a plane, whose deviation is the curve's own
+/// distance from the plane (the map is the orthogonal projection onto it; no pcurve can do
+/// better) and is accepted within `tolerance`.
+pub fn exact_pcurve(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    range: (f64, f64),
+    tolerance: f64,
+) -> Option<EdgePcurve> {
+    let (a, b) = range;
+    let (ca, cb) = curve.domain();
+    if !(a.is_finite() && b.is_finite() && a < b && a >= ca && b <= cb) {
+        return None;
+    }
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let (p, method) = affine(surface, curve)
+        .map(|p| (p, PcurveMethod::Affine))
+        .or_else(|| iso(surface, curve, range, size).map(|p| (p, PcurveMethod::Iso)))?;
+    let deviation = deviation(surface, curve, &p, range);
+    (deviation <= EXACT * size || (method == PcurveMethod::Affine && deviation <= tolerance))
+        .then_some(EdgePcurve {
+            curve: p,
+            deviation,
+            method,
+        })
 }
 
 /// Largest `|S(p(t)) - C(t)|` at `SAMPLES_PER_SPAN` points per knot span of `curve` in
