@@ -116,6 +116,56 @@ pub fn exact_pcurve(
         })
 }
 
+/// Most seams [`moved_seams`] offers.
+const MAX_SEAMS: usize = 8;
+
+/// The surface with its seam moved (exactly, [`NurbsSurface::rotate_seam_u`]) to the
+/// parameter of each of `points` in each direction in which it is closed: the candidates
+/// for a face whose edges cross the surface's seam but not the face's own. A periodic face
+/// in a file (ISO 10303-42 face_surface on a cylinder, cone, torus or revolution) may place
+/// its seam anywhere: Open CASCADE puts a pipe elbow's torus seam on the inner equator
+/// (`v = pi`), while the NURBS torus starts at `v = 0`, so the closed edges that start on the
+/// face's seam run across the NURBS one and no pcurve inside the domain exists. Moved to a
+/// vertex of the face (where the face's seam edges meet its other edges), the seams agree.
+/// Points off the surface (by more than 1e-9 of its size), at its ends, or repeated are
+/// skipped; at most `MAX_SEAMS` surfaces.
+pub fn moved_seams(surface: &NurbsSurface, points: &[Point3]) -> Vec<NurbsSurface> {
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let mut params: Vec<(f64, f64)> = Vec::new();
+    for &q in points {
+        if let Some(hit) = invert_surface(surface, q, None) {
+            if hit.distance <= 1e-9 * size {
+                params.push((hit.u, hit.v));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for along_u in [true, false] {
+        let (lo, hi) = if along_u { (u0, u1) } else { (v0, v1) };
+        let mut seen: Vec<f64> = Vec::new();
+        for &(u, v) in &params {
+            let t = if along_u { u } else { v };
+            let near = |x: f64| (x - t).abs() <= 1e-9 * (hi - lo);
+            if near(lo) || near(hi) || seen.iter().any(|&x| near(x)) || out.len() >= MAX_SEAMS {
+                continue;
+            }
+            seen.push(t);
+            let moved = if along_u {
+                surface.rotate_seam_u(t)
+            } else {
+                surface.rotate_seam_v(t)
+            };
+            match moved {
+                Ok(m) => out.push(m),
+                // Not closed in this direction.
+                Err(_) => break,
+            }
+        }
+    }
+    out
+}
+
 /// Largest `|S(p(t)) - C(t)|` at `SAMPLES_PER_SPAN` points per knot span of `curve` in
 /// `range` (at least `MIN_SAMPLES`), the parameters clamped into the surface's domain.
 fn deviation(

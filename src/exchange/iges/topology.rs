@@ -36,7 +36,7 @@ use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 use crate::topology::{
-    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
 };
 
 /// Relative tolerance of shared vertices (of the model's size).
@@ -610,6 +610,49 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         found
     }
 
+    /// Coedges without a pcurve whose edge crosses the surface's seam but not the face's:
+    /// the first surface with its seam moved to a vertex of the face ([`moved_seams`]) on
+    /// which every coedge gets a pcurve ([`edge_pcurve`]) replaces the surface (the same
+    /// surface, exactly), and `loops` get those pcurves.
+    fn with_moved_seam(
+        &mut self,
+        surface: &NurbsSurface,
+        loops: &mut [Loop],
+    ) -> Option<NurbsSurface> {
+        let missing = loops
+            .iter()
+            .flat_map(|l| &l.coedges)
+            .filter(|c| c.pcurve.is_none())
+            .count();
+        if missing == 0 {
+            return None;
+        }
+        let m = &self.topology.model;
+        let points: Vec<Point3> = loops
+            .iter()
+            .flat_map(|l| &l.coedges)
+            .filter_map(|c| m.coedge_ends(c))
+            .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
+            .collect();
+        for candidate in moved_seams(surface, &points) {
+            let mut trial = loops.to_vec();
+            let found = trial.iter_mut().flat_map(|l| &mut l.coedges).all(|c| {
+                let e = &m.edges[c.edge.0];
+                c.pcurve = edge_pcurve(&candidate, &e.curve, e.range, e.tolerance)
+                    .ok()
+                    .filter(|p| p.deviation <= e.tolerance)
+                    .map(|p| p.curve);
+                c.pcurve.is_some()
+            });
+            if found {
+                loops.clone_from_slice(&trial);
+                self.no_pcurve -= missing;
+                return Some(candidate);
+            }
+        }
+        None
+    }
+
     /// Adds a face; a coedge whose pcurve the check refuses loses it and the face is
     /// checked again, any other violation is a located error.
     /// `loop_entries[i]` is the 142 or 508 loop `i` came from (a loop's violation is
@@ -623,11 +666,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         diags: &mut Vec<Diagnostic>,
     ) -> Option<FaceId> {
         let total: usize = loops.iter().map(|l| l.coedges.len()).sum();
+        let moved = self.with_moved_seam(surface.1, &mut loops);
+        let nurbs = moved.as_ref().unwrap_or(surface.1);
         for _ in 0..=total {
             match self
                 .topology
                 .model
-                .add_face(surface.1.clone(), loops.clone(), true)
+                .add_face(nurbs.clone(), loops.clone(), true)
             {
                 Ok(f) => {
                     self.topology.origins.faces.push(Self::origin(

@@ -27,7 +27,7 @@ use crate::nurbs::{
     Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
 };
 use crate::topology::{
-    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
 };
 
 /// Relative tolerance of the topology (of the part's size).
@@ -530,7 +530,31 @@ impl Build<'_, '_, '_, '_> {
         if loops.len() == 1 {
             loops[0].outer = true;
         }
-        self.pcurves(surface, &mut loops, same_sense);
+        let mut missing = self.pcurves(surface, &mut loops, same_sense);
+        // Edges across the surface's seam: the face's own seam may lie elsewhere
+        // (`moved_seams`); the first surface with the seam moved to a vertex of the face on
+        // which every pcurve is found replaces it (the same surface, exactly).
+        let mut moved: Option<NurbsSurface> = None;
+        if missing > 0 {
+            let m = &self.topology.model;
+            let points: Vec<Point3> = loops
+                .iter()
+                .flat_map(|l| &l.coedges)
+                .filter_map(|c| m.coedge_ends(c))
+                .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
+                .collect();
+            for candidate in moved_seams(surface, &points) {
+                let mut trial = loops.clone();
+                if self.pcurves(&candidate, &mut trial, same_sense) == 0 {
+                    loops = trial;
+                    missing = 0;
+                    moved = Some(candidate);
+                    break;
+                }
+            }
+        }
+        self.missing_pcurves += missing;
+        let surface = moved.as_ref().unwrap_or(surface);
         // Bounds that do not say which one is outer (all plain face_bounds, as Open CASCADE
         // writes them): the one that contains the others is (ISO 10303-42 face_bound).
         if loops.len() > 1 && !loops.iter().any(|l| l.outer) {
@@ -583,8 +607,10 @@ impl Build<'_, '_, '_, '_> {
     /// twice by the face) gets both sides of the seam: the coedge that runs with the face
     /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
     /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
-    /// projection fails keep `None` and are counted in one warning of the file.
-    fn pcurves(&mut self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) {
+    /// projection fails keep `None`; returns how many (the caller counts them in one
+    /// warning of the file).
+    fn pcurves(&self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) -> usize {
+        let mut missing = 0;
         let mut uses: HashMap<EdgeId, usize> = HashMap::new();
         for l in loops.iter() {
             for c in &l.coedges {
@@ -611,10 +637,11 @@ impl Build<'_, '_, '_, '_> {
                     other => other,
                 };
                 if c.pcurve.is_none() {
-                    self.missing_pcurves += 1;
+                    missing += 1;
                 }
             }
         }
+        missing
     }
 
     /// An OPEN_SHELL or CLOSED_SHELL (ISO 10303-42 5.4); a CLOSED_SHELL that is not
