@@ -251,11 +251,12 @@ fn newton(
     best
 }
 
-/// Whether the surface meets itself along `u = min` and `u = max` (first and last pole
-/// columns equal within `within` or rounding, end knots clamped), so a point there has two u
-/// parameters. `within` is the caller's tolerance: a surface of revolution written with a
-/// rounded angle (IGES 120 with `TA = 6.283185307`) is open by 1e-9 but closed for any
-/// curve given within a tolerance of 1e-6.
+/// Whether the surface meets itself along `u = min` and `u = max`, so a point there has two
+/// u parameters: clamped ends with the first and last pole columns equal, or (an unclamped
+/// periodic B-spline, as an extrusion of a periodic profile) the two boundary isocurves
+/// equal at `CLOSURE_SAMPLES` points; both within `within` or rounding. `within` is the
+/// caller's tolerance: a surface of revolution written with a rounded angle (IGES 120 with
+/// `TA = 6.283185307`) is open by 1e-9 but closed for any curve given within 1e-6.
 fn closed_in(surface: &NurbsSurface, along_u: bool, within: f64) -> bool {
     let g = surface.control_points();
     let (n, m) = (g.nu(), g.nv());
@@ -270,13 +271,35 @@ fn closed_in(surface: &NurbsSurface, along_u: bool, within: f64) -> bool {
             .all(|&k| k == knots[knots.len() - 1]);
     let size = g.as_slice().iter().fold(1.0f64, |a, q| a.max(norm(*q)));
     let gap = within.max(1e-12 * size);
-    clamped
-        && if along_u {
+    if clamped {
+        return if along_u {
             (0..m).all(|j| dist(*g.get(0, j), *g.get(n - 1, j)) <= gap)
         } else {
             (0..n).all(|i| dist(*g.get(i, 0), *g.get(i, m - 1)) <= gap)
-        }
+        };
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    (0..=CLOSURE_SAMPLES).all(|k| {
+        let x = k as f64 / CLOSURE_SAMPLES as f64;
+        let (a, b) = if along_u {
+            let v = v0 + (v1 - v0) * x;
+            (
+                surface.point_at_unchecked(u0, v),
+                surface.point_at_unchecked(u1, v),
+            )
+        } else {
+            let u = u0 + (u1 - u0) * x;
+            (
+                surface.point_at_unchecked(u, v0),
+                surface.point_at_unchecked(u, v1),
+            )
+        };
+        dist(a, b) <= gap
+    })
 }
+
+/// Points along the boundary isocurves at which [`closed_in`] compares an unclamped surface.
+const CLOSURE_SAMPLES: usize = 16;
 
 /// Largest number of samples a pcurve is fitted through.
 const MAX_PCURVE_SAMPLES: usize = MAX_FIT_POINTS / 2;
@@ -403,12 +426,19 @@ fn project_points(
             )));
         }
         let (mut u, mut v) = (h.u, h.v);
-        // The side of a seam that continues the previous point.
+        // The side of a seam that continues the previous point; a previous point on the seam
+        // itself (within 1e-9 of the period: a surface closed only within the tolerance puts
+        // the seam's points just inside) has no side yet (a start on the seam takes the side
+        // of this point, below), so this point keeps its own parameter.
+        let on_seam = |x: f64, lo: f64, hi: f64| {
+            let near = 1e-9 * (hi - lo);
+            x <= lo + near || x >= hi - near
+        };
         if let Some((pu, pv)) = previous {
-            if closed.0 && (u - pu).abs() > 0.5 * (u1 - u0) {
+            if closed.0 && (u - pu).abs() > 0.5 * (u1 - u0) && !on_seam(pu, u0, u1) {
                 u = if u < pu { u1 } else { u0 };
             }
-            if closed.1 && (v - pv).abs() > 0.5 * (v1 - v0) {
+            if closed.1 && (v - pv).abs() > 0.5 * (v1 - v0) && !on_seam(pv, v0, v1) {
                 v = if v < pv { v1 } else { v0 };
             }
         }

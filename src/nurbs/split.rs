@@ -154,23 +154,25 @@ impl NurbsSurface {
     }
 
     /// Moves the seam of a surface closed in u (first and last pole columns equal within
-    /// rounding, clamped ends: a NURBS cylinder, cone, torus or revolution) to `u = t`: the
+    /// `tolerance`, clamped ends: a NURBS cylinder, cone, torus or revolution) to `u = t`: the
     /// surface is split at `t` (A5.3) and the piece `[t, end]` is followed by `[start, t]`
-    /// shifted by the period `end - start`, as [`NurbsCurve::join`] joins curves. Exact: the
-    /// result on `[t, t + end - start]` is the same surface, `S'(x) = S(x)` for `x <= end` and
-    /// `S'(x) = S(x - end + start)` beyond. Errors: `t` not strictly inside the domain, ends
-    /// not clamped, or the surface not closed in u.
-    pub fn rotate_seam_u(&self, t: f64) -> Result<NurbsSurface, GeometryError> {
-        self.rotate_seam(Dir::U, t)
+    /// shifted by the period `end - start`, as [`NurbsCurve::join`] joins curves (the old
+    /// seam's poles become the midpoints of its two columns: each side moves by at most half
+    /// their gap, none for a surface closed exactly). The result on `[t, t + end - start]` is
+    /// the same surface, `S'(x) = S(x)` for `x <= end` and `S'(x) = S(x - end + start)`
+    /// beyond. Errors: `t` not strictly inside the domain, ends not clamped, or the surface
+    /// not closed in u within `tolerance`.
+    pub fn rotate_seam_u(&self, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
+        self.rotate_seam(Dir::U, t, tolerance)
     }
 
     /// Moves the seam of a surface closed in v to `v = t` (as
     /// [`rotate_seam_u`](Self::rotate_seam_u)).
-    pub fn rotate_seam_v(&self, t: f64) -> Result<NurbsSurface, GeometryError> {
-        self.rotate_seam(Dir::V, t)
+    pub fn rotate_seam_v(&self, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
+        self.rotate_seam(Dir::V, t, tolerance)
     }
 
-    fn rotate_seam(&self, dir: Dir, t: f64) -> Result<NurbsSurface, GeometryError> {
+    fn rotate_seam(&self, dir: Dir, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
         let b = self.to_bundle(dir);
         check_split(&b, t)?;
         let p = b.degree;
@@ -201,7 +203,7 @@ impl NurbsSurface {
             let gap = super::vector::dist(super::from_homogeneous(h2), super::from_homogeneous(h1));
             let k = h2[3] / h1[3];
             let same_scale = scale.is_none_or(|s| (s - k).abs() <= 1e-12 * s.abs());
-            if !(gap <= 1e-12 * size && k.is_finite() && k > 0.0 && same_scale) {
+            if !(gap <= tolerance.max(1e-12 * size) && k.is_finite() && k > 0.0 && same_scale) {
                 return Err(GeometryError::InvalidArgument(format!(
                     "seam: the surface is not closed in that direction (gap {gap:e})"
                 )));
@@ -219,6 +221,15 @@ impl NurbsSurface {
             .zip(&first.rows)
             .map(|(r2, r1)| {
                 let mut row = r2.clone();
+                if let (Some(last), Some(&h1)) = (row.last_mut(), r1.first()) {
+                    let (a, b) = (super::from_homogeneous(*last), super::from_homogeneous(h1));
+                    let mid = [
+                        0.5 * (a[0] + b[0]),
+                        0.5 * (a[1] + b[1]),
+                        0.5 * (a[2] + b[2]),
+                    ];
+                    *last = super::to_homogeneous(mid, last[3]);
+                }
                 row.extend(r1[1..].iter().map(|h| h.map(|x| x * scale)));
                 row
             })
@@ -243,7 +254,7 @@ impl NurbsSurface {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+
     use crate::nurbs::sweep::{Frame, plane, torus};
     use crate::nurbs::vector::dist;
 
@@ -266,9 +277,9 @@ mod tests {
         let ((u0, u1), (v0, v1)) = s.domain();
         for (along_u, t) in [(true, 0.37 * u1), (false, 0.5 * (v0 + v1)), (false, 1.3)] {
             let r = if along_u {
-                s.rotate_seam_u(t).unwrap()
+                s.rotate_seam_u(t, 0.0).unwrap()
             } else {
-                s.rotate_seam_v(t).unwrap()
+                s.rotate_seam_v(t, 0.0).unwrap()
             };
             let ((a0, a1), (b0, b1)) = r.domain();
             let period = if along_u { u1 - u0 } else { v1 - v0 };
@@ -295,6 +306,6 @@ mod tests {
         }
         // A plane is not closed.
         let p = plane(&frame(), (0.0, 1.0), (0.0, 1.0)).unwrap();
-        assert!(p.rotate_seam_u(0.5).is_err());
+        assert!(p.rotate_seam_u(0.5, 1e-6).is_err());
     }
 }

@@ -127,15 +127,16 @@ const MAX_SEAMS: usize = 8;
 /// (`v = pi`), while the NURBS torus starts at `v = 0`, so the closed edges that start on the
 /// face's seam run across the NURBS one and no pcurve inside the domain exists. Moved to a
 /// vertex of the face (where the face's seam edges meet its other edges), the seams agree.
-/// Points off the surface (by more than 1e-9 of its size), at its ends, or repeated are
-/// skipped; at most `MAX_SEAMS` surfaces.
-pub fn moved_seams(surface: &NurbsSurface, points: &[Point3]) -> Vec<NurbsSurface> {
+/// Points off the surface (by more than `tolerance`), at its ends, or repeated are skipped;
+/// at most `MAX_SEAMS` surfaces. A surface closed within `tolerance` only (an IGES 120
+/// revolved by a rounded `2 pi`) is joined at its old seam within that gap.
+pub fn moved_seams(surface: &NurbsSurface, points: &[Point3], tolerance: f64) -> Vec<NurbsSurface> {
     let size = bounding_box_diagonal(surface.control_points().as_slice());
     let ((u0, u1), (v0, v1)) = surface.domain();
     let mut params: Vec<(f64, f64)> = Vec::new();
     for &q in points {
         if let Some(hit) = invert_surface(surface, q, None) {
-            if hit.distance <= 1e-9 * size {
+            if hit.distance <= tolerance.max(1e-9 * size) {
                 params.push((hit.u, hit.v));
             }
         }
@@ -152,9 +153,9 @@ pub fn moved_seams(surface: &NurbsSurface, points: &[Point3]) -> Vec<NurbsSurfac
             }
             seen.push(t);
             let moved = if along_u {
-                surface.rotate_seam_u(t)
+                surface.rotate_seam_u(t, tolerance)
             } else {
-                surface.rotate_seam_v(t)
+                surface.rotate_seam_v(t, tolerance)
             };
             match moved {
                 Ok(m) => out.push(m),

@@ -39,6 +39,9 @@ use crate::topology::{
     Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
 };
 
+/// Points (plus one) at which a file's parameter-space curve is checked against its edge.
+const GIVEN_SAMPLES: usize = 32;
+
 /// Relative tolerance of shared vertices (of the model's size).
 const REL_TOL: f64 = 1e-7;
 
@@ -592,10 +595,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     p.reparameterize(a, b).ok(),
                     p.reverse().and_then(|r| r.reparameterize(a, b)).ok(),
                 ];
+                // Checked at `GIVEN_SAMPLES + 1` points (the face check samples as densely):
+                // a given curve off its edge between the ends falls back to edge_pcurve.
                 candidates.into_iter().flatten().find(|c| {
-                    [a, 0.5 * (a + b), b]
-                        .iter()
-                        .all(|&t| dist(on(c, t), edge.curve.point_at_unchecked(t)) <= tol)
+                    (0..=GIVEN_SAMPLES).all(|k| {
+                        let t = (a + (b - a) * k as f64 / GIVEN_SAMPLES as f64).min(b);
+                        dist(on(c, t), edge.curve.point_at_unchecked(t)) <= tol
+                    })
                 })
             })
             .or_else(|| {
@@ -634,7 +640,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .filter_map(|c| m.coedge_ends(c))
             .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
             .collect();
-        for candidate in moved_seams(surface, &points) {
+        for candidate in moved_seams(surface, &points, self.tol) {
             let mut trial = loops.to_vec();
             let found = trial.iter_mut().flat_map(|l| &mut l.coedges).all(|c| {
                 let e = &m.edges[c.edge.0];

@@ -543,7 +543,7 @@ impl Build<'_, '_, '_, '_> {
                 .filter_map(|c| m.coedge_ends(c))
                 .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
                 .collect();
-            for candidate in moved_seams(surface, &points) {
+            for candidate in moved_seams(surface, &points, self.tolerance) {
                 let mut trial = loops.clone();
                 if self.pcurves(&candidate, &mut trial, same_sense) == 0 {
                     loops = trial;
