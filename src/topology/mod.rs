@@ -43,7 +43,10 @@ pub use assembly::{Assembly, Copied, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
-pub use pcurve::{EdgePcurve, PcurveMethod, edge_pcurve, exact_pcurve, moved_seams};
+pub use pcurve::{
+    EdgePcurve, PcurveMethod, edge_pcurve, exact_pcurve, loop_counter_clockwise, moved_seams,
+    seam_side, seam_sides_by_continuity,
+};
 pub use sew::Sewing;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};

@@ -29,6 +29,7 @@
 //! assumed: an exact pcurve shows rounding only (it is accepted as exact below 1e-12 of the
 //! surface's size; above, projection is used).
 
+use super::{Coedge, EdgeId};
 use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
 use crate::nurbs::vector::{add, dist, dot, sub};
 use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
@@ -115,6 +116,188 @@ pub fn exact_pcurve(
             method,
         })
 }
+
+/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
+/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
+/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
+/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
+/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
+/// `None` when the pcurve is not on a seam. Both readers give the two coedges of a seam edge
+/// (used twice by one face) their two sides with it.
+pub fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let poles = p.control_points();
+    let (a, b) = p.domain();
+    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+        (0, u0, u1, e[1] > s[1])
+    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+        (1, v0, v1, e[0] < s[0])
+    } else {
+        return None;
+    };
+    // rising: the pcurve's own direction is the one that belongs on the high side.
+    let high = rising == ccw;
+    let target = if high { hi } else { lo };
+    let moved: Vec<Point3> = poles
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q[k] = target;
+            q
+        })
+        .collect();
+    NurbsCurve::with_dimension(
+        p.degree(),
+        p.knots().to_vec(),
+        moved,
+        p.weights().map(<[f64]>::to_vec),
+        2,
+    )
+    .ok()
+}
+
+/// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
+/// faces, sewn faces): each coedge in `coedges` whose pcurve lies on a seam and whose edge
+/// `twice` says the face uses twice takes the side nearest to where its neighbour in the loop
+/// ends (the previous coedge; the next one's start when the previous is such a seam coedge
+/// too), so the loop is continuous in `(u, v)`.
+pub fn seam_sides_by_continuity(
+    surface: &NurbsSurface,
+    coedges: &mut [Coedge],
+    twice: impl Fn(EdgeId) -> bool,
+) {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let on_seam = |p: &NurbsCurve| -> Option<(usize, f64, f64)> {
+        let poles = p.control_points();
+        let on =
+            |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+        if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+            Some((0, u0, u1))
+        } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+            Some((1, v0, v1))
+        } else {
+            None
+        }
+    };
+    // Walking ends of a coedge's pcurve.
+    let ends = |c: &Coedge| -> Option<(Point3, Point3)> {
+        let p = c.pcurve.as_ref()?;
+        let (a, b) = p.domain();
+        let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+        Some(if c.forward { (s, e) } else { (e, s) })
+    };
+    let n = coedges.len();
+    let seam: Vec<Option<(usize, f64, f64)>> = coedges
+        .iter()
+        .map(|c| {
+            c.pcurve
+                .as_ref()
+                .filter(|_| twice(c.edge))
+                .and_then(|p| on_seam(p))
+        })
+        .collect();
+    for i in 0..n {
+        let Some((k, lo, hi)) = seam[i] else {
+            continue;
+        };
+        let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
+        let target = if seam[prev].is_none() {
+            ends(&coedges[prev]).map(|(_, e)| e[k])
+        } else if seam[next].is_none() {
+            ends(&coedges[next]).map(|(s, _)| s[k])
+        } else {
+            None
+        };
+        let Some(target) = target else { continue };
+        let side = if (target - lo).abs() <= (target - hi).abs() {
+            lo
+        } else {
+            hi
+        };
+        if let Some(p) = coedges[i].pcurve.as_mut() {
+            let moved: Vec<Point3> = p
+                .control_points()
+                .iter()
+                .map(|q| {
+                    let mut q = *q;
+                    q[k] = side;
+                    q
+                })
+                .collect();
+            if let Ok(m) = NurbsCurve::with_dimension(
+                p.degree(),
+                p.knots().to_vec(),
+                moved,
+                p.weights().map(<[f64]>::to_vec),
+                2,
+            ) {
+                *p = m;
+            }
+        }
+    }
+}
+
+/// Whether a loop runs counter-clockwise in `(u, v)` (the signed area of its pcurves, walked
+/// in loop order and sampled `LOOP_SAMPLES` times each, is positive); `None` when a coedge
+/// has no pcurve or the loop is not closed in `(u, v)` (a loop around a closed surface
+/// without a seam edge), within 1e-6 of the surface's parameter domain (a gap at a pole,
+/// whose two ends are one 3-D point, counts as closed).
+pub fn loop_counter_clockwise(surface: &NurbsSurface, coedges: &[Coedge]) -> Option<bool> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let near = 1e-6 * (u1 - u0).hypot(v1 - v0);
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    // Consecutive ends meet in (u, v), or at one point of a pole (a sphere's or cone's
+    // apex, where the segment between them is the degenerate edge).
+    let joined = |p: [f64; 2], q: [f64; 2]| {
+        (p[0] - q[0]).hypot(p[1] - q[1]) <= near
+            || dist(
+                surface.point_at_unchecked(p[0].clamp(u0, u1), p[1].clamp(v0, v1)),
+                surface.point_at_unchecked(q[0].clamp(u0, u1), q[1].clamp(v0, v1)),
+            ) <= 1e-9 * size
+    };
+    let mut points: Vec<[f64; 2]> = Vec::new();
+    let mut last: Option<[f64; 2]> = None;
+    for c in coedges {
+        let p = c.pcurve.as_ref()?;
+        let (a, b) = p.domain();
+        for k in 0..=LOOP_SAMPLES {
+            let x = k as f64 / LOOP_SAMPLES as f64;
+            let t = if c.forward {
+                a + (b - a) * x
+            } else {
+                b - (b - a) * x
+            };
+            let [u, v, _] = p.point_at_unchecked(t);
+            if k == 0 {
+                if let Some(q) = last {
+                    if !joined(q, [u, v]) {
+                        return None;
+                    }
+                }
+            }
+            points.push([u, v]);
+        }
+        last = points.last().copied();
+    }
+    let first = *points.first()?;
+    let end = last?;
+    if !joined(end, first) {
+        return None;
+    }
+    let n = points.len();
+    let twice: f64 = (0..n)
+        .map(|i| {
+            let (p, q) = (points[i], points[(i + 1) % n]);
+            p[0] * q[1] - q[0] * p[1]
+        })
+        .sum();
+    (twice.is_finite() && twice != 0.0).then_some(twice > 0.0)
+}
+
+/// Points per coedge at which [`loop_counter_clockwise`] samples a loop.
+const LOOP_SAMPLES: usize = 16;
 
 /// Most seams [`moved_seams`] offers.
 const MAX_SEAMS: usize = 8;

@@ -300,8 +300,19 @@ impl Model {
                     };
                 }
             }
-            // The loops are checked again (closure through the merged vertices, pcurves).
+            // An edge this face now uses twice (two boundary pieces merged into one seam edge):
+            // its two coedges take the seam's two sides, as the loop continues.
             let surface = self.faces[f.0].surface.clone();
+            let mut uses: BTreeMap<EdgeId, usize> = BTreeMap::new();
+            for c in new_loops.iter().flat_map(|l| &l.coedges) {
+                *uses.entry(c.edge).or_default() += 1;
+            }
+            for l in &mut new_loops {
+                super::seam_sides_by_continuity(&surface, &mut l.coedges, |e| {
+                    uses.get(&e) == Some(&2)
+                });
+            }
+            // The loops are checked again (closure through the merged vertices, pcurves).
             for (index, l) in new_loops.iter_mut().enumerate() {
                 if let Err(e) = check::face_loop(self, f, index, &surface, l) {
                     self.faces[f.0].loops = loops;

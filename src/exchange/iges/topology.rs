@@ -36,7 +36,8 @@ use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 use crate::topology::{
-    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
+    loop_counter_clockwise, moved_seams, seam_sides_by_continuity,
 };
 
 /// Points (plus one) at which a file's parameter-space curve is checked against its edge.
@@ -669,16 +670,39 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         surface: (&Entity, &NurbsSurface),
         mut loops: Vec<Loop>,
         loop_entries: &[&DirectoryEntry],
+        trimmed: bool,
         diags: &mut Vec<Diagnostic>,
     ) -> Option<FaceId> {
         let total: usize = loops.iter().map(|l| l.coedges.len()).sum();
         let moved = self.with_moved_seam(surface.1, &mut loops);
         let nurbs = moved.as_ref().unwrap_or(surface.1);
+        // Pcurves on a seam take the side where the loop continues: both coedges of a seam
+        // edge, and (144) each boundary piece along the seam.
+        let mut uses: HashMap<EdgeId, usize> = HashMap::new();
+        for c in loops.iter().flat_map(|l| &l.coedges) {
+            *uses.entry(c.edge).or_default() += 1;
+        }
+        for l in &mut loops {
+            seam_sides_by_continuity(nurbs, &mut l.coedges, |e| {
+                trimmed || uses.get(&e) == Some(&2)
+            });
+        }
+        // A 144's outer boundary runs counter-clockwise in the file's parameters (IGES 5.3
+        // 4.34, the face on the side of the surface normal); the NURBS form of an analytic
+        // surface may swap or reverse them (a 120's angle is the NURBS u): a boundary that
+        // runs clockwise in the NURBS (u, v) makes the face the reverse of the surface.
+        let same_sense = !trimmed
+            || loops
+                .iter()
+                .find(|l| l.outer)
+                .or(loops.first())
+                .and_then(|l| loop_counter_clockwise(nurbs, &l.coedges))
+                .unwrap_or(true);
         for _ in 0..=total {
             match self
                 .topology
                 .model
-                .add_face(nurbs.clone(), loops.clone(), true)
+                .add_face(nurbs.clone(), loops.clone(), same_sense)
             {
                 Ok(f) => {
                     self.topology.origins.faces.push(Self::origin(
@@ -755,7 +779,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             loops.push(l);
             at.push(e);
         }
-        self.add_face(entry, surface, loops, &at, diags).is_some()
+        self.add_face(entry, surface, loops, &at, true, diags)
+            .is_some()
     }
 
     /// A 142 Curve on a Parametric Surface as a loop: one coedge per model-space curve
@@ -902,7 +927,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             loops.push(self.loop508(lp, outer, surface, diags)?);
             at.push(lp);
         }
-        let f = self.add_face(entry, surface, loops, &at, diags);
+        let f = self.add_face(entry, surface, loops, &at, false, diags);
         self.faces.insert(entry.pointer, f);
         f
     }

@@ -28,6 +28,7 @@ use crate::nurbs::{
 };
 use crate::topology::{
     Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
+    seam_side,
 };
 
 /// Relative tolerance of the topology (of the part's size).
@@ -216,46 +217,6 @@ pub(super) fn build(
         diagnostics: b.diagnostics,
         pcurve_entities: b.pcurve_entities,
     }
-}
-
-/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
-/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
-/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
-/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
-/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
-/// `None` when the pcurve is not on a seam.
-fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
-    let ((u0, u1), (v0, v1)) = surface.domain();
-    let poles = p.control_points();
-    let (a, b) = p.domain();
-    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
-    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
-    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
-        (0, u0, u1, e[1] > s[1])
-    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
-        (1, v0, v1, e[0] < s[0])
-    } else {
-        return None;
-    };
-    // rising: the pcurve's own direction is the one that belongs on the high side.
-    let high = rising == ccw;
-    let target = if high { hi } else { lo };
-    let moved: Vec<Point3> = poles
-        .iter()
-        .map(|q| {
-            let mut q = *q;
-            q[k] = target;
-            q
-        })
-        .collect();
-    NurbsCurve::with_dimension(
-        p.degree(),
-        p.knots().to_vec(),
-        moved,
-        p.weights().map(<[f64]>::to_vec),
-        2,
-    )
-    .ok()
 }
 
 impl Build<'_, '_, '_, '_> {
