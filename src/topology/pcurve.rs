@@ -195,7 +195,7 @@ pub fn seam_sides_by_continuity(
             c.pcurve
                 .as_ref()
                 .filter(|_| twice(c.edge))
-                .and_then(|p| on_seam(p))
+                .and_then(&on_seam)
         })
         .collect();
     for i in 0..n {
