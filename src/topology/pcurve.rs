@@ -29,7 +29,7 @@
 //! assumed: an exact pcurve shows rounding only (it is accepted as exact below 1e-12 of the
 //! surface's size; above, projection is used).
 
-use super::{Coedge, EdgeId};
+use super::{Coedge, EdgeId, Loop, Model};
 use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
 use crate::nurbs::vector::{add, dist, dot, sub};
 use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
@@ -139,23 +139,7 @@ pub fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<Nu
     };
     // rising: the pcurve's own direction is the one that belongs on the high side.
     let high = rising == ccw;
-    let target = if high { hi } else { lo };
-    let moved: Vec<Point3> = poles
-        .iter()
-        .map(|q| {
-            let mut q = *q;
-            q[k] = target;
-            q
-        })
-        .collect();
-    NurbsCurve::with_dimension(
-        p.degree(),
-        p.knots().to_vec(),
-        moved,
-        p.weights().map(<[f64]>::to_vec),
-        2,
-    )
-    .ok()
+    at_coordinate(p, k, if high { hi } else { lo })
 }
 
 /// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
@@ -217,22 +201,7 @@ pub fn seam_sides_by_continuity(
             hi
         };
         if let Some(p) = coedges[i].pcurve.as_mut() {
-            let moved: Vec<Point3> = p
-                .control_points()
-                .iter()
-                .map(|q| {
-                    let mut q = *q;
-                    q[k] = side;
-                    q
-                })
-                .collect();
-            if let Ok(m) = NurbsCurve::with_dimension(
-                p.degree(),
-                p.knots().to_vec(),
-                moved,
-                p.weights().map(<[f64]>::to_vec),
-                2,
-            ) {
+            if let Some(m) = at_coordinate(p, k, side) {
                 *p = m;
             }
         }
@@ -303,7 +272,7 @@ const LOOP_SAMPLES: usize = 16;
 const MAX_SEAMS: usize = 8;
 
 /// The surface with its seam moved (exactly, [`NurbsSurface::rotate_seam_u`]) to the
-/// parameter of each of `points` in each direction in which it is closed: the candidates
+/// parameter of each vertex of `loops` (in `model`) in each direction in which it is closed: the candidates
 /// for a face whose edges cross the surface's seam but not the face's own. A periodic face
 /// in a file (ISO 10303-42 face_surface on a cylinder, cone, torus or revolution) may place
 /// its seam anywhere: Open CASCADE puts a pipe elbow's torus seam on the inner equator
@@ -313,11 +282,22 @@ const MAX_SEAMS: usize = 8;
 /// Points off the surface (by more than `tolerance`), at its ends, or repeated are skipped;
 /// at most `MAX_SEAMS` surfaces. A surface closed within `tolerance` only (an IGES 120
 /// revolved by a rounded `2 pi`) is joined at its old seam within that gap.
-pub fn moved_seams(surface: &NurbsSurface, points: &[Point3], tolerance: f64) -> Vec<NurbsSurface> {
+pub fn moved_seams(
+    surface: &NurbsSurface,
+    model: &Model,
+    loops: &[Loop],
+    tolerance: f64,
+) -> Vec<NurbsSurface> {
+    let points: Vec<Point3> = loops
+        .iter()
+        .flat_map(|l| &l.coedges)
+        .filter_map(|c| model.coedge_ends(c))
+        .filter_map(|(v, _)| model.vertices.get(v.0).map(|v| v.point))
+        .collect();
     let size = bounding_box_diagonal(surface.control_points().as_slice());
     let ((u0, u1), (v0, v1)) = surface.domain();
     let mut params: Vec<(f64, f64)> = Vec::new();
-    for &q in points {
+    for &q in &points {
         if let Some(hit) = invert_surface(surface, q, None) {
             if hit.distance <= tolerance.max(1e-9 * size) {
                 params.push((hit.u, hit.v));
@@ -419,14 +399,34 @@ fn affine(surface: &NurbsSurface, curve: &NurbsCurve) -> Option<NurbsCurve> {
             [u0 + s * (u1 - u0), v0 + t * (v1 - v0), 0.0]
         })
         .collect();
+    with_poles(curve, poles)
+}
+
+/// A 2-D curve with `p`'s degree, knots and weights and the given poles.
+fn with_poles(p: &NurbsCurve, poles: Vec<Point3>) -> Option<NurbsCurve> {
     NurbsCurve::with_dimension(
-        curve.degree(),
-        curve.knots().to_vec(),
+        p.degree(),
+        p.knots().to_vec(),
         poles,
-        curve.weights().map(<[f64]>::to_vec),
+        p.weights().map(<[f64]>::to_vec),
         2,
     )
     .ok()
+}
+
+/// `p` with coordinate `k` of every pole set to `value` (a pcurve moved onto one side of a
+/// seam).
+fn at_coordinate(p: &NurbsCurve, k: usize, value: f64) -> Option<NurbsCurve> {
+    let poles = p
+        .control_points()
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q[k] = value;
+            q
+        })
+        .collect();
+    with_poles(p, poles)
 }
 
 /// `x` moved onto the nearest of `targets` within `within`.

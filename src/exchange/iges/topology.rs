@@ -635,13 +635,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             return None;
         }
         let m = &self.topology.model;
-        let points: Vec<Point3> = loops
-            .iter()
-            .flat_map(|l| &l.coedges)
-            .filter_map(|c| m.coedge_ends(c))
-            .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
-            .collect();
-        for candidate in moved_seams(surface, &points, self.tol) {
+        for candidate in moved_seams(surface, m, loops, self.tol) {
             let mut trial = loops.to_vec();
             let found = trial.iter_mut().flat_map(|l| &mut l.coedges).all(|c| {
                 let e = &m.edges[c.edge.0];

@@ -498,13 +498,7 @@ impl Build<'_, '_, '_, '_> {
         let mut moved: Option<NurbsSurface> = None;
         if missing > 0 {
             let m = &self.topology.model;
-            let points: Vec<Point3> = loops
-                .iter()
-                .flat_map(|l| &l.coedges)
-                .filter_map(|c| m.coedge_ends(c))
-                .filter_map(|(v, _)| m.vertices.get(v.0).map(|v| v.point))
-                .collect();
-            for candidate in moved_seams(surface, &points, self.tolerance) {
+            for candidate in moved_seams(surface, m, &loops, self.tolerance) {
                 let mut trial = loops.clone();
                 if self.pcurves(&candidate, &mut trial, same_sense) == 0 {
                     loops = trial;
