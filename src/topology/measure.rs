@@ -53,15 +53,6 @@ pub enum MeasureError {
         /// Net turns (u turns minus v turns, against the face's orientation).
         turns: i64,
     },
-    /// A face of the solid whose outer bound runs clockwise in `(u, v)` against its sense
-    /// (or counter-clockwise against a reversed one): its side of the solid is unknown.
-    #[error(
-        "face {face}'s outer bound runs against the face's sense: the solid's side of it is unknown"
-    )]
-    Orientation {
-        /// The face's index in the model.
-        face: usize,
-    },
     /// The surface or a pcurve could not be evaluated (non-finite values).
     #[error("the surface or a pcurve gives non-finite values")]
     NotFinite,
@@ -453,20 +444,16 @@ impl Model {
             for &(f, orientation) in &shell.faces {
                 let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
                 // The outer bound runs counter-clockwise around the face normal (ISO
-                // 10303-42 face_outer_bound; IGES 5.3 4.34), so in (u, v) it runs
-                // counter-clockwise exactly when the face has the surface's sense; a face
-                // whose sense contradicts its own boundary would add its flux with the wrong
-                // sign (faces sewn from IGES 144s whose NURBS (u, v) reverse the file's).
+                // 10303-42 face_outer_bound; IGES 5.3 4.34), and sewing orients faces by
+                // their bounds: a face whose outer bound runs clockwise in (u, v) against its
+                // sense (IGES 144s on surfaces whose NURBS (u, v) reverse the file's) faces
+                // the other way round, and so does its flux.
                 let outer = face.loops.iter().find(|l| l.outer).or(face.loops.first());
-                if let Some(ccw) =
-                    outer.and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
-                {
-                    if ccw != face.same_sense {
-                        return Err(MeasureError::Orientation { face: f.0 });
-                    }
-                }
+                let bound_agrees = outer
+                    .and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
+                    .is_none_or(|ccw| ccw == face.same_sense);
                 let m = measure(f)?;
-                let outward = face.same_sense == orientation;
+                let outward = (face.same_sense == orientation) == bound_agrees;
                 flux += if outward { m.flux } else { -m.flux };
             }
         }

@@ -36,8 +36,8 @@ use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 use crate::topology::{
-    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve,
-    loop_counter_clockwise, moved_seams, seam_sides_by_continuity,
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
+    seam_sides_by_continuity,
 };
 
 /// Points (plus one) at which a file's parameter-space curve is checked against its edge.
@@ -681,22 +681,11 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 trimmed || uses.get(&e) == Some(&2)
             });
         }
-        // A 144's outer boundary runs counter-clockwise in the file's parameters (IGES 5.3
-        // 4.34, the face on the side of the surface normal); the NURBS form of an analytic
-        // surface may swap or reverse them (a 120's angle is the NURBS u): a boundary that
-        // runs clockwise in the NURBS (u, v) makes the face the reverse of the surface.
-        let same_sense = !trimmed
-            || loops
-                .iter()
-                .find(|l| l.outer)
-                .or(loops.first())
-                .and_then(|l| loop_counter_clockwise(nurbs, &l.coedges))
-                .unwrap_or(true);
         for _ in 0..=total {
             match self
                 .topology
                 .model
-                .add_face(nurbs.clone(), loops.clone(), same_sense)
+                .add_face(nurbs.clone(), loops.clone(), true)
             {
                 Ok(f) => {
                     self.topology.origins.faces.push(Self::origin(
