@@ -524,6 +524,16 @@ fn broken_topology_is_located() {
     assert!(m.shells[0].faces.is_empty());
 }
 
+/// STEP parts whose solid cannot be measured yet: a coedge without pcurve. The curve
+/// crosses the seam of its closed surface (an intersection curve around a cylinder, a tube
+/// circle of the elbow's torus starting half-way round), where neither the isocurve pcurve
+/// nor the projection applies (one pcurve would have to continue past the seam).
+const UNMEASURED_STEP_PARTS: &[&str] = &[
+    "boss_radial_hole.step",
+    "pipe_elbow.step",
+    "extrude_bspline.step",
+];
+
 /// Every part of `samples/freecad/parts` read from STEP, written as IGES 144 faces and read
 /// back (sewn) has the same solids with the same volume (1e-9 relative): a face on the
 /// other side of its surface (`same_sense` false) must reach the IGES faces with its loops
@@ -551,13 +561,14 @@ fn step_parts_through_iges_144_keep_their_volume() {
         };
         let file = name(&p);
         // A face some of whose coedges have no pcurve cannot be measured (reported by the
-        // reader as pcurve.not_computed); such a part is skipped here, visibly.
+        // reader as pcurve.not_computed); only the parts listed as such are skipped, visibly.
         let want = match volume(m) {
             Ok(v) => v,
-            Err(e) => {
+            Err(e) if UNMEASURED_STEP_PARTS.contains(&file.as_str()) => {
                 eprintln!("{file}: not measurable ({e}), skipped");
                 continue;
             }
+            Err(e) => panic!("{file}: not measurable: {e}"),
         };
         let text =
             exchange::write(&src, exchange::Format::Iges, &ExportOptions::default()).unwrap();

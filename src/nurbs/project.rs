@@ -251,9 +251,13 @@ fn newton(
     best
 }
 
-/// Whether the surface meets itself along `u = min` and `u = max` (first and last pole
-/// columns equal, end knots clamped), so a point there has two u parameters.
-fn closed_in(surface: &NurbsSurface, along_u: bool) -> bool {
+/// Whether the surface meets itself along `u = min` and `u = max`, so a point there has two
+/// u parameters: clamped ends with the first and last pole columns equal, or (an unclamped
+/// periodic B-spline, as an extrusion of a periodic profile) the two boundary isocurves
+/// equal at `CLOSURE_SAMPLES` points; both within `within` or rounding. `within` is the
+/// caller's tolerance: a surface of revolution written with a rounded angle (IGES 120 with
+/// `TA = 6.283185307`) is open by 1e-9 but closed for any curve given within 1e-6.
+fn closed_in(surface: &NurbsSurface, along_u: bool, within: f64) -> bool {
     let g = surface.control_points();
     let (n, m) = (g.nu(), g.nv());
     let (knots, p) = if along_u {
@@ -266,13 +270,36 @@ fn closed_in(surface: &NurbsSurface, along_u: bool) -> bool {
             .iter()
             .all(|&k| k == knots[knots.len() - 1]);
     let size = g.as_slice().iter().fold(1.0f64, |a, q| a.max(norm(*q)));
-    clamped
-        && if along_u {
-            (0..m).all(|j| dist(*g.get(0, j), *g.get(n - 1, j)) <= 1e-12 * size)
+    let gap = within.max(1e-12 * size);
+    if clamped {
+        return if along_u {
+            (0..m).all(|j| dist(*g.get(0, j), *g.get(n - 1, j)) <= gap)
         } else {
-            (0..n).all(|i| dist(*g.get(i, 0), *g.get(i, m - 1)) <= 1e-12 * size)
-        }
+            (0..n).all(|i| dist(*g.get(i, 0), *g.get(i, m - 1)) <= gap)
+        };
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    (0..=CLOSURE_SAMPLES).all(|k| {
+        let x = k as f64 / CLOSURE_SAMPLES as f64;
+        let (a, b) = if along_u {
+            let v = v0 + (v1 - v0) * x;
+            (
+                surface.point_at_unchecked(u0, v),
+                surface.point_at_unchecked(u1, v),
+            )
+        } else {
+            let u = u0 + (u1 - u0) * x;
+            (
+                surface.point_at_unchecked(u, v0),
+                surface.point_at_unchecked(u, v1),
+            )
+        };
+        dist(a, b) <= gap
+    })
 }
+
+/// Points along the boundary isocurves at which [`closed_in`] compares an unclamped surface.
+const CLOSURE_SAMPLES: usize = 16;
 
 /// Largest number of samples a pcurve is fitted through.
 const MAX_PCURVE_SAMPLES: usize = MAX_FIT_POINTS / 2;
@@ -364,7 +391,10 @@ fn project_points(
     previous: Option<(f64, f64)>,
 ) -> Result<Vec<Point3>, GeometryError> {
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let closed = (closed_in(surface, true), closed_in(surface, false));
+    let closed = (
+        closed_in(surface, true, tolerance),
+        closed_in(surface, false, tolerance),
+    );
     let mut uv: Vec<Point3> = Vec::with_capacity(t.len());
     let mut free: Vec<(bool, bool)> = Vec::with_capacity(t.len());
     let continued = previous.is_some();
@@ -396,12 +426,19 @@ fn project_points(
             )));
         }
         let (mut u, mut v) = (h.u, h.v);
-        // The side of a seam that continues the previous point.
+        // The side of a seam that continues the previous point; a previous point on the seam
+        // itself (within 1e-9 of the period: a surface closed only within the tolerance puts
+        // the seam's points just inside) has no side yet (a start on the seam takes the side
+        // of this point, below), so this point keeps its own parameter.
+        let on_seam = |x: f64, lo: f64, hi: f64| {
+            let near = 1e-9 * (hi - lo);
+            x <= lo + near || x >= hi - near
+        };
         if let Some((pu, pv)) = previous {
-            if closed.0 && (u - pu).abs() > 0.5 * (u1 - u0) {
+            if closed.0 && (u - pu).abs() > 0.5 * (u1 - u0) && !on_seam(pu, u0, u1) {
                 u = if u < pu { u1 } else { u0 };
             }
-            if closed.1 && (v - pv).abs() > 0.5 * (v1 - v0) {
+            if closed.1 && (v - pv).abs() > 0.5 * (v1 - v0) && !on_seam(pv, v0, v1) {
                 v = if v < pv { v1 } else { v0 };
             }
         }

@@ -153,10 +153,159 @@ impl NurbsSurface {
         self.split_dir(Dir::V, v)
     }
 
+    /// Moves the seam of a surface closed in u (first and last pole columns equal within
+    /// `tolerance`, clamped ends: a NURBS cylinder, cone, torus or revolution) to `u = t`: the
+    /// surface is split at `t` (A5.3) and the piece `[t, end]` is followed by `[start, t]`
+    /// shifted by the period `end - start`, as [`NurbsCurve::join`] joins curves (the old
+    /// seam's poles become the midpoints of its two columns: each side moves by at most half
+    /// their gap, none for a surface closed exactly). The result on `[t, t + end - start]` is
+    /// the same surface, `S'(x) = S(x)` for `x <= end` and `S'(x) = S(x - end + start)`
+    /// beyond. Errors: `t` not strictly inside the domain, ends not clamped, or the surface
+    /// not closed in u within `tolerance`.
+    pub fn rotate_seam_u(&self, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
+        self.rotate_seam(Dir::U, t, tolerance)
+    }
+
+    /// Moves the seam of a surface closed in v to `v = t` (as
+    /// [`rotate_seam_u`](Self::rotate_seam_u)).
+    pub fn rotate_seam_v(&self, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
+        self.rotate_seam(Dir::V, t, tolerance)
+    }
+
+    fn rotate_seam(&self, dir: Dir, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
+        let b = self.to_bundle(dir);
+        check_split(&b, t)?;
+        let p = b.degree;
+        let (start, end) = b.domain();
+        let n = b.knots.len();
+        let clamped = b.knots[..=p].iter().all(|&k| k == start)
+            && b.knots[n - p - 1..].iter().all(|&k| k == end);
+        if !clamped {
+            return Err(GeometryError::InvalidArgument(
+                "seam: the surface's ends are not clamped".into(),
+            ));
+        }
+        let (first, second) = split_bundle(&b, t);
+        // `second` = [t, end] runs first; `first` = [start, t] follows, its homogeneous poles
+        // scaled by one factor for every row (which leaves a rational surface unchanged) so
+        // that the junction weights agree.
+        let size = b
+            .rows
+            .iter()
+            .flatten()
+            .map(|h| super::vector::norm(super::from_homogeneous(*h)))
+            .fold(1.0f64, f64::max);
+        let mut scale: Option<f64> = None;
+        for (r2, r1) in second.rows.iter().zip(&first.rows) {
+            let (Some(&h2), Some(&h1)) = (r2.last(), r1.first()) else {
+                return Err(GeometryError::InvalidArgument("seam: empty surface".into()));
+            };
+            let gap = super::vector::dist(super::from_homogeneous(h2), super::from_homogeneous(h1));
+            let k = h2[3] / h1[3];
+            let same_scale = scale.is_none_or(|s| (s - k).abs() <= 1e-12 * s.abs());
+            if !(gap <= tolerance.max(1e-12 * size) && k.is_finite() && k > 0.0 && same_scale) {
+                return Err(GeometryError::InvalidArgument(format!(
+                    "seam: the surface is not closed in that direction (gap {gap:e})"
+                )));
+            }
+            scale.get_or_insert(k);
+        }
+        let scale = scale.unwrap_or(1.0);
+        let shift = end - start;
+        let mut knots = second.knots[..second.poles()].to_vec();
+        knots.extend(std::iter::repeat_n(end, p));
+        knots.extend(first.knots[p + 1..].iter().map(|&k| k + shift));
+        let rows = second
+            .rows
+            .iter()
+            .zip(&first.rows)
+            .map(|(r2, r1)| {
+                let mut row = r2.clone();
+                if let (Some(last), Some(&h1)) = (row.last_mut(), r1.first()) {
+                    let (a, b) = (super::from_homogeneous(*last), super::from_homogeneous(h1));
+                    let mid = [
+                        0.5 * (a[0] + b[0]),
+                        0.5 * (a[1] + b[1]),
+                        0.5 * (a[2] + b[2]),
+                    ];
+                    *last = super::to_homogeneous(mid, last[3]);
+                }
+                row.extend(r1[1..].iter().map(|h| h.map(|x| x * scale)));
+                row
+            })
+            .collect();
+        self.with_bundle(
+            dir,
+            Bundle {
+                degree: p,
+                knots,
+                rows,
+            },
+        )
+    }
+
     fn split_dir(&self, dir: Dir, t: f64) -> Result<(NurbsSurface, NurbsSurface), GeometryError> {
         let b = self.to_bundle(dir);
         check_split(&b, t)?;
         let (l, r) = split_bundle(&b, t);
         Ok((self.with_bundle(dir, l)?, self.with_bundle(dir, r)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+
+    use crate::nurbs::sweep::{Frame, plane, torus};
+    use crate::nurbs::vector::dist;
+
+    fn frame() -> Frame {
+        Frame {
+            origin: [1.0, -2.0, 0.5],
+            x: [0.0, 1.0, 0.0],
+            y: [0.0, 0.0, 1.0],
+            z: [1.0, 0.0, 0.0],
+        }
+    }
+
+    /// The surface with its seam moved is the same surface, evaluated at the shifted
+    /// parameter (an evaluation of both at a grid, not the construction), in both
+    /// directions of a torus and at a parameter inside a span and on a knot.
+    #[test]
+    fn a_rotated_seam_gives_the_same_surface() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let (s, _, _) = torus(&frame(), 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        let ((u0, u1), (v0, v1)) = s.domain();
+        for (along_u, t) in [(true, 0.37 * u1), (false, 0.5 * (v0 + v1)), (false, 1.3)] {
+            let r = if along_u {
+                s.rotate_seam_u(t, 0.0).unwrap()
+            } else {
+                s.rotate_seam_v(t, 0.0).unwrap()
+            };
+            let ((a0, a1), (b0, b1)) = r.domain();
+            let period = if along_u { u1 - u0 } else { v1 - v0 };
+            if along_u {
+                assert_eq!((a0, b0, b1), (t, v0, v1));
+                assert!((a1 - (t + period)).abs() <= 1e-12 * period);
+            } else {
+                assert_eq!((a0, a1, b0), (u0, u1, t));
+                assert!((b1 - (t + period)).abs() <= 1e-12 * period);
+            }
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let x = a0 + (a1 - a0) * i as f64 / 40.0;
+                    let y = b0 + (b1 - b0) * j as f64 / 40.0;
+                    let (mut u, mut v) = (x, y);
+                    let w = if along_u { &mut u } else { &mut v };
+                    if *w > if along_u { u1 } else { v1 } {
+                        *w -= period;
+                    }
+                    let d = dist(r.point_at(x, y).unwrap(), s.point_at(u, v).unwrap());
+                    assert!(d <= 1e-13 * 36.0, "{along_u} at {t}: {d:e} at ({x}, {y})");
+                }
+            }
+        }
+        // A plane is not closed.
+        let p = plane(&frame(), (0.0, 1.0), (0.0, 1.0)).unwrap();
+        assert!(p.rotate_seam_u(0.5, 1e-6).is_err());
     }
 }

@@ -17,8 +17,8 @@
 //! file, so a face whose loops run the wrong way still measures right (the orientation is
 //! checked elsewhere).
 
-use super::{Face, FaceId, Model, SolidId};
-use crate::nurbs::vector::{cross, dot, norm};
+use super::{Face, FaceId, Model, SolidId, loop_counter_clockwise};
+use crate::nurbs::vector::{cross, dist, dot, norm};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
 /// What could not be measured.
@@ -45,6 +45,13 @@ pub enum MeasureError {
         coedge: usize,
         /// The gap, in parameter units.
         gap: f64,
+    },
+    /// Loops that wind around a closed surface without a seam edge in a way that bounds
+    /// no region once (net turns other than -1, 0 or 1 against the face's orientation).
+    #[error("the loops wind {turns} times around the closed surface")]
+    Winding {
+        /// Net turns (u turns minus v turns, against the face's orientation).
+        turns: i64,
     },
     /// The surface or a pcurve could not be evaluated (non-finite values).
     #[error("the surface or a pcurve gives non-finite values")]
@@ -237,6 +244,18 @@ fn segment(s: &NurbsSurface, p: [f64; 2], q: [f64; 2]) -> Vec5 {
     total
 }
 
+/// `∫_{va}^{vb} H(u, v) dv` along `u` fixed, 20-point rules on each knot span in v.
+fn column(s: &NurbsSurface, u: f64, va: f64, vb: f64) -> Vec5 {
+    let mut total = [0.0; 5];
+    for w in breaks(s.knots_v(), s.degree_v(), va, vb).windows(2) {
+        let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
+        for &(x, wt) in &rules().high {
+            add5(&mut total, &inner(s, u, mid + half * x), wt * half);
+        }
+    }
+    total
+}
+
 impl Model {
     /// The area, centroid and flux of a face over its trimmed region (see the module).
     pub fn measure_face(&self, face: &Face) -> Result<FaceMeasure, MeasureError> {
@@ -244,13 +263,7 @@ impl Model {
         let ((u0, u1), (v0, v1)) = s.domain();
         let mut region = [0.0; 5];
         if face.loops.is_empty() {
-            // The whole domain: product rules on every pair of knot spans.
-            for wv in breaks(s.knots_v(), s.degree_v(), v0, v1).windows(2) {
-                let (mid, half) = (0.5 * (wv[0] + wv[1]), 0.5 * (wv[1] - wv[0]));
-                for &(x, wt) in &rules().high {
-                    add5(&mut region, &inner(s, u1, mid + half * x), wt * half);
-                }
-            }
+            region = column(s, u1, v0, v1);
         } else {
             let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
             // The size of the face's integrals: H across the whole domain times its v extent.
@@ -259,10 +272,15 @@ impl Model {
                 * inner(s, u1, 0.5 * (v0 + v1))
                     .iter()
                     .fold(0.0f64, |m, x| m.max(x.abs()));
+            let on = |x: [f64; 2]| s.point_at_unchecked(x[0].clamp(u0, u1), x[1].clamp(v0, v1));
             let mut loops: Vec<(bool, Vec5)> = Vec::with_capacity(face.loops.len());
+            // Times the loops wind around the surface in u minus in v (see below).
+            let mut winding: i64 = 0;
+            let mut wraps = false;
             for (index, l) in face.loops.iter().enumerate() {
                 let mut total = [0.0; 5];
                 let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::with_capacity(l.coedges.len());
+                let mut tolerances: Vec<f64> = Vec::with_capacity(l.coedges.len());
                 for (k, c) in l.coedges.iter().enumerate() {
                     let pc = c
                         .pcurve
@@ -279,6 +297,7 @@ impl Model {
                     let start = pc.point_at_unchecked(a);
                     let end = pc.point_at_unchecked(b);
                     ends.push(([start[0], start[1]], [end[0], end[1]]));
+                    tolerances.push(e.tolerance);
                     // Walking the pcurve backwards negates the integral: boundary() takes
                     // its bounds in walking order.
                     let part = if a <= b {
@@ -294,29 +313,90 @@ impl Model {
                 for k in 0..n {
                     let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
                     let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
-                    if gap.is_nan() || gap > closure {
+                    if gap <= closure {
+                        add5(&mut total, &segment(s, p, q), 1.0);
+                        continue;
+                    }
+                    let same = dist(on(p), on(q)) <= tolerances[k];
+                    let mid = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])];
+                    let wrap_u = (q[1] - p[1]).abs() <= closure
+                        && ((q[0] - p[0]).abs() - (u1 - u0)).abs() <= closure;
+                    let wrap_v = (q[0] - p[0]).abs() <= closure
+                        && ((q[1] - p[1]).abs() - (v1 - v0)).abs() <= closure;
+                    if gap.is_nan() || !same {
                         return Err(MeasureError::OpenInParameters {
                             index,
                             coedge: k,
                             gap,
                         });
                     }
-                    add5(&mut total, &segment(s, p, q), 1.0);
+                    if dist(on(p), on(mid)) <= tolerances[k] {
+                        // Two coedges that meet at a pole (a sphere's or a cone's apex cut
+                        // along its seam, the degenerate edge not written): the gap is the
+                        // pole's parameter line, one 3-D point, and its segment closes the
+                        // region as a degenerate edge's pcurve would.
+                        add5(&mut total, &segment(s, p, q), 1.0);
+                    } else if wrap_u {
+                        // The loop went once around a surface closed in u (no seam edge):
+                        // closed through v = v0, where it encloses the part of the domain
+                        // below it (H vanishes on u = u0, and dv = 0 along v0).
+                        add5(&mut total, &column(s, p[0], p[1], v0), 1.0);
+                        add5(&mut total, &column(s, q[0], v0, q[1]), 1.0);
+                        winding += if p[0] > q[0] { 1 } else { -1 };
+                        wraps = true;
+                    } else if wrap_v {
+                        // Around a surface closed in v: closed through u = u0, along which
+                        // and along v0 and v1 nothing accrues; it encloses the part of the
+                        // domain left of it.
+                        winding -= if p[1] > q[1] { 1 } else { -1 };
+                        wraps = true;
+                    } else {
+                        return Err(MeasureError::OpenInParameters {
+                            index,
+                            coedge: k,
+                            gap,
+                        });
+                    }
                 }
                 loops.push((l.outer, total));
             }
-            // With no loop marked outer, the largest is.
-            if !loops.iter().any(|l| l.0) {
-                if let Some(big) = loops
-                    .iter_mut()
-                    .max_by(|a, b| a.1[0].abs().total_cmp(&b.1[0].abs()))
-                {
-                    big.0 = true;
+            if wraps {
+                // Loops around a closed surface without a seam edge (a band of a cylinder
+                // between two circles, a cap of a sphere bounded by one parallel): each loop
+                // closed as above bounds a region that contains a whole side of the domain,
+                // so the loops' orientation says which side is the face's. With the face's
+                // interior on the left of its loops in (u, v) when `same_sense` (ISO
+                // 10303-42 face_bound, surface normal S_u x S_v), the face is the signed sum
+                // of the loops plus the whole domain once for each net turn that runs with
+                // the interior outside the closed regions (+u, or -v, turns).
+                let o = if face.same_sense { 1.0 } else { -1.0 };
+                let turns = if face.same_sense { winding } else { -winding };
+                if !(-1..=1).contains(&turns) {
+                    return Err(MeasureError::Winding { turns });
                 }
-            }
-            for (outer, total) in &loops {
-                let sign = if total[0] < 0.0 { -1.0 } else { 1.0 };
-                add5(&mut region, total, if *outer { sign } else { -sign });
+                for (_, total) in &loops {
+                    add5(&mut region, total, o);
+                }
+                if turns == 1 {
+                    add5(&mut region, &column(s, u1, v0, v1), 1.0);
+                }
+                if region[0] < 0.0 {
+                    region.iter_mut().for_each(|x| *x = -*x);
+                }
+            } else {
+                // With no loop marked outer, the largest is.
+                if !loops.iter().any(|l| l.0) {
+                    if let Some(big) = loops
+                        .iter_mut()
+                        .max_by(|a, b| a.1[0].abs().total_cmp(&b.1[0].abs()))
+                    {
+                        big.0 = true;
+                    }
+                }
+                for (outer, total) in &loops {
+                    let sign = if total[0] < 0.0 { -1.0 } else { 1.0 };
+                    add5(&mut region, total, if *outer { sign } else { -sign });
+                }
             }
         }
         if region.iter().any(|x| !x.is_finite()) {
@@ -363,8 +443,17 @@ impl Model {
             };
             for &(f, orientation) in &shell.faces {
                 let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
+                // The outer bound runs counter-clockwise around the face normal (ISO
+                // 10303-42 face_outer_bound; IGES 5.3 4.34), and sewing orients faces by
+                // their bounds: a face whose outer bound runs clockwise in (u, v) against its
+                // sense (IGES 144s on surfaces whose NURBS (u, v) reverse the file's) faces
+                // the other way round, and so does its flux.
+                let outer = face.loops.iter().find(|l| l.outer).or(face.loops.first());
+                let bound_agrees = outer
+                    .and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
+                    .is_none_or(|ccw| ccw == face.same_sense);
                 let m = measure(f)?;
-                let outward = face.same_sense == orientation;
+                let outward = (face.same_sense == orientation) == bound_agrees;
                 flux += if outward { m.flux } else { -m.flux };
             }
         }

@@ -36,12 +36,17 @@ mod check;
 mod error;
 mod measure;
 mod mesh;
+mod pcurve;
 mod sew;
 
 pub use assembly::{Assembly, Copied, Instance, Part, Placed};
 pub use error::TopologyError;
 pub use measure::{FaceMeasure, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
+pub use pcurve::{
+    EdgePcurve, PcurveMethod, edge_pcurve, exact_pcurve, loop_counter_clockwise, moved_seams,
+    seam_side, seam_sides_by_continuity,
+};
 pub use sew::Sewing;
 
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};

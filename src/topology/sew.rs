@@ -8,7 +8,7 @@
 //!    points of one at seven interior parameters lie on the other) become one edge; the
 //!    coedges that used the other copy use it, with their direction and their pcurve carried
 //!    over (by the affine parameter map when the copies are parameterised alike, else
-//!    re-projected onto the face's surface, [`crate::nurbs::project`]);
+//!    computed again on the face's surface, [`super::edge_pcurve`]);
 //! 3. faces connected through shared edges form shells; orientations are propagated so that
 //!    every shared edge is used once in each direction (clause 5, closed_shell); a shell in
 //!    which every edge is shared so becomes closed and bounds a solid, turned outward when
@@ -21,7 +21,6 @@
 use std::collections::{BTreeMap, HashMap};
 
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{NurbsCurve, Point3};
 
@@ -192,10 +191,10 @@ fn carried_pcurve(
         }
         Match::Other { .. } => {
             let surface = &m.faces.get(face.0)?.surface;
-            pcurve_by_projection(surface, &et.curve, et.range, et.tolerance)
+            super::edge_pcurve(surface, &et.curve, et.range, et.tolerance)
                 .ok()
-                .filter(|(_, dev)| *dev <= et.tolerance)
-                .map(|(p, _)| p)
+                .filter(|p| p.deviation <= et.tolerance)
+                .map(|p| p.curve)
         }
     }
 }
@@ -301,8 +300,19 @@ impl Model {
                     };
                 }
             }
-            // The loops are checked again (closure through the merged vertices, pcurves).
+            // An edge this face now uses twice (two boundary pieces merged into one seam edge):
+            // its two coedges take the seam's two sides, as the loop continues.
             let surface = self.faces[f.0].surface.clone();
+            let mut uses: BTreeMap<EdgeId, usize> = BTreeMap::new();
+            for c in new_loops.iter().flat_map(|l| &l.coedges) {
+                *uses.entry(c.edge).or_default() += 1;
+            }
+            for l in &mut new_loops {
+                super::seam_sides_by_continuity(&surface, &mut l.coedges, |e| {
+                    uses.get(&e) == Some(&2)
+                });
+            }
+            // The loops are checked again (closure through the merged vertices, pcurves).
             for (index, l) in new_loops.iter_mut().enumerate() {
                 if let Err(e) = check::face_loop(self, f, index, &surface, l) {
                     self.faces[f.0].loops = loops;

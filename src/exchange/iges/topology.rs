@@ -8,7 +8,8 @@
 //!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
 //!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
 //!   elsewhere (the analytic surfaces, whose IGES parameters are not the NURBS ones) the
-//!   pcurve is computed by projection ([`pcurve_by_projection`]) within the edge tolerance.
+//!   pcurve is computed ([`edge_pcurve`]: exact on planes and along isocurves, else by
+//!   projection within the edge tolerance).
 //!   The edges' ends become vertices shared across the file within the tolerance (the larger
 //!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size).
 //! - 186 Manifold Solid B-Rep Object with 514 Shell, 510 Face, 508 Loop, 504 Edge List and
@@ -31,11 +32,16 @@ use nurbsx_parsers::iges::records::{
 
 use super::read::{Context, decoded, entity_location};
 use crate::exchange::{Diagnostic, Document, Entity, Location, Meta, Origin, Source, Topology};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
-use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+use crate::topology::{
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
+    seam_sides_by_continuity,
+};
+
+/// Points (plus one) at which a file's parameter-space curve is checked against its edge.
+const GIVEN_SAMPLES: usize = 32;
 
 /// Relative tolerance of shared vertices (of the model's size).
 const REL_TOL: f64 = 1e-7;
@@ -565,7 +571,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// The pcurve of edge `e` on `surface`: the file's parameter-space curve where the
     /// surface is a 128 (whose (u, v) are the NURBS surface's; reparameterised affinely to
-    /// the edge's range, in whichever direction matches the edge), else by projection.
+    /// the edge's range, in whichever direction matches the edge), else [`edge_pcurve`]
+    /// (exact on planes and along isocurves, else by projection).
     fn pcurve(
         &mut self,
         surface: (&Entity, &NurbsSurface),
@@ -589,22 +596,62 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     p.reparameterize(a, b).ok(),
                     p.reverse().and_then(|r| r.reparameterize(a, b)).ok(),
                 ];
+                // Checked at `GIVEN_SAMPLES + 1` points (the face check samples as densely):
+                // a given curve off its edge between the ends falls back to edge_pcurve.
                 candidates.into_iter().flatten().find(|c| {
-                    [a, 0.5 * (a + b), b]
-                        .iter()
-                        .all(|&t| dist(on(c, t), edge.curve.point_at_unchecked(t)) <= tol)
+                    (0..=GIVEN_SAMPLES).all(|k| {
+                        let t = (a + (b - a) * k as f64 / GIVEN_SAMPLES as f64).min(b);
+                        dist(on(c, t), edge.curve.point_at_unchecked(t)) <= tol
+                    })
                 })
             })
             .or_else(|| {
-                pcurve_by_projection(s, &edge.curve, (a, b), tol)
+                edge_pcurve(s, &edge.curve, (a, b), tol)
                     .ok()
-                    .filter(|(_, d)| *d <= tol)
-                    .map(|(c, _)| c)
+                    .filter(|p| p.deviation <= tol)
+                    .map(|p| p.curve)
             });
         if found.is_none() {
             self.no_pcurve += 1;
         }
         found
+    }
+
+    /// Coedges without a pcurve whose edge crosses the surface's seam but not the face's:
+    /// the first surface with its seam moved to a vertex of the face ([`moved_seams`]) on
+    /// which every coedge gets a pcurve ([`edge_pcurve`]) replaces the surface (the same
+    /// surface, exactly), and `loops` get those pcurves.
+    fn with_moved_seam(
+        &mut self,
+        surface: &NurbsSurface,
+        loops: &mut [Loop],
+    ) -> Option<NurbsSurface> {
+        let missing = loops
+            .iter()
+            .flat_map(|l| &l.coedges)
+            .filter(|c| c.pcurve.is_none())
+            .count();
+        if missing == 0 {
+            return None;
+        }
+        let m = &self.topology.model;
+        for candidate in moved_seams(surface, m, loops, self.tol) {
+            let mut trial = loops.to_vec();
+            let found = trial.iter_mut().flat_map(|l| &mut l.coedges).all(|c| {
+                let e = &m.edges[c.edge.0];
+                c.pcurve = edge_pcurve(&candidate, &e.curve, e.range, e.tolerance)
+                    .ok()
+                    .filter(|p| p.deviation <= e.tolerance)
+                    .map(|p| p.curve);
+                c.pcurve.is_some()
+            });
+            if found {
+                loops.clone_from_slice(&trial);
+                self.no_pcurve -= missing;
+                return Some(candidate);
+            }
+        }
+        None
     }
 
     /// Adds a face; a coedge whose pcurve the check refuses loses it and the face is
@@ -617,14 +664,28 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         surface: (&Entity, &NurbsSurface),
         mut loops: Vec<Loop>,
         loop_entries: &[&DirectoryEntry],
+        trimmed: bool,
         diags: &mut Vec<Diagnostic>,
     ) -> Option<FaceId> {
         let total: usize = loops.iter().map(|l| l.coedges.len()).sum();
+        let moved = self.with_moved_seam(surface.1, &mut loops);
+        let nurbs = moved.as_ref().unwrap_or(surface.1);
+        // Pcurves on a seam take the side where the loop continues: both coedges of a seam
+        // edge, and (144) each boundary piece along the seam.
+        let mut uses: HashMap<EdgeId, usize> = HashMap::new();
+        for c in loops.iter().flat_map(|l| &l.coedges) {
+            *uses.entry(c.edge).or_default() += 1;
+        }
+        for l in &mut loops {
+            seam_sides_by_continuity(nurbs, &mut l.coedges, |e| {
+                trimmed || uses.get(&e) == Some(&2)
+            });
+        }
         for _ in 0..=total {
             match self
                 .topology
                 .model
-                .add_face(surface.1.clone(), loops.clone(), true)
+                .add_face(nurbs.clone(), loops.clone(), true)
             {
                 Ok(f) => {
                     self.topology.origins.faces.push(Self::origin(
@@ -701,7 +762,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             loops.push(l);
             at.push(e);
         }
-        self.add_face(entry, surface, loops, &at, diags).is_some()
+        self.add_face(entry, surface, loops, &at, true, diags)
+            .is_some()
     }
 
     /// A 142 Curve on a Parametric Surface as a loop: one coedge per model-space curve
@@ -848,7 +910,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             loops.push(self.loop508(lp, outer, surface, diags)?);
             at.push(lp);
         }
-        let f = self.add_face(entry, surface, loops, &at, diags);
+        let f = self.add_face(entry, surface, loops, &at, false, diags);
         self.faces.insert(entry.pointer, f);
         f
     }

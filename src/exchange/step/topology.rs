@@ -22,12 +22,14 @@ use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
 use super::geometry::{Converter, EdgeOut};
 use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
-use crate::nurbs::project::pcurve_by_projection;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{
     Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
 };
-use crate::topology::{Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId};
+use crate::topology::{
+    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
+    seam_side,
+};
 
 /// Relative tolerance of the topology (of the part's size).
 const RELATIVE_TOLERANCE: f64 = 1e-7;
@@ -204,7 +206,7 @@ pub(super) fn build(
         b.diagnostics.push(Diagnostic::warning(
             "pcurve.not_computed",
             format!(
-                "{} coedge(s) have no parameter-space curve: their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
+                "{} coedge(s) have no parameter-space curve: no exact one applies and their 3-D curve could not be projected onto the face's surface within the edge tolerance {:e} (the 3-D edges are exact)",
                 b.missing_pcurves, b.tolerance
             ),
             Location::default(),
@@ -215,46 +217,6 @@ pub(super) fn build(
         diagnostics: b.diagnostics,
         pcurve_entities: b.pcurve_entities,
     }
-}
-
-/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
-/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
-/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
-/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
-/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
-/// `None` when the pcurve is not on a seam.
-fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
-    let ((u0, u1), (v0, v1)) = surface.domain();
-    let poles = p.control_points();
-    let (a, b) = p.domain();
-    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
-    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
-    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
-        (0, u0, u1, e[1] > s[1])
-    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
-        (1, v0, v1, e[0] < s[0])
-    } else {
-        return None;
-    };
-    // rising: the pcurve's own direction is the one that belongs on the high side.
-    let high = rising == ccw;
-    let target = if high { hi } else { lo };
-    let moved: Vec<Point3> = poles
-        .iter()
-        .map(|q| {
-            let mut q = *q;
-            q[k] = target;
-            q
-        })
-        .collect();
-    NurbsCurve::with_dimension(
-        p.degree(),
-        p.knots().to_vec(),
-        moved,
-        p.weights().map(<[f64]>::to_vec),
-        2,
-    )
-    .ok()
 }
 
 impl Build<'_, '_, '_, '_> {
@@ -529,7 +491,25 @@ impl Build<'_, '_, '_, '_> {
         if loops.len() == 1 {
             loops[0].outer = true;
         }
-        self.pcurves(surface, &mut loops, same_sense);
+        let mut missing = self.pcurves(surface, &mut loops, same_sense);
+        // Edges across the surface's seam: the face's own seam may lie elsewhere
+        // (`moved_seams`); the first surface with the seam moved to a vertex of the face on
+        // which every pcurve is found replaces it (the same surface, exactly).
+        let mut moved: Option<NurbsSurface> = None;
+        if missing > 0 {
+            let m = &self.topology.model;
+            for candidate in moved_seams(surface, m, &loops, self.tolerance) {
+                let mut trial = loops.clone();
+                if self.pcurves(&candidate, &mut trial, same_sense) == 0 {
+                    loops = trial;
+                    missing = 0;
+                    moved = Some(candidate);
+                    break;
+                }
+            }
+        }
+        self.missing_pcurves += missing;
+        let surface = moved.as_ref().unwrap_or(surface);
         // Bounds that do not say which one is outer (all plain face_bounds, as Open CASCADE
         // writes them): the one that contains the others is (ISO 10303-42 face_bound).
         if loops.len() > 1 && !loops.iter().any(|l| l.outer) {
@@ -576,13 +556,16 @@ impl Build<'_, '_, '_, '_> {
         self.topology.origins.faces.push(o);
     }
 
-    /// The pcurve of every coedge on the face's NURBS surface, by projection of the edge's
-    /// 3-D curve ([`pcurve_by_projection`], within the edge tolerance). A seam edge (used
+    /// The pcurve of every coedge on the face's NURBS surface ([`edge_pcurve`]: exact on
+    /// planes and along isocurves, else projected within the edge tolerance; the file's
+    /// PCURVEs are in the analytic surface's parameters, not the NURBS ones). A seam edge (used
     /// twice by the face) gets both sides of the seam: the coedge that runs with the face
     /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
     /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
-    /// projection fails keep `None` and are counted in one warning of the file.
-    fn pcurves(&mut self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) {
+    /// projection fails keep `None`; returns how many (the caller counts them in one
+    /// warning of the file).
+    fn pcurves(&self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) -> usize {
+        let mut missing = 0;
         let mut uses: HashMap<EdgeId, usize> = HashMap::new();
         for l in loops.iter() {
             for c in &l.coedges {
@@ -596,10 +579,10 @@ impl Build<'_, '_, '_, '_> {
                 let p = cache
                     .entry(c.edge)
                     .or_insert_with(|| {
-                        pcurve_by_projection(surface, &edge.curve, edge.range, edge.tolerance)
+                        edge_pcurve(surface, &edge.curve, edge.range, edge.tolerance)
                             .ok()
-                            .filter(|(_, deviation)| *deviation <= edge.tolerance)
-                            .map(|(p, _)| p)
+                            .filter(|p| p.deviation <= edge.tolerance)
+                            .map(|p| p.curve)
                     })
                     .clone();
                 c.pcurve = match p {
@@ -609,10 +592,11 @@ impl Build<'_, '_, '_, '_> {
                     other => other,
                 };
                 if c.pcurve.is_none() {
-                    self.missing_pcurves += 1;
+                    missing += 1;
                 }
             }
         }
+        missing
     }
 
     /// An OPEN_SHELL or CLOSED_SHELL (ISO 10303-42 5.4); a CLOSED_SHELL that is not

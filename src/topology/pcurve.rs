@@ -1,0 +1,628 @@
+//! # Parameter-space curves of edges on faces
+//!
+//! The pcurve of an edge on a face (ISO 10303-42 clause 4.4.2 pcurve; IGES 5.3 section 4.32,
+//! entity 142 BPTR) is the curve `t -> (u(t), v(t))` in the face surface's parameter plane
+//! with `S(u(t), v(t)) = C(t)`, parameterised like the edge's 3-D curve `C`. The surfaces
+//! here are NURBS (an analytic surface of the file converted exactly), so the file's own
+//! pcurves, given in the analytic parameters, do not apply and [`edge_pcurve`] computes one,
+//! exactly where it can:
+//! - **Affine surfaces** (a plane: bilinear with a parallelogram of poles and equal weights):
+//!   `S(u, v) = P00 + s A + r B` with `s`, `r` affine in `u`, `v`, so `(u, v)` is an affine
+//!   function of the point, and affine maps commute with the rational B-spline combination
+//!   (NURBS Book section 4.2, affine invariance): the pcurve is the 3-D curve with each pole
+//!   mapped, same knots and weights. Exact for any NURBS edge.
+//! - **Iso-parametric edges** (generators and seams of cylinders, cones, extrusions and
+//!   revolutions, parallels and meridians of spheres, tori and revolutions): the edge lies
+//!   on `u = u_c` (or `v = v_c`) and is the isocurve `v -> S(u_c, v)` (NURBS Book A3.5,
+//!   [`NurbsSurface::iso_u`]) under an affine change of parameter `v = alpha t + beta`. This
+//!   holds when both are the same NURBS parameterisation of the same curve, as a circle
+//!   edge and the parallel of a cylinder built by the same arc layout (seed 000 sections 2-23
+//!   and 2-24: the NURBS circle and cylinder); the interior knots must correspond under the
+//!   map, and the agreement is then checked densely. The pcurve is the line from
+//!   `(u_c, v(a))` to `(u_c, v(b))`, of degree 1. A point where the surface degenerates (a
+//!   pole, an apex) takes the iso's `u_c`.
+//! - **Otherwise** (a rational change of parameter, a freeform surface): projection of the
+//!   curve onto the surface within the edge tolerance
+//!   ([`crate::nurbs::project::pcurve_by_projection`]).
+//!
+//! The deviation returned is measured by sampling `S(pcurve(t))` against `C(t)`, never
+//! assumed: an exact pcurve shows rounding only (it is accepted as exact below 1e-12 of the
+//! surface's size; above, projection is used).
+
+use super::{Coedge, EdgeId, Loop, Model};
+use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
+use crate::nurbs::vector::{add, dist, dot, sub};
+use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
+
+/// How a pcurve was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PcurveMethod {
+    /// The 3-D curve under the inverse of an affine surface's map (planes).
+    Affine,
+    /// A line along an isocurve of the surface that the edge curve is, up to an affine
+    /// change of parameter.
+    Iso,
+    /// Projected onto the surface and fitted within the edge tolerance.
+    Projected,
+}
+
+/// A pcurve with its measured deviation from the 3-D curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EdgePcurve {
+    /// The 2-D curve `(u(t), v(t))`, parameterised like the edge's 3-D curve over a domain
+    /// that contains the edge's range.
+    pub curve: NurbsCurve,
+    /// Largest `|S(pcurve(t)) - C(t)|` found over the edge's range.
+    pub deviation: f64,
+    /// How it was obtained.
+    pub method: PcurveMethod,
+}
+
+/// Samples per knot span of the edge curve (at least [`MIN_SAMPLES`] over the range) for the
+/// deviation of an exact pcurve.
+const SAMPLES_PER_SPAN: usize = 8;
+/// Fewest samples over an edge's range.
+const MIN_SAMPLES: usize = 32;
+/// Relative size (of the surface's control net) below which a deviation is rounding.
+const EXACT: f64 = 1e-12;
+
+/// The pcurve of the part `range` of `curve` on `surface` (see the module): exact for
+/// affine surfaces and iso-parametric edges ([`exact_pcurve`]), else projected within
+/// `tolerance`.
+///
+/// Errors: those of [`pcurve_by_projection`] when no exact pcurve applies.
+pub fn edge_pcurve(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    range: (f64, f64),
+    tolerance: f64,
+) -> Result<EdgePcurve, GeometryError> {
+    if let Some(p) = exact_pcurve(surface, curve, range, tolerance) {
+        return Ok(p);
+    }
+    let (p, deviation) = pcurve_by_projection(surface, curve, range, tolerance)?;
+    Ok(EdgePcurve {
+        curve: p,
+        deviation,
+        method: PcurveMethod::Projected,
+    })
+}
+
+/// The exact pcurve of the part `range` of `curve` on `surface`, when one applies (see the
+/// module): an iso-parametric one whose measured deviation is rounding (1e-12 of the
+/// surface's size), or the affine map of a plane, whose deviation is the curve's own
+/// distance from the plane (the map is the orthogonal projection onto it; no pcurve can do
+/// better) and is accepted within `tolerance`.
+pub fn exact_pcurve(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    range: (f64, f64),
+    tolerance: f64,
+) -> Option<EdgePcurve> {
+    let (a, b) = range;
+    let (ca, cb) = curve.domain();
+    if !(a.is_finite() && b.is_finite() && a < b && a >= ca && b <= cb) {
+        return None;
+    }
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let (p, method) = affine(surface, curve)
+        .map(|p| (p, PcurveMethod::Affine))
+        .or_else(|| iso(surface, curve, range, size).map(|p| (p, PcurveMethod::Iso)))?;
+    let deviation = deviation(surface, curve, &p, range);
+    (deviation <= EXACT * size || (method == PcurveMethod::Affine && deviation <= tolerance))
+        .then_some(EdgePcurve {
+            curve: p,
+            deviation,
+            method,
+        })
+}
+
+/// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
+/// domain, or constant v), moved to the side the coedge needs: `ccw` when the coedge runs
+/// with the face interior on its left in `(u, v)`. Along the u = u0 side the interior is at
+/// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
+/// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
+/// `None` when the pcurve is not on a seam. Both readers give the two coedges of a seam edge
+/// (used twice by one face) their two sides with it.
+pub fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<NurbsCurve> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let poles = p.control_points();
+    let (a, b) = p.domain();
+    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+    let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+    let (k, lo, hi, rising) = if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+        (0, u0, u1, e[1] > s[1])
+    } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+        (1, v0, v1, e[0] < s[0])
+    } else {
+        return None;
+    };
+    // rising: the pcurve's own direction is the one that belongs on the high side.
+    let high = rising == ccw;
+    at_coordinate(p, k, if high { hi } else { lo })
+}
+
+/// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
+/// faces, sewn faces): each coedge in `coedges` whose pcurve lies on a seam and whose edge
+/// `twice` says the face uses twice takes the side nearest to where its neighbour in the loop
+/// ends (the previous coedge; the next one's start when the previous is such a seam coedge
+/// too), so the loop is continuous in `(u, v)`.
+pub fn seam_sides_by_continuity(
+    surface: &NurbsSurface,
+    coedges: &mut [Coedge],
+    twice: impl Fn(EdgeId) -> bool,
+) {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let on_seam = |p: &NurbsCurve| -> Option<(usize, f64, f64)> {
+        let poles = p.control_points();
+        let on =
+            |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
+        if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+            Some((0, u0, u1))
+        } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+            Some((1, v0, v1))
+        } else {
+            None
+        }
+    };
+    // Walking ends of a coedge's pcurve.
+    let ends = |c: &Coedge| -> Option<(Point3, Point3)> {
+        let p = c.pcurve.as_ref()?;
+        let (a, b) = p.domain();
+        let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+        Some(if c.forward { (s, e) } else { (e, s) })
+    };
+    let n = coedges.len();
+    let seam: Vec<Option<(usize, f64, f64)>> = coedges
+        .iter()
+        .map(|c| {
+            c.pcurve
+                .as_ref()
+                .filter(|_| twice(c.edge))
+                .and_then(&on_seam)
+        })
+        .collect();
+    for i in 0..n {
+        let Some((k, lo, hi)) = seam[i] else {
+            continue;
+        };
+        let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
+        let target = if seam[prev].is_none() {
+            ends(&coedges[prev]).map(|(_, e)| e[k])
+        } else if seam[next].is_none() {
+            ends(&coedges[next]).map(|(s, _)| s[k])
+        } else {
+            None
+        };
+        let Some(target) = target else { continue };
+        let side = if (target - lo).abs() <= (target - hi).abs() {
+            lo
+        } else {
+            hi
+        };
+        if let Some(p) = coedges[i].pcurve.as_mut() {
+            if let Some(m) = at_coordinate(p, k, side) {
+                *p = m;
+            }
+        }
+    }
+}
+
+/// Whether a loop runs counter-clockwise in `(u, v)` (the signed area of its pcurves, walked
+/// in loop order and sampled `LOOP_SAMPLES` times each, is positive); `None` when a coedge
+/// has no pcurve or the loop is not closed in `(u, v)` (a loop around a closed surface
+/// without a seam edge), within 1e-6 of the surface's parameter domain (a gap at a pole,
+/// whose two ends are one 3-D point, counts as closed).
+pub fn loop_counter_clockwise(surface: &NurbsSurface, coedges: &[Coedge]) -> Option<bool> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let near = 1e-6 * (u1 - u0).hypot(v1 - v0);
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    // Consecutive ends meet in (u, v), or at one point of a pole (a sphere's or cone's
+    // apex, where the segment between them is the degenerate edge).
+    let joined = |p: [f64; 2], q: [f64; 2]| {
+        (p[0] - q[0]).hypot(p[1] - q[1]) <= near
+            || dist(
+                surface.point_at_unchecked(p[0].clamp(u0, u1), p[1].clamp(v0, v1)),
+                surface.point_at_unchecked(q[0].clamp(u0, u1), q[1].clamp(v0, v1)),
+            ) <= 1e-9 * size
+    };
+    let mut points: Vec<[f64; 2]> = Vec::new();
+    let mut last: Option<[f64; 2]> = None;
+    for c in coedges {
+        let p = c.pcurve.as_ref()?;
+        let (a, b) = p.domain();
+        for k in 0..=LOOP_SAMPLES {
+            let x = k as f64 / LOOP_SAMPLES as f64;
+            let t = if c.forward {
+                a + (b - a) * x
+            } else {
+                b - (b - a) * x
+            };
+            let [u, v, _] = p.point_at_unchecked(t);
+            if k == 0 {
+                if let Some(q) = last {
+                    if !joined(q, [u, v]) {
+                        return None;
+                    }
+                }
+            }
+            points.push([u, v]);
+        }
+        last = points.last().copied();
+    }
+    let first = *points.first()?;
+    let end = last?;
+    if !joined(end, first) {
+        return None;
+    }
+    let n = points.len();
+    let twice: f64 = (0..n)
+        .map(|i| {
+            let (p, q) = (points[i], points[(i + 1) % n]);
+            p[0] * q[1] - q[0] * p[1]
+        })
+        .sum();
+    (twice.is_finite() && twice != 0.0).then_some(twice > 0.0)
+}
+
+/// Points per coedge at which [`loop_counter_clockwise`] samples a loop.
+const LOOP_SAMPLES: usize = 16;
+
+/// Most seams [`moved_seams`] offers.
+const MAX_SEAMS: usize = 8;
+
+/// The surface with its seam moved (exactly, [`NurbsSurface::rotate_seam_u`]) to the
+/// parameter of each vertex of `loops` (in `model`) in each direction in which it is closed: the candidates
+/// for a face whose edges cross the surface's seam but not the face's own. A periodic face
+/// in a file (ISO 10303-42 face_surface on a cylinder, cone, torus or revolution) may place
+/// its seam anywhere: Open CASCADE puts a pipe elbow's torus seam on the inner equator
+/// (`v = pi`), while the NURBS torus starts at `v = 0`, so the closed edges that start on the
+/// face's seam run across the NURBS one and no pcurve inside the domain exists. Moved to a
+/// vertex of the face (where the face's seam edges meet its other edges), the seams agree.
+/// Points off the surface (by more than `tolerance`), at its ends, or repeated are skipped;
+/// at most `MAX_SEAMS` surfaces. A surface closed within `tolerance` only (an IGES 120
+/// revolved by a rounded `2 pi`) is joined at its old seam within that gap.
+pub fn moved_seams(
+    surface: &NurbsSurface,
+    model: &Model,
+    loops: &[Loop],
+    tolerance: f64,
+) -> Vec<NurbsSurface> {
+    let points: Vec<Point3> = loops
+        .iter()
+        .flat_map(|l| &l.coedges)
+        .filter_map(|c| model.coedge_ends(c))
+        .filter_map(|(v, _)| model.vertices.get(v.0).map(|v| v.point))
+        .collect();
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let mut params: Vec<(f64, f64)> = Vec::new();
+    for &q in &points {
+        if let Some(hit) = invert_surface(surface, q, None) {
+            if hit.distance <= tolerance.max(1e-9 * size) {
+                params.push((hit.u, hit.v));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for along_u in [true, false] {
+        let (lo, hi) = if along_u { (u0, u1) } else { (v0, v1) };
+        let mut seen: Vec<f64> = Vec::new();
+        for &(u, v) in &params {
+            let t = if along_u { u } else { v };
+            let near = |x: f64| (x - t).abs() <= 1e-9 * (hi - lo);
+            if near(lo) || near(hi) || seen.iter().any(|&x| near(x)) || out.len() >= MAX_SEAMS {
+                continue;
+            }
+            seen.push(t);
+            let moved = if along_u {
+                surface.rotate_seam_u(t, tolerance)
+            } else {
+                surface.rotate_seam_v(t, tolerance)
+            };
+            match moved {
+                Ok(m) => out.push(m),
+                // Not closed in this direction.
+                Err(_) => break,
+            }
+        }
+    }
+    out
+}
+
+/// Largest `|S(p(t)) - C(t)|` at `SAMPLES_PER_SPAN` points per knot span of `curve` in
+/// `range` (at least `MIN_SAMPLES`), the parameters clamped into the surface's domain.
+fn deviation(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    p: &NurbsCurve,
+    (a, b): (f64, f64),
+) -> f64 {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let (pa, pb) = p.domain();
+    let spans = curve
+        .knots()
+        .windows(2)
+        .filter(|w| w[0] < w[1] && w[1] > a && w[0] < b)
+        .count()
+        .max(1);
+    let n = (spans * SAMPLES_PER_SPAN).max(MIN_SAMPLES);
+    let mut worst: f64 = 0.0;
+    for k in 0..=n {
+        let t = if k == n {
+            b
+        } else {
+            a + (b - a) * k as f64 / n as f64
+        };
+        let [u, v, _] = p.point_at_unchecked(t.clamp(pa, pb));
+        let d = dist(
+            surface.point_at_unchecked(u.clamp(u0, u1), v.clamp(v0, v1)),
+            curve.point_at_unchecked(t),
+        );
+        worst = worst.max(d);
+    }
+    if worst.is_nan() { f64::INFINITY } else { worst }
+}
+
+/// A surface whose point is an affine function of `(u, v)`: degree 1 in both directions,
+/// 2 x 2 poles forming a parallelogram, equal weights. Returns the pcurve of `curve`:
+/// each pole mapped to `(u, v)` by the inverse map (least squares in the plane).
+fn affine(surface: &NurbsSurface, curve: &NurbsCurve) -> Option<NurbsCurve> {
+    let g = surface.control_points();
+    if surface.degree_u() != 1 || surface.degree_v() != 1 || g.nu() != 2 || g.nv() != 2 {
+        return None;
+    }
+    let w = surface.weight(0, 0);
+    if (0..2).any(|i| (0..2).any(|j| surface.weight(i, j) != w)) {
+        return None;
+    }
+    let (p00, p10, p01, p11) = (*g.get(0, 0), *g.get(1, 0), *g.get(0, 1), *g.get(1, 1));
+    let size = bounding_box_diagonal(g.as_slice());
+    if dist(add(p00, p11), add(p10, p01)) > 1e-14 * size {
+        return None;
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let (ea, eb) = (sub(p10, p00), sub(p01, p00));
+    let (aa, ab, bb) = (dot(ea, ea), dot(ea, eb), dot(eb, eb));
+    let det = aa * bb - ab * ab;
+    if !(det.is_finite() && det > 1e-12 * aa * bb) {
+        return None;
+    }
+    let poles: Vec<Point3> = curve
+        .control_points()
+        .iter()
+        .map(|&x| {
+            let r = sub(x, p00);
+            let (ra, rb) = (dot(ea, r), dot(eb, r));
+            let s = (bb * ra - ab * rb) / det;
+            let t = (aa * rb - ab * ra) / det;
+            [u0 + s * (u1 - u0), v0 + t * (v1 - v0), 0.0]
+        })
+        .collect();
+    with_poles(curve, poles)
+}
+
+/// A 2-D curve with `p`'s degree, knots and weights and the given poles.
+fn with_poles(p: &NurbsCurve, poles: Vec<Point3>) -> Option<NurbsCurve> {
+    NurbsCurve::with_dimension(
+        p.degree(),
+        p.knots().to_vec(),
+        poles,
+        p.weights().map(<[f64]>::to_vec),
+        2,
+    )
+    .ok()
+}
+
+/// `p` with coordinate `k` of every pole set to `value` (a pcurve moved onto one side of a
+/// seam).
+fn at_coordinate(p: &NurbsCurve, k: usize, value: f64) -> Option<NurbsCurve> {
+    let poles = p
+        .control_points()
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q[k] = value;
+            q
+        })
+        .collect();
+    with_poles(p, poles)
+}
+
+/// `x` moved onto the nearest of `targets` within `within`.
+fn snap(x: f64, targets: &[f64], within: f64) -> f64 {
+    targets
+        .iter()
+        .copied()
+        .filter(|k| (k - x).abs() <= within)
+        .min_by(|p, q| (p - x).abs().total_cmp(&(q - x).abs()))
+        .unwrap_or(x)
+}
+
+/// The distinct knots strictly inside `(lo, hi)`.
+fn inner_knots(knots: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+    let mut k: Vec<f64> = knots
+        .iter()
+        .copied()
+        .filter(|&x| x > lo && x < hi)
+        .collect();
+    k.dedup();
+    k
+}
+
+/// The iso-parametric pcurve of `curve` over `range` (see the module), or `None` when the
+/// edge is not an isocurve of the surface up to an affine change of parameter.
+fn iso(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    (a, b): (f64, f64),
+    size: f64,
+) -> Option<NurbsCurve> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    // Three interior points of the edge on the surface.
+    let mut inner = [[0.0f64; 2]; 3];
+    let mut guess = None;
+    for (k, q) in inner.iter_mut().enumerate() {
+        let t = a + (b - a) * (k + 1) as f64 / 4.0;
+        let point = curve.point_at_unchecked(t);
+        let mut hit = invert_surface(surface, point, guess)?;
+        // Newton from the previous point can stop on the far side of a closed surface.
+        if hit.distance > EXACT * size && guess.is_some() {
+            hit = invert_surface(surface, point, None)?;
+        }
+        if hit.distance > EXACT * size {
+            return None;
+        }
+        *q = [hit.u, hit.v];
+        guess = Some((hit.u, hit.v));
+    }
+    let spans = [u1 - u0, v1 - v0];
+    let knots = [surface.knots_u(), surface.knots_v()];
+    let lo_hi = [(u0, u1), (v0, v1)];
+    // The direction whose parameter is the same at the three points (either side of a seam
+    // counts as the same).
+    let same = |k: usize| {
+        let x = inner[0][k];
+        inner.iter().all(|q| {
+            let d = (q[k] - x).abs();
+            d <= 1e-10 * spans[k] || (d - spans[k]).abs() <= 1e-10 * spans[k]
+        })
+    };
+    let fixed = match (same(0), same(1)) {
+        (true, false) => 0,
+        (false, true) => 1,
+        _ => return None,
+    };
+    let free = 1 - fixed;
+    let c = snap(inner[0][fixed], knots[fixed], 1e-10 * spans[fixed]);
+    let line = if fixed == 0 {
+        surface.iso_u(c).ok()?
+    } else {
+        surface.iso_v(c).ok()?
+    };
+    // The direction of travel along the isocurve, from the three points.
+    let f = [inner[0][free], inner[1][free], inner[2][free]];
+    let rising = if f[0] < f[1] && f[1] < f[2] {
+        true
+    } else if f[0] > f[1] && f[1] > f[2] {
+        false
+    } else {
+        return None;
+    };
+    let (lo, hi) = lo_hi[free];
+    // Closed: the isocurve's ends meet (a clamped circle, or an unclamped periodic profile
+    // whose first and last poles differ).
+    let closed = {
+        let (la, lb) = line.domain();
+        dist(line.point_at_unchecked(la), line.point_at_unchecked(lb)) <= EXACT * size
+    };
+    let end = |t: f64, start: bool| -> Option<f64> {
+        let (x, d) = invert_curve(&line, curve.point_at_unchecked(t))?;
+        if d > EXACT * size {
+            return None;
+        }
+        let mut x = snap(x, knots[free], 1e-10 * spans[free]);
+        // On the seam of a closed isocurve: the side the edge leaves from or arrives at.
+        if closed && (x == lo || x == hi) {
+            x = if rising == start { lo } else { hi };
+        }
+        Some(x)
+    };
+    let (fa, fb) = (end(a, true)?, end(b, false)?);
+    let in_order = if rising {
+        fa < f[0] && f[2] < fb
+    } else {
+        fa > f[0] && f[2] > fb
+    };
+    if !in_order {
+        return None;
+    }
+    // The same parameterisation up to t -> fa + (t - a) alpha: the edge's interior knots
+    // land on the isocurve's.
+    let alpha = (fb - fa) / (b - a);
+    let mapped: Vec<f64> = inner_knots(curve.knots(), a, b)
+        .into_iter()
+        .map(|t| fa + (t - a) * alpha)
+        .collect();
+    let mut theirs = inner_knots(line.knots(), fa.min(fb), fa.max(fb));
+    if !rising {
+        theirs.reverse();
+    }
+    if line.degree() != curve.degree()
+        || mapped.len() != theirs.len()
+        || mapped
+            .iter()
+            .zip(&theirs)
+            .any(|(x, y)| (x - y).abs() > 1e-9 * spans[free])
+    {
+        return None;
+    }
+    let point = |x: f64| {
+        let mut q = [0.0; 3];
+        q[fixed] = c;
+        q[free] = x;
+        q
+    };
+    NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(fa), point(fb)], None, 2).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn on_surface(surface: &NurbsSurface, p: &NurbsCurve, t: f64) -> Point3 {
+        let [u, v, _] = p.point_at_unchecked(t);
+        surface.point_at_unchecked(u, v)
+    }
+    use crate::nurbs::sweep::{Frame, cylinder, plane};
+
+    fn frame() -> Frame {
+        Frame {
+            origin: [1.0, 2.0, 3.0],
+            x: [1.0, 0.0, 0.0],
+            y: [0.0, 1.0, 0.0],
+            z: [0.0, 0.0, 1.0],
+        }
+    }
+
+    #[test]
+    fn a_line_across_a_plane_maps_exactly() {
+        let s = plane(&frame(), (-5.0, 5.0), (-2.0, 2.0)).unwrap();
+        let c = NurbsCurve::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![[0.0, 1.0, 3.0], [3.0, 4.0, 3.0], [5.0, 2.5, 3.0]],
+            Some(vec![1.0, 0.5, 1.0]),
+        )
+        .unwrap();
+        let p = edge_pcurve(&s, &c, (0.2, 0.9), 1e-6).unwrap();
+        assert_eq!(p.method, PcurveMethod::Affine);
+        for k in 0..=100 {
+            let t = 0.2 + 0.7 * k as f64 / 100.0;
+            assert!(dist(on_surface(&s, &p.curve, t), c.point_at_unchecked(t)) <= 1e-14 * 10.0);
+        }
+    }
+
+    #[test]
+    fn a_generator_of_a_cylinder_is_an_iso_line() {
+        let (s, _) =
+            cylinder(&frame(), 2.0, (0.0, 2.0 * std::f64::consts::PI), (0.0, 4.0)).unwrap();
+        let ((u0, u1), _) = s.domain();
+        let u = u0 + 0.3 * (u1 - u0);
+        let g = s.iso_u(u).unwrap().reparameterize(10.0, 20.0).unwrap();
+        let p = edge_pcurve(&s, &g, (11.0, 19.0), 1e-6).unwrap();
+        assert_eq!(p.method, PcurveMethod::Iso);
+        assert!(p.deviation <= 1e-14 * 10.0, "{}", p.deviation);
+        // A parallel: the isocurve in v at some height, over part of its range.
+        let ((_, _), (v0, v1)) = s.domain();
+        let par = s.iso_v(v0 + 0.7 * (v1 - v0)).unwrap();
+        let (a, b) = par.domain();
+        let r = (a + 0.1 * (b - a), a + 0.8 * (b - a));
+        let p = edge_pcurve(&s, &par, r, 1e-6).unwrap();
+        assert_eq!(p.method, PcurveMethod::Iso);
+        for k in 0..=200 {
+            let t = r.0 + (r.1 - r.0) * k as f64 / 200.0;
+            assert!(dist(on_surface(&s, &p.curve, t), par.point_at_unchecked(t)) <= 1e-14 * 10.0);
+        }
+    }
+}
