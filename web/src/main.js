@@ -623,10 +623,11 @@ function renderReport(report) {
   return el('dl', { class: 'facts', id: 'verify-report' }, rows);
 }
 
-// For scripted checks (the browser tests): the ids in the view, the highlighted ones, and a
-// face's or curve's screen point.
+// For scripted checks (the browser tests): the ids in the view, the highlighted ones, the
+// camera, and a face's or curve's screen point.
 window.nurbsxPage = {
   view: () => state.view,
   highlighted: () => viewer.picked,
+  camera: () => ({ position: viewer.camera.position.toArray(), target: viewer.controls.target.toArray() }),
   screenPointOf: (id, t) => viewer.screenPointOf(id, t),
 };

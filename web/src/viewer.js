@@ -29,7 +29,8 @@ export class Viewer {
     this.scene.add(this.camera);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.render());
-    // Keyboard: arrows pan (OrbitControls), + and - zoom, when the view has the focus.
+    // Keyboard: arrows pan, Shift (Ctrl, Meta) + arrows orbit (OrbitControls), + and - zoom,
+    // when the view has the focus.
     host.tabIndex = 0;
     this.controls.listenToKeyEvents(host);
     host.addEventListener('keydown', (e) => {

@@ -241,8 +241,37 @@ async function assemblyTest(base) {
       `${i.path}'s placement shown is generate.py's: ${expected.angle}° about (${expected.axis.map((x) => x.toFixed(4))}), moved by (${expected.t})`,
       text.replace(/\s+/g, ' '));
   }
+  // Keyboard: Enter on an instance selects it and leaves its branch open.
+  const first = `#tree [data-select="instance:${inst[0].path}"]`;
+  await page.focus(first);
+  await page.keyboard.press('Enter');
+  check(await page.getAttribute('#selection', 'data-id') === `instance:${inst[0].path}`
+      && await page.$eval(first, (b) => b.closest('details').open),
+    'Enter on an instance selects it and does not fold it');
+  // The view with the keyboard: Shift+arrow orbits, arrow pans, + zooms in.
+  const camera = () => page.evaluate(() => window.nurbsxPage.camera());
+  const dist = (c) => Math.hypot(...c.position.map((x, k) => x - c.target[k]));
+  await page.focus('#view');
+  let before = await camera();
+  await page.keyboard.press('Shift+ArrowLeft');
+  let after = await camera();
+  check(Math.abs(dist(after) - dist(before)) < 1e-6 * dist(before) && after.position.some((x, k) => Math.abs(x - before.position[k]) > 1e-6 * dist(before))
+      && after.target.every((x, k) => x === before.target[k]), 'Shift+arrow on the view orbits (same distance, same target)');
+  before = after;
+  await page.keyboard.press('ArrowLeft');
+  after = await camera();
+  check(after.target.some((x, k) => Math.abs(x - before.target[k]) > 1e-6 * dist(before)), 'an arrow key on the view pans (the target moves)');
+  before = after;
+  await page.keyboard.press('+');
+  after = await camera();
+  check(Math.abs(dist(after) - 0.8 * dist(before)) < 1e-6 * dist(before), '+ on the view zooms in (distance × 0.8)');
+  await page.click('#fit');
   await page.click(`#tree [data-select="instance:${inst.at(-1)?.path}"]`);
   await page.screenshot({ path: join(out, 'assembly.png') });
+  await page.setViewportSize({ width: 390, height: 844 });
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  check(overflow <= 0, 'no horizontal scrolling at 390 px with the assembly tree', `${overflow} px too wide`);
+  await page.screenshot({ path: join(out, 'assembly-phone.png'), fullPage: true });
   await page.close();
 }
 
