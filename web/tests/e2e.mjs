@@ -36,6 +36,8 @@ const PLACEMENTS = {
 /** FreeCAD's cone frustum r 20 -> 10, height 25, with a bore of r 5 (generate.py). */
 const cone = join(parts, 'cone_frustum_bore.step');
 const CONE_RADII = [20, 10, 5];
+/** FreeCAD's cylinder r 5, h 12 lateral face as a NURBS (samples/freecad/generate.py). */
+const cylinder = join(repo, 'samples', 'freecad', 'surf_cylinder_nurbs.step');
 /** The whole run is bounded: past this the processes are killed and the run fails. */
 const DEADLINE_MS = 240_000;
 mkdirSync(out, { recursive: true });
@@ -329,6 +331,27 @@ async function lengthTest(base) {
   await page.close();
 }
 
+/** A free surface's area, with the file sent as model JSON: 2π r h of the cylinder. */
+async function areaTest(base) {
+  const json = join(out, 'surf_cylinder_nurbs.json');
+  execFileSync(bin, ['clamp', cylinder, '-o', json], { stdio: 'ignore' }); // model JSON, faces dropped
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('pageerror', (e) => check(false, 'no script error on the page', e.message));
+  await page.goto(base);
+  await drop(page, json);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  const surfaces = cli('info', json).entities.filter((e) => e.kind === 'surface');
+  check(surfaces.length === 1, 'the model JSON holds the one cylinder surface', `${surfaces.length}`);
+  await page.click(`#tree [data-select="${surfaces[0]?.id}"]`);
+  await page.waitForSelector('#measured:not([data-state=measuring])', { timeout: 30_000 });
+  const m = await page.$eval('#measured', (e) => ({ ...e.dataset, text: e.textContent }));
+  const exact = 2 * Math.PI * 5 * 12;
+  const shown = Number(/^[\d.e+-]+/.exec(m.text)?.[0]);
+  check(m.state === 'exact' && Math.abs(shown - exact) <= 1e-9 * exact && /±/.test(m.text),
+    `the area shown for the free cylinder surface is 2πrh = ${exact.toPrecision(12)} with its error estimate`, m.text);
+  await page.close();
+}
+
 /** The README's picture: FreeCAD's filleted box with its first fillet selected. */
 async function readmeShot(base, path) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
@@ -392,6 +415,7 @@ try {
   await partTest(base);
   await assemblyTest(base);
   await lengthTest(base);
+  await areaTest(base);
   await brokenTest(base);
   if (process.env.E2E_README_SHOT) await readmeShot(base, resolve(process.env.E2E_README_SHOT));
   await tooLargeTest();
