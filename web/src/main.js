@@ -81,6 +81,14 @@ window.addEventListener('drop', (e) => {
   if (f) open(f);
 });
 
+/** Throws, before anything is sent, when a request carrying the file as JSON text is over the body limit. */
+function withinLimit(body, what) {
+  const limit = state.limits?.max_body_bytes;
+  if (limit != null && body.length > limit) {
+    throw new ApiError(413, 'limit.body_bytes', `the ${what} request carries the file as JSON text, ${bytes(body.length)}, over the limit of ${bytes(limit)}`);
+  }
+}
+
 /** The message for a file over the server's body limit. */
 function tooLarge(size, limit) {
   return `${state.file?.name ?? 'The file'} is ${bytes(size)}: the server accepts at most ${bytes(limit)} per request (nurbsx serve --max-body). Nothing was uploaded.`;
@@ -166,9 +174,7 @@ async function load(file) {
   status('Tessellating…', { busy: true });
   try {
     const body = tessBody.replace('TOL', String(tol));
-    if (limit != null && body.length > limit) {
-      throw new ApiError(413, 'limit.body_bytes', `the tessellation request carries the file as JSON text, ${bytes(body.length)}, over the limit of ${bytes(limit)}`);
-    }
+    withinLimit(body, 'tessellation');
     const r = await post('/v1/tessellate', body, {
       contentType: 'application/json', responseType: 'arraybuffer', onUpload: progress(2),
     });
@@ -361,6 +367,7 @@ async function measure(e, out) {
     ? `{"geometry":${state.text},${fields}`
     : `{"file":${JSON.stringify(state.text)},${fields}`;
   try {
+    withinLimit(body, 'measure');
     const r = await post('/v1/measure', body, { contentType: 'application/json' });
     const q = r.body.entities?.find((m) => m.id === e.id)?.[quantity];
     if (!q) throw new Error(`the reply has no ${quantity} for ${e.id}`);
