@@ -213,12 +213,13 @@ async function assemblyTest(base) {
     const b = li.querySelector(':scope > details > summary [data-select]');
     let depth = 0;
     for (let p = li; p; p = p.parentElement.closest('li.instance')) depth += 1;
-    return { key: b.dataset.select, name: b.querySelector('.row-id').textContent, depth };
+    return { key: b.dataset.select, name: b.querySelector('.row-id').textContent, text: b.textContent, depth };
   }));
   check(inst.length > 0 && rows.length === inst.length, 'one tree node per assembly instance of nurbsx info', `${rows.length} vs ${inst.length}`);
   check(Number(await page.getAttribute('#tree-summary', 'data-instances')) === inst.length, 'the tree summary counts the instances');
-  check(rows.every((r, k) => inst[k] && r.key === `instance:${inst[k].path}` && r.name === inst[k].path.split('/').pop() && r.depth === inst[k].depth),
-    'the instances\' names, order and nesting are those of nurbsx info', rows.map((r) => `${r.name}@${r.depth}`).join(' '));
+  check(rows.every((r, k) => inst[k] && r.key === `instance:${inst[k].path}` && r.name === inst[k].path.split('/').pop() && r.depth === inst[k].depth
+      && r.text.includes(`instance of ${inst[k].product}`)),
+    'the instances\' names, products, order and nesting are those of nurbsx info', rows.map((r) => `${r.name}@${r.depth}`).join(' '));
   // An instance's faces, from nurbsx info: what it and the instances under it place.
   const solids = new Map(s.solids.map((x) => [x.id, x]));
   const shells = new Map(s.shells.map((x) => [x.id, x]));
