@@ -29,6 +29,15 @@ const state = {
   faces: new Map(),
   facesBySurface: new Map(),
   entities: new Map(),
+  /** assembly instance path -> instance (structure.instances of /v1/info) */
+  instances: new Map(),
+  /** The file's text (sent again to /v1/measure) and its media type. */
+  text: null,
+  type: null,
+  /** The part's size: the diagonal of the control points' bounding box. */
+  size: 0,
+  /** Counts measure requests: a reply for an older selection is dropped. */
+  measureSeq: 0,
   view: { faces: [], curves: [] },
   busy: false,
 };
@@ -72,6 +81,14 @@ window.addEventListener('drop', (e) => {
   if (f) open(f);
 });
 
+/** Throws, before anything is sent, when a request carrying the file as JSON text is over the body limit. */
+function withinLimit(body, what) {
+  const limit = state.limits?.max_body_bytes;
+  if (limit != null && body.length > limit) {
+    throw new ApiError(413, 'limit.body_bytes', `the ${what} request carries the file as JSON text, ${bytes(body.length)}, over the limit of ${bytes(limit)}`);
+  }
+}
+
 /** The message for a file over the server's body limit. */
 function tooLarge(size, limit) {
   return `${state.file?.name ?? 'The file'} is ${bytes(size)}: the server accepts at most ${bytes(limit)} per request (nurbsx serve --max-body). Nothing was uploaded.`;
@@ -86,6 +103,8 @@ async function open(file) {
   state.faces.clear();
   state.facesBySurface.clear();
   state.entities.clear();
+  state.instances.clear();
+  state.text = null;
   viewer.clear();
   $('view-empty').hidden = false;
   $('view-empty').textContent = 'Working…';
@@ -115,6 +134,8 @@ async function load(file) {
   }
   const type = mediaType(file.name);
   const text = await file.text();
+  state.text = text;
+  state.type = type;
   // The tessellation request carries the file inside JSON (POST /v1/tessellate).
   const tessBody = type === 'application/json'
     ? `{"geometry":${text},"tolerance":TOL,"format":"glb"}`
@@ -148,13 +169,12 @@ async function load(file) {
   renderTree(state.info);
   $('convert-go').disabled = false;
   // The chord tolerance: 1/1000 of the control points' bounding box (the part lies within it).
-  const tol = chordTolerance(state.info);
+  state.size = partSize(state.info);
+  const tol = state.size > 0 ? state.size / 1000 : 1e-3;
   status('Tessellating…', { busy: true });
   try {
     const body = tessBody.replace('TOL', String(tol));
-    if (limit != null && body.length > limit) {
-      throw new ApiError(413, 'limit.body_bytes', `the tessellation request carries the file as JSON text, ${bytes(body.length)}, over the limit of ${bytes(limit)}`);
-    }
+    withinLimit(body, 'tessellation');
     const r = await post('/v1/tessellate', body, {
       contentType: 'application/json', responseType: 'arraybuffer', onUpload: progress(2),
     });
@@ -201,8 +221,8 @@ function fail(e, what = 'The file could not be read') {
   document.body.dataset.loaded = 'error';
 }
 
-/** 1/1000 of the diagonal of all control points' bounding box (1e-3 without any). */
-function chordTolerance(info) {
+/** The diagonal of all control points' bounding box (0 without any); the part lies within it. */
+function partSize(info) {
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
   const visit = (p) => {
@@ -215,7 +235,7 @@ function chordTolerance(info) {
   };
   for (const e of info.entities) visit(e.geometry.control_points);
   const d = Math.hypot(...hi.map((h, k) => (Number.isFinite(h - lo[k]) ? h - lo[k] : 0)));
-  return d > 0 ? d / 1000 : 1e-3;
+  return d;
 }
 
 function index(info) {
@@ -224,46 +244,79 @@ function index(info) {
     state.faces.set(f.id, f);
     if (f.surface) state.facesBySurface.set(f.surface, f);
   }
+  for (const i of info.structure?.instances ?? []) state.instances.set(i.path, i);
+}
+
+/** The faces an assembly instance places, itself or through the instances under it. */
+function instanceFaces(inst) {
+  const s = state.info.structure;
+  const solids = new Map(s.solids.map((x) => [x.id, x]));
+  const shells = new Map(s.shells.map((x) => [x.id, x]));
+  const faces = [];
+  const ofShell = (id) => faces.push(...(shells.get(id)?.face_ids ?? []));
+  for (const i of s.instances) {
+    if (i.path !== inst.path && !i.path.startsWith(`${inst.path}/`)) continue;
+    for (const id of i.places) {
+      if (solids.has(id)) solids.get(id).shell_ids.forEach(ofShell);
+      else if (shells.has(id)) ofShell(id);
+      else if (state.faces.has(id)) faces.push(id);
+    }
+  }
+  return faces;
 }
 
 // ---- Selection ---------------------------------------------------------------------------
 
-/** Selects an id from the view, the tree or a diagnostic: highlights it everywhere. */
-function select(id, from) {
-  const face = id ? (state.faces.get(id) ?? state.facesBySurface.get(id)) : null;
-  // The ids that name the same thing: a face and its surface entity.
-  const ids = new Set([id, face?.id, face?.surface].filter(Boolean));
+/** Tree keys of assembly instances: `instance:` and the instance's path. */
+const INSTANCE = 'instance:';
+
+/**
+ * Selects a face, entity or assembly instance from the view, the tree or a diagnostic:
+ * highlights it (an instance: all its faces) everywhere.
+ */
+function select(key, from) {
+  const inst = key?.startsWith(INSTANCE) ? state.instances.get(key.slice(INSTANCE.length)) : null;
+  const face = key && !inst ? (state.faces.get(key) ?? state.facesBySurface.get(key)) : null;
+  // The ids that name the same thing: a face and its surface entity; an instance's faces.
+  const ids = new Set(inst ? [key, ...instanceFaces(inst)] : [key, face?.id, face?.surface].filter(Boolean));
   viewer.highlight([...ids]);
   for (const row of document.querySelectorAll('[data-select]')) {
     const on = ids.has(row.dataset.select);
     row.setAttribute('aria-pressed', on ? 'true' : 'false');
-    if (on && from !== 'tree') {
+    if (on && from !== 'tree' && (!inst || row.dataset.select === key)) {
       row.closest('details')?.setAttribute('open', '');
       row.scrollIntoView({ block: 'nearest' });
     }
   }
-  showSelection(id, face);
+  if (inst) showInstance(inst, ids);
+  else showSelection(key, face);
+}
+
+function facts(id, rows) {
+  const panel = $('selection');
+  panel.dataset.id = id;
+  panel.replaceChildren(el('h2', { id: 'selection-title' }, 'Selection'), el('dl', { class: 'facts' }, rows));
 }
 
 function showSelection(id, face = null) {
   const panel = $('selection');
-  const title = el('h2', { id: 'selection-title' }, 'Selection');
   if (!id) {
     delete panel.dataset.id;
-    panel.replaceChildren(title, el('p', { class: 'muted' }, 'Click a face or curve in the view, a row of the structure or a diagnostic.'));
+    panel.replaceChildren(el('h2', { id: 'selection-title' }, 'Selection'),
+      el('p', { class: 'muted' }, 'Click a face or curve in the view, a row of the structure or a diagnostic.'));
     return;
   }
-  panel.dataset.id = face?.id ?? id;
   const rows = [];
   const row = (k, v) => rows.push(el('dt', {}, k), el('dd', {}, v));
   if (face) {
     row('Face', face.id);
     if (face.shape) row('Shape in the file', String(face.shape));
     row('Loops', `${face.loops} (${face.edges} edge uses)`);
-    row('Area', face.area != null ? `${num(face.area)} ${state.info.units.name}²` : `not measured: ${face.area_error ?? 'unknown'}`);
+    row('Area', face.area != null ? `${num(face.area)} ${state.info.units.name}² (trimmed, from the structure)` : `not measured: ${face.area_error ?? 'unknown'}`);
   }
   const entityId = face?.surface ?? id;
   const e = state.entities.get(entityId);
+  let measured = null;
   if (e) {
     row(face ? 'Surface entity' : 'Entity', e.id);
     row('Kind', `${e.rational ? 'rational ' : ''}B-spline ${e.kind} (${e.dimension}-D)`);
@@ -273,17 +326,92 @@ function showSelection(id, face = null) {
     row('Layout', e.layout.join(', '));
     row('Domain', e.domain.map(([a, b]) => `[${num(a)}, ${num(b)}]`).join(' × '));
     if (e.source?.line != null) row('Source', `line ${e.source.line}${e.source.entity ? `, ${e.source.entity}` : ''}`);
-    if (e.kind === 'curve') {
-      const len = viewer.polylineLength(e.id);
-      if (len != null) row('Length', `≈ ${num(len)} ${state.info.units.name} (drawn polyline)`);
+    // A curve's length, a free surface's area: exact from /v1/measure (a face's area is
+    // the trimmed one above).
+    if (e.kind === 'curve' || !face) {
+      measured = el('dd', { id: 'measured' });
+      rows.push(el('dt', {}, e.kind === 'curve' ? 'Length' : 'Area (whole surface)'), measured);
     }
   } else if (!face) {
     row('Id', id);
   }
   if (!viewer.has(id) && !(face && (viewer.has(face.id) || viewer.has(face.surface)))) {
-    rows.push(el('dt', {}, 'In the view'), el('dd', {}, 'not drawn'));
+    row('In the view', 'not drawn');
   }
-  panel.replaceChildren(title, el('dl', { class: 'facts' }, rows));
+  facts(face?.id ?? id, rows);
+  if (measured) measure(e, measured);
+}
+
+/**
+ * Fills `out` with the entity's length (curve) or area (surface) over its whole domain from
+ * POST /v1/measure (adaptive Gauss-Kronrod, with its error estimate). While the request
+ * runs, or when it fails, a curve shows its drawn polyline's length and says so.
+ */
+async function measure(e, out) {
+  const seq = ++state.measureSeq;
+  const units = state.info.units.name;
+  const quantity = e.kind === 'curve' ? 'length' : 'area';
+  const unit = quantity === 'length' ? units : `${units}²`;
+  const polyline = quantity === 'length' ? viewer.polylineLength(e.id) : null;
+  const rough = polyline != null ? `≈ ${num(polyline)} ${unit} (drawn polyline, within the chord tolerance)` : '';
+  const show = (stateName, text) => {
+    out.dataset.state = stateName;
+    out.textContent = text;
+  };
+  show('measuring', `${rough ? `${rough}; ` : ''}measuring exactly…`);
+  // Asked-for error: 1e-10 of the part's size (squared for an area), 1e-9 at the least.
+  const size = Math.max(state.size, 1);
+  const tolerance = Math.max(1e-9, quantity === 'length' ? size * 1e-10 : size * size * 1e-10);
+  const fields = JSON.stringify({ entity: e.id, tolerance }).slice(1);
+  const body = state.type === 'application/json'
+    ? `{"geometry":${state.text},${fields}`
+    : `{"file":${JSON.stringify(state.text)},${fields}`;
+  try {
+    withinLimit(body, 'measure');
+    const r = await post('/v1/measure', body, { contentType: 'application/json' });
+    const q = r.body.entities?.find((m) => m.id === e.id)?.[quantity];
+    if (!q) throw new Error(`the reply has no ${quantity} for ${e.id}`);
+    if (seq !== state.measureSeq) return;
+    out.dataset.value = String(q.value);
+    out.dataset.error = String(q.error_estimate);
+    show('exact', `${num(q.value, 12)} ${unit} ± ${q.error_estimate.toExponential(1)} over the domain `
+      + `(adaptive Gauss–Kronrod, ${q.pieces} pieces${q.converged ? '' : '; the asked-for error was not reached'})`);
+  } catch (err) {
+    if (seq !== state.measureSeq) return;
+    show('failed', `${rough ? `${rough}; ` : ''}the exact measure failed: ${err.message}`);
+  }
+}
+
+/** A placement's rotation as "θ° about (axis)" and its translation (rows [R | T]). */
+function placementText(m) {
+  const [[a, b, c, tx], [d, e, f, ty], [g, h, i, tz]] = m;
+  const angle = Math.acos(Math.min(1, Math.max(-1, (a + e + i - 1) / 2)));
+  const axis = [h - f, c - g, d - b];
+  const n = Math.hypot(...axis);
+  const deg = (angle * 180) / Math.PI;
+  const det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  let rot;
+  if (Math.abs(det - 1) > 1e-6) rot = `not a rotation (determinant ${num(det, 4)})`;
+  else if (deg < 1e-9) rot = 'none';
+  else if (n < 1e-9) rot = `${num(deg, 6)}° (see the matrix)`;
+  else rot = `${num(deg, 6)}° about (${axis.map((x) => num(Math.abs(x / n) < 1e-9 ? 0 : x / n, 6)).join(', ')})`;
+  const rows = m.map((r) => `[${r.slice(0, 3).map((x) => num(x, 6)).join('  ')} | ${num(r[3], 6)}]`).join('\n');
+  return `translation (${[tx, ty, tz].map((x) => num(x, 9)).join(', ')})\nrotation ${rot}\n${rows}`;
+}
+
+function showInstance(inst, ids) {
+  const faces = [...ids].filter((id) => state.faces.has(id));
+  const drawn = faces.filter((id) => viewer.has(id)).length;
+  const rows = [];
+  const row = (k, v, props = {}) => rows.push(el('dt', {}, k), el('dd', props, v));
+  row('Instance', inst.path);
+  row('Product', inst.product);
+  row('Placed by', inst.id);
+  row('Level', String(inst.depth));
+  row('Faces', `${faces.length} (${drawn} drawn)`);
+  row('Placement in its parent', placementText(inst.placement), { id: 'placement' });
+  row('Placement in the root', placementText(inst.world), { id: 'placement-root' });
+  facts(INSTANCE + inst.path, rows);
 }
 
 function knotsOf(e) {
@@ -312,8 +440,10 @@ function renderTree(info) {
   const s = info.structure;
   const parts = [];
   const units = info.units.name;
+  const curveRow = (e) => el('li', {}, selectButton(e.id, `Curve ${e.id}`, `degree ${e.degree[0]}, ${e.poles[0]} poles`));
   if (s) {
     const shellById = new Map(s.shells.map((sh) => [sh.id, sh]));
+    const solidById = new Map(s.solids.map((so) => [so.id, so]));
     const placed = new Set();
     const shellNode = (sh) => {
       placed.add(sh.id);
@@ -323,13 +453,47 @@ function renderTree(info) {
         el('summary', {}, `Shell ${sh.id}`, el('span', { class: 'muted' }, ` ${sh.closed ? 'closed' : 'open'}, ${sh.faces} faces`)),
         el('ul', {}, faces.map(faceRow))));
     };
-    if (s.assemblies > 0) parts.push(el('li', { class: 'muted' }, `${s.assemblies} assembl${s.assemblies === 1 ? 'y' : 'ies'}`));
-    for (const so of s.solids) {
+    const solidNode = (so) => {
+      placed.add(so.id);
       const vol = so.volume != null ? `, volume ${num(so.volume, 6)} ${units}³` : '';
-      parts.push(el('li', { class: 'solid' }, el('details', { open: true },
+      return el('li', { class: 'solid' }, el('details', { open: true },
         el('summary', {}, `Solid ${so.id}${so.name ? ` “${so.name}”` : ''}`, el('span', { class: 'muted' }, ` ${so.faces} faces${vol}`)),
-        el('ul', {}, so.shell_ids.map((id) => shellById.get(id)).filter(Boolean).map(shellNode)))));
+        el('ul', {}, so.shell_ids.map((id) => shellById.get(id)).filter(Boolean).map(shellNode))));
+    };
+    // Assembly instances, nested by path (the list is depth first, so a parent comes before
+    // its children), each with what it places itself, then the instances under it.
+    const lists = new Map();
+    for (const inst of s.instances ?? []) {
+      const key = INSTANCE + inst.path;
+      const cut = inst.path.lastIndexOf('/');
+      const parent = cut > 0 ? lists.get(inst.path.slice(0, cut)) : null;
+      const items = inst.places.map((id) => {
+        if (solidById.has(id)) return solidNode(solidById.get(id));
+        if (shellById.has(id)) return shellNode(shellById.get(id));
+        if (state.faces.has(id)) {
+          placed.add(id);
+          return faceRow(state.faces.get(id));
+        }
+        return el('li', {}, selectButton(id, `Edge ${id}`));
+      });
+      const list = el('ul', {}, items);
+      lists.set(inst.path, list);
+      const faces = instanceFaces(inst).length;
+      const node = el('li', { class: 'instance' }, el('details', { open: true },
+        el('summary', {}, el('button', {
+          type: 'button', class: 'row', 'aria-pressed': 'false', dataset: { select: key },
+          onclick: (e) => {
+            e.preventDefault(); // select, do not fold
+            select(key, 'tree');
+          },
+        }, el('span', { class: 'row-id' }, inst.path.slice(cut + 1)),
+        el('span', { class: 'muted' }, ` instance of ${inst.product}, ${faces} face${faces === 1 ? '' : 's'}`))),
+        list));
+      if (parent) parent.append(node);
+      else parts.push(node);
     }
+    if (s.assemblies > 0 && !(s.instances ?? []).length) parts.push(el('li', { class: 'muted' }, `${s.assemblies} assembl${s.assemblies === 1 ? 'y' : 'ies'}`));
+    for (const so of s.solids) if (!placed.has(so.id)) parts.push(solidNode(so));
     for (const sh of s.shells) if (!placed.has(sh.id)) parts.push(shellNode(sh));
     const loose = s.faces.filter((f) => !placed.has(f.id));
     if (loose.length) {
@@ -345,7 +509,6 @@ function renderTree(info) {
   }
   // In a part, free geometry (role "free": used by no face or edge) is listed apart from the
   // edge curves; a file without faces has only free geometry.
-  const curveRow = (e) => el('li', {}, selectButton(e.id, `Curve ${e.id}`, `degree ${e.degree[0]}, ${e.poles[0]} poles`));
   const curves3 = info.entities.filter((e) => e.kind === 'curve' && e.dimension === 3);
   const free = curves3.filter((e) => e.role === 'free');
   const edges = curves3.filter((e) => e.role !== 'free');
@@ -362,11 +525,12 @@ function renderTree(info) {
     parts.push(el('li', {}, el('details', { open: false }, el('summary', {}, `Edge curves (${edges.length})`),
       el('ul', {}, edges.map(curveRow)))));
   }
+  const instances = s?.instances?.length ?? 0;
   const summary = s
-    ? `${s.solids.length} solid(s), ${s.shells.length} shell(s), ${s.faces.length} face(s), ${s.edges} edges, ${s.vertices} vertices; area ${num(s.area, 6)} ${units}²`
+    ? `${instances ? `${instances} assembly instance(s), ` : ''}${s.solids.length} solid(s), ${s.shells.length} shell(s), ${s.faces.length} face(s), ${s.edges} edges, ${s.vertices} vertices; area ${num(s.area, 6)} ${units}²`
     : `${info.entities.length} entities, no faces (loose geometry)`;
   $('tree').replaceChildren(
-    el('p', { id: 'tree-summary', dataset: { faces: String(s?.faces.length ?? 0), solids: String(s?.solids.length ?? 0), shells: String(s?.shells.length ?? 0) } }, summary),
+    el('p', { id: 'tree-summary', dataset: { faces: String(s?.faces.length ?? 0), solids: String(s?.solids.length ?? 0), shells: String(s?.shells.length ?? 0), instances: String(instances) } }, summary),
     el('ul', { class: 'tree' }, parts),
   );
 }
@@ -466,8 +630,11 @@ function renderReport(report) {
   return el('dl', { class: 'facts', id: 'verify-report' }, rows);
 }
 
-// For scripted checks (the browser tests): the ids in the view and a face's screen point.
+// For scripted checks (the browser tests): the ids in the view, the highlighted ones, the
+// camera, and a face's or curve's screen point.
 window.nurbsxPage = {
   view: () => state.view,
-  screenPointOf: (id) => viewer.screenPointOf(id),
+  highlighted: () => viewer.picked,
+  camera: () => ({ position: viewer.camera.position.toArray(), target: viewer.controls.target.toArray() }),
+  screenPointOf: (id, t) => viewer.screenPointOf(id, t),
 };

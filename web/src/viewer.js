@@ -29,7 +29,8 @@ export class Viewer {
     this.scene.add(this.camera);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.render());
-    // Keyboard: arrows pan (OrbitControls), + and - zoom, when the view has the focus.
+    // Keyboard: arrows pan, Shift (Ctrl, Meta) + arrows orbit (OrbitControls), + and - zoom,
+    // when the view has the focus.
     host.tabIndex = 0;
     this.controls.listenToKeyEvents(host);
     host.addEventListener('keydown', (e) => {
@@ -43,7 +44,8 @@ export class Viewer {
     this.root = null;
     /** id -> [Object3D] */
     this.byId = new Map();
-    this.selected = null;
+    /** The ids highlighted now. */
+    this.picked = [];
     this.showLines = true;
     this.ray = new THREE.Raycaster();
     this.#pointerPicking();
@@ -74,7 +76,7 @@ export class Viewer {
     }
     this.root = null;
     this.byId.clear();
-    this.selected = null;
+    this.picked = [];
     this.render();
   }
 
@@ -155,6 +157,7 @@ export class Viewer {
   /** Highlights the objects named `ids` (others back to normal). */
   highlight(ids) {
     const want = new Set(ids);
+    this.picked = [...this.byId.keys()].filter((id) => want.has(id));
     for (const [id, objs] of this.byId) {
       for (const o of objs) {
         const base = o.isMesh ? FACE_COLOR : LINE_COLOR;
@@ -198,15 +201,24 @@ export class Viewer {
     return (line ?? face)?.object.userData.id ?? null;
   }
 
-  /** Client coordinates of a point of a face's mesh (the first triangle's centroid). */
-  screenPointOf(id) {
-    const mesh = this.byId.get(id)?.find((o) => o.isMesh);
-    if (!mesh) return null;
-    const p = mesh.geometry.getAttribute('position');
-    const idx = mesh.geometry.index;
-    const corner = (k) => new THREE.Vector3().fromBufferAttribute(p, idx ? idx.getX(k) : k);
-    const c = corner(0).add(corner(1)).add(corner(2)).multiplyScalar(1 / 3);
-    mesh.localToWorld(c);
+  /**
+   * Client coordinates of a point of a face's mesh (the first triangle's centroid) or of a
+   * curve (its polyline's vertex at the fraction `t` of its vertices).
+   */
+  screenPointOf(id, t = 0.5) {
+    const objs = this.byId.get(id) ?? [];
+    const obj = objs.find((o) => o.isMesh) ?? objs.find((o) => o.isLine);
+    if (!obj) return null;
+    const p = obj.geometry.getAttribute('position');
+    let c;
+    if (obj.isMesh) {
+      const idx = obj.geometry.index;
+      const corner = (k) => new THREE.Vector3().fromBufferAttribute(p, idx ? idx.getX(k) : k);
+      c = corner(0).add(corner(1)).add(corner(2)).multiplyScalar(1 / 3);
+    } else {
+      c = new THREE.Vector3().fromBufferAttribute(p, Math.round(Math.min(1, Math.max(0, t)) * (p.count - 1)));
+    }
+    obj.localToWorld(c);
     c.project(this.camera);
     const rect = this.renderer.domElement.getBoundingClientRect();
     return { x: rect.left + ((c.x + 1) / 2) * rect.width, y: rect.top + ((1 - c.y) / 2) * rect.height };

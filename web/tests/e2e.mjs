@@ -5,7 +5,8 @@
 //
 // Environment: NURBSX_BIN (default ../target/debug/nurbsx), CHROMIUM (default
 // /usr/bin/chromium), E2E_OUT (screenshots and the downloaded file; default
-// ../target/web-e2e), E2E_PART (default the FreeCAD sample extrude_bspline.step, a B-spline extrusion solid).
+// ../target/web-e2e), E2E_PART (default the FreeCAD sample extrude_bspline.step, a B-spline extrusion solid),
+// E2E_README_SHOT (when set: also writes the README's picture of the page to that path).
 // Exit status 0 when every check passes; each failed check is printed.
 import { spawn, execFileSync } from 'node:child_process';
 import { createServer } from 'node:net';
@@ -21,6 +22,22 @@ const browserPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const out = resolve(process.env.E2E_OUT ?? join(repo, 'target', 'web-e2e'));
 const part = resolve(process.env.E2E_PART ?? join(repo, 'samples', 'freecad', 'parts', 'extrude_bspline.step'));
 const broken = join(repo, 'tests', 'bad_inputs', 'step_bad_real.step');
+const parts = join(repo, 'samples', 'freecad', 'parts');
+/** FreeCAD's assembly sample: `Bracket` twice and `Pin`, placed (samples/freecad/parts/generate.py). */
+const assembly = join(parts, 'assembly_links.step');
+/**
+ * The placements generate.py gave the assembly's instances: translation, rotation angle in
+ * degrees and axis (Bracket_1 at the origin, unrotated).
+ */
+const PLACEMENTS = {
+  Bracket_2: { t: [40, 0, 0], angle: 30, axis: [Math.SQRT1_2, Math.SQRT1_2, 0] },
+  Pin_1: { t: [10, 5, -5], angle: 15, axis: [0, 1, 0] },
+};
+/** FreeCAD's cone frustum r 20 -> 10, height 25, with a bore of r 5 (generate.py). */
+const cone = join(parts, 'cone_frustum_bore.step');
+const CONE_RADII = [20, 10, 5];
+/** FreeCAD's cylinder r 5, h 12 lateral face as a NURBS (samples/freecad/generate.py). */
+const cylinder = join(repo, 'samples', 'freecad', 'surf_cylinder_nurbs.step');
 /** The whole run is bounded: past this the processes are killed and the run fails. */
 const DEADLINE_MS = 240_000;
 mkdirSync(out, { recursive: true });
@@ -183,6 +200,173 @@ async function partTest(base) {
   await page.close();
 }
 
+async function assemblyTest(base) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('pageerror', (e) => check(false, 'no script error on the page', e.message));
+  await page.goto(base);
+  await drop(page, assembly);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  check(await page.getAttribute('body', 'data-loaded') === 'true', 'the assembly loads', await page.textContent('#status-text'));
+  const s = cli('info', assembly).structure;
+  const inst = s.instances ?? [];
+  const rows = await page.$$eval('#tree li.instance', (l) => l.map((li) => {
+    const b = li.querySelector(':scope > details > summary [data-select]');
+    let depth = 0;
+    for (let p = li; p; p = p.parentElement.closest('li.instance')) depth += 1;
+    return { key: b.dataset.select, name: b.querySelector('.row-id').textContent, text: b.textContent, depth };
+  }));
+  check(inst.length > 0 && rows.length === inst.length, 'one tree node per assembly instance of nurbsx info', `${rows.length} vs ${inst.length}`);
+  check(Number(await page.getAttribute('#tree-summary', 'data-instances')) === inst.length, 'the tree summary counts the instances');
+  check(rows.every((r, k) => inst[k] && r.key === `instance:${inst[k].path}` && r.name === inst[k].path.split('/').pop() && r.depth === inst[k].depth
+      && r.text.includes(`instance of ${inst[k].product}`)),
+    'the instances\' names, products, order and nesting are those of nurbsx info', rows.map((r) => `${r.name}@${r.depth}`).join(' '));
+  // An instance's faces, from nurbsx info: what it and the instances under it place.
+  const solids = new Map(s.solids.map((x) => [x.id, x]));
+  const shells = new Map(s.shells.map((x) => [x.id, x]));
+  const facesOf = (path) => s.instances.filter((i) => i.path === path || i.path.startsWith(`${path}/`))
+    .flatMap((i) => i.places).flatMap((id) => (solids.get(id)?.shell_ids ?? [id]))
+    .flatMap((id) => shells.get(id)?.face_ids ?? (s.faces.some((f) => f.id === id) ? [id] : []));
+  for (const i of inst) {
+    await page.click(`#tree [data-select="instance:${i.path}"]`);
+    const lit = new Set(await page.evaluate(() => window.nurbsxPage.highlighted()));
+    const want = facesOf(i.path);
+    check(want.length > 0 && lit.size === want.length && want.every((id) => lit.has(id)),
+      `clicking instance ${i.path} highlights exactly its faces in the view`, `${lit.size} highlighted, ${want.length} faces`);
+    check(await page.getAttribute('#selection', 'data-id') === `instance:${i.path}`, `the facts panel shows instance ${i.path}`);
+    const expected = PLACEMENTS[i.path];
+    if (!expected) continue;
+    const text = await page.textContent('#placement');
+    const t = /translation \(([^)]*)\)/.exec(text)?.[1].split(', ').map(Number) ?? [];
+    const r = /rotation ([\d.e+-]+)° about \(([^)]*)\)/.exec(text);
+    const axis = r?.[2].split(', ').map(Number) ?? [];
+    check(t.length === 3 && t.every((x, k) => Math.abs(x - expected.t[k]) < 1e-6)
+        && r && Math.abs(Number(r[1]) - expected.angle) < 1e-4 && axis.every((x, k) => Math.abs(x - expected.axis[k]) < 1e-5),
+      `${i.path}'s placement shown is generate.py's: ${expected.angle}° about (${expected.axis.map((x) => x.toFixed(4))}), moved by (${expected.t})`,
+      text.replace(/\s+/g, ' '));
+  }
+  // Keyboard: Enter on an instance selects it and leaves its branch open.
+  const first = `#tree [data-select="instance:${inst[0].path}"]`;
+  await page.focus(first);
+  await page.keyboard.press('Enter');
+  check(await page.getAttribute('#selection', 'data-id') === `instance:${inst[0].path}`
+      && await page.$eval(first, (b) => b.closest('details').open),
+    'Enter on an instance selects it and does not fold it');
+  // The view with the keyboard: Shift+arrow orbits, arrow pans, + zooms in.
+  const camera = () => page.evaluate(() => window.nurbsxPage.camera());
+  const dist = (c) => Math.hypot(...c.position.map((x, k) => x - c.target[k]));
+  await page.focus('#view');
+  let before = await camera();
+  await page.keyboard.press('Shift+ArrowLeft');
+  let after = await camera();
+  check(Math.abs(dist(after) - dist(before)) < 1e-6 * dist(before) && after.position.some((x, k) => Math.abs(x - before.position[k]) > 1e-6 * dist(before))
+      && after.target.every((x, k) => x === before.target[k]), 'Shift+arrow on the view orbits (same distance, same target)');
+  before = after;
+  await page.keyboard.press('ArrowLeft');
+  after = await camera();
+  check(after.target.some((x, k) => Math.abs(x - before.target[k]) > 1e-6 * dist(before)), 'an arrow key on the view pans (the target moves)');
+  before = after;
+  await page.keyboard.press('+');
+  after = await camera();
+  check(Math.abs(dist(after) - 0.8 * dist(before)) < 1e-6 * dist(before), '+ on the view zooms in (distance × 0.8)');
+  await page.click('#fit');
+  await page.click(`#tree [data-select="instance:${inst.at(-1)?.path}"]`);
+  await page.screenshot({ path: join(out, 'assembly.png') });
+  await page.setViewportSize({ width: 390, height: 844 });
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  check(overflow <= 0, 'no horizontal scrolling at 390 px with the assembly tree', `${overflow} px too wide`);
+  await page.screenshot({ path: join(out, 'assembly-phone.png'), fullPage: true });
+  await page.close();
+}
+
+async function lengthTest(base) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('pageerror', (e) => check(false, 'no script error on the page', e.message));
+  await page.goto(base);
+  await drop(page, cone);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  // The circle edges: curves in one plane z = const whose control points come no nearer the
+  // axis than one of the radii generate.py used (a NURBS circle's middle poles lie on it).
+  const circles = cli('info', cone).entities.filter((e) => e.kind === 'curve' && e.dimension === 3).flatMap((e) => {
+    const cp = e.geometry.control_points;
+    const r = Math.min(...cp.map((p) => Math.hypot(p[0], p[1])));
+    const flat = cp.every((p) => Math.abs(p[2] - cp[0][2]) < 1e-9);
+    const radius = CONE_RADII.find((x) => Math.abs(x - r) < 1e-9);
+    return flat && radius ? [{ id: e.id, radius }] : [];
+  });
+  check(circles.length === 4, 'the cone has its 4 circle edges (r 20, 10, 5, 5)', circles.map((c) => `${c.id} r ${c.radius}`).join(', '));
+  let picked = null;
+  for (const c of circles) {
+    for (const t of [0.25, 0.5, 0.75, 0.1, 0.4, 0.6, 0.9]) {
+      const p = await page.evaluate(([id, f]) => window.nurbsxPage.screenPointOf(id, f), [c.id, t]);
+      if (!p) continue;
+      await page.mouse.click(p.x, p.y);
+      if (await page.getAttribute('#selection', 'data-id') === c.id) {
+        picked = c;
+        break;
+      }
+    }
+    if (picked) break;
+  }
+  check(picked != null, 'clicking a circle edge in the view selects it', picked?.id ?? 'none picked');
+  if (picked) {
+    await page.waitForSelector('#measured:not([data-state=measuring])', { timeout: 30_000 });
+    const m = await page.$eval('#measured', (e) => ({ ...e.dataset, text: e.textContent }));
+    const exact = 2 * Math.PI * picked.radius;
+    const shown = Number(/^[\d.e+-]+/.exec(m.text)?.[0]);
+    check(m.state === 'exact' && Math.abs(shown - exact) <= 1e-9 * exact && Number(m.error) < 1e-6 && /±/.test(m.text),
+      `the length shown for the r ${picked.radius} circle is 2πr = ${exact.toPrecision(12)} with its error estimate`, m.text);
+  }
+  // When the measure fails, the polyline's length is shown, and said to be one.
+  await page.route('**/v1/measure', (r) => r.abort());
+  const other = circles.find((c) => c.id !== picked?.id);
+  if (other) {
+    if (!(await page.isVisible(`#tree [data-select="${other.id}"]`))) await page.click('#tree summary:has-text("Edge curves")');
+    await page.click(`#tree [data-select="${other.id}"]`);
+    await page.waitForSelector('#measured:not([data-state=measuring])', { timeout: 30_000 });
+    const m = await page.$eval('#measured', (e) => ({ ...e.dataset, text: e.textContent }));
+    const rough = Number(/≈ ([\d.e+-]+)/.exec(m.text)?.[1]);
+    const exact = 2 * Math.PI * other.radius;
+    check(m.state === 'failed' && /drawn polyline/.test(m.text) && /failed/.test(m.text) && rough < exact && rough > exact * 0.99,
+      'a failed measure shows the polyline length (inscribed: a little under 2πr) and says so', m.text);
+  }
+  await page.close();
+}
+
+/** A free surface's area, with the file sent as model JSON: 2π r h of the cylinder. */
+async function areaTest(base) {
+  const json = join(out, 'surf_cylinder_nurbs.json');
+  execFileSync(bin, ['clamp', cylinder, '-o', json], { stdio: 'ignore' }); // model JSON, faces dropped
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('pageerror', (e) => check(false, 'no script error on the page', e.message));
+  await page.goto(base);
+  await drop(page, json);
+  await page.waitForSelector('body[data-loaded]', { timeout: 60_000 });
+  const surfaces = cli('info', json).entities.filter((e) => e.kind === 'surface');
+  check(surfaces.length === 1, 'the model JSON holds the one cylinder surface', `${surfaces.length}`);
+  await page.click(`#tree [data-select="${surfaces[0]?.id}"]`);
+  await page.waitForSelector('#measured:not([data-state=measuring])', { timeout: 30_000 });
+  const m = await page.$eval('#measured', (e) => ({ ...e.dataset, text: e.textContent }));
+  const exact = 2 * Math.PI * 5 * 12;
+  const shown = Number(/^[\d.e+-]+/.exec(m.text)?.[0]);
+  check(m.state === 'exact' && Math.abs(shown - exact) <= 1e-9 * exact && /±/.test(m.text),
+    `the area shown for the free cylinder surface is 2πrh = ${exact.toPrecision(12)} with its error estimate`, m.text);
+  await page.close();
+}
+
+/** The README's picture: FreeCAD's filleted box with its first fillet selected. */
+async function readmeShot(base, path) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await page.goto(base);
+  const box = join(parts, 'box_fillet_chamfer_hole.step');
+  await drop(page, box);
+  await page.waitForSelector('body[data-loaded=true]', { timeout: 60_000 });
+  const fillet = cli('info', box).structure.faces.find((f) => f.shape === 'cylinder');
+  await page.click(`#tree [data-select="${fillet.id}"]`);
+  await page.screenshot({ path });
+  console.log(`     README picture: ${path}`);
+  await page.close();
+}
+
 async function brokenTest(base) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   await page.goto(base);
@@ -230,7 +414,11 @@ try {
     args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
   await partTest(base);
+  await assemblyTest(base);
+  await lengthTest(base);
+  await areaTest(base);
   await brokenTest(base);
+  if (process.env.E2E_README_SHOT) await readmeShot(base, resolve(process.env.E2E_README_SHOT));
   await tooLargeTest();
 } catch (e) {
   check(false, 'the browser tests ran to the end', e.stack ?? String(e));
