@@ -3,7 +3,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use nurbsx_parsers::Limits;
+use nurbsx_parsers::{Limits, Stop};
 
 use super::{Diagnostic, LengthUnit, Location};
 
@@ -34,6 +34,14 @@ impl Cancel {
             ));
         }
         Ok(())
+    }
+
+    /// The signal as the parsers' syntax scans poll it.
+    pub(crate) fn scan_stop(&self) -> Stop<'_> {
+        match &self.0 {
+            Some(stop) => Stop::new(&**stop),
+            None => Stop::NEVER,
+        }
     }
 
     /// For a reader's parallel loop: whether to skip item `index` because the signal has
