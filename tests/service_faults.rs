@@ -1361,6 +1361,42 @@ async fn a_timed_out_syntax_scan_frees_its_slot_within_a_second() {
     times_out_and_frees_its_slot("/v1/info", body, Duration::from_secs(2)).await;
 }
 
+/// The STEP and IGES writers poll the stop signal before each curve and surface: writing
+/// 120,000 curves (about 2 s for STEP, 4 s for IGES in a debug build) stopped 300 ms in
+/// ends with `cancelled` within 0.5 s of the signal.
+#[test]
+fn a_stopped_write_ends_within_half_a_second() {
+    use nurbsx::exchange::{self, Cancel, ExportOptions, Format, ImportOptions};
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let doc = exchange::read(
+        many_curves_step(120_000).as_bytes(),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(doc.entities.len(), 120_000);
+    for format in [Format::Step, Format::Iges] {
+        let fired = Arc::new(AtomicBool::new(false));
+        let flag = fired.clone();
+        let options = ExportOptions {
+            cancel: Cancel::new(move || flag.load(Ordering::Relaxed)),
+            ..ExportOptions::default()
+        };
+        let timer = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(300));
+            fired.store(true, Ordering::Relaxed);
+            Instant::now()
+        });
+        let result = exchange::write(&doc, format, &options);
+        let ended = Instant::now();
+        let fired_at = timer.join().unwrap();
+        let err = result.expect_err("stopped");
+        assert_eq!(err.code, "cancelled", "{format:?}: {err}");
+        let late = ended.saturating_duration_since(fired_at);
+        assert!(late < Duration::from_millis(500), "{format:?}: {late:?}");
+    }
+}
+
 /// Elevating one surface (a 64 x 64 net of degree 5 by 20 both ways: 1.5 million poles
 /// out, about 2.3 s of elevation in a debug build, polled once per Bezier strip) stops when
 /// its request times out at 1 s: the slot is free within 1 s of the 503.

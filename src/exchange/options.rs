@@ -26,10 +26,21 @@ impl Cancel {
 
     /// For a reader: `Err` (code `cancelled`) once the signal has fired.
     pub(crate) fn stop_read(&self) -> Result<(), Diagnostic> {
+        self.stop("reading")
+    }
+
+    /// For a writer: `Err` (code `cancelled`) once the signal has fired. The writers'
+    /// loops skip every curve and surface once it has (polling before each); the writer
+    /// then discards the partial text with this error.
+    pub(crate) fn stop_write(&self) -> Result<(), Diagnostic> {
+        self.stop("writing")
+    }
+
+    fn stop(&self, what: &str) -> Result<(), Diagnostic> {
         if self.is_set() {
             return Err(Diagnostic::error(
                 "cancelled",
-                "reading was stopped: its request timed out or the server is shutting down",
+                format!("{what} was stopped: its request timed out or the server is shutting down"),
                 Location::default(),
             ));
         }
@@ -133,6 +144,9 @@ pub struct ExportOptions {
     /// 502/504/508/510/514 (as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces
     /// with 142 boundaries (the default, which every IGES reader understands).
     pub iges_brep: bool,
+    /// The stop signal the writers poll (before each curve and surface); a stopped write
+    /// is `Err` with code `cancelled`. The pipeline sets it from its own.
+    pub cancel: Cancel,
 }
 
 impl Default for ExportOptions {
@@ -144,6 +158,7 @@ impl Default for ExportOptions {
             timestamp: None,
             file_name: "nurbsx-output".to_owned(),
             iges_brep: false,
+            cancel: Cancel::default(),
         }
     }
 }

@@ -518,7 +518,11 @@ pub fn convert(
         apply(&mut document, op, None, settings)?;
     }
     check_file_reply(&document, settings)?;
-    let text = write(&document, format, &request.export)?;
+    let export = ExportOptions {
+        cancel: settings.cancel.clone(),
+        ..request.export.clone()
+    };
+    let text = write(&document, format, &export)?;
     settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
     let (verify, verify_part) = match request.verify {
