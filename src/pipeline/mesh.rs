@@ -670,10 +670,8 @@ impl Glb {
         out.write_all(&u32_le(padded))?;
         out.write_all(b"BIN\0")?;
         let points = |out: &mut dyn std::io::Write, points: &[Point3]| -> std::io::Result<()> {
-            for p in points {
-                for k in 0..3 {
-                    out.write_all(&(p[k] as f32).to_le_bytes())?;
-                }
+            for x in points.iter().flatten() {
+                out.write_all(&(*x as f32).to_le_bytes())?;
             }
             Ok(())
         };
