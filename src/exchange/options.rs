@@ -29,9 +29,9 @@ impl Cancel {
         self.stop("reading")
     }
 
-    /// For a writer: `Err` (code `cancelled`) once the signal has fired. The writers'
-    /// loops skip every curve and surface once it has (polling before each); the writer
-    /// then discards the partial text with this error.
+    /// For a writer: `Err` (code `cancelled`) once the signal has fired. The writers poll it
+    /// before each curve and surface and skip (STEP) or end (IGES) the rest once it has;
+    /// `exchange::write` then answers this error instead of the partial text.
     pub(crate) fn stop_write(&self) -> Result<(), Diagnostic> {
         self.stop("writing")
     }
