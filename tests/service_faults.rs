@@ -1281,8 +1281,7 @@ async fn http2_prior_knowledge_is_served_and_drained() {
 }
 
 /// A STEP file of `n` B-spline curves on the same three points: little text per curve, so
-/// that reading is mostly the curves' decoding (polled), little the syntax scan (which is
-/// not).
+/// that reading is mostly the curves' decoding, little the syntax scan.
 fn many_curves_step(n: usize) -> String {
     let mut text = String::from(
         "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n\
@@ -1327,7 +1326,7 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
 }
 
 /// Reading a large STEP file (120,000 curves, 10 MB: in a debug build about 0.7 s of syntax
-/// scan, which does not poll, then 3.4 s of decoding, which does) stops when its request
+/// scan, then 3.4 s of decoding, both polled) stops when its request
 /// times out at 2.5 s: the slot is free within 1 s of the 503.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_timed_out_read_frees_its_slot_within_a_second() {
@@ -1335,6 +1334,67 @@ async fn a_timed_out_read_frees_its_slot_within_a_second() {
     let step = many_curves_step(120_000);
     let body = json!({ "file": step, "params": [[0.5]] }).to_string();
     times_out_and_frees_its_slot("/v1/evaluate", body, limit).await;
+}
+
+/// A STEP file of `n` tiny statements that no reader decodes (`#k=X();`): reading it is
+/// almost all syntax scan.
+fn tiny_statements_step(n: usize) -> String {
+    let mut text = String::from(
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n\
+         FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n",
+    );
+    for k in 1..=n {
+        text.push_str(&format!("#{k}=X();\n"));
+    }
+    text.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+    text
+}
+
+/// The syntax scan of a large STEP body (4.5 million tiny statements, 60 MB, in the body
+/// limit: several seconds of scan in a debug build, before any decoding) stops when its
+/// request times out at 2 s, because it polls the stop signal: the slot is free within 1 s
+/// of the 503.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_timed_out_syntax_scan_frees_its_slot_within_a_second() {
+    let body = tiny_statements_step(4_500_000);
+    assert!(body.len() < 64 << 20, "{} bytes", body.len());
+    times_out_and_frees_its_slot("/v1/info", body, Duration::from_secs(2)).await;
+}
+
+/// The STEP and IGES writers poll the stop signal before each curve and surface: writing
+/// 120,000 curves (about 2 s for STEP, 4 s for IGES in a debug build) stopped 300 ms in
+/// ends with `cancelled` within 0.5 s of the signal.
+#[test]
+fn a_stopped_write_ends_within_half_a_second() {
+    use nurbsx::exchange::{self, Cancel, ExportOptions, Format, ImportOptions};
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let doc = exchange::read(
+        many_curves_step(120_000).as_bytes(),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(doc.entities.len(), 120_000);
+    for format in [Format::Step, Format::Iges] {
+        let fired = Arc::new(AtomicBool::new(false));
+        let flag = fired.clone();
+        let options = ExportOptions {
+            cancel: Cancel::new(move || flag.load(Ordering::Relaxed)),
+            ..ExportOptions::default()
+        };
+        let timer = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(300));
+            fired.store(true, Ordering::Relaxed);
+            Instant::now()
+        });
+        let result = exchange::write(&doc, format, &options);
+        let ended = Instant::now();
+        let fired_at = timer.join().unwrap();
+        let err = result.expect_err("stopped");
+        assert_eq!(err.code, "cancelled", "{format:?}: {err}");
+        let late = ended.saturating_duration_since(fired_at);
+        assert!(late < Duration::from_millis(500), "{format:?}: {late:?}");
+    }
 }
 
 /// Elevating one surface (a 64 x 64 net of degree 5 by 20 both ways: 1.5 million poles

@@ -48,8 +48,10 @@ pub mod limits;
 pub mod real;
 pub mod signature;
 pub mod step;
+pub mod stop;
 
 pub use limits::Limits;
+pub use stop::Stop;
 
 /// The exchange formats this crate reads and writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -776,3 +776,42 @@ fn pointer_entities_decode_by_their_declarations() {
         "{e}"
     );
 }
+
+/// The record split and the directory scan poll the caller's stop signal every
+/// `SCAN_POLL` lines or entries: never firing, the file parses as without a signal, polled
+/// about once per `SCAN_POLL` lines; firing at a poll, the parse ends there with `Stopped`.
+#[test]
+fn parse_stops_when_its_signal_fires() {
+    use nurbsx_parsers::{Limits, Stop, stop::SCAN_POLL};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let mut b = Builder::new(DEFAULT_GLOBAL);
+    for k in 0..10_000 {
+        b.entity(
+            De {
+                ty: 116,
+                ..De::default()
+            },
+            &format!("116,{k}.,0.,0.,0;"),
+        );
+    }
+    let text = b.build();
+    let lines = text.lines().count();
+    let polls = AtomicUsize::new(0);
+    let never = || {
+        polls.fetch_add(1, Ordering::Relaxed);
+        false
+    };
+    let file = iges::parse_with(&text, &Limits::default(), Stop::new(&never)).unwrap();
+    assert_eq!(file.entries.len(), 10_000);
+    assert_eq!(file.entries, iges::parse(&text).unwrap().entries);
+    // Lines, then directory entries (half the D lines).
+    let expected = lines / SCAN_POLL + 10_000 / SCAN_POLL;
+    assert_eq!(polls.load(Ordering::Relaxed), expected);
+    for fire_at in [1, expected] {
+        let polls = AtomicUsize::new(0);
+        let fire = || polls.fetch_add(1, Ordering::Relaxed) + 1 >= fire_at;
+        let e = iges::parse_with(&text, &Limits::default(), Stop::new(&fire)).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Stopped);
+        assert_eq!(polls.load(Ordering::Relaxed), fire_at);
+    }
+}

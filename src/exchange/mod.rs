@@ -76,10 +76,13 @@ pub fn write(
     format: Format,
     options: &ExportOptions,
 ) -> Result<String, Diagnostic> {
-    match format {
+    let text = match format {
         Format::Step => step::write(document, options),
         Format::Iges => iges::write(document, options),
-    }
+    };
+    // A stopped writer's text is partial, or its error stands for the stop.
+    options.cancel.stop_write()?;
+    text
 }
 
 /// Most byte-level encoding diagnostics reported one by one; the rest are counted.

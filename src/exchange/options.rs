@@ -3,7 +3,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use nurbsx_parsers::Limits;
+use nurbsx_parsers::{Limits, Stop};
 
 use super::{Diagnostic, LengthUnit, Location};
 
@@ -26,14 +26,33 @@ impl Cancel {
 
     /// For a reader: `Err` (code `cancelled`) once the signal has fired.
     pub(crate) fn stop_read(&self) -> Result<(), Diagnostic> {
+        self.stop("reading")
+    }
+
+    /// For a writer: `Err` (code `cancelled`) once the signal has fired. The writers poll it
+    /// before each curve and surface and skip (STEP) or end (IGES) the rest once it has;
+    /// `exchange::write` then answers this error instead of the partial text.
+    pub(crate) fn stop_write(&self) -> Result<(), Diagnostic> {
+        self.stop("writing")
+    }
+
+    fn stop(&self, what: &str) -> Result<(), Diagnostic> {
         if self.is_set() {
             return Err(Diagnostic::error(
                 "cancelled",
-                "reading was stopped: its request timed out or the server is shutting down",
+                format!("{what} was stopped: its request timed out or the server is shutting down"),
                 Location::default(),
             ));
         }
         Ok(())
+    }
+
+    /// The signal as the parsers' syntax scans poll it.
+    pub(crate) fn scan_stop(&self) -> Stop<'_> {
+        match &self.0 {
+            Some(stop) => Stop::new(&**stop),
+            None => Stop::NEVER,
+        }
     }
 
     /// For a reader's parallel loop: whether to skip item `index` because the signal has
@@ -125,6 +144,9 @@ pub struct ExportOptions {
     /// 502/504/508/510/514 (as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces
     /// with 142 boundaries (the default, which every IGES reader understands).
     pub iges_brep: bool,
+    /// The stop signal the writers poll (before each curve and surface); a stopped write
+    /// is `Err` with code `cancelled`. The pipeline sets it from its own.
+    pub cancel: Cancel,
 }
 
 impl Default for ExportOptions {
@@ -136,6 +158,7 @@ impl Default for ExportOptions {
             timestamp: None,
             file_name: "nurbsx-output".to_owned(),
             iges_brep: false,
+            cancel: Cancel::default(),
         }
     }
 }

@@ -547,96 +547,146 @@ pub fn write_stl(out: &mut dyn std::io::Write, faces: &[FaceMesh]) -> std::io::R
 
 /// Binary glTF 2.0 (`.glb`): one node and mesh per entity; surfaces as indexed triangles,
 /// curves as line strips; positions `f32`, indices `u32`; every accessor with the
-/// `min`/`max` the specification requires for positions.
-pub fn glb(faces: &[FaceMesh], curves: &[CurveLine]) -> Vec<u8> {
-    use serde_json::{Value, json};
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views = Vec::new();
-    let mut accessors = Vec::new();
-    let mut meshes = Vec::new();
-    /// Appends positions as a vertex buffer view and their accessor; returns the accessor.
-    fn positions(
-        points: &[Point3],
-        bin: &mut Vec<u8>,
-        views: &mut Vec<Value>,
-        accessors: &mut Vec<Value>,
-    ) -> usize {
-        let offset = bin.len();
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in points {
-            for k in 0..3 {
-                let x = p[k] as f32;
-                lo[k] = lo[k].min(x);
-                hi[k] = hi[k].max(x);
-                bin.extend_from_slice(&x.to_le_bytes());
+/// `min`/`max` the specification requires for positions. Laid out before it is written
+/// ([`Glb::layout`]: the JSON chunk, and the BIN chunk's length from the mesh counts), so
+/// that its size is known first and the BIN chunk is written from the mesh as it goes.
+pub struct Glb {
+    /// The JSON chunk, padded with spaces to a multiple of 4 bytes.
+    json: Vec<u8>,
+    /// The BIN chunk's data length (before its padding).
+    bin: usize,
+}
+
+impl Glb {
+    /// The JSON chunk and the BIN chunk's length of the mesh (glTF 2.0 section 4.4: one
+    /// buffer; buffer views in the order [`Glb::write`] writes their data).
+    pub fn layout(faces: &[FaceMesh], curves: &[CurveLine]) -> Glb {
+        use serde_json::{Value, json};
+        let mut bin = 0usize;
+        let mut views = Vec::new();
+        let mut accessors = Vec::new();
+        let mut meshes = Vec::new();
+        /// A vertex buffer view of `points` at `*bin` and its accessor; returns the accessor.
+        fn positions(
+            points: &[Point3],
+            bin: &mut usize,
+            views: &mut Vec<Value>,
+            accessors: &mut Vec<Value>,
+        ) -> usize {
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for p in points {
+                for k in 0..3 {
+                    let x = p[k] as f32;
+                    lo[k] = lo[k].min(x);
+                    hi[k] = hi[k].max(x);
+                }
+            }
+            let length = points.len() * 12;
+            views.push(
+                json!({"buffer": 0, "byteOffset": *bin, "byteLength": length, "target": 34962}),
+            );
+            *bin += length;
+            accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
+                "count": points.len(), "type": "VEC3", "min": lo, "max": hi}));
+            accessors.len() - 1
+        }
+        for f in faces {
+            let pos = positions(&f.positions, &mut bin, &mut views, &mut accessors);
+            meshes.push(
+                json!({"name": f.entity, "primitives": [{"attributes": {"POSITION": pos},
+                "indices": accessors.len(), "mode": 4}]}),
+            );
+            let length = f.triangles.len() * 12;
+            views.push(
+                json!({"buffer": 0, "byteOffset": bin, "byteLength": length, "target": 34963}),
+            );
+            bin += length;
+            accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5125,
+                "count": 3 * f.triangles.len(), "type": "SCALAR"}));
+        }
+        for c in curves {
+            let pos = positions(&c.points, &mut bin, &mut views, &mut accessors);
+            meshes.push(
+                json!({"name": c.entity, "primitives": [{"attributes": {"POSITION": pos}, "mode": 3}]}),
+            );
+        }
+        let nodes: Vec<Value> = meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| json!({"mesh": i, "name": m["name"]}))
+            .collect();
+        let mut document = json!({
+            "asset": {"version": "2.0", "generator": concat!("nurbsx ", env!("CARGO_PKG_VERSION"))},
+            "scene": 0,
+            "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+            "nodes": nodes,
+            "meshes": meshes,
+            "accessors": accessors,
+            "bufferViews": views,
+        });
+        if bin > 0 {
+            document["buffers"] = json!([{"byteLength": bin}]);
+        }
+        let mut json = document.to_string().into_bytes();
+        // Chunks are 4-byte aligned: JSON padded with spaces, binary data with zeros.
+        while json.len() % 4 != 0 {
+            json.push(b' ');
+        }
+        Glb { json, bin }
+    }
+
+    /// The file's size in bytes: header, JSON chunk, BIN chunk (when not empty).
+    pub fn size(&self) -> usize {
+        12 + 8
+            + self.json.len()
+            + if self.bin == 0 {
+                0
+            } else {
+                8 + self.bin.next_multiple_of(4)
+            }
+    }
+
+    /// Writes the file laid out by [`Glb::layout`] of the same `faces` and `curves`: the
+    /// header, the JSON chunk, then the BIN chunk from the mesh, face by face.
+    pub fn write(
+        &self,
+        out: &mut dyn std::io::Write,
+        faces: &[FaceMesh],
+        curves: &[CurveLine],
+    ) -> std::io::Result<()> {
+        let u32_le = |n: usize| u32::try_from(n).unwrap_or(u32::MAX).to_le_bytes();
+        let mut out = std::io::BufWriter::with_capacity(64 * 1024, out);
+        out.write_all(b"glTF")?;
+        out.write_all(&2u32.to_le_bytes())?;
+        out.write_all(&u32_le(self.size()))?;
+        out.write_all(&u32_le(self.json.len()))?;
+        out.write_all(b"JSON")?;
+        out.write_all(&self.json)?;
+        if self.bin == 0 {
+            return out.flush();
+        }
+        let padded = self.bin.next_multiple_of(4);
+        out.write_all(&u32_le(padded))?;
+        out.write_all(b"BIN\0")?;
+        let points = |out: &mut dyn std::io::Write, points: &[Point3]| -> std::io::Result<()> {
+            for x in points.iter().flatten() {
+                out.write_all(&(*x as f32).to_le_bytes())?;
+            }
+            Ok(())
+        };
+        for f in faces {
+            points(&mut out, &f.positions)?;
+            for t in &f.triangles {
+                for v in t {
+                    out.write_all(&v.to_le_bytes())?;
+                }
             }
         }
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset, "target": 34962}));
-        accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
-            "count": points.len(), "type": "VEC3", "min": lo, "max": hi}));
-        accessors.len() - 1
-    }
-    for f in faces {
-        let pos = positions(&f.positions, &mut bin, &mut views, &mut accessors);
-        let offset = bin.len();
-        for t in &f.triangles {
-            for v in t {
-                bin.extend_from_slice(&v.to_le_bytes());
-            }
+        for c in curves {
+            points(&mut out, &c.points)?;
         }
-        meshes.push(
-            json!({"name": f.entity, "primitives": [{"attributes": {"POSITION": pos},
-            "indices": accessors.len(), "mode": 4}]}),
-        );
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset, "target": 34963}));
-        accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5125,
-            "count": 3 * f.triangles.len(), "type": "SCALAR"}));
+        out.write_all(&[0; 3][..padded - self.bin])?;
+        out.flush()
     }
-    for c in curves {
-        let pos = positions(&c.points, &mut bin, &mut views, &mut accessors);
-        meshes.push(
-            json!({"name": c.entity, "primitives": [{"attributes": {"POSITION": pos}, "mode": 3}]}),
-        );
-    }
-    let nodes: Vec<Value> = meshes
-        .iter()
-        .enumerate()
-        .map(|(i, m)| json!({"mesh": i, "name": m["name"]}))
-        .collect();
-    let mut document = json!({
-        "asset": {"version": "2.0", "generator": concat!("nurbsx ", env!("CARGO_PKG_VERSION"))},
-        "scene": 0,
-        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
-        "nodes": nodes,
-        "meshes": meshes,
-        "accessors": accessors,
-        "bufferViews": views,
-    });
-    if !bin.is_empty() {
-        document["buffers"] = json!([{"byteLength": bin.len()}]);
-    }
-    let mut text = document.to_string().into_bytes();
-    // Chunks are 4-byte aligned: JSON padded with spaces, binary data with zeros.
-    while text.len() % 4 != 0 {
-        text.push(b' ');
-    }
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
-    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
-    let u32_le = |n: usize| u32::try_from(n).unwrap_or(u32::MAX).to_le_bytes();
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&u32_le(total));
-    out.extend_from_slice(&u32_le(text.len()));
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&text);
-    if !bin.is_empty() {
-        out.extend_from_slice(&u32_le(bin.len()));
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
-    }
-    out
 }

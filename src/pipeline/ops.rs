@@ -518,7 +518,11 @@ pub fn convert(
         apply(&mut document, op, None, settings)?;
     }
     check_file_reply(&document, settings)?;
-    let text = write(&document, format, &request.export)?;
+    let export = ExportOptions {
+        cancel: settings.cancel.clone(),
+        ..request.export.clone()
+    };
+    let text = write(&document, format, &export)?;
     settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
     let (verify, verify_part) = match request.verify {
@@ -1917,10 +1921,11 @@ pub struct Tessellated {
 
 impl Tessellated {
     /// Writes the file into `out`, after checking its exact size against
-    /// [`Settings::max_reply_bytes`]. OBJ and STL are written as they are formatted (so a
-    /// streamed reply never holds the whole text; OBJ's size is counted by a formatting
-    /// pass that keeps nothing); glTF and the pictures are built whole first. A failed
-    /// write means the reader went away: the error is [`super::cancelled`].
+    /// [`Settings::max_reply_bytes`]. OBJ, STL and glTF are written as they are formatted
+    /// (so a streamed reply never holds the whole file; OBJ's size is counted by a
+    /// formatting pass that keeps nothing, glTF's from its layout: its JSON chunk and the
+    /// mesh counts); the pictures are built whole first. A failed write means the reader
+    /// went away: the error is [`super::cancelled`].
     pub fn write(
         &self,
         out: &mut dyn std::io::Write,
@@ -1928,16 +1933,17 @@ impl Tessellated {
     ) -> Result<(), PipelineError> {
         use super::{mesh, picture};
         let (faces, curves) = (&self.mesh.faces, &self.mesh.curves);
+        let glb = matches!(self.format, MeshFormat::Glb).then(|| mesh::Glb::layout(faces, curves));
         let whole = match self.format {
-            MeshFormat::Obj | MeshFormat::Stl => None,
-            MeshFormat::Glb => Some(mesh::glb(faces, curves)),
+            MeshFormat::Obj | MeshFormat::Stl | MeshFormat::Glb => None,
             MeshFormat::Svg => Some(picture::svg(faces, curves, self.units).into_bytes()),
             MeshFormat::Png => Some(picture::png(&picture::svg(faces, curves, self.units))?),
         };
-        let size = match (&whole, self.format) {
-            (Some(bytes), _) => bytes.len(),
-            (None, MeshFormat::Stl) => mesh::stl_bytes(faces),
-            (None, _) => {
+        let size = match (&whole, &glb, self.format) {
+            (Some(bytes), _, _) => bytes.len(),
+            (None, Some(glb), _) => glb.size(),
+            (None, None, MeshFormat::Stl) => mesh::stl_bytes(faces),
+            (None, None, _) => {
                 let mut counted = ByteCount(0);
                 mesh::write_obj(&mut counted, faces, curves).map_err(|_| super::cancelled())?;
                 counted.0
@@ -1949,10 +1955,11 @@ impl Tessellated {
             "use a larger tolerance or fewer entities",
             settings,
         )?;
-        match (whole, self.format) {
-            (Some(bytes), _) => out.write_all(&bytes),
-            (None, MeshFormat::Stl) => mesh::write_stl(out, faces),
-            (None, _) => mesh::write_obj(out, faces, curves),
+        match (whole, glb, self.format) {
+            (Some(bytes), _, _) => out.write_all(&bytes),
+            (None, Some(glb), _) => glb.write(out, faces, curves),
+            (None, None, MeshFormat::Stl) => mesh::write_stl(out, faces),
+            (None, None, _) => mesh::write_obj(out, faces, curves),
         }
         .map_err(|_| super::cancelled())
     }

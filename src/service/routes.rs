@@ -280,7 +280,11 @@ async fn operate(
             pipeline::check_file_reply(&document, &settings)?;
             match kind.format() {
                 Some(format) => {
-                    let text = pipeline::write(&document, format, &ExportOptions::default())?;
+                    let export = ExportOptions {
+                        cancel: settings.cancel.clone(),
+                        ..ExportOptions::default()
+                    };
+                    let text = pipeline::write(&document, format, &export)?;
                     Ok((
                         Ok((
                             format,
@@ -728,7 +732,10 @@ async fn built(
                 Some(f) => Some(pipeline::write(
                     &document,
                     f.kind().format().unwrap_or(Format::Step),
-                    &ExportOptions::default(),
+                    &ExportOptions {
+                        cancel: settings.cancel.clone(),
+                        ..ExportOptions::default()
+                    },
                 )?),
                 None => None,
             };

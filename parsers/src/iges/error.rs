@@ -117,6 +117,9 @@ pub enum ErrorKind {
     /// A resource limit was exceeded.
     #[error("limit exceeded: {0}")]
     Limit(String),
+    /// The caller's [`Stop`](crate::Stop) signal fired during the scan.
+    #[error("the scan was stopped by its caller")]
+    Stopped,
     /// The entity has a different type than the typed record expects.
     #[error("entity type {found} is not {expected}")]
     WrongEntity {

@@ -54,8 +54,8 @@ pub use global::Global;
 pub use grammar::parameters::{Delimiters, Parameter};
 pub use records::Entity;
 
-use crate::Limits;
 use crate::grammar::Cause;
+use crate::{Limits, Stop};
 use grammar::parameters::{Error, ParameterReader};
 use grammar::records::{Record, field};
 
@@ -84,14 +84,20 @@ pub struct IgesFile<'a> {
 
 /// Parses an IGES file with the default [`Limits`].
 pub fn parse(text: &str) -> Result<IgesFile<'_>, ParseError> {
-    parse_with(text, &Limits::default())
+    parse_with(text, &Limits::default(), Stop::NEVER)
 }
 
 /// Parses an IGES file: sections, Global section and Directory Entries. Parameter Data is
-/// decoded per entity by [`IgesFile::decode`].
-pub fn parse_with<'a>(text: &'a str, limits: &Limits) -> Result<IgesFile<'a>, ParseError> {
+/// decoded per entity by [`IgesFile::decode`]. The record split and the directory scan poll
+/// `stop` every [`SCAN_POLL`](crate::stop::SCAN_POLL) lines or entries and end with
+/// [`ErrorKind::Stopped`] once it has fired.
+pub fn parse_with<'a>(
+    text: &'a str,
+    limits: &Limits,
+    stop: Stop<'_>,
+) -> Result<IgesFile<'a>, ParseError> {
     let mut warnings = Vec::new();
-    let sections = grammar::records::split(text, limits, &mut warnings)?;
+    let sections = grammar::records::split(text, limits, &mut warnings, stop)?;
     let global = grammar::global::global_section(&sections.global, &mut warnings)?;
     let d = &sections.directory;
     if d.len() % 2 != 0 {
@@ -109,11 +115,17 @@ pub fn parse_with<'a>(text: &'a str, limits: &Limits) -> Result<IgesFile<'a>, Pa
             0,
         ));
     }
-    let entries = d
-        .chunks_exact(2)
-        .enumerate()
-        .map(|(i, pair)| grammar::directory::directory_entry(&pair[0], &pair[1], 2 * i + 1))
-        .collect();
+    let mut entries = Vec::with_capacity(d.len() / 2);
+    for (i, pair) in d.chunks_exact(2).enumerate() {
+        if stop.at(i + 1) {
+            return Err(ParseError::new(ErrorKind::Stopped, 'D', 2 * i + 1).at_line(pair[0].line));
+        }
+        entries.push(grammar::directory::directory_entry(
+            &pair[0],
+            &pair[1],
+            2 * i + 1,
+        ));
+    }
     let start = sections
         .start
         .iter()

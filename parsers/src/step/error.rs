@@ -56,6 +56,10 @@ pub enum ParseErrorKind {
     /// More instances than [`Limits::max_entities`](crate::Limits).
     #[error("more than {0} entity instances")]
     TooManyInstances(usize),
+    /// The caller's [`Stop`](crate::Stop) signal fired during the scan. Only the offset
+    /// is set (line and column are 0): locating it would cost a pass over the text.
+    #[error("the scan was stopped by its caller")]
+    Stopped,
     /// Input larger than [`Limits::max_input_bytes`](crate::Limits).
     #[error("input of {size} bytes exceeds the limit of {limit} bytes")]
     InputTooLarge {
@@ -121,6 +125,19 @@ pub struct ParseError {
     pub column: usize,
     /// The instance the error belongs to, when known.
     pub entity: Option<u64>,
+}
+
+impl ParseError {
+    /// The error of a scan stopped at `offset` ([`ParseErrorKind::Stopped`], not located).
+    pub(crate) fn stopped(offset: usize) -> Self {
+        ParseError {
+            kind: ParseErrorKind::Stopped,
+            offset,
+            line: 0,
+            column: 0,
+            entity: None,
+        }
+    }
 }
 
 fn entity_suffix(entity: Option<u64>) -> String {

@@ -108,9 +108,14 @@ impl Context<'_, '_> {
 /// warnings (`crlf`, `short_line`, `sequence`, `terminate_count`, `param_line_count`,
 /// `delimiter_form`, `global_field`, `missing_start`...).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
-    let file =
-        iges::parse_with(text, &options.limits).map_err(|e| parse_diag("iges.syntax", &e))?;
     let cancel = &options.cancel;
+    let file = iges::parse_with(text, &options.limits, cancel.scan_stop()).map_err(|e| {
+        match e.kind {
+            iges::ErrorKind::Stopped => cancel.stop_read().err(),
+            _ => None,
+        }
+        .unwrap_or_else(|| parse_diag("iges.syntax", &e))
+    })?;
     cancel.stop_read()?;
     let mut diags: Vec<Diagnostic> = file.warnings.iter().map(warning_diag).collect();
     let file_unit = units(&file, &mut diags);

@@ -25,6 +25,7 @@
 use nurbsx_parsers::iges::records::{Curve126, Surface128};
 use nurbsx_parsers::iges::writer::{self, WriteParams};
 use nurbsx_parsers::iges::{DirectoryEntry, Global, Status};
+use nurbsx_parsers::real::NonFiniteReal;
 
 use std::borrow::Cow;
 
@@ -53,6 +54,10 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         super::write_topology::write(document, options.iges_brep, &mut items)
     };
     for e in &document.entities {
+        // Stopped: the rest is skipped (`exchange::write` discards the text).
+        if options.cancel.is_set() {
+            break;
+        }
         // A face's surface or an edge's curve is written with its face; a 2-D curve that a
         // 142 or 508 used is a pcurve, which the topology carries on its coedge.
         let pcurve = !named.is_empty()
@@ -76,6 +81,9 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
         &items.des,
         p_bytes,
         |index, w| match items.items.get(index) {
+            // Stopped: end the write here (`exchange::write` replaces this error with
+            // `cancelled`).
+            _ if options.cancel.is_set() => Err(NonFiniteReal(f64::NAN)),
             Some(Item::Curve(c, p)) => curve_record(c, p, factor).write_params(w),
             Some(Item::Surface(s, p)) => surface_record(s, p, factor).write_params(w),
             Some(Item::Record(r)) => r.write_params(w),

@@ -92,9 +92,20 @@ const MAX_LOWER_CASE_LISTED: usize = 100;
 fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
-    let scanned = scan_parallel(text, &options.limits, rayon::current_num_threads())
-        .map_err(|e| parse_diagnostic(&e))?;
     let cancel = &options.cancel;
+    let scanned = scan_parallel(
+        text,
+        &options.limits,
+        rayon::current_num_threads(),
+        cancel.scan_stop(),
+    )
+    .map_err(|e| match e.kind {
+        ParseErrorKind::Stopped => cancel
+            .stop_read()
+            .err()
+            .unwrap_or_else(|| parse_diagnostic(&e)),
+        _ => parse_diagnostic(&e),
+    })?;
     cancel.stop_read()?;
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     let schemas: Vec<String> = schema_names(&scanned.header)

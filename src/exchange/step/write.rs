@@ -469,6 +469,10 @@ fn write_curve(
     scale: f64,
     options: &ExportOptions,
 ) -> Result<(), NonFiniteReal> {
+    // Stopped: skip (`exchange::write` discards the text).
+    if options.cancel.is_set() {
+        return Ok(());
+    }
     let first = *id;
     for p in c.control_points() {
         write_point(out, *id, p, c.dimension(), scale)?;
@@ -508,6 +512,10 @@ fn write_surface(
     scale: f64,
     options: &ExportOptions,
 ) -> Result<(), NonFiniteReal> {
+    // Stopped: skip (`exchange::write` discards the text).
+    if options.cancel.is_set() {
+        return Ok(());
+    }
     let net = sf.control_points();
     let nu = net.nu();
     let mut rows = Vec::with_capacity(nu);

@@ -14,7 +14,7 @@ use nom::Parser;
 
 use super::super::error::{ErrorKind, ParseError, ParseWarning};
 use super::parameters::{Error, Rule};
-use crate::Limits;
+use crate::{Limits, Stop};
 
 /// One record: its data columns (1-72, possibly shorter for a short line) and its position.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,11 +42,14 @@ pub struct Sections<'a> {
     pub terminate: Vec<Record<'a>>,
 }
 
-/// Splits `text` into records and sections, checking order and sequence numbers.
+/// Splits `text` into records and sections, checking order and sequence numbers; polls
+/// `stop` every [`SCAN_POLL`](crate::stop::SCAN_POLL) lines ([`ErrorKind::Stopped`] once
+/// it has fired).
 pub fn split<'a>(
     text: &'a str,
     limits: &Limits,
     warnings: &mut Vec<ParseWarning>,
+    stop: Stop<'_>,
 ) -> Result<Sections<'a>, ParseError> {
     if text.len() > limits.max_input_bytes {
         return Err(ParseError::new(
@@ -73,6 +76,9 @@ pub fn split<'a>(
     let mut newlines = memchr::memchr_iter(b'\n', bytes);
     while pos < bytes.len() {
         line_no += 1;
+        if stop.at(line_no) {
+            return Err(ParseError::new(ErrorKind::Stopped, ' ', 0).at_line(line_no));
+        }
         let end = newlines.next().unwrap_or(bytes.len());
         let mut line = &text[pos..end];
         pos = end + 1;
