@@ -584,3 +584,134 @@ fn step_parts_through_iges_144_keep_their_volume() {
     assert!(checked >= 6, "{checked} parts with solids measured");
     assert!(flipped > 0, "no face with same_sense false among the parts");
 }
+
+/// IGES 143 Bounded Surfaces with 141 Boundaries (`samples/iges143/make.py` rewrites the
+/// 144/142 faces of four FreeCAD parts as 143/141, nothing else changed): the same faces,
+/// total area and sewn solid volumes as the 144 originals (1e-12 relative), and FreeCAD's
+/// own area and volume of the part (its reading of the STEP file) within 1e-6; no warning.
+#[test]
+fn bounded_surfaces_read_as_faces() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples");
+    let measure = |doc: &Document| {
+        let m = &doc.topology.model;
+        let area: f64 = m
+            .faces
+            .iter()
+            .map(|f| m.measure_face(f).unwrap().area)
+            .sum();
+        let volumes: Vec<f64> = (0..m.solids.len())
+            .map(|k| m.solid_volume(nurbsx::topology::SolidId(k)).unwrap())
+            .collect();
+        (m.faces.len(), area, volumes)
+    };
+    let mut checked = 0;
+    for part in [
+        "box_fillet_chamfer_hole",
+        "flange",
+        "sphere_cap",
+        "trimmed_face",
+    ] {
+        let original = root.join(format!("freecad/parts/{part}.igs"));
+        let bounded = root.join(format!("iges143/{part}_143.igs"));
+        let text = std::fs::read_to_string(&bounded).unwrap();
+        let types: Vec<&str> = text
+            .lines()
+            .filter(|l| l.as_bytes().get(72) == Some(&b'D'))
+            .map(|l| l[..8].trim())
+            .collect();
+        assert!(types.contains(&"143") && !types.contains(&"144"), "{part}");
+        let doc = read_text(&text);
+        let loud: Vec<_> = doc
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity != Severity::Info)
+            .collect();
+        assert!(loud.is_empty(), "{part}: {loud:#?}");
+        let (faces, area, volumes) = measure(&doc);
+        let (faces0, area0, volumes0) =
+            measure(&read_text(&std::fs::read_to_string(&original).unwrap()));
+        assert_eq!(faces, faces0, "{part}");
+        assert!(faces > 0, "{part}");
+        assert!(rel(area, area0) <= 1e-12, "{part}: area {area} vs {area0}");
+        assert_eq!(volumes.len(), volumes0.len(), "{part}");
+        for (v, w) in volumes.iter().zip(&volumes0) {
+            assert!(rel(*v, *w) <= 1e-12, "{part}: volume {v} vs {w}");
+        }
+        let freecad = reading(&root.join(format!("freecad/parts/{part}.step")));
+        let want = freecad["totals"]["area"].as_f64().unwrap();
+        assert!(
+            rel(area, want) <= 1e-6,
+            "{part}: area {area} vs FreeCAD's {want}"
+        );
+        let solids = freecad["solids"].as_array().unwrap();
+        assert_eq!(volumes.len(), solids.len(), "{part}");
+        for (v, s) in volumes.iter().zip(solids) {
+            let w = s["volume"].as_f64().unwrap();
+            assert!(rel(*v, w) <= 1e-6, "{part}: volume {v} vs FreeCAD's {w}");
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 4);
+}
+
+/// A 141 Boundary's SENSE = 2 reverses its curve: the unit square on a bilinear 128 with a
+/// square hole [¼, ¾]², the outer boundary with two of its four sides written backwards
+/// (SENSE = 2), the hole's clockwise loop of four sides all written counter-clockwise
+/// (SENSE = 2). One face whose loops close, reversed coedges marked so, area 1 - ¼.
+#[test]
+fn boundary_sense_reverses_its_curves() {
+    let mut b = Builder::new(GLOBAL);
+    let s = b.entity(
+        ty(128),
+        "128,1,1,1,1,0,0,1,0,0,0.,0.,1.,1.,0.,0.,1.,1.,1.,1.,1.,1.,0.,0.,0.,1.,0.,0.,0.,1.,0.,1.,1.,0.,0.,1.,0.,1.;",
+    );
+    let outer = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let mut sides = Vec::new();
+    for i in 0..4 {
+        let (a, c) = (outer[i], outer[(i + 1) % 4]);
+        // Sides 1 and 3 written from their end to their start.
+        let (written, sense) = if i % 2 == 1 {
+            (line(c, a), 2)
+        } else {
+            (line(a, c), 1)
+        };
+        sides.push((b.entity(De::default(), &written), sense));
+    }
+    // The hole, clockwise: (¼,¼) -> (¼,¾) -> (¾,¾) -> (¾,¼).
+    let hole = [[0.25, 0.25], [0.25, 0.75], [0.75, 0.75], [0.75, 0.25]];
+    let mut inner = Vec::new();
+    for i in 0..4 {
+        let (a, c) = (hole[i], hole[(i + 1) % 4]);
+        inner.push((b.entity(De::default(), &line(c, a)), 2));
+    }
+    let boundary = |curves: &[(usize, i32)]| {
+        let list: Vec<String> = curves.iter().map(|(c, s)| format!("{c},{s},0")).collect();
+        format!("141,0,1,{s},{},{};", curves.len(), list.join(","))
+    };
+    let outer141 = b.entity(ty(141), &boundary(&sides));
+    let inner141 = b.entity(ty(141), &boundary(&inner));
+    let face = b.entity(ty(143), &format!("143,0,{s},2,{outer141},{inner141};"));
+    let doc = read_text(&b.build());
+    let loud: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity != Severity::Info)
+        .collect();
+    assert!(loud.is_empty(), "{loud:#?}");
+    let m = &doc.topology.model;
+    assert_eq!(m.faces.len(), 1);
+    assert_eq!(doc.topology.origins.faces[0].id, format!("D{face}"));
+    let f = &m.faces[0];
+    assert_eq!(f.loops.len(), 2);
+    let forward: Vec<Vec<bool>> = f
+        .loops
+        .iter()
+        .map(|l| l.coedges.iter().map(|c| c.forward).collect())
+        .collect();
+    assert_eq!(
+        forward,
+        vec![vec![true, false, true, false], vec![false; 4]]
+    );
+    let area = m.measure_face(f).unwrap().area;
+    assert!((area - 0.75).abs() <= 1e-15, "{area}");
+}

@@ -741,3 +741,53 @@ fn the_files_uncertainty_is_the_topology_tolerance() {
     assert_eq!(errors(&again), 0, "{:?}", again.diagnostics);
     assert_eq!(declared(&again), 1);
 }
+
+/// The conformance check of orientation: a MANIFOLD_SOLID_BREP whose outer shell is an
+/// ORIENTED_CLOSED_SHELL turned over (every face normal into the solid) is a located
+/// `topology.inside_out` violation (an error in `validate`, nothing in plain reading); the
+/// file as FreeCAD wrote it has none.
+#[test]
+fn inside_out_solid_is_a_violation() {
+    let path = root().join("samples/freecad/parts/box_fillet_chamfer_hole.step");
+    let text = std::fs::read_to_string(path).unwrap();
+    let conformance = ImportOptions {
+        conformance: true,
+        ..ImportOptions::default()
+    };
+    let doc = exchange::read(text.as_bytes(), &conformance).unwrap();
+    assert!(
+        !doc.diagnostics
+            .iter()
+            .any(|d| d.code == "topology.inside_out"),
+        "{:?}",
+        doc.diagnostics
+    );
+    let turned = text.replace(
+        "#15 = MANIFOLD_SOLID_BREP('',#16);",
+        "#15 = MANIFOLD_SOLID_BREP('',#9000);\n#9000 = ORIENTED_CLOSED_SHELL('',*,#16,.F.);",
+    );
+    assert_ne!(turned, text);
+    let doc = exchange::read(turned.as_bytes(), &conformance).unwrap();
+    let found: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "topology.inside_out")
+        .collect();
+    assert_eq!(found.len(), 1, "{:?}", doc.diagnostics);
+    assert_eq!(found[0].location.entity.as_deref(), Some("#15"));
+    assert_eq!(found[0].clone().for_conformance().severity, Severity::Error);
+    assert_eq!(doc.topology.model.solids.len(), 1);
+    let v = doc
+        .topology
+        .model
+        .solid_volume(nurbsx::topology::SolidId(0))
+        .unwrap();
+    assert!(v < 0.0, "{v}");
+    let plain = exchange::read(turned.as_bytes(), &ImportOptions::default()).unwrap();
+    assert!(
+        !plain
+            .diagnostics
+            .iter()
+            .any(|d| d.code == "topology.inside_out")
+    );
+}

@@ -67,7 +67,55 @@ pub fn read(bytes: &[u8], options: &ImportOptions) -> Result<Document, Diagnosti
     if !encoding.is_empty() {
         document.diagnostics.splice(0..0, encoding);
     }
+    if options.conformance {
+        let turned = solids_inside_out(&document.topology);
+        document.diagnostics.extend(turned);
+    }
     Ok(document)
+}
+
+/// The conformance check of the solids' orientation: a solid's outer shell faces away from
+/// the solid and a void's shell into the void (ISO 10303-42 manifold_solid_brep and
+/// brep_with_voids: the shell normals point away from the solid's material; IGES 5.3 186
+/// with its shells' orientation flags). Each shell whose enclosed volume has the wrong sign
+/// is a violation read as it is (the solid is still the region its shells bound).
+/// Shells with a face that cannot be measured are not judged.
+fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
+    let m = &topology.model;
+    let mut out = Vec::new();
+    for (k, solid) in m.solids.iter().enumerate() {
+        let shells =
+            std::iter::once((solid.outer, true)).chain(solid.voids.iter().map(|&v| (v, false)));
+        for (shell, outer) in shells {
+            let Ok(volume) = m.shell_volume(shell) else {
+                continue;
+            };
+            if (volume < 0.0) != outer {
+                continue;
+            }
+            let origin = topology.origins.solids.get(k);
+            let location = Location {
+                line: origin.and_then(|o| o.source.line),
+                entity: origin.map(|o| o.id.clone()),
+                ..Location::default()
+            };
+            let what = if outer {
+                "its outer shell faces into the solid"
+            } else {
+                "a void's shell faces out of the void"
+            };
+            out.push(Diagnostic::nonconforming(
+                "topology.inside_out",
+                format!(
+                    "solid {}: {what} (the shell encloses {volume:e} along its faces' normals); \
+                     the shell normals must point away from the solid's material",
+                    origin.map_or_else(|| (k + 1).to_string(), |o| o.id.clone())
+                ),
+                location,
+            ));
+        }
+    }
+    out
 }
 
 /// Writes a document in the given format.

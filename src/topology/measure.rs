@@ -17,7 +17,7 @@
 //! file, so a face whose loops run the wrong way still measures right (the orientation is
 //! checked elsewhere).
 
-use super::{Face, FaceId, Model, SolidId, loop_counter_clockwise};
+use super::{Face, FaceId, Model, ShellId, SolidId, loop_counter_clockwise};
 use crate::nurbs::vector::{cross, dist, dot, norm};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
 
@@ -59,6 +59,9 @@ pub enum MeasureError {
     /// A solid that does not exist.
     #[error("solid {0} does not exist")]
     NoSolid(usize),
+    /// A shell that does not exist, or one of whose faces does not.
+    #[error("shell {0} or one of its faces does not exist")]
+    NoShell(usize),
 }
 
 /// A face's integrals.
@@ -426,6 +429,17 @@ impl Model {
         })
     }
 
+    /// The volume one shell encloses, its faces signed by their orientation as in
+    /// [`Model::solid_volume`]: positive when the shell faces away from what it encloses (a
+    /// solid's outer shell), negative when it faces into it (a void's).
+    pub fn shell_volume(&self, shell: ShellId) -> Result<f64, MeasureError> {
+        let flux = self.shell_flux_with(shell, |f| {
+            let face = self.faces.get(f.0).ok_or(MeasureError::NoShell(shell.0))?;
+            self.measure_face(face)
+        })?;
+        Ok(flux / 3.0)
+    }
+
     /// [`Model::solid_volume`] with the faces measured by `measure`.
     fn volume_with(
         &self,
@@ -437,28 +451,45 @@ impl Model {
             .get(solid.0)
             .ok_or(MeasureError::NoSolid(solid.0))?;
         let mut flux = 0.0;
-        for shell in std::iter::once(&s.outer).chain(&s.voids) {
-            let Some(shell) = self.shells.get(shell.0) else {
-                return Err(MeasureError::NoSolid(solid.0));
-            };
-            for &(f, orientation) in &shell.faces {
-                let face = self.faces.get(f.0).ok_or(MeasureError::NoSolid(solid.0))?;
-                // The outer bound runs counter-clockwise around the face normal (ISO
-                // 10303-42 face_outer_bound; IGES 5.3 4.34), and sewing orients faces by
-                // their bounds: a face whose outer bound runs clockwise in (u, v) against its
-                // sense (IGES 144s on surfaces whose NURBS (u, v) reverse the file's) faces
-                // the other way round, and so does its flux.
-                let outer = face.loops.iter().find(|l| l.outer).or(face.loops.first());
-                let bound_agrees = outer
-                    .and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
-                    .is_none_or(|ccw| ccw == face.same_sense);
-                let m = measure(f)?;
-                let outward = (face.same_sense == orientation) == bound_agrees;
-                flux += if outward { m.flux } else { -m.flux };
-            }
+        for &shell in std::iter::once(&s.outer).chain(&s.voids) {
+            flux += self.shell_flux_with(shell, &measure)?;
         }
         Ok(flux / 3.0)
     }
+
+    /// The outward flux of the position through a shell's faces.
+    fn shell_flux_with(
+        &self,
+        id: ShellId,
+        measure: impl Fn(FaceId) -> Result<FaceMeasure, MeasureError>,
+    ) -> Result<f64, MeasureError> {
+        let shell = self.shells.get(id.0).ok_or(MeasureError::NoShell(id.0))?;
+        let mut flux = 0.0;
+        for &(f, orientation) in &shell.faces {
+            let face = self.faces.get(f.0).ok_or(MeasureError::NoShell(id.0))?;
+            let m = measure(f)?;
+            flux += if faces_outward(face, orientation) {
+                m.flux
+            } else {
+                -m.flux
+            };
+        }
+        Ok(flux)
+    }
+}
+
+/// Whether a face used with `orientation` in a shell faces along its surface normal
+/// `S_u × S_v`, so that its flux counts toward the enclosed volume as measured. The outer
+/// bound runs counter-clockwise around the face normal (ISO 10303-42 face_outer_bound; IGES
+/// 5.3 4.34), and sewing orients faces by their bounds: a face whose outer bound runs
+/// clockwise in (u, v) against its sense (IGES 144s on surfaces whose NURBS (u, v) reverse
+/// the file's) faces the other way round, and so does its flux.
+pub(crate) fn faces_outward(face: &Face, orientation: bool) -> bool {
+    let outer = face.loops.iter().find(|l| l.outer).or(face.loops.first());
+    let bound_agrees = outer
+        .and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
+        .is_none_or(|ccw| ccw == face.same_sense);
+    (face.same_sense == orientation) == bound_agrees
 }
 
 /// The measures of a whole model: what `info` shows and `--verify` compares.

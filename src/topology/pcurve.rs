@@ -143,23 +143,30 @@ pub fn seam_side(surface: &NurbsSurface, p: &NurbsCurve, ccw: bool) -> Option<Nu
 }
 
 /// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
-/// faces, sewn faces): each coedge in `coedges` whose pcurve lies on a seam and whose edge
-/// `twice` says the face uses twice takes the side nearest to where its neighbour in the loop
-/// ends (the previous coedge; the next one's start when the previous is such a seam coedge
-/// too), so the loop is continuous in `(u, v)`.
+/// faces, sewn faces): each coedge in `coedges` whose pcurve lies on a seam, and whose edge
+/// `twice` says the face uses twice or whose surface is closed across that seam (an edge of
+/// the face that runs along the seam line, as where a 270° face of a whole cylinder meets
+/// its neighbour), takes the side nearest to where its neighbour in the loop ends (the
+/// previous coedge; the next one's start when the previous is such a seam coedge too), so
+/// the loop is continuous in `(u, v)`.
 pub fn seam_sides_by_continuity(
     surface: &NurbsSurface,
     coedges: &mut [Coedge],
     twice: impl Fn(EdgeId) -> bool,
 ) {
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let on_seam = |p: &NurbsCurve| -> Option<(usize, f64, f64)> {
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let closed = [
+        surface.is_closed_u(1e-9 * size),
+        surface.is_closed_v(1e-9 * size),
+    ];
+    let on_seam = |p: &NurbsCurve, twice: bool| -> Option<(usize, f64, f64)> {
         let poles = p.control_points();
         let on =
             |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
-        if on(0, u0, u1 - u0) || on(0, u1, u1 - u0) {
+        if (twice || closed[0]) && (on(0, u0, u1 - u0) || on(0, u1, u1 - u0)) {
             Some((0, u0, u1))
-        } else if on(1, v0, v1 - v0) || on(1, v1, v1 - v0) {
+        } else if (twice || closed[1]) && (on(1, v0, v1 - v0) || on(1, v1, v1 - v0)) {
             Some((1, v0, v1))
         } else {
             None
@@ -175,12 +182,7 @@ pub fn seam_sides_by_continuity(
     let n = coedges.len();
     let seam: Vec<Option<(usize, f64, f64)>> = coedges
         .iter()
-        .map(|c| {
-            c.pcurve
-                .as_ref()
-                .filter(|_| twice(c.edge))
-                .and_then(&on_seam)
-        })
+        .map(|c| c.pcurve.as_ref().and_then(|p| on_seam(p, twice(c.edge))))
         .collect();
     for i in 0..n {
         let Some((k, lo, hi)) = seam[i] else {

@@ -20,6 +20,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use super::measure::faces_outward;
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
 use crate::nurbs::vector::dist;
 use crate::nurbs::{NurbsCurve, Point3};
@@ -404,15 +405,19 @@ impl Model {
         Ok(report)
     }
 
-    /// The members turned so that the enclosed volume is positive (when measurable).
+    /// The members turned so that the enclosed volume is positive (when measurable), each
+    /// face's flux signed as [`Model::solid_volume`] signs it.
     fn outward(&self, members: Vec<(FaceId, bool)>) -> Vec<(FaceId, bool)> {
         let mut flux = 0.0;
         for &(f, o) in &members {
             let Ok(m) = self.measure_face(&self.faces[f.0]) else {
                 return members;
             };
-            let outward = self.faces[f.0].same_sense == o;
-            flux += if outward { m.flux } else { -m.flux };
+            flux += if faces_outward(&self.faces[f.0], o) {
+                m.flux
+            } else {
+                -m.flux
+            };
         }
         if flux < 0.0 {
             members.into_iter().map(|(f, o)| (f, !o)).collect()

@@ -6,8 +6,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use nurbsx_parsers::iges::records::{
-    CompositeCurve102, Curve126, CurveOnSurface142, EdgeList504, Face510, Loop508, Surface128,
-    Transform124, TrimmedSurface144,
+    Boundary141, BoundedSurface143, CompositeCurve102, Curve126, CurveOnSurface142, EdgeList504,
+    Face510, Loop508, Surface128, Transform124, TrimmedSurface144,
 };
 use nurbsx_parsers::iges::{self, DirectoryEntry, IgesFile, ParseError, ParseWarning};
 use rayon::prelude::*;
@@ -90,10 +90,11 @@ impl Context<'_, '_> {
 /// `limit.poles`, `transform.invalid`, `prop3_inconsistent`, `prop3_rational_equal_weights`,
 /// `flag_mismatch`, `flag_invalid`, `missing_param_range`, `param_range_outside`,
 /// `missing_normal`, `unit_conflict`, `unit_unknown`, `unit_default`, `units_converted`,
-/// `model_scale_ignored`, `trimmed_to_range`, `trim_not_applied`, `trim_ignored` (143
-/// bounded surfaces, and every trim when read geometry-only), `topology_ignored`
+/// `model_scale_ignored`, `trimmed_to_range`, `trim_not_applied`, `trim_ignored` (every trim
+/// when read geometry-only, and the surface of a face that could not be read),
+/// `topology_ignored`
 /// (geometry-only), `entities_skipped`, `no_exact_form`, the topology's codes
-/// (`topology.not_read`, `topology.loop_open`, `topology.edge_vertex`,
+/// (`topology.not_read`, `topology.loop_open`, `topology.boundary_surface`, `topology.edge_vertex`,
 /// `topology.pcurve_deviates`, `pcurve.not_computed`, `topology.shell_open`,
 /// `topology.solid_shell_open`, `topology.wrong_entity`, `topology.geometry_missing`,
 /// `topology.no_model_curve`, `topology.vertex_use`, `topology.edge_composite`,
@@ -578,11 +579,11 @@ fn finish(
         let mut topo = Vec::new();
         for &(de, ty) in list {
             meta.used_by.push(format!("D{de}"));
-            // Trimmed faces (144 with 142 boundaries) and B-rep topology are read into
-            // the document's topology unless the options ask for geometry only; bounded
-            // surfaces (143 with 141 boundaries) never are.
+            // Trimmed faces (144 with 142 boundaries), bounded surfaces (143 with 141
+            // boundaries) and B-rep topology are read into the document's topology unless
+            // the options ask for geometry only.
             let read_as_topology = !cx.options.geometry_only;
-            if matches!(ty, 141 | 143) || (matches!(ty, 142 | 144) && !read_as_topology) {
+            if matches!(ty, 141..=144) && !read_as_topology {
                 trim.push(format!("D{de} ({ty})"));
             } else if matches!(ty, 186 | 502..=514) && !read_as_topology {
                 topo.push(format!("D{de} ({ty})"));
@@ -626,8 +627,8 @@ fn finish(
 }
 
 /// The 102 Composite Curves that bound faces: named by a 142 (C(t) or B(t); IGES 5.3
-/// section 4.22), a 504 edge (section 4.147) or a 508 loop's parameter-space curves
-/// (section 4.152).
+/// section 4.22), a 141 (its model-space and parameter-space curves; type 141), a 504 edge
+/// (section 4.147) or a 508 loop's parameter-space curves (section 4.152).
 fn edge_chains(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let mut add = |p: i64| {
@@ -641,6 +642,14 @@ fn edge_chains(file: &IgesFile<'_>) -> BTreeSet<usize> {
                 if let Ok(c) = file.decode::<CurveOnSurface142>(entry).record {
                     add(c.model_curve);
                     add(c.parameter_curve);
+                }
+            }
+            141 => {
+                if let Ok(b) = file.decode::<Boundary141>(entry).record {
+                    for c in &b.curves {
+                        add(c.curve);
+                        c.parameter_curves.iter().for_each(|&q| add(q));
+                    }
                 }
             }
             504 => {
@@ -681,9 +690,10 @@ fn composite_members(file: &IgesFile<'_>) -> BTreeSet<usize> {
     out
 }
 
-/// For every surface named by a 144 Trimmed Surface (IGES 5.3 section 4.34) or a 510 Face
-/// (section 4.153), the model-space curves that bound those faces: the C(t) of the 142
-/// boundaries (section 4.22) and the 504 edge curves of the 508 loops (sections 4.147,
+/// For every surface named by a 144 Trimmed Surface (IGES 5.3 section 4.34), a 143
+/// Bounded Surface (type 143) or a 510 Face (section 4.153), the model-space curves that
+/// bound those faces: the C(t) of the 142 boundaries (section 4.22), the model-space
+/// curves of the 141 boundaries and the 504 edge curves of the 508 loops (sections 4.147,
 /// 4.152).
 fn boundaries(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<i64>> {
     let mut map: BTreeMap<usize, Vec<i64>> = BTreeMap::new();
@@ -706,6 +716,23 @@ fn boundaries(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<i64>> {
                         && c.model_curve != 0
                     {
                         list.push(c.model_curve);
+                    }
+                }
+            }
+            143 => {
+                let Ok(b) = file.decode::<BoundedSurface143>(entry).record else {
+                    continue;
+                };
+                let Some(s) = file.entry(b.surface) else {
+                    continue;
+                };
+                let list = map.entry(s.pointer).or_default();
+                for e in b.boundaries.iter().filter_map(|&p| file.entry(p)) {
+                    if let Some(r) = (e.entity_type == 141)
+                        .then(|| file.decode::<Boundary141>(e).record.ok())
+                        .flatten()
+                    {
+                        list.extend(r.curves.iter().map(|c| c.curve));
                     }
                 }
             }
@@ -822,14 +849,14 @@ fn units(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) -> LengthUnit {
     unit
 }
 
-/// For every curve and surface, the entities that reference it: trims (142, 144), composite
+/// For every curve and surface, the entities that reference it: trims (141-144), composite
 /// curves (102), the surfaces built from curves (108, 118, 120, 122) and B-rep elements
 /// (504, 510): `(user DE, user type)`, by the DE pointers their declarations name.
 fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
     let mut map: BTreeMap<usize, Vec<(usize, i64)>> = BTreeMap::new();
     for entry in file.entries.iter().flatten() {
         let ty = entry.entity_type;
-        if !matches!(ty, 102 | 108 | 118 | 120 | 122 | 142 | 144 | 504 | 510) {
+        if !matches!(ty, 102 | 108 | 118 | 120 | 122 | 141..=144 | 504 | 510) {
             continue;
         }
         let Some(Ok(references)) = file.references(entry) else {
@@ -851,7 +878,8 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
 
 /// The DE pointers of the curves that live in a surface's parameter space: the B(t) curve
 /// of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.22), directly or as members
-/// of a 102 Composite Curve, and the parameter-space curves of a 508 Loop (section 4.152).
+/// of a 102 Composite Curve, those of a 141 Boundary (type 141), and the parameter-space
+/// curves of a 508 Loop (section 4.152).
 fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let add = |ptr: i64, out: &mut BTreeSet<usize>| {
@@ -883,6 +911,13 @@ fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
             142 => {
                 if let Ok(c) = file.decode::<CurveOnSurface142>(entry).record {
                     add(c.parameter_curve, &mut out);
+                }
+            }
+            141 => {
+                if let Ok(b) = file.decode::<Boundary141>(entry).record {
+                    for c in &b.curves {
+                        c.parameter_curves.iter().for_each(|&q| add(q, &mut out));
+                    }
                 }
             }
             508 => {

@@ -12,6 +12,10 @@
 //!   projection within the edge tolerance).
 //!   The edges' ends become vertices shared across the file within the tolerance (the larger
 //!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size).
+//! - 143 Bounded Surface (IGES 5.3 type 143): a face on its surface (SPTR) bounded by its
+//!   141 Boundaries (BDPT, the first the outer one). Each 141 gives a loop of its model-space
+//!   curves (CRVPT, a 102's constituents one edge each), reversed where SENSE = 2, with the
+//!   parameter-space curves (PSCPT, TYPE = 1) as given pcurves on a 128 like a 142's.
 //! - 186 Manifold Solid B-Rep Object with 514 Shell, 510 Face, 508 Loop, 504 Edge List and
 //!   502 Vertex List (IGES 5.3 types 186, 502-514): the vertices and edges as the lists give
 //!   them, shared by every loop that names them; loops with their orientation flags (OF),
@@ -26,8 +30,8 @@ use std::collections::{BTreeMap, HashMap};
 
 use nurbsx_parsers::iges::DirectoryEntry;
 use nurbsx_parsers::iges::records::{
-    BrepSolid186, CURVES, CompositeCurve102, CurveOnSurface142, EdgeList504, Face510, Loop508,
-    SURFACES, Shell514, TrimmedSurface144, VertexList502,
+    Boundary141, BoundedSurface143, BrepSolid186, CURVES, CompositeCurve102, CurveOnSurface142,
+    EdgeList504, Face510, Loop508, SURFACES, Shell514, TrimmedSurface144, VertexList502,
 };
 
 use super::read::{Context, decoded, entity_location};
@@ -53,9 +57,11 @@ const MAX_GAP_FACTOR: f64 = 1e3;
 
 /// The entity types that carry topology, and their names for the `topology.not_read`
 /// warning.
-const TOPOLOGY_TYPES: [(i64, &str); 8] = [
+const TOPOLOGY_TYPES: [(i64, &str); 10] = [
     (144, "trimmed faces (144)"),
     (142, "face boundaries (142)"),
+    (143, "bounded faces (143)"),
+    (141, "face boundaries (141)"),
     (186, "solids (186)"),
     (514, "shells (514)"),
     (510, "faces (510)"),
@@ -70,32 +76,24 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     let mut counts: BTreeMap<i64, usize> = BTreeMap::new();
     for e in cx.file.entries.iter().flatten() {
         if TOPOLOGY_TYPES.iter().any(|&(t, _)| t == e.entity_type)
-            || matches!(e.entity_type, 143 | 308 | 408)
+            || matches!(e.entity_type, 308 | 408)
         {
             *counts.entry(e.entity_type).or_default() += 1;
         }
     }
     let count = |t: i64| counts.get(&t).copied().unwrap_or(0);
-    // 143 is not read into the topology, nor are subfigures without any (308/408 of
-    // curves and surfaces only): say so, visibly.
+    // Subfigures without any topology (308/408 of curves and surfaces only) are not
+    // applied: say so, visibly.
     let no_topology = TOPOLOGY_TYPES.iter().all(|&(t, _)| count(t) == 0);
-    for (t, what) in [
-        (
-            143,
-            "bounded surfaces (143, with 141 boundaries) are not read as faces: their surfaces are returned untrimmed",
-        ),
-        (
-            408,
-            "subfigure instances (408) are not applied to free curves and surfaces: the geometry of their 308 definitions is returned once, where the definition places it",
-        ),
-    ] {
-        if count(t) > 0 && (t != 408 || no_topology || cx.options.geometry_only) {
-            diags.push(Diagnostic::warning(
-                "topology.not_read",
-                format!("{} x {what}", count(t)),
-                Location::default(),
-            ));
-        }
+    if count(408) > 0 && (no_topology || cx.options.geometry_only) {
+        diags.push(Diagnostic::warning(
+            "topology.not_read",
+            format!(
+                "{} x subfigure instances (408) are not applied to free curves and surfaces: the geometry of their 308 definitions is returned once, where the definition places it",
+                count(408)
+            ),
+            Location::default(),
+        ));
     }
     if cx.options.geometry_only {
         let list: Vec<String> = TOPOLOGY_TYPES
@@ -122,6 +120,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     for entry in cx.file.entries.iter().flatten() {
         match entry.entity_type {
             144 if !b.face144(entry, diags) => b.trim_not_applied(entry, diags),
+            143 if !b.face143(entry, diags) => b.trim_not_applied(entry, diags),
             186 => b.solid186(entry, diags),
             _ => {}
         }
@@ -716,23 +715,133 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         None
     }
 
-    /// The `trim_ignored` note on the surface of a 144 whose face could not be read.
+    /// The `trim_ignored` note on the surface of a 144 or 143 whose face could not be read.
     fn trim_not_applied(&self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) {
-        let Ok(rec) = self.cx.file.decode::<TrimmedSurface144>(entry).record else {
+        let surface = match entry.entity_type {
+            144 => self
+                .cx
+                .file
+                .decode::<TrimmedSurface144>(entry)
+                .record
+                .map(|r| r.surface),
+            _ => self
+                .cx
+                .file
+                .decode::<BoundedSurface143>(entry)
+                .record
+                .map(|r| r.surface),
+        };
+        let Ok(surface) = surface else {
             return;
         };
-        if let Some(s) = self.cx.file.entry(rec.surface)
+        if let Some(s) = self.cx.file.entry(surface)
             && self.by_de.contains_key(&s.pointer)
         {
             diags.push(Diagnostic::info(
                 "trim_ignored",
                 format!(
-                    "used by D{} (144), whose face is not read (see its diagnostic); the untrimmed surface is returned",
-                    entry.pointer
+                    "used by D{} ({}), whose face is not read (see its diagnostic); the untrimmed surface is returned",
+                    entry.pointer, entry.entity_type
                 ),
                 entity_location(s),
             ));
         }
+    }
+
+    /// A 143 Bounded Surface as a face; whether it was built.
+    fn face143(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(rec) = decoded(self.cx.file.decode::<BoundedSurface143>(entry), diags) else {
+            return false;
+        };
+        let Some(surface) = self.surface(entry, "SPTR", rec.surface, diags) else {
+            return false;
+        };
+        let mut loops = Vec::with_capacity(rec.boundaries.len());
+        let mut at = Vec::with_capacity(rec.boundaries.len());
+        for (k, &p) in rec.boundaries.iter().enumerate() {
+            let given = rec.kind == 1;
+            let Some((l, e)) = self.loop141(entry, p, k == 0, given, rec.surface, surface, diags)
+            else {
+                return false;
+            };
+            loops.push(l);
+            at.push(e);
+        }
+        self.add_face(entry, surface, loops, &at, true, diags)
+            .is_some()
+    }
+
+    /// A 141 Boundary as a loop: its model-space curves in order, each reversed where its
+    /// SENSE is 2, one coedge per curve piece; the parameter-space curves (when the 143 and
+    /// the 141 both say TYPE = 1) as given pcurves when they are as many as the pieces.
+    #[allow(clippy::too_many_arguments)]
+    fn loop141(
+        &mut self,
+        face: &DirectoryEntry,
+        p: i64,
+        outer: bool,
+        given: bool,
+        sptr: i64,
+        surface: (&'c Entity, &'c NurbsSurface),
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(Loop, &'f DirectoryEntry)> {
+        let e = self.target(face, "BDPT", p, &[141], diags)?;
+        let rec = decoded(self.cx.file.decode::<Boundary141>(e), diags)?;
+        if rec.surface != sptr {
+            diags.push(Diagnostic::nonconforming(
+                "topology.boundary_surface",
+                format!(
+                    "SPTR = {} is not the surface of the bounded surface D{} ({sptr}); the boundary is read on D{}'s surface",
+                    rec.surface, face.pointer, face.pointer
+                ),
+                entity_location(e),
+            ));
+        }
+        let mut coedges = Vec::new();
+        for c in &rec.curves {
+            let mut model = self.curves(e, "CRVPT", c.curve, diags)?;
+            let mut params: Vec<Piece<'c>> = Vec::new();
+            if given && rec.kind == 1 {
+                for &q in &c.parameter_curves {
+                    params.extend(self.curves(e, "PSCPT", q, diags)?);
+                }
+            }
+            let forward = c.sense != 2;
+            if !forward {
+                model.reverse();
+                params.reverse();
+            }
+            let params = (params.len() == model.len()).then_some(params);
+            for (i, piece) in model.iter().enumerate() {
+                let edge = match self.boundary_edge(e, piece) {
+                    Ok(x) => x,
+                    Err(err) => {
+                        diags.push(topology_error(e, &err));
+                        return None;
+                    }
+                };
+                let given = params.as_ref().and_then(|ps| ps.get(i)).map(|q| q.curve);
+                let pcurve = self.pcurve(surface, given, edge);
+                coedges.push(Coedge {
+                    edge,
+                    forward,
+                    pcurve,
+                    pcurve_deviation: None,
+                });
+            }
+        }
+        if coedges.is_empty() {
+            diags.push(Diagnostic::error(
+                "topology.loop_open",
+                format!(
+                    "141 D{} holds no curve; the face D{} is skipped",
+                    e.pointer, face.pointer
+                ),
+                entity_location(e),
+            ));
+            return None;
+        }
+        Some((Loop { coedges, outer }, e))
     }
 
     /// A 144 Trimmed Surface as a face; whether it was built.
