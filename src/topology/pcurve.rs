@@ -460,6 +460,9 @@ fn iso(
     (a, b): (f64, f64),
     size: f64,
 ) -> Option<NurbsCurve> {
+    if let Some(line) = boundary_row(surface, curve, (a, b), size) {
+        return Some(line);
+    }
     let ((u0, u1), (v0, v1)) = surface.domain();
     // Three interior points of the edge on the surface.
     let mut inner = [[0.0f64; 2]; 3];
@@ -566,6 +569,106 @@ fn iso(
         q
     };
     NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(fa), point(fb)], None, 2).ok()
+}
+
+/// The fast path of [`iso`], without any point inversion: the edge's curve is a boundary
+/// row or column of the surface's control net where the surface is clamped (its isocurve
+/// there has exactly those poles, weights, degree and knots: NURBS Book eq. 3.10 at a
+/// clamped end), with the same poles and proportional weights in the same or the reverse
+/// order and its knots an affine image of the surface's. The pcurve is then the line at that
+/// end, its free parameter the inverse of the affine map; [`exact_pcurve`] still checks it
+/// by evaluation.
+fn boundary_row(
+    surface: &NurbsSurface,
+    curve: &NurbsCurve,
+    (a, b): (f64, f64),
+    size: f64,
+) -> Option<NurbsCurve> {
+    let grid = surface.control_points();
+    let weights = surface.weights();
+    let (nu, nv) = (grid.nu(), grid.nv());
+    let poles = curve.control_points();
+    let n = poles.len();
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let clamped = |knots: &[f64], p: usize, start: bool| {
+        let ends = if start {
+            knots.get(..=p)
+        } else {
+            knots.len().checked_sub(p + 1).and_then(|k| knots.get(k..))
+        };
+        ends.is_some_and(|e| e.iter().all(|&k| k == e[0]))
+    };
+    // (fixed direction, its value, the row's poles and weights by index along the free
+    // direction, the free direction's degree and knots).
+    let mut candidates: Vec<(usize, f64, Box<dyn Fn(usize) -> (Point3, f64) + '_>)> =
+        Vec::with_capacity(4);
+    let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
+    for (start, c) in [(true, v0), (false, v1)] {
+        if clamped(surface.knots_v(), surface.degree_v(), start) && nu == n {
+            let j = if start { 0 } else { nv - 1 };
+            candidates.push((1, c, Box::new(move |i| (*grid.get(i, j), w(i, j)))));
+        }
+    }
+    for (start, c) in [(true, u0), (false, u1)] {
+        if clamped(surface.knots_u(), surface.degree_u(), start) && nv == n {
+            let i = if start { 0 } else { nu - 1 };
+            candidates.push((0, c, Box::new(move |j| (*grid.get(i, j), w(i, j)))));
+        }
+    }
+    let tol = 1e-12 * size;
+    for (fixed, c, row) in candidates {
+        let free = 1 - fixed;
+        let (degree, knots) = if free == 0 {
+            (surface.degree_u(), surface.knots_u())
+        } else {
+            (surface.degree_v(), surface.knots_v())
+        };
+        if curve.degree() != degree || curve.knots().len() != knots.len() {
+            continue;
+        }
+        for reversed in [false, true] {
+            let at = |k: usize| row(if reversed { n - 1 - k } else { k });
+            let ratio = curve.weight(0) / at(0).1;
+            let same = (0..n).all(|k| {
+                let (q, wq) = at(k);
+                dist(poles[k], q) <= tol && (curve.weight(k) - ratio * wq).abs() <= 1e-12 * ratio
+            });
+            if !same {
+                continue;
+            }
+            // t = alpha s + beta, s the surface parameter (mirrored when reversed).
+            let m = knots.len() - 1;
+            let s_of = |k: usize| if reversed { knots[m - k] } else { knots[k] };
+            let t = curve.knots();
+            let (s0, s1) = (s_of(0), s_of(m));
+            if s0 == s1 {
+                continue;
+            }
+            let alpha = (t[m] - t[0]) / (s1 - s0);
+            let span = (t[m] - t[0]).abs();
+            let affine =
+                (0..=m).all(|k| (t[k] - (t[0] + alpha * (s_of(k) - s0))).abs() <= 1e-12 * span);
+            if !affine || !alpha.is_finite() || alpha == 0.0 {
+                continue;
+            }
+            let s = |x: f64| s0 + (x - t[0]) / alpha;
+            let point = |x: f64| {
+                let mut q = [0.0; 3];
+                q[fixed] = c;
+                q[free] = s(x);
+                q
+            };
+            return NurbsCurve::with_dimension(
+                1,
+                vec![a, a, b, b],
+                vec![point(a), point(b)],
+                None,
+                2,
+            )
+            .ok();
+        }
+    }
+    None
 }
 
 #[cfg(test)]
