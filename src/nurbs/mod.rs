@@ -52,6 +52,7 @@ pub mod coons;
 pub mod curve;
 pub mod derivatives;
 pub mod differential;
+mod double_double;
 pub mod elevate;
 mod error;
 pub mod fit;
