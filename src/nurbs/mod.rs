@@ -59,6 +59,7 @@ pub mod fit;
 pub mod grid;
 pub mod insert;
 mod kernels;
+pub mod knot_intervals;
 pub mod knots;
 pub mod layout;
 pub mod measure;

@@ -503,8 +503,14 @@ operation_request!(
 operation_request!(
     /// `POST /v1/refine`.
     RefineRequest {
-        /// The knots to insert (A5.4; a value given twice is inserted twice).
-        knots: Vec<f64>,
+        /// The knots to insert (A5.4; a value given twice is inserted twice). Give `knots`
+        /// or `halve`.
+        #[serde(default)]
+        knots: Option<Vec<f64>>,
+        /// Interval halving (seed 003): insert the midpoint of every non-degenerate knot
+        /// span of the domain; surfaces may use `direction: both`.
+        #[serde(default)]
+        halve: bool,
         /// Surface direction: `u` or `v` (required for surfaces).
         #[serde(default)]
         direction: DirectionName,
@@ -669,10 +675,19 @@ plain_operation!(InsertKnotRequest, |r| Ok(Operation::InsertKnot {
     times: r.times,
     direction: r.direction.into(),
 }));
-plain_operation!(RefineRequest, |r| Ok(Operation::Refine {
-    knots: r.knots.clone(),
-    direction: r.direction.into(),
-}));
+plain_operation!(RefineRequest, |r| match (&r.knots, r.halve) {
+    (Some(knots), false) => Ok(Operation::Refine {
+        knots: knots.clone(),
+        direction: r.direction.into(),
+    }),
+    (None, true) => Ok(Operation::Halve {
+        direction: r.direction.into(),
+    }),
+    _ => Err(ApiError::bad_request(
+        "refine.arguments",
+        "give either `knots` or `halve: true` (exactly one)",
+    )),
+});
 plain_operation!(ReduceRequest, |r| Ok(Operation::Reduce {
     tolerance: r.tolerance,
     direction: r.direction.into(),
