@@ -25,12 +25,12 @@
 //! that no knot is lost; they are zero for a clamped curve. The knots come back as the sums
 //! `u_0 = origin`, `u_{i+1} = u_i + (interval i)`, left to right, in `f64`.
 //!
-//! Each interval is the rounded difference `u_{i+1} - u_i`, or the neighbouring `f64` when
-//! the rounded difference does not sum back to `u_{i+1}` (which happens when the difference
-//! rounds at a tie). For knots that are all `>= 0` (every knot vector starting at 0) an
-//! interval that sums back always exists, so knots -> intervals -> knots is bit-identical;
-//! for knots below 0 it is bit-identical when such an interval exists, and otherwise off by
-//! the rounding of one sum per knot.
+//! Each interval is the rounded difference `u_{i+1} - u_i`. The sum `u_i + d_i` gives
+//! `u_{i+1}` back bit for bit except when the difference rounded at a tie and so does the
+//! sum (a contrived case: `2^-53` followed by `1 + 2^-52`, where every `f64` sum from
+//! `2^-53` in that binade lands on a tie, so no interval reaches the knot).
+//! [`KnotIntervals::inexact_knot`] finds such a knot; model JSON refuses to write a curve
+//! that has one in knot-interval form rather than move its knot.
 
 use super::{GeometryError, NurbsCurve, NurbsSurface};
 
@@ -45,40 +45,11 @@ pub struct KnotIntervals {
     pub intervals: Vec<f64>,
 }
 
-/// The largest `f64` below `x`, for `x > 0`; `x` itself otherwise (the caller only steps
-/// within the positive numbers).
-fn step_down(x: f64) -> f64 {
-    if x > 0.0 {
-        f64::from_bits(x.to_bits() - 1)
-    } else {
-        x
-    }
-}
-
-/// The smallest `f64` above `x`, for finite `x >= 0`.
-fn step_up(x: f64) -> f64 {
-    if x >= 0.0 && x < f64::MAX {
-        f64::from_bits(x.abs().to_bits() + 1)
-    } else {
-        x
-    }
-}
-
-/// The interval from `a` to `b >= a`: the rounded difference, or its neighbour when only
-/// that one sums back to `b` exactly.
-fn interval(a: f64, b: f64) -> f64 {
-    let d = b - a;
-    [d, step_up(d), step_down(d)]
-        .into_iter()
-        .find(|&e| a + e == b && e >= 0.0)
-        .unwrap_or(d)
-}
-
 impl KnotIntervals {
     /// The knot-interval form of a valid knot vector (non-decreasing, finite, at least two
     /// knots more than the degree, as every curve's and surface's knot vector is).
     pub fn from_knots(knots: &[f64]) -> KnotIntervals {
-        let all: Vec<f64> = knots.windows(2).map(|w| interval(w[0], w[1])).collect();
+        let all: Vec<f64> = knots.windows(2).map(|w| w[1] - w[0]).collect();
         let last = all.len().saturating_sub(1);
         KnotIntervals {
             origin: knots.first().copied().unwrap_or(0.0),
@@ -138,6 +109,19 @@ impl KnotIntervals {
             knots.push(u);
         }
         Ok(knots)
+    }
+
+    /// The first knot of `knots` (the vector this form was made from) that
+    /// [`to_knots`](Self::to_knots) does not give back bit for bit, if any.
+    pub fn inexact_knot(&self, knots: &[f64]) -> Option<usize> {
+        match self.to_knots() {
+            Ok(back) => back
+                .iter()
+                .zip(knots)
+                .position(|(a, b)| a.to_bits() != b.to_bits())
+                .or((back.len() != knots.len()).then_some(back.len().min(knots.len()))),
+            Err(_) => Some(0),
+        }
     }
 
     /// How many of [`intervals`](Self::intervals) are phantom intervals at each end for

@@ -159,15 +159,26 @@ impl TryFrom<RawSurface> for NurbsSurface {
 
 impl RawCurve {
     /// The JSON form of `c`, its knots as a knot vector or in knot-interval form.
-    fn of(c: &NurbsCurve, intervals: bool) -> Self {
+    ///
+    /// Errors when a knot cannot be written exactly as an interval (see
+    /// [`KnotIntervals`]: no `f64` interval sums from the previous knot to it).
+    fn of(c: &NurbsCurve, intervals: bool) -> Result<Self, String> {
         let (knots, knot_origin, outer_knot_intervals, knot_intervals) = if intervals {
             let k = c.knot_intervals();
+            if let Some(i) = k.inexact_knot(c.knots()) {
+                return Err(format!(
+                    "knot[{i}] = {:e} is not the sum of knot[{}] and any f64 interval; \
+                     write this curve with its knot vector",
+                    c.knots()[i],
+                    i - 1
+                ));
+            }
             let outer = (k.outer != [0.0, 0.0]).then_some(k.outer);
             (None, Some(k.origin), outer, Some(k.intervals))
         } else {
             (Some(c.knots().to_vec()), None, None, None)
         };
-        RawCurve {
+        Ok(RawCurve {
             degree: c.degree(),
             knots,
             knot_origin,
@@ -179,7 +190,7 @@ impl RawCurve {
                 .map(|p| to_coords(p, c.dimension()))
                 .collect(),
             weights: c.weights().map(<[f64]>::to_vec),
-        }
+        })
     }
 }
 
@@ -208,7 +219,9 @@ impl From<&NurbsSurface> for RawSurface {
 
 impl Serialize for NurbsCurve {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        RawCurve::of(self, false).serialize(s)
+        RawCurve::of(self, false)
+            .map_err(serde::ser::Error::custom)?
+            .serialize(s)
     }
 }
 
@@ -221,7 +234,9 @@ pub struct KnotIntervalForm<'a>(pub &'a Geometry);
 impl Serialize for KnotIntervalForm<'_> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self.0 {
-            Geometry::Curve(c) => RawCurve::of(c, true).serialize(s),
+            Geometry::Curve(c) => RawCurve::of(c, true)
+                .map_err(serde::ser::Error::custom)?
+                .serialize(s),
             Geometry::Surface(f) => f.serialize(s),
         }
     }
