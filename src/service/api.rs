@@ -964,4 +964,45 @@ impl MeasureRequest {
     }
 }
 
+/// One input of `POST /v1/compare`: model JSON or a STEP/IGES file's text.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompareInput {
+    /// Model JSON.
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<Box<RawValue>>,
+    /// A STEP or IGES file's text.
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+}
+
+/// `POST /v1/compare`: the Hausdorff distance between the geometry of two inputs, as
+/// `nurbsx compare --json` prints it.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompareRequest {
+    /// The first input; distances are in its length unit.
+    pub first: CompareInput,
+    /// The second input, read in the first one's length unit.
+    pub second: CompareInput,
+    /// A tolerance (model units of `first`): the reply says whether the distance is
+    /// within it.
+    pub tolerance: Option<f64>,
+}
+
+impl CompareRequest {
+    /// The two inputs and the checked tolerance.
+    pub fn parts(self) -> Result<(Input, Input, Option<f64>), ApiError> {
+        if let Some(t) = self.tolerance.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+            return Err(ApiError::bad_request(
+                "compare.tolerance",
+                format!("tolerance {t} must be a finite number >= 0"),
+            ));
+        }
+        let input = |i: CompareInput| Input::from_fields(i.geometry, i.file, i.format);
+        Ok((input(self.first)?, input(self.second)?, self.tolerance))
+    }
+}
+
 // --- end of measure ---
