@@ -366,8 +366,9 @@ fn exact_point(c: &NurbsCurve, t: f64) -> [num_rational::BigRational; 3] {
             let i = j + l - p;
             let a = (&tq - &u[i]) / (&u[i + p + 1 - r] - &u[i]);
             let one_minus = Q::from_integer(1.into()) - &a;
-            for k in 0..4 {
-                d[j][k] = &one_minus * &d[j - 1][k] + &a * &d[j][k];
+            let prev = d[j - 1].clone();
+            for (x, y) in d[j].iter_mut().zip(&prev) {
+                *x = &one_minus * y + &a * &*x;
             }
         }
     }

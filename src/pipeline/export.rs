@@ -84,17 +84,21 @@ mod tests {
             let doc = load(input.as_bytes(), Some(InputKind::Json), &settings)
                 .unwrap()
                 .document;
-            let text = write_as(&doc, InputKind::Json, &ExportOptions::default()).unwrap();
-            // One entity: a single object; several: an array.
-            assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");
-            let again = load(text.as_bytes(), None, &settings).unwrap().document;
-            let geometries = |d: &Document| {
-                d.entities
-                    .iter()
-                    .map(|e| e.geometry.clone())
-                    .collect::<Vec<_>>()
-            };
-            assert_eq!(geometries(&doc), geometries(&again));
+            for form in [KnotForm::Vector, KnotForm::Intervals] {
+                let text =
+                    write_as(&doc, InputKind::Json, &ExportOptions::default(), form).unwrap();
+                // One entity: a single object; several: an array.
+                assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");
+                assert_eq!(text.contains("knot_intervals"), form == KnotForm::Intervals);
+                let again = load(text.as_bytes(), None, &settings).unwrap().document;
+                let geometries = |d: &Document| {
+                    d.entities
+                        .iter()
+                        .map(|e| e.geometry.clone())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(geometries(&doc), geometries(&again));
+            }
         }
     }
 }
