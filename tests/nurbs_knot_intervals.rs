@@ -125,6 +125,50 @@ fn quadratic_halving_matches_the_seed_formula() {
     assert_eq!(checked, 4, "edges P1P2 .. P4P5 are inside the domain");
 }
 
+/// Against geomdl 5.4.0: the same halving done by its single knot insertion
+/// (`operations.insert_knot`, one midpoint at a time; written by
+/// `tests/data/knot_intervals/make_geomdl_halving.py`): same knots, poles and weights to
+/// 1e-14 of the size.
+#[test]
+fn halving_matches_geomdl_knot_insertion() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/knot_intervals/geomdl_halving.json"
+    );
+    let reference: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let cases = reference["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 2);
+    for case in cases {
+        let name = case["name"].as_str().unwrap();
+        let c: NurbsCurve = serde_json::from_value(case["curve"].clone()).unwrap();
+        let want: NurbsCurve = serde_json::from_value(case["halved"].clone()).unwrap();
+        let h = c.halve().unwrap();
+        assert_eq!(h.knots(), want.knots(), "{name}");
+        let size = bbox_diagonal(c.control_points());
+        for (i, (p, q)) in h
+            .control_points()
+            .iter()
+            .zip(want.control_points())
+            .enumerate()
+        {
+            assert!(
+                common::dist(*p, *q) <= 1e-14 * size,
+                "{name}: pole {i} {p:?} vs {q:?}"
+            );
+            assert!(
+                (h.weight(i) - want.weight(i)).abs() <= 1e-14,
+                "{name}: weight {i}"
+            );
+        }
+        assert_eq!(
+            h.control_points().len(),
+            want.control_points().len(),
+            "{name}"
+        );
+    }
+}
+
 #[test]
 fn knot_interval_json_writes_and_reads_the_seed_example() {
     let c = seed_cubic();
