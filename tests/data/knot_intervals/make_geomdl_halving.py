@@ -27,23 +27,21 @@ def halve(curve):
     return mids
 
 
+def as_json(curve, rational):
+    out = {
+        "degree": curve.degree,
+        "knots": list(curve.knotvector),
+        "control_points": [list(p) for p in curve.ctrlpts],
+    }
+    if rational:
+        out["weights"] = list(curve.weights)
+    return out
+
+
 def case(name, curve, rational):
-    before = {
-        "degree": curve.degree,
-        "knots": list(curve.knotvector),
-        "control_points": [list(p) for p in curve.ctrlpts],
-    }
-    if rational:
-        before["weights"] = list(curve.weights)
+    before = as_json(curve, rational)
     mids = halve(curve)
-    after = {
-        "degree": curve.degree,
-        "knots": list(curve.knotvector),
-        "control_points": [list(p) for p in curve.ctrlpts],
-    }
-    if rational:
-        after["weights"] = list(curve.weights)
-    return {"name": name, "curve": before, "midpoints": mids, "halved": after}
+    return {"name": name, "curve": before, "midpoints": mids, "halved": as_json(curve, rational)}
 
 
 def main():
