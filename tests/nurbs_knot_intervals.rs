@@ -277,6 +277,18 @@ fn a_knot_no_interval_reaches_is_refused_when_writing() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("knot[3]"), "{e}");
+    // A difference that overflows: refused too, never a panic.
+    let wide = NurbsCurve::new(
+        1,
+        vec![-1.5e308, -1.5e308, 1.5e308, 1.5e308],
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
+        None,
+    )
+    .unwrap();
+    let e = serde_json::to_string(&KnotIntervalForm(&Geometry::Curve(wide)))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("knot-interval form"), "{e}");
     // Differences that are not exact in f64 still sum back.
     let knots = vec![0.0, 0.1, 0.3, 0.7, 1.1, 1.3];
     assert_ne!(0.7 - 0.3, 0.4);

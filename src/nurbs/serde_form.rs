@@ -167,10 +167,10 @@ impl RawCurve {
             let k = c.knot_intervals();
             if let Some(i) = k.inexact_knot(c.knots()) {
                 return Err(format!(
-                    "knot[{i}] = {:e} is not the sum of knot[{}] and any f64 interval; \
-                     write this curve with its knot vector",
-                    c.knots()[i],
-                    i - 1
+                    "knot[{i}] = {:e} does not come back from knot-interval form (no f64 \
+                     difference from the previous knot sums back to it, or the difference \
+                     overflows); write this curve with its knot vector",
+                    c.knots().get(i).copied().unwrap_or(f64::NAN)
                 ));
             }
             let outer = (k.outer != [0.0, 0.0]).then_some(k.outer);
