@@ -1058,6 +1058,62 @@ fn shape_preserving_operations_keep_the_circle() {
 }
 
 #[test]
+fn refine_halve_writes_knot_intervals_and_keeps_the_circle() {
+    let dir = temp_dir("halve");
+    let circle = data("circle.json");
+    let out = dir.join("halved.json");
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--halve",
+        "--knot-intervals",
+    ]);
+    assert_exit(&o, 0);
+    // Knots [0,0,0,.125,.25,.25,.375,.5,.5,.625,.75,.75,.875,1,1,1] in knot-interval form:
+    // the differences without the outermost ones (zero: clamped), origin 0.
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let h = 0.125;
+    assert_eq!(
+        v["knot_intervals"],
+        serde_json::json!([0.0, h, h, 0.0, h, h, 0.0, h, h, 0.0, h, h, 0.0])
+    );
+    assert_eq!(v["knot_origin"], serde_json::json!(0.0));
+    assert!(v.get("knots").is_none(), "{v}");
+    let params: Vec<f64> = (0..=32).map(|i| f64::from(i) / 32.0).collect();
+    for (p, q) in eval_points(&circle, None, &params)
+        .iter()
+        .zip(&eval_points(&out, None, &params))
+    {
+        assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+    }
+    // --halve and --knots exclude each other; knot intervals are a model JSON form.
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--halve",
+        "--knots",
+        "0.5",
+    ]);
+    assert_exit(&o, 2);
+    let step = dir.join("halved.step");
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        step.to_str().unwrap(),
+        "--halve",
+        "--knot-intervals",
+    ]);
+    assert_exit(&o, 2);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--knot-intervals"));
+}
+
+#[test]
 fn tessellate_puts_obj_vertices_on_the_circle() {
     let dir = temp_dir("tess");
     let out = dir.join("circle.obj");
