@@ -1948,7 +1948,8 @@ fn sarif_names_the_tool_honestly_and_describes_its_rules() {
     ]);
     let doc = json(&o);
     let driver = &doc["runs"][0]["tool"]["driver"];
-    // Cargo.toml's repository is a placeholder: no made-up home page.
+    // informationUri is Cargo.toml's `repository` when one is set (none while the project
+    // has no public home), never a made-up home page.
     let repo = env!("CARGO_PKG_REPOSITORY");
     match driver.get("informationUri") {
         Some(uri) => {
@@ -2221,9 +2222,21 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     let tags = check_xml(&text);
     assert_eq!(tags[0].0, "svg");
     assert!(text.contains("isometric view"));
-    // One label per entity drawn, and a scale bar in the file's unit.
+    // One label per entity seen, a caption counting the entities hidden behind faces (the
+    // box's back faces and edges), and a scale bar in the file's unit.
     let labels = tags.iter().filter(|(n, _)| n == "text").count();
-    assert_eq!(labels, 74 + 2, "74 labels, the title and the scale");
+    let hidden: usize = text
+        .split(" hidden entities not labelled</text>")
+        .next()
+        .and_then(|h| h.rsplit('>').next())
+        .and_then(|n| n.parse().ok())
+        .expect("a caption counting the hidden entities");
+    assert!(hidden > 0 && hidden < 74, "{hidden} hidden");
+    assert_eq!(
+        labels,
+        (74 - hidden) + 3,
+        "a label per visible entity, the caption, the title and the scale"
+    );
     assert!(text.contains(" mm</text>"), "scale bar in mm");
     // One palette colour per entity (26 surfaces cycle through all 10 of Tableau 10):
     // shading scales a colour, so each fill points in the direction of its palette entry.
@@ -2479,6 +2492,139 @@ fn colour_is_on_by_default_on_a_terminal_only() {
     assert!(!shown.contains(esc), "--color never: {shown:?}");
     let shown = on_terminal(&format!("{BIN} help convert"), &[]);
     assert!(shown.contains(esc), "coloured help: {shown:?}");
+}
+
+/// A `w` x `w` square at height `z` with its corner at (`x`, `x`), made by `nurbsx make`
+/// (a line extruded), as model JSON.
+fn square(dir: &Path, name: &str, x: f64, z: f64, w: f64) -> Value {
+    let line = dir.join(format!("{name}-line.json"));
+    let surface = dir.join(format!("{name}.json"));
+    let o = nurbsx([
+        "make",
+        "line",
+        "--p0",
+        &format!("{x},{x},{z}"),
+        "--p1",
+        &format!("{},{x},{z}", x + w),
+        "-o",
+        line.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    let o = nurbsx([
+        "make",
+        "extrude",
+        line.to_str().unwrap(),
+        "--direction",
+        &format!("0,{w},0"),
+        "-o",
+        surface.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    serde_json::from_str(&std::fs::read_to_string(&surface).unwrap()).unwrap()
+}
+
+/// The labels of an SVG picture: (text, anchor x, anchor y) of the text elements that are
+/// not the title, the scale or a caption.
+fn picture_labels(svg: &str) -> Vec<(String, f64, f64)> {
+    let attr = |s: &str, name: &str| -> f64 {
+        s.split(&format!(" {name}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    svg.split("<text")
+        .skip(1)
+        .filter(|t| t.contains("paint-order"))
+        .map(|t| {
+            let body = t.split('>').nth(1).unwrap().split('<').next().unwrap();
+            (body.to_string(), attr(t, "x"), attr(t, "y"))
+        })
+        .collect()
+}
+
+/// The fill of the last-drawn polygon (painter's order: the one seen) that covers (x, y).
+fn fill_seen_at(svg: &str, x: f64, y: f64) -> Option<[f64; 3]> {
+    let mut seen = None;
+    for p in svg.split("<polygon").skip(1) {
+        let corners: Vec<(f64, f64)> = p
+            .split("points=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|xy| {
+                let (a, b) = xy.split_once(',').unwrap();
+                (a.parse().unwrap(), b.parse().unwrap())
+            })
+            .collect();
+        let side = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
+        let s: Vec<f64> = (0..3)
+            .map(|k| side(corners[k], corners[(k + 1) % 3]))
+            .collect();
+        if s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0) {
+            let rgb = p
+                .split("fill=\"rgb(")
+                .nth(1)
+                .unwrap()
+                .split(')')
+                .next()
+                .unwrap();
+            let c: Vec<f64> = rgb.split(',').map(|v| v.parse().unwrap()).collect();
+            seen = Some([c[0], c[1], c[2]]);
+        }
+    }
+    seen
+}
+
+#[test]
+fn pictures_label_only_what_is_seen() {
+    let dir = temp_dir("hidden-labels");
+    let small = square(&dir, "small", 0.0, 0.0, 1.0);
+    // Seen along -(1, 1, 1), the big square one unit above covers the small one entirely:
+    // a point (x, y, 0) projects where (x + 1, y + 1, 1) does.
+    let over = square(&dir, "over", -5.0, 1.0, 10.0);
+    let under = square(&dir, "under", -5.0, -1.0, 10.0);
+    let picture = |name: &str, pair: [&Value; 2]| {
+        let set = dir.join(format!("{name}.json"));
+        std::fs::write(&set, serde_json::to_string(&pair).unwrap()).unwrap();
+        let svg = dir.join(format!("{name}.svg"));
+        let o = tessellate_to(&set, &svg, "0.01");
+        assert_exit(&o, 0);
+        std::fs::read_to_string(&svg).unwrap()
+    };
+    // Entity 0 (blue, the first palette colour) hidden under entity 1 (orange).
+    let text = picture("covered", [&small, &over]);
+    assert!(text.contains("isometric view"), "{text}");
+    let labels = picture_labels(&text);
+    let names: Vec<&str> = labels.iter().map(|l| l.0.as_str()).collect();
+    assert_eq!(names, ["1"], "only the front square is labelled");
+    assert!(
+        text.contains(">1 hidden entity not labelled</text>"),
+        "{text}"
+    );
+    // The small square in front of the big one: both seen, each label on its own colour
+    // (the big square's label not over the small one), and no caption.
+    let text = picture("in_front", [&small, &under]);
+    let labels = picture_labels(&text);
+    assert_eq!(labels.len(), 2, "{labels:?}");
+    assert!(!text.contains("hidden entit"));
+    let orange = [255.0, 127.0, 14.0];
+    let blue = [31.0, 119.0, 180.0];
+    for (name, x, y) in &labels {
+        // The label's text starts 3 px right of and 3 px above its point.
+        let fill = fill_seen_at(&text, x - 3.0, y + 3.0).unwrap();
+        let want = if name == "0" { blue } else { orange };
+        let cos = (0..3).map(|k| fill[k] * want[k]).sum::<f64>()
+            / ((0..3).map(|k| fill[k] * fill[k]).sum::<f64>().sqrt()
+                * (0..3).map(|k| want[k] * want[k]).sum::<f64>().sqrt());
+        assert!(cos > 0.999, "label {name} sits on {fill:?}");
+    }
 }
 
 #[test]
