@@ -2253,26 +2253,11 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
         [23.0, 190.0, 207.0],
     ];
     let mut used = std::collections::BTreeSet::new();
-    for fill in text.split("<polygon").skip(1).map(|p| {
-        let rgb = p
-            .split("fill=\"rgb(")
-            .nth(1)
-            .unwrap()
-            .split(')')
-            .next()
-            .unwrap();
-        let c: Vec<f64> = rgb.split(',').map(|x| x.parse().unwrap()).collect();
-        c
-    }) {
-        let cos = |q: &[f64; 3]| {
-            let d: f64 = (0..3).map(|k| fill[k] * q[k]).sum();
-            let n = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            d / (n(&fill) * n(q))
-        };
+    for fill in text.split("<polygon").skip(1).map(polygon_fill) {
         let (best, c) = palette
             .iter()
             .enumerate()
-            .map(|(i, q)| (i, cos(q)))
+            .map(|(i, q)| (i, cosine(fill, *q)))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap();
         assert!(
@@ -2298,22 +2283,12 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&curves).unwrap();
     assert!(text.contains("top view (XY)"), "{text}");
-    let attr = |s: &str, name: &str| -> f64 {
-        s.split(&format!("{name}=\""))
-            .nth(1)
-            .unwrap()
-            .split('"')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
-    let (width, height) = (attr(&text, "width"), attr(&text, "height"));
+    let (width, height) = (svg_attr(&text, "width"), svg_attr(&text, "height"));
     assert!(text.contains(&format!("viewBox=\"0 0 {width} {height}\"")));
     let segments: Vec<[f64; 4]> = text
         .split("<line ")
         .skip(1)
-        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| attr(l, n)))
+        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| svg_attr(l, n)))
         .collect();
     assert!(
         segments.len() > 70,
@@ -2523,27 +2498,49 @@ fn square(dir: &Path, name: &str, x: f64, z: f64, w: f64) -> Value {
     serde_json::from_str(&std::fs::read_to_string(&surface).unwrap()).unwrap()
 }
 
+/// The number in attribute `name` of the first element in `s` that has one.
+fn svg_attr(s: &str, name: &str) -> f64 {
+    s.split(&format!("{name}=\""))
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
 /// The labels of an SVG picture: (text, anchor x, anchor y) of the text elements that are
 /// not the title, the scale or a caption.
 fn picture_labels(svg: &str) -> Vec<(String, f64, f64)> {
-    let attr = |s: &str, name: &str| -> f64 {
-        s.split(&format!(" {name}=\""))
-            .nth(1)
-            .unwrap()
-            .split('"')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
     svg.split("<text")
         .skip(1)
         .filter(|t| t.contains("paint-order"))
         .map(|t| {
             let body = t.split('>').nth(1).unwrap().split('<').next().unwrap();
-            (body.to_string(), attr(t, "x"), attr(t, "y"))
+            (body.to_string(), svg_attr(t, "x"), svg_attr(t, "y"))
         })
         .collect()
+}
+
+/// The `fill="rgb(r,g,b)"` of an SVG polygon element's text.
+fn polygon_fill(p: &str) -> [f64; 3] {
+    let rgb = p
+        .split("fill=\"rgb(")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
+    let c: Vec<f64> = rgb.split(',').map(|v| v.parse().unwrap()).collect();
+    [c[0], c[1], c[2]]
+}
+
+/// The cosine of the angle between two colours as vectors: a shade of a colour (the colour
+/// scaled) has cosine 1 with it.
+fn cosine(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let n = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (0..3).map(|k| a[k] * b[k]).sum::<f64>() / (n(a) * n(b))
 }
 
 /// The fill of the last-drawn polygon (painter's order: the one seen) that covers (x, y).
@@ -2568,15 +2565,7 @@ fn fill_seen_at(svg: &str, x: f64, y: f64) -> Option<[f64; 3]> {
             .map(|k| side(corners[k], corners[(k + 1) % 3]))
             .collect();
         if s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0) {
-            let rgb = p
-                .split("fill=\"rgb(")
-                .nth(1)
-                .unwrap()
-                .split(')')
-                .next()
-                .unwrap();
-            let c: Vec<f64> = rgb.split(',').map(|v| v.parse().unwrap()).collect();
-            seen = Some([c[0], c[1], c[2]]);
+            seen = Some(polygon_fill(p));
         }
     }
     seen
@@ -2620,10 +2609,7 @@ fn pictures_label_only_what_is_seen() {
         // The label's text starts 3 px right of and 3 px above its point.
         let fill = fill_seen_at(&text, x - 3.0, y + 3.0).unwrap();
         let want = if name == "0" { blue } else { orange };
-        let cos = (0..3).map(|k| fill[k] * want[k]).sum::<f64>()
-            / ((0..3).map(|k| fill[k] * fill[k]).sum::<f64>().sqrt()
-                * (0..3).map(|k| want[k] * want[k]).sum::<f64>().sqrt());
-        assert!(cos > 0.999, "label {name} sits on {fill:?}");
+        assert!(cosine(fill, want) > 0.999, "label {name} sits on {fill:?}");
     }
 }
 
@@ -2639,26 +2625,8 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
     let o = tessellate_to(&sphere, &svg, "0.01");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&svg).unwrap();
-    let height: f64 = text
-        .split("height=\"")
-        .nth(1)
-        .unwrap()
-        .split('"')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let height = svg_attr(&text, "height");
     let (cx, cy) = (400.0, height / 2.0);
-    let attr = |s: &str, name: &str| -> f64 {
-        s.split(&format!("{name}=\""))
-            .nth(1)
-            .unwrap()
-            .split('"')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
     let outline: Vec<&str> = text
         .split("<line ")
         .skip(1)
@@ -2667,8 +2635,8 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
     assert!(outline.len() > 40, "{} outline segments", outline.len());
     for l in &outline {
         for (x, y) in [
-            (attr(l, "x1"), attr(l, "y1")),
-            (attr(l, "x2"), attr(l, "y2")),
+            (svg_attr(l, "x1"), svg_attr(l, "y1")),
+            (svg_attr(l, "x2"), svg_attr(l, "y2")),
         ] {
             let r = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
             assert!(
