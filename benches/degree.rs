@@ -1,5 +1,6 @@
 //! Degree elevation and reduction timings: a rational bicubic 20x20 surface elevated 3 -> 5
-//! in both directions (A5.10), and curve elevation / reduction (A5.9, A5.11).
+//! in both directions (A5.10), and curve elevation / reduction (A5.9, A5.11); curve
+//! tessellation of a curved rational cubic and of a degree-1 polyline.
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 use criterion::{Criterion, black_box, criterion_group, criterion_main};
@@ -52,6 +53,17 @@ fn bench(c: &mut Criterion) {
     c.bench_function("curve 200 poles rational cubic tessellate 1e-3", |b| {
         b.iter(|| black_box(&cv).tessellate(1e-3).unwrap())
     });
+    let zigzag = NurbsCurve::new(
+        1,
+        knots(1, 200),
+        (0..200).map(|i| [i as f64, (i % 2) as f64, 0.0]).collect(),
+        None,
+    )
+    .unwrap();
+    c.bench_function(
+        "curve 200-vertex polyline (degree 1) tessellate 1e-3",
+        |b| b.iter(|| black_box(&zigzag).tessellate(1e-3).unwrap()),
+    );
 }
 
 criterion_group! {

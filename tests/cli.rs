@@ -1058,6 +1058,62 @@ fn shape_preserving_operations_keep_the_circle() {
 }
 
 #[test]
+fn refine_halve_writes_knot_intervals_and_keeps_the_circle() {
+    let dir = temp_dir("halve");
+    let circle = data("circle.json");
+    let out = dir.join("halved.json");
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--halve",
+        "--knot-intervals",
+    ]);
+    assert_exit(&o, 0);
+    // Knots [0,0,0,.125,.25,.25,.375,.5,.5,.625,.75,.75,.875,1,1,1] in knot-interval form:
+    // the differences without the outermost ones (zero: clamped), origin 0.
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let h = 0.125;
+    assert_eq!(
+        v["knot_intervals"],
+        serde_json::json!([0.0, h, h, 0.0, h, h, 0.0, h, h, 0.0, h, h, 0.0])
+    );
+    assert_eq!(v["knot_origin"], serde_json::json!(0.0));
+    assert!(v.get("knots").is_none(), "{v}");
+    let params: Vec<f64> = (0..=32).map(|i| f64::from(i) / 32.0).collect();
+    for (p, q) in eval_points(&circle, None, &params)
+        .iter()
+        .zip(&eval_points(&out, None, &params))
+    {
+        assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+    }
+    // --halve and --knots exclude each other; knot intervals are a model JSON form.
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--halve",
+        "--knots",
+        "0.5",
+    ]);
+    assert_exit(&o, 2);
+    let step = dir.join("halved.step");
+    let o = nurbsx([
+        "refine",
+        circle.to_str().unwrap(),
+        "-o",
+        step.to_str().unwrap(),
+        "--halve",
+        "--knot-intervals",
+    ]);
+    assert_exit(&o, 2);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--knot-intervals"));
+}
+
+#[test]
 fn tessellate_puts_obj_vertices_on_the_circle() {
     let dir = temp_dir("tess");
     let out = dir.join("circle.obj");
@@ -1948,7 +2004,8 @@ fn sarif_names_the_tool_honestly_and_describes_its_rules() {
     ]);
     let doc = json(&o);
     let driver = &doc["runs"][0]["tool"]["driver"];
-    // Cargo.toml's repository is a placeholder: no made-up home page.
+    // informationUri is Cargo.toml's `repository` when one is set (none while the project
+    // has no public home), never a made-up home page.
     let repo = env!("CARGO_PKG_REPOSITORY");
     match driver.get("informationUri") {
         Some(uri) => {
@@ -2221,9 +2278,21 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     let tags = check_xml(&text);
     assert_eq!(tags[0].0, "svg");
     assert!(text.contains("isometric view"));
-    // One label per entity drawn, and a scale bar in the file's unit.
+    // One label per entity seen, a caption counting the entities hidden behind faces (the
+    // box's back faces and edges), and a scale bar in the file's unit.
     let labels = tags.iter().filter(|(n, _)| n == "text").count();
-    assert_eq!(labels, 74 + 2, "74 labels, the title and the scale");
+    let hidden: usize = text
+        .split(" hidden entities not labelled</text>")
+        .next()
+        .and_then(|h| h.rsplit('>').next())
+        .and_then(|n| n.parse().ok())
+        .expect("a caption counting the hidden entities");
+    assert!(hidden > 0 && hidden < 74, "{hidden} hidden");
+    assert_eq!(
+        labels,
+        (74 - hidden) + 3,
+        "a label per visible entity, the caption, the title and the scale"
+    );
     assert!(text.contains(" mm</text>"), "scale bar in mm");
     // One palette colour per entity (26 surfaces cycle through all 10 of Tableau 10):
     // shading scales a colour, so each fill points in the direction of its palette entry.
@@ -2240,26 +2309,11 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
         [23.0, 190.0, 207.0],
     ];
     let mut used = std::collections::BTreeSet::new();
-    for fill in text.split("<polygon").skip(1).map(|p| {
-        let rgb = p
-            .split("fill=\"rgb(")
-            .nth(1)
-            .unwrap()
-            .split(')')
-            .next()
-            .unwrap();
-        let c: Vec<f64> = rgb.split(',').map(|x| x.parse().unwrap()).collect();
-        c
-    }) {
-        let cos = |q: &[f64; 3]| {
-            let d: f64 = (0..3).map(|k| fill[k] * q[k]).sum();
-            let n = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            d / (n(&fill) * n(q))
-        };
+    for fill in text.split("<polygon").skip(1).map(polygon_fill) {
         let (best, c) = palette
             .iter()
             .enumerate()
-            .map(|(i, q)| (i, cos(q)))
+            .map(|(i, q)| (i, cosine(fill, *q)))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap();
         assert!(
@@ -2285,22 +2339,12 @@ fn svg_and_png_pictures_have_a_frame_a_scale_and_labels() {
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&curves).unwrap();
     assert!(text.contains("top view (XY)"), "{text}");
-    let attr = |s: &str, name: &str| -> f64 {
-        s.split(&format!("{name}=\""))
-            .nth(1)
-            .unwrap()
-            .split('"')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
-    let (width, height) = (attr(&text, "width"), attr(&text, "height"));
+    let (width, height) = (svg_attr(&text, "width"), svg_attr(&text, "height"));
     assert!(text.contains(&format!("viewBox=\"0 0 {width} {height}\"")));
     let segments: Vec<[f64; 4]> = text
         .split("<line ")
         .skip(1)
-        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| attr(l, n)))
+        .map(|l| ["x1", "y1", "x2", "y2"].map(|n| svg_attr(l, n)))
         .collect();
     assert!(
         segments.len() > 70,
@@ -2481,6 +2525,150 @@ fn colour_is_on_by_default_on_a_terminal_only() {
     assert!(shown.contains(esc), "coloured help: {shown:?}");
 }
 
+/// A `w` x `w` square at height `z` with its corner at (`x`, `x`), made by `nurbsx make`
+/// (a line extruded), as model JSON.
+fn square(dir: &Path, name: &str, x: f64, z: f64, w: f64) -> Value {
+    let line = dir.join(format!("{name}-line.json"));
+    let surface = dir.join(format!("{name}.json"));
+    let o = nurbsx([
+        "make",
+        "line",
+        "--p0",
+        &format!("{x},{x},{z}"),
+        "--p1",
+        &format!("{},{x},{z}", x + w),
+        "-o",
+        line.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    let o = nurbsx([
+        "make",
+        "extrude",
+        line.to_str().unwrap(),
+        "--direction",
+        &format!("0,{w},0"),
+        "-o",
+        surface.to_str().unwrap(),
+    ]);
+    assert_exit(&o, 0);
+    serde_json::from_str(&std::fs::read_to_string(&surface).unwrap()).unwrap()
+}
+
+/// The number in attribute `name` of the first element in `s` that has one.
+fn svg_attr(s: &str, name: &str) -> f64 {
+    s.split(&format!("{name}=\""))
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// The labels of an SVG picture: (text, anchor x, anchor y) of the text elements that are
+/// not the title, the scale or a caption.
+fn picture_labels(svg: &str) -> Vec<(String, f64, f64)> {
+    svg.split("<text")
+        .skip(1)
+        .filter(|t| t.contains("paint-order"))
+        .map(|t| {
+            let body = t.split('>').nth(1).unwrap().split('<').next().unwrap();
+            (body.to_string(), svg_attr(t, "x"), svg_attr(t, "y"))
+        })
+        .collect()
+}
+
+/// The `fill="rgb(r,g,b)"` of an SVG polygon element's text.
+fn polygon_fill(p: &str) -> [f64; 3] {
+    let rgb = p
+        .split("fill=\"rgb(")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
+    let c: Vec<f64> = rgb.split(',').map(|v| v.parse().unwrap()).collect();
+    [c[0], c[1], c[2]]
+}
+
+/// The cosine of the angle between two colours as vectors: a shade of a colour (the colour
+/// scaled) has cosine 1 with it.
+fn cosine(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let n = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (0..3).map(|k| a[k] * b[k]).sum::<f64>() / (n(a) * n(b))
+}
+
+/// The fill of the last-drawn polygon (painter's order: the one seen) that covers (x, y).
+fn fill_seen_at(svg: &str, x: f64, y: f64) -> Option<[f64; 3]> {
+    let mut seen = None;
+    for p in svg.split("<polygon").skip(1) {
+        let corners: Vec<(f64, f64)> = p
+            .split("points=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|xy| {
+                let (a, b) = xy.split_once(',').unwrap();
+                (a.parse().unwrap(), b.parse().unwrap())
+            })
+            .collect();
+        let side = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
+        let s: Vec<f64> = (0..3)
+            .map(|k| side(corners[k], corners[(k + 1) % 3]))
+            .collect();
+        if s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0) {
+            seen = Some(polygon_fill(p));
+        }
+    }
+    seen
+}
+
+#[test]
+fn pictures_label_only_what_is_seen() {
+    let dir = temp_dir("hidden-labels");
+    let small = square(&dir, "small", 0.0, 0.0, 1.0);
+    // Seen along -(1, 1, 1), the big square one unit above covers the small one entirely:
+    // a point (x, y, 0) projects where (x + 1, y + 1, 1) does.
+    let over = square(&dir, "over", -5.0, 1.0, 10.0);
+    let under = square(&dir, "under", -5.0, -1.0, 10.0);
+    let picture = |name: &str, pair: [&Value; 2]| {
+        let set = dir.join(format!("{name}.json"));
+        std::fs::write(&set, serde_json::to_string(&pair).unwrap()).unwrap();
+        let svg = dir.join(format!("{name}.svg"));
+        let o = tessellate_to(&set, &svg, "0.01");
+        assert_exit(&o, 0);
+        std::fs::read_to_string(&svg).unwrap()
+    };
+    // Entity 0 (blue, the first palette colour) hidden under entity 1 (orange).
+    let text = picture("covered", [&small, &over]);
+    assert!(text.contains("isometric view"), "{text}");
+    let labels = picture_labels(&text);
+    let names: Vec<&str> = labels.iter().map(|l| l.0.as_str()).collect();
+    assert_eq!(names, ["1"], "only the front square is labelled");
+    assert!(
+        text.contains(">1 hidden entity not labelled</text>"),
+        "{text}"
+    );
+    // The small square in front of the big one: both seen, each label on its own colour
+    // (the big square's label not over the small one), and no caption.
+    let text = picture("in_front", [&small, &under]);
+    let labels = picture_labels(&text);
+    assert_eq!(labels.len(), 2, "{labels:?}");
+    assert!(!text.contains("hidden entit"));
+    let orange = [255.0, 127.0, 14.0];
+    let blue = [31.0, 119.0, 180.0];
+    for (name, x, y) in &labels {
+        // The label's text starts 3 px right of and 3 px above its point.
+        let fill = fill_seen_at(&text, x - 3.0, y + 3.0).unwrap();
+        let want = if name == "0" { blue } else { orange };
+        assert!(cosine(fill, want) > 0.999, "label {name} sits on {fill:?}");
+    }
+}
+
 #[test]
 fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
     // Orthographic: a sphere projects to a disc whatever the view. The picture maps the
@@ -2493,26 +2681,8 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
     let o = tessellate_to(&sphere, &svg, "0.01");
     assert_exit(&o, 0);
     let text = std::fs::read_to_string(&svg).unwrap();
-    let height: f64 = text
-        .split("height=\"")
-        .nth(1)
-        .unwrap()
-        .split('"')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let height = svg_attr(&text, "height");
     let (cx, cy) = (400.0, height / 2.0);
-    let attr = |s: &str, name: &str| -> f64 {
-        s.split(&format!("{name}=\""))
-            .nth(1)
-            .unwrap()
-            .split('"')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
     let outline: Vec<&str> = text
         .split("<line ")
         .skip(1)
@@ -2521,8 +2691,8 @@ fn the_picture_of_a_sphere_has_its_silhouette_on_the_projected_circle() {
     assert!(outline.len() > 40, "{} outline segments", outline.len());
     for l in &outline {
         for (x, y) in [
-            (attr(l, "x1"), attr(l, "y1")),
-            (attr(l, "x2"), attr(l, "y2")),
+            (svg_attr(l, "x1"), svg_attr(l, "y1")),
+            (svg_attr(l, "x2"), svg_attr(l, "y2")),
         ] {
             let r = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
             assert!(

@@ -732,7 +732,7 @@ async fn health_readiness_and_landing_page() {
 }
 
 /// Every route the router serves, with its method.
-const ROUTES: [(&str, &str); 31] = [
+const ROUTES: [(&str, &str); 32] = [
     ("post", "/v1/convert"),
     ("post", "/v1/validate"),
     ("post", "/v1/info"),
@@ -756,6 +756,7 @@ const ROUTES: [(&str, &str); 31] = [
     ("post", "/v1/make"),
     ("post", "/v1/fit"),
     ("post", "/v1/measure"),
+    ("post", "/v1/compare"),
     ("post", "/v1/tessellate"),
     ("get", "/healthz"),
     ("get", "/readyz"),
@@ -1360,6 +1361,40 @@ async fn shape_preserving_operations_keep_the_circle() {
     let refined = curve_of(&v["geometry"]);
     assert_eq!(refined.num_poles(), 12);
     same_as_circle(&refined, |s| s, 1e-12, "refine");
+
+    // Interval halving (seed 003): the circle given in knot-interval form (its knots
+    // [0,0,0,.25,.25,.5,.5,.75,.75,1,1,1]); each quarter gets its midpoint.
+    let mut given = circle();
+    let map = given.as_object_mut().unwrap();
+    map.remove("knots");
+    map.insert(
+        "knot_intervals".into(),
+        json!([0, 0.25, 0, 0.25, 0, 0.25, 0, 0.25, 0]),
+    );
+    let h = operation("/v1/refine", &json!({ "geometry": given, "halve": true })).await;
+    let halved = curve_of(&h["geometry"]);
+    assert_eq!(
+        halved.knots(),
+        [
+            0.0, 0.0, 0.0, 0.125, 0.25, 0.25, 0.375, 0.5, 0.5, 0.625, 0.75, 0.75, 0.875, 1.0, 1.0,
+            1.0
+        ]
+    );
+    same_as_circle(&halved, |s| s, 1e-12, "refine halve");
+    let (status, _, bytes) = send(
+        app(),
+        post_json(
+            "/v1/refine",
+            &json!({ "geometry": circle(), "halve": true, "knots": [0.5] }),
+        ),
+    )
+    .await;
+    assert_eq!(
+        status,
+        StatusCode::BAD_REQUEST,
+        "{}",
+        String::from_utf8_lossy(&bytes)
+    );
 
     // Knot removal takes the refined circle back to its 9 poles (the removed knots were
     // inserted, so they go within rounding).
@@ -2054,6 +2089,57 @@ async fn fit_least_squares_and_grids_with_the_residual() {
         "fit.arguments",
     )
     .await;
+}
+
+#[tokio::test]
+async fn compare_gives_the_hausdorff_distance_as_the_cli_prints_it() {
+    // The unit circle against the same circle scaled by 1.001 about its centre: every
+    // point of one is 0.001 from the other (concentric circles), in both directions.
+    let mut bigger = circle();
+    for p in bigger["control_points"].as_array_mut().unwrap() {
+        for x in p.as_array_mut().unwrap() {
+            *x = json!(x.as_f64().unwrap() * 1.001);
+        }
+    }
+    let body = json!({
+        "first": { "geometry": circle() },
+        "second": { "geometry": bigger },
+        "tolerance": 1e-4
+    });
+    let (_, bytes) = ok(app(), post_json("/v1/compare", &body)).await;
+    let v = json_of(&bytes);
+    conforms(&v, &schema_ref("CompareSummary"), &openapi().await, "$").unwrap();
+    assert!((v["distance"].as_f64().unwrap() - 1e-3).abs() < 1e-9, "{v}");
+    assert_eq!(v["within_tolerance"], false);
+    assert_eq!(v["curves"], json!([1, 1]));
+    // The same circle reparameterised (halved knots) is at distance 0: the comparison
+    // does not depend on the parameterisation.
+    let mut halved = circle();
+    halved["knots"] = json!([0, 0, 0, 0.5, 0.5, 1, 1, 1.5, 1.5, 2, 2, 2]);
+    let body = json!({
+        "first": { "geometry": circle() },
+        "second": { "geometry": halved },
+        "tolerance": 1e-12
+    });
+    let (_, bytes) = ok(app(), post_json("/v1/compare", &body)).await;
+    let v = json_of(&bytes);
+    assert!(v["distance"].as_f64().unwrap() <= 1e-12, "{v}");
+    assert_eq!(v["within_tolerance"], true);
+    // A curve against a surface only: nothing to compare (a usage error, as in the CLI);
+    // a missing input and a negative tolerance are refused.
+    for body in [
+        json!({ "first": { "geometry": circle() }, "second": { "geometry": bilinear() } }),
+        json!({ "first": { "geometry": circle() } }),
+        json!({ "first": { "geometry": circle() }, "second": { "geometry": circle() },
+                "tolerance": -1 }),
+    ] {
+        let (status, _, bytes) = send(app(), post_json("/v1/compare", &body)).await;
+        assert!(
+            status.is_client_error(),
+            "{status}: {}",
+            String::from_utf8_lossy(&bytes)
+        );
+    }
 }
 
 #[tokio::test]

@@ -210,12 +210,126 @@ fn straight_line_needs_only_its_knots_and_a_few_points() {
     )
     .unwrap();
     let pl = c.tessellate(1e-6).unwrap();
-    assert!(
-        pl.points.len() <= 12,
-        "{} points for a line",
-        pl.points.len()
-    );
+    assert_eq!(pl.params, vec![0., 1., 2.], "a line with one inner knot");
     assert!(sampled_chord_error(&c, &pl) <= 1e-6);
+}
+
+/// Largest distance from 4096 samples of the exact curve (evenly spaced in the domain, not
+/// at the polyline's parameters) to the polyline as a whole.
+fn curve_to_polyline(c: &NurbsCurve, pl: &Polyline) -> f64 {
+    let (a, b) = c.domain();
+    (0..=4096)
+        .map(|k| {
+            let x = c.point_at(a + (b - a) * f64::from(k) / 4096.0).unwrap();
+            pl.points
+                .windows(2)
+                .map(|w| point_segment_distance(x, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_line_is_its_two_ends() {
+    // Degree 1, a cubic with unevenly spaced collinear poles, a rational quadratic on a line.
+    let lines = [
+        NurbsCurve::new(
+            1,
+            vec![0., 0., 1., 1.],
+            vec![[0., 0., 0.], [3., 4., 5.]],
+            None,
+        ),
+        NurbsCurve::new(
+            3,
+            vec![0., 0., 0., 0., 1., 1., 1., 1.],
+            vec![[1., 1., 1.], [1.5, 2., 2.5], [2.5, 4., 5.5], [4., 7., 10.]],
+            None,
+        ),
+        NurbsCurve::new(
+            2,
+            vec![0., 0., 0., 2., 2., 2.],
+            vec![[0., 0., 0.], [1., -1., 0.], [4., -4., 0.]],
+            Some(vec![1., 3., 0.5]),
+        ),
+    ];
+    for (k, c) in lines.into_iter().enumerate() {
+        let c = c.unwrap();
+        for tol in [1e-9, 1e-3, 1.0] {
+            let pl = c.tessellate(tol).unwrap();
+            assert_eq!(pl.points.len(), 2, "line {k} at {tol}: {:?}", pl.params);
+            assert!(curve_to_polyline(&c, &pl) <= 1e-12, "line {k} at {tol}");
+        }
+    }
+}
+
+#[test]
+fn a_degree_1_polyline_is_its_own_vertices() {
+    // Two collinear segments in a row stay two (every knot is a vertex).
+    let poles = vec![
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [2., 0., 0.],
+        [2., 1., 0.],
+        [3., 1., 1.],
+    ];
+    let c = NurbsCurve::new(1, vec![0., 0., 1., 2., 3., 4., 4.], poles.clone(), None).unwrap();
+    for tol in [1e-9, 1e-2] {
+        let pl = c.tessellate(tol).unwrap();
+        assert_eq!(pl.params, vec![0., 1., 2., 3., 4.]);
+        for (p, q) in pl.points.iter().zip(&poles) {
+            assert!(dist(*p, *q) <= 1e-15, "{p:?} vs pole {q:?}");
+        }
+    }
+}
+
+#[test]
+fn a_straight_span_inside_a_curved_spline_is_one_chord() {
+    // Quadratic, spans [0,1], [1,2], [2,3]: the middle span's poles P1..P3 are collinear,
+    // the outer spans bend (P0 and P4 off the line).
+    let c = NurbsCurve::new(
+        2,
+        vec![0., 0., 0., 1., 2., 3., 3., 3.],
+        vec![
+            [0., 2., 0.],
+            [1., 0., 0.],
+            [2., 0., 0.],
+            [3., 0., 0.],
+            [4., 2., 0.],
+        ],
+        None,
+    )
+    .unwrap();
+    for tol in [1e-2, 1e-4, 1e-6] {
+        let pl = c.tessellate(tol).unwrap();
+        let i = pl.params.iter().position(|&u| u == 1.0).unwrap();
+        assert_eq!(pl.params[i + 1], 2.0, "at {tol}: {:?}", pl.params);
+        // The curved spans need several chords each, and meet the tolerance.
+        assert!(
+            i >= 3 && pl.params.len() - i - 2 >= 3,
+            "at {tol}: {:?}",
+            pl.params
+        );
+        let err = curve_to_polyline(&c, &pl);
+        assert!(err <= tol, "at {tol}: curve {err:e} from the polyline");
+        assert!(sampled_chord_error(&c, &pl) <= tol);
+    }
+}
+
+#[test]
+fn a_folded_straight_span_is_not_one_chord() {
+    // Collinear poles that run past the end (0 -> 3 -> 1): the curve goes out to x = 1.8
+    // and back, so the chord [0, 1] does not cover it.
+    let c = NurbsCurve::new(
+        2,
+        vec![0., 0., 0., 1., 1., 1.],
+        vec![[0., 0., 0.], [3., 0., 0.], [1., 0., 0.]],
+        None,
+    )
+    .unwrap();
+    let pl = c.tessellate(1e-3).unwrap();
+    assert!(pl.points.len() > 2);
+    assert!(curve_to_polyline(&c, &pl) <= 1e-3);
+    assert!(sampled_chord_error(&c, &pl) <= 1e-3);
 }
 
 #[test]

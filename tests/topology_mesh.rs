@@ -298,6 +298,54 @@ fn parts_match_exact_measures_and_freecad() {
     assert!(skipped <= MAX_SKIPPED, "{skipped} faces left out");
 }
 
+/// Straight edges are their two vertices, seams included: the extrusion's seam (a line
+/// used twice by the lateral face) is one chord on both sides, and the shell stays
+/// watertight with FreeCAD's volume at coarse and fine tolerances.
+#[test]
+fn straight_seams_are_one_chord_and_the_shell_stays_closed() {
+    let name = "extrude_bspline.step";
+    let json = reading(name);
+    let size = json["size"].as_f64().unwrap();
+    let freecad = reading(name)["solids"][0]["volume"].as_f64().unwrap();
+    let doc = read(&parts().join(name));
+    let m = &doc.topology.model;
+    let seams: Vec<usize> = (0..m.edges.len())
+        .filter(|&e| {
+            m.faces.iter().any(|f| {
+                f.loops
+                    .iter()
+                    .flat_map(|l| &l.coedges)
+                    .filter(|c| c.edge.0 == e)
+                    .count()
+                    == 2
+            })
+        })
+        .collect();
+    assert!(!seams.is_empty(), "the lateral face has a seam");
+    for relative in [1e-2, 1e-3] {
+        let tolerance = relative * size;
+        let pm = mesh(m, tolerance);
+        assert!(pm.skipped.is_empty(), "{:?}", pm.skipped);
+        for &e in &seams {
+            let c = &m.edges[e].curve;
+            let straight = c.degree() == 1 && c.num_poles() == 2;
+            assert!(straight, "seam {e} is a line");
+            assert_eq!(pm.edges[e].as_ref().unwrap().points.len(), 2, "seam {e}");
+        }
+        let volume = watertight_volume(m, &pm, m.solids[0].outer.0, name);
+        let shell_area: f64 = m.shells[m.solids[0].outer.0]
+            .faces
+            .iter()
+            .map(|(f, _)| area(pm.faces[f.0].as_ref().unwrap()))
+            .sum();
+        let allowance = m.edges.iter().map(|e| e.tolerance).fold(0.0, f64::max);
+        assert!(
+            (volume - freecad).abs() <= shell_area * (tolerance + allowance),
+            "at {tolerance}: mesh volume {volume} vs FreeCAD's {freecad}"
+        );
+    }
+}
+
 /// The plate's through hole: no triangle of the top or bottom face has its centroid inside
 /// the hole's exact circle (FreeCAD's cylinder face of radius 5 gives the axis).
 #[test]

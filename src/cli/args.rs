@@ -324,11 +324,14 @@ pub enum Command {
         "  2  usage or I/O error (knot outside the domain or inserted too often)"
     ))]
     InsertKnot(InsertKnotArgs),
-    /// Insert several knots at once without changing the shape (NURBS Book A5.4).
+    /// Insert several knots at once without changing the shape (NURBS Book A5.4), or halve
+    /// every knot interval (seed 003).
     #[command(after_help = concat!(
         "Examples:\n",
         "  nurbsx refine curve.json -o refined.json --knots 0.25,0.5,0.75\n",
-        "  nurbsx refine part.step -o refined.step --entity '#17' --knots 0.5 --direction v\n\n",
+        "  nurbsx refine part.step -o refined.step --entity '#17' --knots 0.5 --direction v\n",
+        "  nurbsx refine curve.json -o halved.json --halve --knot-intervals\n",
+        "  nurbsx refine surface.json -o halved.json --halve --direction both\n\n",
         "Exit codes:\n",
         "  0  written\n",
         "  1  the input is invalid or over a limit\n",
@@ -878,6 +881,11 @@ pub struct OutputArgs {
     /// Output format (default: from OUT's extension, else the input's format).
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub to: Option<ModelFormatArg>,
+    /// Model JSON output: write each curve's knots in knot-interval form (seed 003:
+    /// `knot_intervals`, `knot_origin`, `outer_knot_intervals`) instead of `knots`;
+    /// surfaces keep knot vectors. Refused for STEP and IGES output.
+    #[arg(long)]
+    pub knot_intervals: bool,
 }
 
 /// A surface direction on the command line.
@@ -989,11 +997,16 @@ pub struct RefineArgs {
     #[command(flatten)]
     pub out: OutputArgs,
     /// The knots to insert, comma-separated (a value given twice is inserted twice).
-    #[arg(long, value_name = "U,...", value_parser = parse_numbers, allow_hyphen_values = true)]
-    pub knots: NumberList,
-    /// Surface direction (u or v); curves ignore it.
-    #[arg(long, value_enum, default_value_t = KnotDirectionArg::U)]
-    pub direction: KnotDirectionArg,
+    #[arg(long, value_name = "U,...", value_parser = parse_numbers, allow_hyphen_values = true,
+          required_unless_present = "halve", conflicts_with = "halve")]
+    pub knots: Option<NumberList>,
+    /// Interval halving (seed 003): insert the midpoint of every non-degenerate knot span
+    /// of the domain instead of --knots.
+    #[arg(long)]
+    pub halve: bool,
+    /// Surface direction (u or v; `both` with --halve); curves ignore it.
+    #[arg(long, value_enum, default_value_t = DirectionArg::U)]
+    pub direction: DirectionArg,
     /// Only this entity (default: all).
     #[arg(long, value_name = "ID")]
     pub entity: Option<String>,
@@ -1097,6 +1110,9 @@ pub struct ReparameterizeArgs {
     /// The new domain `A,B` (A < B).
     #[arg(long, value_name = "A,B", value_parser = parse_numbers, allow_hyphen_values = true)]
     pub to: NumberList,
+    /// Model JSON output: curves' knots in knot-interval form (as for the other commands).
+    #[arg(long)]
+    pub knot_intervals: bool,
     /// Surface direction(s).
     #[arg(long, value_enum, default_value_t = DirectionArg::Both)]
     pub direction: DirectionArg,

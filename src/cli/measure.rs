@@ -1,7 +1,9 @@
 //! `nurbsx measure` and `nurbsx compare`: load, measure or compare in the pipeline, print.
 
 use crate::exchange::{Diagnostic, Location};
-use crate::pipeline::measure::{CompareReport, MeasureReport, MeasureRequest, compare as compared};
+use crate::pipeline::measure::{
+    CompareReport, MeasureReport, MeasureRequest, compare_summary, settings_for_second,
+};
 
 use super::args::{CompareArgs, MeasureArgs};
 use super::{CliError, Context, Outcome, display_name, load_file, outcome_of, print_stdout};
@@ -104,42 +106,36 @@ fn measure_text(r: &MeasureReport) -> String {
 /// `nurbsx compare`.
 pub fn compare(ctx: &Context, a: CompareArgs) -> Result<Outcome, CliError> {
     let first = load_file(ctx, &a.first)?;
-    // B in A's unit: the distance is in one unit.
-    let mut settings = ctx.settings.clone();
-    settings.import.target_units = Some(first.document.units);
     let second_ctx = Context {
-        settings,
+        settings: settings_for_second(&ctx.settings, &first.document),
         ..ctx.clone()
     };
     let second = load_file(&second_ctx, &a.second)?;
     let (na, nb) = (display_name(&a.first), display_name(&a.second));
-    let report = compared(&first.document, &second.document, &ctx.settings)
-        .map_err(|e| CliError::pipeline(&a.first, e))?;
-    let within = a.tolerance.map(|t| report.distance <= t);
+    let mut shown = ctx.report.filter(&first.document.diagnostics);
+    shown.extend(ctx.report.filter(&second.document.diagnostics));
+    let summary = compare_summary(
+        &first.document,
+        &second.document,
+        a.tolerance,
+        shown,
+        &ctx.settings,
+    )
+    .map_err(|e| CliError::pipeline(&a.first, e))?;
     let text = if a.json {
-        let mut value = serde_json::to_value(&report)
-            .map_err(|e| CliError::Usage(format!("cannot serialise the report: {e}")))?;
-        if let Some(t) = a.tolerance {
-            value["tolerance"] = serde_json::json!(t);
-            value["within_tolerance"] = serde_json::json!(within);
-        }
-        value["units"] = serde_json::json!(first.document.units.short_name());
-        let mut shown = ctx.report.filter(&first.document.diagnostics);
-        shown.extend(ctx.report.filter(&second.document.diagnostics));
-        value["diagnostics"] = serde_json::json!(shown);
-        let mut s = serde_json::to_string_pretty(&value)
+        let mut s = serde_json::to_string_pretty(&summary)
             .map_err(|e| CliError::Usage(format!("cannot serialise the report: {e}")))?;
         s.push('\n');
         s
     } else {
         ctx.report.diagnostics(&na, &first.document.diagnostics);
         ctx.report.diagnostics(&nb, &second.document.diagnostics);
-        compare_text(&report, first.document.units.short_name(), a.tolerance)
+        compare_text(&summary.report, summary.units, a.tolerance)
     };
     print_stdout(&text)?;
     let read = outcome_of(&first.document.diagnostics) == Outcome::Success
         && outcome_of(&second.document.diagnostics) == Outcome::Success;
-    Ok(if read && within != Some(false) {
+    Ok(if read && summary.within_tolerance != Some(false) {
         Outcome::Success
     } else {
         Outcome::Failure

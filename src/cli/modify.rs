@@ -59,9 +59,14 @@ pub fn insert_knot(ctx: &Context, a: InsertKnotArgs) -> Result<Outcome, CliError
 
 /// `nurbsx refine`.
 pub fn refine(ctx: &Context, a: RefineArgs) -> Result<Outcome, CliError> {
-    let op = Operation::Refine {
-        knots: a.knots.0,
-        direction: a.direction.into(),
+    let op = match a.knots {
+        Some(knots) if !a.halve => Operation::Refine {
+            knots: knots.0,
+            direction: a.direction.into(),
+        },
+        _ => Operation::Halve {
+            direction: a.direction.into(),
+        },
     };
     modify(ctx, &a.input, &a.out, op, a.entity.as_deref())
 }
@@ -135,6 +140,7 @@ pub fn reparameterize(ctx: &Context, a: ReparameterizeArgs) -> Result<Outcome, C
     let out = OutputArgs {
         output: a.output,
         to: None,
+        knot_intervals: a.knot_intervals,
     };
     modify(ctx, &a.input, &out, op, a.entity.as_deref())
 }
@@ -311,8 +317,13 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
         construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
-        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    let text = pipeline::write_as(
+        &document,
+        target,
+        &export_options(&a.out.output),
+        knot_form(&a.out, target)?,
+    )
+    .map_err(|e| CliError::pipeline(&a.out.output, e))?;
     write_output(&a.out.output, &text)?;
     let name = clap::ValueEnum::to_possible_value(&a.shape)
         .map_or_else(String::new, |v| v.get_name().to_owned());
@@ -347,8 +358,13 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
     let (document, report) =
         fit(&data, dimension, spec).map_err(|e| CliError::pipeline(&a.input, e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    let text = pipeline::write_as(&document, target, &export_options(&a.out.output))
-        .map_err(|e| CliError::pipeline(&a.out.output, e))?;
+    let text = pipeline::write_as(
+        &document,
+        target,
+        &export_options(&a.out.output),
+        knot_form(&a.out, target)?,
+    )
+    .map_err(|e| CliError::pipeline(&a.out.output, e))?;
     write_output(&a.out.output, &text)?;
     let sizes = |v: &[usize]| {
         v.iter()
@@ -378,6 +394,18 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
         report.residual_rms,
     ));
     Ok(outcome_of(&document.diagnostics))
+}
+
+/// How model JSON output writes curve knots (`--knot-intervals`, refused for files).
+fn knot_form(out: &OutputArgs, target: InputKind) -> Result<pipeline::KnotForm, CliError> {
+    match (out.knot_intervals, target.format()) {
+        (false, _) => Ok(pipeline::KnotForm::Vector),
+        (true, None) => Ok(pipeline::KnotForm::Intervals),
+        (true, Some(_)) => Err(CliError::Usage(format!(
+            "--knot-intervals is a model JSON form; {} output has knot vectors",
+            target.name().to_ascii_uppercase()
+        ))),
+    }
 }
 
 /// The output form of a modify command: `--to`, else OUT's extension, else the input's.
@@ -431,8 +459,13 @@ fn modify(
         pipeline::drop_unwritable(&mut document, format);
     }
     ctx.report.diagnostics(&name, &document.diagnostics);
-    let text = pipeline::write_as(&document, target, &export_options(&out.output))
-        .map_err(|e| CliError::pipeline(&out.output, e))?;
+    let text = pipeline::write_as(
+        &document,
+        target,
+        &export_options(&out.output),
+        knot_form(out, target)?,
+    )
+    .map_err(|e| CliError::pipeline(&out.output, e))?;
     write_output(&out.output, &text)?;
     let written = document.entities.len();
     let mut summary = format!(

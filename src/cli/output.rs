@@ -594,9 +594,10 @@ pub fn validate_sarif(files: &[FileValidation]) -> String {
     s
 }
 
-/// The project's home page for SARIF `informationUri`: Cargo.toml's `repository`, unless it
-/// is empty or a placeholder (an `.invalid` or `example.*` host, RFC 2606), in which case the
-/// optional property is left out rather than pointing at nothing.
+/// The project's home page for SARIF `informationUri`: Cargo.toml's `repository` when the
+/// manifest sets one (it sets none while the project has no public home); an empty value or
+/// a placeholder (an `.invalid` or `example.*` host, RFC 2606) leaves the optional property
+/// out rather than pointing at nothing.
 pub fn project_uri() -> Option<&'static str> {
     let uri = env!("CARGO_PKG_REPOSITORY");
     let host = uri

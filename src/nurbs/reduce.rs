@@ -20,7 +20,8 @@
 //! bound is `R |E_xyz|`.
 
 use super::bernstein::bernstein_max;
-use super::elevate::{clamp_flat, elevate_flat};
+use super::double_double::DoubleDouble as Dd;
+use super::elevate::{clamp_flat, elevate_flat_precise};
 use super::knots::{multiplicity, runs};
 use super::{GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
@@ -275,7 +276,7 @@ impl Frame {
 /// Reduction is a linear map evaluated in floating point; on ill-conditioned knot spacing
 /// (a short span next to a long one) knot removal amplifies rounding, so even a curve that
 /// was exactly elevated comes back with poles off by ~1e-12 of its size. Re-elevating the
-/// result (A5.9, exact up to rounding) gives the residual on the input's clamped knots;
+/// result (A5.9 in double-double) gives the residual on the input's clamped knots;
 /// reducing that residual and adding it corrects the poles (classic iterative refinement).
 ///
 /// The a-posteriori bound: the input and the re-elevated result are degree-`p` B-splines on
@@ -295,11 +296,17 @@ fn refine(
     const DIM: usize = 4;
     let (ck, cflat) = clamp_flat(p, knots, flat, DIM);
     let residual_bound = |red: &[f64]| -> Option<(Vec<f64>, f64)> {
-        let (ek, eflat) = elevate_flat(p - 1, rk, red, DIM, 1, &|| false)?;
+        let (ek, eflat) = elevate_flat_precise(p - 1, rk, red, DIM, 1, &|| false)?;
         if ek != ck || eflat.len() != cflat.len() {
             return None;
         }
-        let diff: Vec<f64> = cflat.iter().zip(&eflat).map(|(a, b)| a - b).collect();
+        // The residual in double-double, rounded once: refinement can only correct what
+        // the residual resolves.
+        let diff: Vec<f64> = cflat
+            .iter()
+            .zip(&eflat)
+            .map(|(&a, &b)| (Dd::of(a) - b).value())
+            .collect();
         let worst = diff.chunks(DIM).map(norm).fold(0.0, f64::max);
         Some((diff, worst))
     };

@@ -1,7 +1,11 @@
 //! The JSON form of curves and surfaces, shared by the CLI and the HTTP API.
 //!
 //! Curve: `{"degree":3,"knots":[...],"control_points":[[x,y,z],...],"weights":[...]}`
-//! (`weights` omitted when polynomial; points with 2 coordinates make a 2-D curve).
+//! (`weights` omitted when polynomial; points with 2 coordinates make a 2-D curve). Instead
+//! of `knots`, a curve may give its knots in knot-interval form (seed 003, see
+//! [`KnotIntervals`]): `"knot_intervals":[...]` (control points + degree - 2 values),
+//! optionally `"knot_origin":u0` (default 0) and `"outer_knot_intervals":[a,b]` (default
+//! `[0,0]`, a clamped end); [`KnotIntervalForm`] writes that form.
 //!
 //! Surface: `{"degree_u":p,"degree_v":q,"knots_u":[...],"knots_v":[...],
 //! "control_points":[[[x,y,z],...],...],"weights":[[...],...]}` with
@@ -12,13 +16,21 @@
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use super::knot_intervals::KnotIntervals;
 use super::{Geometry, GeometryError, Grid, NurbsCurve, NurbsSurface, Point3};
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawCurve {
     degree: usize,
-    knots: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    knots: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    knot_origin: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    outer_knot_intervals: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    knot_intervals: Option<Vec<f64>>,
     control_points: Vec<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     weights: Option<Vec<f64>>,
@@ -64,7 +76,49 @@ impl TryFrom<RawCurve> for NurbsCurve {
     type Error = GeometryError;
     fn try_from(r: RawCurve) -> Result<Self, GeometryError> {
         let (points, dimension) = from_coords(r.control_points.iter())?;
-        NurbsCurve::with_dimension(r.degree, r.knots, points, r.weights, dimension)
+        let knots = match (r.knots, r.knot_intervals) {
+            (Some(knots), None) => {
+                if r.knot_origin.is_some() || r.outer_knot_intervals.is_some() {
+                    return Err(GeometryError::InvalidArgument(
+                        "knot_origin and outer_knot_intervals go with knot_intervals, not \
+                         with knots"
+                            .into(),
+                    ));
+                }
+                knots
+            }
+            (None, Some(intervals)) => {
+                // n + p - 1 intervals for n + 1 poles (seed 003; see `knot_intervals`).
+                let expected = (points.len() + r.degree).checked_sub(2);
+                if expected != Some(intervals.len()) {
+                    return Err(GeometryError::InvalidArgument(format!(
+                        "knot_intervals has {} values, but {} control points of degree {} \
+                         need {} (control points + degree - 2)",
+                        intervals.len(),
+                        points.len(),
+                        r.degree,
+                        expected.map_or_else(|| "none".to_owned(), |e| e.to_string())
+                    )));
+                }
+                KnotIntervals {
+                    origin: r.knot_origin.unwrap_or(0.0),
+                    outer: r.outer_knot_intervals.unwrap_or([0.0, 0.0]),
+                    intervals,
+                }
+                .to_knots()?
+            }
+            (Some(_), Some(_)) => {
+                return Err(GeometryError::InvalidArgument(
+                    "a curve has either knots or knot_intervals, not both".into(),
+                ));
+            }
+            (None, None) => {
+                return Err(GeometryError::InvalidArgument(
+                    "a curve needs knots (or knot_intervals)".into(),
+                ));
+            }
+        };
+        NurbsCurve::with_dimension(r.degree, knots, points, r.weights, dimension)
     }
 }
 
@@ -103,18 +157,40 @@ impl TryFrom<RawSurface> for NurbsSurface {
     }
 }
 
-impl From<&NurbsCurve> for RawCurve {
-    fn from(c: &NurbsCurve) -> Self {
-        RawCurve {
+impl RawCurve {
+    /// The JSON form of `c`, its knots as a knot vector or in knot-interval form.
+    ///
+    /// Errors when a knot cannot be written exactly as an interval (see
+    /// [`KnotIntervals`]: no `f64` interval sums from the previous knot to it).
+    fn of(c: &NurbsCurve, intervals: bool) -> Result<Self, String> {
+        let (knots, knot_origin, outer_knot_intervals, knot_intervals) = if intervals {
+            let k = c.knot_intervals();
+            if let Some(i) = k.inexact_knot(c.knots()) {
+                return Err(format!(
+                    "knot[{i}] = {:e} does not come back from knot-interval form (no f64 \
+                     difference from the previous knot sums back to it, or the difference \
+                     overflows); write this curve with its knot vector",
+                    c.knots().get(i).copied().unwrap_or(f64::NAN)
+                ));
+            }
+            let outer = (k.outer != [0.0, 0.0]).then_some(k.outer);
+            (None, Some(k.origin), outer, Some(k.intervals))
+        } else {
+            (Some(c.knots().to_vec()), None, None, None)
+        };
+        Ok(RawCurve {
             degree: c.degree(),
-            knots: c.knots().to_vec(),
+            knots,
+            knot_origin,
+            outer_knot_intervals,
+            knot_intervals,
             control_points: c
                 .control_points()
                 .iter()
                 .map(|p| to_coords(p, c.dimension()))
                 .collect(),
             weights: c.weights().map(<[f64]>::to_vec),
-        }
+        })
     }
 }
 
@@ -143,7 +219,26 @@ impl From<&NurbsSurface> for RawSurface {
 
 impl Serialize for NurbsCurve {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        RawCurve::from(self).serialize(s)
+        RawCurve::of(self, false)
+            .map_err(serde::ser::Error::custom)?
+            .serialize(s)
+    }
+}
+
+/// A geometry serialised with a curve's knots in knot-interval form (seed 003:
+/// `knot_origin`, `knot_intervals` and, when not both zero, `outer_knot_intervals`; see
+/// [`KnotIntervals`]) instead of `knots`. A surface is written as usual, with knot
+/// vectors. Reading accepts either form.
+pub struct KnotIntervalForm<'a>(pub &'a Geometry);
+
+impl Serialize for KnotIntervalForm<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self.0 {
+            Geometry::Curve(c) => RawCurve::of(c, true)
+                .map_err(serde::ser::Error::custom)?
+                .serialize(s),
+            Geometry::Surface(f) => f.serialize(s),
+        }
     }
 }
 
@@ -186,7 +281,8 @@ impl<'de> Deserialize<'de> for Geometry {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         match RawGeometry::deserialize(d).map_err(|_| {
             serde::de::Error::custom(
-                "expected a curve {degree, knots, control_points[, weights]} or a surface \
+                "expected a curve {degree, knots (or knot_intervals[, knot_origin, \
+                 outer_knot_intervals]), control_points[, weights]} or a surface \
                  {degree_u, degree_v, knots_u, knots_v, control_points[, weights]}",
             )
         })? {

@@ -14,7 +14,11 @@
 //! (`kappa = 0`) takes a quarter of the knot span. The step is computed with `0.8 tol`
 //! (the osculating circle is only a local model), and every resulting chord is then
 //! *verified* by sampling: any segment whose sampled distance to the curve exceeds `tol`
-//! is halved until it passes.
+//! is halved until it passes. Before the walk, a knot span whose control polygon lies
+//! within `tol` of the span's chord line and runs forward along it is that one chord,
+//! proven without sampling (convex hull and variation diminishing properties, NURBS Book
+//! section 4.2; see `span_within_chord`): a line is its two ends, a degree-1 polyline its
+//! own vertices, and a straight span inside a curved B-spline one chord.
 //!
 //! Derivatives: a local A2.3 (DersBasisFuns) + A3.2/A4.2 evaluation of `C'` and `C''`
 //! (the shared derivative module is written in parallel; this one can be switched to it).
@@ -363,11 +367,41 @@ fn chord_error(c: &NurbsCurve, u0: f64, p0: Point3, u1: f64, p1: Point3) -> f64 
     best.max(f1).max(f2)
 }
 
+/// Whether the piece of `c` over the knot span `[k0, k1]` lies within `tol` of its chord
+/// `C(k0) C(k1)`, decided from the span's `p + 1` poles (weights are positive):
+/// - by the strong convex hull property (NURBS Book section 4.2) the piece lies in the
+///   poles' convex hull, so its distance to the chord's line is at most the largest pole's;
+/// - when the poles' projections on the chord run forward, so do the piece's (the span's
+///   Bezier poles are convex combinations of consecutive poles, knot insertion A5.1, and a
+///   Bezier piece crosses a plane no more often than its polygon: variation diminishing,
+///   section 4.2), so the piece stays between the chord's ends and its distance to the
+///   chord is its distance to the line.
+///
+/// A straight span (collinear poles in order) passes whatever the tolerance.
+fn span_within_chord(c: &NurbsCurve, k0: f64, k1: f64, tol: f64) -> bool {
+    let p = c.degree();
+    let poles = c.control_points();
+    let span = find_span(p, poles.len(), c.knots(), k0);
+    let Some(hull) = span.checked_sub(p).and_then(|lo| poles.get(lo..=span)) else {
+        return false;
+    };
+    let (p0, p1) = (c.point_at_unchecked(k0), c.point_at_unchecked(k1));
+    let d = sub(p1, p0);
+    let len = norm(d);
+    if !(len > 0.0 && len.is_finite()) {
+        return false;
+    }
+    let off_line = |q: Point3| norm(cross(sub(q, p0), d)) / len;
+    hull.iter().all(|&q| off_line(q) <= tol)
+        && hull.windows(2).all(|w| dot(sub(w[1], w[0]), d) >= 0.0)
+}
+
 impl NurbsCurve {
     /// A polyline within `tolerance` of the curve (chord error: the distance from the curve
     /// on each parameter interval to its chord, verified by sampling), by the
     /// osculating-circle rule of seed 004 (see the module notes). Both domain ends and
-    /// every knot inside the domain are polyline vertices.
+    /// every knot inside the domain are polyline vertices; a knot span whose poles lie
+    /// within `tolerance` of its chord (a straight span) adds no other vertex.
     ///
     /// Errors: `tolerance` not finite and positive ([`GeometryError::InvalidArgument`]);
     /// more than [`MAX_TESSELLATION_POINTS`] needed ([`GeometryError::ToleranceExceeded`]).
@@ -381,7 +415,10 @@ impl NurbsCurve {
     /// `sum du / step(u)` with `step` the parameter length of a chord of sagitta
     /// `tolerance`, at least one chord per knot span. The rule the tessellation walks with
     /// (at 0.8 `tolerance`, then halving chords that fail) takes more points than this on
-    /// smooth curves, so an estimate above a limit means the work would exceed it too.
+    /// smooth curves, so an estimate above a limit means the work would exceed it too;
+    /// the exception is a span whose poles lie within `tolerance` of its chord, which the
+    /// work takes as one chord while the estimate may count more (an S-bend within the
+    /// tolerance): there the estimate errs high.
     /// Costs at most about 65 000 evaluations whatever the size of the curve.
     pub fn tessellation_estimate(&self, tolerance: f64) -> f64 {
         let breaks = domain_breaks(self.knots(), self.domain());
@@ -410,10 +447,18 @@ impl NurbsCurve {
         let mut work = 0usize;
         let mut poll = || budget.tick(&mut work);
         let step_tol = 0.8 * tolerance;
-        // 1. Osculating-circle steps, span by span.
-        let mut params = vec![a];
+        // 1. Osculating-circle steps, span by span; a span whose control polygon lies
+        //    within the tolerance of its chord is that one chord (`true`: already proven).
+        let mut params: Vec<(f64, bool)> = vec![(a, true)];
         for w in breaks.windows(2) {
             let (k0, k1) = (w[0], w[1]);
+            if span_within_chord(self, k0, k1, tolerance) {
+                params.push((k1, true));
+                if params.len() > budget.max_points {
+                    return Err(too_many());
+                }
+                continue;
+            }
             let mut u = k0;
             loop {
                 let du = osculating_step(self, u, step_tol)
@@ -427,17 +472,17 @@ impl NurbsCurve {
                 }
                 if u + 1.5 * du >= k1 {
                     // Balance the last two steps instead of leaving a sliver.
-                    params.push(u + 0.5 * (k1 - u));
+                    params.push((u + 0.5 * (k1 - u), false));
                     break;
                 }
                 u += du;
-                params.push(u);
+                params.push((u, false));
                 if params.len() > budget.max_points {
                     return Err(too_many());
                 }
                 poll()?;
             }
-            params.push(k1);
+            params.push((k1, false));
             if params.len() > budget.max_points {
                 return Err(too_many());
             }
@@ -449,7 +494,12 @@ impl NurbsCurve {
             points: vec![self.point_at_unchecked(a)],
         };
         let mut stack: Vec<(f64, Point3)> = Vec::new();
-        for &u1 in &params[1..] {
+        for &(u1, proven) in &params[1..] {
+            if proven {
+                out.params.push(u1);
+                out.points.push(self.point_at_unchecked(u1));
+                continue;
+            }
             stack.push((u1, self.point_at_unchecked(u1)));
             while let Some(&(ue, pe)) = stack.last() {
                 let (us, ps) = match (out.params.last(), out.points.last()) {

@@ -2,21 +2,39 @@
 //! input's form, and model JSON has no exchange writer of its own).
 
 use crate::exchange::{Document, ExportOptions};
-use crate::nurbs::Geometry;
+use crate::nurbs::serde_form::KnotIntervalForm;
 
 use super::{ErrorKind, InputKind, PipelineError, write};
+
+/// How model JSON writes a curve's knots.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum KnotForm {
+    /// `knots`: the knot vector.
+    #[default]
+    Vector,
+    /// `knot_intervals` (seed 003, [`KnotIntervalForm`]); surfaces keep knot vectors.
+    Intervals,
+}
 
 /// Writes the document's geometries as model JSON (`crate::nurbs` JSON form): a single
 /// object when the document holds one entity, else an array, so that the output loads back
 /// with [`load`](super::load) exactly as written (`f64` values print in shortest
-/// round-trip form).
-pub fn write_model_json(doc: &Document) -> Result<String, PipelineError> {
-    let result = match doc.entities.as_slice() {
-        [one] => serde_json::to_string_pretty(&one.geometry),
-        many => serde_json::to_string_pretty(
-            &many.iter().map(|e| &e.geometry).collect::<Vec<&Geometry>>(),
-        ),
+/// round-trip form; knot intervals sum back to the same knots, see
+/// [`crate::nurbs::knot_intervals`]).
+pub fn write_model_json(doc: &Document, knots: KnotForm) -> Result<String, PipelineError> {
+    let form = |g| match knots {
+        KnotForm::Vector => serde_json::to_value(g),
+        KnotForm::Intervals => serde_json::to_value(KnotIntervalForm(g)),
     };
+    let result = match doc.entities.as_slice() {
+        [one] => form(&one.geometry),
+        many => many
+            .iter()
+            .map(|e| form(&e.geometry))
+            .collect::<Result<Vec<_>, _>>()
+            .map(serde_json::Value::Array),
+    }
+    .and_then(|v| serde_json::to_string_pretty(&v));
     result
         .map(|mut text| {
             text.push('\n');
@@ -32,11 +50,13 @@ pub fn write_model_json(doc: &Document) -> Result<String, PipelineError> {
         })
 }
 
-/// Writes the document as STEP, IGES ([`write()`]) or model JSON ([`write_model_json`]).
+/// Writes the document as STEP, IGES ([`write()`]) or model JSON ([`write_model_json`],
+/// curves' knots in the form `knots` says).
 pub fn write_as(
     doc: &Document,
     kind: InputKind,
     options: &ExportOptions,
+    knots: KnotForm,
 ) -> Result<String, PipelineError> {
     match kind.format() {
         Some(format) => {
@@ -45,7 +65,7 @@ pub fn write_as(
             super::drop_unwritable(&mut doc, format);
             write(&doc, format, options)
         }
-        None => write_model_json(doc),
+        None => write_model_json(doc, knots),
     }
 }
 
@@ -64,17 +84,21 @@ mod tests {
             let doc = load(input.as_bytes(), Some(InputKind::Json), &settings)
                 .unwrap()
                 .document;
-            let text = write_as(&doc, InputKind::Json, &ExportOptions::default()).unwrap();
-            // One entity: a single object; several: an array.
-            assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");
-            let again = load(text.as_bytes(), None, &settings).unwrap().document;
-            let geometries = |d: &Document| {
-                d.entities
-                    .iter()
-                    .map(|e| e.geometry.clone())
-                    .collect::<Vec<_>>()
-            };
-            assert_eq!(geometries(&doc), geometries(&again));
+            for form in [KnotForm::Vector, KnotForm::Intervals] {
+                let text =
+                    write_as(&doc, InputKind::Json, &ExportOptions::default(), form).unwrap();
+                // One entity: a single object; several: an array.
+                assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");
+                assert_eq!(text.contains("knot_intervals"), form == KnotForm::Intervals);
+                let again = load(text.as_bytes(), None, &settings).unwrap().document;
+                let geometries = |d: &Document| {
+                    d.entities
+                        .iter()
+                        .map(|e| e.geometry.clone())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(geometries(&doc), geometries(&again));
+            }
         }
     }
 }

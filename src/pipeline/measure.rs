@@ -311,6 +311,53 @@ pub fn compare(
     })
 }
 
+/// What `nurbsx compare --json` prints and `POST /v1/compare` replies: the comparison,
+/// the tolerance verdict when a tolerance was given, the unit of the distances (the
+/// first document's) and what reading both inputs reported.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CompareSummary {
+    /// The comparison.
+    #[serde(flatten)]
+    pub report: CompareReport,
+    /// The tolerance asked for (model units of the first document).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Whether the distance is within it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub within_tolerance: Option<bool>,
+    /// The length unit of the distances.
+    pub units: &'static str,
+    /// The diagnostics of reading the first, then the second input.
+    pub diagnostics: Vec<crate::exchange::Diagnostic>,
+}
+
+/// The settings to read the second input of a comparison with: in the first document's
+/// length unit, so that the distance is in one unit.
+pub fn settings_for_second(settings: &Settings, first: &Document) -> Settings {
+    let mut s = settings.clone();
+    s.import.target_units = Some(first.units);
+    s
+}
+
+/// [`compare`] with the verdict against `tolerance` and the reading `diagnostics` (the
+/// caller's choice of them: the CLI shows those at its report level).
+pub fn compare_summary(
+    a: &Document,
+    b: &Document,
+    tolerance: Option<f64>,
+    diagnostics: Vec<crate::exchange::Diagnostic>,
+    settings: &Settings,
+) -> Result<CompareSummary, PipelineError> {
+    let report = compare(a, b, settings)?;
+    Ok(CompareSummary {
+        within_tolerance: tolerance.map(|t| report.distance <= t),
+        report,
+        tolerance,
+        units: a.units.short_name(),
+        diagnostics,
+    })
+}
+
 /// The curves and the surfaces of a document, each with its entity index.
 type Shapes<'a> = Vec<(usize, Shape<'a>)>;
 

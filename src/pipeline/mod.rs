@@ -20,7 +20,7 @@ mod reports;
 
 pub use cancel::{Cancel, cancelled};
 pub use error::{ErrorKind, PipelineError};
-pub use export::{write_as, write_model_json};
+pub use export::{KnotForm, write_as, write_model_json};
 pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFile, MeshFormat,

@@ -197,6 +197,12 @@ pub enum Operation {
         /// Surface direction (U or V; Both is refused for surfaces).
         direction: Direction,
     },
+    /// Interval halving (seed 003): insert the midpoint of every non-degenerate knot span
+    /// of the domain (A5.4 refinement; the shape is unchanged).
+    Halve {
+        /// Surface direction(s).
+        direction: Direction,
+    },
     /// Degree reduction by one (A5.11) when the deviation bound stays within `tolerance`;
     /// the bound reached is reported.
     Reduce {
@@ -273,6 +279,7 @@ impl Operation {
             | Operation::Unclamp { direction }
             | Operation::InsertKnot { direction, .. }
             | Operation::Refine { direction, .. }
+            | Operation::Halve { direction }
             | Operation::Reduce { direction, .. }
             | Operation::Split { direction, .. }
             | Operation::Reverse { direction }
@@ -297,6 +304,7 @@ impl Operation {
                 | Operation::Unclamp { .. }
                 | Operation::InsertKnot { .. }
                 | Operation::Refine { .. }
+                | Operation::Halve { .. }
                 | Operation::Periodic { .. }
         )
     }
@@ -1360,8 +1368,8 @@ fn drop_topology(doc: &mut Document) {
 }
 
 /// Refuses, before the work, an operation whose result would exceed the reply limit:
-/// Bezier decomposition (each of the `s` spans gets `p + 1` poles per direction) and
-/// refinement (one pole per inserted knot and row).
+/// Bezier decomposition (each of the `s` spans gets `p + 1` poles per direction),
+/// refinement (one pole per inserted knot and row) and halving (one pole per span).
 fn check_growth(
     doc: &Document,
     op: &Operation,
@@ -1407,6 +1415,15 @@ fn check_growth(
                 })
                 .sum();
             estimated_file_bytes(doc, None) + knots.len() as f64 * (rows * per_pole + NUMBER_BYTES)
+        }
+        // One more pole per halved span: at most twice the poles per direction.
+        Operation::Halve { direction } => {
+            let factor = if *direction == Direction::Both {
+                4.0
+            } else {
+                2.0
+            };
+            estimated_file_bytes(doc, None) * factor
         }
         _ => return Ok(()),
     };
@@ -1600,6 +1617,12 @@ fn apply_one(
                 surface(s.refine_v(&sorted(knots))?)
             }
             Direction::Both => Err(needs_direction("refine", "knot refinement")),
+        },
+        (Geometry::Curve(c), Operation::Halve { .. }) => curve(c.halve()?),
+        (Geometry::Surface(s), Operation::Halve { .. }) => match direction {
+            Direction::U => surface(s.halve_u()?),
+            Direction::V => surface(s.halve_v()?),
+            Direction::Both => surface(s.halve_u()?.halve_v()?),
         },
         (Geometry::Curve(c), &Operation::Reduce { tolerance, .. }) => {
             let (r, bound) = c.reduce(tolerance)?;

@@ -8,8 +8,9 @@
 //! boundaries and silhouettes) and curves are drawn over the faces they lie on and under
 //! the faces in front of them. Coordinates
 //! are mapped to pixels by the program, not by an SVG `viewBox`, so line widths are the
-//! same in every renderer. A frame, a scale bar in the document's unit, one label per
-//! entity and a title complete the picture.
+//! same in every renderer. A frame, a scale bar in the document's unit, a title and one
+//! label per entity, at a point of it that no face hides, complete the picture; entities
+//! hidden everywhere get no label, and a caption says how many.
 
 use std::fmt::Write as _;
 
@@ -193,6 +194,21 @@ impl Coverage {
     }
 }
 
+/// Of some screen points, the one nearest their mean (so a label sits inside the visible
+/// part of its entity, even a ring-shaped one); `None` for no points.
+fn visible_middle(points: impl Iterator<Item = (f64, f64, f64)>) -> Option<(f64, f64)> {
+    let points: Vec<(f64, f64)> = points.map(|(x, y, _)| (x, y)).collect();
+    let n = points.len() as f64;
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + x / n, sy + y / n));
+    points.into_iter().min_by(|a, b| {
+        (a.0 - mx)
+            .hypot(a.1 - my)
+            .total_cmp(&(b.0 - mx).hypot(b.1 - my))
+    })
+}
+
 /// XML text escaping for labels.
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -297,36 +313,64 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
             line(px(w[0]), px(w[1]), &stroke, 2.0);
         }
     }
-    // Labels: each entity's id at its middle vertex (for a surface grid, near the middle of
-    // its parameter domain); a label that would sit on an earlier one moves down a line.
-    let labels = faces
-        .iter()
-        .map(|f| (f.entity.as_str(), f.positions.get(f.positions.len() / 2)))
-        .chain(
-            curves
-                .iter()
-                .map(|c| (c.entity.as_str(), c.points.get(c.points.len() / 2))),
+    // Labels: each entity's id at a visible point of it (a triangle centroid of a face, a
+    // point or chord midpoint of a curve that no triangle hides), the one nearest the
+    // middle of its visible points; an entity hidden everywhere gets no label, and the
+    // caption says how many. A label that would sit on an earlier one moves down a line.
+    let spot = |candidates: &mut dyn Iterator<Item = (f64, f64, f64)>| {
+        visible_middle(candidates.filter(|&q| !cover.hides(q, slack)))
+    };
+    let faces_at = faces.iter().map(|f| {
+        let mut centroids = f.triangles.iter().map(|t| {
+            let [a, b, c] = t.map(|v| px(f.positions[v as usize]));
+            (
+                (a.0 + b.0 + c.0) / 3.0,
+                (a.1 + b.1 + c.1) / 3.0,
+                (a.2 + b.2 + c.2) / 3.0,
+            )
+        });
+        (f.entity.as_str(), spot(&mut centroids))
+    });
+    let curves_at = curves.iter().map(|c| {
+        let mut points = c.points.iter().map(|&p| px(p)).chain(
+            c.points
+                .windows(2)
+                .map(|w| px(std::array::from_fn(|k| 0.5 * (w[0][k] + w[1][k])))),
         );
+        (c.entity.as_str(), spot(&mut points))
+    });
     let mut placed: Vec<(f64, f64)> = Vec::new();
-    for (id, at) in labels {
-        if let Some(p) = at {
-            let (x, mut y, _) = px(*p);
-            while placed
-                .iter()
-                .any(|&(px, py)| (px - x).abs() < 40.0 && (py - y).abs() < 13.0)
-            {
-                y += 14.0;
-            }
-            placed.push((x, y));
-            let _ = writeln!(
-                s,
-                "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"black\" stroke=\"white\" stroke-width=\"3\" \
-                 paint-order=\"stroke\">{}</text>",
-                x + 3.0,
-                y - 3.0,
-                escape(id)
-            );
+    let mut hidden = 0usize;
+    for (id, at) in faces_at.chain(curves_at) {
+        let Some((x, mut y)) = at else {
+            hidden += 1;
+            continue;
+        };
+        while placed
+            .iter()
+            .any(|&(px, py)| (px - x).abs() < 40.0 && (py - y).abs() < 13.0)
+        {
+            y += 14.0;
         }
+        placed.push((x, y));
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"black\" stroke=\"white\" stroke-width=\"3\" \
+             paint-order=\"stroke\">{}</text>",
+            x + 3.0,
+            y - 3.0,
+            escape(id)
+        );
+    }
+    if hidden > 0 {
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#222\" text-anchor=\"end\">{hidden} \
+             hidden entit{} not labelled</text>",
+            WIDTH - MARGIN / 2.0,
+            height - MARGIN / 4.0 - 3.0,
+            if hidden == 1 { "y" } else { "ies" }
+        );
     }
     // Frame, title and scale bar.
     let _ = writeln!(

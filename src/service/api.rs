@@ -503,8 +503,14 @@ operation_request!(
 operation_request!(
     /// `POST /v1/refine`.
     RefineRequest {
-        /// The knots to insert (A5.4; a value given twice is inserted twice).
-        knots: Vec<f64>,
+        /// The knots to insert (A5.4; a value given twice is inserted twice). Give `knots`
+        /// or `halve`.
+        #[serde(default)]
+        knots: Option<Vec<f64>>,
+        /// Interval halving (seed 003): insert the midpoint of every non-degenerate knot
+        /// span of the domain; surfaces may use `direction: both`.
+        #[serde(default)]
+        halve: bool,
         /// Surface direction: `u` or `v` (required for surfaces).
         #[serde(default)]
         direction: DirectionName,
@@ -669,10 +675,19 @@ plain_operation!(InsertKnotRequest, |r| Ok(Operation::InsertKnot {
     times: r.times,
     direction: r.direction.into(),
 }));
-plain_operation!(RefineRequest, |r| Ok(Operation::Refine {
-    knots: r.knots.clone(),
-    direction: r.direction.into(),
-}));
+plain_operation!(RefineRequest, |r| match (&r.knots, r.halve) {
+    (Some(knots), false) => Ok(Operation::Refine {
+        knots: knots.clone(),
+        direction: r.direction.into(),
+    }),
+    (None, true) => Ok(Operation::Halve {
+        direction: r.direction.into(),
+    }),
+    _ => Err(ApiError::bad_request(
+        "refine.arguments",
+        "give either `knots` or `halve: true` (exactly one)",
+    )),
+});
 plain_operation!(ReduceRequest, |r| Ok(Operation::Reduce {
     tolerance: r.tolerance,
     direction: r.direction.into(),
@@ -946,6 +961,47 @@ impl MeasureRequest {
                 format!("closest takes 2 or 3 numbers, got {}", other.len()),
             )),
         }
+    }
+}
+
+/// One input of `POST /v1/compare`: model JSON or a STEP/IGES file's text.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompareInput {
+    /// Model JSON.
+    #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
+    pub geometry: Option<Box<RawValue>>,
+    /// A STEP or IGES file's text.
+    pub file: Option<String>,
+    /// The format of `file` (sniffed when absent).
+    pub format: Option<FileFormat>,
+}
+
+/// `POST /v1/compare`: the Hausdorff distance between the geometry of two inputs, as
+/// `nurbsx compare --json` prints it.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompareRequest {
+    /// The first input; distances are in its length unit.
+    pub first: CompareInput,
+    /// The second input, read in the first one's length unit.
+    pub second: CompareInput,
+    /// A tolerance (model units of `first`): the reply says whether the distance is
+    /// within it.
+    pub tolerance: Option<f64>,
+}
+
+impl CompareRequest {
+    /// The two inputs and the checked tolerance.
+    pub fn parts(self) -> Result<(Input, Input, Option<f64>), ApiError> {
+        if let Some(t) = self.tolerance.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+            return Err(ApiError::bad_request(
+                "compare.tolerance",
+                format!("tolerance {t} must be a finite number >= 0"),
+            ));
+        }
+        let input = |i: CompareInput| Input::from_fields(i.geometry, i.file, i.format);
+        Ok((input(self.first)?, input(self.second)?, self.tolerance))
     }
 }
 

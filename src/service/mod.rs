@@ -7,7 +7,7 @@
 //!   `POST /v1/evaluate`, `/v1/degree-elevate`, `/v1/clamp`, `/v1/unclamp`, `/v1/insert-knot`,
 //!   `/v1/refine`, `/v1/reduce`, `/v1/remove-knots`, `/v1/decompose`, `/v1/split`, `/v1/join`,
 //!   `/v1/reverse`, `/v1/reparameterize`, `/v1/transform`, `/v1/iso`, `/v1/periodic`,
-//!   `/v1/derivative-curve`, `/v1/make`, `/v1/fit`, `/v1/measure`, `/v1/tessellate`
+//!   `/v1/derivative-curve`, `/v1/make`, `/v1/fit`, `/v1/measure`, `/v1/compare`, `/v1/tessellate`
 //!   take JSON with `geometry` (model JSON) or `file` (STEP/IGES text).
 //! - `GET /healthz`, `/readyz`, `/metrics` (Prometheus), `/openapi.json`, `/limits`, `/api` (the
 //!   endpoint list), `/` (the web page, [`assets`]) and the page's files.
@@ -232,6 +232,7 @@ fn build(config: &ServeConfig) -> (Router, Arc<AppState>) {
         .route("/v1/fit", post(routes::fit))
         // measure
         .route("/v1/measure", post(routes::measure))
+        .route("/v1/compare", post(routes::compare))
         .route("/v1/tessellate", post(routes::tessellate))
         // The body is received within the upload bounds first; admission follows.
         .route_layer(middleware::from_fn_with_state(

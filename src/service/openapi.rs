@@ -50,6 +50,7 @@ use super::error::{ErrorBody, ErrorDetail};
         super::routes::make,
         super::routes::fit,
         super::routes::measure,
+        super::routes::compare,
         super::routes::tessellate,
         super::pages::healthz,
         super::pages::readyz,
@@ -72,7 +73,8 @@ use super::error::{ErrorBody, ErrorDetail};
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
         super::api::FitRequest, super::api::ParamsName, FitReply, FitReportDoc,
         super::api::MeasureRequest, MeasureReportDoc, EntityMeasureDoc, QuantityDoc,
-        ClosestPointDoc,
+        ClosestPointDoc, super::api::CompareRequest, super::api::CompareInput, CompareSummaryDoc,
+        FarthestDoc,
     )),
     tags(
         (name = "exchange", description = "Files in: convert, validate, describe"),
@@ -141,7 +143,10 @@ pub enum GeometryInputDoc {
 }
 
 /// A NURBS curve: `n` control points of 2 or 3 coordinates, `n + degree + 1` knots,
-/// optional positive weights (absent: polynomial).
+/// optional positive weights (absent: polynomial). As input, a curve may give its knots in
+/// knot-interval form instead (seed 003): `knot_intervals` (`n + degree - 2` values >= 0),
+/// optional `knot_origin` (the first knot, default 0) and `outer_knot_intervals` (`[a, b]`,
+/// default `[0, 0]`); replies always carry `knots`.
 #[derive(Serialize, ToSchema)]
 #[schema(as = Curve)]
 pub struct CurveDoc {
@@ -663,6 +668,54 @@ pub struct ClosestPointDoc {
     pub point: Vec<f64>,
     /// Its distance from the requested point.
     pub distance: f64,
+}
+
+/// The reply of `POST /v1/compare` and the output of `nurbsx compare --json` (mirror of
+/// `pipeline::measure::CompareSummary`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = CompareSummary)]
+#[allow(dead_code)]
+pub struct CompareSummaryDoc {
+    /// The symmetric Hausdorff distance: the larger of the two one-sided distances.
+    pub distance: f64,
+    /// The first input's point farthest from the second input's geometry.
+    pub first_to_second: Option<FarthestDoc>,
+    /// The second input's point farthest from the first input's geometry.
+    pub second_to_first: Option<FarthestDoc>,
+    /// Curves of each input.
+    pub curves: [usize; 2],
+    /// Surfaces of each input.
+    pub surfaces: [usize; 2],
+    /// The tolerance asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Whether the distance is within it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub within_tolerance: Option<bool>,
+    /// The length unit of the distances (the first input's).
+    pub units: String,
+    /// What reading the first, then the second input reported.
+    pub diagnostics: Vec<DiagnosticDoc>,
+}
+
+/// The farthest point of one side of a comparison (mirror of
+/// `pipeline::measure::Farthest`).
+#[derive(Serialize, ToSchema)]
+#[schema(as = Farthest)]
+#[allow(dead_code)]
+pub struct FarthestDoc {
+    /// Its distance from the nearest entity of the other side.
+    pub distance: f64,
+    /// The entity it is on.
+    pub entity: String,
+    /// Its parameters there (`[u]` or `[u, v]`).
+    pub parameters: Vec<f64>,
+    /// The point.
+    pub point: Vec<f64>,
+    /// The nearest entity of the other side.
+    pub nearest_entity: String,
+    /// The nearest point's parameters there.
+    pub nearest_parameters: Vec<f64>,
 }
 
 // --- end of fit and measure ---

@@ -151,6 +151,7 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/make</code></td><td>exact circles, arcs, ellipses, lines, cylinders, cones, spheres, tori, revolutions, extrusions, ruled surfaces</td></tr>
 <tr><td><code>POST /v1/fit</code></td><td>a curve or surface fitted to points or a grid: interpolation (A9.1, A9.4) or least squares (A9.7), with the residual</td></tr>
 <tr><td><code>POST /v1/measure</code></td><td>curve lengths, surface areas (to a tolerance) and closest points</td></tr>
+<tr><td><code>POST /v1/compare</code></td><td>the Hausdorff distance between the geometry of two inputs (<code>first</code>, <code>second</code>), independent of the parameterisation</td></tr>
 <tr><td><code>POST /v1/tessellate</code></td><td>OBJ, SVG, binary glTF (one node per face or curve, named by its id) or STL under a chord tolerance</td></tr>
 <tr><td><code>GET /healthz</code>, <code>/readyz</code>, <code>/metrics</code>, <code>/limits</code></td><td>liveness, readiness, Prometheus metrics, request limits</td></tr>
 </table>

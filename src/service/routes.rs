@@ -704,6 +704,55 @@ pub async fn measure(
     Ok(Json(report).into_response())
 }
 
+/// The Hausdorff distance between the geometry of two inputs (curves against curves,
+/// surfaces against surfaces, independent of the parameterisation; the second input is
+/// read in the first one's unit): the reply is what `nurbsx compare --json` prints.
+#[utoipa::path(
+    post,
+    path = "/v1/compare",
+    tag = "geometry",
+    request_body = super::api::CompareRequest,
+    responses(
+        (status = 200, description = "The comparison", body = super::openapi::CompareSummaryDoc),
+        FileErrors
+    )
+)]
+pub async fn compare(
+    State(state): State<Arc<AppState>>,
+    ApiJson(req): ApiJson<super::api::CompareRequest>,
+) -> Result<Response, ApiError> {
+    let (first, second, tolerance) = req.parts()?;
+    let mut settings = state.settings.clone();
+    let summary = state
+        .gate
+        .run(move |cancel| {
+            use pipeline::measure::{compare_summary, settings_for_second};
+            settings.cancel = cancel;
+            let a = pipeline::load(&first.bytes, first.hint, &settings)?;
+            let b = pipeline::load(
+                &second.bytes,
+                second.hint,
+                &settings_for_second(&settings, &a.document),
+            )?;
+            let diagnostics = a
+                .document
+                .diagnostics
+                .iter()
+                .chain(&b.document.diagnostics)
+                .cloned()
+                .collect();
+            Ok(compare_summary(
+                &a.document,
+                &b.document,
+                tolerance,
+                diagnostics,
+                &settings,
+            )?)
+        })
+        .await?;
+    Ok(Json(summary).into_response())
+}
+
 // --- end of measure ---
 
 /// Runs `build` on a computing slot and replies with the document: model JSON

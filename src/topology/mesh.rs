@@ -3,7 +3,9 @@
 //! [`Model::mesh`] tessellates the faces of a part within a chord tolerance:
 //! - **Edges first, once each.** Every edge's 3-D curve, restricted to the edge's range, is
 //!   cut into chords by the osculating-circle rule of [`NurbsCurve::tessellate_within`]
-//!   (seed 004); the ends are the edge's vertices. A degenerate edge (a pole of a sphere or
+//!   (seed 004); the ends are the edge's vertices, and a straight edge or seam is one
+//!   chord (the boundary needs no more: the faces' triangles along it are refined inside
+//!   the face, against the surface). A degenerate edge (a pole of a sphere or
 //!   the apex of a cone: its curve is one point within the edge's tolerance) is that one
 //!   point. Every face bounded by an edge uses exactly these points, so two faces sharing an
 //!   edge share its vertices bit for bit and the mesh of a closed shell has no crack.
