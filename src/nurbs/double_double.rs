@@ -49,6 +49,31 @@ fn two_product(a: f64, b: f64) -> (f64, f64) {
     (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
 }
 
+/// The arithmetic an algorithm can run in: `f64`, or [`DoubleDouble`] where rounding
+/// would be amplified (degree elevation of high degrees, A5.9).
+pub(super) trait Scalar:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+{
+    /// The exact value of `x`.
+    fn of(x: f64) -> Self;
+}
+
+impl Scalar for f64 {
+    fn of(x: f64) -> Self {
+        x
+    }
+}
+
+impl Scalar for DoubleDouble {
+    fn of(x: f64) -> Self {
+        DoubleDouble::of(x)
+    }
+}
+
 impl DoubleDouble {
     /// The exact value of `x`.
     pub fn of(x: f64) -> Self {

@@ -14,7 +14,7 @@
 //! same domain; it is returned in clamped form.
 
 use super::bernstein::binomial;
-use super::double_double::DoubleDouble as Dd;
+use super::double_double::{DoubleDouble as Dd, Scalar};
 use super::knots::multiplicity;
 use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface};
 
@@ -113,7 +113,13 @@ pub(super) fn clamp_flat(
     (k, pw)
 }
 
-/// [`elevate_flat_precise`] with the poles rounded to `f64` once at the end.
+/// Input degrees from which [`elevate_flat`] runs in double-double: below it the rounding
+/// of the `f64` path stays far under 1e-12 of the size, and the `f64` path is about 4.5
+/// times faster (criterion `benches/degree.rs`).
+const PRECISE_FROM_DEGREE: usize = 5;
+
+/// [`elevate_flat_in`] in `f64` for low degrees, in double-double from
+/// [`PRECISE_FROM_DEGREE`] with the poles rounded to `f64` once at the end.
 pub(super) fn elevate_flat(
     p: usize,
     knots: &[f64],
@@ -122,26 +128,14 @@ pub(super) fn elevate_flat(
     t: usize,
     stop: &dyn Fn() -> bool,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
+    if p < PRECISE_FROM_DEGREE {
+        return elevate_flat_in::<f64>(p, knots, pw, dim, t, stop);
+    }
     elevate_flat_precise(p, knots, pw, dim, t, stop)
         .map(|(knots, poles)| (knots, poles.into_iter().map(Dd::value).collect()))
 }
 
-/// A5.9 DegreeElevateCurve on a clamped flat B-spline: degree `p` -> `p + t`, every knot's
-/// multiplicity raised by `t`. Returns `(knots, poles)`, the poles in double-double.
-///
-/// The arithmetic runs in double-double (about 106 bits, see `double_double`): in `f64`,
-/// the knot-removal divisions of A5.9 amplify the rounding of the Bezier round trip, which
-/// moved rational degree-8 and degree-9 curves by up to 4e-12 of their size (measured
-/// against exact rational evaluation); in double-double the error left is the final
-/// rounding of the poles to `f64`.
-///
-/// Each pass extracts one Bezier segment by knot insertion, elevates it with the
-/// coefficients `C(p, j) C(t, i - j) / C(p + t, i)` (eq. 5.36, seed 000 eq. 2-65 for repeated
-/// elevation), and removes the inserted knots again from the previous segment's seam.
-/// `stop` is polled once per segment (the work between two polls is one segment's
-/// `O((p + t) p dim)`); `None` when it returned true.
-// Index loops and counters mirror A5.9's pseudo-code line by line, which is how it is checked.
-#[allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
+/// [`elevate_flat_in`] in double-double, the poles kept so.
 pub(super) fn elevate_flat_precise(
     p: usize,
     knots: &[f64],
@@ -150,9 +144,35 @@ pub(super) fn elevate_flat_precise(
     t: usize,
     stop: &dyn Fn() -> bool,
 ) -> Option<(Vec<f64>, Vec<Dd>)> {
-    let pw: Vec<Dd> = pw.iter().map(|&x| Dd::of(x)).collect();
-    let one = Dd::of(1.0);
-    let zero = Dd::of(0.0);
+    elevate_flat_in::<Dd>(p, knots, pw, dim, t, stop)
+}
+
+/// A5.9 DegreeElevateCurve on a clamped flat B-spline: degree `p` -> `p + t`, every knot's
+/// multiplicity raised by `t`, in the arithmetic `T`. Returns `(knots, poles)`.
+///
+/// In `f64` the knot-removal divisions of A5.9 amplify the rounding of the Bezier round
+/// trip: rational degree-8 and degree-9 curves moved by up to 4e-12 of their size (measured
+/// against exact rational evaluation). In double-double (about 106 bits, see
+/// `double_double`) the error left is the final rounding of the poles to `f64`.
+///
+/// Each pass extracts one Bezier segment by knot insertion, elevates it with the
+/// coefficients `C(p, j) C(t, i - j) / C(p + t, i)` (eq. 5.36, seed 000 eq. 2-65 for repeated
+/// elevation), and removes the inserted knots again from the previous segment's seam.
+/// `stop` is polled once per segment (the work between two polls is one segment's
+/// `O((p + t) p dim)`); `None` when it returned true.
+// Index loops and counters mirror A5.9's pseudo-code line by line, which is how it is checked.
+#[allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
+fn elevate_flat_in<T: Scalar>(
+    p: usize,
+    knots: &[f64],
+    pw: &[f64],
+    dim: usize,
+    t: usize,
+    stop: &dyn Fn() -> bool,
+) -> Option<(Vec<f64>, Vec<T>)> {
+    let pw: Vec<T> = pw.iter().map(|&x| T::of(x)).collect();
+    let one = T::of(1.0);
+    let zero = T::of(0.0);
     let np = pw.len() / dim;
     let n = np - 1;
     let m = n + p + 1;
@@ -168,9 +188,9 @@ pub(super) fn elevate_flat_precise(
     bezalfs[0] = one;
     bezalfs[ph * w + p] = one;
     for i in 1..=ph2 {
-        let den = Dd::of(binomial(ph, i));
+        let den = T::of(binomial(ph, i));
         for j in i.saturating_sub(t)..=p.min(i) {
-            bezalfs[i * w + j] = Dd::of(binomial(p, j)) * Dd::of(binomial(t, i - j)) / den;
+            bezalfs[i * w + j] = T::of(binomial(p, j)) * T::of(binomial(t, i - j)) / den;
         }
     }
     for i in (ph2 + 1)..ph {
@@ -219,9 +239,9 @@ pub(super) fn elevate_flat_precise(
         let rbz: isize = if r > 0 { ph_i - (r + 1) / 2 } else { ph_i };
         if r > 0 {
             // Insert ub r times to isolate the Bezier segment [ua, ub].
-            let numer = Dd::of(ub) - Dd::of(ua);
+            let numer = T::of(ub) - T::of(ua);
             for k in ((mul + 1)..=p).rev() {
-                alfs[k - mul - 1] = numer / (Dd::of(knots[a + k]) - Dd::of(ua));
+                alfs[k - mul - 1] = numer / (T::of(knots[a + k]) - T::of(ua));
             }
             for j in 1..=ix(r) {
                 let save = ix(r) - j;
@@ -252,16 +272,15 @@ pub(super) fn elevate_flat_precise(
             // Remove knot ua oldr times (it was inserted to split the previous segment).
             let mut first = kind - 2;
             let mut last = kind;
-            let den = Dd::of(ub) - Dd::of(ua);
-            let bet = (Dd::of(ub) - Dd::of(uh[ix(kind - 1)])) / den;
+            let den = T::of(ub) - T::of(ua);
+            let bet = (T::of(ub) - T::of(uh[ix(kind - 1)])) / den;
             for tr in 1..oldr {
                 let mut i = first;
                 let mut j = last;
                 let mut kj = j - kind + 1;
                 while j - i > tr {
                     if i < cind {
-                        let alf =
-                            (Dd::of(ub) - Dd::of(uh[ix(i)])) / (Dd::of(ua) - Dd::of(uh[ix(i)]));
+                        let alf = (T::of(ub) - T::of(uh[ix(i)])) / (T::of(ua) - T::of(uh[ix(i)]));
                         for c in 0..dim {
                             qw[ix(i) * dim + c] =
                                 alf * qw[ix(i) * dim + c] + (one - alf) * qw[ix(i - 1) * dim + c];
@@ -269,7 +288,7 @@ pub(super) fn elevate_flat_precise(
                     }
                     if j >= lbz {
                         let g = if j - tr <= kind - ph_i + oldr {
-                            (Dd::of(ub) - Dd::of(uh[ix(j - tr)])) / den
+                            (T::of(ub) - T::of(uh[ix(j - tr)])) / den
                         } else {
                             bet
                         };
