@@ -598,25 +598,26 @@ fn boundary_row(
         };
         ends.is_some_and(|e| e.iter().all(|&k| k == e[0]))
     };
-    // (fixed direction, its value, the row's poles and weights by index along the free
-    // direction, the free direction's degree and knots).
-    let mut candidates: Vec<(usize, f64, Box<dyn Fn(usize) -> (Point3, f64) + '_>)> =
-        Vec::with_capacity(4);
-    let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
+    // (fixed direction, its value, the index of the net's row or column there).
+    let mut candidates: Vec<(usize, f64, usize)> = Vec::with_capacity(4);
     for (start, c) in [(true, v0), (false, v1)] {
         if clamped(surface.knots_v(), surface.degree_v(), start) && nu == n {
-            let j = if start { 0 } else { nv - 1 };
-            candidates.push((1, c, Box::new(move |i| (*grid.get(i, j), w(i, j)))));
+            candidates.push((1, c, if start { 0 } else { nv - 1 }));
         }
     }
     for (start, c) in [(true, u0), (false, u1)] {
         if clamped(surface.knots_u(), surface.degree_u(), start) && nv == n {
-            let i = if start { 0 } else { nu - 1 };
-            candidates.push((0, c, Box::new(move |j| (*grid.get(i, j), w(i, j)))));
+            candidates.push((0, c, if start { 0 } else { nu - 1 }));
         }
     }
+    let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
+    // The pole and weight `k` along the free direction of a candidate's row.
+    let row = |fixed: usize, index: usize, k: usize| {
+        let (i, j) = if fixed == 1 { (k, index) } else { (index, k) };
+        (*grid.get(i, j), w(i, j))
+    };
     let tol = 1e-12 * size;
-    for (fixed, c, row) in candidates {
+    for (fixed, c, index) in candidates {
         let free = 1 - fixed;
         let (degree, knots) = if free == 0 {
             (surface.degree_u(), surface.knots_u())
@@ -627,7 +628,7 @@ fn boundary_row(
             continue;
         }
         for reversed in [false, true] {
-            let at = |k: usize| row(if reversed { n - 1 - k } else { k });
+            let at = |k: usize| row(fixed, index, if reversed { n - 1 - k } else { k });
             let ratio = curve.weight(0) / at(0).1;
             let same = (0..n).all(|k| {
                 let (q, wq) = at(k);
