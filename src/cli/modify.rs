@@ -317,14 +317,7 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
         construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    let text = pipeline::write_as(
-        &document,
-        target,
-        &export_options(&a.out.output),
-        knot_form(&a.out, target)?,
-    )
-    .map_err(|e| CliError::pipeline(&a.out.output, e))?;
-    write_output(&a.out.output, &text)?;
+    write_document(&document, &a.out, target)?;
     let name = clap::ValueEnum::to_possible_value(&a.shape)
         .map_or_else(String::new, |v| v.get_name().to_owned());
     ctx.report.summary(&format!(
@@ -358,14 +351,7 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
     let (document, report) =
         fit(&data, dimension, spec).map_err(|e| CliError::pipeline(&a.input, e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    let text = pipeline::write_as(
-        &document,
-        target,
-        &export_options(&a.out.output),
-        knot_form(&a.out, target)?,
-    )
-    .map_err(|e| CliError::pipeline(&a.out.output, e))?;
-    write_output(&a.out.output, &text)?;
+    write_document(&document, &a.out, target)?;
     let sizes = |v: &[usize]| {
         v.iter()
             .map(usize::to_string)
@@ -394,6 +380,23 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
         report.residual_rms,
     ));
     Ok(outcome_of(&document.diagnostics))
+}
+
+/// Writes `document` as `target` to `out`'s file (its name in the header, the knot form it
+/// asks for).
+fn write_document(
+    document: &crate::exchange::Document,
+    out: &OutputArgs,
+    target: InputKind,
+) -> Result<(), CliError> {
+    let text = pipeline::write_as(
+        document,
+        target,
+        &export_options(&out.output),
+        knot_form(out, target)?,
+    )
+    .map_err(|e| CliError::pipeline(&out.output, e))?;
+    write_output(&out.output, &text)
 }
 
 /// How model JSON output writes curve knots (`--knot-intervals`, refused for files).
@@ -459,14 +462,7 @@ fn modify(
         pipeline::drop_unwritable(&mut document, format);
     }
     ctx.report.diagnostics(&name, &document.diagnostics);
-    let text = pipeline::write_as(
-        &document,
-        target,
-        &export_options(&out.output),
-        knot_form(out, target)?,
-    )
-    .map_err(|e| CliError::pipeline(&out.output, e))?;
-    write_output(&out.output, &text)?;
+    write_document(&document, out, target)?;
     let written = document.entities.len();
     let mut summary = format!(
         "{name} -> {}: read {read} curves and surfaces, wrote {written} as {}",

@@ -812,23 +812,12 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 params.reverse();
             }
             let params = (params.len() == model.len()).then_some(params);
-            for (i, piece) in model.iter().enumerate() {
-                let edge = match self.boundary_edge(e, piece) {
-                    Ok(x) => x,
-                    Err(err) => {
-                        diags.push(topology_error(e, &err));
-                        return None;
-                    }
-                };
-                let given = params.as_ref().and_then(|ps| ps.get(i)).map(|q| q.curve);
-                let pcurve = self.pcurve(surface, given, edge);
-                coedges.push(Coedge {
-                    edge,
-                    forward,
-                    pcurve,
-                    pcurve_deviation: None,
-                });
-            }
+            let pieces = self.boundary_coedges(e, &model, params.as_deref(), forward, surface);
+            coedges.extend(
+                pieces
+                    .map_err(|err| diags.push(topology_error(e, &err)))
+                    .ok()?,
+            );
         }
         if coedges.is_empty() {
             diags.push(Diagnostic::error(
@@ -906,25 +895,36 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             self.curves(e, "BPTR", rec.parameter_curve, diags)
         }
         .filter(|p| p.len() == model.len());
+        let coedges = self
+            .boundary_coedges(e, &model, params.as_deref(), true, surface)
+            .map_err(|err| diags.push(topology_error(e, &err)))
+            .ok()?;
+        Some((Loop { coedges, outer }, e))
+    }
+
+    /// One coedge per model-space curve piece of a 142 or 141 (`from`), `forward` or
+    /// reversed, with the matching parameter-space piece as its given pcurve.
+    fn boundary_coedges(
+        &mut self,
+        from: &DirectoryEntry,
+        model: &[Piece<'c>],
+        params: Option<&[Piece<'c>]>,
+        forward: bool,
+        surface: (&'c Entity, &'c NurbsSurface),
+    ) -> Result<Vec<Coedge>, TopologyError> {
         let mut coedges = Vec::with_capacity(model.len());
         for (i, piece) in model.iter().enumerate() {
-            let edge = match self.boundary_edge(e, piece) {
-                Ok(x) => x,
-                Err(err) => {
-                    diags.push(topology_error(e, &err));
-                    return None;
-                }
-            };
-            let given = params.as_ref().and_then(|ps| ps.get(i)).map(|q| q.curve);
+            let edge = self.boundary_edge(from, piece)?;
+            let given = params.and_then(|ps| ps.get(i)).map(|q| q.curve);
             let pcurve = self.pcurve(surface, given, edge);
             coedges.push(Coedge {
                 edge,
-                forward: true,
+                forward,
                 pcurve,
                 pcurve_deviation: None,
             });
         }
-        Some((Loop { coedges, outer }, e))
+        Ok(coedges)
     }
 
     /// A 186 Manifold Solid B-Rep Object as a solid.
