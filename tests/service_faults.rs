@@ -1325,12 +1325,12 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
     slot_freed_within_a_second(addr).await;
 }
 
-/// Reading a large STEP file (120,000 curves, 10 MB: in a debug build about 0.7 s of syntax
-/// scan, then 3.4 s of decoding, both polled) stops when its request
-/// times out at 2.5 s: the slot is free within 1 s of the 503.
+/// Reading a large STEP file (120,000 curves, 10 MB: in a debug build 0.7 s of syntax scan
+/// then 3.4 s of decoding on a loaded host, under 2.5 s in all on an idle one; both polled)
+/// stops when its request times out at 1 s: the slot is free within 1 s of the 503.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_timed_out_read_frees_its_slot_within_a_second() {
-    let limit = Duration::from_millis(2500);
+    let limit = Duration::from_millis(1000);
     let step = many_curves_step(120_000);
     let body = json!({ "file": step, "params": [[0.5]] }).to_string();
     times_out_and_frees_its_slot("/v1/evaluate", body, limit).await;
