@@ -231,7 +231,7 @@ pub(crate) fn keyword(i: In<'_>) -> Rule<'_, &str> {
     }
     // Upper-case runs eight bytes at a time; the loop then only sees the byte that stopped
     // the run (and the rest of a keyword with lower-case letters).
-    let mut e = super::swar::keyword_run(i, bang, i.len());
+    let mut e = super::keyword_run::keyword_run(i, bang, i.len());
     let mut lower = false;
     while let Some(&c) = i.get(e) {
         match KEYWORD_CLASS[usize::from(c)] {

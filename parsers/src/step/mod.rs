@@ -37,12 +37,12 @@ mod geometry_text;
 mod grammar;
 mod instance_text;
 mod keyword_case;
+mod keyword_run;
 pub mod product;
 mod scan;
 pub mod schema;
 mod specials;
 mod string;
-mod swar;
 #[cfg(test)]
 mod test_files;
 pub mod writer;

@@ -45,11 +45,13 @@ const MAX_KEYWORD_LEN: u32 = (1 << 24) - 1;
 
 impl<'a> RawInstance<'a> {
     /// Byte offset where the body (after `=`) starts.
+    #[inline]
     pub fn body_offset(&self) -> usize {
         self.offset + self.head_len as usize
     }
 
     /// The keyword of a simple instance; `None` for a complex instance `( ... )`.
+    #[inline]
     pub fn keyword(&self) -> Option<&'a str> {
         match self.keyword & MAX_KEYWORD_LEN {
             0 => None,
@@ -59,6 +61,7 @@ impl<'a> RawInstance<'a> {
 
     /// The first byte of [`RawInstance::keyword`], read without touching the input text;
     /// `None` for a complex instance.
+    #[inline]
     pub fn keyword_initial(&self) -> Option<u8> {
         match self.keyword & MAX_KEYWORD_LEN {
             0 => None,
@@ -87,6 +90,7 @@ enum IdIndex {
 impl IdIndex {
     const NONE: u32 = u32::MAX;
 
+    #[inline]
     fn get(&self, id: u64) -> Option<usize> {
         match self {
             IdIndex::Dense(v) => {
@@ -565,6 +569,7 @@ impl<'a> Scanned<'a> {
     }
 
     /// The instance `#id` (the first one if the id is duplicated).
+    #[inline]
     pub fn get(&self, id: u64) -> Option<&RawInstance<'a>> {
         self.index.get(id).and_then(|i| self.instances.get(i))
     }
@@ -968,7 +973,7 @@ fn quick_head(b: &[u8], start: usize, end: usize) -> Option<(u64, usize, Option<
             let e = if i + 16 <= end && b.get(i..i + 16) == Some(b"CARTESIAN_POINT(") {
                 i + 15
             } else {
-                super::swar::keyword_run(b, i, end)
+                super::keyword_run::keyword_run(b, i, end)
             };
             // A lower-case letter continuing the keyword is an error the general path
             // reports.

@@ -128,19 +128,29 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
         }
+        // Most instances of a file are CARTESIAN_POINTs, which none of the lists below
+        // takes (the entities using them read them): one comparison turns them away.
+        if raw.keyword_initial() == Some(b'C') && raw.keyword() == Some("CARTESIAN_POINT") {
+            continue;
+        }
         if raw.keyword_initial().is_none() {
             complex.push(raw);
         }
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
-        if maybe_product(raw) && indexed() {
-            product_candidates.push(raw);
-        }
         if maybe_bspline(raw) {
+            // No B-spline keyword is a product-structure one; a complex B-spline candidate
+            // (a rational B-spline's long body) is searched for product partials only if
+            // it does not decode as a B-spline (below).
             if indexed() {
                 candidates.push(raw);
             }
-        } else if maybe_geometry(raw) && indexed() {
+            continue;
+        }
+        if maybe_product(raw) && indexed() {
+            product_candidates.push(raw);
+        }
+        if maybe_geometry(raw) && indexed() {
             geometry_candidates.push(raw);
         }
     }
@@ -262,9 +272,17 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         .collect();
     cancel.stop_read()?;
     let mut placed: Vec<(usize, Entity)> = converted.entities;
+    let mut late_products = false;
     for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
         doc.diagnostics.extend(diags);
+        if entity.is_none() && raw.keyword().is_none() && maybe_product(raw) {
+            product_candidates.push(raw);
+            late_products = true;
+        }
         placed.extend(entity.map(|e| (raw.offset, e)));
+    }
+    if late_products {
+        product_candidates.sort_by_key(|raw| raw.offset);
     }
     // File order (a stable sort: entities of one instance keep their order).
     placed.sort_by_key(|(offset, _)| *offset);
