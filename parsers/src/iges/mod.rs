@@ -247,7 +247,22 @@ impl<'a> IgesFile<'a> {
         // `format!("{de:>7}")` writes it: compare the bytes first (that text parses to `de`),
         // then parse whatever else is there.
         let expected = right_justified(de);
-        let owner = |r: &Record<'_>| -> bool { names(field(r.data, 65, 72), de, expected) };
+        // Columns 65-72 as one word: the blank column 65 and the pointer as written
+        // (every line of a large file passes here; anything else goes through `names`).
+        let word = expected.map(|e| {
+            let mut w = [b' '; 8];
+            w[1..].copy_from_slice(&e);
+            u64::from_le_bytes(w)
+        });
+        let owner = |r: &Record<'_>| -> bool {
+            let quick = r
+                .data
+                .as_bytes()
+                .get(64..72)
+                .and_then(|c| <[u8; 8]>::try_from(c).ok())
+                .map(u64::from_le_bytes);
+            (quick.is_some() && quick == word) || names(field(r.data, 65, 72), de, expected)
+        };
         let Some(r0) = self.parameters.get(start) else {
             return Err(err(ErrorKind::BadPointer {
                 what: "parameter data",
@@ -549,6 +564,7 @@ impl Parameters {
 /// Appends the data columns 1-64 of `records` to `data`, each padded with blanks to 64
 /// columns: the text the parameter tokenizer reads (free format continues across records).
 fn join_data(records: &[Record<'_>], data: &mut String) {
+    data.reserve(records.len().saturating_mul(P_DATA_COLUMNS));
     for r in records {
         let d = field(r.data, 0, P_DATA_COLUMNS);
         data.push_str(d);

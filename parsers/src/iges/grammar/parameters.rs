@@ -209,21 +209,41 @@ pub fn integer(text: &[u8]) -> Option<i64> {
 #[inline(always)]
 pub fn real_parameter(d: Delimiters) -> impl Fn(&[u8]) -> Rule<'_, (f64, End)> {
     move |i: &[u8]| match real_value(d, i, 0) {
-        Some((v, n, end)) => Ok((&i[n..], (v, end))),
+        Some((v, n, end, _)) => Ok((&i[n..], (v, end))),
         None => not_a_real(d, i),
     }
 }
 
-/// The success path of [`real_parameter`] without its error, on `b` from `start`: the
-/// value, the offset after its delimiter, and which delimiter; `None` where
-/// [`real_parameter`] fails or the text is not the usual shape (then [`real_parameter`]
-/// decides).
+/// The first offset at or after `k` that is not a blank. A parameter usually starts at
+/// once; the blanks that pad each record's data columns to 64 (section 2.2.4.5; every
+/// record of a long entity ends with some) are skipped eight at a time.
 #[inline(always)]
-fn real_value(d: Delimiters, b: &[u8], start: usize) -> Option<(f64, usize, End)> {
-    let mut k = start;
+fn skip_blanks(b: &[u8], mut k: usize) -> usize {
+    if b.get(k) != Some(&b' ') {
+        return k;
+    }
+    while let Some(w) = b.get(k..k + 8).and_then(|c| <[u8; 8]>::try_from(c).ok()) {
+        // Zero bytes are blanks; the lowest non-zero byte is the first other character.
+        let x = u64::from_le_bytes(w) ^ 0x2020_2020_2020_2020;
+        if x != 0 {
+            return k + (x.trailing_zeros() / 8) as usize;
+        }
+        k += 8;
+    }
     while b.get(k) == Some(&b' ') {
         k += 1;
     }
+    k
+}
+
+/// The success path of [`real_parameter`] without its error, on `b` from `start`: the
+/// value, the offset after its delimiter, which delimiter, and whether the parameter was
+/// a default (read as 0.0; [`at_default`] of the same text); `None` where
+/// [`real_parameter`] fails or the text is not the usual shape (then [`real_parameter`]
+/// decides).
+#[inline(always)]
+fn real_value(d: Delimiters, b: &[u8], start: usize) -> Option<(f64, usize, End, bool)> {
+    let k = skip_blanks(b, start);
     let delimiter = |c: u8| {
         if c == d.param {
             Some(End::Parameter)
@@ -234,7 +254,7 @@ fn real_value(d: Delimiters, b: &[u8], start: usize) -> Option<(f64, usize, End)
         }
     };
     if let Some(end) = delimiter(*b.get(k)?) {
-        return Some((0.0, k + 1, end));
+        return Some((0.0, k + 1, end, true));
     }
     let (v, mut e) = iges_real_at(b, k).ok()?;
     // Usually the delimiter follows at once; blanks may come first.
@@ -242,7 +262,7 @@ fn real_value(d: Delimiters, b: &[u8], start: usize) -> Option<(f64, usize, End)
         e += 1;
     }
     let end = delimiter(*b.get(e)?)?;
-    Some((v, e + 1, end))
+    Some((v, e + 1, end, false))
 }
 
 /// The success path of [`integer_parameter`] for the usual shape (blanks, an optional sign
@@ -562,13 +582,11 @@ impl<'a> ParameterReader<'a> {
         let mut at = 0;
         let fast = count.min(self.max.saturating_sub(self.index));
         while !self.done && v.len() < fast {
-            let Some((x, next, end)) = real_value(self.d, rest, at) else {
+            let Some((x, next, end, default)) = real_value(self.d, rest, at) else {
                 break;
             };
-            // A default reads 0.0: only then is it worth looking (counted, see `defaulted`).
-            if x == 0.0 && at_default(self.d, rest.get(at..).unwrap_or_default()) {
-                self.defaulted += 1;
-            }
+            // A default reads 0.0 (counted, see `defaulted`).
+            self.defaulted += usize::from(default);
             v.push(x);
             at = next;
             self.done = end == End::Record;
@@ -593,20 +611,16 @@ impl<'a> ParameterReader<'a> {
         let mut at = 0;
         let fast = count.min(self.max.saturating_sub(self.index) / 3);
         while !self.done && v.len() < fast {
-            let Some((x, a, End::Parameter)) = real_value(self.d, rest, at) else {
+            let Some((x, a, End::Parameter, dx)) = real_value(self.d, rest, at) else {
                 break;
             };
-            let Some((y, b, End::Parameter)) = real_value(self.d, rest, a) else {
+            let Some((y, b, End::Parameter, dy)) = real_value(self.d, rest, a) else {
                 break;
             };
-            let Some((z, c, end)) = real_value(self.d, rest, b) else {
+            let Some((z, c, end, dz)) = real_value(self.d, rest, b) else {
                 break;
             };
-            for (value, from) in [(x, at), (y, a), (z, b)] {
-                if value == 0.0 && at_default(self.d, rest.get(from..).unwrap_or_default()) {
-                    self.defaulted += 1;
-                }
-            }
+            self.defaulted += usize::from(dx) + usize::from(dy) + usize::from(dz);
             v.push([x, y, z]);
             at = c;
             self.done = end == End::Record;
@@ -863,6 +877,31 @@ mod tests {
                 Some((rest.len(), v.to_bits(), end))
             });
             prop_assert_eq!(fast.ok().map(|(rest, (v, end))| (rest.len(), v.to_bits(), end)), plain, "{:?}", s);
+        }
+    }
+
+    proptest! {
+        /// The word-at-a-time blank skip against the byte loop, at every start offset.
+        #[test]
+        fn skip_blanks_agrees_with_a_byte_loop(text in "[ ]{0,20}[0-9,; ]{0,20}", start in 0usize..45) {
+            let b = text.as_bytes();
+            let mut k = start;
+            while b.get(k) == Some(&b' ') {
+                k += 1;
+            }
+            prop_assert_eq!(skip_blanks(b, start), k);
+        }
+
+        /// `real_value` says "default" exactly where `at_default` does.
+        #[test]
+        fn real_value_default_flag_is_at_default(text in "[ ]{0,12}(1\\.5|[,;])[ ]{0,3}[,;]?") {
+            let b = text.as_bytes();
+            if let Some((v, _, _, default)) = real_value(D, b, 0) {
+                prop_assert_eq!(default, at_default(D, b));
+                if default {
+                    prop_assert_eq!(v, 0.0);
+                }
+            }
         }
     }
 }
