@@ -342,7 +342,7 @@ mod tests {
                         if state % 256 < density {
                             b'\n'
                         } else {
-                            (state >> 8) as u8 | 1
+                            state.to_le_bytes()[1] | 1
                         }
                     })
                     .collect();
