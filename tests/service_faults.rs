@@ -76,10 +76,21 @@ async fn request_with_head(
     path: &str,
     body: &str,
 ) -> (u16, String, String, Duration) {
+    request_typed(addr, method, path, "application/json", body).await
+}
+
+/// [`request_with_head`] with a body of type `content_type`.
+async fn request_typed(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    content_type: &str,
+    body: &str,
+) -> (u16, String, String, Duration) {
     let start = Instant::now();
     let mut s = TcpStream::connect(addr).await.unwrap();
     let head = format!(
-        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: {content_type}\r\n\
          Content-Length: {}\r\nConnection: close\r\n\r\n",
         body.len()
     );
@@ -1299,10 +1310,20 @@ fn many_curves_step(n: usize) -> String {
     text
 }
 
-/// Sends `body` to `path` on a server with the time limit `limit`, checks that the work
-/// started (a slot busy), that the reply is 503 `timeout`, and that the slot is free within
-/// 1 s of it.
+/// Sends `body` (JSON) to `path` on a server with the time limit `limit`, checks that the
+/// work started (a slot busy), that the reply is 503 `timeout`, and that the slot is free
+/// within 1 s of it.
 async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration) {
+    typed_times_out_and_frees_its_slot(path, "application/json", body, limit).await;
+}
+
+/// [`times_out_and_frees_its_slot`] with a body of type `content_type`.
+async fn typed_times_out_and_frees_its_slot(
+    path: &str,
+    content_type: &'static str,
+    body: String,
+    limit: Duration,
+) {
     let server = start(ServeConfig {
         request_timeout: limit,
         max_reply_bytes: usize::MAX,
@@ -1311,7 +1332,8 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
     .await;
     let addr = server.addr;
     let path = path.to_owned();
-    let call = tokio::spawn(async move { request(addr, "POST", &path, &body).await });
+    let call =
+        tokio::spawn(async move { request_typed(addr, "POST", &path, content_type, &body).await });
     wait_for(
         addr,
         "nurbsx_compute_slots_busy",
@@ -1319,7 +1341,7 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
         Duration::from_secs(10),
     )
     .await;
-    let (status, reply, _) = call.await.unwrap();
+    let (status, _, reply, _) = call.await.unwrap();
     assert_eq!(status, 503, "{reply}");
     assert!(reply.contains("\"timeout\""), "{reply}");
     slot_freed_within_a_second(addr).await;
@@ -1593,4 +1615,38 @@ fn a_large_evaluation_streams_in_bounded_memory() {
         "peak RSS {peak} bytes for a reply of {} bytes",
         reply.len()
     );
+}
+
+/// Converting a large STEP file (120,000 curves, 10 MB: reading, then writing as IGES;
+/// several seconds in a debug build, every stage polled) stops when its request times out
+/// at 1 s: the slot is free within 1 s of the 503. Once with upper-case keywords, once
+/// with lower-case ones (read again after the keywords are upper-cased, a pass that polls
+/// too).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_timed_out_conversion_frees_its_slot_within_a_second() {
+    let step = many_curves_step(120_000);
+    let t = Instant::now();
+    typed_times_out_and_frees_its_slot(
+        "/v1/convert?to=iges",
+        "model/step",
+        step.clone(),
+        Duration::from_secs(1),
+    )
+    .await;
+    eprintln!("upper {:?}", t.elapsed());
+    let lower = step.replace("B_SPLINE_CURVE_WITH_KNOTS", "b_spline_curve_with_knots");
+    let t = Instant::now();
+    typed_times_out_and_frees_its_slot(
+        "/v1/convert?to=iges",
+        "model/step",
+        lower,
+        Duration::from_secs(1),
+    )
+    .await;
+    eprintln!("lower {:?}", t.elapsed());
+    let body = surface(700, 3).to_string();
+    eprintln!("json body {} bytes", body.len());
+    let t = Instant::now();
+    times_out_and_frees_its_slot("/v1/convert?to=step", body, Duration::from_secs(1)).await;
+    eprintln!("json {:?}", t.elapsed());
 }
