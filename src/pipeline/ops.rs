@@ -1853,9 +1853,10 @@ const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
 ///
 /// Before any mesh is built, the vertex count is estimated for every entity
 /// ([`crate::nurbs::NurbsCurve::tessellation_estimate`]) and the request refused when the
-/// sum exceeds [`Settings::max_mesh_vertices`] or its text would exceed
-/// [`Settings::max_reply_bytes`]; the same vertex limit bounds the work itself, and the
-/// stop signal is polled every [`crate::nurbs::tessellate::STOP_POLL`] steps.
+/// sum exceeds [`Settings::max_mesh_vertices`] or the working-memory budget
+/// ([`super::mesh::vertex_cap`]), or its text would exceed [`Settings::max_reply_bytes`];
+/// the same vertex cap bounds the work itself, and the stop signal is polled every
+/// [`crate::nurbs::tessellate::STOP_POLL`] steps.
 ///
 /// A document with faces is drawn as a part (see [`super::mesh`]): faces trimmed, edges as
 /// lines, the free entities as before; faces that cannot be meshed are left out with a
@@ -1917,6 +1918,12 @@ pub fn tessellate(
                 settings.max_mesh_vertices
             ),
             Location::default(),
+        ));
+    }
+    if estimate > mesh::vertex_cap(settings) as f64 {
+        return Err(mesh::over_the_cap(
+            &format!("the tessellation (about {estimate:.3e} vertices, estimated before the work)"),
+            settings,
         ));
     }
     check_reply(
