@@ -257,17 +257,12 @@ pub fn weld(entity: &str, mesh: Mesh) -> FaceMesh {
     }
     drop((order, representative, vertices));
     let mut kept = Vec::with_capacity(triangles.len());
-    kept.extend(
-        triangles
-            .iter()
-            .map(|t| t.map(|v| remap[v]))
-            .filter(|t| {
-                t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
-                    let [a, b, c] = t.map(|v| positions[v as usize]);
-                    norm(area_vector(a, b, c)) > 0.0
-                }
-            }),
-    );
+    kept.extend(triangles.iter().map(|t| t.map(|v| remap[v])).filter(|t| {
+        t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            norm(area_vector(a, b, c)) > 0.0
+        }
+    }));
     FaceMesh {
         entity: entity.to_owned(),
         positions,
