@@ -186,7 +186,7 @@ pub fn plan<'d>(
 /// Welds a surface tessellation: vertices within 1e-9 of the mesh's bounding-box diagonal
 /// become one, and triangles left with a repeated vertex or no area are dropped. The
 /// mesh's parameters and normals are dropped first (a welded mesh has positions and
-/// triangles only); the search costs 37 bytes a vertex (see [`MESH_VERTEX_WORK_BYTES`]).
+/// triangles only); the search costs 44 bytes a vertex (see [`MESH_VERTEX_WORK_BYTES`]).
 pub fn weld(entity: &str, mesh: Mesh) -> FaceMesh {
     let Mesh {
         vertices,
@@ -205,8 +205,11 @@ pub fn weld(entity: &str, mesh: Mesh) -> FaceMesh {
     let eps = (1e-9 * diagonal).max(f64::MIN_POSITIVE);
     // Vertices are binned in cells of size eps; a vertex is merged into the first earlier
     // representative (a vertex that was not merged) within eps, searched in the 27 cells
-    // around its own. The vertices sorted by (cell, index) make each column of 3 cells
-    // along z one run of the order, found by binary search.
+    // around its own, each cell's representatives in the order they were found. The
+    // vertices sorted by (cell, index) make each column of 3 cells along z one run of the
+    // order, found by binary search; merged vertices are skipped through `skip` (a
+    // union-find of the next unmerged position, with path halving), so a cell where many
+    // vertices meet (a pole) costs no more than one with a single vertex.
     let cell = |p: &Point3| -> [i64; 3] {
         // In range: (p - lo) / eps <= 1e9 (the saturating cast guards the rest).
         [0, 1, 2].map(|k| ((p[k] - lo[k]) / eps).floor() as i64)
@@ -218,44 +221,68 @@ pub fn weld(entity: &str, mesh: Mesh) -> FaceMesh {
         .map(|(i, p)| (cell(p), index(i)))
         .collect();
     order.sort_unstable();
+    // Where each vertex is in `order`.
+    let mut at = vec![0u32; order.len()];
+    for (k, &(_, j)) in order.iter().enumerate() {
+        at[j as usize] = index(k);
+    }
+    // skip[k] leads to the first position from k on whose vertex was not merged; the last
+    // entry ends the order.
+    let mut skip: Vec<u32> = (0..=order.len()).map(index).collect();
+    let unmerged_from = |skip: &mut Vec<u32>, mut k: usize| -> usize {
+        while skip[k] as usize != k {
+            let next = skip[skip[k] as usize];
+            skip[k] = next;
+            k = next as usize;
+        }
+        k
+    };
     let mut positions: Vec<Point3> = Vec::with_capacity(vertices.len());
     let mut remap: Vec<u32> = Vec::with_capacity(vertices.len());
-    let mut representative: Vec<bool> = Vec::with_capacity(vertices.len());
     for (i, p) in vertices.iter().enumerate() {
         let c = cell(p);
         let mut found = None;
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
                 let (x, y) = (c[0] + dx, c[1] + dy);
-                let first = order.partition_point(|(k, _)| *k < [x, y, c[2] - 1]);
-                for &(k, j) in order.get(first..).unwrap_or_default() {
-                    if k[0] != x || k[1] != y || k[2] > c[2] + 1 {
+                let mut k = order.partition_point(|(key, _)| *key < [x, y, c[2] - 1]);
+                loop {
+                    k = unmerged_from(&mut skip, k);
+                    let Some(&(key, j)) = order.get(k) else {
+                        break;
+                    };
+                    if key[0] != x || key[1] != y || key[2] > c[2] + 1 {
                         break;
                     }
-                    let j = j as usize;
-                    if j >= i {
-                        continue; // not placed yet
-                    }
-                    if !representative[j] {
+                    if j as usize >= i {
+                        // The rest of this cell is not placed yet: on to the next cell.
+                        k = order.partition_point(|(other, _)| *other <= key);
                         continue;
                     }
-                    let w = remap[j];
+                    let w = remap[j as usize];
                     let q = positions[w as usize];
                     let d2: f64 = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum();
                     if d2 <= eps * eps {
                         found = Some(w);
                         break 'search;
                     }
+                    k += 1;
                 }
             }
         }
-        representative.push(found.is_none());
-        remap.push(found.unwrap_or_else(|| {
-            positions.push(*p);
-            index(positions.len() - 1)
-        }));
+        remap.push(match found {
+            Some(w) => {
+                let k = at[i] as usize;
+                skip[k] = index(k + 1);
+                w
+            }
+            None => {
+                positions.push(*p);
+                index(positions.len() - 1)
+            }
+        });
     }
-    drop((order, representative, vertices));
+    drop((order, at, skip, vertices));
     let mut kept = Vec::with_capacity(triangles.len());
     kept.extend(triangles.iter().map(|t| t.map(|v| remap[v])).filter(|t| {
         t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
@@ -305,8 +332,8 @@ pub struct Tessellation {
 /// Bytes of working memory a tessellation takes per vertex, at most, while it is built: a
 /// surface's grid mesh holds 112 bytes a grid vertex (position 24, parameters 16, normal
 /// 24, two triangles of `usize` indices 48), and before it the grid's points with the set
-/// of cells that passed, up to about 140 while that set grows; its weld, 133 (the mesh
-/// without parameters and normals, 72, the search's 37, the welded positions 24); a welded
+/// of cells that passed, up to about 140 while that set grows; its weld, 140 (the mesh
+/// without parameters and normals, 72, the search's 44, the welded positions 24); a welded
 /// mesh kept for the writer, 48; a curve, 32 a point. Meshes are built one at a time and
 /// each counts against what the ones before it left of [`vertex_cap`], so the whole
 /// tessellation stays within [`vertex_cap`] times this (the allocator's rounding is the
@@ -724,5 +751,64 @@ impl Glb {
         }
         out.write_all(&[0; 3][..padded - self.bin])?;
         out.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sphere's parameter grid (its first and last rows are the poles, its first and
+    /// last columns the seam) welds as a brute-force search over all earlier distinct
+    /// vertices does: the same positions in the same order, the same triangles, and
+    /// 2 + (rows - 2) x (columns - 1) vertices.
+    #[test]
+    fn weld_merges_poles_and_seam_as_a_brute_force_search_does() {
+        use std::f64::consts::PI;
+        let (nu, nv) = (9usize, 13usize);
+        let mut vertices = Vec::new();
+        for i in 0..nu {
+            let theta = PI * i as f64 / (nu - 1) as f64;
+            for j in 0..nv {
+                let phi = 2.0 * PI * j as f64 / (nv - 1) as f64;
+                vertices.push([
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ]);
+            }
+        }
+        let mut triangles = Vec::new();
+        for i in 0..nu - 1 {
+            for j in 0..nv - 1 {
+                let (a, b) = (i * nv + j, (i + 1) * nv + j);
+                triangles.push([a, b, b + 1]);
+                triangles.push([a, b + 1, a + 1]);
+            }
+        }
+        // Distinct grid points are at least 0.03 apart; coinciding ones within 1e-15.
+        let mut distinct: Vec<Point3> = Vec::new();
+        let mut remap = Vec::new();
+        for p in &vertices {
+            let near = |q: &Point3| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>() < 1e-12;
+            remap.push(distinct.iter().position(near).unwrap_or_else(|| {
+                distinct.push(*p);
+                distinct.len() - 1
+            }) as u32);
+        }
+        let expected: Vec<[u32; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| remap[v]))
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect();
+        let mesh = Mesh {
+            vertices,
+            triangles,
+            ..Mesh::default()
+        };
+        let welded = weld("#1", mesh);
+        assert_eq!(welded.positions.len(), 2 + (nu - 2) * (nv - 1));
+        assert_eq!(welded.positions, distinct);
+        assert_eq!(welded.triangles, expected);
     }
 }
