@@ -218,7 +218,7 @@ fn escape(s: &str) -> String {
 }
 
 /// Bytes of SVG text a triangle takes at least: its `<polygon>` element with every number
-/// at its shortest (`0.00`, `rgb(0,0,0)`) is 128 bytes.
+/// at its shortest (`0.00`, `rgb(0,0,0)`) is 129 bytes.
 pub const SVG_TRIANGLE_BYTES: usize = 120;
 
 /// The SVG picture of the meshes and curves; `unit` names the length unit of the scale bar.
