@@ -76,10 +76,21 @@ async fn request_with_head(
     path: &str,
     body: &str,
 ) -> (u16, String, String, Duration) {
+    request_typed(addr, method, path, "application/json", body).await
+}
+
+/// [`request_with_head`] with a body of type `content_type`.
+async fn request_typed(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    content_type: &str,
+    body: &str,
+) -> (u16, String, String, Duration) {
     let start = Instant::now();
     let mut s = TcpStream::connect(addr).await.unwrap();
     let head = format!(
-        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: {content_type}\r\n\
          Content-Length: {}\r\nConnection: close\r\n\r\n",
         body.len()
     );
@@ -1299,10 +1310,20 @@ fn many_curves_step(n: usize) -> String {
     text
 }
 
-/// Sends `body` to `path` on a server with the time limit `limit`, checks that the work
-/// started (a slot busy), that the reply is 503 `timeout`, and that the slot is free within
-/// 1 s of it.
+/// Sends `body` (JSON) to `path` on a server with the time limit `limit`, checks that the
+/// work started (a slot busy), that the reply is 503 `timeout`, and that the slot is free
+/// within 1 s of it.
 async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration) {
+    typed_times_out_and_frees_its_slot(path, "application/json", body, limit).await;
+}
+
+/// [`times_out_and_frees_its_slot`] with a body of type `content_type`.
+async fn typed_times_out_and_frees_its_slot(
+    path: &str,
+    content_type: &'static str,
+    body: String,
+    limit: Duration,
+) {
     let server = start(ServeConfig {
         request_timeout: limit,
         max_reply_bytes: usize::MAX,
@@ -1311,7 +1332,8 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
     .await;
     let addr = server.addr;
     let path = path.to_owned();
-    let call = tokio::spawn(async move { request(addr, "POST", &path, &body).await });
+    let call =
+        tokio::spawn(async move { request_typed(addr, "POST", &path, content_type, &body).await });
     wait_for(
         addr,
         "nurbsx_compute_slots_busy",
@@ -1319,7 +1341,7 @@ async fn times_out_and_frees_its_slot(path: &str, body: String, limit: Duration)
         Duration::from_secs(10),
     )
     .await;
-    let (status, reply, _) = call.await.unwrap();
+    let (status, _, reply, _) = call.await.unwrap();
     assert_eq!(status, 503, "{reply}");
     assert!(reply.contains("\"timeout\""), "{reply}");
     slot_freed_within_a_second(addr).await;
@@ -1592,5 +1614,84 @@ fn a_large_evaluation_streams_in_bounded_memory() {
         peak < STREAMED_EVALUATION_RSS_BOUND && peak < reply.len() as u64,
         "peak RSS {peak} bytes for a reply of {} bytes",
         reply.len()
+    );
+}
+
+/// Converting stops when its request times out at 1 s, whatever stage it is in, and its
+/// slot is free within 1 s of the 503: a large STEP file (120,000 curves, 10 MB: reading,
+/// then writing as IGES, several seconds in a debug build), the same with lower-case
+/// keywords (read again after a pass that upper-cases them), and 16 MB of model JSON (a
+/// 700 x 700 surface: seconds of JSON parsing in a debug build, then the STEP writer).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_timed_out_conversion_frees_its_slot_within_a_second() {
+    let limit = Duration::from_secs(1);
+    let step = many_curves_step(120_000);
+    let lower = step.replace("B_SPLINE_CURVE_WITH_KNOTS", "b_spline_curve_with_knots");
+    typed_times_out_and_frees_its_slot("/v1/convert?to=iges", "model/step", step, limit).await;
+    typed_times_out_and_frees_its_slot("/v1/convert?to=iges", "model/step", lower, limit).await;
+    let json = surface(700, 3).to_string();
+    times_out_and_frees_its_slot("/v1/convert?to=step", json, limit).await;
+}
+
+/// The quadric patch of the peak-memory measurement (README "HTTP service").
+fn quadric_patch() -> Value {
+    json!({
+        "degree_u": 2, "degree_v": 2,
+        "knots_u": [0, 0, 0, 1, 1, 1], "knots_v": [0, 0, 0, 1, 1, 1],
+        "control_points": [[[0, 0, 0], [0, 1, 0.3], [0, 2, 0]], [[1, 0, 0.2], [1, 1, 1.1], [1, 2, 0.1]],
+                           [[2, 0, 0], [2, 1, -0.4], [2, 2, 0.5]]]
+    })
+}
+
+/// The number of vertices of a binary glTF reply (the POSITION accessors' counts of its
+/// JSON chunk, which is ASCII).
+fn glb_vertices(reply: &str) -> u64 {
+    let json = reply.find('{').map(|k| &reply[k..]).unwrap();
+    let doc: Value = serde_json::Deserializer::from_str(json)
+        .into_iter::<Value>()
+        .next()
+        .unwrap()
+        .unwrap();
+    let accessors = doc["accessors"].as_array().unwrap();
+    doc["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| {
+            let k = m["primitives"][0]["attributes"]["POSITION"]
+                .as_u64()
+                .unwrap();
+            accessors[k as usize]["count"].as_u64().unwrap()
+        })
+        .sum()
+}
+
+/// Binary glTF is the densest mesh reply (about 36 bytes a vertex), so the reply limit
+/// alone let a mesh grow until its working memory (160 bytes a vertex) passed the
+/// documented peak. The tessellation's working-memory budget, 3 times the reply limit,
+/// caps it: with a 1 MB reply limit (budget 3 MB, 18,750 vertices), the patch at tolerance
+/// 1e-4 (a glTF file of about 0.8 MB, within the reply limit) is refused with 413
+/// `limit.mesh_memory`, and at 1e-3 it is drawn with fewer vertices than the cap.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_memory_budget_caps_a_gltf_mesh() {
+    let server = start(ServeConfig {
+        max_reply_bytes: 1_000_000,
+        ..config()
+    })
+    .await;
+    let cap = 3 * 1_000_000 / 160;
+    let ask = |tolerance: f64| {
+        json!({ "geometry": quadric_patch(), "tolerance": tolerance, "format": "glb" }).to_string()
+    };
+    let (status, reply, _) = request(server.addr, "POST", "/v1/tessellate", &ask(1e-3)).await;
+    assert_eq!(status, 200, "{reply}");
+    let vertices = glb_vertices(&reply);
+    assert!(vertices > 1000 && vertices <= cap, "{vertices}");
+    let (status, reply, _) = request(server.addr, "POST", "/v1/tessellate", &ask(1e-4)).await;
+    assert_eq!(status, 413, "{reply}");
+    assert!(reply.contains("limit.mesh_memory"), "{reply}");
+    assert!(
+        reply.contains(&format!("more than {cap} vertices")),
+        "{reply}"
     );
 }

@@ -126,14 +126,24 @@ def main():
     # Tessellate: a curve near the reply cap (about 737k points of 91 bytes).
     cases.append(("tessellate, circle at tolerance 1.3e-11 (about 620k points)", "/v1/tessellate",
                   "application/json", json.dumps({"geometry": CIRCLE, "tolerance": 1.3e-11})))
-    # Tessellate: the quadric patch as binary glTF (reply estimate just under 64 MiB), and
-    # the circle as SVG (the reply just under 64 MiB).
-    cases.append(("tessellate, 3 x 3 patch at tolerance 1.4e-6, glTF", "/v1/tessellate",
+    # Tessellate: the quadric patch as binary glTF, at the finest tolerance whose mesh fits
+    # the working-memory budget (950k vertices of the 1.26 M it allows; the next finer
+    # mesh the mesher makes has more) and at one whose mesh does not (refused during the
+    # work, the estimate being a lower bound); then the circle as SVG (the reply just
+    # under 64 MiB).
+    cases.append(("tessellate, 3 x 3 patch at tolerance 2e-6, glTF", "/v1/tessellate",
+                  "application/json",
+                  json.dumps({"geometry": PATCH, "tolerance": 2e-6, "format": "glb"})))
+    cases.append(("tessellate, 3 x 3 patch at tolerance 1.4e-6, glTF (refused)", "/v1/tessellate",
                   "application/json",
                   json.dumps({"geometry": PATCH, "tolerance": 1.4e-6, "format": "glb"})))
     cases.append(("tessellate, circle at tolerance 2.5e-11, SVG", "/v1/tessellate",
                   "application/json",
                   json.dumps({"geometry": CIRCLE, "tolerance": 2.5e-11, "format": "svg"})))
+    # The patch as SVG: the finest of these tolerances whose picture fits the reply limit.
+    cases.append(("tessellate, 3 x 3 patch at tolerance 1e-5, SVG", "/v1/tessellate",
+                  "application/json",
+                  json.dumps({"geometry": PATCH, "tolerance": 1e-5, "format": "svg"})))
     # Degree elevation by 1 in u: of a 480 x 480 bicubic surface (in limit: about 460k poles
     # out) and of the 700 x 700 one (the written-file estimate, 950k poles, is refused).
     cases.append(("degree-elevate, 480 x 480 bicubic surface, by 1 in u", "/v1/degree-elevate",

@@ -166,7 +166,7 @@ pub fn load(
         }
     };
     let mut document = match kind {
-        InputKind::Json => load_json(bytes)?,
+        InputKind::Json => load_json(bytes, &settings.cancel)?,
         InputKind::Step | InputKind::Iges => {
             let import = exchange::ImportOptions {
                 cancel: settings.cancel.clone(),
@@ -190,8 +190,31 @@ pub fn load(
     Ok(Loaded { kind, document })
 }
 
-/// Parses model JSON: a geometry object, an array of them, or `{"geometry": ...}`.
-fn load_json(bytes: &[u8]) -> Result<Document, PipelineError> {
+/// The input of the JSON parser: `bytes`, read in pieces of [`JSON_POLL`] bytes, failing
+/// once the stop signal has fired (the parse then ends with an I/O error).
+struct PolledBytes<'a> {
+    rest: &'a [u8],
+    cancel: &'a super::Cancel,
+}
+
+/// Bytes the JSON parser reads between two polls of the stop signal: a few milliseconds of
+/// parsing at most in a debug build.
+const JSON_POLL: usize = 16 * 1024;
+
+impl std::io::Read for PolledBytes<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.cancel.is_set() {
+            return Err(std::io::Error::other("stopped"));
+        }
+        self.rest.read(buf)
+    }
+}
+
+/// Parses model JSON: a geometry object, an array of them, or `{"geometry": ...}`. The
+/// parse polls `cancel` every [`JSON_POLL`] bytes of input, and once more at its end (the
+/// text is tokenised as it is read; building and checking the geometry from the tokens
+/// is not polled).
+fn load_json(bytes: &[u8], cancel: &super::Cancel) -> Result<Document, PipelineError> {
     #[derive(serde::Deserialize)]
     #[serde(untagged)]
     enum Shape {
@@ -199,7 +222,17 @@ fn load_json(bytes: &[u8]) -> Result<Document, PipelineError> {
         Many(Vec<Geometry>),
         One(Geometry),
     }
-    let shape: Shape = serde_json::from_slice(bytes).map_err(|e| {
+    let input = std::io::BufReader::with_capacity(
+        JSON_POLL,
+        PolledBytes {
+            rest: bytes,
+            cancel,
+        },
+    );
+    let shape: Shape = serde_json::from_reader(input).map_err(|e| {
+        if e.is_io() {
+            return super::cancelled();
+        }
         // Re-parse as a plain value to tell syntax errors from invalid geometry.
         let location = crate::exchange::Location {
             line: Some(e.line()),
@@ -213,6 +246,7 @@ fn load_json(bytes: &[u8]) -> Result<Document, PipelineError> {
             Ok(value) => invalid_geometry(&value),
         }
     })?;
+    cancel.check()?;
     let geometries = match shape {
         Shape::Wrapped { geometry } | Shape::One(geometry) => vec![geometry],
         Shape::Many(list) => list,

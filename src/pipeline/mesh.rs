@@ -14,7 +14,6 @@
 //! triangles that welding leaves with a repeated vertex, so the mesh of a closed surface is
 //! watertight (every edge shared by two triangles) with no zero-area triangle.
 
-use std::collections::HashMap;
 use std::io::Write as _;
 
 use crate::exchange::{Diagnostic, Document, Entity, Location, Topology};
@@ -185,11 +184,18 @@ pub fn plan<'d>(
 }
 
 /// Welds a surface tessellation: vertices within 1e-9 of the mesh's bounding-box diagonal
-/// become one, and triangles left with a repeated vertex or no area are dropped.
-pub fn weld(entity: &str, mesh: &Mesh) -> FaceMesh {
+/// become one, and triangles left with a repeated vertex or no area are dropped. The
+/// mesh's parameters and normals are dropped first (a welded mesh has positions and
+/// triangles only); the search costs 44 bytes a vertex (see [`MESH_VERTEX_WORK_BYTES`]).
+pub fn weld(entity: &str, mesh: Mesh) -> FaceMesh {
+    let Mesh {
+        vertices,
+        triangles,
+        ..
+    } = mesh;
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for p in &mesh.vertices {
+    for p in &vertices {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
@@ -197,55 +203,97 @@ pub fn weld(entity: &str, mesh: &Mesh) -> FaceMesh {
     }
     let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
     let eps = (1e-9 * diagonal).max(f64::MIN_POSITIVE);
-    // Vertices hashed by cells of size eps; a match is searched in the 27 cells around.
+    // Vertices are binned in cells of size eps; a vertex is merged into the first earlier
+    // representative (a vertex that was not merged) within eps, searched in the 27 cells
+    // around its own, each cell's representatives in the order they were found. The
+    // vertices sorted by (cell, index) make each column of 3 cells along z one run of the
+    // order, found by binary search; merged vertices are skipped through `skip` (a
+    // union-find of the next unmerged position, with path halving), so a cell where many
+    // vertices meet (a pole) costs no more than one with a single vertex.
     let cell = |p: &Point3| -> [i64; 3] {
         // In range: (p - lo) / eps <= 1e9 (the saturating cast guards the rest).
         [0, 1, 2].map(|k| ((p[k] - lo[k]) / eps).floor() as i64)
     };
-    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-    let mut positions: Vec<Point3> = Vec::with_capacity(mesh.vertices.len());
-    let mut remap: Vec<u32> = Vec::with_capacity(mesh.vertices.len());
-    for p in &mesh.vertices {
+    let index = |i: usize| u32::try_from(i).unwrap_or(u32::MAX);
+    let mut order: Vec<([i64; 3], u32)> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (cell(p), index(i)))
+        .collect();
+    order.sort_unstable();
+    // Where each vertex is in `order`.
+    let mut at = vec![0u32; order.len()];
+    for (k, &(_, j)) in order.iter().enumerate() {
+        at[j as usize] = index(k);
+    }
+    // skip[k] leads to the first position from k on whose vertex was not merged; the last
+    // entry ends the order.
+    let mut skip: Vec<u32> = (0..=order.len()).map(index).collect();
+    let unmerged_from = |skip: &mut Vec<u32>, mut k: usize| -> usize {
+        while skip[k] as usize != k {
+            let next = skip[skip[k] as usize];
+            skip[k] = next;
+            k = next as usize;
+        }
+        k
+    };
+    let mut positions: Vec<Point3> = Vec::with_capacity(vertices.len());
+    let mut remap: Vec<u32> = Vec::with_capacity(vertices.len());
+    for (i, p) in vertices.iter().enumerate() {
         let c = cell(p);
         let mut found = None;
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                    for &i in cells.get(&key).map_or(&[][..], Vec::as_slice) {
-                        let q = positions[i as usize];
-                        let d2: f64 = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum();
-                        if d2 <= eps * eps {
-                            found = Some(i);
-                            break 'search;
-                        }
+                let (x, y) = (c[0] + dx, c[1] + dy);
+                let mut k = order.partition_point(|(key, _)| *key < [x, y, c[2] - 1]);
+                loop {
+                    k = unmerged_from(&mut skip, k);
+                    let Some(&(key, j)) = order.get(k) else {
+                        break;
+                    };
+                    if key[0] != x || key[1] != y || key[2] > c[2] + 1 {
+                        break;
                     }
+                    if j as usize >= i {
+                        // The rest of this cell is not placed yet: on to the next cell.
+                        k = order.partition_point(|(other, _)| *other <= key);
+                        continue;
+                    }
+                    let w = remap[j as usize];
+                    let q = positions[w as usize];
+                    let d2: f64 = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum();
+                    if d2 <= eps * eps {
+                        found = Some(w);
+                        break 'search;
+                    }
+                    k += 1;
                 }
             }
         }
-        let index = found.unwrap_or_else(|| {
-            let i = u32::try_from(positions.len()).unwrap_or(u32::MAX);
-            positions.push(*p);
-            cells.entry(c).or_default().push(i);
-            i
-        });
-        remap.push(index);
-    }
-    let triangles = mesh
-        .triangles
-        .iter()
-        .map(|t| t.map(|v| remap[v]))
-        .filter(|t| {
-            t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
-                let [a, b, c] = t.map(|v| positions[v as usize]);
-                norm(area_vector(a, b, c)) > 0.0
+        remap.push(match found {
+            Some(w) => {
+                let k = at[i] as usize;
+                skip[k] = index(k + 1);
+                w
             }
-        })
-        .collect();
+            None => {
+                positions.push(*p);
+                index(positions.len() - 1)
+            }
+        });
+    }
+    drop((order, at, skip, vertices));
+    let mut kept = Vec::with_capacity(triangles.len());
+    kept.extend(triangles.iter().map(|t| t.map(|v| remap[v])).filter(|t| {
+        t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            norm(area_vector(a, b, c)) > 0.0
+        }
+    }));
     FaceMesh {
         entity: entity.to_owned(),
         positions,
-        triangles,
+        triangles: kept,
     }
 }
 
@@ -281,6 +329,64 @@ pub struct Tessellation {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// Bytes of working memory a tessellation takes per vertex, at most, while it is built: a
+/// surface's grid mesh holds 112 bytes a grid vertex (position 24, parameters 16, normal
+/// 24, two triangles of `usize` indices 48), and before it the grid's points with the set
+/// of cells that passed, up to about 140 while that set grows; its weld, 140 (the mesh
+/// without parameters and normals, 72, the search's 44, the welded positions 24); a welded
+/// mesh kept for the writer, 48; a curve, 32 a point. Meshes are built one at a time and
+/// each counts against what the ones before it left of [`vertex_cap`], so the whole
+/// tessellation stays within [`vertex_cap`] times this (the allocator's rounding is the
+/// margin).
+pub const MESH_VERTEX_WORK_BYTES: usize = 160;
+
+/// The working-memory budget of a tessellation: 3 times [`Settings::max_reply_bytes`]
+/// (the service's `--max-reply-bytes`; none in the CLI, whose reply limit is none).
+pub fn mesh_memory_budget(settings: &Settings) -> usize {
+    settings.max_reply_bytes.saturating_mul(3)
+}
+
+/// The most vertices a tessellation may build: [`Settings::max_mesh_vertices`], and its
+/// working-memory budget at [`MESH_VERTEX_WORK_BYTES`] a vertex (checked against the
+/// estimate before the work and enforced during it).
+pub fn vertex_cap(settings: &Settings) -> usize {
+    settings
+        .max_mesh_vertices
+        .min(mesh_memory_budget(settings) / MESH_VERTEX_WORK_BYTES)
+}
+
+/// The 413 of a tessellation (`what`: "the mesh of #12") that needs more vertices than
+/// [`vertex_cap`] allows: `limit.mesh_memory` when the memory budget is the tighter bound,
+/// else `limit.mesh_vertices`.
+pub fn over_the_cap(what: &str, settings: &Settings) -> PipelineError {
+    let cap = vertex_cap(settings);
+    if cap < settings.max_mesh_vertices {
+        PipelineError::new(
+            ErrorKind::Limit,
+            "limit.mesh_memory",
+            format!(
+                "{what} needs more than {cap} vertices, more than its working-memory budget \
+                 of {} bytes allows at {MESH_VERTEX_WORK_BYTES} bytes a vertex (the budget is \
+                 3 times the reply limit of {} bytes); use a larger tolerance or fewer entities",
+                mesh_memory_budget(settings),
+                settings.max_reply_bytes
+            ),
+            Location::default(),
+        )
+    } else {
+        PipelineError::new(
+            ErrorKind::Limit,
+            "limit.mesh_vertices",
+            format!(
+                "{what} needs more vertices than remain of the limit of {} (all entities \
+                 together); use a larger tolerance",
+                settings.max_mesh_vertices
+            ),
+            Location::default(),
+        )
+    }
+}
+
 /// Tessellates the planned faces, edges and entities under a chord tolerance, within the
 /// vertex limit.
 pub fn tessellate_all(
@@ -290,10 +396,8 @@ pub fn tessellate_all(
 ) -> Result<Tessellation, PipelineError> {
     use crate::nurbs::tessellate::{Budget, TessellationError};
     let stop = || settings.cancel.is_set();
-    // The reply limit caps the vertices too (at 32 bytes per vertex, less than any format
-    // writes per surface vertex), so a mesh much finer than its estimate stops at the cap
-    // instead of being built whole; the finished output is checked against the limit again.
-    let reply_cap = (settings.max_reply_bytes as f64 / 32.0) as usize;
+    let cap = vertex_cap(settings);
+    let over = |what: &str| over_the_cap(what, settings);
     let failed = |e: &Entity, err: TessellationError| match err {
         TessellationError::Geometry(g) => PipelineError::new(
             ErrorKind::Geometry,
@@ -301,37 +405,13 @@ pub fn tessellate_all(
             g.to_string(),
             Location::at_entity(e.id.clone()),
         ),
-        TessellationError::TooManyPoints { .. } if reply_cap < settings.max_mesh_vertices => {
-            PipelineError::new(
-                ErrorKind::Limit,
-                "limit.reply_bytes",
-                format!(
-                    "the mesh of {} would exceed the reply limit of {} bytes (about {} \
-                     vertices); use a larger tolerance or fewer entities",
-                    e.id, settings.max_reply_bytes, reply_cap
-                ),
-                Location::default(),
-            )
-        }
-        TessellationError::TooManyPoints { .. } => PipelineError::new(
-            ErrorKind::Limit,
-            "limit.mesh_vertices",
-            format!(
-                "the tessellation of {} needs more vertices than remain of the limit of {}; \
-                 use a larger tolerance",
-                e.id, settings.max_mesh_vertices
-            ),
-            Location::default(),
-        ),
+        TessellationError::TooManyPoints { .. } => over(&format!("the mesh of {}", e.id)),
         TessellationError::Stopped => super::cancelled(),
     };
     // Each entity may use what the ones before it left of the vertex limit.
     let mut vertices = 0usize;
     let within = |used: usize| Budget {
-        max_points: settings
-            .max_mesh_vertices
-            .min(reply_cap)
-            .saturating_sub(used),
+        max_points: cap.saturating_sub(used),
         stop: &stop,
     };
     let mut faces = Vec::new();
@@ -349,7 +429,7 @@ pub fn tessellate_all(
                 |o| o.entity.clone().unwrap_or_else(|| o.id.clone()),
             )
         };
-        let part = topology
+        let mut part = topology
             .model
             .mesh(Some(&plan.faces), tolerance, &within(0))
             .map_err(|err| match err {
@@ -359,20 +439,11 @@ pub fn tessellate_all(
                     g.to_string(),
                     Location::default(),
                 ),
-                TessellationError::TooManyPoints { .. } => PipelineError::new(
-                    ErrorKind::Limit,
-                    "limit.mesh_vertices",
-                    format!(
-                        "the meshes of the faces need more vertices than the limit of {} \
-                         (or the reply limit of {} bytes); use a larger tolerance",
-                        settings.max_mesh_vertices, settings.max_reply_bytes
-                    ),
-                    Location::default(),
-                ),
+                TessellationError::TooManyPoints { .. } => over("the meshes of the faces"),
                 TessellationError::Stopped => super::cancelled(),
             })?;
         for &f in &plan.faces {
-            if let Some(Some(mesh)) = part.faces.get(f.0) {
+            if let Some(mesh) = part.faces.get_mut(f.0).and_then(Option::take) {
                 vertices += mesh.vertices.len();
                 faces.push(weld(&origin(&topology.origins.faces, f.0), mesh));
             }
@@ -430,16 +501,8 @@ pub fn tessellate_all(
                                 Location::at_entity(entity),
                             ));
                         }
-                        Err(TessellationError::TooManyPoints { limit }) => {
-                            return Err(PipelineError::new(
-                                ErrorKind::Limit,
-                                "limit.mesh_vertices",
-                                format!(
-                                    "the edge {entity} needs more vertices than remain of the \
-                                     limit of {limit}; use a larger tolerance"
-                                ),
-                                Location::at_entity(entity),
-                            ));
+                        Err(TessellationError::TooManyPoints { .. }) => {
+                            return Err(over(&format!("the edge {entity}")));
                         }
                     }
                 }
@@ -468,7 +531,7 @@ pub fn tessellate_all(
                     .tessellate_within(tolerance, &within(vertices))
                     .map_err(|err| failed(e, err))?;
                 vertices += mesh.vertices.len();
-                faces.push(weld(&e.id, &mesh));
+                faces.push(weld(&e.id, mesh));
             }
         }
     }
@@ -688,5 +751,64 @@ impl Glb {
         }
         out.write_all(&[0; 3][..padded - self.bin])?;
         out.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sphere's parameter grid (its first and last rows are the poles, its first and
+    /// last columns the seam) welds as a brute-force search over all earlier distinct
+    /// vertices does: the same positions in the same order, the same triangles, and
+    /// 2 + (rows - 2) x (columns - 1) vertices.
+    #[test]
+    fn weld_merges_poles_and_seam_as_a_brute_force_search_does() {
+        use std::f64::consts::PI;
+        let (nu, nv) = (9usize, 13usize);
+        let mut vertices = Vec::new();
+        for i in 0..nu {
+            let theta = PI * i as f64 / (nu - 1) as f64;
+            for j in 0..nv {
+                let phi = 2.0 * PI * j as f64 / (nv - 1) as f64;
+                vertices.push([
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ]);
+            }
+        }
+        let mut triangles = Vec::new();
+        for i in 0..nu - 1 {
+            for j in 0..nv - 1 {
+                let (a, b) = (i * nv + j, (i + 1) * nv + j);
+                triangles.push([a, b, b + 1]);
+                triangles.push([a, b + 1, a + 1]);
+            }
+        }
+        // Distinct grid points are at least 0.03 apart; coinciding ones within 1e-15.
+        let mut distinct: Vec<Point3> = Vec::new();
+        let mut remap = Vec::new();
+        for p in &vertices {
+            let near = |q: &Point3| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>() < 1e-12;
+            remap.push(distinct.iter().position(near).unwrap_or_else(|| {
+                distinct.push(*p);
+                distinct.len() - 1
+            }) as u32);
+        }
+        let expected: Vec<[u32; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| remap[v]))
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect();
+        let mesh = Mesh {
+            vertices,
+            triangles,
+            ..Mesh::default()
+        };
+        let welded = weld("#1", mesh);
+        assert_eq!(welded.positions.len(), 2 + (nu - 2) * (nv - 1));
+        assert_eq!(welded.positions, distinct);
+        assert_eq!(welded.triangles, expected);
     }
 }

@@ -1853,9 +1853,10 @@ const SURFACE_VERTEX_BYTES: f64 = 6.0 * NUMBER_BYTES + 8.0 + 2.0 * 72.0;
 ///
 /// Before any mesh is built, the vertex count is estimated for every entity
 /// ([`crate::nurbs::NurbsCurve::tessellation_estimate`]) and the request refused when the
-/// sum exceeds [`Settings::max_mesh_vertices`] or its text would exceed
-/// [`Settings::max_reply_bytes`]; the same vertex limit bounds the work itself, and the
-/// stop signal is polled every [`crate::nurbs::tessellate::STOP_POLL`] steps.
+/// sum exceeds [`Settings::max_mesh_vertices`] or the working-memory budget
+/// ([`super::mesh::vertex_cap`]), or its text would exceed [`Settings::max_reply_bytes`];
+/// the same vertex cap bounds the work itself, and the stop signal is polled every
+/// [`crate::nurbs::tessellate::STOP_POLL`] steps.
 ///
 /// A document with faces is drawn as a part (see [`super::mesh`]): faces trimmed, edges as
 /// lines, the free entities as before; faces that cannot be meshed are left out with a
@@ -1919,6 +1920,12 @@ pub fn tessellate(
             Location::default(),
         ));
     }
+    if estimate > mesh::vertex_cap(settings) as f64 {
+        return Err(mesh::over_the_cap(
+            &format!("the tessellation (about {estimate:.3e} vertices, estimated before the work)"),
+            settings,
+        ));
+    }
     check_reply(
         reply,
         "mesh text",
@@ -1957,10 +1964,37 @@ impl Tessellated {
         use super::{mesh, picture};
         let (faces, curves) = (&self.mesh.faces, &self.mesh.curves);
         let glb = matches!(self.format, MeshFormat::Glb).then(|| mesh::Glb::layout(faces, curves));
+        let advice = "use a larger tolerance or fewer entities";
+        let over = || {
+            PipelineError::new(
+                ErrorKind::Limit,
+                "limit.reply_bytes",
+                format!(
+                    "the picture passed the reply limit of {} bytes while it was drawn; {advice}",
+                    settings.max_reply_bytes
+                ),
+                Location::default(),
+            )
+        };
         let whole = match self.format {
             MeshFormat::Obj | MeshFormat::Stl | MeshFormat::Glb => None,
-            MeshFormat::Svg => Some(picture::svg(faces, curves, self.units).into_bytes()),
-            MeshFormat::Png => Some(picture::png(&picture::svg(faces, curves, self.units))?),
+            MeshFormat::Svg => {
+                // At least SVG_TRIANGLE_BYTES a triangle: refused before it is drawn.
+                let triangles: usize = faces.iter().map(|f| f.triangles.len()).sum();
+                check_reply(
+                    (triangles as f64) * picture::SVG_TRIANGLE_BYTES as f64,
+                    "picture",
+                    advice,
+                    settings,
+                )?;
+                let svg = picture::svg(faces, curves, self.units, settings.max_reply_bytes);
+                Some(svg.ok_or_else(over)?.into_bytes())
+            }
+            // The SVG drawn for the raster is not the reply: only the PNG is checked.
+            MeshFormat::Png => {
+                let svg = picture::svg(faces, curves, self.units, usize::MAX).ok_or_else(over)?;
+                Some(picture::png(&svg)?)
+            }
         };
         let size = match (&whole, &glb, self.format) {
             (Some(bytes), _, _) => bytes.len(),
@@ -1972,12 +2006,7 @@ impl Tessellated {
                 counted.0
             }
         };
-        check_reply(
-            size as f64,
-            "mesh output",
-            "use a larger tolerance or fewer entities",
-            settings,
-        )?;
+        check_reply(size as f64, "mesh output", advice, settings)?;
         match (whole, glb, self.format) {
             (Some(bytes), _, _) => out.write_all(&bytes),
             (None, Some(glb), _) => glb.write(out, faces, curves),

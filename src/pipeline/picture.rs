@@ -217,8 +217,19 @@ fn escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// Bytes of SVG text a triangle takes at least: its `<polygon>` element with every number
+/// at its shortest (`0.00`, `rgb(0,0,0)`) is 129 bytes.
+pub const SVG_TRIANGLE_BYTES: usize = 120;
+
 /// The SVG picture of the meshes and curves; `unit` names the length unit of the scale bar.
-pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
+/// `None` as soon as the text passes `max_bytes` (checked after each triangle and line, so
+/// a picture over the limit is never held whole).
+pub fn svg(
+    faces: &[FaceMesh],
+    curves: &[CurveLine],
+    unit: &str,
+    max_bytes: usize,
+) -> Option<String> {
     let view = choose_view(faces, curves);
     // Screen bounds of everything drawn.
     let mut lo = [f64::INFINITY; 2];
@@ -285,12 +296,18 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
              stroke-width=\"1\" stroke-linejoin=\"round\"/>",
             t[0].0, t[0].1, t[1].0, t[1].1, t[2].0, t[2].1
         );
+        if s.len() > max_bytes {
+            return None;
+        }
     }
     let cover = Coverage::new(triangles.into_iter().map(|(t, _, _)| t).collect(), height);
     let slack = 1e-2 * span;
+    // Whether the text passed `max_bytes` (the lines after that are not written).
+    let mut over = false;
     let mut line = |p: (f64, f64, f64), q: (f64, f64, f64), stroke: &str, width: f64| {
         let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0, (p.2 + q.2) / 2.0);
-        if !cover.hides(mid, slack) {
+        over = over || s.len() > max_bytes;
+        if !over && !cover.hides(mid, slack) {
             let _ = writeln!(
                 s,
                 "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" \
@@ -312,6 +329,9 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
         for w in c.points.windows(2) {
             line(px(w[0]), px(w[1]), &stroke, 2.0);
         }
+    }
+    if over || s.len() > max_bytes {
+        return None;
     }
     // Labels: each entity's id at a visible point of it (a triangle centroid of a face, a
     // point or chord midpoint of a curve that no triangle hides), the one nearest the
@@ -404,7 +424,7 @@ pub fn svg(faces: &[FaceMesh], curves: &[CurveLine], unit: &str) -> String {
         escape(unit)
     );
     s.push_str("</svg>\n");
-    s
+    Some(s)
 }
 
 /// Rasterises an SVG picture of [`svg`] to PNG with resvg (the text in the system's fonts;

@@ -10,6 +10,7 @@
 //! those of the original.
 
 use super::error::{LineIndex, ParseError, ParseErrorKind};
+use crate::Stop;
 
 /// Upper-cases, in place, every keyword of `text` that has lower-case letters: every run of
 /// letters, digits and `_` that starts with a letter or `_` and does not continue a number,
@@ -17,7 +18,15 @@ use super::error::{LineIndex, ParseError, ParseErrorKind};
 /// binaries (`"..."`, clause 6.3.6) and comments (`/* */`, clause 6.5). Returns how many it
 /// changed and, for the first `listed` of them, a located error (line, column, and the
 /// `#id` of the instance holding it; none in the header).
-pub fn upper_case_keywords(text: &mut String, listed: usize) -> (usize, Vec<ParseError>) {
+///
+/// Polls `stop` every [`crate::stop::SCAN_POLL`] tokens (a token is a keyword, a string, a
+/// comment or one other byte) and ends with a [`ParseErrorKind::Stopped`] error once it has
+/// fired; `text` is then partly upper-cased.
+pub fn upper_case_keywords(
+    text: &mut String,
+    listed: usize,
+    stop: Stop<'_>,
+) -> Result<(usize, Vec<ParseError>), ParseError> {
     let lines = LineIndex::default();
     let mut changed = 0;
     let mut found = Vec::new();
@@ -25,7 +34,12 @@ pub fn upper_case_keywords(text: &mut String, listed: usize) -> (usize, Vec<Pars
     let mut instance: Option<u64> = None;
     let mut statement_start = true;
     let mut i = 0;
+    let mut tokens = 0usize;
     while let Some(&c) = text.as_bytes().get(i) {
+        tokens += 1;
+        if stop.at(tokens) {
+            return Err(ParseError::stopped(i));
+        }
         let b = text.as_bytes();
         match c {
             b'\'' => {
@@ -112,7 +126,7 @@ pub fn upper_case_keywords(text: &mut String, listed: usize) -> (usize, Vec<Pars
             }
         }
     }
-    (changed, found)
+    Ok((changed, found))
 }
 
 #[cfg(test)]
@@ -124,7 +138,7 @@ mod tests {
 
     fn upper(text: &str) -> (String, Vec<Found>) {
         let mut t = text.to_owned();
-        let (n, found) = upper_case_keywords(&mut t, usize::MAX);
+        let (n, found) = upper_case_keywords(&mut t, usize::MAX, Stop::NEVER).unwrap();
         assert_eq!(n, found.len());
         let found = found
             .into_iter()
@@ -170,6 +184,21 @@ mod tests {
         let (t, found) = upper(text);
         assert_eq!(t, text);
         assert!(found.is_empty());
+    }
+
+    #[test]
+    fn a_fired_stop_signal_ends_the_pass() {
+        let text = "#1=a();\n".repeat(10_000);
+        let fired = || true;
+        let err =
+            upper_case_keywords(&mut text.clone(), usize::MAX, Stop::new(&fired)).unwrap_err();
+        assert_eq!(err.kind, ParseErrorKind::Stopped);
+        // A poll comes every 4096 tokens (here at most 8 bytes each): the pass stopped at
+        // the first of the 80,000 bytes' polls.
+        assert!(err.offset <= 8 * 4096, "{}", err.offset);
+        let never = || false;
+        let (n, _) = upper_case_keywords(&mut text.clone(), 0, Stop::new(&never)).unwrap();
+        assert_eq!(n, 10_000);
     }
 
     #[test]

@@ -51,7 +51,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     let named = if document.topology.is_empty() {
         std::collections::HashSet::new()
     } else {
-        super::write_topology::write(document, options.iges_brep, &mut items)
+        super::write_topology::write(document, options.iges_brep, &options.cancel, &mut items)
     };
     for e in &document.entities {
         // Stopped: the rest is skipped (`exchange::write` discards the text).

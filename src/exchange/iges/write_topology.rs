@@ -30,7 +30,7 @@ use nurbsx_parsers::iges::records::{
 };
 
 use super::write::Items;
-use crate::exchange::{Document, Entity, Meta, ParameterRange};
+use crate::exchange::{Cancel, Document, Entity, Meta, ParameterRange};
 use crate::nurbs::NurbsCurve;
 use crate::topology::{Coedge, EdgeId, Face, FaceId, Loop, Model, VertexId};
 
@@ -40,10 +40,13 @@ const PCURVE_CHAIN_TOL: f64 = 1e-9;
 
 /// Writes the document's topology into `items`; returns the ids of the entities it
 /// wrote as face surfaces or edge curves (the writer leaves them out of the free
-/// entities).
+/// entities). Polls `cancel` before each face and edge (a record's plan evaluates its
+/// geometry) and returns early once it has fired (`exchange::write` then answers
+/// `cancelled`).
 pub(super) fn write<'d>(
     document: &'d Document,
     brep: bool,
+    cancel: &Cancel,
     items: &mut Items<'d>,
 ) -> HashSet<&'d str> {
     let topology = &document.topology;
@@ -83,6 +86,9 @@ pub(super) fn write<'d>(
         let mut faces: Vec<FaceId> = in_brep.iter().copied().collect();
         faces.sort();
         for &f in &faces {
+            if cancel.is_set() {
+                return named;
+            }
             for c in model.faces[f.0].loops.iter().flat_map(|l| &l.coedges) {
                 let next = w.edges.len();
                 if let std::collections::btree_map::Entry::Vacant(slot) = w.edges.entry(c.edge) {
@@ -111,6 +117,9 @@ pub(super) fn write<'d>(
         order.sort_by_key(|&(_, i)| i);
         let mut list = Vec::with_capacity(order.len());
         for &(e, _) in &order {
+            if cancel.is_set() {
+                return named;
+            }
             let edge = &model.edges[e.0];
             let mut meta = edge_meta(e);
             meta.parameter_range = Some(ParameterRange {
@@ -127,6 +136,9 @@ pub(super) fn write<'d>(
         let edge_list = items.record(504, 1, 1, 0, EdgeList504 { edges: list });
         let mut face_de: BTreeMap<FaceId, i64> = BTreeMap::new();
         for &f in &faces {
+            if cancel.is_set() {
+                return named;
+            }
             let face = &model.faces[f.0];
             let surface = items.surface(Cow::Borrowed(&face.surface), &face_meta(f), 1);
             let mut loops = Vec::with_capacity(face.loops.len());
@@ -196,6 +208,9 @@ pub(super) fn write<'d>(
     // Faces as 144 (all of them, or those no shell holds in B-rep mode).
     for (i, face) in model.faces.iter().enumerate() {
         let f = FaceId(i);
+        if cancel.is_set() {
+            return named;
+        }
         if in_brep.contains(&f) {
             continue;
         }

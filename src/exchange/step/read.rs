@@ -49,9 +49,20 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     }
     // The first reading is discarded before the copy is made and read.
     drop(first);
+    options.cancel.stop_read()?;
     let mut upper = text.to_owned();
-    let (count, listed) =
-        nurbsx_parsers::step::upper_case_keywords(&mut upper, MAX_LOWER_CASE_LISTED);
+    let (count, listed) = nurbsx_parsers::step::upper_case_keywords(
+        &mut upper,
+        MAX_LOWER_CASE_LISTED,
+        options.cancel.scan_stop(),
+    )
+    .map_err(|e| {
+        options
+            .cancel
+            .stop_read()
+            .err()
+            .unwrap_or_else(|| parse_diagnostic(&e))
+    })?;
     let mut doc = read_text(&upper, options)?;
     let mut found: Vec<Diagnostic> = listed
         .iter()

@@ -520,6 +520,10 @@ fn write_surface(
     let nu = net.nu();
     let mut rows = Vec::with_capacity(nu);
     for i in 0..nu {
+        // Stopped in a large net: skip the rest (as above).
+        if options.cancel.is_set() {
+            return Ok(());
+        }
         let row_first = *id;
         for p in net.row(i) {
             write_point(out, *id, p, sf.dimension(), scale)?;
