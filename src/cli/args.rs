@@ -767,6 +767,11 @@ pub struct ConvertArgs {
     /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
     #[arg(long)]
     pub iges_brep: bool,
+    /// STEP output of an assembly: write every instance's parts placed in root coordinates
+    /// as one product, instead of the product structure (each part once, placed by its
+    /// instances, with the product and instance names; the default).
+    #[arg(long)]
+    pub flatten_assemblies: bool,
     /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
     /// warning; the output is still written.
     #[arg(long)]

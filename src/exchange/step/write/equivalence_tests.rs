@@ -207,6 +207,7 @@ fn options_variants() -> Vec<ExportOptions> {
             timestamp: Some("2026-01-01T00:00:00".to_owned()),
             file_name: name.to_owned(),
             iges_brep: false,
+            flatten_assemblies: false,
             cancel: Default::default(),
         });
     }

@@ -25,11 +25,11 @@ use nurbsx_parsers::step::writer::write_instance;
 use nurbsx_parsers::step::{Body, Instance, Parameter, Record};
 
 use super::{
-    Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
+    assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
 };
-use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Origin, Source};
+use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Origin, Origins, Source};
 use crate::nurbs::{Geometry, NurbsCurve};
-use crate::topology::ShellId;
+use crate::topology::{Model, ShellId};
 
 /// Writes one simple instance `#id = KEYWORD(params);`.
 fn put(
@@ -88,9 +88,9 @@ fn held<'e>(
 }
 
 /// The writer's running state: the text of the topology instances and the next id.
-struct Out {
-    text: String,
-    id: u64,
+pub(super) struct Out {
+    pub text: String,
+    pub id: u64,
 }
 
 impl Out {
@@ -100,7 +100,7 @@ impl Out {
         id
     }
 
-    fn put(
+    pub fn put(
         &mut self,
         keyword: &'static str,
         params: Vec<Parameter<'static>>,
@@ -111,18 +111,34 @@ impl Out {
     }
 }
 
-/// Writes `document` (whose topology is not empty) after the frame `f`.
-pub(super) fn write(
+/// The ids [`write_model`] gave a model's items.
+pub(super) struct Written {
+    /// Per solid: its MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS.
+    pub solids: Vec<Option<u64>>,
+    /// Per shell: its CLOSED_SHELL or OPEN_SHELL (`None`: not written, each face in a
+    /// solid's shell already).
+    pub shells: Vec<Option<u64>>,
+    /// Whether each shell bounds a solid.
+    pub of_solid: Vec<bool>,
+    /// Per face: its ADVANCED_FACE.
+    pub faces: Vec<u64>,
+    /// Whether each face is in a written shell.
+    pub in_shell: Vec<bool>,
+    /// Per edge: its 3-D B-spline curve.
+    pub curves: Vec<u64>,
+    /// Whether each edge bounds a face.
+    pub in_face: Vec<bool>,
+}
+
+/// The free geometry of a document: the entities no item of `o` names (not the 2-D curves
+/// the edges carry as pcurves). Their ids: 3-D curves, 2-D curves, surfaces.
+pub(super) fn write_free(
+    w: &mut Out,
     document: &Document,
+    o: &Origins,
+    scale: f64,
     options: &ExportOptions,
-    mut f: Frame,
-) -> Result<String, Diagnostic> {
-    let first = f.b.next_id();
-    let scale = f.scale;
-    let topo = &document.topology;
-    let m = &topo.model;
-    let by_id = entities(document);
-    let o = &topo.origins;
+) -> Result<(Vec<u64>, Vec<u64>, Vec<u64>), NonFiniteReal> {
     let named: HashSet<&str> = [&o.vertices, &o.edges, &o.faces, &o.shells, &o.solids]
         .into_iter()
         .flatten()
@@ -134,32 +150,131 @@ pub(super) fn write(
         matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2)
             && e.meta.used_by.iter().any(|u| edge_ids.contains(u.as_str()))
     };
+    let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
+    for e in &document.entities {
+        if named.contains(e.id.as_str()) || is_pcurve(e) {
+            continue;
+        }
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                write_curve(&mut w.text, &mut w.id, c, e, scale, options)?;
+                if c.dimension() == 2 {
+                    curves2.push(w.id - 1);
+                } else {
+                    curves3.push(w.id - 1);
+                }
+            }
+            Geometry::Surface(sf) => {
+                write_surface(&mut w.text, &mut w.id, sf, e, scale, options)?;
+                surfaces.push(w.id - 1);
+            }
+        }
+    }
+    Ok((curves3, curves2, surfaces))
+}
+
+/// Writes `document` (whose topology is not empty): its product structure when it has one
+/// and the options do not ask for it flattened (`write/assembly.rs`), else its flattened
+/// model as one product.
+pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    if let Some(plan) = super::assembly::plan(document, options).structure {
+        return super::assembly::write(document, options, &plan);
+    }
+    let mut f = super::frame(document, options, None);
+    let first = f.b.next_id();
+    let scale = f.scale;
+    let topo = &document.topology;
+    let m = &topo.model;
     let mut w = Out {
         text: String::new(),
         id: first,
     };
-    let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
-    let body = (|| -> Result<Vec<(&'static str, u64)>, NonFiniteReal> {
+    let body = (|| -> Result<_, NonFiniteReal> {
         // Free geometry first, as the geometry-only writer orders it.
-        for e in &document.entities {
-            if named.contains(e.id.as_str()) || is_pcurve(e) {
-                continue;
-            }
-            match &e.geometry {
-                Geometry::Curve(c) => {
-                    write_curve(&mut w.text, &mut w.id, c, e, scale, options)?;
-                    if c.dimension() == 2 {
-                        curves2.push(w.id - 1);
-                    } else {
-                        curves3.push(w.id - 1);
-                    }
-                }
-                Geometry::Surface(sf) => {
-                    write_surface(&mut w.text, &mut w.id, sf, e, scale, options)?;
-                    surfaces.push(w.id - 1);
-                }
+        let (mut curves3, curves2, surfaces) =
+            write_free(&mut w, document, &topo.origins, scale, options)?;
+        let written = write_model(&mut w, document, m, &topo.origins, scale, options)?;
+        for (k, curve) in written.curves.iter().enumerate() {
+            if !written.in_face[k] {
+                curves3.push(*curve);
             }
         }
+        let mut top: Vec<(&'static str, u64)> = written
+            .solids
+            .iter()
+            .flatten()
+            .map(|id| ("solid", *id))
+            .collect();
+        let mut loose_shells: Vec<u64> = written
+            .shells
+            .iter()
+            .zip(&written.of_solid)
+            .filter(|(_, of_solid)| !**of_solid)
+            .filter_map(|(id, _)| *id)
+            .collect();
+        let loose_faces: Vec<u64> = written
+            .faces
+            .iter()
+            .zip(&written.in_shell)
+            .filter(|(_, inside)| !**inside)
+            .map(|(f, _)| *f)
+            .collect();
+        if !loose_faces.is_empty() {
+            loose_shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(&loose_faces)])?);
+        }
+        if !loose_shells.is_empty() {
+            top.push((
+                "surface",
+                w.put(
+                    "SHELL_BASED_SURFACE_MODEL",
+                    vec![s(""), Parameter::refs(&loose_shells)],
+                )?,
+            ));
+        }
+        Ok((top, curves3, curves2, surfaces))
+    })();
+    let (body, curves3, curves2, surfaces) = body.map_err(real_error)?;
+    f.b.reserve_many(w.id - first);
+    let (set, set_keyword) = geometric_set(&mut f.b, &curves3, &surfaces);
+    let rep_keyword = representation(&body, set.is_some(), set_keyword);
+    let mut items: Vec<u64> = body.iter().map(|(_, id)| *id).collect();
+    items.extend(set);
+    let header = finish(&mut f, options, rep_keyword, &items, &curves2);
+    let size = w.text.len() + 4096;
+    assemble(&mut f, &header, first, size, |out| {
+        out.push_str(&w.text);
+        Ok(())
+    })
+}
+
+/// The representation that holds `items` (solids, surface models) and maybe a set of free
+/// geometry (`set_keyword` the representation for the set alone).
+pub(super) fn representation(
+    items: &[(&'static str, u64)],
+    set: bool,
+    set_keyword: &'static str,
+) -> &'static str {
+    let solids = items.iter().any(|(k, _)| *k == "solid");
+    let surface_models = items.iter().any(|(k, _)| *k == "surface");
+    match (solids, surface_models, set) {
+        (true, false, false) => "ADVANCED_BREP_SHAPE_REPRESENTATION",
+        (false, true, false) => "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
+        (false, false, _) => set_keyword,
+        _ => "SHAPE_REPRESENTATION",
+    }
+}
+
+/// Writes the vertices, edges, faces, shells and solids of `m` (provenance `o`, the
+/// metadata of the document's entities they name) and returns their ids.
+pub(super) fn write_model(
+    w: &mut Out,
+    document: &Document,
+    m: &Model,
+    o: &Origins,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<Written, NonFiniteReal> {
+    let by_id = entities(document);
         let mut vertex_ids = Vec::with_capacity(m.vertices.len());
         for v in &m.vertices {
             let p = w.next();
@@ -237,6 +352,7 @@ pub(super) fn write(
             }
         }
         let mut edge_ids = Vec::with_capacity(m.edges.len());
+        let mut curve_ids = Vec::with_capacity(m.edges.len());
         for (k, e) in m.edges.iter().enumerate() {
             // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
             // the files write a B-spline edge that uses part of its curve.
@@ -249,9 +365,7 @@ pub(super) fn write(
             );
             write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
             let mut curve = w.id - 1;
-            if !in_face[k] {
-                curves3.push(curve);
-            }
+            curve_ids.push(curve);
             // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
             // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
             // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
@@ -385,10 +499,8 @@ pub(super) fn write(
             )?);
         }
         let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
-        let mut loose_shells = Vec::new();
         let mut in_shell = vec![false; m.faces.len()];
         for (k, sh) in m.shells.iter().enumerate() {
-            let of_solid = of_solids.contains(&ShellId(k));
             if !written(k, sh) {
                 continue;
             }
@@ -423,32 +535,18 @@ pub(super) fn write(
                 vec![s(""), Parameter::refs(&refs)],
             )?;
             shell_ids[k] = Some(id);
-            if !of_solid {
-                loose_shells.push(id);
-            }
         }
-        let loose_faces: Vec<u64> = face_ids
-            .iter()
-            .zip(&in_shell)
-            .filter(|(_, inside)| !**inside)
-            .map(|(f, _)| *f)
-            .collect();
-        if !loose_faces.is_empty() {
-            loose_shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(&loose_faces)])?);
-        }
-        let mut top: Vec<(&'static str, u64)> = Vec::new();
+        let mut solid_ids = Vec::with_capacity(m.solids.len());
         for solid in &m.solids {
             let Some(Some(outer)) = shell_ids.get(solid.outer.0) else {
+                solid_ids.push(None);
                 continue;
             };
             if solid.voids.is_empty() {
-                top.push((
-                    "solid",
-                    w.put(
-                        "MANIFOLD_SOLID_BREP",
-                        vec![s(""), Parameter::Reference(*outer)],
-                    )?,
-                ));
+                solid_ids.push(Some(w.put(
+                    "MANIFOLD_SOLID_BREP",
+                    vec![s(""), Parameter::Reference(*outer)],
+                )?));
             } else {
                 let mut voids = Vec::with_capacity(solid.voids.len());
                 for v in &solid.voids {
@@ -464,44 +562,21 @@ pub(super) fn write(
                         )?);
                     }
                 }
-                top.push((
-                    "solid",
-                    w.put(
-                        "BREP_WITH_VOIDS",
-                        vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
-                    )?,
-                ));
+                solid_ids.push(Some(w.put(
+                    "BREP_WITH_VOIDS",
+                    vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
+                )?));
             }
         }
-        if !loose_shells.is_empty() {
-            top.push((
-                "surface",
-                w.put(
-                    "SHELL_BASED_SURFACE_MODEL",
-                    vec![s(""), Parameter::refs(&loose_shells)],
-                )?,
-            ));
-        }
-        Ok(top)
-    })()
-    .map_err(real_error)?;
-
-    f.b.reserve_many(w.id - first);
-    let (set, set_keyword) = geometric_set(&mut f.b, &curves3, &surfaces);
-    let solids = body.iter().any(|(k, _)| *k == "solid");
-    let surface_models = body.iter().any(|(k, _)| *k == "surface");
-    let rep_keyword = match (solids, surface_models, set.is_some()) {
-        (true, false, false) => "ADVANCED_BREP_SHAPE_REPRESENTATION",
-        (false, true, false) => "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
-        (false, false, _) => set_keyword,
-        _ => "SHAPE_REPRESENTATION",
-    };
-    let mut items: Vec<u64> = body.iter().map(|(_, id)| *id).collect();
-    items.extend(set);
-    let header = finish(&mut f, options, rep_keyword, &items, &curves2);
-    let size = w.text.len() + 4096;
-    assemble(&mut f, &header, first, size, |out| {
-        out.push_str(&w.text);
-        Ok(())
-    })
+        Ok(Written {
+            solids: solid_ids,
+            of_solid: (0..m.shells.len())
+                .map(|k| of_solids.contains(&ShellId(k)))
+                .collect(),
+            shells: shell_ids,
+            faces: face_ids,
+            in_shell,
+            curves: curve_ids,
+            in_face,
+        })
 }
