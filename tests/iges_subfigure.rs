@@ -199,8 +199,9 @@ fn a_scaled_subfigure_instance_is_written_flattened_to_step_with_a_warning() {
     assert_eq!(n.vertices.len(), m.vertices.len());
     for v in &m.vertices {
         assert!(
-            n.vertices.iter().any(|w| (0..3)
-                .all(|k| (w.point[k] - v.point[k]).abs() < 1e-12 * 100.0)),
+            n.vertices
+                .iter()
+                .any(|w| (0..3).all(|k| (w.point[k] - v.point[k]).abs() < 1e-12 * 100.0)),
             "{:?} not written",
             v.point
         );

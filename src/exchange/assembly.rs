@@ -8,9 +8,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::{
-    Diagnostic, Location, Origin, Origins, PlacedInstance, ProductStructure, Topology,
-};
+use super::{Diagnostic, Location, Origin, Origins, PlacedInstance, ProductStructure, Topology};
 use crate::nurbs::transform::{IDENTITY, compose};
 use crate::topology::{AssemblyId, EdgeId, FaceId, Model, Part, ShellId, SolidId, TopologyError};
 

@@ -262,7 +262,6 @@ fn frame(document: &Document, options: &ExportOptions, product: Option<&str>) ->
         }),
     );
 
-
     // 1e-7 as Open CASCADE writes, or the model's own tolerance when larger (a part sewn
     // within a user's tolerance), so that a reader joins what the model joins.
     let uncertainty = (document.topology.model.max_tolerance() * scale).max(1e-7);

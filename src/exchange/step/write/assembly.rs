@@ -254,7 +254,8 @@ pub(super) fn write(
     };
     // The shape items of each product: (kind, id) as `representation` takes them.
     let body = (|| -> Result<_, NonFiniteReal> {
-        let (curves3, curves2, surfaces) = write_free(&mut w, document, plan.origins, scale, options)?;
+        let (curves3, curves2, surfaces) =
+            write_free(&mut w, document, plan.origins, scale, options)?;
         let written = write_model(&mut w, document, &plan.model, plan.origins, scale, options)?;
         let mut shapes: Vec<(Vec<(&'static str, u64)>, Vec<u64>)> = Vec::new();
         for &a in &plan.products {

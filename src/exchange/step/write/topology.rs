@@ -275,308 +275,306 @@ pub(super) fn write_model(
     options: &ExportOptions,
 ) -> Result<Written, NonFiniteReal> {
     let by_id = entities(document);
-        let mut vertex_ids = Vec::with_capacity(m.vertices.len());
-        for v in &m.vertices {
-            let p = w.next();
-            write_point(&mut w.text, p, &v.point, 3, scale)?;
-            vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
-        }
-        // Face surfaces before the edges: the edges' pcurves name them.
-        let mut surface_ids = Vec::with_capacity(m.faces.len());
-        for (k, face) in m.faces.iter().enumerate() {
-            let entity = held(
-                o.faces.get(k),
-                &by_id,
-                |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
-                || Geometry::Surface(face.surface.clone()),
-            );
-            write_surface(
-                &mut w.text,
-                &mut w.id,
-                &face.surface,
-                &entity,
-                scale,
-                options,
-            )?;
-            surface_ids.push(w.id - 1);
-        }
-        // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
-        // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
-        let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
-        for (k, face) in m.faces.iter().enumerate() {
-            for l in &face.loops {
-                for c in &l.coedges {
-                    if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
-                        list.push((surface_ids[k], p, c.forward));
-                    }
+    let mut vertex_ids = Vec::with_capacity(m.vertices.len());
+    for v in &m.vertices {
+        let p = w.next();
+        write_point(&mut w.text, p, &v.point, 3, scale)?;
+        vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
+    }
+    // Face surfaces before the edges: the edges' pcurves name them.
+    let mut surface_ids = Vec::with_capacity(m.faces.len());
+    for (k, face) in m.faces.iter().enumerate() {
+        let entity = held(
+            o.faces.get(k),
+            &by_id,
+            |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
+            || Geometry::Surface(face.surface.clone()),
+        );
+        write_surface(
+            &mut w.text,
+            &mut w.id,
+            &face.surface,
+            &entity,
+            scale,
+            options,
+        )?;
+        surface_ids.push(w.id - 1);
+    }
+    // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
+    // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
+    let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
+    for (k, face) in m.faces.iter().enumerate() {
+        for l in &face.loops {
+            for c in &l.coedges {
+                if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
+                    list.push((surface_ids[k], p, c.forward));
                 }
             }
         }
-        for list in &mut pcurves {
-            list.sort_by_key(|(_, _, forward)| !forward);
-        }
-        let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
-            let id = w.next();
-            write_instance(
-                &mut w.text,
-                &Instance {
-                    id,
-                    body: Body::Complex(vec![
-                        Record {
-                            keyword: "GEOMETRIC_REPRESENTATION_CONTEXT",
-                            params: vec![Parameter::Integer(2)],
-                        },
-                        Record {
-                            keyword: "PARAMETRIC_REPRESENTATION_CONTEXT",
-                            params: vec![],
-                        },
-                        Record {
-                            keyword: "REPRESENTATION_CONTEXT",
-                            params: vec![s("2D SPACE"), s("")],
-                        },
-                    ]),
-                },
-            )?;
-            id
-        } else {
-            0
-        };
-        let mut in_face = vec![false; m.edges.len()];
-        for face in &m.faces {
-            for l in &face.loops {
-                for c in &l.coedges {
-                    if let Some(x) = in_face.get_mut(c.edge.0) {
-                        *x = true;
-                    }
-                }
-            }
-        }
-        let mut edge_ids = Vec::with_capacity(m.edges.len());
-        let mut curve_ids = Vec::with_capacity(m.edges.len());
-        for (k, e) in m.edges.iter().enumerate() {
-            // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
-            // the files write a B-spline edge that uses part of its curve.
-            let piece = &e.curve;
-            let entity = held(
-                o.edges.get(k),
-                &by_id,
-                |g| matches!(g, Geometry::Curve(x) if x == piece),
-                || Geometry::Curve(piece.clone()),
-            );
-            write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
-            let mut curve = w.id - 1;
-            curve_ids.push(curve);
-            // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
-            // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
-            // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
-            let on = &pcurves[k];
-            if !on.is_empty() {
-                let mut refs = Vec::with_capacity(on.len());
-                for &(surface, p, _) in on {
-                    let holder = anonymous(Geometry::Curve(p.clone()));
-                    write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
-                    let c2 = w.id - 1;
-                    let rep = w.put(
-                        "DEFINITIONAL_REPRESENTATION",
-                        vec![
-                            s(""),
-                            Parameter::refs(&[c2]),
-                            Parameter::Reference(context2),
-                        ],
-                    )?;
-                    refs.push(w.put(
-                        "PCURVE",
-                        vec![
-                            s(""),
-                            Parameter::Reference(surface),
-                            Parameter::Reference(rep),
-                        ],
-                    )?);
-                }
-                let seam = on.len() == 2 && on[0].0 == on[1].0;
-                curve = w.put(
-                    if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
-                    vec![
-                        s(""),
-                        Parameter::Reference(curve),
-                        Parameter::refs(&refs),
-                        Parameter::Enumeration("CURVE_3D"),
-                    ],
-                )?;
-            }
-            let (Some(&vs), Some(&ve)) = (vertex_ids.get(e.start.0), vertex_ids.get(e.end.0))
-            else {
-                edge_ids.push(None);
-                continue;
-            };
-            edge_ids.push(Some(w.put(
-                "EDGE_CURVE",
-                vec![
-                    s(""),
-                    Parameter::Reference(vs),
-                    Parameter::Reference(ve),
-                    Parameter::Reference(curve),
-                    boolean(true),
-                ],
-            )?));
-        }
-        // Which shells are written: those of solids, and the others unless each of their
-        // faces is in a solid's shell already (the closed shell an oriented void was built
-        // from).
-        let mut of_solids: HashSet<ShellId> = HashSet::new();
-        for solid in &m.solids {
-            of_solids.insert(solid.outer);
-            of_solids.extend(solid.voids.iter().copied());
-        }
-        let solid_faces: HashSet<usize> = of_solids
-            .iter()
-            .filter_map(|sh| m.shells.get(sh.0))
-            .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
-            .collect();
-        let written = |k: usize, sh: &crate::topology::Shell| {
-            of_solids.contains(&ShellId(k))
-                || !sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0))
-        };
-        // A face that every written shell uses reversed is written reversed (the other
-        // side of `same_sense` and every bound's orientation flipped, ISO 10303-42
-        // advanced_face / face_bound), so no ORIENTED_FACE is needed: Open CASCADE drops
-        // ORIENTED_FACEs in a closed shell. A face used both ways keeps ORIENTED_FACE.
-        let mut uses: Vec<(bool, bool)> = vec![(false, false); m.faces.len()];
-        for (k, sh) in m.shells.iter().enumerate() {
-            if !written(k, sh) {
-                continue;
-            }
-            for &(f, same) in &sh.faces {
-                if let Some(u) = uses.get_mut(f.0) {
-                    if same {
-                        u.0 = true;
-                    } else {
-                        u.1 = true;
-                    }
-                }
-            }
-        }
-        let reversed: Vec<bool> = uses.iter().map(|&(fwd, rev)| rev && !fwd).collect();
-        let mut face_ids = Vec::with_capacity(m.faces.len());
-        for (k, face) in m.faces.iter().enumerate() {
-            let surface = surface_ids[k];
-            let mut bounds = Vec::with_capacity(face.loops.len());
-            for l in &face.loops {
-                let mut oriented = Vec::with_capacity(l.coedges.len());
-                for c in &l.coedges {
-                    let Some(Some(edge)) = edge_ids.get(c.edge.0) else {
-                        continue;
-                    };
-                    oriented.push(w.put(
-                        "ORIENTED_EDGE",
-                        vec![
-                            s(""),
-                            Parameter::Derived,
-                            Parameter::Derived,
-                            Parameter::Reference(*edge),
-                            boolean(c.forward),
-                        ],
-                    )?);
-                }
-                let lp = w.put("EDGE_LOOP", vec![s(""), Parameter::refs(&oriented)])?;
-                bounds.push(w.put(
-                    if l.outer {
-                        "FACE_OUTER_BOUND"
-                    } else {
-                        "FACE_BOUND"
+    }
+    for list in &mut pcurves {
+        list.sort_by_key(|(_, _, forward)| !forward);
+    }
+    let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
+        let id = w.next();
+        write_instance(
+            &mut w.text,
+            &Instance {
+                id,
+                body: Body::Complex(vec![
+                    Record {
+                        keyword: "GEOMETRIC_REPRESENTATION_CONTEXT",
+                        params: vec![Parameter::Integer(2)],
                     },
-                    vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
-                )?);
-            }
-            face_ids.push(w.put(
-                "ADVANCED_FACE",
-                vec![
-                    s(""),
-                    Parameter::refs(&bounds),
-                    Parameter::Reference(surface),
-                    boolean(face.same_sense != reversed[k]),
-                ],
-            )?);
-        }
-        let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
-        let mut in_shell = vec![false; m.faces.len()];
-        for (k, sh) in m.shells.iter().enumerate() {
-            if !written(k, sh) {
-                continue;
-            }
-            let mut refs = Vec::with_capacity(sh.faces.len());
-            for &(f, same) in &sh.faces {
-                let Some(&fid) = face_ids.get(f.0) else {
-                    continue;
-                };
-                if let Some(x) = in_shell.get_mut(f.0) {
+                    Record {
+                        keyword: "PARAMETRIC_REPRESENTATION_CONTEXT",
+                        params: vec![],
+                    },
+                    Record {
+                        keyword: "REPRESENTATION_CONTEXT",
+                        params: vec![s("2D SPACE"), s("")],
+                    },
+                ]),
+            },
+        )?;
+        id
+    } else {
+        0
+    };
+    let mut in_face = vec![false; m.edges.len()];
+    for face in &m.faces {
+        for l in &face.loops {
+            for c in &l.coedges {
+                if let Some(x) = in_face.get_mut(c.edge.0) {
                     *x = true;
                 }
-                refs.push(if same != reversed[f.0] {
-                    fid
+            }
+        }
+    }
+    let mut edge_ids = Vec::with_capacity(m.edges.len());
+    let mut curve_ids = Vec::with_capacity(m.edges.len());
+    for (k, e) in m.edges.iter().enumerate() {
+        // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
+        // the files write a B-spline edge that uses part of its curve.
+        let piece = &e.curve;
+        let entity = held(
+            o.edges.get(k),
+            &by_id,
+            |g| matches!(g, Geometry::Curve(x) if x == piece),
+            || Geometry::Curve(piece.clone()),
+        );
+        write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
+        let mut curve = w.id - 1;
+        curve_ids.push(curve);
+        // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
+        // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
+        // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
+        let on = &pcurves[k];
+        if !on.is_empty() {
+            let mut refs = Vec::with_capacity(on.len());
+            for &(surface, p, _) in on {
+                let holder = anonymous(Geometry::Curve(p.clone()));
+                write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
+                let c2 = w.id - 1;
+                let rep = w.put(
+                    "DEFINITIONAL_REPRESENTATION",
+                    vec![
+                        s(""),
+                        Parameter::refs(&[c2]),
+                        Parameter::Reference(context2),
+                    ],
+                )?;
+                refs.push(w.put(
+                    "PCURVE",
+                    vec![
+                        s(""),
+                        Parameter::Reference(surface),
+                        Parameter::Reference(rep),
+                    ],
+                )?);
+            }
+            let seam = on.len() == 2 && on[0].0 == on[1].0;
+            curve = w.put(
+                if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
+                vec![
+                    s(""),
+                    Parameter::Reference(curve),
+                    Parameter::refs(&refs),
+                    Parameter::Enumeration("CURVE_3D"),
+                ],
+            )?;
+        }
+        let (Some(&vs), Some(&ve)) = (vertex_ids.get(e.start.0), vertex_ids.get(e.end.0)) else {
+            edge_ids.push(None);
+            continue;
+        };
+        edge_ids.push(Some(w.put(
+            "EDGE_CURVE",
+            vec![
+                s(""),
+                Parameter::Reference(vs),
+                Parameter::Reference(ve),
+                Parameter::Reference(curve),
+                boolean(true),
+            ],
+        )?));
+    }
+    // Which shells are written: those of solids, and the others unless each of their
+    // faces is in a solid's shell already (the closed shell an oriented void was built
+    // from).
+    let mut of_solids: HashSet<ShellId> = HashSet::new();
+    for solid in &m.solids {
+        of_solids.insert(solid.outer);
+        of_solids.extend(solid.voids.iter().copied());
+    }
+    let solid_faces: HashSet<usize> = of_solids
+        .iter()
+        .filter_map(|sh| m.shells.get(sh.0))
+        .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
+        .collect();
+    let written = |k: usize, sh: &crate::topology::Shell| {
+        of_solids.contains(&ShellId(k)) || !sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0))
+    };
+    // A face that every written shell uses reversed is written reversed (the other
+    // side of `same_sense` and every bound's orientation flipped, ISO 10303-42
+    // advanced_face / face_bound), so no ORIENTED_FACE is needed: Open CASCADE drops
+    // ORIENTED_FACEs in a closed shell. A face used both ways keeps ORIENTED_FACE.
+    let mut uses: Vec<(bool, bool)> = vec![(false, false); m.faces.len()];
+    for (k, sh) in m.shells.iter().enumerate() {
+        if !written(k, sh) {
+            continue;
+        }
+        for &(f, same) in &sh.faces {
+            if let Some(u) = uses.get_mut(f.0) {
+                if same {
+                    u.0 = true;
                 } else {
-                    w.put(
-                        "ORIENTED_FACE",
+                    u.1 = true;
+                }
+            }
+        }
+    }
+    let reversed: Vec<bool> = uses.iter().map(|&(fwd, rev)| rev && !fwd).collect();
+    let mut face_ids = Vec::with_capacity(m.faces.len());
+    for (k, face) in m.faces.iter().enumerate() {
+        let surface = surface_ids[k];
+        let mut bounds = Vec::with_capacity(face.loops.len());
+        for l in &face.loops {
+            let mut oriented = Vec::with_capacity(l.coedges.len());
+            for c in &l.coedges {
+                let Some(Some(edge)) = edge_ids.get(c.edge.0) else {
+                    continue;
+                };
+                oriented.push(w.put(
+                    "ORIENTED_EDGE",
+                    vec![
+                        s(""),
+                        Parameter::Derived,
+                        Parameter::Derived,
+                        Parameter::Reference(*edge),
+                        boolean(c.forward),
+                    ],
+                )?);
+            }
+            let lp = w.put("EDGE_LOOP", vec![s(""), Parameter::refs(&oriented)])?;
+            bounds.push(w.put(
+                if l.outer {
+                    "FACE_OUTER_BOUND"
+                } else {
+                    "FACE_BOUND"
+                },
+                vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
+            )?);
+        }
+        face_ids.push(w.put(
+            "ADVANCED_FACE",
+            vec![
+                s(""),
+                Parameter::refs(&bounds),
+                Parameter::Reference(surface),
+                boolean(face.same_sense != reversed[k]),
+            ],
+        )?);
+    }
+    let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
+    let mut in_shell = vec![false; m.faces.len()];
+    for (k, sh) in m.shells.iter().enumerate() {
+        if !written(k, sh) {
+            continue;
+        }
+        let mut refs = Vec::with_capacity(sh.faces.len());
+        for &(f, same) in &sh.faces {
+            let Some(&fid) = face_ids.get(f.0) else {
+                continue;
+            };
+            if let Some(x) = in_shell.get_mut(f.0) {
+                *x = true;
+            }
+            refs.push(if same != reversed[f.0] {
+                fid
+            } else {
+                w.put(
+                    "ORIENTED_FACE",
+                    vec![
+                        s(""),
+                        Parameter::Derived,
+                        Parameter::Reference(fid),
+                        boolean(false),
+                    ],
+                )?
+            });
+        }
+        let id = w.put(
+            if sh.closed {
+                "CLOSED_SHELL"
+            } else {
+                "OPEN_SHELL"
+            },
+            vec![s(""), Parameter::refs(&refs)],
+        )?;
+        shell_ids[k] = Some(id);
+    }
+    let mut solid_ids = Vec::with_capacity(m.solids.len());
+    for solid in &m.solids {
+        let Some(Some(outer)) = shell_ids.get(solid.outer.0) else {
+            solid_ids.push(None);
+            continue;
+        };
+        if solid.voids.is_empty() {
+            solid_ids.push(Some(w.put(
+                "MANIFOLD_SOLID_BREP",
+                vec![s(""), Parameter::Reference(*outer)],
+            )?));
+        } else {
+            let mut voids = Vec::with_capacity(solid.voids.len());
+            for v in &solid.voids {
+                if let Some(Some(shell)) = shell_ids.get(v.0) {
+                    voids.push(w.put(
+                        "ORIENTED_CLOSED_SHELL",
                         vec![
                             s(""),
                             Parameter::Derived,
-                            Parameter::Reference(fid),
-                            boolean(false),
+                            Parameter::Reference(*shell),
+                            boolean(true),
                         ],
-                    )?
-                });
-            }
-            let id = w.put(
-                if sh.closed {
-                    "CLOSED_SHELL"
-                } else {
-                    "OPEN_SHELL"
-                },
-                vec![s(""), Parameter::refs(&refs)],
-            )?;
-            shell_ids[k] = Some(id);
-        }
-        let mut solid_ids = Vec::with_capacity(m.solids.len());
-        for solid in &m.solids {
-            let Some(Some(outer)) = shell_ids.get(solid.outer.0) else {
-                solid_ids.push(None);
-                continue;
-            };
-            if solid.voids.is_empty() {
-                solid_ids.push(Some(w.put(
-                    "MANIFOLD_SOLID_BREP",
-                    vec![s(""), Parameter::Reference(*outer)],
-                )?));
-            } else {
-                let mut voids = Vec::with_capacity(solid.voids.len());
-                for v in &solid.voids {
-                    if let Some(Some(shell)) = shell_ids.get(v.0) {
-                        voids.push(w.put(
-                            "ORIENTED_CLOSED_SHELL",
-                            vec![
-                                s(""),
-                                Parameter::Derived,
-                                Parameter::Reference(*shell),
-                                boolean(true),
-                            ],
-                        )?);
-                    }
+                    )?);
                 }
-                solid_ids.push(Some(w.put(
-                    "BREP_WITH_VOIDS",
-                    vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
-                )?));
             }
+            solid_ids.push(Some(w.put(
+                "BREP_WITH_VOIDS",
+                vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
+            )?));
         }
-        Ok(Written {
-            solids: solid_ids,
-            of_solid: (0..m.shells.len())
-                .map(|k| of_solids.contains(&ShellId(k)))
-                .collect(),
-            shells: shell_ids,
-            faces: face_ids,
-            in_shell,
-            curves: curve_ids,
-            in_face,
-        })
+    }
+    Ok(Written {
+        solids: solid_ids,
+        of_solid: (0..m.shells.len())
+            .map(|k| of_solids.contains(&ShellId(k)))
+            .collect(),
+        shells: shell_ids,
+        faces: face_ids,
+        in_shell,
+        curves: curve_ids,
+        in_face,
+    })
 }
