@@ -363,9 +363,9 @@ fn a_command_that_rewrites_the_geometry_drops_the_structure() {
 /// from as many distinct parts (solids sharing one shape under several locations), the same
 /// compound tree, every solid's vertices within 1e-9 of the model's size of the input's.
 /// Open CASCADE's volumes and centres of mass are compared with its reading of nurbsx's
-/// flattened output (within 1e-9): its integrals over rational B-spline faces are off by
-/// up to 1.7e-3 (scripts/freecad/live_parts.py), here by 1.5e-4 (the bracket) and 7.9e-3
-/// (the pin) from its integrals over the input's planes and cylinders, flattened or not, so
+/// flattened output (within 1e-9): its fixed-rule integrals over rational B-spline faces
+/// are not exact (scripts/freecad/live_parts.py) and differ here by 1.5e-4 (the bracket)
+/// and 7.9e-3 (the pin) from those over the input's planes and cylinders, flattened or not, so
 /// against the input they measure Open CASCADE's quadrature; placed by the structure or
 /// copied into place, the same part gives the same integrals (seen: 2.1e-15 and 3.4e-16 of
 /// the size; vertices 1.7e-16 of the size from the input's).
