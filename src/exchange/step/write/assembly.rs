@@ -236,6 +236,13 @@ pub fn assembly_warnings(document: &Document, options: &ExportOptions) -> Vec<Di
     plan(document, options).diagnostics
 }
 
+/// One product's shape items: solids and surface models (as [`representation`] takes
+/// them) and free curves.
+struct Shape {
+    items: Vec<(&'static str, u64)>,
+    curves: Vec<u64>,
+}
+
 /// Writes `document` with its product structure `plan` (module documentation).
 pub(super) fn write(
     document: &Document,
@@ -254,10 +261,9 @@ pub(super) fn write(
     };
     // The shape items of each product: (kind, id) as `representation` takes them.
     let body = (|| -> Result<_, NonFiniteReal> {
-        let (curves3, curves2, surfaces) =
-            write_free(&mut w, document, plan.origins, scale, options)?;
+        let free = write_free(&mut w, document, plan.origins, scale, options)?;
         let written = write_model(&mut w, document, &plan.model, plan.origins, scale, options)?;
-        let mut shapes: Vec<(Vec<(&'static str, u64)>, Vec<u64>)> = Vec::new();
+        let mut shapes: Vec<Shape> = Vec::new();
         for &a in &plan.products {
             let mut items = Vec::new();
             let (mut shells, mut faces, mut curves) = (Vec::new(), Vec::new(), Vec::new());
@@ -286,11 +292,11 @@ pub(super) fn write(
                     )?,
                 ));
             }
-            shapes.push((items, curves));
+            shapes.push(Shape { items, curves });
         }
-        Ok((shapes, curves3, curves2, surfaces))
+        Ok((shapes, free))
     })();
-    let (shapes, curves3, curves2, surfaces) = body.map_err(real_error)?;
+    let (shapes, free) = body.map_err(real_error)?;
     f.b.reserve_many(w.id - first);
 
     // The products after the first: their chains, with their representations' ids.
@@ -394,11 +400,11 @@ pub(super) fn write(
     }
     // The representations: the first product's also holds the free geometry.
     let mut header = Vec::new();
-    for (k, (&a, (items, curves))) in plan.products.iter().zip(&shapes).enumerate() {
+    for (k, (&a, Shape { items, curves })) in plan.products.iter().zip(&shapes).enumerate() {
         let (set, set_keyword) = if k == 0 {
-            let mut all = curves3.clone();
+            let mut all = free.curves3.clone();
             all.extend(curves);
-            geometric_set(&mut f.b, &all, &surfaces)
+            geometric_set(&mut f.b, &all, &free.surfaces)
         } else {
             geometric_set(&mut f.b, curves, &[])
         };
@@ -410,7 +416,7 @@ pub(super) fn write(
         refs.extend(set);
         refs.extend(&placements[a]);
         if k == 0 {
-            header = finish(&mut f, options, keyword, &refs, &curves2);
+            header = finish(&mut f, options, keyword, &refs, &free.curves2);
         } else {
             let mut all = vec![f.placement];
             all.extend(refs);

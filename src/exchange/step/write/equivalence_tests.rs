@@ -11,7 +11,7 @@ use proptest::prelude::*;
 /// The straightforward writer: every instance as a [`Parameter`] tree in a [`Builder`],
 /// formatted by [`write_exchange`]. [`write`] must produce exactly its bytes (tested).
 fn write_reference(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
-    let mut f = frame(document, options);
+    let mut f = frame(document, options, None);
     let scale = f.scale;
     let b = &mut f.b;
     let mut curves3 = Vec::new();

@@ -130,15 +130,25 @@ pub(super) struct Written {
     pub in_face: Vec<bool>,
 }
 
-/// The free geometry of a document: the entities no item of `o` names (not the 2-D curves
-/// the edges carry as pcurves). Their ids: 3-D curves, 2-D curves, surfaces.
+/// The ids of the free geometry [`write_free`] wrote.
+pub(super) struct Free {
+    /// 3-D curves.
+    pub curves3: Vec<u64>,
+    /// 2-D curves.
+    pub curves2: Vec<u64>,
+    /// Surfaces.
+    pub surfaces: Vec<u64>,
+}
+
+/// Writes the free geometry of a document: the entities no item of `o` names (not the 2-D
+/// curves the edges carry as pcurves).
 pub(super) fn write_free(
     w: &mut Out,
     document: &Document,
     o: &Origins,
     scale: f64,
     options: &ExportOptions,
-) -> Result<(Vec<u64>, Vec<u64>, Vec<u64>), NonFiniteReal> {
+) -> Result<Free, NonFiniteReal> {
     let named: HashSet<&str> = [&o.vertices, &o.edges, &o.faces, &o.shells, &o.solids]
         .into_iter()
         .flatten()
@@ -170,7 +180,11 @@ pub(super) fn write_free(
             }
         }
     }
-    Ok((curves3, curves2, surfaces))
+    Ok(Free {
+        curves3,
+        curves2,
+        surfaces,
+    })
 }
 
 /// Writes `document` (whose topology is not empty): its product structure when it has one
@@ -191,8 +205,11 @@ pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<Stri
     };
     let body = (|| -> Result<_, NonFiniteReal> {
         // Free geometry first, as the geometry-only writer orders it.
-        let (mut curves3, curves2, surfaces) =
-            write_free(&mut w, document, &topo.origins, scale, options)?;
+        let Free {
+            mut curves3,
+            curves2,
+            surfaces,
+        } = write_free(&mut w, document, &topo.origins, scale, options)?;
         let written = write_model(&mut w, document, m, &topo.origins, scale, options)?;
         for (k, curve) in written.curves.iter().enumerate() {
             if !written.in_face[k] {
