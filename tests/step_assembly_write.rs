@@ -3,7 +3,7 @@
 //! on it with rotated placements at every level, read, written and read back. The tree
 //! (instance paths, products, depth) comes back the same, each part's geometry is written
 //! once (PRODUCT and MANIFOLD_SOLID_BREP instances counted in the text), and the world
-//! placements and the placed geometry agree with the first reading within [`BOUND`].
+//! placements and the placed geometry agree with the first reading bit for bit ([`BOUND`]).
 //!
 //! FreeCAD (when `freecadcmd` is on PATH; required with `NURBSX_REQUIRE_FREECAD=1`) reads
 //! both files and the written ones (`scripts/freecad/assembly_structure.py`): the same
@@ -21,13 +21,13 @@ use nurbsx::exchange::{
 use nurbsx::pipeline::{self, ConvertRequest, Operation, Settings};
 
 /// World placements and placed poles agree within `BOUND` (rotation entries; lengths
-/// relative to the model's size). The part definitions are written exactly as read; each
-/// placement is written as its rotation's third and first columns and its translation,
-/// from which the reader rebuilds the rotation (ISO 10303-42 `build_axes`: normalise,
-/// orthogonalise, cross product) in a few roundings of 1.1e-16, and composes the levels.
-/// The largest differences seen: 4.4e-16 in the world placements (three levels), 2.0e-16
-/// of the size in the poles (2.2e-14 mm on a 109 mm tree).
-const BOUND: f64 = 2e-15;
+/// relative to the model's size): exactly. The part definitions are written as read, and
+/// each placement as an axis and a ref_direction from which the reader rebuilds (ISO
+/// 10303-42 `build_axes`: normalise, orthogonalise, cross product, each step rounding)
+/// exactly the rotation it held; the reader composes the same numbers again. Writing the
+/// rotation's columns as they are instead moves rotations by up to 4.4e-16 (the rebuild
+/// does not give back its own input in the last place) and poles by 2e-16 of the size.
+const BOUND: f64 = 0.0;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -30,7 +30,9 @@ use nurbsx_parsers::step::{Body, Parameter, Record};
 use super::topology::{Out, representation, write_free, write_model};
 use super::{ProductIds, assemble, finish, frame, geometric_set, real_error, rec, s};
 use crate::exchange::assembly::{MAX_DEPTH, MAX_INSTANCES};
+use crate::exchange::step::geometry::axes_as_read;
 use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Origins};
+use crate::nurbs::Point3;
 use crate::nurbs::transform::{Affine, IDENTITY, compose};
 use crate::topology::{Assembly, Model, Part};
 
@@ -63,6 +65,53 @@ pub(crate) fn not_rigid(m: &Affine) -> Option<String> {
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     (det <= 0.0).then(|| "it mirrors (its linear part has a negative determinant)".to_owned())
+}
+
+/// `x` moved by `k` units in the last place (zero stays zero).
+fn ulps(x: f64, k: i64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let bits = i64::try_from(x.abs().to_bits()).unwrap_or(i64::MAX);
+    let moved = f64::from_bits(u64::try_from(bits.saturating_add(k).max(1)).unwrap_or(1));
+    if x < 0.0 { -moved } else { moved }
+}
+
+/// The vectors whose components are those of `v` moved by at most 2 units in the last
+/// place, `v` itself first.
+fn near(v: Point3) -> impl Iterator<Item = Point3> {
+    const STEPS: [i64; 5] = [0, -1, 1, -2, 2];
+    STEPS.into_iter().flat_map(move |a| {
+        STEPS.into_iter().flat_map(move |b| {
+            STEPS
+                .into_iter()
+                .map(move |c| [ulps(v[0], a), ulps(v[1], b), ulps(v[2], c)])
+        })
+    })
+}
+
+/// The axis and ref_direction written for the rotation of `m`: its third and first
+/// columns, or, when a reader would rebuild other axes from those (`axes_as_read`
+/// normalises each direction and builds the axes, ISO 10303-42 `build_axes`, each step
+/// rounding), the nearest directions (within 2 units in the last place of each component)
+/// from which it rebuilds exactly the held axes. A placement that was read from a STEP
+/// file is one such rebuild, so it always has one: written again, it reads back bit for
+/// bit, and STEP -> STEP -> STEP keeps the placed geometry.
+fn exact_axes(m: &Affine) -> (Point3, Point3) {
+    let column = |c: usize| [m[0][c], m[1][c], m[2][c]];
+    let (x0, y0, z0) = (column(0), column(1), column(2));
+    let exact = |z: Point3, x: Point3| {
+        axes_as_read(z, x).is_some_and(|f| f.x == x0 && f.y == y0 && f.z == z0)
+    };
+    if exact(z0, x0) {
+        return (z0, x0);
+    }
+    // The rebuilt z depends on the axis only.
+    let z = near(z0)
+        .find(|z| axes_as_read(*z, x0).is_some_and(|f| f.z == z0))
+        .unwrap_or(z0);
+    let x = near(x0).find(|x| exact(z, *x)).unwrap_or(x0);
+    (z, x)
 }
 
 /// How the STEP writer writes a document's assembly, and what the user should know.
@@ -323,6 +372,7 @@ pub(super) fn write(
         for u in &plan.usages[a] {
             count += 1;
             let m = &u.placement;
+            let (z, x) = exact_axes(m);
             let origin = f.b.simple(
                 "CARTESIAN_POINT",
                 vec![
@@ -330,14 +380,8 @@ pub(super) fn write(
                     Parameter::reals(&[m[0][3] * scale, m[1][3] * scale, m[2][3] * scale]),
                 ],
             );
-            let axis = f.b.simple(
-                "DIRECTION",
-                vec![s(""), Parameter::reals(&[m[0][2], m[1][2], m[2][2]])],
-            );
-            let reference = f.b.simple(
-                "DIRECTION",
-                vec![s(""), Parameter::reals(&[m[0][0], m[1][0], m[2][0]])],
-            );
+            let axis = f.b.simple("DIRECTION", vec![s(""), Parameter::reals(&z)]);
+            let reference = f.b.simple("DIRECTION", vec![s(""), Parameter::reals(&x)]);
             let target = f.b.simple(
                 "AXIS2_PLACEMENT_3D",
                 vec![
