@@ -470,3 +470,34 @@ fn freecad_reads_the_written_structure_as_the_input() {
     }
     let _ = std::fs::remove_dir_all(&work);
 }
+
+#[test]
+fn placements_are_written_in_the_output_unit() {
+    let doc = read(&sample());
+    let options = ExportOptions {
+        units: Some(exchange::LengthUnit::In),
+        ..ExportOptions::default()
+    };
+    let back = read(&write(&doc, &options));
+    assert_eq!(back.units, exchange::LengthUnit::In);
+    let (a, b) = (&doc.topology.instances, &back.topology.instances);
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        for r in 0..3 {
+            assert_eq!(x.world[r][..3], y.world[r][..3], "{}: rotation", x.path);
+            let (mm, inch) = (x.world[r][3], y.world[r][3]);
+            assert!(
+                (inch * 25.4 - mm).abs() <= 1e-13 * 50.0,
+                "{}: {mm} mm vs {inch} in",
+                x.path
+            );
+        }
+    }
+    let (m, n) = (&doc.topology.model, &back.topology.model);
+    assert_eq!(m.vertices.len(), n.vertices.len());
+    for (v, w) in m.vertices.iter().zip(&n.vertices) {
+        for k in 0..3 {
+            assert!((w.point[k] * 25.4 - v.point[k]).abs() <= 1e-13 * 50.0);
+        }
+    }
+}
