@@ -4,7 +4,8 @@
 //! are flattened by [`Model::flatten`] (no recursion; cycles, nesting deeper than
 //! [`MAX_DEPTH`] and more than [`MAX_INSTANCES`] leaves refused) and every leaf is copied
 //! into root coordinates by [`Model::place`] with exactly transformed geometry. Items that no
-//! definition holds stay as they are.
+//! definition holds stay as they are. The definitions and their items before placement are
+//! kept beside the placed model ([`ProductStructure`]) for writers of product structure.
 
 use std::collections::{HashMap, HashSet};
 

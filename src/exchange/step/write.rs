@@ -10,6 +10,8 @@
 //!   bounded surface becomes a face, each curve an edge);
 //! - a document with topology: its faces, shells and solids (write/topology.rs), then its
 //!   free curves and surfaces;
+//! - a document with an assembly's product structure: one product per assembly and part,
+//!   each part's geometry once, placed by its instances (write/assembly.rs);
 //! - 2-D curves (pcurves): a separate wireframe representation in a 2-D context, not
 //!   attached to the product (a 2-D curve has no place in a 3-D shape; nurbsx reads it back,
 //!   Open CASCADE ignores it).

@@ -13,6 +13,10 @@
 //!   SHAPE_REPRESENTATION holding all of them and the GEOMETRIC_SET of the free geometry
 //!   (the entities no face or edge names, and the curves of edges in no face).
 //!
+//! An assembly's product structure is written over the same pieces (write/assembly.rs):
+//! [`write_model`] writes the items of the parts once, each product's representation names
+//! its own.
+//!
 //! An edge with parameter-space curves is written as a SURFACE_CURVE (SEAM_CURVE for the two
 //! sides of a seam) over its 3-D curve with one PCURVE per face that knows one, as Open
 //! CASCADE writes them; the 3-D curve stays the master representation (`.CURVE_3D.`).
