@@ -77,14 +77,11 @@ fn read(text: &str) -> Document {
     exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap()
 }
 
-#[test]
-fn a_subfigure_used_twice_is_placed_twice() {
-    let original = read(&sample());
-    let m0 = &original.topology.model;
-    assert_eq!(m0.faces.len(), 1);
-    // D41: 124, rotation by 90 degrees about z then (100, 0, 0); D43: the 308 of the face
-    // D1; D45: 408 at (10, 0, 0); D47: 408 scaled by 2, at (0, 0, 5), then the 124.
-    let text = append(
+/// The sample's face D1 in a 308 (D43) placed twice: D45, a 408 at (10, 0, 0); D47, a 408
+/// scaled by 2, at (0, 0, 5), then the 124 D41 (a rotation by 90 degrees about z, then
+/// (100, 0, 0)).
+fn placed_twice() -> String {
+    append(
         &sample(),
         &[
             (124, "124,0.,-1.,0.,100.,1.,0.,0.,0.,0.,0.,1.,0.;", 0, ""),
@@ -92,8 +89,15 @@ fn a_subfigure_used_twice_is_placed_twice() {
             (408, "408,43,10.,0.,0.,1.;", 0, "INST1"),
             (408, "408,43,0.,0.,5.,2.;", 41, "INST2"),
         ],
-    );
-    let doc = read(&text);
+    )
+}
+
+#[test]
+fn a_subfigure_used_twice_is_placed_twice() {
+    let original = read(&sample());
+    let m0 = &original.topology.model;
+    assert_eq!(m0.faces.len(), 1);
+    let doc = read(&placed_twice());
     let errors: Vec<_> = doc
         .diagnostics
         .iter()
@@ -155,17 +159,8 @@ fn a_subfigure_used_twice_is_placed_twice() {
 
 #[test]
 fn a_scaled_subfigure_instance_is_written_flattened_to_step_with_a_warning() {
-    // As above: INST1 a translation, INST2 a scale by 2, a translation and a rotation.
-    let text = append(
-        &sample(),
-        &[
-            (124, "124,0.,-1.,0.,100.,1.,0.,0.,0.,0.,0.,1.,0.;", 0, ""),
-            (308, "308,0,4HFACE,1,1;", 0, ""),
-            (408, "408,43,10.,0.,0.,1.;", 0, "INST1"),
-            (408, "408,43,0.,0.,5.,2.;", 41, "INST2"),
-        ],
-    );
-    let doc = read(&text);
+    // INST1 a translation, INST2 a scale by 2, a translation and a rotation.
+    let doc = read(&placed_twice());
     let options = exchange::ExportOptions::default();
     let said = exchange::step::assembly_warnings(&doc, &options);
     assert_eq!(said.len(), 1, "{said:#?}");

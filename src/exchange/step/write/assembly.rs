@@ -27,7 +27,7 @@ use std::borrow::Cow;
 use nurbsx_parsers::real::NonFiniteReal;
 use nurbsx_parsers::step::{Body, Parameter, Record};
 
-use super::topology::{Out, representation, write_free, write_model};
+use super::topology::{Out, representation, surface_model, write_free, write_model};
 use super::{ProductIds, assemble, finish, frame, geometric_set, real_error, rec, s};
 use crate::exchange::assembly::{MAX_DEPTH, MAX_INSTANCES};
 use crate::exchange::step::geometry::axes_as_read;
@@ -329,18 +329,7 @@ pub(super) fn write(
                     Part::Assembly(_) => {}
                 }
             }
-            if !faces.is_empty() {
-                shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(&faces)])?);
-            }
-            if !shells.is_empty() {
-                items.push((
-                    "surface",
-                    w.put(
-                        "SHELL_BASED_SURFACE_MODEL",
-                        vec![s(""), Parameter::refs(&shells)],
-                    )?,
-                ));
-            }
+            surface_model(&mut w, shells, &faces, &mut items)?;
             shapes.push(Shape { items, curves });
         }
         Ok((shapes, free))

@@ -226,7 +226,7 @@ pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<Stri
             .flatten()
             .map(|id| ("solid", *id))
             .collect();
-        let mut loose_shells: Vec<u64> = written
+        let loose_shells: Vec<u64> = written
             .shells
             .iter()
             .zip(&written.of_solid)
@@ -240,18 +240,7 @@ pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<Stri
             .filter(|(_, inside)| !**inside)
             .map(|(f, _)| *f)
             .collect();
-        if !loose_faces.is_empty() {
-            loose_shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(&loose_faces)])?);
-        }
-        if !loose_shells.is_empty() {
-            top.push((
-                "surface",
-                w.put(
-                    "SHELL_BASED_SURFACE_MODEL",
-                    vec![s(""), Parameter::refs(&loose_shells)],
-                )?,
-            ));
-        }
+        surface_model(&mut w, loose_shells, &loose_faces, &mut top)?;
         Ok((top, curves3, curves2, surfaces))
     })();
     let (body, curves3, curves2, surfaces) = body.map_err(real_error)?;
@@ -266,6 +255,29 @@ pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<Stri
         out.push_str(&w.text);
         Ok(())
     })
+}
+
+/// Appends to `items` the SHELL_BASED_SURFACE_MODEL of `shells` and of one OPEN_SHELL of
+/// `faces`, if there are any.
+pub(super) fn surface_model(
+    w: &mut Out,
+    mut shells: Vec<u64>,
+    faces: &[u64],
+    items: &mut Vec<(&'static str, u64)>,
+) -> Result<(), NonFiniteReal> {
+    if !faces.is_empty() {
+        shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(faces)])?);
+    }
+    if !shells.is_empty() {
+        items.push((
+            "surface",
+            w.put(
+                "SHELL_BASED_SURFACE_MODEL",
+                vec![s(""), Parameter::refs(&shells)],
+            )?,
+        ));
+    }
+    Ok(())
 }
 
 /// The representation that holds `items` (solids, surface models) and maybe a set of free
