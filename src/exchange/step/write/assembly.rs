@@ -164,9 +164,9 @@ fn flattened(document: &Document, why: &str, requested: bool) -> Plan<'static> {
 /// Decides how `document`'s assembly is written (module documentation). Without instances
 /// there is nothing to say; the structure is refused whole (and the flattened model
 /// written) when the options ask for it, when the document has none, when its tree does not
-/// expand (a cycle, a missing part, beyond the read limits) or when a product that is not
-/// a root holds free curves (a GEOMETRIC_CURVE_SET in a product's shape is not placed by
-/// every reader).
+/// expand (a cycle, a missing assembly or part, beyond the read limits) or when a product
+/// that is not a root holds free curves (a GEOMETRIC_CURVE_SET in a product's shape is not
+/// placed by every reader).
 pub(crate) fn plan<'d>(document: &'d Document, options: &ExportOptions) -> Plan<'d> {
     let topology = &document.topology;
     if topology.instances.is_empty() && topology.structure.is_none() {
@@ -243,7 +243,12 @@ pub(crate) fn plan<'d>(document: &'d Document, options: &ExportOptions) -> Plan<
                         );
                     }
                 },
-                part if inst.placement == IDENTITY => own[a].push(part),
+                part if inst.placement == IDENTITY => {
+                    if let Err(e) = source.part_size(part) {
+                        return flattened(document, &e.to_string(), false);
+                    }
+                    own[a].push(part);
+                }
                 part => copies.push((part, inst.placement)),
             }
             for (part, placement) in copies {
