@@ -10,17 +10,13 @@
 //! Without `freecadcmd` on PATH the test is skipped with a message, unless
 //! `NURBSX_REQUIRE_FREECAD=1` (set by CI), in which case it fails.
 
+mod common;
+
 use std::env;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-/// `freecadcmd` (or `FreeCADCmd`) found on PATH.
-fn find_freecadcmd() -> Option<PathBuf> {
-    let path = env::var_os("PATH")?;
-    env::split_paths(&path)
-        .flat_map(|dir| ["freecadcmd", "FreeCADCmd"].map(|name| dir.join(name)))
-        .find(|candidate| candidate.is_file())
-}
+use common::find_freecadcmd;
 
 #[test]
 fn freecad_reimports_every_conversion() {

@@ -1946,6 +1946,36 @@ async fn convert_query_options_of_whole_parts() {
     }
 }
 
+/// `flatten_assemblies`, as `--flatten-assemblies`: an assembly's STEP output keeps its
+/// product structure by default (the bracket's solid once, three usages) and is written as
+/// placed copies in one product on request (an info says so); both read back as the same
+/// three placed solids.
+#[tokio::test]
+async fn convert_flatten_assemblies_option() {
+    let step = part_sample("assembly_links.step");
+    for (query, solids, usages) in [("to=step", 2, 3), ("to=step&flatten_assemblies=true", 3, 0)] {
+        let (report, out) = convert_json(query, "model/step", step.clone()).await;
+        let count = |k: &str| out.matches(&format!("= {k}(")).count();
+        assert_eq!(
+            (
+                count("MANIFOLD_SOLID_BREP"),
+                count("NEXT_ASSEMBLY_USAGE_OCCURRENCE")
+            ),
+            (solids, usages),
+            "{query}"
+        );
+        let flattened: Vec<&Value> = report["diagnostics"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|d| d["code"] == "assembly.flattened")
+            .collect();
+        assert_eq!(flattened.len(), usize::from(usages == 0), "{report}");
+        let s = structure(out).await;
+        assert_eq!(s["solids"].as_array().unwrap().len(), 3, "{query}: {s}");
+    }
+}
+
 /// `/v1/info` says what each entity is in the part: the surfaces of faces (`face`), the
 /// curves of edges (`edge`), parameter-space curves (`pcurve`), and the rest `free` (the
 /// free edges sample: all of them; model JSON: all of it). Checked against the structure

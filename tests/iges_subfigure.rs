@@ -77,14 +77,11 @@ fn read(text: &str) -> Document {
     exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap()
 }
 
-#[test]
-fn a_subfigure_used_twice_is_placed_twice() {
-    let original = read(&sample());
-    let m0 = &original.topology.model;
-    assert_eq!(m0.faces.len(), 1);
-    // D41: 124, rotation by 90 degrees about z then (100, 0, 0); D43: the 308 of the face
-    // D1; D45: 408 at (10, 0, 0); D47: 408 scaled by 2, at (0, 0, 5), then the 124.
-    let text = append(
+/// The sample's face D1 in a 308 (D43) placed twice: D45, a 408 at (10, 0, 0); D47, a 408
+/// scaled by 2, at (0, 0, 5), then the 124 D41 (a rotation by 90 degrees about z, then
+/// (100, 0, 0)).
+fn placed_twice() -> String {
+    append(
         &sample(),
         &[
             (124, "124,0.,-1.,0.,100.,1.,0.,0.,0.,0.,0.,1.,0.;", 0, ""),
@@ -92,8 +89,15 @@ fn a_subfigure_used_twice_is_placed_twice() {
             (408, "408,43,10.,0.,0.,1.;", 0, "INST1"),
             (408, "408,43,0.,0.,5.,2.;", 41, "INST2"),
         ],
-    );
-    let doc = read(&text);
+    )
+}
+
+#[test]
+fn a_subfigure_used_twice_is_placed_twice() {
+    let original = read(&sample());
+    let m0 = &original.topology.model;
+    assert_eq!(m0.faces.len(), 1);
+    let doc = read(&placed_twice());
     let errors: Vec<_> = doc
         .diagnostics
         .iter()
@@ -151,4 +155,80 @@ fn a_subfigure_used_twice_is_placed_twice() {
     let a2 = m.measure_face(&m.faces[1]).unwrap().area;
     assert!(((a1 - a0) / a0).abs() < 1e-12, "{a1} vs {a0}");
     assert!(((a2 - 4.0 * a0) / a0).abs() < 1e-9, "{a2} vs 4 x {a0}");
+}
+
+#[test]
+fn a_scaled_subfigure_instance_is_written_flattened_to_step_with_a_warning() {
+    // INST1 a translation, INST2 a scale by 2, a translation and a rotation.
+    let doc = read(&placed_twice());
+    let options = exchange::ExportOptions::default();
+    let said = exchange::step::assembly_warnings(&doc, &options);
+    assert_eq!(said.len(), 1, "{said:#?}");
+    let d = &said[0];
+    assert_eq!(
+        (d.code.as_str(), d.severity),
+        ("assembly.instance_flattened", Severity::Warning)
+    );
+    assert!(
+        d.message.contains("INST2") && d.message.contains("scales"),
+        "{}",
+        d.message
+    );
+    let step = exchange::write(&doc, exchange::Format::Step, &options).unwrap();
+    // INST1 is an instance of the subfigure's product; INST2's face is written into the
+    // file's product, placed.
+    assert_eq!(step.matches("= NEXT_ASSEMBLY_USAGE_OCCURRENCE(").count(), 1);
+    assert!(step.contains("'INST1'") && !step.contains("'INST2'"));
+    let back = read(&step);
+    let paths: Vec<&str> = back
+        .topology
+        .instances
+        .iter()
+        .map(|i| i.path.as_str())
+        .collect();
+    assert_eq!(paths, ["INST1"]);
+    // Both placed faces, where the IGES file put them (their vertices within 1e-12 of the
+    // part's size).
+    let (m, n) = (&doc.topology.model, &back.topology.model);
+    assert_eq!(n.faces.len(), 2);
+    assert_eq!(n.vertices.len(), m.vertices.len());
+    for v in &m.vertices {
+        assert!(
+            n.vertices
+                .iter()
+                .any(|w| (0..3).all(|k| (w.point[k] - v.point[k]).abs() < 1e-12 * 100.0)),
+            "{:?} not written",
+            v.point
+        );
+    }
+    let areas = |m: &nurbsx::topology::Model| {
+        let mut a: Vec<f64> = m
+            .faces
+            .iter()
+            .map(|f| m.measure_face(f).unwrap().area)
+            .collect();
+        a.sort_by(f64::total_cmp);
+        a
+    };
+    let flat = read(
+        &exchange::write(
+            &doc,
+            exchange::Format::Step,
+            &exchange::ExportOptions {
+                flatten_assemblies: true,
+                ..options
+            },
+        )
+        .unwrap(),
+    );
+    // The areas as the flattened STEP output's (the same faces placed by the reader, not
+    // by the file), and within 1e-8 of the IGES reading's: the pcurves of a STEP face are
+    // those the IGES reader recomputed (projections within the edge tolerance), read back
+    // as written, which moves the trimmed area by 2.1e-9 relative on the sample.
+    let (a, b, c) = (areas(m), areas(n), areas(&flat.topology.model));
+    assert_eq!((a.len(), b.len(), c.len()), (2, 2, 2));
+    for k in 0..2 {
+        assert!(((b[k] - c[k]) / c[k]).abs() < 1e-14, "{} vs {}", b[k], c[k]);
+        assert!(((b[k] - a[k]) / a[k]).abs() < 1e-8, "{} vs {}", b[k], a[k]);
+    }
 }

@@ -755,20 +755,20 @@ pub struct ConvertArgs {
     /// IGES: trim to the declared parameter range (exact, by knot insertion).
     #[arg(long)]
     pub trim_to_range: bool,
-    /// Read the curves and surfaces only, as loose geometry: faces, loops, edges, shells,
-    /// solids and assembly placements are left out (a warning says how many).
+    /// Curves and surfaces only: faces, edges, shells, solids, placements left out (warned).
     #[arg(long)]
     pub geometry_only: bool,
     /// IGES input: join curve ends into loops and sew 144 faces into shells and solids within
     /// TOL (default: the larger of the file's resolution and 1e-7 of the model's size).
     #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
     pub sew_tolerance: Option<f64>,
-    /// IGES output: write solids and shells as 186 manifold solid B-rep objects (with
-    /// 502/504/508/510/514, as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces.
+    /// IGES output: solids and shells as 186 B-rep objects (502-514), not 144 trimmed surfaces.
     #[arg(long)]
     pub iges_brep: bool,
-    /// Every violation of the standard is an error (exit 1) as in `validate`, not only a
-    /// warning; the output is still written.
+    /// STEP output: an assembly as placed copies in one product, not its product structure.
+    #[arg(long)]
+    pub flatten_assemblies: bool,
+    /// Violations of the standard are errors (exit 1) as in `validate`; output still written.
     #[arg(long)]
     pub strict: bool,
     /// Batch: number of files converted at once, 1 to 256 (default: the number of cores).

@@ -92,6 +92,7 @@ pub fn run(ctx: &Context, a: ConvertArgs) -> Result<Outcome, CliError> {
             units: a.units.0,
             timestamp: a.timestamp.clone(),
             iges_brep: a.iges_brep,
+            flatten_assemblies: a.flatten_assemblies,
             ..ExportOptions::default()
         },
         clamp: if a.clamp {

@@ -451,7 +451,7 @@ fn modify(
     // could have carried), so that every warning is printed.
     let faces = !document.topology.is_empty();
     if let Some(format) = target.format().filter(|_| !faces) {
-        pipeline::drop_unwritable(&mut document, format);
+        pipeline::drop_unwritable(&mut document, format, &export_options(&out.output));
     }
     if let Some(outcome) = nothing_to_do(ctx, &name, input, &document, entity)? {
         return Ok(outcome);
@@ -459,7 +459,7 @@ fn modify(
     let notes = pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     if let Some(format) = target.format().filter(|_| faces) {
-        pipeline::drop_unwritable(&mut document, format);
+        pipeline::drop_unwritable(&mut document, format, &export_options(&out.output));
     }
     ctx.report.diagnostics(&name, &document.diagnostics);
     write_document(&document, out, target)?;

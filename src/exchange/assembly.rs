@@ -4,11 +4,12 @@
 //! are flattened by [`Model::flatten`] (no recursion; cycles, nesting deeper than
 //! [`MAX_DEPTH`] and more than [`MAX_INSTANCES`] leaves refused) and every leaf is copied
 //! into root coordinates by [`Model::place`] with exactly transformed geometry. Items that no
-//! definition holds stay as they are.
+//! definition holds stay as they are. The definitions and their items before placement are
+//! kept beside the placed model ([`ProductStructure`]) for writers of product structure.
 
 use std::collections::{HashMap, HashSet};
 
-use super::{Diagnostic, Location, Origin, Origins, PlacedInstance, Topology};
+use super::{Diagnostic, Location, Origin, Origins, PlacedInstance, ProductStructure, Topology};
 use crate::nurbs::transform::{IDENTITY, compose};
 use crate::topology::{AssemblyId, EdgeId, FaceId, Model, Part, ShellId, SolidId, TopologyError};
 
@@ -239,7 +240,8 @@ pub(crate) fn place_all(
         }
     }
     // Everything no product's shape holds, as it is.
-    for part in unowned(source, &owned) {
+    let loose = unowned(source, &owned);
+    for &part in &loose {
         if let Ok((_, copied)) = source.place(part, &IDENTITY, &mut out.model) {
             extend(&mut out.origins, &topology.origins, &copied, Origin::clone);
         }
@@ -256,7 +258,28 @@ pub(crate) fn place_all(
         Location::default(),
     ));
     out.instances = instances;
-    *topology = out;
+    // The parts once each with the tree over them, for writers of product structure: the
+    // items no product holds go to the first root, as they are.
+    let roots: Vec<AssemblyId> = roots.into_iter().map(AssemblyId).collect();
+    let defined = std::mem::replace(topology, out);
+    if named > 0 {
+        let mut model = defined.model;
+        model.assemblies = defs.model.assemblies.clone();
+        if let Some(first) = roots.first().and_then(|r| model.assemblies.get_mut(r.0)) {
+            first
+                .instances
+                .extend(loose.into_iter().map(|part| crate::topology::Instance {
+                    name: None,
+                    placement: IDENTITY,
+                    part,
+                }));
+        }
+        topology.structure = Some(Box::new(ProductStructure {
+            model,
+            origins: defined.origins,
+            roots,
+        }));
+    }
     diagnostics
 }
 

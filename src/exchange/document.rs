@@ -4,7 +4,7 @@ use serde::Serialize;
 
 use super::{Diagnostic, Format, LengthUnit, Severity};
 use crate::nurbs::{Geometry, Point3};
-use crate::topology::Model;
+use crate::topology::{AssemblyId, Model};
 
 /// A STEP or IGES file as nurbsx understands it: its B-spline entities (each with provenance
 /// and format metadata), its declared length unit, and what the reader noticed.
@@ -50,6 +50,27 @@ pub struct Topology {
     /// items it placed are in `model` in root coordinates, their origin ids carrying the
     /// instance's path after `@` (`#41@Bracket_2`).
     pub instances: Vec<PlacedInstance>,
+    /// The assembly as the file defines it, for writers that write a product structure
+    /// (STEP): `None` unless the reader applied an assembly's placements. `model` above stays
+    /// what geometry commands read; a command that rewrites `model` drops this too.
+    pub structure: Option<Box<ProductStructure>>,
+}
+
+/// An assembly's parts and tree before placement (ISO 10303-44 product structure, IGES 5.3
+/// 308/408 subfigures).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ProductStructure {
+    /// Every part once, in its own coordinates, and in `model.assemblies` the tree: one
+    /// assembly per product definition (or subfigure, or mapped representation), named by
+    /// its product, whose instances name this model's solids, shells, faces and edges (the
+    /// product's own shape, unnamed, under the identity) or other assemblies (named, placed).
+    pub model: Model,
+    /// Provenance of `model`'s items: the ids of the file, without the `@path` of the
+    /// placed copies.
+    pub origins: Origins,
+    /// The assemblies no other one uses, in file order; the first also holds, unnamed under
+    /// the identity, the items no product's shape holds.
+    pub roots: Vec<AssemblyId>,
 }
 
 /// One placed use of a product (or subfigure) in an assembly.

@@ -28,8 +28,8 @@ mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity};
 pub use document::{
-    Document, Entity, Meta, Origin, Origins, ParameterRange, PlacedInstance, Shape, Source,
-    Topology,
+    Document, Entity, Meta, Origin, Origins, ParameterRange, PlacedInstance, ProductStructure,
+    Shape, Source, Topology,
 };
 /// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
 pub use nurbsx_parsers::signature::{

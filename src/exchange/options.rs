@@ -144,6 +144,10 @@ pub struct ExportOptions {
     /// 502/504/508/510/514 (as Open CASCADE's B-rep mode) instead of 144 trimmed surfaces
     /// with 142 boundaries (the default, which every IGES reader understands).
     pub iges_brep: bool,
+    /// STEP: write an assembly's placed parts in root coordinates, each instance's copy
+    /// on its own (one product), instead of its product structure (each part once, placed
+    /// by next_assembly_usage_occurrence; the default).
+    pub flatten_assemblies: bool,
     /// The stop signal the writers poll (before each curve and surface); a stopped write
     /// is `Err` with code `cancelled`. The pipeline sets it from its own.
     pub cancel: Cancel,
@@ -158,6 +162,7 @@ impl Default for ExportOptions {
             timestamp: None,
             file_name: "nurbsx-output".to_owned(),
             iges_brep: false,
+            flatten_assemblies: false,
             cancel: Cancel::default(),
         }
     }

@@ -62,7 +62,7 @@ pub fn write_as(
         Some(format) => {
             // 2-D curves have no place in IGES model space (see `drop_unwritable`).
             let mut doc = doc.clone();
-            super::drop_unwritable(&mut doc, format);
+            super::drop_unwritable(&mut doc, format, options);
             write(&doc, format, options)
         }
         None => write_model_json(doc, knots),

@@ -423,23 +423,30 @@ pub fn write(
 /// agree with is written with `.UNSPECIFIED.` form, with a warning each
 /// (`exchange::step::form_warnings`).
 ///
-/// An assembly (read with its placements applied) is written flattened: every instance's
-/// items once per use, in root coordinates. For STEP, whose product structure could carry
-/// the instances, that is a warning (`assembly.flattened`); IGES output has subfigures
-/// (308/408) that nurbsx does not write, so there it is an info.
-pub fn drop_unwritable(doc: &mut Document, format: Format) {
+/// An assembly (read with its placements applied) is written to STEP with its product
+/// structure (each part once, placed by its instances) unless `options` ask for it
+/// flattened; instances whose placement an axis placement cannot carry are written
+/// flattened with a warning (`exchange::step::assembly_warnings`). IGES output has
+/// subfigures (308/408) that nurbsx does not write: there the assembly is written flattened,
+/// a warning (`assembly.flattened`), as the product and instance names and the sharing of
+/// parts are lost for the user.
+pub fn drop_unwritable(doc: &mut Document, format: Format, options: &ExportOptions) {
+    if format == Format::Step {
+        let warnings = crate::exchange::step::assembly_warnings(doc, options);
+        doc.diagnostics.extend(warnings);
+    }
     let instances = doc.topology.instances.len();
-    if instances > 0 {
+    if instances > 0 && format == Format::Iges {
         let message = format!(
-            "assembly written flattened: {instances} instance(s) written as their placed solids, shells and faces in root coordinates ({} solid(s), {} face(s)); the product structure is not written",
+            "assembly written flattened (IGES subfigures are not written): {instances} instance(s) written as their placed solids, shells and faces in root coordinates ({} solid(s), {} face(s)); the product structure (products, instances and their names) is not written",
             doc.topology.model.solids.len(),
             doc.topology.model.faces.len()
         );
-        doc.diagnostics.push(if format == Format::Step {
-            Diagnostic::warning("assembly.flattened", message, Location::default())
-        } else {
-            Diagnostic::info("assembly.flattened", message, Location::default())
-        });
+        doc.diagnostics.push(Diagnostic::warning(
+            "assembly.flattened",
+            message,
+            Location::default(),
+        ));
     }
     if format == Format::Step {
         let warnings = crate::exchange::step::form_warnings(doc);
@@ -519,7 +526,7 @@ pub fn convert(
         }),
     };
     let entities_in = document.entities.len();
-    drop_unwritable(&mut document, format);
+    drop_unwritable(&mut document, format, &request.export);
     settings.cancel.check()?;
     let original = op.is_some().then(|| document.clone());
     if let Some(op) = op {
@@ -1352,8 +1359,18 @@ fn drop_topology(doc: &mut Document) {
         return;
     }
     let m = &doc.topology.model;
+    // The assembly's part definitions are dropped with the model they were placed into, so
+    // that no writer writes definitions the operation did not change.
+    let assembly = if doc.topology.structure.is_some() {
+        format!(
+            " and the assembly's product structure ({} instance(s))",
+            doc.topology.instances.len()
+        )
+    } else {
+        String::new()
+    };
     let message = format!(
-        "the operation works on curves and surfaces: the boundary representation ({} solid(s), {}          shell(s), {} face(s), {} edge(s)) is not carried to the output, whose faces are          written as untrimmed surfaces",
+        "the operation works on curves and surfaces: the boundary representation ({} solid(s), {} shell(s), {} face(s), {} edge(s)){assembly} is not carried to the output, whose faces are written as untrimmed surfaces",
         m.solids.len(),
         m.shells.len(),
         m.faces.len(),

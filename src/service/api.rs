@@ -388,6 +388,9 @@ pub struct ConvertQuery {
     /// `true`: IGES output writes solids and shells as 186 manifold solid B-rep objects
     /// instead of 144 trimmed surfaces.
     pub iges_brep: Option<bool>,
+    /// `true`: STEP output of an assembly writes every instance's parts placed in root
+    /// coordinates as one product, instead of the product structure (the default).
+    pub flatten_assemblies: Option<bool>,
     /// IGES input: the tolerance within which boundary curve ends are joined into loops
     /// and trimmed faces (144) are sewn into shells and solids (a positive length in the
     /// file's unit; default: the file's resolution or 1e-7 of the model's size, whichever

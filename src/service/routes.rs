@@ -99,6 +99,7 @@ pub async fn convert(
             schema: query.schema.map(Into::into).unwrap_or_default(),
             units: query.units()?,
             iges_brep: query.iges_brep.unwrap_or(false),
+            flatten_assemblies: query.flatten_assemblies.unwrap_or(false),
             ..ExportOptions::default()
         },
         clamp: query.clamp.map(Into::into).unwrap_or_default(),

@@ -1,12 +1,22 @@
 //! Test support shared by the integration tests: proptest strategies for random valid NURBS
 //! curves and surfaces (rational and polynomial, clamped and unclamped, with repeated
-//! interior knots), and geometric comparison by sampling.
+//! interior knots), geometric comparison by sampling, and where FreeCAD is.
 //!
 //! Every test file that uses it declares `mod common;`; not every file uses every item.
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use std::path::PathBuf;
+
 use nurbsx::nurbs::{Grid, NurbsCurve, NurbsSurface, Point3};
 use proptest::prelude::*;
+
+/// `freecadcmd` (or `FreeCADCmd`) found on PATH.
+pub fn find_freecadcmd() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .flat_map(|dir| ["freecadcmd", "FreeCADCmd"].map(|name| dir.join(name)))
+        .find(|candidate| candidate.is_file())
+}
 
 /// How the ends of a random knot vector look.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

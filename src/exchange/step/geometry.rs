@@ -71,6 +71,12 @@ pub(super) fn first_proj_axis(z: Point3, arg: Option<Point3>) -> Option<Point3> 
     normalise(sub(v, mul(z, dot(v, z))))
 }
 
+/// The axes a reader builds from an AXIS2_PLACEMENT_3D whose DIRECTIONs hold `axis` and
+/// `ref_direction`: each direction normalised as read, then [`build_axes`].
+pub(super) fn axes_as_read(axis: Point3, ref_direction: Point3) -> Option<Frame> {
+    build_axes(Some(normalise(axis)?), Some(normalise(ref_direction)?))
+}
+
 /// ISO 10303-42 function `build_axes(axis, ref_direction)`: `[x, y, z]` with
 /// `z = NVL(normalise(axis), (0,0,1))`, `x = first_proj_axis(z, ref_direction)`,
 /// `y = normalise(z x x)`.

@@ -10,6 +10,8 @@
 //!   bounded surface becomes a face, each curve an edge);
 //! - a document with topology: its faces, shells and solids (write/topology.rs), then its
 //!   free curves and surfaces;
+//! - a document with an assembly's product structure: one product per assembly and part,
+//!   each part's geometry once, placed by its instances (write/assembly.rs);
 //! - 2-D curves (pcurves): a separate wireframe representation in a 2-D context, not
 //!   attached to the product (a 2-D curve has no place in a 3-D shape; nurbsx reads it back,
 //!   Open CASCADE ignores it).
@@ -38,7 +40,10 @@ use crate::exchange::{
 };
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
 
+mod assembly;
 mod topology;
+
+pub use assembly::assembly_warnings;
 
 /// Schema-dependent strings of the product chain (as Open CASCADE 7.6 writes them).
 struct Protocol {
@@ -90,10 +95,95 @@ struct Frame {
     rep: u64,
     ctx3: u64,
     placement: u64,
+    /// The contexts more products name (an assembly's).
+    products: ProductContexts,
+    /// The first product's definition.
+    definition: u64,
 }
 
-/// The instances every file starts with (ids `#1`.. in the order Open CASCADE writes them).
-fn frame(document: &Document, options: &ExportOptions) -> Frame {
+/// The contexts every product of a file shares.
+#[derive(Clone, Copy)]
+struct ProductContexts {
+    product: u64,
+    definition: u64,
+    ap203: bool,
+}
+
+/// The ids of one product's chain (ISO 10303-41 product, product_definition_formation,
+/// product_definition; ISO 10303-41 product_definition_shape and
+/// shape_definition_representation naming the shape `rep`).
+struct ProductIds {
+    sdr: u64,
+    pds: u64,
+    pd: u64,
+    pdf: u64,
+    product: u64,
+    rep: u64,
+}
+
+/// Writes a product chain named `name` (reserved ids `ids`) with its category.
+fn product_chain(b: &mut Builder, ids: &ProductIds, cx: ProductContexts, name: &str) {
+    b.set(
+        ids.sdr,
+        Body::Simple(rec(
+            "SHAPE_DEFINITION_REPRESENTATION",
+            vec![Parameter::Reference(ids.pds), Parameter::Reference(ids.rep)],
+        )),
+    );
+    b.set(
+        ids.pds,
+        Body::Simple(rec(
+            "PRODUCT_DEFINITION_SHAPE",
+            vec![s(""), s(""), Parameter::Reference(ids.pd)],
+        )),
+    );
+    b.set(
+        ids.pd,
+        Body::Simple(rec(
+            "PRODUCT_DEFINITION",
+            vec![
+                s("design"),
+                s(""),
+                Parameter::Reference(ids.pdf),
+                Parameter::Reference(cx.definition),
+            ],
+        )),
+    );
+    b.set(
+        ids.pdf,
+        Body::Simple(if cx.ap203 {
+            rec(
+                "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
+                vec![
+                    s(""),
+                    s(""),
+                    Parameter::Reference(ids.product),
+                    Parameter::Enumeration("NOT_KNOWN"),
+                ],
+            )
+        } else {
+            rec(
+                "PRODUCT_DEFINITION_FORMATION",
+                vec![s(""), s(""), Parameter::Reference(ids.product)],
+            )
+        }),
+    );
+    b.set(
+        ids.product,
+        Body::Simple(rec(
+            "PRODUCT",
+            vec![s(name), s(name), s(""), Parameter::refs(&[cx.product])],
+        )),
+    );
+    b.simple(
+        "PRODUCT_RELATED_PRODUCT_CATEGORY",
+        vec![s("part"), Parameter::Null, Parameter::refs(&[ids.product])],
+    );
+}
+
+/// The instances every file starts with (ids `#1`.. in the order Open CASCADE writes them),
+/// the first product named `product` (the file name when `None`).
+fn frame(document: &Document, options: &ExportOptions, product: Option<&str>) -> Frame {
     let unit = options.units.unwrap_or(document.units);
     let scale = if unit == document.units {
         1.0
@@ -108,7 +198,7 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
     let pds = b.reserve();
     let pd = b.reserve();
     let pdf = b.reserve();
-    let product = b.reserve();
+    let product_id = b.reserve();
     let pc = b.reserve();
     let pdc = b.reserve();
     let rep = b.reserve();
@@ -128,64 +218,26 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
         app,
         Body::Simple(rec("APPLICATION_CONTEXT", vec![s(proto.context)])),
     );
-    b.set(
-        sdr,
-        Body::Simple(rec(
-            "SHAPE_DEFINITION_REPRESENTATION",
-            vec![Parameter::Reference(pds), Parameter::Reference(rep)],
-        )),
-    );
-    b.set(
-        pds,
-        Body::Simple(rec(
-            "PRODUCT_DEFINITION_SHAPE",
-            vec![s(""), s(""), Parameter::Reference(pd)],
-        )),
-    );
-    b.set(
-        pd,
-        Body::Simple(rec(
-            "PRODUCT_DEFINITION",
-            vec![
-                s("design"),
-                s(""),
-                Parameter::Reference(pdf),
-                Parameter::Reference(pdc),
-            ],
-        )),
-    );
     let ap203 = options.schema == StepSchema::Ap203;
-    b.set(
-        pdf,
-        Body::Simple(if ap203 {
-            rec(
-                "PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE",
-                vec![
-                    s(""),
-                    s(""),
-                    Parameter::Reference(product),
-                    Parameter::Enumeration("NOT_KNOWN"),
-                ],
-            )
-        } else {
-            rec(
-                "PRODUCT_DEFINITION_FORMATION",
-                vec![s(""), s(""), Parameter::Reference(product)],
-            )
-        }),
-    );
     let name = if options.file_name.is_empty() {
         "nurbsx"
     } else {
         options.file_name.as_str()
     };
-    b.set(
-        product,
-        Body::Simple(rec(
-            "PRODUCT",
-            vec![s(name), s(name), s(""), Parameter::refs(&[pc])],
-        )),
-    );
+    let contexts = ProductContexts {
+        product: pc,
+        definition: pdc,
+        ap203,
+    };
+    let ids = ProductIds {
+        sdr,
+        pds,
+        pd,
+        pdf,
+        product: product_id,
+        rep,
+    };
+    product_chain(&mut b, &ids, contexts, product.unwrap_or(name));
     b.set(
         pc,
         Body::Simple(rec(
@@ -211,10 +263,6 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
             )
         }),
     );
-    b.simple(
-        "PRODUCT_RELATED_PRODUCT_CATEGORY",
-        vec![s("part"), Parameter::Null, Parameter::refs(&[product])],
-    );
 
     // 1e-7 as Open CASCADE writes, or the model's own tolerance when larger (a part sewn
     // within a user's tolerance), so that a reader joins what the model joins.
@@ -231,6 +279,8 @@ fn frame(document: &Document, options: &ExportOptions) -> Frame {
         rep,
         ctx3,
         placement,
+        products: contexts,
+        definition: pd,
     }
 }
 
@@ -335,11 +385,11 @@ fn finish(
 /// parameter-tree path (the reference writer of the tests) and ids are assigned in the same
 /// order: each entity's poles, then the entity.
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
-    let mut f = frame(document, options);
-    let first = f.b.next_id();
     if !document.topology.is_empty() {
-        return topology::write(document, options, f);
+        return topology::write(document, options);
     }
+    let mut f = frame(document, options, None);
+    let first = f.b.next_id();
     let mut next = first;
     let mut size = 16_384usize;
     let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());

@@ -11,7 +11,7 @@ use proptest::prelude::*;
 /// The straightforward writer: every instance as a [`Parameter`] tree in a [`Builder`],
 /// formatted by [`write_exchange`]. [`write`] must produce exactly its bytes (tested).
 fn write_reference(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
-    let mut f = frame(document, options);
+    let mut f = frame(document, options, None);
     let scale = f.scale;
     let b = &mut f.b;
     let mut curves3 = Vec::new();
@@ -207,6 +207,7 @@ fn options_variants() -> Vec<ExportOptions> {
             timestamp: Some("2026-01-01T00:00:00".to_owned()),
             file_name: name.to_owned(),
             iges_brep: false,
+            flatten_assemblies: false,
             cancel: Default::default(),
         });
     }

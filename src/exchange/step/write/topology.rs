@@ -13,6 +13,10 @@
 //!   SHAPE_REPRESENTATION holding all of them and the GEOMETRIC_SET of the free geometry
 //!   (the entities no face or edge names, and the curves of edges in no face).
 //!
+//! An assembly's product structure is written over the same pieces (write/assembly.rs):
+//! [`write_model`] writes the items of the parts once, each product's representation names
+//! its own.
+//!
 //! An edge with parameter-space curves is written as a SURFACE_CURVE (SEAM_CURVE for the two
 //! sides of a seam) over its 3-D curve with one PCURVE per face that knows one, as Open
 //! CASCADE writes them; the 3-D curve stays the master representation (`.CURVE_3D.`).
@@ -25,11 +29,11 @@ use nurbsx_parsers::step::writer::write_instance;
 use nurbsx_parsers::step::{Body, Instance, Parameter, Record};
 
 use super::{
-    Frame, assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
+    assemble, finish, geometric_set, real_error, s, write_curve, write_point, write_surface,
 };
-use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Origin, Source};
+use crate::exchange::{Diagnostic, Document, Entity, ExportOptions, Meta, Origin, Origins, Source};
 use crate::nurbs::{Geometry, NurbsCurve};
-use crate::topology::ShellId;
+use crate::topology::{Model, ShellId};
 
 /// Writes one simple instance `#id = KEYWORD(params);`.
 fn put(
@@ -88,9 +92,9 @@ fn held<'e>(
 }
 
 /// The writer's running state: the text of the topology instances and the next id.
-struct Out {
-    text: String,
-    id: u64,
+pub(super) struct Out {
+    pub text: String,
+    pub id: u64,
 }
 
 impl Out {
@@ -100,7 +104,7 @@ impl Out {
         id
     }
 
-    fn put(
+    pub fn put(
         &mut self,
         keyword: &'static str,
         params: Vec<Parameter<'static>>,
@@ -111,18 +115,44 @@ impl Out {
     }
 }
 
-/// Writes `document` (whose topology is not empty) after the frame `f`.
-pub(super) fn write(
+/// The ids [`write_model`] gave a model's items.
+pub(super) struct Written {
+    /// Per solid: its MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS.
+    pub solids: Vec<Option<u64>>,
+    /// Per shell: its CLOSED_SHELL or OPEN_SHELL (`None`: not written, each face in a
+    /// solid's shell already).
+    pub shells: Vec<Option<u64>>,
+    /// Whether each shell bounds a solid.
+    pub of_solid: Vec<bool>,
+    /// Per face: its ADVANCED_FACE.
+    pub faces: Vec<u64>,
+    /// Whether each face is in a written shell.
+    pub in_shell: Vec<bool>,
+    /// Per edge: its 3-D B-spline curve.
+    pub curves: Vec<u64>,
+    /// Whether each edge bounds a face.
+    pub in_face: Vec<bool>,
+}
+
+/// The ids of the free geometry [`write_free`] wrote.
+pub(super) struct Free {
+    /// 3-D curves.
+    pub curves3: Vec<u64>,
+    /// 2-D curves.
+    pub curves2: Vec<u64>,
+    /// Surfaces.
+    pub surfaces: Vec<u64>,
+}
+
+/// Writes the free geometry of a document: the entities no item of `o` names (not the 2-D
+/// curves the edges carry as pcurves).
+pub(super) fn write_free(
+    w: &mut Out,
     document: &Document,
+    o: &Origins,
+    scale: f64,
     options: &ExportOptions,
-    mut f: Frame,
-) -> Result<String, Diagnostic> {
-    let first = f.b.next_id();
-    let scale = f.scale;
-    let topo = &document.topology;
-    let m = &topo.model;
-    let by_id = entities(document);
-    let o = &topo.origins;
+) -> Result<Free, NonFiniteReal> {
     let named: HashSet<&str> = [&o.vertices, &o.edges, &o.faces, &o.shells, &o.solids]
         .into_iter()
         .flatten()
@@ -134,368 +164,89 @@ pub(super) fn write(
         matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2)
             && e.meta.used_by.iter().any(|u| edge_ids.contains(u.as_str()))
     };
+    let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
+    for e in &document.entities {
+        if named.contains(e.id.as_str()) || is_pcurve(e) {
+            continue;
+        }
+        match &e.geometry {
+            Geometry::Curve(c) => {
+                write_curve(&mut w.text, &mut w.id, c, e, scale, options)?;
+                if c.dimension() == 2 {
+                    curves2.push(w.id - 1);
+                } else {
+                    curves3.push(w.id - 1);
+                }
+            }
+            Geometry::Surface(sf) => {
+                write_surface(&mut w.text, &mut w.id, sf, e, scale, options)?;
+                surfaces.push(w.id - 1);
+            }
+        }
+    }
+    Ok(Free {
+        curves3,
+        curves2,
+        surfaces,
+    })
+}
+
+/// Writes `document` (whose topology is not empty): its product structure when it has one
+/// and the options do not ask for it flattened (`write/assembly.rs`), else its flattened
+/// model as one product.
+pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    if let Some(plan) = super::assembly::plan(document, options).structure {
+        return super::assembly::write(document, options, &plan);
+    }
+    let mut f = super::frame(document, options, None);
+    let first = f.b.next_id();
+    let scale = f.scale;
+    let topo = &document.topology;
+    let m = &topo.model;
     let mut w = Out {
         text: String::new(),
         id: first,
     };
-    let (mut curves3, mut curves2, mut surfaces) = (Vec::new(), Vec::new(), Vec::new());
-    let body = (|| -> Result<Vec<(&'static str, u64)>, NonFiniteReal> {
+    let body = (|| -> Result<_, NonFiniteReal> {
         // Free geometry first, as the geometry-only writer orders it.
-        for e in &document.entities {
-            if named.contains(e.id.as_str()) || is_pcurve(e) {
-                continue;
-            }
-            match &e.geometry {
-                Geometry::Curve(c) => {
-                    write_curve(&mut w.text, &mut w.id, c, e, scale, options)?;
-                    if c.dimension() == 2 {
-                        curves2.push(w.id - 1);
-                    } else {
-                        curves3.push(w.id - 1);
-                    }
-                }
-                Geometry::Surface(sf) => {
-                    write_surface(&mut w.text, &mut w.id, sf, e, scale, options)?;
-                    surfaces.push(w.id - 1);
-                }
+        let Free {
+            mut curves3,
+            curves2,
+            surfaces,
+        } = write_free(&mut w, document, &topo.origins, scale, options)?;
+        let written = write_model(&mut w, document, m, &topo.origins, scale, options)?;
+        for (k, curve) in written.curves.iter().enumerate() {
+            if !written.in_face[k] {
+                curves3.push(*curve);
             }
         }
-        let mut vertex_ids = Vec::with_capacity(m.vertices.len());
-        for v in &m.vertices {
-            let p = w.next();
-            write_point(&mut w.text, p, &v.point, 3, scale)?;
-            vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
-        }
-        // Face surfaces before the edges: the edges' pcurves name them.
-        let mut surface_ids = Vec::with_capacity(m.faces.len());
-        for (k, face) in m.faces.iter().enumerate() {
-            let entity = held(
-                o.faces.get(k),
-                &by_id,
-                |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
-                || Geometry::Surface(face.surface.clone()),
-            );
-            write_surface(
-                &mut w.text,
-                &mut w.id,
-                &face.surface,
-                &entity,
-                scale,
-                options,
-            )?;
-            surface_ids.push(w.id - 1);
-        }
-        // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
-        // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
-        let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
-        for (k, face) in m.faces.iter().enumerate() {
-            for l in &face.loops {
-                for c in &l.coedges {
-                    if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
-                        list.push((surface_ids[k], p, c.forward));
-                    }
-                }
-            }
-        }
-        for list in &mut pcurves {
-            list.sort_by_key(|(_, _, forward)| !forward);
-        }
-        let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
-            let id = w.next();
-            write_instance(
-                &mut w.text,
-                &Instance {
-                    id,
-                    body: Body::Complex(vec![
-                        Record {
-                            keyword: "GEOMETRIC_REPRESENTATION_CONTEXT",
-                            params: vec![Parameter::Integer(2)],
-                        },
-                        Record {
-                            keyword: "PARAMETRIC_REPRESENTATION_CONTEXT",
-                            params: vec![],
-                        },
-                        Record {
-                            keyword: "REPRESENTATION_CONTEXT",
-                            params: vec![s("2D SPACE"), s("")],
-                        },
-                    ]),
-                },
-            )?;
-            id
-        } else {
-            0
-        };
-        let mut in_face = vec![false; m.edges.len()];
-        for face in &m.faces {
-            for l in &face.loops {
-                for c in &l.coedges {
-                    if let Some(x) = in_face.get_mut(c.edge.0) {
-                        *x = true;
-                    }
-                }
-            }
-        }
-        let mut edge_ids = Vec::with_capacity(m.edges.len());
-        for (k, e) in m.edges.iter().enumerate() {
-            // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
-            // the files write a B-spline edge that uses part of its curve.
-            let piece = &e.curve;
-            let entity = held(
-                o.edges.get(k),
-                &by_id,
-                |g| matches!(g, Geometry::Curve(x) if x == piece),
-                || Geometry::Curve(piece.clone()),
-            );
-            write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
-            let mut curve = w.id - 1;
-            if !in_face[k] {
-                curves3.push(curve);
-            }
-            // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
-            // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
-            // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
-            let on = &pcurves[k];
-            if !on.is_empty() {
-                let mut refs = Vec::with_capacity(on.len());
-                for &(surface, p, _) in on {
-                    let holder = anonymous(Geometry::Curve(p.clone()));
-                    write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
-                    let c2 = w.id - 1;
-                    let rep = w.put(
-                        "DEFINITIONAL_REPRESENTATION",
-                        vec![
-                            s(""),
-                            Parameter::refs(&[c2]),
-                            Parameter::Reference(context2),
-                        ],
-                    )?;
-                    refs.push(w.put(
-                        "PCURVE",
-                        vec![
-                            s(""),
-                            Parameter::Reference(surface),
-                            Parameter::Reference(rep),
-                        ],
-                    )?);
-                }
-                let seam = on.len() == 2 && on[0].0 == on[1].0;
-                curve = w.put(
-                    if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
-                    vec![
-                        s(""),
-                        Parameter::Reference(curve),
-                        Parameter::refs(&refs),
-                        Parameter::Enumeration("CURVE_3D"),
-                    ],
-                )?;
-            }
-            let (Some(&vs), Some(&ve)) = (vertex_ids.get(e.start.0), vertex_ids.get(e.end.0))
-            else {
-                edge_ids.push(None);
-                continue;
-            };
-            edge_ids.push(Some(w.put(
-                "EDGE_CURVE",
-                vec![
-                    s(""),
-                    Parameter::Reference(vs),
-                    Parameter::Reference(ve),
-                    Parameter::Reference(curve),
-                    boolean(true),
-                ],
-            )?));
-        }
-        // Which shells are written: those of solids, and the others unless each of their
-        // faces is in a solid's shell already (the closed shell an oriented void was built
-        // from).
-        let mut of_solids: HashSet<ShellId> = HashSet::new();
-        for solid in &m.solids {
-            of_solids.insert(solid.outer);
-            of_solids.extend(solid.voids.iter().copied());
-        }
-        let solid_faces: HashSet<usize> = of_solids
+        let mut top: Vec<(&'static str, u64)> = written
+            .solids
             .iter()
-            .filter_map(|sh| m.shells.get(sh.0))
-            .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
+            .flatten()
+            .map(|id| ("solid", *id))
             .collect();
-        let written = |k: usize, sh: &crate::topology::Shell| {
-            of_solids.contains(&ShellId(k))
-                || !sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0))
-        };
-        // A face that every written shell uses reversed is written reversed (the other
-        // side of `same_sense` and every bound's orientation flipped, ISO 10303-42
-        // advanced_face / face_bound), so no ORIENTED_FACE is needed: Open CASCADE drops
-        // ORIENTED_FACEs in a closed shell. A face used both ways keeps ORIENTED_FACE.
-        let mut uses: Vec<(bool, bool)> = vec![(false, false); m.faces.len()];
-        for (k, sh) in m.shells.iter().enumerate() {
-            if !written(k, sh) {
-                continue;
-            }
-            for &(f, same) in &sh.faces {
-                if let Some(u) = uses.get_mut(f.0) {
-                    if same {
-                        u.0 = true;
-                    } else {
-                        u.1 = true;
-                    }
-                }
-            }
-        }
-        let reversed: Vec<bool> = uses.iter().map(|&(fwd, rev)| rev && !fwd).collect();
-        let mut face_ids = Vec::with_capacity(m.faces.len());
-        for (k, face) in m.faces.iter().enumerate() {
-            let surface = surface_ids[k];
-            let mut bounds = Vec::with_capacity(face.loops.len());
-            for l in &face.loops {
-                let mut oriented = Vec::with_capacity(l.coedges.len());
-                for c in &l.coedges {
-                    let Some(Some(edge)) = edge_ids.get(c.edge.0) else {
-                        continue;
-                    };
-                    oriented.push(w.put(
-                        "ORIENTED_EDGE",
-                        vec![
-                            s(""),
-                            Parameter::Derived,
-                            Parameter::Derived,
-                            Parameter::Reference(*edge),
-                            boolean(c.forward),
-                        ],
-                    )?);
-                }
-                let lp = w.put("EDGE_LOOP", vec![s(""), Parameter::refs(&oriented)])?;
-                bounds.push(w.put(
-                    if l.outer {
-                        "FACE_OUTER_BOUND"
-                    } else {
-                        "FACE_BOUND"
-                    },
-                    vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
-                )?);
-            }
-            face_ids.push(w.put(
-                "ADVANCED_FACE",
-                vec![
-                    s(""),
-                    Parameter::refs(&bounds),
-                    Parameter::Reference(surface),
-                    boolean(face.same_sense != reversed[k]),
-                ],
-            )?);
-        }
-        let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
-        let mut loose_shells = Vec::new();
-        let mut in_shell = vec![false; m.faces.len()];
-        for (k, sh) in m.shells.iter().enumerate() {
-            let of_solid = of_solids.contains(&ShellId(k));
-            if !written(k, sh) {
-                continue;
-            }
-            let mut refs = Vec::with_capacity(sh.faces.len());
-            for &(f, same) in &sh.faces {
-                let Some(&fid) = face_ids.get(f.0) else {
-                    continue;
-                };
-                if let Some(x) = in_shell.get_mut(f.0) {
-                    *x = true;
-                }
-                refs.push(if same != reversed[f.0] {
-                    fid
-                } else {
-                    w.put(
-                        "ORIENTED_FACE",
-                        vec![
-                            s(""),
-                            Parameter::Derived,
-                            Parameter::Reference(fid),
-                            boolean(false),
-                        ],
-                    )?
-                });
-            }
-            let id = w.put(
-                if sh.closed {
-                    "CLOSED_SHELL"
-                } else {
-                    "OPEN_SHELL"
-                },
-                vec![s(""), Parameter::refs(&refs)],
-            )?;
-            shell_ids[k] = Some(id);
-            if !of_solid {
-                loose_shells.push(id);
-            }
-        }
-        let loose_faces: Vec<u64> = face_ids
+        let loose_shells: Vec<u64> = written
+            .shells
             .iter()
-            .zip(&in_shell)
+            .zip(&written.of_solid)
+            .filter(|(_, of_solid)| !**of_solid)
+            .filter_map(|(id, _)| *id)
+            .collect();
+        let loose_faces: Vec<u64> = written
+            .faces
+            .iter()
+            .zip(&written.in_shell)
             .filter(|(_, inside)| !**inside)
             .map(|(f, _)| *f)
             .collect();
-        if !loose_faces.is_empty() {
-            loose_shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(&loose_faces)])?);
-        }
-        let mut top: Vec<(&'static str, u64)> = Vec::new();
-        for solid in &m.solids {
-            let Some(Some(outer)) = shell_ids.get(solid.outer.0) else {
-                continue;
-            };
-            if solid.voids.is_empty() {
-                top.push((
-                    "solid",
-                    w.put(
-                        "MANIFOLD_SOLID_BREP",
-                        vec![s(""), Parameter::Reference(*outer)],
-                    )?,
-                ));
-            } else {
-                let mut voids = Vec::with_capacity(solid.voids.len());
-                for v in &solid.voids {
-                    if let Some(Some(shell)) = shell_ids.get(v.0) {
-                        voids.push(w.put(
-                            "ORIENTED_CLOSED_SHELL",
-                            vec![
-                                s(""),
-                                Parameter::Derived,
-                                Parameter::Reference(*shell),
-                                boolean(true),
-                            ],
-                        )?);
-                    }
-                }
-                top.push((
-                    "solid",
-                    w.put(
-                        "BREP_WITH_VOIDS",
-                        vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
-                    )?,
-                ));
-            }
-        }
-        if !loose_shells.is_empty() {
-            top.push((
-                "surface",
-                w.put(
-                    "SHELL_BASED_SURFACE_MODEL",
-                    vec![s(""), Parameter::refs(&loose_shells)],
-                )?,
-            ));
-        }
-        Ok(top)
-    })()
-    .map_err(real_error)?;
-
+        surface_model(&mut w, loose_shells, &loose_faces, &mut top)?;
+        Ok((top, curves3, curves2, surfaces))
+    })();
+    let (body, curves3, curves2, surfaces) = body.map_err(real_error)?;
     f.b.reserve_many(w.id - first);
     let (set, set_keyword) = geometric_set(&mut f.b, &curves3, &surfaces);
-    let solids = body.iter().any(|(k, _)| *k == "solid");
-    let surface_models = body.iter().any(|(k, _)| *k == "surface");
-    let rep_keyword = match (solids, surface_models, set.is_some()) {
-        (true, false, false) => "ADVANCED_BREP_SHAPE_REPRESENTATION",
-        (false, true, false) => "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
-        (false, false, _) => set_keyword,
-        _ => "SHAPE_REPRESENTATION",
-    };
+    let rep_keyword = representation(&body, set.is_some(), set_keyword);
     let mut items: Vec<u64> = body.iter().map(|(_, id)| *id).collect();
     items.extend(set);
     let header = finish(&mut f, options, rep_keyword, &items, &curves2);
@@ -503,5 +254,360 @@ pub(super) fn write(
     assemble(&mut f, &header, first, size, |out| {
         out.push_str(&w.text);
         Ok(())
+    })
+}
+
+/// Appends to `items` the SHELL_BASED_SURFACE_MODEL of `shells` and of one OPEN_SHELL of
+/// `faces`, if there are any.
+pub(super) fn surface_model(
+    w: &mut Out,
+    mut shells: Vec<u64>,
+    faces: &[u64],
+    items: &mut Vec<(&'static str, u64)>,
+) -> Result<(), NonFiniteReal> {
+    if !faces.is_empty() {
+        shells.push(w.put("OPEN_SHELL", vec![s(""), Parameter::refs(faces)])?);
+    }
+    if !shells.is_empty() {
+        items.push((
+            "surface",
+            w.put(
+                "SHELL_BASED_SURFACE_MODEL",
+                vec![s(""), Parameter::refs(&shells)],
+            )?,
+        ));
+    }
+    Ok(())
+}
+
+/// The representation that holds `items` (solids, surface models) and maybe a set of free
+/// geometry (`set_keyword` the representation for the set alone).
+pub(super) fn representation(
+    items: &[(&'static str, u64)],
+    set: bool,
+    set_keyword: &'static str,
+) -> &'static str {
+    let solids = items.iter().any(|(k, _)| *k == "solid");
+    let surface_models = items.iter().any(|(k, _)| *k == "surface");
+    match (solids, surface_models, set) {
+        (true, false, false) => "ADVANCED_BREP_SHAPE_REPRESENTATION",
+        (false, true, false) => "MANIFOLD_SURFACE_SHAPE_REPRESENTATION",
+        (false, false, _) => set_keyword,
+        _ => "SHAPE_REPRESENTATION",
+    }
+}
+
+/// Writes the vertices, edges, faces, shells and solids of `m` (provenance `o`, the
+/// metadata of the document's entities they name) and returns their ids.
+pub(super) fn write_model(
+    w: &mut Out,
+    document: &Document,
+    m: &Model,
+    o: &Origins,
+    scale: f64,
+    options: &ExportOptions,
+) -> Result<Written, NonFiniteReal> {
+    let by_id = entities(document);
+    let mut vertex_ids = Vec::with_capacity(m.vertices.len());
+    for v in &m.vertices {
+        let p = w.next();
+        write_point(&mut w.text, p, &v.point, 3, scale)?;
+        vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
+    }
+    // Face surfaces before the edges: the edges' pcurves name them.
+    let mut surface_ids = Vec::with_capacity(m.faces.len());
+    for (k, face) in m.faces.iter().enumerate() {
+        let entity = held(
+            o.faces.get(k),
+            &by_id,
+            |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
+            || Geometry::Surface(face.surface.clone()),
+        );
+        write_surface(
+            &mut w.text,
+            &mut w.id,
+            &face.surface,
+            &entity,
+            scale,
+            options,
+        )?;
+        surface_ids.push(w.id - 1);
+    }
+    // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
+    // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
+    let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
+    for (k, face) in m.faces.iter().enumerate() {
+        for l in &face.loops {
+            for c in &l.coedges {
+                if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
+                    list.push((surface_ids[k], p, c.forward));
+                }
+            }
+        }
+    }
+    for list in &mut pcurves {
+        list.sort_by_key(|(_, _, forward)| !forward);
+    }
+    let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
+        let id = w.next();
+        write_instance(
+            &mut w.text,
+            &Instance {
+                id,
+                body: Body::Complex(vec![
+                    Record {
+                        keyword: "GEOMETRIC_REPRESENTATION_CONTEXT",
+                        params: vec![Parameter::Integer(2)],
+                    },
+                    Record {
+                        keyword: "PARAMETRIC_REPRESENTATION_CONTEXT",
+                        params: vec![],
+                    },
+                    Record {
+                        keyword: "REPRESENTATION_CONTEXT",
+                        params: vec![s("2D SPACE"), s("")],
+                    },
+                ]),
+            },
+        )?;
+        id
+    } else {
+        0
+    };
+    let mut in_face = vec![false; m.edges.len()];
+    for face in &m.faces {
+        for l in &face.loops {
+            for c in &l.coedges {
+                if let Some(x) = in_face.get_mut(c.edge.0) {
+                    *x = true;
+                }
+            }
+        }
+    }
+    let mut edge_ids = Vec::with_capacity(m.edges.len());
+    let mut curve_ids = Vec::with_capacity(m.edges.len());
+    for (k, e) in m.edges.iter().enumerate() {
+        // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
+        // the files write a B-spline edge that uses part of its curve.
+        let piece = &e.curve;
+        let entity = held(
+            o.edges.get(k),
+            &by_id,
+            |g| matches!(g, Geometry::Curve(x) if x == piece),
+            || Geometry::Curve(piece.clone()),
+        );
+        write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
+        let mut curve = w.id - 1;
+        curve_ids.push(curve);
+        // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
+        // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
+        // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
+        let on = &pcurves[k];
+        if !on.is_empty() {
+            let mut refs = Vec::with_capacity(on.len());
+            for &(surface, p, _) in on {
+                let holder = anonymous(Geometry::Curve(p.clone()));
+                write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
+                let c2 = w.id - 1;
+                let rep = w.put(
+                    "DEFINITIONAL_REPRESENTATION",
+                    vec![
+                        s(""),
+                        Parameter::refs(&[c2]),
+                        Parameter::Reference(context2),
+                    ],
+                )?;
+                refs.push(w.put(
+                    "PCURVE",
+                    vec![
+                        s(""),
+                        Parameter::Reference(surface),
+                        Parameter::Reference(rep),
+                    ],
+                )?);
+            }
+            let seam = on.len() == 2 && on[0].0 == on[1].0;
+            curve = w.put(
+                if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
+                vec![
+                    s(""),
+                    Parameter::Reference(curve),
+                    Parameter::refs(&refs),
+                    Parameter::Enumeration("CURVE_3D"),
+                ],
+            )?;
+        }
+        let (Some(&vs), Some(&ve)) = (vertex_ids.get(e.start.0), vertex_ids.get(e.end.0)) else {
+            edge_ids.push(None);
+            continue;
+        };
+        edge_ids.push(Some(w.put(
+            "EDGE_CURVE",
+            vec![
+                s(""),
+                Parameter::Reference(vs),
+                Parameter::Reference(ve),
+                Parameter::Reference(curve),
+                boolean(true),
+            ],
+        )?));
+    }
+    // Which shells are written: those of solids, and the others unless each of their
+    // faces is in a solid's shell already (the closed shell an oriented void was built
+    // from).
+    let mut of_solids: HashSet<ShellId> = HashSet::new();
+    for solid in &m.solids {
+        of_solids.insert(solid.outer);
+        of_solids.extend(solid.voids.iter().copied());
+    }
+    let solid_faces: HashSet<usize> = of_solids
+        .iter()
+        .filter_map(|sh| m.shells.get(sh.0))
+        .flat_map(|sh| sh.faces.iter().map(|(f, _)| f.0))
+        .collect();
+    let written = |k: usize, sh: &crate::topology::Shell| {
+        of_solids.contains(&ShellId(k)) || !sh.faces.iter().all(|(f, _)| solid_faces.contains(&f.0))
+    };
+    // A face that every written shell uses reversed is written reversed (the other
+    // side of `same_sense` and every bound's orientation flipped, ISO 10303-42
+    // advanced_face / face_bound), so no ORIENTED_FACE is needed: Open CASCADE drops
+    // ORIENTED_FACEs in a closed shell. A face used both ways keeps ORIENTED_FACE.
+    let mut uses: Vec<(bool, bool)> = vec![(false, false); m.faces.len()];
+    for (k, sh) in m.shells.iter().enumerate() {
+        if !written(k, sh) {
+            continue;
+        }
+        for &(f, same) in &sh.faces {
+            if let Some(u) = uses.get_mut(f.0) {
+                if same {
+                    u.0 = true;
+                } else {
+                    u.1 = true;
+                }
+            }
+        }
+    }
+    let reversed: Vec<bool> = uses.iter().map(|&(fwd, rev)| rev && !fwd).collect();
+    let mut face_ids = Vec::with_capacity(m.faces.len());
+    for (k, face) in m.faces.iter().enumerate() {
+        let surface = surface_ids[k];
+        let mut bounds = Vec::with_capacity(face.loops.len());
+        for l in &face.loops {
+            let mut oriented = Vec::with_capacity(l.coedges.len());
+            for c in &l.coedges {
+                let Some(Some(edge)) = edge_ids.get(c.edge.0) else {
+                    continue;
+                };
+                oriented.push(w.put(
+                    "ORIENTED_EDGE",
+                    vec![
+                        s(""),
+                        Parameter::Derived,
+                        Parameter::Derived,
+                        Parameter::Reference(*edge),
+                        boolean(c.forward),
+                    ],
+                )?);
+            }
+            let lp = w.put("EDGE_LOOP", vec![s(""), Parameter::refs(&oriented)])?;
+            bounds.push(w.put(
+                if l.outer {
+                    "FACE_OUTER_BOUND"
+                } else {
+                    "FACE_BOUND"
+                },
+                vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
+            )?);
+        }
+        face_ids.push(w.put(
+            "ADVANCED_FACE",
+            vec![
+                s(""),
+                Parameter::refs(&bounds),
+                Parameter::Reference(surface),
+                boolean(face.same_sense != reversed[k]),
+            ],
+        )?);
+    }
+    let mut shell_ids: Vec<Option<u64>> = vec![None; m.shells.len()];
+    let mut in_shell = vec![false; m.faces.len()];
+    for (k, sh) in m.shells.iter().enumerate() {
+        if !written(k, sh) {
+            continue;
+        }
+        let mut refs = Vec::with_capacity(sh.faces.len());
+        for &(f, same) in &sh.faces {
+            let Some(&fid) = face_ids.get(f.0) else {
+                continue;
+            };
+            if let Some(x) = in_shell.get_mut(f.0) {
+                *x = true;
+            }
+            refs.push(if same != reversed[f.0] {
+                fid
+            } else {
+                w.put(
+                    "ORIENTED_FACE",
+                    vec![
+                        s(""),
+                        Parameter::Derived,
+                        Parameter::Reference(fid),
+                        boolean(false),
+                    ],
+                )?
+            });
+        }
+        let id = w.put(
+            if sh.closed {
+                "CLOSED_SHELL"
+            } else {
+                "OPEN_SHELL"
+            },
+            vec![s(""), Parameter::refs(&refs)],
+        )?;
+        shell_ids[k] = Some(id);
+    }
+    let mut solid_ids = Vec::with_capacity(m.solids.len());
+    for solid in &m.solids {
+        let Some(Some(outer)) = shell_ids.get(solid.outer.0) else {
+            solid_ids.push(None);
+            continue;
+        };
+        if solid.voids.is_empty() {
+            solid_ids.push(Some(w.put(
+                "MANIFOLD_SOLID_BREP",
+                vec![s(""), Parameter::Reference(*outer)],
+            )?));
+        } else {
+            let mut voids = Vec::with_capacity(solid.voids.len());
+            for v in &solid.voids {
+                if let Some(Some(shell)) = shell_ids.get(v.0) {
+                    voids.push(w.put(
+                        "ORIENTED_CLOSED_SHELL",
+                        vec![
+                            s(""),
+                            Parameter::Derived,
+                            Parameter::Reference(*shell),
+                            boolean(true),
+                        ],
+                    )?);
+                }
+            }
+            solid_ids.push(Some(w.put(
+                "BREP_WITH_VOIDS",
+                vec![s(""), Parameter::Reference(*outer), Parameter::refs(&voids)],
+            )?));
+        }
+    }
+    Ok(Written {
+        solids: solid_ids,
+        of_solid: (0..m.shells.len())
+            .map(|k| of_solids.contains(&ShellId(k)))
+            .collect(),
+        shells: shell_ids,
+        faces: face_ids,
+        in_shell,
+        curves: curve_ids,
+        in_face,
     })
 }
