@@ -179,6 +179,25 @@ fn decimal_digits(x: f64) -> Option<(i32, i32)> {
     Some((i32::try_from(digits).ok()?, exponent.parse().ok()?))
 }
 
+/// Half a unit in the last decimal place the writer used for `values`: the most significant
+/// digits among them are taken as the writer's precision (a value shown with fewer had
+/// trailing zeros), and the largest value's last place at that precision is the rounding any
+/// of them may carry (`0.479, 10.019, 8.508`: 5 digits, 0.5e-3). 0 when no value is
+/// finite and non-zero.
+pub fn written_rounding(values: &[f64]) -> f64 {
+    let digits = values
+        .iter()
+        .filter_map(|&x| decimal_digits(x))
+        .map(|(d, _)| d)
+        .max()
+        .unwrap_or(17);
+    values
+        .iter()
+        .filter_map(|&x| decimal_digits(x))
+        .map(|(_, e)| 0.5 * 10f64.powi(e - digits + 1))
+        .fold(0.0f64, f64::max)
+}
+
 /// How far from the plane through `points[0]` with normal `n` the points may lie when both
 /// were written with the digits the writer used. The most significant digits among the
 /// coordinates is taken as the writer's precision for them (a value shown with fewer had
@@ -193,31 +212,12 @@ pub fn plane_tolerance(points: &[Point3], n: Point3) -> f64 {
     if len.is_nan() || len <= 0.0 {
         return 0.0;
     }
-    let most = |values: &mut dyn Iterator<Item = f64>| {
-        values
-            .filter_map(decimal_digits)
-            .map(|(d, _)| d)
-            .max()
-            .unwrap_or(17)
-    };
-    let rounding = |x: f64, digits: i32| {
-        decimal_digits(x).map_or(0.0, |(_, e)| 0.5 * 10f64.powi(e - digits + 1))
-    };
-    let coordinate_digits = most(&mut points.iter().flatten().copied());
     let normal = if (len - 1.0).abs() <= 1e-12 {
         0.0
     } else {
-        let digits = most(&mut n.iter().copied());
-        n.iter()
-            .map(|&x| rounding(x, digits))
-            .fold(0.0f64, f64::max)
-            / len
+        written_rounding(&n) / len
     };
-    let coordinate = points
-        .iter()
-        .flatten()
-        .map(|&x| rounding(x, coordinate_digits))
-        .fold(0.0f64, f64::max);
+    let coordinate = written_rounding(&points.iter().flatten().copied().collect::<Vec<_>>());
     let extent = points
         .iter()
         .map(|&q| norm(sub(q, p0)))

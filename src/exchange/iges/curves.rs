@@ -149,8 +149,16 @@ fn circular_arc(
     let e = [a.end[0] - a.centre[0], a.end[1] - a.centre[1]];
     let r = s[0].hypot(s[1]);
     let r_end = e[0].hypot(e[1]);
+    let written = [
+        a.centre[0],
+        a.centre[1],
+        a.start[0],
+        a.start[1],
+        a.end[0],
+        a.end[1],
+    ];
     let tol = cx.tolerance(&[a.centre[0], a.centre[1], a.start[0], a.start[1], a.zt]);
-    if (r - r_end).abs() > tol {
+    if (r - r_end).abs() > cx.written_tolerance(&written) {
         diags.push(Diagnostic::warning(
             "arc_radius_mismatch",
             format!(
@@ -247,6 +255,8 @@ fn conic(
     let [a, b, c, d, e, f] = rec.coefficients;
     let z = rec.zt;
     let tol = cx.tolerance(&[rec.start[0], rec.start[1], rec.end[0], rec.end[1], z]);
+    // An end point is off its conic only beyond what the digits written allow.
+    let off = cx.written_tolerance(&[rec.start[0], rec.start[1], rec.end[0], rec.end[1]]);
     let phi = 0.5 * b.atan2(a - c);
     let (cp, sp) = (phi.cos(), phi.sin());
     let e1 = [cp, sp];
@@ -290,7 +300,7 @@ fn conic(
                 vertex,
                 add(scale([k * e2[0], k * e2[1], 0.0], t * t), scale(y, 2.0 * t)),
             );
-            if (q[0] - p[0]).hypot(q[1] - p[1]) > tol.max(1e-9 * (1.0 + t * t * k.abs())) {
+            if (q[0] - p[0]).hypot(q[1] - p[1]) > off.max(1e-9 * (1.0 + t * t * k.abs())) {
                 diags.push(off_conic(entry, p, q));
             }
         }
@@ -327,7 +337,7 @@ fn conic(
         let c3 = [cx0, cy0, z];
         for (p, t) in [(rec.start, t0), (rec.end, t1)] {
             let q = p3(centre, ax * t.cos(), ux, ay * t.sin(), uy);
-            if (q[0] - p[0]).hypot(q[1] - p[1]) > tol.max(1e-9 * ax) {
+            if (q[0] - p[0]).hypot(q[1] - p[1]) > off.max(1e-9 * ax) {
                 diags.push(off_conic(entry, p, q));
             }
         }
@@ -379,7 +389,7 @@ fn conic(
     let c3 = [cx0, cy0, z];
     for (p, t) in [(rec.start, t0), (rec.end, t1)] {
         let q = add(c3, add(scale(x, t.cosh()), scale(y, t.sinh())));
-        if (q[0] - p[0]).hypot(q[1] - p[1]) > tol.max(1e-9 * at * t.cosh()) {
+        if (q[0] - p[0]).hypot(q[1] - p[1]) > off.max(1e-9 * at * t.cosh()) {
             diags.push(off_conic(entry, p, q));
         }
     }

@@ -79,6 +79,17 @@ impl Context<'_, '_> {
         analysis::tolerance_of(values.iter().copied())
             .max(self.file.global.resolution.unwrap_or(0.0))
     }
+
+    /// The tolerance of a check that compares lengths formed from written coordinates (an
+    /// arc's two radii, an end point against its conic): [`Context::tolerance`], at least
+    /// what the rounding of the digits written allows. Each coordinate is within `e` =
+    /// [`analysis::written_rounding`] of the value meant, a plane point within `sqrt 2 e`, a
+    /// distance between two points within `2 sqrt 2 e`, and the difference of two such
+    /// distances within `4 sqrt 2 e`.
+    pub fn written_tolerance(&self, values: &[f64]) -> f64 {
+        self.tolerance(values)
+            .max(4.0 * std::f64::consts::SQRT_2 * analysis::written_rounding(values))
+    }
 }
 
 /// Reads every curve and surface entity of an IGES file.

@@ -1373,12 +1373,14 @@ impl<'a> Converter<'_, '_, 'a> {
         Ok((piece, None))
     }
 
-    /// The edges of a face (all its bounds, in order; a seam appears twice).
-    fn face_edges(&self, face: u64) -> Res<Vec<u64>> {
+    /// The edges of a face (all its bounds, in order; a seam appears twice) and the points
+    /// of its VERTEX_LOOPs (a cone's apex, a sphere's pole: ISO 10303-42 clause 5.4.13).
+    fn face_edges(&self, face: u64) -> Res<(Vec<u64>, Vec<Point3>)> {
         let Some(R::FaceSurface { bounds, .. }) = self.items.get(&face).map(|i| &i.record) else {
             return Err(self.error(face, "step.reference", "not a FACE_SURFACE"));
         };
         let mut edges = Vec::new();
+        let mut points = Vec::new();
         for &b in bounds {
             let R::FaceBound { bound, .. } = self.item(b, face, "FACE_BOUND")?.record else {
                 return Err(self.error(
@@ -1387,9 +1389,26 @@ impl<'a> Converter<'_, '_, 'a> {
                     format!("#{b} is not a FACE_BOUND"),
                 ));
             };
-            // A VERTEX_LOOP (a single point, e.g. a sphere's pole) adds no edge.
-            let Some(R::EdgeLoop { edge_list }) = self.items.get(&bound).map(|i| &i.record) else {
-                continue;
+            // A VERTEX_LOOP (a single point, e.g. a sphere's pole) adds no edge, only its
+            // point.
+            let edge_list = match self.items.get(&bound).map(|i| &i.record) {
+                Some(R::EdgeLoop { edge_list }) => edge_list,
+                Some(R::VertexLoop { loop_vertex }) => {
+                    match self.item(*loop_vertex, bound, "VERTEX_POINT")?.record {
+                        R::VertexPoint { vertex_geometry } => {
+                            points.push(self.point(vertex_geometry, *loop_vertex)?);
+                        }
+                        _ => {
+                            return Err(self.error(
+                                bound,
+                                "step.reference",
+                                format!("#{loop_vertex} is not a VERTEX_POINT"),
+                            ));
+                        }
+                    }
+                    continue;
+                }
+                _ => continue,
             };
             for &oe in edge_list {
                 match self.item(oe, bound, "ORIENTED_EDGE")?.record {
@@ -1404,7 +1423,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 }
             }
         }
-        Ok(edges)
+        Ok((edges, points))
     }
 }
 
@@ -1835,7 +1854,11 @@ impl<'a> Converter<'_, '_, 'a> {
         let mut full_turn = false;
         let mut seen: HashSet<u64> = HashSet::new();
         for &f in faces {
-            for e in self.face_edges(f)? {
+            let (face_edges, apexes) = self.face_edges(f)?;
+            // The points of its VERTEX_LOOPs bound the face too (a cone's apex: the axial
+            // extent; on the axis they take no part in the angular span).
+            poles.extend_from_slice(&apexes);
+            for e in face_edges {
                 let Some(o) = edges.get(&e) else {
                     return Err(self.error(
                         f,

@@ -1,0 +1,380 @@
+//! Public files written by other CAD systems (issue 21): the 37 files of `samples/public`
+//! (SolidWorks, CATIA V5, Pro/ENGINEER and Creo, NX / Unigraphics / I-DEAS, Inventor and
+//! the Autodesk Translation Framework, Rhinoceros, Solid Edge, CoCreate, CADDS, Spatial,
+//! Open CASCADE; sources, licences and the header field naming each writer in
+//! `samples/public/README.md`) read by the nurbsx binary, as a user runs it:
+//!
+//! - `validate --strict` reports exactly the codes listed for the file (none for most); each
+//!   listed code is either a real violation of ISO 10303-21/42 or IGES 5.3 (named with its
+//!   clause) or an open defect of nurbsx (named as such: not the file's fault, still to fix);
+//!   it exits 0 exactly when the list is empty;
+//! - `info` (the reading `convert` uses) gives no warning or error outside that list;
+//! - the solids and faces read are FreeCAD's (Open CASCADE's) counts, written down from
+//!   `scripts/freecad/part_reading.py` run on each file (an independent reader);
+//! - with `freecadcmd` on PATH, the total area and every solid's volume of the files in
+//!   [`MEASURED`] agree with FreeCAD's live reading within 1e-6 relative (the bound
+//!   tests/part_measures.rs uses where pcurves are projected). Without FreeCAD that part is
+//!   skipped with a message, unless `NURBSX_REQUIRE_FREECAD=1` (set by CI).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::collections::BTreeSet;
+use std::env;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+/// One file of the corpus and what it must give.
+struct Case {
+    file: &'static str,
+    /// FreeCAD's reading: solids and faces (`None`: not compared, with the reason at the
+    /// case).
+    freecad: Option<(usize, usize)>,
+    /// Codes `validate --strict` reports, each with its reason: "violation: " and where and
+    /// which clause of the standard, or "nurbsx defect: " / "nurbsx limitation: " and what goes
+    /// wrong (the file conforms). None of the files has a real violation.
+    findings: &'static [Finding],
+}
+
+/// A diagnostic code the file gives, and why.
+struct Finding {
+    code: &'static str,
+    why: &'static str,
+}
+
+const fn clean(file: &'static str, solids: usize, faces: usize) -> Case {
+    Case {
+        file,
+        freecad: Some((solids, faces)),
+        findings: &[],
+    }
+}
+
+const PCURVE_LINES: Finding = Finding {
+    code: "pcurve.not_converted",
+    why: "nurbsx limitation: 2-D LINE/CIRCLE pcurves (ISO 10303-42 PCURVE over a DEFINITIONAL_REPRESENTATION) are not converted to NURBS (README, STEP analytic geometry); the file is conforming",
+};
+
+const CASES: &[Case] = &[
+    clean("autodesk_atf_conical_surface.step", 1, 5),
+    Case {
+        file: "autodesk_atf_obstructed_hole.step",
+        freecad: Some((1, 13)),
+        findings: &[Finding {
+            code: "pcurve.not_computed",
+            why: "nurbsx defect: 4 coedges get no pcurve (projection within 1e-2 fails), so 2 faces are unmeasured and the solid has no volume; FreeCAD reads every face",
+        }],
+    },
+    // cadds_as1-tc-214.stp: not run here; see `TOO_SLOW`.
+    clean("catia_foot_back_000.stp", 1, 13),
+    Case {
+        file: "catia_head_front.stp",
+        freecad: Some((1, 5)),
+        findings: &[Finding {
+            code: "topology.inside_out",
+            why: "nurbsx defect: the two sphere faces #176 and #201 (a 2-edge loop of a circle and a B-spline on SPHERICAL_SURFACE) are measured as their complement on the sphere (52.59 in2 instead of FreeCAD's 17.53), so the solid's volume comes out negative; the file is conforming",
+        }],
+    },
+    clean("catia_r20_part3.stp", 1, 68),
+    Case {
+        file: "catia_sg1-c5-214.stp",
+        freecad: Some((1, 16)),
+        findings: &[Finding {
+            code: "geometry.unbounded",
+            why: "nurbsx limitation: PLANE #428 of a CONSTRUCTIVE_GEOMETRY_REPRESENTATION ('supplemental geometry', legal in AP214) is unbounded and has no NURBS form; reported as not carried, though the file is conforming",
+        }],
+    },
+    clean("catia_tail_turbine.stp", 1, 20),
+    clean("cocreate_io1-cm-214.stp", 1, 29),
+    clean("creo2021_shield_integrated.stp", 1, 148),
+    Case {
+        file: "freecad_cube.step",
+        freecad: Some((1, 6)),
+        findings: &[PCURVE_LINES],
+    },
+    Case {
+        file: "freecad_cube_in.step",
+        freecad: Some((1, 6)),
+        findings: &[PCURVE_LINES],
+    },
+    clean("ideas_dm1-id-214.stp", 7, 48),
+    clean("inventor2014_house_walls.stp", 1, 89),
+    clean("inventor2019_cube_10x10.igs", 1, 6),
+    clean("inventor2019_cube_10x10.stp", 1, 6),
+    clean("inventor2020_chamfer_1.stp", 1, 7),
+    clean("inventor2023_part16.stp", 1, 16),
+    clean("nx8_cube.stp", 1, 6),
+    Case {
+        file: "occt71_box.stp",
+        freecad: Some((1, 6)),
+        findings: &[PCURVE_LINES],
+    },
+    clean("proe2012_mechanism_example.stp", 3, 28),
+    clean("proe_dm1-pe-214.stp", 7, 61),
+    clean("proe_foot_back_prt.stp", 1, 9),
+    clean("proe_tail_turbine_prt.stp", 1, 20),
+    Case {
+        file: "rhino_xnurbs_fillet_complex.igs",
+        // FreeCAD makes a face of each of the 18 128 surfaces; 4 of them no 143 bounds,
+        // and nurbsx keeps those as free surfaces: 14 faces.
+        freecad: None,
+        findings: &[Finding {
+            code: "topology.open_edges",
+            why: "nurbsx defect: the 14 bounded surfaces (143) are sewn and the 19 edges on the model's outer border are reported as a shell that may not have closed; an open set of faces is a legal surface model (IGES 5.3 section 4.20), so this should not be a warning",
+        }],
+    },
+    Case {
+        file: "solidedge_sylinterin_tappi.stp",
+        freecad: Some((1, 21)),
+        findings: &[Finding {
+            code: "pcurve.not_computed",
+            why: "nurbsx defect: a CYLINDRICAL_SURFACE face bounded by two full CIRCLEs whose axis is opposite to the cylinder's (they run clockwise in its u) gets no pcurve (10 coedges), so 7 faces are unmeasured; FreeCAD reads every face",
+        }],
+    },
+    clean("solidworks2013_featuretype.step", 1, 96),
+    // IGES 144 faces: FreeCAD reads loose faces (0 solids); nurbsx sews them into 1 solid.
+    clean("solidworks2015_exercise_11.igs", 1, 34),
+    clean("solidworks2018_base_interface_ap203.step", 1, 30),
+    clean("solidworks2018_base_interface_ap214.step", 1, 30),
+    clean("solidworks2019_rear_camera_mount.stp", 1, 58),
+    clean("solidworks2019_to3_alumina_spacer.igs", 1, 25),
+    clean("solidworks2020_f627941-v2.step", 1, 27),
+    clean("spatial_interop_blends_test_12.stp", 1, 30),
+    clean("ug_headfront.stp", 1, 5),
+    Case {
+        file: "ug_io1-tu-203.stp",
+        freecad: Some((1, 29)),
+        findings: &[Finding {
+            code: "assembly.geometry_not_placed",
+            why: "nurbsx limitation: the free curves of a GEOMETRIC_SET in a placed product are kept in the product's own coordinates (README, assemblies); the file is conforming",
+        }],
+    },
+    // Wireframe (100/104/110/126 curves, no faces): FreeCAD reads no face either.
+    clean("wizworx_gehaeuse.igs", 0, 0),
+];
+
+/// Files of the corpus not run by this test, and why.
+const TOO_SLOW: &[(&str, &str)] = &[(
+    "cadds_as1-tc-214.stp",
+    "nurbsx defect: reading it with topology (convert, info, validate) does not finish in 15 minutes in a debug build (the face measures of the topology checks: src/topology/measure.rs boundary quadrature on a cylinder face); read geometry-only it takes 0.15 s",
+)];
+
+/// Solid files whose area and volumes are compared with FreeCAD's live reading.
+const MEASURED: &[&str] = &[
+    "autodesk_atf_conical_surface.step",
+    "catia_foot_back_000.stp",
+    "inventor2014_house_walls.stp",
+    "inventor2019_cube_10x10.igs",
+    "inventor2020_chamfer_1.stp",
+    "inventor2023_part16.stp",
+    "nx8_cube.stp",
+    "proe2012_mechanism_example.stp",
+    "proe_dm1-pe-214.stp",
+    "solidworks2018_base_interface_ap214.step",
+    "spatial_interop_blends_test_12.stp",
+];
+
+fn corpus() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/public")
+}
+
+fn nurbsx(args: &[&str]) -> (Option<i32>, Value) {
+    let out = Command::new(env!("CARGO_BIN_EXE_nurbsx"))
+        .args(args)
+        .output()
+        .unwrap();
+    let json = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "nurbsx {args:?}: no JSON ({e}); stderr: {}",
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    (out.status.code(), json)
+}
+
+/// The codes of the warnings and errors of a JSON diagnostics list.
+fn codes(diagnostics: &Value) -> BTreeSet<String> {
+    diagnostics
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["severity"] != "info")
+        .map(|d| d["code"].as_str().unwrap().to_owned())
+        .collect()
+}
+
+/// Every file of `samples/public` is a case or listed as too slow, and the other way round;
+/// every file is in the README's table.
+#[test]
+fn the_corpus_is_complete_and_documented() {
+    let readme = std::fs::read_to_string(corpus().join("README.md")).unwrap();
+    let mut on_disk: Vec<String> = std::fs::read_dir(corpus())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n != "README.md")
+        .collect();
+    on_disk.sort();
+    let mut listed: Vec<String> = CASES
+        .iter()
+        .map(|c| c.file)
+        .chain(TOO_SLOW.iter().map(|(f, _)| *f))
+        .map(str::to_owned)
+        .collect();
+    listed.sort();
+    assert_eq!(on_disk, listed);
+    assert!(on_disk.len() >= 30, "{} files", on_disk.len());
+    for f in &on_disk {
+        assert!(readme.contains(&format!("| `{f}` |")), "{f} not in README");
+    }
+    let bytes: u64 = on_disk
+        .iter()
+        .map(|f| std::fs::metadata(corpus().join(f)).unwrap().len())
+        .sum();
+    assert!(bytes < 6_000_000, "{bytes} bytes");
+}
+
+/// `validate --strict` gives exactly the listed codes (exit 0 when none), `info` no warning
+/// or error outside them, and the solids and faces are FreeCAD's.
+#[test]
+#[ignore = "about 10 minutes in a debug build (whole-part reads and measures of 37 files): cargo test --release --test public_corpus -- --ignored"]
+fn every_file_reads_without_false_warnings() {
+    let mut failures: Vec<String> = Vec::new();
+    for case in CASES {
+        let path = corpus().join(case.file);
+        let path = path.to_str().unwrap();
+        let expected: BTreeSet<String> = case.findings.iter().map(|f| f.code.to_owned()).collect();
+        for f in case.findings {
+            assert!(
+                ["violation: ", "nurbsx defect: ", "nurbsx limitation: "]
+                    .iter()
+                    .any(|k| f.why.starts_with(k)),
+                "{}: {} has no reason",
+                case.file,
+                f.code
+            );
+        }
+
+        let (status, report) = nurbsx(&["validate", "--strict", "--format", "json", path]);
+        let report = &report[0];
+        let got = codes(&report["diagnostics"]);
+        if got != expected {
+            failures.push(format!(
+                "{}: validate --strict gives {got:?}, expected {expected:?}: {}",
+                case.file, report["diagnostics"]
+            ));
+        }
+        let want_status = if expected.is_empty() { 0 } else { 1 };
+        if status != Some(want_status) || report["valid"] != expected.is_empty() {
+            failures.push(format!(
+                "{}: validate --strict exit {status:?}, valid {}",
+                case.file, report["valid"]
+            ));
+        }
+
+        let (status, info) = nurbsx(&["info", "--json", path]);
+        if status != Some(0) {
+            failures.push(format!("{}: info exit {status:?}", case.file));
+        }
+        let extra: Vec<String> = codes(&info["diagnostics"])
+            .difference(&expected)
+            .cloned()
+            .collect();
+        if !extra.is_empty() {
+            failures.push(format!("{}: info also gives {extra:?}", case.file));
+        }
+        if let Some((solids, faces)) = case.freecad {
+            let s = &info["structure"];
+            let count = |k: &str| s[k].as_array().map_or(0, Vec::len);
+            if (count("solids"), count("faces")) != (solids, faces) {
+                failures.push(format!(
+                    "{}: {} solids, {} faces; FreeCAD reads {solids} and {faces}",
+                    case.file,
+                    count("solids"),
+                    count("faces")
+                ));
+            }
+        }
+        if info["entities"].as_array().is_none_or(Vec::is_empty) {
+            failures.push(format!("{}: no curve or surface read", case.file));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `freecadcmd` (or `FreeCADCmd`) found on PATH.
+fn find_freecadcmd() -> Option<PathBuf> {
+    let path = env::var_os("PATH")?;
+    env::split_paths(&path)
+        .flat_map(|dir| ["freecadcmd", "FreeCADCmd"].map(|name| dir.join(name)))
+        .find(|candidate| candidate.is_file())
+}
+
+/// The total area and each solid's volume of [`MEASURED`] against FreeCAD's live reading
+/// (`scripts/freecad/part_reading.py`, Open CASCADE's `BRepGProp`), in mm, within 1e-6
+/// relative; the solids' volumes compared in increasing order.
+#[test]
+#[ignore = "about 10 minutes in a debug build (whole-part reads and measures of 37 files): cargo test --release --test public_corpus -- --ignored"]
+fn solids_measure_as_freecad_reads_them() {
+    let Some(freecadcmd) = find_freecadcmd() else {
+        if env::var("NURBSX_REQUIRE_FREECAD").as_deref() == Ok("1") {
+            panic!("FreeCAD required (NURBSX_REQUIRE_FREECAD=1) but freecadcmd is not on PATH");
+        }
+        eprintln!("SKIPPED solids_measure_as_freecad_reads_them: freecadcmd not on PATH");
+        return;
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = env::temp_dir().join(format!("nurbsx-public-corpus-{}", std::process::id()));
+    std::fs::create_dir_all(&work).unwrap();
+    let mut failures: Vec<String> = Vec::new();
+    for file in MEASURED {
+        let path = corpus().join(file);
+        let out = work.join(format!("{file}.json"));
+        let run = Command::new(&freecadcmd)
+            .arg(root.join("scripts/freecad/part_reading.py"))
+            .env("NURBSX_IN", &path)
+            .env("NURBSX_OUT", &out)
+            .output()
+            .unwrap();
+        let Ok(text) = std::fs::read_to_string(&out) else {
+            failures.push(format!(
+                "{file}: FreeCAD wrote no reading: {}",
+                String::from_utf8_lossy(&run.stderr)
+            ));
+            continue;
+        };
+        let freecad: Value = serde_json::from_str(&text).unwrap();
+        let (_, info) = nurbsx(&["info", "--json", path.to_str().unwrap()]);
+        let mm = info["units"]["to_mm"].as_f64().unwrap();
+        let s = &info["structure"];
+        let area = s["area"].as_f64().unwrap() * mm * mm;
+        let want = freecad["totals"]["area"].as_f64().unwrap();
+        if (area - want).abs() > 1e-6 * want {
+            failures.push(format!("{file}: area {area} mm2, FreeCAD {want}"));
+        }
+        let mut ours: Vec<Option<f64>> = s["solids"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x["volume"].as_f64().map(|v| v * mm * mm * mm))
+            .collect();
+        let mut theirs: Vec<f64> = freecad["solids"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x["volume"].as_f64().unwrap())
+            .collect();
+        ours.sort_by(|a, b| a.unwrap_or(f64::NAN).total_cmp(&b.unwrap_or(f64::NAN)));
+        theirs.sort_by(f64::total_cmp);
+        if ours.len() != theirs.len() || theirs.is_empty() {
+            failures.push(format!("{file}: solids {ours:?}, FreeCAD {theirs:?}"));
+            continue;
+        }
+        for (k, (v, w)) in ours.iter().zip(&theirs).enumerate() {
+            if !v.is_some_and(|v| (v - w).abs() <= 1e-6 * w.abs()) {
+                failures.push(format!("{file}: solid {k} volume {v:?} mm3, FreeCAD {w}"));
+            }
+        }
+    }
+    std::fs::remove_dir_all(&work).ok();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
