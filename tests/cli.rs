@@ -542,6 +542,54 @@ fn validate_reports_bad_geometry_with_exit_1_and_a_file_line() {
     assert_exit(&o, 0);
 }
 
+/// Conforming content nurbsx does not carry: an unbounded LINE in a GEOMETRIC_SET of the
+/// Pin's shape (legal ISO 10303-42: a line is unbounded by definition; nothing bounds this
+/// one). `info` and `convert` warn (it is missing from the output); `validate --strict`
+/// passes, with the finding as a note, since it says nothing against the file.
+#[test]
+fn content_not_carried_warns_when_reading_and_is_a_note_of_validate() {
+    let dir = temp_dir("not-carried");
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts/assembly_links.step"),
+    )
+    .unwrap()
+    .replace(
+        "ENDSEC;\nEND-ISO",
+        "#9001 = CARTESIAN_POINT('',(0.,0.,0.));\n\
+         #9002 = DIRECTION('',(1.,0.,0.));\n\
+         #9003 = VECTOR('',#9002,1.);\n\
+         #9004 = LINE('',#9001,#9003);\n\
+         #9005 = GEOMETRIC_SET('',(#9004));\n\
+         #9006 = SHAPE_REPRESENTATION('',(#9005),#577);\n\
+         #9007 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#9006,#478);\n\
+         ENDSEC;\nEND-ISO",
+    );
+    assert!(text.contains("#9004 = LINE"));
+    let input = dir.join("line.step");
+    std::fs::write(&input, text).unwrap();
+    let path = input.to_str().unwrap();
+    let o = nurbsx(["info", path]);
+    assert_exit(&o, 0);
+    assert!(
+        stderr(&o).contains("warning[geometry.unbounded]: LINE #9004"),
+        "{}",
+        stderr(&o)
+    );
+    let o = nurbsx(["validate", "--strict", "--min-severity", "info", "--json", path]);
+    assert_exit(&o, 0);
+    let r = json(&o);
+    assert_eq!(r[0]["valid"], true, "{r}");
+    let notes: Vec<&Value> = r[0]["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["code"] == "geometry.unbounded")
+        .collect();
+    assert_eq!(notes.len(), 1, "{r}");
+    assert_eq!(notes[0]["severity"], "info");
+    assert_eq!(notes[0]["location"]["entity"], "#9004");
+}
+
 #[test]
 fn validate_json_lists_one_report_per_file() {
     let bad = data("bad_knots.json");

@@ -921,7 +921,7 @@ fn legacy_encoded_names_are_located_nonconformance_and_keep_the_geometry() {
             .unwrap_or_else(|| panic!("{name}: {:?}", b.diagnostics));
         // Reading warns; the conformance check (validate) makes it an error.
         assert_eq!(d.severity, exchange::Severity::Warning, "{name}");
-        assert!(d.nonconforming, "{name}");
+        assert_eq!(d.standing, exchange::Standing::Nonconforming, "{name}");
         assert_eq!(
             d.clone().for_conformance().severity,
             exchange::Severity::Error,

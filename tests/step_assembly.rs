@@ -265,3 +265,52 @@ fn instances_multiplying_past_the_limit_are_a_located_error() {
     assert_eq!(doc.topology.model.solids.len(), 2);
     assert!(t.elapsed().as_secs() < 60, "{:?}", t.elapsed());
 }
+
+/// A GEOMETRIC_CURVE_SET in the Pin's shape (a circle of radius 0.5 about (1, 2, 3) in the
+/// Pin's xy plane, joined to its representation without transformation) is placed with the
+/// Pin: one free edge, its circle about `R (1, 2, 3) + t` in the plane normal to `R z`, with
+/// `R`, `t` the Pin's placement as FreeCAD built it (15 degrees about y, at (10, 5, -5); by
+/// Rodrigues' formula, independent of the file), and no `assembly.geometry_not_placed`.
+#[test]
+fn free_curves_of_a_placed_product_are_placed_with_it() {
+    let doc = read(&with_data(
+        "#9001 = CARTESIAN_POINT('',(1.,2.,3.));\n\
+         #9002 = DIRECTION('',(0.,0.,1.));\n\
+         #9003 = DIRECTION('',(1.,0.,0.));\n\
+         #9004 = AXIS2_PLACEMENT_3D('',#9001,#9002,#9003);\n\
+         #9005 = CIRCLE('',#9004,0.5);\n\
+         #9006 = GEOMETRIC_CURVE_SET('',(#9005));\n\
+         #9007 = SHAPE_REPRESENTATION('',(#9006),#577);\n\
+         #9008 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#9007,#478);\n",
+    ));
+    assert!(
+        !doc.diagnostics
+            .iter()
+            .any(|d| d.code == "assembly.geometry_not_placed"),
+        "{:#?}",
+        doc.diagnostics
+    );
+    let o = &doc.topology.origins;
+    let m = &doc.topology.model;
+    let circles: Vec<usize> = (0..o.edges.len())
+        .filter(|&i| o.edges[i].id.starts_with("#9005"))
+        .collect();
+    assert_eq!(circles.len(), 1, "{:?}", o.edges);
+    let edge = &m.edges[circles[0]];
+    let (s, c) = 15f64.to_radians().sin_cos();
+    // Rotation about y: x' = c x + s z, z' = -s x + c z.
+    let r = |p: [f64; 3]| [c * p[0] + s * p[2], p[1], -s * p[0] + c * p[2]];
+    let t = [10.0, 5.0, -5.0];
+    let centre: [f64; 3] = std::array::from_fn(|k| r([1.0, 2.0, 3.0])[k] + t[k]);
+    let normal = r([0.0, 0.0, 1.0]);
+    for k in 0..=64 {
+        let u = edge.range.0 + (edge.range.1 - edge.range.0) * f64::from(k) / 64.0;
+        let p = edge.curve.point_at(u).unwrap();
+        let d: [f64; 3] = std::array::from_fn(|j| p[j] - centre[j]);
+        let radius = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let off = d[0] * normal[0] + d[1] * normal[1] + d[2] * normal[2];
+        // Within 1e-9, as the placements above: the file writes the Pin's axes rounded.
+        assert!((radius - 0.5).abs() < 1e-9, "{p:?}: radius {radius}");
+        assert!(off.abs() < 1e-9, "{p:?}: {off} off the plane");
+    }
+}

@@ -726,3 +726,49 @@ fn an_open_box_stays_an_open_shell() {
         );
     }
 }
+
+/// The cube with its top face lifted by 1e-4 (a thousand times the sewing tolerance): the
+/// top face's four edges and the side faces' four top edges stay open, and each top edge
+/// pairs with the side edge under it at the lift: a near miss (`Sewing::gaps`). The open
+/// box's rim, the border of a surface model, has no partner: no gap.
+#[test]
+fn open_edges_that_nearly_meet_are_told_from_a_border() {
+    let delta = 1e-4;
+    let (mut m, faces) = loose_cube(&[], false);
+    let lift: Affine = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, delta],
+    ];
+    let top = faces[5];
+    m.faces[top.0].surface = m.faces[top.0].surface.transform(&lift).unwrap();
+    let edges: Vec<usize> = m.faces[top.0].loops[0]
+        .coedges
+        .iter()
+        .map(|c| c.edge.0)
+        .collect();
+    for e in edges {
+        m.edges[e].curve = m.edges[e].curve.transform(&lift).unwrap();
+        for v in [m.edges[e].start.0, m.edges[e].end.0] {
+            m.vertices[v].point[2] = A + delta;
+        }
+    }
+    let sewing = m.sew(&faces, 1e-7).unwrap();
+    assert!(sewing.solids.is_empty());
+    assert_eq!(sewing.open_edges.len(), 8, "{:?}", sewing.open_edges);
+    assert!(sewing.gaps_complete);
+    assert_eq!(sewing.gaps.len(), 4, "{:?}", sewing.gaps);
+    for &(a, b, d) in &sewing.gaps {
+        assert!((d - delta).abs() <= 1e-12, "{d}");
+        let z = |e: EdgeId| m.vertices[m.edges[e.0].start.0].point[2];
+        let mut zs = [z(a), z(b)];
+        zs.sort_by(f64::total_cmp);
+        assert_eq!(zs, [A, A + delta]);
+    }
+
+    let (mut m, faces) = loose_cube(&[5], false);
+    let sewing = m.sew(&faces, 1e-7).unwrap();
+    assert_eq!(sewing.open_edges.len(), 4);
+    assert!(sewing.gaps_complete);
+    assert!(sewing.gaps.is_empty(), "{:?}", sewing.gaps);
+}

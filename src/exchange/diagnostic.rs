@@ -97,12 +97,28 @@ pub struct Diagnostic {
     pub message: String,
     /// Where in the file.
     pub location: Location,
+    /// What the finding says about the file, which decides how `validate` reports it.
+    #[serde(skip)]
+    pub standing: Standing,
+}
+
+/// What a diagnostic says about the file's conformance (README, "Conformance and reading").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum Standing {
+    /// A finding the conformance check reports as reading does: an error that makes the
+    /// entity unreadable, a legal but suspicious value, a note.
+    #[default]
+    Plain,
     /// A violation of the standard (a "shall" of ISO 10303-21/42 or IGES 5.3) that the
     /// reader still read with its one unambiguous meaning, losing nothing: a warning for
     /// reading (`convert`, `info`), an error for the conformance check
     /// ([`Diagnostic::for_conformance`], what `validate` reports).
-    #[serde(skip)]
-    pub nonconforming: bool,
+    Nonconforming,
+    /// Conforming content that nurbsx does not carry (an unbounded supplemental plane, an
+    /// offset surface, free curves of a placed product): reading reports it at its severity,
+    /// since it is lost from the output; the conformance check reports it as a note, since
+    /// it says nothing against the file.
+    NotCarried,
 }
 
 impl Diagnostic {
@@ -113,7 +129,7 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
-            nonconforming: false,
+            standing: Standing::Plain,
         }
     }
 
@@ -128,29 +144,39 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
-            nonconforming: false,
+            standing: Standing::Plain,
         }
     }
 
     /// A violation of the standard read anyway with its one meaning (see
-    /// [`Diagnostic::nonconforming`]): a warning until [`Diagnostic::for_conformance`].
+    /// [`Standing::Nonconforming`]): a warning until [`Diagnostic::for_conformance`].
     pub fn nonconforming(
         code: impl Into<String>,
         message: impl Into<String>,
         location: Location,
     ) -> Self {
         Diagnostic {
-            nonconforming: true,
+            standing: Standing::Nonconforming,
             ..Diagnostic::warning(code, message, location)
         }
     }
 
     /// The diagnostic as the conformance check reports it: every violation of the standard
-    /// is an error, whatever the reader recovered.
+    /// is an error, whatever the reader recovered; content nurbsx does not carry is a note.
     pub fn for_conformance(mut self) -> Self {
-        if self.nonconforming {
-            self.severity = Severity::Error;
+        match self.standing {
+            Standing::Plain => {}
+            Standing::Nonconforming => self.severity = Severity::Error,
+            Standing::NotCarried => self.severity = Severity::Info,
         }
+        self
+    }
+
+    /// The same finding marked as conforming content nurbsx does not carry (see
+    /// [`Standing::NotCarried`]).
+    #[must_use]
+    pub fn not_carried(mut self) -> Self {
+        self.standing = Standing::NotCarried;
         self
     }
 
@@ -161,7 +187,7 @@ impl Diagnostic {
             code: code.into(),
             message: message.into(),
             location,
-            nonconforming: false,
+            standing: Standing::Plain,
         }
     }
 }

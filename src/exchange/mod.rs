@@ -26,7 +26,7 @@ pub(crate) mod test_documents;
 pub(crate) mod test_files;
 mod units;
 
-pub use diagnostic::{Diagnostic, Location, Severity};
+pub use diagnostic::{Diagnostic, Location, Severity, Standing};
 pub use document::{
     Document, Entity, Meta, Origin, Origins, ParameterRange, PlacedInstance, ProductStructure,
     Shape, Source, Topology,

@@ -22,6 +22,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use super::measure::faces_outward;
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
+use crate::nurbs::project::invert_curve;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{NurbsCurve, Point3};
 
@@ -43,6 +44,15 @@ pub struct Sewing {
     pub open_edges: Vec<EdgeId>,
     /// Coedges whose pcurve could not be carried over or re-projected (left without one).
     pub lost_pcurves: usize,
+    /// Pairs of open edges that nearly coincide (ends and middles within a tenth of the
+    /// shorter one's chord, but beyond the tolerance), with the largest of those
+    /// distances: where the faces almost close, as opposed to the border of a surface
+    /// model (ISO 10303-42 clause 5.4.28 open_shell; IGES 5.3 section 4.20), whose open
+    /// edges have no partner.
+    pub gaps: Vec<(EdgeId, EdgeId, f64)>,
+    /// Whether every candidate pair of open edges was compared for [`Sewing::gaps`] (false
+    /// when more than [`MAX_GAP_TESTS`] pairs overlap: then the gaps are not all known).
+    pub gaps_complete: bool,
 }
 
 struct UnionFind(Vec<usize>);
@@ -65,6 +75,9 @@ impl UnionFind {
         }
     }
 }
+
+/// Most pairs of open edges compared when looking for near misses ([`Sewing::gaps`]).
+const MAX_GAP_TESTS: usize = 1 << 22;
 
 /// Interior fractions at which edge curves are compared.
 const FRACTIONS: [f64; 7] = [0.07, 0.2, 0.35, 0.5, 0.65, 0.8, 0.93];
@@ -402,7 +415,58 @@ impl Model {
         let merged: std::collections::HashSet<usize> = replace.keys().map(|e| e.0).collect();
         let rep: Vec<usize> = (0..nv).map(|i| uf.find(i)).collect();
         self.compact(&merged, &rep, &mut report);
+        (report.gaps, report.gaps_complete) = self.gaps(&report.open_edges);
         Ok(report)
+    }
+
+    /// The pairs of `open` edges that nearly coincide (see [`Sewing::gaps`]): each end of
+    /// one within `d` of an end of the other and the middle of one within `d` of the
+    /// other's curve (NURBS Book section 6.1 point inversion, so parameterisations may
+    /// differ), for `d <= 0.1 * ` the shorter chord. Candidates come from a sweep over the
+    /// lowest x of each edge's ends; at most [`MAX_GAP_TESTS`] pairs are compared, and the
+    /// flag says whether that was all of them.
+    fn gaps(&self, open: &[EdgeId]) -> (Vec<(EdgeId, EdgeId, f64)>, bool) {
+        // (edge, lowest x of its ends, ends, middle, chord) of each open edge.
+        let mut keyed: Vec<(EdgeId, f64, [Point3; 2], Point3, f64)> = open
+            .iter()
+            .filter_map(|&e| {
+                let edge = self.edges.get(e.0)?;
+                let (a, b) = edge.range;
+                let ends = [edge.curve.point_at(a).ok()?, edge.curve.point_at(b).ok()?];
+                let middle = edge.curve.point_at(0.5 * (a + b)).ok()?;
+                let chord = dist(ends[0], middle) + dist(middle, ends[1]);
+                let low = ends[0][0].min(ends[1][0]);
+                (chord.is_finite() && low.is_finite()).then_some((e, low, ends, middle, chord))
+            })
+            .collect();
+        keyed.sort_by(|x, y| x.1.total_cmp(&y.1));
+        let mut out = Vec::new();
+        let mut tests = 0usize;
+        for (i, &(ea, xa, a, ma, ca)) in keyed.iter().enumerate() {
+            for &(eb, xb, b, _, cb) in &keyed[i + 1..] {
+                if xb - xa > 0.1 * ca {
+                    break;
+                }
+                if tests == MAX_GAP_TESTS {
+                    return (out, false);
+                }
+                tests += 1;
+                let limit = 0.1 * ca.min(cb);
+                let ends = (dist(a[0], b[0]).max(dist(a[1], b[1])))
+                    .min(dist(a[0], b[1]).max(dist(a[1], b[0])));
+                if ends > limit {
+                    continue;
+                }
+                let Some((_, middle)) = invert_curve(&self.edges[eb.0].curve, ma) else {
+                    continue;
+                };
+                let d = ends.max(middle);
+                if d <= limit {
+                    out.push((ea, eb, d));
+                }
+            }
+        }
+        (out, true)
     }
 
     /// The members turned so that the enclosed volume is positive (when measurable), each

@@ -431,7 +431,8 @@ fn line(
                 if l.form == 1 { "ray" } else { "line" }
             ),
             entity_location(entry),
-        ));
+        )
+        .not_carried());
         return None;
     }
     let r = line_segment(l.start, l.end, 0.0, 1.0);
@@ -480,23 +481,29 @@ fn copious(
     match rec.form {
         11 | 12 | 13 | 63 => {}
         1..=3 => {
-            diags.push(Diagnostic::warning(
-                "points.not_represented",
-                format!(
-                    "106 form {} holds {} points, not a curve; points are not represented",
-                    rec.form,
-                    rec.points.len()
-                ),
-                loc,
-            ));
+            diags.push(
+                Diagnostic::warning(
+                    "points.not_represented",
+                    format!(
+                        "106 form {} holds {} points, not a curve; points are not represented",
+                        rec.form,
+                        rec.points.len()
+                    ),
+                    loc,
+                )
+                .not_carried(),
+            );
             return None;
         }
         f => {
-            diags.push(Diagnostic::warning(
-                "annotation.not_represented",
-                format!("106 form {f} is annotation (IGES 5.3 section 4.6); not represented"),
-                loc,
-            ));
+            diags.push(
+                Diagnostic::warning(
+                    "annotation.not_represented",
+                    format!("106 form {f} is annotation (IGES 5.3 section 4.6); not represented"),
+                    loc,
+                )
+                .not_carried(),
+            );
             return None;
         }
     }
@@ -523,7 +530,8 @@ fn copious(
                 rec.vectors.len()
             ),
             loc.clone(),
-        ));
+        )
+        .not_carried());
     }
     let mut points = rec.points;
     if rec.form == 63 && points.first() != points.last() {

@@ -200,7 +200,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
                 list.join(", ")
             ),
             Location::default(),
-        ));
+        )
+        .not_carried());
     }
     super::topology::read(&cx, &mut doc, &mut diags);
     cancel.stop_read()?;
@@ -492,13 +493,20 @@ fn read_entry(
             pieces.push((entry.clone(), Geometry::Surface(s.surface), s.meta));
         }
         124 => return Outcome::Nothing,
+        // Read by the topology and subfigure passes, which report what they leave out.
+        t if matches!(t, 308 | 408) || super::topology::TOPOLOGY_TYPES.iter().any(|x| x.0 == t) => {
+            return Outcome::Nothing;
+        }
         t => {
             if let Some(why) = inexact(t) {
-                diags.push(Diagnostic::warning(
-                    "no_exact_form",
-                    format!("{t} entity: {why}; not represented"),
-                    entity_location(entry),
-                ));
+                diags.push(
+                    Diagnostic::warning(
+                        "no_exact_form",
+                        format!("{t} entity: {why}; not represented"),
+                        entity_location(entry),
+                    )
+                    .not_carried(),
+                );
                 return Outcome::Nothing;
             }
             return Outcome::Skipped(t);
@@ -601,29 +609,35 @@ fn finish(
             }
         }
         if !trim.is_empty() {
-            diags.push(Diagnostic::info(
-                "trim_ignored",
-                format!(
-                    "used by {}; the trim is not applied, the untrimmed {} is returned",
-                    trim.join(", "),
-                    if matches!(geometry, Geometry::Curve(_)) {
-                        "curve"
-                    } else {
-                        "surface"
-                    }
-                ),
-                entity_location(entry),
-            ));
+            diags.push(
+                Diagnostic::info(
+                    "trim_ignored",
+                    format!(
+                        "used by {}; the trim is not applied, the untrimmed {} is returned",
+                        trim.join(", "),
+                        if matches!(geometry, Geometry::Curve(_)) {
+                            "curve"
+                        } else {
+                            "surface"
+                        }
+                    ),
+                    entity_location(entry),
+                )
+                .not_carried(),
+            );
         }
         if !topo.is_empty() {
-            diags.push(Diagnostic::info(
-                "topology_ignored",
-                format!(
-                    "used by {}; that topology (B-rep edge, loop or face) is not converted",
-                    topo.join(", ")
-                ),
-                entity_location(entry),
-            ));
+            diags.push(
+                Diagnostic::info(
+                    "topology_ignored",
+                    format!(
+                        "used by {}; that topology (B-rep edge, loop or face) is not converted",
+                        topo.join(", ")
+                    ),
+                    entity_location(entry),
+                )
+                .not_carried(),
+            );
         }
     }
     Some(Entity {

@@ -197,7 +197,8 @@ pub(super) fn apply(cx: &Context<'_, '_>, topology: &mut Topology, diags: &mut V
             "assembly.geometry_not_placed",
             format!("{not_placed} member(s) of 308 subfigure definitions are not faces, shells or solids (free curves and surfaces): kept once, where the definition places them"),
             Location::default(),
-        ));
+        )
+        .not_carried());
     }
     let defs = Definitions {
         model,

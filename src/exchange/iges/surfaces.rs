@@ -494,7 +494,8 @@ fn extent_or_warn(
                     entry.entity_type
                 ),
                 entity_location(entry),
-            ));
+            )
+            .not_carried());
             None
         }
     }

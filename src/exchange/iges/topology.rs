@@ -57,7 +57,7 @@ const MAX_GAP_FACTOR: f64 = 1e3;
 
 /// The entity types that carry topology, and their names for the `topology.not_read`
 /// warning.
-const TOPOLOGY_TYPES: [(i64, &str); 10] = [
+pub(super) const TOPOLOGY_TYPES: [(i64, &str); 10] = [
     (144, "trimmed faces (144)"),
     (142, "face boundaries (142)"),
     (143, "bounded faces (143)"),
@@ -93,7 +93,8 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
                 count(408)
             ),
             Location::default(),
-        ));
+        )
+        .not_carried());
     }
     if cx.options.geometry_only {
         let list: Vec<String> = TOPOLOGY_TYPES
@@ -109,7 +110,8 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
                     list.join(", ")
                 ),
                 Location::default(),
-            ));
+            )
+            .not_carried());
         }
         return;
     }
@@ -312,34 +314,64 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .take(8)
                 .filter_map(|e| o.edges.get(e.0).map(|x| x.id.clone()))
                 .collect();
-            // Faces that share some edges but not all nearly close: worth a warning; a set
-            // of faces that share none is a surface model by intent.
-            let severity = if sewing.merged_edges > 0 {
-                Diagnostic::warning
+            // Open edges in pairs that nearly coincide: faces that almost close, worth a
+            // warning; open edges without a partner are the border of a surface model
+            // (IGES 5.3 section 4.20 allows a set of faces that bounds no solid): a note.
+            let name = |e: EdgeId| o.edges.get(e.0).map_or_else(String::new, |x| x.id.clone());
+            let (severity, message): (fn(_, _, _) -> Diagnostic, String) = if let Some(widest) =
+                sewing.gaps.iter().map(|g| g.2).reduce(f64::max)
+            {
+                let (a, b, _) = sewing.gaps[0];
+                (
+                    Diagnostic::warning,
+                    format!(
+                        "{} edges of the sewn faces are used by one face only; {} pair(s) of them nearly coincide (first: {} and {}), gaps up to {widest:e}: the faces almost close, and --sew-tolerance {:e} would sew them",
+                        sewing.open_edges.len(),
+                        sewing.gaps.len(),
+                        name(a),
+                        name(b),
+                        widest * 1.01
+                    ),
+                )
+            } else if !sewing.gaps_complete {
+                (
+                    Diagnostic::warning,
+                    format!(
+                        "{} edges of the sewn faces are used by one face only, so their shell stays open (first: {}); too many overlap to tell a near miss from a border, and a larger --sew-tolerance may close it",
+                        sewing.open_edges.len(),
+                        ids.join(", ")
+                    ),
+                )
             } else {
-                Diagnostic::info
+                (
+                    Diagnostic::info,
+                    format!(
+                        "the sewn faces form an open surface model: {} edges on its border are used by one face only (first: {}), none with another open edge near it",
+                        sewing.open_edges.len(),
+                        ids.join(", ")
+                    ),
+                )
             };
             diags.push(severity(
                 "topology.open_edges",
-                format!(
-                    "{} edges of the sewn faces are used by one face only, so their shell stays open (first: {}); a larger --sew-tolerance may close it",
-                    sewing.open_edges.len(),
-                    ids.join(", ")
-                ),
+                message,
                 ids.first()
                     .map(|id| Location::at_entity(id.clone()))
                     .unwrap_or_default(),
             ));
         }
         if sewing.lost_pcurves > 0 {
-            diags.push(Diagnostic::warning(
-                "pcurve.not_computed",
-                format!(
-                    "{} parameter-space curves could not be carried to their sewn edges",
-                    sewing.lost_pcurves
-                ),
-                Location::default(),
-            ));
+            diags.push(
+                Diagnostic::warning(
+                    "pcurve.not_computed",
+                    format!(
+                        "{} parameter-space curves could not be carried to their sewn edges",
+                        sewing.lost_pcurves
+                    ),
+                    Location::default(),
+                )
+                .not_carried(),
+            );
         }
     }
 
@@ -375,7 +407,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     self.no_pcurve, self.coedges, self.tol
                 ),
                 Location::default(),
-            ));
+            )
+            .not_carried());
         }
     }
 
@@ -744,7 +777,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     entry.pointer, entry.entity_type
                 ),
                 entity_location(s),
-            ));
+            )
+            .not_carried());
         }
     }
 

@@ -29,9 +29,10 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use super::geometry::Converter;
 use crate::exchange::assembly::{Definitions, parts_by_id, place_all};
-use crate::exchange::{Diagnostic, Location, Topology};
+use crate::exchange::{Diagnostic, Entity, Location, Origin, Topology};
 use crate::nurbs::sweep::Frame;
 use crate::nurbs::transform::{Affine, IDENTITY, compose};
+use crate::nurbs::{Geometry, bounding_box_diagonal};
 use crate::topology::{Assembly, AssemblyId, Instance, Model, Part};
 
 /// The decoded product-structure instances by id.
@@ -142,6 +143,7 @@ impl<'r, 'a> Reader<'r, '_, '_, 'a> {
 pub(super) fn apply<'a>(
     conv: &Converter<'_, '_, 'a>,
     products: &Products<'a>,
+    entities: &[Entity],
     topology: &mut Topology,
     max_items: usize,
 ) -> Vec<Diagnostic> {
@@ -234,6 +236,7 @@ pub(super) fn apply<'a>(
         seen
     };
 
+    set_edges(&r, &ids, entities, topology);
     // The nodes: every definition with a shape or a usage, and every mapped representation.
     let by_id = parts_by_id(&topology.origins);
     let mut keys: Vec<Key> = Vec::new();
@@ -330,7 +333,20 @@ pub(super) fn apply<'a>(
                         }
                     }
                 }
-                Some(G::GeometricSet { .. }) => not_placed_sets += 1,
+                Some(G::GeometricSet { elements }) => {
+                    // Its curves are free edges (`set_edges`); points and surfaces stay
+                    // where the product's own coordinates put them.
+                    let mut all = true;
+                    for e in elements {
+                        match by_id.get(format!("#{e}").as_str()) {
+                            Some(&p @ Part::Edge(_)) => list.push(leaf(p)),
+                            _ => all = false,
+                        }
+                    }
+                    if !all {
+                        not_placed_sets += 1;
+                    }
+                }
                 _ => {}
             }
         }
@@ -429,9 +445,10 @@ pub(super) fn apply<'a>(
     if not_placed_sets > 0 {
         r.diagnostics.push(Diagnostic::warning(
             "assembly.geometry_not_placed",
-            format!("{not_placed_sets} GEOMETRIC_SET(s) in the products' shapes are kept once, in their own product's coordinates (free curves and surfaces are not placed)"),
+            format!("{not_placed_sets} GEOMETRIC_SET(s) in the products' shapes hold points or surfaces (or curves that could not be read), which are kept once, in their own product's coordinates (not placed); their curves are placed"),
             Location::default(),
-        ));
+        )
+        .not_carried());
     }
     let definitions = Definitions {
         ids: keys.iter().map(|k| format!("#{}", k.id())).collect(),
@@ -450,6 +467,107 @@ pub(super) fn apply<'a>(
             conv.location(id.trim_start_matches('#').parse().unwrap_or(0))
         }));
     r.diagnostics
+}
+
+/// The 3-D curves of the GEOMETRIC_SETs (ISO 10303-42 clause 6.4.3 geometric_set) that the
+/// shape representations hold become free edges of `topology` (each over its whole curve,
+/// between vertices at its ends, named by the curve's id), so that an instance of their
+/// product places them as it places the product's solids; their entities become the edges'
+/// geometry, so writers write them once per placed copy.
+fn set_edges(
+    r: &Reader<'_, '_, '_, '_>,
+    ids: &[u64],
+    entities: &[Entity],
+    topology: &mut Topology,
+) {
+    let mut curves: Vec<u64> = Vec::new();
+    for &id in ids {
+        let Some(P::ShapeRepresentation { items, .. }) = r.record(id) else {
+            continue;
+        };
+        for item in items {
+            if let Some(G::GeometricSet { elements }) = r.conv.items.get(item).map(|i| &i.record) {
+                curves.extend(elements);
+            }
+        }
+    }
+    if curves.is_empty() {
+        return;
+    }
+    curves.sort_unstable();
+    curves.dedup();
+    let taken: HashSet<String> = topology
+        .origins
+        .edges
+        .iter()
+        .map(|o| o.id.clone())
+        .collect();
+    let by_id: HashMap<&str, &Entity> = entities.iter().map(|e| (e.id.as_str(), e)).collect();
+    // Free curves join nothing: their vertices are their own ends, exact; the tolerance is
+    // the model's (so a writer declares no new one), or 1e-7 of the curve's size.
+    let model_tolerance = topology
+        .model
+        .edges
+        .iter()
+        .map(|e| e.tolerance)
+        .fold(0.0f64, f64::max);
+    for c in curves {
+        let id = format!("#{c}");
+        let Some(entity) = by_id.get(id.as_str()) else {
+            continue;
+        };
+        let Geometry::Curve(curve) = &entity.geometry else {
+            continue;
+        };
+        if curve.dimension() != 3 || taken.contains(&id) {
+            continue;
+        }
+        let range = curve.domain();
+        let (Ok(a), Ok(b)) = (curve.point_at(range.0), curve.point_at(range.1)) else {
+            continue;
+        };
+        let tolerance = if model_tolerance > 0.0 {
+            model_tolerance
+        } else {
+            1e-7 * bounding_box_diagonal(curve.control_points()).max(1.0)
+        };
+        let model = &mut topology.model;
+        let Ok(start) = model.add_vertex(a, tolerance) else {
+            continue;
+        };
+        let end = if a == b {
+            start
+        } else {
+            match model.add_vertex(b, tolerance) {
+                Ok(v) => v,
+                Err(_) => {
+                    model.vertices.pop();
+                    continue;
+                }
+            }
+        };
+        if model
+            .add_edge(curve.clone(), range, start, end, tolerance)
+            .is_err()
+        {
+            model.vertices.truncate(start.0);
+            continue;
+        }
+        let origin = |suffix: &str| Origin {
+            id: format!("{id}{suffix}"),
+            source: entity.source.clone(),
+            name: None,
+            entity: None,
+        };
+        topology.origins.vertices.push(origin(".start"));
+        if end != start {
+            topology.origins.vertices.push(origin(".end"));
+        }
+        topology.origins.edges.push(Origin {
+            entity: Some(id.clone()),
+            ..origin("")
+        });
+    }
 }
 
 /// The placement of usage `u` by relationship `rel` (see the module documentation).

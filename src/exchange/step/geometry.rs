@@ -504,6 +504,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 item.entity
             ),
         )
+        .not_carried()
     }
 
     fn geometry_error(&self, id: u64, e: GeometryError) -> Diagnostic {
@@ -863,6 +864,7 @@ impl<'a> Converter<'_, '_, 'a> {
                         "geometry.unsupported",
                         format!("trim by point #{p} on a B-spline basis needs a parameter value (no exact inverse)"),
                     )
+                    .not_carried()
                 })
             }
             (_, Some(v), point) => {
@@ -918,6 +920,7 @@ impl<'a> Converter<'_, '_, 'a> {
                     "geometry.unsupported",
                     format!("trim by point #{p} on a B-spline basis needs a parameter value (no exact inverse)"),
                 )
+                .not_carried()
             }),
             _ => Err(self.error(id, "geometry.invalid", "empty trim")),
         }
@@ -1733,7 +1736,8 @@ impl<'a> Converter<'_, '_, 'a> {
                     if analytic.len() > 8 { ", ..." } else { "" }
                 ),
                 self.location(first),
-            ));
+            )
+            .not_carried());
         }
         out
     }
@@ -1754,6 +1758,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 ),
                 self.location(id),
             )
+            .not_carried()
         };
         match &item.record {
             R::Line { .. } | R::Hyperbola { .. } | R::Parabola { .. } => {
@@ -1890,7 +1895,8 @@ impl<'a> Converter<'_, '_, 'a> {
                     "surface #{id} is unbounded and its faces' edges do not bound it; it is not represented"
                 ),
                 self.location(id),
-            ));
+            )
+            .not_carried());
         };
         let surface = if let R::RectangularTrimmedSurface { .. } = self.items[&id].record {
             self.rectangular_trimmed(id, &self.items[&id], 0)?.0

@@ -45,7 +45,7 @@
 //! | `assembly.refused` | error | a product structure that contains itself, nests deeper than 64 levels or expands to more than 100,000 instances: no placement is applied, every part is kept once in its own coordinates |
 //! | `assembly.not_placed` | error/warning | a usage whose placement is not an ITEM_DEFINED_TRANSFORMATION of axis placements, or a MAPPED_ITEM without a REPRESENTATION_MAP: that instance is not placed |
 //! | `assembly.placement_missing` | warning | a usage with no CONTEXT_DEPENDENT_SHAPE_REPRESENTATION: placed in its own coordinates |
-//! | `assembly.geometry_not_placed` | warning | GEOMETRIC_SETs in placed products: their free curves and surfaces are kept once, unplaced |
+//! | `assembly.geometry_not_placed` | warning | GEOMETRIC_SETs in placed products holding points, surfaces or unreadable curves: those are kept once, unplaced (their curves are free edges, placed) |
 
 mod assembly;
 mod geometry;

@@ -310,7 +310,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                     c.faces, c.edges, c.shells, c.solids
                 ),
                 Location::default(),
-            ));
+            )
+            .not_carried());
         }
     } else {
         let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
@@ -329,6 +330,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         doc.diagnostics.extend(super::assembly::apply(
             &converter,
             &products,
+            &doc.entities,
             &mut doc.topology,
             options.limits.max_entities,
         ));

@@ -210,7 +210,8 @@ pub(super) fn build(
                 b.missing_pcurves, b.tolerance
             ),
             Location::default(),
-        ));
+        )
+        .not_carried());
     }
     Built {
         topology: b.topology,
