@@ -575,7 +575,14 @@ fn content_not_carried_warns_when_reading_and_is_a_note_of_validate() {
         "{}",
         stderr(&o)
     );
-    let o = nurbsx(["validate", "--strict", "--min-severity", "info", "--json", path]);
+    let o = nurbsx([
+        "validate",
+        "--strict",
+        "--min-severity",
+        "info",
+        "--json",
+        path,
+    ]);
     assert_exit(&o, 0);
     let r = json(&o);
     assert_eq!(r[0]["valid"], true, "{r}");

@@ -357,7 +357,7 @@ fn write_directory<'d>(
         }
         for r in &de.reserved {
             let r: String = r.chars().filter(|c| c.is_ascii_graphic()).take(8).collect();
-            let _ = write!(l2, "{r:>8}");
+            text8(&mut l2, &r);
         }
         let label: String = de
             .label
@@ -365,7 +365,7 @@ fn write_directory<'d>(
             .filter(|c| c.is_ascii_graphic() || *c == ' ')
             .take(8)
             .collect();
-        let _ = write!(l2, "{label:>8}");
+        text8(&mut l2, &label);
         field8(&mut l2, de.subscript)?;
         record(out, &l2, 'D', seq + 1);
     }
@@ -378,8 +378,14 @@ fn write_terminate(out: &mut String, s: usize, g: usize, d: usize, p: usize) {
     record(out, &t, 'T', 1);
 }
 
+/// One 80-column record: `data` left-aligned in columns 1-72, the section letter, the
+/// sequence number in columns 74-80 (IGES 5.3 section 2.1), as `{data:<72}{letter}{seq:07}`.
 fn record(out: &mut String, data: &str, letter: char, seq: usize) {
-    let _ = writeln!(out, "{data:<72}{letter}{seq:07}");
+    out.push_str(data);
+    pad(out, b' ', 72usize.saturating_sub(data.chars().count()));
+    out.push(letter);
+    push_uint(out, seq, 7, b'0');
+    out.push('\n');
 }
 
 /// A count or pointer as an IGES integer; lengths of in-memory data are far below
@@ -388,15 +394,43 @@ fn to_i64(n: usize) -> i64 {
     i64::try_from(n).unwrap_or(i64::MAX)
 }
 
+/// An integer right-aligned in an 8-column DE field (IGES 5.3 section 2.2.4.4), as
+/// `{v:>8}` writes it; a value that needs more columns is refused.
 fn field8(out: &mut String, v: i64) -> Result<(), WriteError> {
-    let start = out.len();
-    let _ = write!(out, "{v:>8}");
-    if out.len() - start > 8 {
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    let mut m = v.unsigned_abs();
+    loop {
+        // m % 10 < 10 fits in u8.
+        #[allow(clippy::cast_possible_truncation)]
+        let digit = (m % 10) as u8;
+        digits[19 - n] = b'0' + digit;
+        n += 1;
+        m /= 10;
+        if m == 0 || n == 20 {
+            break;
+        }
+    }
+    let width = n + usize::from(v < 0);
+    if width > 8 {
         return Err(WriteError::Field(format!(
             "{v} does not fit an 8-column DE field"
         )));
     }
+    pad(out, b' ', 8 - width);
+    if v < 0 {
+        out.push('-');
+    }
+    for &d in &digits[20 - n..] {
+        out.push(char::from(d));
+    }
     Ok(())
+}
+
+/// Text of at most 8 characters right-aligned in an 8-column DE field, as `{t:>8}` writes it.
+fn text8(out: &mut String, t: &str) {
+    pad(out, b' ', 8usize.saturating_sub(t.len()));
+    out.push_str(t);
 }
 
 /// A string as a Hollerith constant `nH...`, non-ASCII and control characters dropped.
@@ -738,6 +772,35 @@ mod tests {
                 ))
                 .collect();
             proptest::prop_assert_eq!(reference(&start, &global, &entities), fast(&start, &global, &entities));
+        }
+    }
+
+    proptest::proptest! {
+        /// The DE fields and 80-column records are written as `std::fmt` pads them
+        /// (`{v:>8}`, `{t:>8}`, `{data:<72}{letter}{seq:07}`), and a value wider than 8
+        /// columns is refused.
+        #[test]
+        fn fields_and_records_are_padded_as_fmt_pads_them(
+            v in proptest::prelude::any::<i64>(),
+            small in -9_999_999i64..=99_999_999,
+            t in "[ -~]{0,8}",
+            data in "[ -~]{0,72}",
+            seq in 0usize..100_000_000,
+        ) {
+            for v in [v, small] {
+                let mut out = String::from("x");
+                let wide = format!("{v:>8}");
+                match field8(&mut out, v) {
+                    Ok(()) => proptest::prop_assert_eq!(&out[1..], wide.as_str()),
+                    Err(_) => proptest::prop_assert!(wide.len() > 8),
+                }
+            }
+            let mut out = String::new();
+            text8(&mut out, &t);
+            proptest::prop_assert_eq!(out, format!("{t:>8}"));
+            let mut out = String::new();
+            record(&mut out, &data, 'D', seq);
+            proptest::prop_assert_eq!(out, format!("{data:<72}D{seq:07}\n"));
         }
     }
 

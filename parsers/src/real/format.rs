@@ -1,10 +1,11 @@
 //! The one REAL formatter of both writers ([`write_real`]): std's shortest round-trip digits
 //! (its `Display`/`LowerExp`, the definition, [`write_real_std`]) in the layout of the
 //! module documentation, reached by three routes that give the same bytes: the common CAD
-//! values (integers, short binary fractions such as `0.25`) formatted directly, Ryu's
-//! shortest digits for values that cannot be a tie between two shortest candidates, and std
-//! itself for the few whose exact decimal expansion is short (the only possible Ryu/std tie
-//! cases).
+//! values (integers, short binary fractions such as `0.25`) formatted directly, the shortest
+//! digits of Żmij (Schubfach with yy's digit generation, the `zmij` crate) for values that
+//! cannot be a tie between two shortest candidates, and std itself for the few whose exact
+//! decimal expansion is short (the only cases where two shortest-digit algorithms may pick
+//! different candidates).
 //!
 //! Why the direct forms are the shortest round-trip digits:
 //! - an integer `|x| < 2^53`: its neighbours are at most 1 apart, so no other decimal with as
@@ -53,7 +54,7 @@ pub fn write_real(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
         }
         // Ties between two shortest candidates are possible: the reference path.
         Kind::MayTie => write_real_std(out, x),
-        Kind::Other => write_ryu(out, x),
+        Kind::Other => write_shortest(out, x),
     }
 }
 
@@ -66,7 +67,7 @@ enum Kind {
     /// The exact decimal value is short enough for a tie between two shortest candidates
     /// (the reference's `has_short_exact_decimal` rule), and in neither case above.
     MayTie,
-    /// Everything else: Ryu's shortest digits are the reference digits.
+    /// Everything else: Żmij's shortest digits are the reference digits.
     Other,
 }
 
@@ -122,13 +123,13 @@ fn classify(x: f64) -> Kind {
     }
 }
 
-/// The Ryu path of [`write_real`], for values without possible ties.
-fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
-    let mut buf = ryu::Buffer::new();
+/// The Żmij path of [`write_real`], for values without possible ties.
+fn write_shortest(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
+    let mut buf = zmij::Buffer::new();
     let t = buf.format_finite(x);
     let positional = (1e-5..1e16).contains(&x.abs());
     if (1e-4..9e15).contains(&x.abs()) {
-        // Ryu writes decimal exponents -5 < kk <= 16 positionally; the shortest digits of a
+        // Żmij writes decimal exponents -5 <= kk < 16 positionally; the shortest digits of a
         // value in this range (with margins for their rounding) have such an exponent, so
         // there is no 'e' to look for, only an integer's ".0" to drop.
         match t.strip_suffix(".0") {
@@ -153,7 +154,8 @@ fn write_ryu(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
                 out.push('.');
             }
             out.push('E');
-            out.push_str(exponent);
+            // Żmij signs positive exponents (`1e+16`); the layout does not.
+            out.push_str(exponent.strip_prefix('+').unwrap_or(exponent));
             Ok(())
         }
         _ => write_real_std(out, x),
@@ -223,7 +225,7 @@ fn push_digits(out: &mut String, v: u64) {
 }
 
 /// [`write_real`] through std's `Display`/`LowerExp`: the definition of the digits, and the
-/// route for possible ties and for any value whose Ryu layout does not match ours.
+/// route for possible ties and for any value whose Żmij layout does not match ours.
 pub(super) fn write_real_std(out: &mut String, x: f64) -> Result<(), NonFiniteReal> {
     if !x.is_finite() {
         return Err(NonFiniteReal(x));

@@ -353,7 +353,7 @@ mod tests {
     use proptest::prelude::*;
 
     #[test]
-    fn ryu_agrees_with_std_at_every_power_of_ten() {
+    fn shortest_digits_agree_with_std_at_every_power_of_ten() {
         // Layout thresholds (1e-5, 1e16) and integer/".0" cases across the whole range,
         // each power of ten and its two neighbouring doubles.
         for e in -324..=308 {
@@ -430,7 +430,7 @@ mod tests {
         /// Any finite f64, from its raw bits (subnormals, -0.0 and 1e300 included), reads back
         /// bit-identical through both grammars.
         #[test]
-        fn ryu_agrees_with_std(bits in any::<u64>()) {
+        fn shortest_digits_agree_with_std(bits in any::<u64>()) {
             let x = f64::from_bits(bits);
             prop_assume!(x.is_finite());
             let (mut fast, mut slow) = (String::new(), String::new());
@@ -440,7 +440,7 @@ mod tests {
         }
 
         #[test]
-        fn ryu_agrees_with_std_near_ties(k in 1u64..(1u64 << 53), shift in 0u32..12, q in -70i32..70) {
+        fn shortest_digits_agree_with_std_near_ties(k in 1u64..(1u64 << 53), shift in 0u32..12, q in -70i32..70) {
             // Doubles with a few fraction bits at magnitudes where ulp is a "round" decimal:
             // where ties between shortest candidates occur.
             let x = (k >> shift) as f64 * 2f64.powi(q);
@@ -452,7 +452,7 @@ mod tests {
         }
 
         #[test]
-        fn ryu_agrees_with_std_on_short_decimals(m in -99_999_999i64..99_999_999, e in -30i32..30) {
+        fn shortest_digits_agree_with_std_on_short_decimals(m in -99_999_999i64..99_999_999, e in -30i32..30) {
             // CAD-like values (few digits, any scale), where integer and boundary layouts
             // (".0" suffix, 1e-5 and 1e16 thresholds) are most likely.
             let x = m as f64 * 10f64.powi(e);
