@@ -93,7 +93,6 @@ const KNOWN_GAPS: &[(&str, &str)] = &[];
 /// or completes the boundary of a single B-spline face): compared with the file's own
 /// EDGE_CURVE count instead.
 const OCCT_ADDS_EDGES: &[&str] = &[
-    "import_export_named.step",
     "schema_ap203.step",
     "schema_ap242.step",
     "units_inch.step",
