@@ -62,6 +62,43 @@ pub enum MeasureError {
     /// A shell that does not exist, or one of whose faces does not.
     #[error("shell {0} or one of its faces does not exist")]
     NoShell(usize),
+    /// The adaptive boundary quadrature did not converge within the face's budget of
+    /// integrand evaluations ([`FACE_EVALUATIONS`]): the face's measure is unknown.
+    #[error("the measure did not converge within {evaluations} surface evaluations")]
+    Unconverged {
+        /// The evaluations spent before giving up.
+        evaluations: u64,
+    },
+    /// A face of a shell or solid that could not be measured.
+    #[error("face {face}: {source}")]
+    InFace {
+        /// The face's index in the model.
+        face: usize,
+        /// Why it could not be measured.
+        source: Box<MeasureError>,
+    },
+}
+
+/// The most surface evaluations (of `S_u × S_v`) one face's measure may spend. Each is
+/// checked before it is spent, so a face whose integrand never converges ends as
+/// [`MeasureError::Unconverged`] in bounded time whatever the input.
+pub const FACE_EVALUATIONS: u64 = 1 << 22;
+
+/// What is left of a face's evaluation budget.
+struct Budget(std::cell::Cell<u64>);
+
+impl Budget {
+    /// Takes `n` evaluations, or fails without spending when fewer are left.
+    fn take(&self, n: u64) -> Result<(), MeasureError> {
+        let left = self.0.get();
+        if n > left {
+            return Err(MeasureError::Unconverged {
+                evaluations: FACE_EVALUATIONS - left,
+            });
+        }
+        self.0.set(left - n);
+        Ok(())
+    }
 }
 
 /// A face's integrals.
@@ -159,18 +196,20 @@ fn integrand(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
     [g, g * p[0], g * p[1], g * p[2], dot(p, c)]
 }
 
-/// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span.
-fn inner(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
+/// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span; the evaluations
+/// are taken from `budget` before they are made.
+fn inner(s: &NurbsSurface, u: f64, v: f64, budget: &Budget) -> Result<Vec5, MeasureError> {
     let ((u0, _), _) = s.domain();
     let mut total = [0.0; 5];
     let b = breaks(s.knots_u(), s.degree_u(), u0, u);
+    budget.take((b.len().saturating_sub(1) * rules().high.len()) as u64)?;
     for w in b.windows(2) {
         let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
         for &(x, wt) in &rules().high {
             add5(&mut total, &integrand(s, mid + half * x, v), wt * half);
         }
     }
-    total
+    Ok(total)
 }
 
 /// `∫ H(pc(t)) v'(t) dt` over `[a, b]` with one rule, and the same sum of absolute terms
@@ -181,22 +220,23 @@ fn boundary_rule(
     a: f64,
     b: f64,
     rule: &[(f64, f64)],
-) -> (Vec5, f64) {
+    budget: &Budget,
+) -> Result<(Vec5, f64), MeasureError> {
     let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
     let mut total = [0.0; 5];
     let mut mass = 0.0;
     for &(x, wt) in rule {
         let t = mid + half * x;
         let Ok(d) = pc.derivatives(t, 1) else {
-            return ([f64::NAN; 5], f64::NAN);
+            return Ok(([f64::NAN; 5], f64::NAN));
         };
         let (uv, dv) = (d[0], d[1][1]);
-        let h = inner(s, uv[0], uv[1]);
+        let h = inner(s, uv[0], uv[1], budget)?;
         let w = wt * half * dv;
         mass += (w * h.iter().fold(0.0f64, |m, x| m.max(x.abs()))).abs();
         add5(&mut total, &h, w);
     }
-    (total, mass)
+    Ok((total, mass))
 }
 
 /// Largest number of pieces one pcurve span is cut into.
@@ -206,14 +246,20 @@ const MAX_PIECES: usize = 1 << 10;
 /// its 10- and 20-point rules agree to 1e-12 of the size of its terms or to `floor` (the
 /// face's scale: a pcurve along `u = u_0`, where `H` vanishes, carries only rounding noise
 /// that no halving removes).
-fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64, floor: f64) -> Vec5 {
+fn boundary(
+    s: &NurbsSurface,
+    pc: &NurbsCurve,
+    (a, b): (f64, f64),
+    floor: f64,
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     for w in breaks(pc.knots(), pc.degree(), a, b).windows(2) {
         let mut stack = vec![(w[0], w[1])];
         let mut pieces = 0;
         while let Some((x, y)) = stack.pop() {
-            let (high, mass) = boundary_rule(s, pc, x, y, &rules().high);
-            let (low, _) = boundary_rule(s, pc, x, y, &rules().low);
+            let (high, mass) = boundary_rule(s, pc, x, y, &rules().high, budget)?;
+            let (low, _) = boundary_rule(s, pc, x, y, &rules().low, budget)?;
             let diff = (0..5).map(|k| (high[k] - low[k]).abs()).fold(0.0, f64::max);
             pieces += 1;
             if diff <= (1e-12 * mass).max(floor)
@@ -228,35 +274,45 @@ fn boundary(s: &NurbsSurface, pc: &NurbsCurve, a: f64, b: f64, floor: f64) -> Ve
             }
         }
     }
-    total
+    Ok(total)
 }
 
 /// `∫ H dv` along the straight segment from `p` to `q` (closing a small gap between
 /// pcurves), 20-point rule.
-fn segment(s: &NurbsSurface, p: [f64; 2], q: [f64; 2]) -> Vec5 {
+fn segment(
+    s: &NurbsSurface,
+    p: [f64; 2],
+    q: [f64; 2],
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     let dv = q[1] - p[1];
     if dv == 0.0 {
-        return total;
+        return Ok(total);
     }
     for &(x, wt) in &rules().high {
         let f = 0.5 * (1.0 + x);
         let (u, v) = (p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1]));
-        add5(&mut total, &inner(s, u, v), 0.5 * wt * dv);
+        add5(&mut total, &inner(s, u, v, budget)?, 0.5 * wt * dv);
     }
-    total
+    Ok(total)
 }
 
 /// `∫_{va}^{vb} H(u, v) dv` along `u` fixed, 20-point rules on each knot span in v.
-fn column(s: &NurbsSurface, u: f64, va: f64, vb: f64) -> Vec5 {
+fn column(
+    s: &NurbsSurface,
+    u: f64,
+    (va, vb): (f64, f64),
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     for w in breaks(s.knots_v(), s.degree_v(), va, vb).windows(2) {
         let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
         for &(x, wt) in &rules().high {
-            add5(&mut total, &inner(s, u, mid + half * x), wt * half);
+            add5(&mut total, &inner(s, u, mid + half * x, budget)?, wt * half);
         }
     }
-    total
+    Ok(total)
 }
 
 impl Model {
@@ -264,15 +320,16 @@ impl Model {
     pub fn measure_face(&self, face: &Face) -> Result<FaceMeasure, MeasureError> {
         let s = &face.surface;
         let ((u0, u1), (v0, v1)) = s.domain();
+        let budget = &Budget(std::cell::Cell::new(FACE_EVALUATIONS));
         let mut region = [0.0; 5];
         if face.loops.is_empty() {
-            region = column(s, u1, v0, v1);
+            region = column(s, u1, (v0, v1), budget)?;
         } else {
             let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
             // The size of the face's integrals: H across the whole domain times its v extent.
             let floor = 1e-14
                 * (v1 - v0)
-                * inner(s, u1, 0.5 * (v0 + v1))
+                * inner(s, u1, 0.5 * (v0 + v1), budget)?
                     .iter()
                     .fold(0.0f64, |m, x| m.max(x.abs()));
             let on = |x: [f64; 2]| s.point_at_unchecked(x[0].clamp(u0, u1), x[1].clamp(v0, v1));
@@ -304,9 +361,9 @@ impl Model {
                     // Walking the pcurve backwards negates the integral: boundary() takes
                     // its bounds in walking order.
                     let part = if a <= b {
-                        boundary(s, pc, a, b, floor)
+                        boundary(s, pc, (a, b), floor, budget)?
                     } else {
-                        let mut r = boundary(s, pc, b, a, floor);
+                        let mut r = boundary(s, pc, (b, a), floor, budget)?;
                         r.iter_mut().for_each(|x| *x = -*x);
                         r
                     };
@@ -317,7 +374,7 @@ impl Model {
                     let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
                     let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
                     if gap <= closure {
-                        add5(&mut total, &segment(s, p, q), 1.0);
+                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
                         continue;
                     }
                     let same = dist(on(p), on(q)) <= tolerances[k];
@@ -338,13 +395,13 @@ impl Model {
                         // along its seam, the degenerate edge not written): the gap is the
                         // pole's parameter line, one 3-D point, and its segment closes the
                         // region as a degenerate edge's pcurve would.
-                        add5(&mut total, &segment(s, p, q), 1.0);
+                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
                     } else if wrap_u {
                         // The loop went once around a surface closed in u (no seam edge):
                         // closed through v = v0, where it encloses the part of the domain
                         // below it (H vanishes on u = u0, and dv = 0 along v0).
-                        add5(&mut total, &column(s, p[0], p[1], v0), 1.0);
-                        add5(&mut total, &column(s, q[0], v0, q[1]), 1.0);
+                        add5(&mut total, &column(s, p[0], (p[1], v0), budget)?, 1.0);
+                        add5(&mut total, &column(s, q[0], (v0, q[1]), budget)?, 1.0);
                         winding += if p[0] > q[0] { 1 } else { -1 };
                         wraps = true;
                     } else if wrap_v {
@@ -381,7 +438,7 @@ impl Model {
                     add5(&mut region, total, o);
                 }
                 if turns == 1 {
-                    add5(&mut region, &column(s, u1, v0, v1), 1.0);
+                    add5(&mut region, &column(s, u1, (v0, v1), budget)?, 1.0);
                 }
                 if region[0] < 0.0 {
                     region.iter_mut().for_each(|x| *x = -*x);
@@ -467,7 +524,10 @@ impl Model {
         let mut flux = 0.0;
         for &(f, orientation) in &shell.faces {
             let face = self.faces.get(f.0).ok_or(MeasureError::NoShell(id.0))?;
-            let m = measure(f)?;
+            let m = measure(f).map_err(|e| MeasureError::InFace {
+                face: f.0,
+                source: Box::new(e),
+            })?;
             flux += if faces_outward(face, orientation) {
                 m.flux
             } else {
