@@ -772,3 +772,57 @@ fn open_edges_that_nearly_meet_are_told_from_a_border() {
     assert!(sewing.gaps_complete);
     assert!(sewing.gaps.is_empty(), "{:?}", sewing.gaps);
 }
+
+/// A face whose boundary quadrature would take more surface evaluations than a face may
+/// spend (a closed zig-zag pcurve of 200 000 spans, 600 evaluations each at least) ends as
+/// `Unconverged` once the budget is spent, not after the whole walk: the work of one face is
+/// bounded whatever its input (FACE_EVALUATIONS, checked before each evaluation).
+#[test]
+fn a_face_past_its_evaluation_budget_ends_unconverged() {
+    use nurbsx::topology::{FACE_EVALUATIONS, MeasureError};
+    let z = Frame {
+        origin: [0.0; 3],
+        x: [1.0, 0.0, 0.0],
+        y: [0.0, 1.0, 0.0],
+        z: [0.0, 0.0, 1.0],
+    };
+    let plane = sweep::plane(&z, (0.0, 1.0), (0.0, 1.0)).unwrap();
+    let n = 200_000usize;
+    // Out along v = 0.25 + 0.5 (k mod 2) and back at the same u: a closed polyline.
+    let mut pts: Vec<Point3> = (0..=n)
+        .map(|k| {
+            let u = 0.1 + 0.8 * k as f64 / n as f64;
+            [u, 0.25 + 0.5 * (k % 2) as f64, 0.0]
+        })
+        .collect();
+    pts.push(pts[0]);
+    let m_pts = pts.len();
+    let mut knots = vec![0.0];
+    knots.extend((0..m_pts).map(|k| k as f64));
+    knots.push((m_pts - 1) as f64);
+    let range = (0.0, (m_pts - 1) as f64);
+    let pc =
+        nurbsx::nurbs::NurbsCurve::with_dimension(1, knots.clone(), pts.clone(), None, 2).unwrap();
+    let curve = nurbsx::nurbs::NurbsCurve::new(1, knots, pts.clone(), None).unwrap();
+    let mut m = Model::new();
+    let v = m
+        .add_vertex(plane.point_at(pts[0][0], pts[0][1]).unwrap(), 1e-9)
+        .unwrap();
+    let e = m.add_edge(curve, range, v, v, 1e-9).unwrap();
+    let loops = vec![Loop {
+        coedges: vec![Coedge {
+            edge: e,
+            forward: true,
+            pcurve: Some(pc),
+            pcurve_deviation: None,
+        }],
+        outer: true,
+    }];
+    let f = m.add_face(plane, loops, true).unwrap();
+    match m.measure_face(&m.faces[f.0]) {
+        Err(MeasureError::Unconverged { evaluations }) => {
+            assert!(evaluations <= FACE_EVALUATIONS, "{evaluations}")
+        }
+        other => panic!("expected Unconverged, got {other:?}"),
+    }
+}

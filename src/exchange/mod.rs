@@ -87,8 +87,37 @@ fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
         let shells =
             std::iter::once((solid.outer, true)).chain(solid.voids.iter().map(|&v| (v, false)));
         for (shell, outer) in shells {
-            let Ok(volume) = m.shell_volume(shell) else {
-                continue;
+            let volume = match m.shell_volume(shell) {
+                Ok(v) => v,
+                Err(e) => {
+                    // Not judged, but said: the face that could not be measured.
+                    let origin = topology.origins.solids.get(k);
+                    let (face, why) = match &e {
+                        crate::topology::MeasureError::InFace { face, source } => {
+                            (topology.origins.faces.get(*face), source.to_string())
+                        }
+                        _ => (None, e.to_string()),
+                    };
+                    out.push(
+                        Diagnostic::warning(
+                            "topology.unmeasured",
+                            format!(
+                                "solid {}: its orientation is not checked, a face could not be \
+                             measured ({}{why})",
+                                origin.map_or_else(|| (k + 1).to_string(), |o| o.id.clone()),
+                                face.map_or_else(String::new, |f| format!("face {}: ", f.id)),
+                            ),
+                            Location {
+                                line: face.and_then(|o| o.source.line),
+                                entity: face.map(|o| o.id.clone()),
+                                ..Location::default()
+                            },
+                        )
+                        // A check nurbsx could not make, not a finding against the file.
+                        .not_carried(),
+                    );
+                    continue;
+                }
             };
             if (volume < 0.0) != outer {
                 continue;

@@ -56,20 +56,59 @@ pub enum MeasureError {
     /// The surface or a pcurve could not be evaluated (non-finite values).
     #[error("the surface or a pcurve gives non-finite values")]
     NotFinite,
-    /// The quadrature did not converge within [`MAX_EVALUATIONS`] evaluations of the
-    /// integrand (a boundary whose integrand is not smooth where the rules expect it, or
-    /// pcurves and a surface with very many knot spans): the face is left unmeasured rather
-    /// than measured on.
-    #[error(
-        "the area quadrature did not converge within {0} evaluations of the surface (the face is left unmeasured)"
-    )]
-    TooMuchWork(u64),
     /// A solid that does not exist.
     #[error("solid {0} does not exist")]
     NoSolid(usize),
     /// A shell that does not exist, or one of whose faces does not.
     #[error("shell {0} or one of its faces does not exist")]
     NoShell(usize),
+    /// The adaptive boundary quadrature did not converge within the face's budget of
+    /// integrand evaluations ([`FACE_EVALUATIONS`]): the face's measure is unknown.
+    #[error("the measure did not converge within {evaluations} surface evaluations")]
+    Unconverged {
+        /// The evaluations spent before giving up.
+        evaluations: u64,
+    },
+    /// A face of a shell or solid that could not be measured.
+    #[error("face {face}: {source}")]
+    InFace {
+        /// The face's index in the model.
+        face: usize,
+        /// Why it could not be measured.
+        source: Box<MeasureError>,
+    },
+}
+
+/// The most surface evaluations (of `S_u × S_v`) one face's measure may spend. Each is
+/// checked before it is spent, so a face whose integrand never converges ends as
+/// [`MeasureError::Unconverged`] in bounded time whatever the input.
+pub const FACE_EVALUATIONS: u64 = 1 << 22;
+
+/// What is left of a face's evaluation budget of `size`.
+struct Budget {
+    left: std::cell::Cell<u64>,
+    size: u64,
+}
+
+impl Budget {
+    fn new(size: u64) -> Self {
+        Budget {
+            left: std::cell::Cell::new(size),
+            size,
+        }
+    }
+
+    /// Takes `n` evaluations, or fails without spending when fewer are left.
+    fn take(&self, n: u64) -> Result<(), MeasureError> {
+        let left = self.left.get();
+        if n > left {
+            return Err(MeasureError::Unconverged {
+                evaluations: self.size - left,
+            });
+        }
+        self.left.set(left - n);
+        Ok(())
+    }
 }
 
 /// A face's integrals.
@@ -86,39 +125,6 @@ pub struct FaceMeasure {
 
 /// Components of the integrand: area, area x S (3), flux.
 type Vec5 = [f64; 5];
-
-/// Most evaluations of the integrand one face's measure may spend (about 6 s of one core
-/// in a release build): the bound that keeps a hostile or degenerate boundary from running
-/// on. Real faces need far fewer (the largest of the public corpus: about 1.2 million).
-pub const MAX_EVALUATIONS: u64 = 1 << 23;
-
-/// The evaluations of the integrand left to one face's measure.
-struct Work(std::cell::Cell<u64>);
-
-impl Work {
-    fn new(budget: u64) -> Self {
-        Work(std::cell::Cell::new(budget))
-    }
-
-    /// Takes `n` evaluations from what is left; `false` (and nothing left) when there are
-    /// not that many.
-    fn spend(&self, n: u64) -> bool {
-        match self.0.get().checked_sub(n) {
-            Some(left) => {
-                self.0.set(left);
-                true
-            }
-            None => {
-                self.0.set(0);
-                false
-            }
-        }
-    }
-
-    fn exhausted(&self) -> bool {
-        self.0.get() == 0
-    }
-}
 
 fn add5(a: &mut Vec5, b: &Vec5, s: f64) {
     for (x, y) in a.iter_mut().zip(b) {
@@ -200,23 +206,20 @@ fn integrand(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
     [g, g * p[0], g * p[1], g * p[2], dot(p, c)]
 }
 
-/// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span (NaN once `work`
-/// is spent).
-fn inner(s: &NurbsSurface, u: f64, v: f64, work: &Work) -> Vec5 {
+/// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span; the evaluations
+/// are taken from `budget` before they are made.
+fn inner(s: &NurbsSurface, u: f64, v: f64, budget: &Budget) -> Result<Vec5, MeasureError> {
     let ((u0, _), _) = s.domain();
     let mut total = [0.0; 5];
     let b = breaks(s.knots_u(), s.degree_u(), u0, u);
-    let cost = 20 * u64::try_from(b.len().saturating_sub(1)).unwrap_or(u64::MAX);
-    if !work.spend(cost) {
-        return [f64::NAN; 5];
-    }
+    budget.take((b.len().saturating_sub(1) * rules().high.len()) as u64)?;
     for w in b.windows(2) {
         let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
         for &(x, wt) in &rules().high {
             add5(&mut total, &integrand(s, mid + half * x, v), wt * half);
         }
     }
-    total
+    Ok(total)
 }
 
 /// `∫ H(pc(t)) v'(t) dt` over `[a, b]` with one rule, and the same sum of absolute terms
@@ -227,23 +230,23 @@ fn boundary_rule(
     a: f64,
     b: f64,
     rule: &[(f64, f64)],
-    work: &Work,
-) -> (Vec5, f64) {
+    budget: &Budget,
+) -> Result<(Vec5, f64), MeasureError> {
     let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
     let mut total = [0.0; 5];
     let mut mass = 0.0;
     for &(x, wt) in rule {
         let t = mid + half * x;
         let Ok(d) = pc.derivatives(t, 1) else {
-            return ([f64::NAN; 5], f64::NAN);
+            return Ok(([f64::NAN; 5], f64::NAN));
         };
         let (uv, dv) = (d[0], d[1][1]);
-        let h = inner(s, uv[0], uv[1], work);
+        let h = inner(s, uv[0], uv[1], budget)?;
         let w = wt * half * dv;
         mass += (w * h.iter().fold(0.0f64, |m, x| m.max(x.abs()))).abs();
         add5(&mut total, &h, w);
     }
-    (total, mass)
+    Ok((total, mass))
 }
 
 /// Largest number of pieces one pcurve span is cut into.
@@ -253,18 +256,18 @@ const MAX_PIECES: usize = 1 << 10;
 /// its 10- and 20-point rules agree to 1e-12 of the size of its terms or to `floor` (the
 /// face's scale: a pcurve along `u = u_0`, where `H` vanishes, carries only rounding noise
 /// that no halving removes). A span along which `v` varies by at most `flat` is skipped:
-/// the integral is at most `max |H|` times the total variation of `v`, which is at most
+/// its integral is at most `max |H|` times the total variation of `v`, which is at most
 /// that of the span's control points (the variation diminishing property of B-splines,
-/// NURBS Book section 2.3, also for positive weights), so such a span holds no more than
+/// NURBS Book section 2.3, also with positive weights), so such a span holds no more than
 /// the rounding `floor` stands for (a pcurve along `v` = const fitted by projection has
-/// many spans and only rounding in `v`).
+/// hundreds of spans and only rounding in `v`).
 fn boundary(
     s: &NurbsSurface,
     pc: &NurbsCurve,
     (a, b): (f64, f64),
     (floor, flat): (f64, f64),
-    work: &Work,
-) -> Vec5 {
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     for w in breaks(pc.knots(), pc.degree(), a, b).windows(2) {
         if variation_v(pc, 0.5 * (w[0] + w[1])) <= flat {
@@ -273,8 +276,8 @@ fn boundary(
         let mut stack = vec![(w[0], w[1])];
         let mut pieces = 0;
         while let Some((x, y)) = stack.pop() {
-            let (high, mass) = boundary_rule(s, pc, x, y, &rules().high, work);
-            let (low, _) = boundary_rule(s, pc, x, y, &rules().low, work);
+            let (high, mass) = boundary_rule(s, pc, x, y, &rules().high, budget)?;
+            let (low, _) = boundary_rule(s, pc, x, y, &rules().low, budget)?;
             let diff = (0..5).map(|k| (high[k] - low[k]).abs()).fold(0.0, f64::max);
             pieces += 1;
             if diff <= (1e-12 * mass).max(floor)
@@ -289,7 +292,7 @@ fn boundary(
             }
         }
     }
-    total
+    Ok(total)
 }
 
 /// The total variation of `v` over the control points of the knot span of `pc` holding
@@ -311,52 +314,62 @@ fn variation_v(pc: &NurbsCurve, t: f64) -> f64 {
 
 /// `∫ H dv` along the straight segment from `p` to `q` (closing a small gap between
 /// pcurves), 20-point rule.
-fn segment(s: &NurbsSurface, p: [f64; 2], q: [f64; 2], work: &Work) -> Vec5 {
+fn segment(
+    s: &NurbsSurface,
+    p: [f64; 2],
+    q: [f64; 2],
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     let dv = q[1] - p[1];
     if dv == 0.0 {
-        return total;
+        return Ok(total);
     }
     for &(x, wt) in &rules().high {
         let f = 0.5 * (1.0 + x);
         let (u, v) = (p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1]));
-        add5(&mut total, &inner(s, u, v, work), 0.5 * wt * dv);
+        add5(&mut total, &inner(s, u, v, budget)?, 0.5 * wt * dv);
     }
-    total
+    Ok(total)
 }
 
 /// `∫_{va}^{vb} H(u, v) dv` along `u` fixed, 20-point rules on each knot span in v.
-fn column(s: &NurbsSurface, u: f64, va: f64, vb: f64, work: &Work) -> Vec5 {
+fn column(
+    s: &NurbsSurface,
+    u: f64,
+    (va, vb): (f64, f64),
+    budget: &Budget,
+) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
     for w in breaks(s.knots_v(), s.degree_v(), va, vb).windows(2) {
         let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
         for &(x, wt) in &rules().high {
-            add5(&mut total, &inner(s, u, mid + half * x, work), wt * half);
+            add5(&mut total, &inner(s, u, mid + half * x, budget)?, wt * half);
         }
     }
-    total
+    Ok(total)
 }
 
 impl Model {
     /// The area, centroid and flux of a face over its trimmed region (see the module).
     pub fn measure_face(&self, face: &Face) -> Result<FaceMeasure, MeasureError> {
-        self.measure_face_within(face, MAX_EVALUATIONS)
+        self.measure_face_within(face, FACE_EVALUATIONS)
     }
 
     /// [`Model::measure_face`] with at most `budget` evaluations of the integrand.
     fn measure_face_within(&self, face: &Face, budget: u64) -> Result<FaceMeasure, MeasureError> {
         let s = &face.surface;
         let ((u0, u1), (v0, v1)) = s.domain();
-        let work = &Work::new(budget);
+        let budget = &Budget::new(budget);
         let mut region = [0.0; 5];
         if face.loops.is_empty() {
-            region = column(s, u1, v0, v1, work);
+            region = column(s, u1, (v0, v1), budget)?;
         } else {
             let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
             // The size of the face's integrals: H across the whole domain times its v extent.
             let floor = 1e-14
                 * (v1 - v0)
-                * inner(s, u1, 0.5 * (v0 + v1), work)
+                * inner(s, u1, 0.5 * (v0 + v1), budget)?
                     .iter()
                     .fold(0.0f64, |m, x| m.max(x.abs()));
             // A pcurve span along which v varies by no more than this holds at most about
@@ -391,9 +404,9 @@ impl Model {
                     // Walking the pcurve backwards negates the integral: boundary() takes
                     // its bounds in walking order.
                     let part = if a <= b {
-                        boundary(s, pc, (a, b), (floor, flat), work)
+                        boundary(s, pc, (a, b), (floor, flat), budget)?
                     } else {
-                        let mut r = boundary(s, pc, (b, a), (floor, flat), work);
+                        let mut r = boundary(s, pc, (b, a), (floor, flat), budget)?;
                         r.iter_mut().for_each(|x| *x = -*x);
                         r
                     };
@@ -404,7 +417,7 @@ impl Model {
                     let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
                     let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
                     if gap <= closure {
-                        add5(&mut total, &segment(s, p, q, work), 1.0);
+                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
                         continue;
                     }
                     let same = dist(on(p), on(q)) <= tolerances[k];
@@ -425,13 +438,13 @@ impl Model {
                         // along its seam, the degenerate edge not written): the gap is the
                         // pole's parameter line, one 3-D point, and its segment closes the
                         // region as a degenerate edge's pcurve would.
-                        add5(&mut total, &segment(s, p, q, work), 1.0);
+                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
                     } else if wrap_u {
                         // The loop went once around a surface closed in u (no seam edge):
                         // closed through v = v0, where it encloses the part of the domain
                         // below it (H vanishes on u = u0, and dv = 0 along v0).
-                        add5(&mut total, &column(s, p[0], p[1], v0, work), 1.0);
-                        add5(&mut total, &column(s, q[0], v0, q[1], work), 1.0);
+                        add5(&mut total, &column(s, p[0], (p[1], v0), budget)?, 1.0);
+                        add5(&mut total, &column(s, q[0], (v0, q[1]), budget)?, 1.0);
                         winding += if p[0] > q[0] { 1 } else { -1 };
                         wraps = true;
                     } else if wrap_v {
@@ -468,7 +481,7 @@ impl Model {
                     add5(&mut region, total, o);
                 }
                 if turns == 1 {
-                    add5(&mut region, &column(s, u1, v0, v1, work), 1.0);
+                    add5(&mut region, &column(s, u1, (v0, v1), budget)?, 1.0);
                 }
                 if region[0] < 0.0 {
                     region.iter_mut().for_each(|x| *x = -*x);
@@ -488,9 +501,6 @@ impl Model {
                     add5(&mut region, total, if *outer { sign } else { -sign });
                 }
             }
-        }
-        if work.exhausted() {
-            return Err(MeasureError::TooMuchWork(budget));
         }
         if region.iter().any(|x| !x.is_finite()) {
             return Err(MeasureError::NotFinite);
@@ -557,7 +567,10 @@ impl Model {
         let mut flux = 0.0;
         for &(f, orientation) in &shell.faces {
             let face = self.faces.get(f.0).ok_or(MeasureError::NoShell(id.0))?;
-            let m = measure(f)?;
+            let m = measure(f).map_err(|e| MeasureError::InFace {
+                face: f.0,
+                source: Box::new(e),
+            })?;
             flux += if faces_outward(face, orientation) {
                 m.flux
             } else {
@@ -642,7 +655,7 @@ impl Model {
 
 #[cfg(test)]
 mod tests {
-    use super::{MAX_EVALUATIONS, MeasureError, gauss_legendre};
+    use super::{FACE_EVALUATIONS, MeasureError, gauss_legendre};
     use crate::nurbs::grid::Grid;
     use crate::nurbs::{NurbsCurve, NurbsSurface};
     use crate::topology::{Coedge, Face, Loop, Model};
@@ -706,19 +719,19 @@ mod tests {
         (m, face)
     }
 
-    /// A face whose measure needs more evaluations than allowed ends with
-    /// `TooMuchWork` instead of running on; the same face within the default budget
-    /// measures exactly (area 1, centroid (1/2, 1/2, 0), flux 0: the plane z = 0 holds
-    /// the origin).
+    /// A face whose measure needs more evaluations than allowed ends `Unconverged`, having
+    /// spent no more than allowed; the same face within the default budget measures exactly
+    /// (area 1, centroid (1/2, 1/2, 0), flux 0: the plane z = 0 holds the origin), with the
+    /// two pcurves along `v` = const skipped by their flat control points.
     #[test]
-    fn a_face_beyond_the_work_budget_is_left_unmeasured() {
+    fn a_face_beyond_its_budget_is_left_unmeasured() {
         let (m, face) = square(200);
-        assert_eq!(
-            m.measure_face_within(&face, 100_000),
-            Err(MeasureError::TooMuchWork(100_000))
-        );
+        match m.measure_face_within(&face, 100_000) {
+            Err(MeasureError::Unconverged { evaluations }) => assert!(evaluations <= 100_000),
+            other => panic!("{other:?}"),
+        }
         let (m, face) = square(8);
-        let got = m.measure_face_within(&face, MAX_EVALUATIONS).unwrap();
+        let got = m.measure_face_within(&face, FACE_EVALUATIONS).unwrap();
         assert!((got.area - 1.0).abs() <= 1e-14, "{got:?}");
         assert!((got.centroid[0] - 0.5).abs() <= 1e-14, "{got:?}");
         assert!((got.centroid[1] - 0.5).abs() <= 1e-14, "{got:?}");
