@@ -397,21 +397,9 @@ fn to_i64(n: usize) -> i64 {
 /// An integer right-aligned in an 8-column DE field (IGES 5.3 section 2.2.4.4), as
 /// `{v:>8}` writes it; a value that needs more columns is refused.
 fn field8(out: &mut String, v: i64) -> Result<(), WriteError> {
-    let mut digits = [0u8; 20];
-    let mut n = 0;
-    let mut m = v.unsigned_abs();
-    loop {
-        // m % 10 < 10 fits in u8.
-        #[allow(clippy::cast_possible_truncation)]
-        let digit = (m % 10) as u8;
-        digits[19 - n] = b'0' + digit;
-        n += 1;
-        m /= 10;
-        if m == 0 || n == 20 {
-            break;
-        }
-    }
-    let width = n + usize::from(v < 0);
+    let mut buf = [0u8; 20];
+    let digits = decimal_digits(&mut buf, v.unsigned_abs());
+    let width = digits.len() + usize::from(v < 0);
     if width > 8 {
         return Err(WriteError::Field(format!(
             "{v} does not fit an 8-column DE field"
@@ -421,10 +409,27 @@ fn field8(out: &mut String, v: i64) -> Result<(), WriteError> {
     if v < 0 {
         out.push('-');
     }
-    for &d in &digits[20 - n..] {
+    for &d in digits {
         out.push(char::from(d));
     }
     Ok(())
+}
+
+/// The decimal digits of `v` (ASCII, most significant first), in the end of `buf`.
+fn decimal_digits(buf: &mut [u8; 20], mut v: u64) -> &[u8] {
+    let mut n = 0;
+    loop {
+        // v % 10 < 10 fits in u8.
+        #[allow(clippy::cast_possible_truncation)]
+        let digit = (v % 10) as u8;
+        buf[19 - n] = b'0' + digit;
+        n += 1;
+        v /= 10;
+        if v == 0 || n == 20 {
+            break;
+        }
+    }
+    &buf[20 - n..]
 }
 
 /// Text of at most 8 characters right-aligned in an 8-column DE field, as `{t:>8}` writes it.
@@ -522,22 +527,11 @@ fn pad(out: &mut String, c: u8, n: usize) {
 
 /// Appends `v` right-justified in `width` columns, padded with `fill` (as `{v:>w}` or
 /// `{v:0w}`; wider values are written in full).
-fn push_uint(out: &mut String, mut v: usize, width: usize, fill: u8) {
-    let mut digits = [0u8; 20];
-    let mut n = 0;
-    loop {
-        // v % 10 < 10 fits in u8.
-        #[allow(clippy::cast_possible_truncation)]
-        let digit = (v % 10) as u8;
-        digits[19 - n] = b'0' + digit;
-        n += 1;
-        v /= 10;
-        if v == 0 || n == 20 {
-            break;
-        }
-    }
-    pad(out, fill, width.saturating_sub(n));
-    for &d in &digits[20 - n..] {
+fn push_uint(out: &mut String, v: usize, width: usize, fill: u8) {
+    let mut buf = [0u8; 20];
+    let digits = decimal_digits(&mut buf, v as u64);
+    pad(out, fill, width.saturating_sub(digits.len()));
+    for &d in digits {
         out.push(char::from(d));
     }
 }
