@@ -51,7 +51,7 @@ pub struct Sewing {
     /// edges have no partner.
     pub gaps: Vec<(EdgeId, EdgeId, f64)>,
     /// Whether every candidate pair of open edges was compared for [`Sewing::gaps`] (false
-    /// when more than [`MAX_GAP_TESTS`] pairs overlap: then the gaps are not all known).
+    /// when more than 2^22 pairs overlap: then the gaps are not all known).
     pub gaps_complete: bool,
 }
 
