@@ -597,6 +597,59 @@ fn content_not_carried_warns_when_reading_and_is_a_note_of_validate() {
     assert_eq!(notes[0]["location"]["entity"], "#9004");
 }
 
+/// Colours (STYLED_ITEM) are not carried: `info` says so by default, with the count and the
+/// first instance; `validate` only notes it. The file's 2-D LINE pcurves are replaced by the
+/// pcurves computed on the faces' NURBS surfaces in a whole-part reading (no warning), and
+/// are named as left out by `--geometry-only`, which keeps no face.
+#[test]
+fn colours_and_geometry_only_pcurves_are_said_to_be_left_out() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/public/freecad_cube.step");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let styled = text.matches("STYLED_ITEM(").count();
+    assert!(styled > 0 && text.contains("PCURVE"));
+    let path = path.to_str().unwrap();
+    let o = nurbsx(["info", path]);
+    assert_exit(&o, 0);
+    let err = stderr(&o);
+    assert!(
+        err.contains("warning[presentation.not_carried]")
+            && err.contains(&format!("{styled} x STYLED_ITEM")),
+        "{err}"
+    );
+    assert!(!err.contains("pcurve.not_converted"), "{err}");
+    let out = temp_dir("colours").join("cube.json");
+    let o = nurbsx([
+        "convert",
+        "--geometry-only",
+        path,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        stderr(&o).contains("warning[pcurve.not_converted]"),
+        "{}",
+        stderr(&o)
+    );
+    let o = nurbsx([
+        "validate",
+        "--strict",
+        "--json",
+        "--min-severity",
+        "info",
+        path,
+    ]);
+    assert_exit(&o, 0);
+    let r = json(&o);
+    let note = r[0]["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "presentation.not_carried")
+        .cloned()
+        .unwrap_or_default();
+    assert_eq!(note["severity"], "info", "{r}");
+}
+
 #[test]
 fn validate_json_lists_one_report_per_file() {
     let bad = data("bad_knots.json");

@@ -790,3 +790,40 @@ fn inside_out_solid_is_a_violation() {
             .any(|d| d.code == "topology.inside_out")
     );
 }
+
+/// A sphere split into lunes by meridians, one of them on the NURBS sphere's seam
+/// (`samples/public/catia_head_front.stp`, CATIA V5: a hemispherical shell of radii
+/// R = 2.36220472441 and r = 2.32283464567 in, cut by the plane of its axis into two
+/// lunes per sphere). A meridian on the seam used once by a face goes on the side the
+/// face's orientation asks for (ISO 10303-42 face_bound: the interior on the left about the
+/// face normal), so each lune measures a quarter sphere, pi R^2 (not three quarters, to
+/// 1e-9), and the solid the shell volume 2/3 pi (R^3 - r^3) with its faces outward, within
+/// 1e-6 as the part tests bound projected pcurves: the file's meridians and its plane's
+/// circles are degree-5 B-splines that only approximate great circles (its planar annulus
+/// is 2e-7 larger than pi (R^2 - r^2)), and the flux of the plane face, 9.84 in off the
+/// origin, amplifies that.
+#[test]
+fn a_lune_bounded_by_the_seam_meridian_is_not_its_complement() {
+    let doc = read_path(&root().join("samples/public/catia_head_front.stp"));
+    let m = &doc.topology.model;
+    let (big, small) = (2.36220472441f64, 2.32283464567f64);
+    let pi = std::f64::consts::PI;
+    let mut quarters = 0;
+    for face in &m.faces {
+        let area = m.measure_face(face).unwrap().area;
+        for r in [big, small] {
+            if (area - pi * r * r).abs() <= 1e-9 * area {
+                quarters += 1;
+            }
+        }
+        assert!(area < 2.0 * pi * big * big, "a face of {area} in2");
+    }
+    assert_eq!(
+        quarters, 4,
+        "each of the four sphere faces is a quarter sphere"
+    );
+    assert_eq!(m.solids.len(), 1);
+    let v = m.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    let want = 2.0 / 3.0 * pi * (big.powi(3) - small.powi(3));
+    assert!((v - want).abs() <= 1e-6 * want, "{v} vs {want}");
+}

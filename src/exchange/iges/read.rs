@@ -193,10 +193,10 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     }
     if !skipped.is_empty() {
         let list: Vec<String> = skipped.iter().map(|(t, n)| format!("{n} x {t}")).collect();
-        diags.push(Diagnostic::info(
+        diags.push(Diagnostic::warning(
             "entities_skipped",
             format!(
-                "entities that are neither curves nor surfaces (structure, points, annotation) are not converted: {}",
+                "entities that are neither curves nor surfaces (colours, properties, structure, points, annotation) are not carried into the model or its output: {}",
                 list.join(", ")
             ),
             Location::default(),

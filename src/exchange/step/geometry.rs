@@ -463,6 +463,12 @@ pub(super) struct Output {
     pub consumed_bsplines: HashSet<u64>,
     /// The converted EDGE_CURVEs by instance id (for the topology).
     pub edges: HashMap<u64, EdgeOut>,
+    /// The warning that the file's analytic pcurves (2-D lines and conics in a surface's
+    /// parameter plane) are not represented: the reader gives it when it reads geometry
+    /// only. A whole-part reading carries every coedge's pcurve, computed on the face's
+    /// NURBS surface (`topology::edge_pcurve`), so the file's own pcurves are not lost there
+    /// (a coedge left without one has its own `pcurve.not_computed` warning).
+    pub analytic_pcurves: Option<Diagnostic>,
 }
 
 type Res<T> = Result<T, Diagnostic>;
@@ -1714,7 +1720,8 @@ impl<'a> Converter<'_, '_, 'a> {
             out.diagnostics.append(&mut w);
         }
         out.edges = edge_map;
-        // Parameter-space curves of analytic type are not carried yet: say so once.
+        // Parameter-space curves of analytic type are not converted: said once when the
+        // topology is not read (see `Output::analytic_pcurves`).
         let analytic: Vec<u64> = pcurve_items
             .iter()
             .copied()
@@ -1727,7 +1734,7 @@ impl<'a> Converter<'_, '_, 'a> {
             .collect();
         if let Some(&first) = analytic.first() {
             let list: Vec<String> = analytic.iter().take(8).map(|i| format!("#{i}")).collect();
-            out.diagnostics.push(Diagnostic::warning(
+            out.analytic_pcurves = Some(Diagnostic::warning(
                 "pcurve.not_converted",
                 format!(
                     "{} parameter-space curve(s) of PCURVEs are lines or conics in a surface's parameter plane ({}{}); they are not represented (the 3-D edge curves are)",

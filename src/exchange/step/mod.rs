@@ -30,7 +30,8 @@
 //! | `step.uncertainty_ignored` | warning | the file's length uncertainty is above 1e-3 of the part's size; the topology is read within 1e-7 of the size |
 //! | `geometry.unbounded` | warning | an unbounded line, parabola, hyperbola or surface that no trim, edge or face bounds: not represented |
 //! | `geometry.unsupported` | error | an OFFSET_CURVE/OFFSET_SURFACE (no exact rational form), or a point trim on a B-spline without a parameter |
-//! | `pcurve.not_converted` | warning | analytic parameter-space curves of PCURVEs (one diagnostic listing them) |
+//! | `presentation.not_carried` | warning | colours and styles (STYLED_ITEM), layers (PRESENTATION_LAYER_ASSIGNMENT) and properties (PROPERTY_DEFINITION) of the file, counted in one diagnostic: not carried into the model or its output |
+//! | `pcurve.not_converted` | warning | `geometry_only`: analytic parameter-space curves of PCURVEs (one diagnostic listing them); a whole-part reading computes every coedge's pcurve on the NURBS surface instead |
 //! | `trim.parameter_outside` | warning | a trim parameter outside an open B-spline basis's domain (the trim point at a basis end, or the clamped value, is used) |
 //! | `trim.parameter_mismatch` | warning | a trim's parameter and point disagree (Open CASCADE writes parabola trims in its own parameter): the point's exact inverse is used |
 //! | `limit.nesting_depth` | error | curves or surfaces built on each other more than 16 levels deep |

@@ -135,6 +135,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let mut geometry_candidates: Vec<&RawInstance<'_>> = Vec::new();
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
+    let mut presentation = Presentation::default();
     for (k, raw) in scanned.instances.iter().enumerate() {
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
@@ -147,6 +148,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         if raw.keyword_initial().is_none() {
             complex.push(raw);
         }
+        presentation.count(raw);
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
         if maybe_bspline(raw) {
@@ -301,6 +303,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
+        doc.diagnostics.extend(converted.analytic_pcurves.take());
         let c = super::topology::count(&converter);
         if c != super::topology::Counts::default() {
             doc.diagnostics.push(Diagnostic::warning(
@@ -346,6 +349,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
         }
     }
+    doc.diagnostics.extend(presentation.diagnostic(&scanned));
     if options.conformance {
         cancel.stop_read()?;
         header_conformance(text, &scanned, &mut doc.diagnostics);
@@ -357,6 +361,74 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     doc.diagnostics
         .retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     Ok(doc)
+}
+
+/// The presentation and property data of a file, which nurbsx does not carry into its
+/// model or output (ISO 10303-46 styled_item and presentation_layer_assignment, ISO 10303-41
+/// property_definition: colours, layers, materials, validation properties): counted in the
+/// one pass over the instances, reported once as a warning so that no colour is lost in
+/// silence.
+#[derive(Default)]
+struct Presentation {
+    /// STYLED_ITEM and OVER_RIDING_STYLED_ITEM instances (colours and styles).
+    styled: usize,
+    /// PRESENTATION_LAYER_ASSIGNMENT instances.
+    layers: usize,
+    /// PROPERTY_DEFINITION instances.
+    properties: usize,
+    /// The first of them, for the location.
+    first: Option<u64>,
+}
+
+impl Presentation {
+    /// Counts `raw` when it is one of the kinds above (one byte compared for most instances).
+    fn count(&mut self, raw: &RawInstance<'_>) {
+        let slot = match raw.keyword_initial() {
+            Some(b'S' | b'O' | b'P') => match raw.keyword() {
+                Some("STYLED_ITEM" | "OVER_RIDING_STYLED_ITEM") => &mut self.styled,
+                Some("PRESENTATION_LAYER_ASSIGNMENT") => &mut self.layers,
+                Some("PROPERTY_DEFINITION") => &mut self.properties,
+                _ => return,
+            },
+            _ => return,
+        };
+        *slot += 1;
+        self.first = Some(self.first.map_or(raw.id, |f| f.min(raw.id)));
+    }
+
+    /// The warning that names what is not carried, if anything.
+    fn diagnostic(&self, s: &Scanned<'_>) -> Option<Diagnostic> {
+        let first = self.first?;
+        let parts: Vec<String> = [
+            (self.styled, "STYLED_ITEM (colours and styles)"),
+            (self.layers, "PRESENTATION_LAYER_ASSIGNMENT (layers)"),
+            (self.properties, "PROPERTY_DEFINITION (properties)"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} x {what}"))
+        .collect();
+        let (line, column) = s
+            .get(first)
+            .map(|r| s.locate(r.offset))
+            .map_or((None, None), |(l, c)| (Some(l), Some(c)));
+        Some(
+            Diagnostic::warning(
+                "presentation.not_carried",
+                format!(
+                    "presentation and property data are not carried into the model or its output: {}",
+                    parts.join(", ")
+                ),
+                Location {
+                    line,
+                    column,
+                    entity: Some(format!("#{first}")),
+                    ..Location::default()
+                },
+            )
+            .not_carried(),
+        )
+    }
 }
 
 /// The HEADER section holds FILE_DESCRIPTION (2 attributes), FILE_NAME (7) and FILE_SCHEMA

@@ -562,7 +562,8 @@ impl Build<'_, '_, '_, '_> {
     /// PCURVEs are in the analytic surface's parameters, not the NURBS ones). A seam edge (used
     /// twice by the face) gets both sides of the seam: the coedge that runs with the face
     /// interior on its left in `(u, v)` (counter-clockwise outer loops for `same_sense`,
-    /// clockwise otherwise) takes the side that puts the interior there. Coedges whose
+    /// clockwise otherwise) takes the side that puts the interior there; so does an edge
+    /// used once that runs along the seam line of a surface closed across it ([`seam_side`]). Coedges whose
     /// projection fails keep `None`; returns how many (the caller counts them in one
     /// warning of the file).
     fn pcurves(&self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) -> usize {
@@ -587,10 +588,9 @@ impl Build<'_, '_, '_, '_> {
                     })
                     .clone();
                 c.pcurve = match p {
-                    Some(p) if uses[&c.edge] == 2 => {
-                        seam_side(surface, &p, c.forward == same_sense).or(Some(p))
-                    }
-                    other => other,
+                    Some(p) => seam_side(surface, &p, c.forward == same_sense, uses[&c.edge] == 2)
+                        .or(Some(p)),
+                    None => None,
                 };
                 if c.pcurve.is_none() {
                     missing += 1;
