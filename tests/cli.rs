@@ -617,7 +617,7 @@ fn colours_and_geometry_only_pcurves_are_said_to_be_left_out() {
         "{err}"
     );
     assert!(!err.contains("pcurve.not_converted"), "{err}");
-    let out = temp_dir("colours").join("cube.json");
+    let out = temp_dir("colours").join("cube.igs");
     let o = nurbsx([
         "convert",
         "--geometry-only",

@@ -827,3 +827,26 @@ fn a_lune_bounded_by_the_seam_meridian_is_not_its_complement() {
     let want = 2.0 / 3.0 * pi * (big.powi(3) - small.powi(3));
     assert!((v - want).abs() <= 1e-6 * want, "{v} vs {want}");
 }
+
+/// A cylinder whose face seam lies on a vertex a few ulps off the NURBS cylinder's knot at
+/// pi (`samples/public/autodesk_atf_obstructed_hole.step`, Autodesk Translation Framework:
+/// vertex x = 2.449e-15 where the pole has -2.449e-15): the seam moved to that vertex is
+/// moved to the knot, so every coedge gets its pcurve and the solid has FreeCAD's volume
+/// (Open CASCADE `BRepGProp`, 377886.16715 mm3, within 1e-6 as the part tests bound
+/// projected pcurves).
+#[test]
+fn a_seam_moved_to_a_vertex_an_ulp_off_a_knot_keeps_every_pcurve() {
+    let doc = read_path(&root().join("samples/public/autodesk_atf_obstructed_hole.step"));
+    assert!(
+        doc.diagnostics
+            .iter()
+            .all(|d| d.code != "pcurve.not_computed"),
+        "{:?}",
+        doc.diagnostics
+    );
+    let m = &doc.topology.model;
+    assert_eq!(m.solids.len(), 1);
+    let v = m.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    let want = 377886.16715;
+    assert!((v - want).abs() <= 1e-6 * want, "{v} vs {want}");
+}

@@ -174,9 +174,19 @@ impl NurbsSurface {
 
     fn rotate_seam(&self, dir: Dir, t: f64, tolerance: f64) -> Result<NurbsSurface, GeometryError> {
         let b = self.to_bundle(dir);
+        // A seam within rounding of a knot (a point inverted onto the surface a few ulps past
+        // it) is moved to the knot: inserted as given, it would leave a sliver span whose
+        // knots, shifted by the period below, round onto their neighbours (a multiplicity
+        // above degree + 1).
+        let (start, end) = b.domain();
+        let t = b
+            .knots
+            .iter()
+            .copied()
+            .find(|k| (k - t).abs() <= 1e-12 * (end - start))
+            .unwrap_or(t);
         check_split(&b, t)?;
         let p = b.degree;
-        let (start, end) = b.domain();
         let n = b.knots.len();
         let clamped = b.knots[..=p].iter().all(|&k| k == start)
             && b.knots[n - p - 1..].iter().all(|&k| k == end);
@@ -303,6 +313,20 @@ mod tests {
                     assert!(d <= 1e-13 * 36.0, "{along_u} at {t}: {d:e} at ({x}, {y})");
                 }
             }
+        }
+        // A seam asked for an ulp off a knot (pi, where the torus's arcs meet) is moved to
+        // the knot; without snapping, pi + 1 ulp shifted by 2 pi rounds to 3 pi and the knot
+        // vector is refused.
+        let pi = std::f64::consts::PI;
+        assert!(s.knots_u().contains(&pi));
+        for t in [pi.next_up(), pi.next_down()] {
+            let r = s.rotate_seam_u(t, 0.0).unwrap();
+            assert_eq!(r.domain().0.0, pi);
+            let d = dist(
+                r.point_at(pi + 0.5, 1.0).unwrap(),
+                s.point_at(pi + 0.5, 1.0).unwrap(),
+            );
+            assert!(d <= 1e-13 * 36.0, "{d:e}");
         }
         // A plane is not closed.
         let p = plane(&frame(), (0.0, 1.0), (0.0, 1.0)).unwrap();

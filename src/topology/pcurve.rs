@@ -233,20 +233,22 @@ pub fn seam_sides_by_continuity(
 /// Whether a loop runs counter-clockwise in `(u, v)` (the signed area of its pcurves, walked
 /// in loop order and sampled `LOOP_SAMPLES` times each, is positive); `None` when a coedge
 /// has no pcurve or the loop is not closed in `(u, v)` (a loop around a closed surface
-/// without a seam edge), within 1e-6 of the surface's parameter domain (a gap at a pole,
-/// whose two ends are one 3-D point, counts as closed).
+/// without a seam edge, or pcurves a period apart across a seam), within 1e-6 of the
+/// surface's parameter domain (a gap at a pole, whose two ends and middle are one 3-D point,
+/// counts as closed).
 pub fn loop_counter_clockwise(surface: &NurbsSurface, coedges: &[Coedge]) -> Option<bool> {
     let ((u0, u1), (v0, v1)) = surface.domain();
     let near = 1e-6 * (u1 - u0).hypot(v1 - v0);
     let size = bounding_box_diagonal(surface.control_points().as_slice());
     // Consecutive ends meet in (u, v), or at one point of a pole (a sphere's or cone's
-    // apex, where the segment between them is the degenerate edge).
+    // apex, where the segment between them is the degenerate edge: its middle is that point
+    // too). Ends a period apart across a seam are one 3-D point but not a pole: the polygon
+    // through them crosses itself, and its signed area says nothing of the orientation.
+    let at = |p: [f64; 2]| surface.point_at_unchecked(p[0].clamp(u0, u1), p[1].clamp(v0, v1));
     let joined = |p: [f64; 2], q: [f64; 2]| {
+        let mid = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])];
         (p[0] - q[0]).hypot(p[1] - q[1]) <= near
-            || dist(
-                surface.point_at_unchecked(p[0].clamp(u0, u1), p[1].clamp(v0, v1)),
-                surface.point_at_unchecked(q[0].clamp(u0, u1), q[1].clamp(v0, v1)),
-            ) <= 1e-9 * size
+            || (dist(at(p), at(q)) <= 1e-9 * size && dist(at(p), at(mid)) <= 1e-9 * size)
     };
     let mut points: Vec<[f64; 2]> = Vec::new();
     let mut last: Option<[f64; 2]> = None;
@@ -750,5 +752,43 @@ mod tests {
             let t = r.0 + (r.1 - r.0) * k as f64 / 200.0;
             assert!(dist(on_surface(&s, &p.curve, t), par.point_at_unchecked(t)) <= 1e-14 * 10.0);
         }
+    }
+
+    /// The half cylinder `[h, 2h] x [0, 1]` of the NURBS domain `[0, 2h]` (h its mid
+    /// parameter) bounded counter-clockwise is found counter-clockwise; with its seam side
+    /// placed at `u = 0` instead of `2h` (one 3-D line, so the loop still closes in space) the
+    /// loop crosses itself in `(u, v)` and its orientation is unknown (`None`), never a
+    /// flipped face.
+    #[test]
+    fn a_seam_coedge_on_the_wrong_side_gives_no_orientation() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let (s, _) = cylinder(&frame(), 2.0, (0.0, tau), (0.0, 1.0)).unwrap();
+        let ((u0, u1), _) = s.domain();
+        let h = 0.5 * (u0 + u1);
+        let line = |a: [f64; 2], b: [f64; 2]| Coedge {
+            edge: EdgeId(0),
+            forward: true,
+            pcurve: Some(
+                NurbsCurve::with_dimension(
+                    1,
+                    vec![0.0, 0.0, 1.0, 1.0],
+                    vec![[a[0], a[1], 0.0], [b[0], b[1], 0.0]],
+                    None,
+                    2,
+                )
+                .unwrap(),
+            ),
+            pcurve_deviation: None,
+        };
+        let with_seam_at = |x: f64| {
+            vec![
+                line([h, 0.0], [u1, 0.0]),
+                line([x, 0.0], [x, 1.0]),
+                line([u1, 1.0], [h, 1.0]),
+                line([h, 1.0], [h, 0.0]),
+            ]
+        };
+        assert_eq!(loop_counter_clockwise(&s, &with_seam_at(u1)), Some(true));
+        assert_eq!(loop_counter_clockwise(&s, &with_seam_at(u0)), None);
     }
 }
