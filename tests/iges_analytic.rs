@@ -544,12 +544,14 @@ fn filleted_box_with_hole_converts() {
         assert_eq!(surfaces, faces, "{name}");
         // No warning but the one for coedges whose pcurve projection did not converge
         // (pcurve.not_computed, a warning since it keeps the face from being measured; an
-        // info before it was one code for STEP and IGES): at most one coedge here.
+        // info before it was one code for STEP and IGES): at most one coedge here; and, in
+        // the B-rep file, the one that says its 402 associativity (Open CASCADE's group of
+        // the solid's entities) is not carried, which is true (its 116 points and 123
+        // directions are carried in the surfaces that use them, so they are not named).
         assert!(
-            !doc.diagnostics
-                .iter()
-                .any(|d| d.severity == Severity::Warning
-                    && !(d.code == "pcurve.not_computed" && d.message.starts_with("1 of "))),
+            !doc.diagnostics.iter().any(|d| d.severity == Severity::Warning
+                && !(d.code == "pcurve.not_computed" && d.message.starts_with("1 of "))
+                && !(d.code == "entities_skipped" && d.message.ends_with(": 1 x 402"))),
             "{name}: {:#?}",
             doc.diagnostics
         );

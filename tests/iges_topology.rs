@@ -621,10 +621,15 @@ fn bounded_surfaces_read_as_faces() {
             .collect();
         assert!(types.contains(&"143") && !types.contains(&"144"), "{part}");
         let doc = read_text(&text);
+        // Nothing but the warning that the file's 402 group (the solid's entities, as Open
+        // CASCADE groups them) is not carried, which is true.
         let loud: Vec<_> = doc
             .diagnostics
             .iter()
-            .filter(|d| d.severity != Severity::Info)
+            .filter(|d| {
+                d.severity != Severity::Info
+                    && !(d.code == "entities_skipped" && d.message.ends_with(": 1 x 402"))
+            })
             .collect();
         assert!(loud.is_empty(), "{part}: {loud:#?}");
         let (faces, area, volumes) = measure(&doc);

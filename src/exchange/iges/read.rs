@@ -509,6 +509,12 @@ fn read_entry(
                 );
                 return Outcome::Nothing;
             }
+            // A point or direction physically dependent on its user (IGES 5.3 section
+            // 2.2.4.4.9: the location and axes of a 190-198 analytic surface) is carried in
+            // that user's geometry.
+            if matches!(t, 116 | 123) && entry.status.subordinate & 1 == 1 {
+                return Outcome::Nothing;
+            }
             return Outcome::Skipped(t);
         }
     }
