@@ -19,7 +19,7 @@
 
 use super::insert::{Bundle, Dir};
 use super::knots::to_distinct;
-use super::{NurbsCurve, NurbsSurface};
+use super::{NurbsCurve, NurbsSurface, Point3};
 
 /// Relative tolerance (of the knot range) for comparing knot values and spacings.
 pub const KNOT_REL_TOL: f64 = 1e-10;
@@ -226,8 +226,25 @@ impl NurbsSurface {
     }
 
     /// Whether `S(u_start, v)` and `S(u_end, v)` are within `tolerance` at every v knot and
-    /// 64 evenly spaced v values (a sampled check).
+    /// 64 evenly spaced v values (a sampled check). With u knots clamped at both ends, the
+    /// two boundary curves are the first and last rows of poles: equal weights and poles
+    /// within `tolerance` make them so everywhere (their difference is a convex combination
+    /// of the poles' differences, NURBS Book eq. 4.2), which is decided without sampling.
     pub fn is_closed_u(&self, tolerance: f64) -> bool {
+        let (p, n) = (self.degree_u(), self.control_points().nu());
+        if rows_equal(
+            self.knots_u(),
+            p,
+            (
+                self.control_points().row(0),
+                self.control_points().row(n.saturating_sub(1)),
+            ),
+            self.weights()
+                .map(|w| (w.row(0), w.row(n.saturating_sub(1)))),
+            tolerance,
+        ) {
+            return true;
+        }
         let ((u0, u1), (v0, v1)) = self.domain();
         sample_params(v0, v1, self.knots_v()).all(|v| {
             close(
@@ -238,9 +255,28 @@ impl NurbsSurface {
         })
     }
 
-    /// Whether `S(u, v_start)` and `S(u, v_end)` are within `tolerance` (sampled as
-    /// [`is_closed_u`](Self::is_closed_u)).
+    /// Whether `S(u, v_start)` and `S(u, v_end)` are within `tolerance` (decided from the
+    /// poles or sampled as [`is_closed_u`](Self::is_closed_u)).
     pub fn is_closed_v(&self, tolerance: f64) -> bool {
+        let (poles, last) = (
+            self.control_points(),
+            self.control_points().nv().saturating_sub(1),
+        );
+        let column =
+            |j: usize| -> Vec<Point3> { (0..poles.nu()).map(|i| *poles.get(i, j)).collect() };
+        let weights = self.weights().map(|w| {
+            let column = |j: usize| -> Vec<f64> { (0..w.nu()).map(|i| *w.get(i, j)).collect() };
+            (column(0), column(last))
+        });
+        if rows_equal(
+            self.knots_v(),
+            self.degree_v(),
+            (&column(0), &column(last)),
+            weights.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice())),
+            tolerance,
+        ) {
+            return true;
+        }
         let ((u0, u1), (v0, v1)) = self.domain();
         sample_params(u0, u1, self.knots_u()).all(|u| {
             close(
@@ -258,6 +294,27 @@ impl NurbsSurface {
             None => classify_knots(b.degree, &b.knots),
         }
     }
+}
+
+/// Whether a direction with `knots` of degree `p` is clamped at both ends and its first
+/// and last rows of poles (and weights) coincide within `tolerance` (weights exactly).
+fn rows_equal(
+    knots: &[f64],
+    p: usize,
+    (first, last): (&[Point3], &[Point3]),
+    weights: Option<(&[f64], &[f64])>,
+    tolerance: f64,
+) -> bool {
+    let n = knots.len();
+    let clamped = n > 2 * p + 1
+        && knots[..=p].iter().all(|&k| k == knots[0])
+        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1]);
+    clamped
+        && weights.is_none_or(|(a, b)| a == b)
+        && first
+            .iter()
+            .zip(last)
+            .all(|(a, b)| close(*a, *b, tolerance))
 }
 
 fn close(p: [f64; 3], q: [f64; 3], tolerance: f64) -> bool {

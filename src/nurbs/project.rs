@@ -114,10 +114,21 @@ pub fn invert_surface(
             starts.push(s);
         }
     }
-    starts
-        .iter()
-        .filter_map(|&(_, u, v, _)| newton(surface, point, (u, v), (du, dv), size))
-        .min_by(|a, b| a.distance.total_cmp(&b.distance))
+    // A start that lands on the point itself (within the rounding Newton stops at) is a
+    // closest point no other start can beat: the rest are not run.
+    let mut best: Option<Inversion> = None;
+    for &(_, u, v, _) in &starts {
+        let Some(found) = newton(surface, point, (u, v), (du, dv), size) else {
+            continue;
+        };
+        if best.is_none_or(|b| found.distance < b.distance) {
+            best = Some(found);
+        }
+        if found.distance <= 1e-15 * size {
+            break;
+        }
+    }
+    best
 }
 
 /// Where a point lands on a curve: the parameter of the curve point closest to it and the

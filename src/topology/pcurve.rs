@@ -123,36 +123,26 @@ pub fn exact_pcurve(
 /// larger u, so a counter-clockwise coedge runs there with decreasing v; along u = u1 with
 /// increasing v (and in v: along v = v0 with increasing u, along v = v1 with decreasing u).
 /// `None` when the pcurve is not on a seam: on a line `u = u0` or `u1` (`v = v0` or `v1`)
-/// of a surface closed in u (in v) within 1e-9 of its size, or of any surface for an edge the
-/// face uses `twice`. The STEP reader gives the two coedges of a seam edge (used twice by one
-/// face) their two sides with it, and a coedge that runs once along the seam line of a
-/// closed surface (a sphere's lune between a meridian on the seam and another meridian) the
-/// side its orientation asks for: with the other side, the loop would enclose the lune's
-/// complement in `(u, v)`.
+/// where `seam[0]` (`seam[1]`) says that line is one: the surface is closed in u (in v), or
+/// the face uses the edge twice. The STEP reader gives the two coedges of a seam edge (used
+/// twice by one face) their two sides with it, and a coedge that runs once along the seam
+/// line of a closed surface (a sphere's lune between a meridian on the seam and another
+/// meridian) the side its orientation asks for: with the other side, the loop would enclose
+/// the lune's complement in `(u, v)`.
 pub fn seam_side(
     surface: &NurbsSurface,
     p: &NurbsCurve,
     ccw: bool,
-    twice: bool,
+    seam: [bool; 2],
 ) -> Option<NurbsCurve> {
     let ((u0, u1), (v0, v1)) = surface.domain();
     let poles = p.control_points();
     let (a, b) = p.domain();
     let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
     let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
-    let closed = |k: usize| {
-        twice || {
-            let size = bounding_box_diagonal(surface.control_points().as_slice());
-            if k == 0 {
-                surface.is_closed_u(1e-9 * size)
-            } else {
-                surface.is_closed_v(1e-9 * size)
-            }
-        }
-    };
-    let (k, lo, hi, rising) = if (on(0, u0, u1 - u0) || on(0, u1, u1 - u0)) && closed(0) {
+    let (k, lo, hi, rising) = if seam[0] && (on(0, u0, u1 - u0) || on(0, u1, u1 - u0)) {
         (0, u0, u1, e[1] > s[1])
-    } else if (on(1, v0, v1 - v0) || on(1, v1, v1 - v0)) && closed(1) {
+    } else if seam[1] && (on(1, v0, v1 - v0) || on(1, v1, v1 - v0)) {
         (1, v0, v1, e[0] < s[0])
     } else {
         return None;

@@ -575,6 +575,11 @@ impl Build<'_, '_, '_, '_> {
             }
         }
         let mut cache: HashMap<EdgeId, Option<NurbsCurve>> = HashMap::new();
+        let size = bounding_box_diagonal(surface.control_points().as_slice());
+        let closed = [
+            surface.is_closed_u(1e-9 * size),
+            surface.is_closed_v(1e-9 * size),
+        ];
         for l in loops.iter_mut() {
             for c in &mut l.coedges {
                 let edge = &self.topology.model.edges[c.edge.0];
@@ -588,8 +593,11 @@ impl Build<'_, '_, '_, '_> {
                     })
                     .clone();
                 c.pcurve = match p {
-                    Some(p) => seam_side(surface, &p, c.forward == same_sense, uses[&c.edge] == 2)
-                        .or(Some(p)),
+                    Some(p) => {
+                        let twice = uses[&c.edge] == 2;
+                        let seam = [closed[0] || twice, closed[1] || twice];
+                        seam_side(surface, &p, c.forward == same_sense, seam).or(Some(p))
+                    }
                     None => None,
                 };
                 if c.pcurve.is_none() {
