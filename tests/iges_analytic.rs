@@ -549,9 +549,11 @@ fn filleted_box_with_hole_converts() {
         // the solid's entities) is not carried, which is true (its 116 points and 123
         // directions are carried in the surfaces that use them, so they are not named).
         assert!(
-            !doc.diagnostics.iter().any(|d| d.severity == Severity::Warning
-                && !(d.code == "pcurve.not_computed" && d.message.starts_with("1 of "))
-                && !(d.code == "entities_skipped" && d.message.ends_with(": 1 x 402"))),
+            !doc.diagnostics
+                .iter()
+                .any(|d| d.severity == Severity::Warning
+                    && !(d.code == "pcurve.not_computed" && d.message.starts_with("1 of "))
+                    && !(d.code == "entities_skipped" && d.message.ends_with(": 1 x 402"))),
             "{name}: {:#?}",
             doc.diagnostics
         );
