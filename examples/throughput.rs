@@ -8,7 +8,9 @@
 //! cargo run --release --example throughput -- mem /tmp/big.step
 //! ```
 //! `read` times `nurbsx::exchange::read` (every B-spline resolved into the NURBS model) N
-//! times and prints the first run's, the best and the median MB/s (MB = 10^6 bytes of input). `write` reads once
+//! times and prints the first run's, the best and the median MB/s (MB = 10^6 bytes of input);
+//! `read-geometry` the same with `geometry_only` (curves and surfaces, no faces, edges or
+//! pcurves: the `--geometry-only` reading). `write` reads once
 //! and times writing the document back in the same format (MB/s of output text). `mem`
 //! reads once in a fresh process and prints the peak resident set (`VmHWM`) relative to the
 //! file size; the file bytes themselves are included (they are read into memory first).
@@ -69,7 +71,7 @@ fn main() {
     let (mode, path) = match (args.first(), args.get(1)) {
         (Some(m), Some(p)) => (m.as_str(), p.as_str()),
         _ => {
-            eprintln!("usage: throughput read|write|mem FILE [N]");
+            eprintln!("usage: throughput read|read-geometry|write|mem FILE [N]");
             std::process::exit(2);
         }
     };
@@ -78,8 +80,11 @@ fn main() {
     options.limits.max_input_bytes = usize::MAX;
     let base_kb = status_kb("VmRSS:");
     let bytes = std::fs::read(path).expect("read input file");
+    if mode == "read-geometry" {
+        options.geometry_only = true;
+    }
     match mode {
-        "read" => {
+        "read" | "read-geometry" => {
             let mut secs = Vec::new();
             let mut cpu = Vec::new();
             for _ in 0..n {
@@ -93,7 +98,7 @@ fn main() {
             }
             let threads = rayon::current_num_threads();
             report(
-                &format!("read {path} ({threads} threads)"),
+                &format!("{mode} {path} ({threads} threads)"),
                 bytes.len(),
                 secs,
                 cpu,

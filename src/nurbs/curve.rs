@@ -166,9 +166,21 @@ impl NurbsCurve {
     /// [`point_at`](Self::point_at) for a parameter already known to be in the domain.
     #[inline]
     pub fn point_at_unchecked(&self, u: f64) -> Point3 {
+        // The basis buffer sized to the degree: zeroing a MAX_DEGREE + 1 array on every
+        // call costs more than a low-degree evaluation (same arithmetic, same bits).
+        match self.degree {
+            0..4 => self.point_in::<4>(u),
+            4..8 => self.point_in::<8>(u),
+            _ => self.point_in::<{ MAX_DEGREE + 1 }>(u),
+        }
+    }
+
+    /// [`NurbsCurve::point_at_unchecked`] with a basis buffer of `N > degree` entries.
+    #[inline(always)]
+    fn point_in<const N: usize>(&self, u: f64) -> Point3 {
         let p = self.degree;
         let span = find_span(p, self.points.len(), &self.knots, u);
-        let mut n = [0.0; MAX_DEGREE + 1];
+        let mut n = [0.0; N];
         basis_funs(span, u, p, &self.knots, &mut n);
         let base = span - p;
         match &self.weights {

@@ -19,7 +19,7 @@
 
 use super::insert::{Bundle, Dir};
 use super::knots::to_distinct;
-use super::{NurbsCurve, NurbsSurface, Point3};
+use super::{NurbsCurve, NurbsSurface};
 
 /// Relative tolerance (of the knot range) for comparing knot values and spacings.
 pub const KNOT_REL_TOL: f64 = 1e-10;
@@ -231,18 +231,16 @@ impl NurbsSurface {
     /// within `tolerance` make them so everywhere (their difference is a convex combination
     /// of the poles' differences, NURBS Book eq. 4.2), which is decided without sampling.
     pub fn is_closed_u(&self, tolerance: f64) -> bool {
-        let (p, n) = (self.degree_u(), self.control_points().nu());
-        if rows_equal(
-            self.knots_u(),
-            p,
-            (
-                self.control_points().row(0),
-                self.control_points().row(n.saturating_sub(1)),
-            ),
-            self.weights()
-                .map(|w| (w.row(0), w.row(n.saturating_sub(1)))),
-            tolerance,
-        ) {
+        let (poles, last) = (
+            self.control_points(),
+            self.control_points().nu().saturating_sub(1),
+        );
+        if clamped(self.knots_u(), self.degree_u())
+            && (0..poles.nv()).all(|j| {
+                close(*poles.get(0, j), *poles.get(last, j), tolerance)
+                    && self.weights().is_none_or(|w| w.get(0, j) == w.get(last, j))
+            })
+        {
             return true;
         }
         let ((u0, u1), (v0, v1)) = self.domain();
@@ -262,19 +260,12 @@ impl NurbsSurface {
             self.control_points(),
             self.control_points().nv().saturating_sub(1),
         );
-        let column =
-            |j: usize| -> Vec<Point3> { (0..poles.nu()).map(|i| *poles.get(i, j)).collect() };
-        let weights = self.weights().map(|w| {
-            let column = |j: usize| -> Vec<f64> { (0..w.nu()).map(|i| *w.get(i, j)).collect() };
-            (column(0), column(last))
-        });
-        if rows_equal(
-            self.knots_v(),
-            self.degree_v(),
-            (&column(0), &column(last)),
-            weights.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice())),
-            tolerance,
-        ) {
+        if clamped(self.knots_v(), self.degree_v())
+            && (0..poles.nu()).all(|i| {
+                close(*poles.get(i, 0), *poles.get(i, last), tolerance)
+                    && self.weights().is_none_or(|w| w.get(i, 0) == w.get(i, last))
+            })
+        {
             return true;
         }
         let ((u0, u1), (v0, v1)) = self.domain();
@@ -296,25 +287,13 @@ impl NurbsSurface {
     }
 }
 
-/// Whether a direction with `knots` of degree `p` is clamped at both ends and its first
-/// and last rows of poles (and weights) coincide within `tolerance` (weights exactly).
-fn rows_equal(
-    knots: &[f64],
-    p: usize,
-    (first, last): (&[Point3], &[Point3]),
-    weights: Option<(&[f64], &[f64])>,
-    tolerance: f64,
-) -> bool {
+/// Whether `knots` of degree `p` are clamped at both ends (the boundary curve at each end
+/// is then the end row of poles).
+fn clamped(knots: &[f64], p: usize) -> bool {
     let n = knots.len();
-    let clamped = n > 2 * p + 1
+    n > 2 * p + 1
         && knots[..=p].iter().all(|&k| k == knots[0])
-        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1]);
-    clamped
-        && weights.is_none_or(|(a, b)| a == b)
-        && first
-            .iter()
-            .zip(last)
-            .all(|(a, b)| close(*a, *b, tolerance))
+        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1])
 }
 
 fn close(p: [f64; 3], q: [f64; 3], tolerance: f64) -> bool {
@@ -325,4 +304,64 @@ fn sample_params<'a>(a: f64, b: f64, knots: &'a [f64]) -> impl Iterator<Item = f
     (0..=64)
         .map(move |i| (a + (b - a) * f64::from(i) / 64.0).clamp(a, b))
         .chain(knots.iter().copied().filter(move |&k| k >= a && k <= b))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::nurbs::NurbsSurface;
+    use crate::nurbs::grid::Grid;
+    use crate::nurbs::sweep::{Frame, torus};
+    use crate::nurbs::vector::dist;
+
+    /// The largest distance between the two boundary curves of `s` in u (`along_u`) or v,
+    /// from 2001 evaluations each: the oracle the pole-row decision must agree with.
+    fn boundary_gap(s: &NurbsSurface, along_u: bool) -> f64 {
+        let ((u0, u1), (v0, v1)) = s.domain();
+        (0..=2000)
+            .map(|k| {
+                let x = k as f64 / 2000.0;
+                if along_u {
+                    let v = v0 + (v1 - v0) * x;
+                    dist(s.point_at_unchecked(u0, v), s.point_at_unchecked(u1, v))
+                } else {
+                    let u = u0 + (u1 - u0) * x;
+                    dist(s.point_at_unchecked(u, v0), s.point_at_unchecked(u, v1))
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Closed in both directions (a rational torus, poles decide), and a bilinear patch
+    /// whose far edge is moved by half or twice the tolerance: the verdict is the dense
+    /// evaluation's in every case, in both directions.
+    #[test]
+    fn closedness_from_the_poles_agrees_with_evaluation() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let f = Frame {
+            origin: [1.0, -2.0, 0.5],
+            x: [0.0, 1.0, 0.0],
+            y: [0.0, 0.0, 1.0],
+            z: [1.0, 0.0, 0.0],
+        };
+        let (t, _, _) = torus(&f, 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        assert!(t.is_closed_u(1e-9) && t.is_closed_v(1e-9));
+        assert!(boundary_gap(&t, true) <= 1e-9 && boundary_gap(&t, false) <= 1e-9);
+        let tol = 1e-6;
+        for (shift, want) in [(0.5 * tol, true), (2.0 * tol, false)] {
+            // Rows u = 0 and u = 1 of a 2 x 3 net at the same place but for `shift`.
+            let poles = Grid::from_fn(2, 3, |i, j| [i as f64 * shift, j as f64, 0.0]);
+            let s = NurbsSurface::new(
+                1,
+                2,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+                poles,
+                None,
+            )
+            .unwrap();
+            assert_eq!(s.is_closed_u(tol), want, "{shift}");
+            assert_eq!(boundary_gap(&s, true) <= tol, want);
+            assert!(!s.is_closed_v(tol) && boundary_gap(&s, false) > tol);
+        }
+    }
 }

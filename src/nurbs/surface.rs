@@ -217,11 +217,23 @@ impl NurbsSurface {
     /// [`point_at`](Self::point_at) for parameters already known to be in the domain.
     #[inline]
     pub fn point_at_unchecked(&self, u: f64, v: f64) -> Point3 {
+        // Basis buffers sized to the degrees: zeroing two MAX_DEGREE + 1 arrays on every
+        // call costs more than a bicubic evaluation (same arithmetic, same bits).
+        match self.degree_u.max(self.degree_v) {
+            0..4 => self.point_in::<4>(u, v),
+            4..8 => self.point_in::<8>(u, v),
+            _ => self.point_in::<{ MAX_DEGREE + 1 }>(u, v),
+        }
+    }
+
+    /// [`NurbsSurface::point_at_unchecked`] with basis buffers of `N > degree` entries.
+    #[inline(always)]
+    fn point_in<const N: usize>(&self, u: f64, v: f64) -> Point3 {
         let (p, q) = (self.degree_u, self.degree_v);
         let su = find_span(p, self.points.nu(), &self.knots_u, u);
         let sv = find_span(q, self.points.nv(), &self.knots_v, v);
-        let mut nu = [0.0; MAX_DEGREE + 1];
-        let mut nv = [0.0; MAX_DEGREE + 1];
+        let mut nu = [0.0; N];
+        let mut nv = [0.0; N];
         basis_funs(su, u, p, &self.knots_u, &mut nu);
         basis_funs(sv, v, q, &self.knots_v, &mut nv);
         let mut s = [0.0; 4];
