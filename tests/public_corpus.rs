@@ -61,7 +61,7 @@ const NOT_CARRIED: &[(&str, Finding)] = &[
         "solidedge_sylinterin_tappi.stp",
         Finding {
             code: "pcurve.not_computed",
-            why: "nurbsx defect: a CYLINDRICAL_SURFACE face bounded by two full CIRCLEs whose axis is opposite to the cylinder's (they run clockwise in its u) gets no pcurve (10 coedges), so 7 faces are unmeasured; FreeCAD reads every face",
+            why: "nurbsx defect: 10 closed edges (full CIRCLEs and closed B-splines) of 7 cylinder faces start at angles where the NURBS cylinder has no seam, and the other loops of the same face need the seam elsewhere, so no one seam position gives every loop a pcurve inside the domain (a pcurve that runs past the seam by up to a period, as Open CASCADE allows, is needed); those faces are unmeasured; FreeCAD reads every face",
         },
     ),
     (
