@@ -142,11 +142,20 @@ pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
         .map(|u| (dist(curve.point_at_unchecked(u), point), u))
         .collect();
     samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let size = curve
+        .control_points()
+        .iter()
+        .fold(1.0f64, |m, q| m.max(norm(*q)));
     let mut best: Option<(f64, f64)> = None;
     for &(_, start) in samples.iter().take(STARTS) {
         let found = curve_newton(curve, point, start)?;
         if best.is_none_or(|b| found.1 < b.1) {
             best = Some(found);
+        }
+        // A start that lands on the point (the rounding `curve_newton` stops at) is a
+        // closest point no other start can beat: the rest are not run.
+        if found.1 <= 1e-15 * size {
+            break;
         }
     }
     best
