@@ -142,13 +142,10 @@ pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
         .map(|u| (dist(curve.point_at_unchecked(u), point), u))
         .collect();
     samples.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let size = curve
-        .control_points()
-        .iter()
-        .fold(1.0f64, |m, q| m.max(norm(*q)));
+    let size = curve_size(curve);
     let mut best: Option<(f64, f64)> = None;
     for &(_, start) in samples.iter().take(STARTS) {
-        let found = curve_newton(curve, point, start)?;
+        let found = curve_newton(curve, point, start, size)?;
         if best.is_none_or(|b| found.1 < b.1) {
             best = Some(found);
         }
@@ -165,16 +162,22 @@ pub fn invert_curve(curve: &NurbsCurve, point: Point3) -> Option<(f64, f64)> {
 /// caller found) instead of a sampling of the curve.
 pub fn invert_curve_near(curve: &NurbsCurve, point: Point3, start: f64) -> Option<(f64, f64)> {
     let domain = curve.domain();
-    curve_newton(curve, point, clamp_to(start, domain))
+    curve_newton(curve, point, clamp_to(start, domain), curve_size(curve))
 }
 
-/// Newton's iteration of [`invert_curve`] from `start`: the best `(u, distance)` it met.
-fn curve_newton(curve: &NurbsCurve, point: Point3, start: f64) -> Option<(f64, f64)> {
-    let domain = curve.domain();
-    let size = curve
+/// The scale of a curve's coordinates for the distance tests of [`curve_newton`]: the
+/// largest pole norm, at least 1.
+fn curve_size(curve: &NurbsCurve) -> f64 {
+    curve
         .control_points()
         .iter()
-        .fold(1.0f64, |m, q| m.max(norm(*q)));
+        .fold(1.0f64, |m, q| m.max(norm(*q)))
+}
+
+/// Newton's iteration of [`invert_curve`] from `start`: the best `(u, distance)` it met
+/// (`size` from [`curve_size`]).
+fn curve_newton(curve: &NurbsCurve, point: Point3, start: f64, size: f64) -> Option<(f64, f64)> {
+    let domain = curve.domain();
     let mut best: Option<(f64, f64)> = None;
     let mut u = start;
     for _ in 0..MAX_NEWTON {
