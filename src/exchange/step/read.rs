@@ -38,7 +38,9 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 ///
 /// A file with lower-case keywords (not conforming, ISO 10303-21 clause 6.4) is read again
 /// with its keywords upper-cased, each reported as a non-conforming finding at its line,
-/// column and `#id` (the first read, where none was met, is the only one otherwise).
+/// column and `#id` (the first read, where none was met, is the only one otherwise; where
+/// the scan meets one, as in a file written all in lower case, the first read stops after
+/// the scan).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
     let first = read_text(text, options);
     let lower_case = |d: &Diagnostic| d.code == LOWER_CASE_KEYWORD;
@@ -146,6 +148,17 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             continue;
         }
         if raw.keyword_initial().is_none() {
+            // A simple instance whose keyword has lower-case letters (the scanner keeps
+            // upper-case keywords only): [`read`] reads the file again upper-cased and keeps
+            // nothing else of this reading, so nothing is decoded here.
+            if raw.body.starts_with(|c: char| c.is_ascii_lowercase()) {
+                if let Err(e) = scanned.decode(raw) {
+                    if matches!(e.kind, ParseErrorKind::LowercaseKeyword(_)) {
+                        doc.diagnostics = vec![parse_diagnostic(&e)];
+                        return Ok(doc);
+                    }
+                }
+            }
             complex.push(raw);
         }
         presentation.count(raw);
@@ -1345,3 +1358,35 @@ fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<
 #[cfg(test)]
 #[path = "read_decoder_tests.rs"]
 mod decoder_tests;
+
+/// A file written in lower case is read once after its scan: the first reading stops at the
+/// scan's finding (no entity decoded), and [`read`] then gives the upper-cased copy's
+/// geometry with the finding located.
+#[cfg(test)]
+mod lower_case_tests {
+    use super::*;
+
+    const LOWER: &str = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n\
+        FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\n\
+        DATA;\n#1=cartesian_point('',(0.,0.,0.));\n#2=cartesian_point('',(1.,0.,0.));\n\
+        #3=B_SPLINE_CURVE_WITH_KNOTS('',1,(#1,#2),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),\
+        .UNSPECIFIED.);\nENDSEC;\nEND-ISO-10303-21;\n";
+
+    #[test]
+    fn the_first_reading_of_a_lower_case_file_stops_after_its_scan() {
+        let options = ImportOptions::default();
+        let first = read_text(LOWER, &options).unwrap();
+        assert!(first.entities.is_empty(), "{:?}", first.entities);
+        assert_eq!(first.diagnostics.len(), 1, "{:?}", first.diagnostics);
+        assert_eq!(first.diagnostics[0].code, LOWER_CASE_KEYWORD);
+        let doc = read(LOWER, &options).unwrap();
+        assert_eq!(doc.entities.len(), 1, "{:?}", doc.diagnostics);
+        let found: Vec<_> = doc
+            .diagnostics
+            .iter()
+            .filter(|d| d.code == LOWER_CASE_KEYWORD)
+            .map(|d| (d.location.line, d.location.entity.as_deref()))
+            .collect();
+        assert_eq!(found, [(Some(8), Some("#1")), (Some(9), Some("#2"))]);
+    }
+}
