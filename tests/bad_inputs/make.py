@@ -612,6 +612,31 @@ def iges_cases():
     assoc("iges_402_piping_flow_missing", 402, 20, "402,1,1,0,0,0,0,0,0,91;", "pointer.invalid")
     assoc("iges_402_new_dimensioned_geometry_missing", 402, 21, "402,1,1,0,0,0.,99,0.,0.,0.;", "pointer.invalid")
     assoc("iges_406_name_property_pointer_missing", 406, 15, "406,1,4HNAME,0,1,99;", "pointer.invalid")
+    # Forms 3-5 (views visible, with attributes, label display) and the negated color and
+    # line font pointers of forms 4 and 19 (IGES 5.3 section 2.2.4.4.4, .13): D3 is a 128.
+    assoc("iges_402_views_visible_view_not_410", 402, 3, "402,1,1,3,13;", "pointer.invalid")
+    assoc("iges_402_views_visible_color_not_314", 402, 4, "402,1,1,0,1,0,-3,1,15;", "pointer.invalid")
+    assoc("iges_402_views_visible_font_definition_not_304", 402, 4, "402,1,1,0,0,3,0,1,15;", "pointer.invalid")
+    assoc("iges_402_label_display_leader_not_214", 402, 5, "402,1,0,0.,0.,0.,3,0,19;", "pointer.invalid")
+    assoc("iges_402_label_display_entity_missing", 402, 5, "402,1,0,0.,0.,0.,0,0,97;", "pointer.invalid")
+    assoc("iges_402_segmented_view_font_missing", 402, 19, "402,1,0,0.5,0,0,-99,0;", "pointer.invalid")
+    assoc("iges_402_segmented_view_color_not_314", 402, 19, "402,1,0,0.5,0,-3,0,0;", "pointer.invalid")
+    # Annotation, drawing and property declarations (D3 is a 128, D9 a 110).
+    assoc("iges_212_font_not_310", 212, 0, "212,1,5,10.,2.,-3,1.5707963267948966,0.,0,0,0.,0.,0.,5HHELLO;", "pointer.invalid")
+    assoc("iges_216_note_not_212", 216, 0, "216,9,0,0,0,0;", "pointer.invalid")
+    assoc("iges_404_view_not_410", 404, 0, "404,1,3,0.,0.,0;", "pointer.invalid")
+    assoc("iges_410_clipping_plane_not_108", 410, 0, "410,1,1.,3,0,0,0,0,0;", "pointer.invalid")
+    assoc("iges_304_template_not_308", 304, 1, "304,0,3,1.,1.;", "pointer.invalid")
+    # Records shorter than their declaration: the error is at their P line.
+    for name, etype, form, params in (
+        ("iges_406_drawing_size_short", 406, 16, "406,2,841.;"),
+        ("iges_214_segments_short", 214, 1, "214,2,1.,1.,0.,0.,0.,1.,1.;"),
+    ):
+        recs = list(srf)
+        de = add_entity(recs, etype, form, params)
+        emit(name, ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    # An associativity back pointer (section 2.2.4.5.2) naming a line, not a 402.
+    assoc("iges_associativity_pointer_not_402", 406, 15, "406,1,4HNAME,1,9,0;", "pointer.invalid")
     # A count larger than the pointers that follow: the record ends early, at its only line.
     recs = list(srf)
     de = add_entity(recs, 402, 7, "402,3,1,3;")

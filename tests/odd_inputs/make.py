@@ -241,6 +241,62 @@ def associativity_cases():
     emit("iges_associativities_and_properties", ".igs", "\n".join(recs) + "\n", 9, "surf_poles4x3.igs", 0)
 
 
+def views_and_back_pointers_case():
+    """Associativities that point at their members while the members point back, by design
+    (IGES 5.3 section 2.2.4.5.2 back pointers; DE view and label display fields naming a
+    402 form 3, 4 or 5 that lists the entity): a group with back pointers (form 1) whose
+    two lines carry the group in their associativity pointers, Views Visible (form 3) and
+    Views Visible with attributes (form 4, its color a negated pointer to a 314) named by
+    lines' DE view fields, an Entity Label Display (form 5) named by a line's DE label
+    display field, and a Segmented Views Visible (form 19) whose color and line font are a
+    negated 314 pointer and a value; and a drawing (404) of a linear dimension (216) with
+    its general note (212, its font a negated 310 pointer) and leaders (214), drawing size
+    and units properties (406 forms 16, 17) and a pattern line font (304 form 2). None of
+    these pairs is a pointer cycle, and every pointer names an entity of the type its field
+    allows: no finding."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "bad_inputs_make", os.path.join(os.path.dirname(HERE), "bad_inputs", "make.py"))
+    bad = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bad)
+    recs = iges_records(read("surf_poles4x3.igs"))
+    next_de = lambda: sum(1 for r in recs if r[72:73] == "D") + 1
+    group = next_de()
+    # The lines at D9 and D11 (P8, P9) get the group as their one associativity pointer.
+    for seq in (8, 9):
+        i = bad.pidx(recs, seq)
+        bad.setp(recs, i, recs[i][:64].rstrip().rstrip(";") + f",1,{group};")
+    assert bad.add_entity(recs, 402, 1, "402,2,9,11;") == group
+    view = bad.add_entity(recs, 410, 0, "410,1,1.,0,0,0,0,0,0;")
+    color = bad.add_entity(recs, 314, 0, "314,100.,0.,0.;")
+    leader = bad.add_entity(recs, 214, 1, "214,1,1.,1.,0.,0.,0.,1.,1.;")
+    visible = bad.add_entity(recs, 402, 3, f"402,1,1,{view},13;")
+    attributes = bad.add_entity(recs, 402, 4, f"402,1,1,{view},1,0,-{color},1,15;")
+    label = bad.add_entity(recs, 402, 5, f"402,1,{view},0.,0.,0.,{leader},0,19;")
+    bad.add_entity(recs, 402, 19, f"402,1,{view},0.5,0,-{color},1,0;")
+    # A drawing of a linear dimension: its note (font a negated pointer to a 310 Text Font
+    # Definition), two leaders, in a view of a drawing, with drawing size and units
+    # properties and a dashed line font.
+    font = bad.add_entity(recs, 310, 0, "310,1,5HSTICK,0,0,0;")
+    note = bad.add_entity(recs, 212, 0, f"212,1,5,10.,2.,-{font},1.5707963267948966,0.,0,0,0.,0.,0.,5HHELLO;")
+    second = bad.add_entity(recs, 214, 1, "214,1,1.,1.,0.,5.,0.,6.,1.;")
+    dimension = bad.add_entity(recs, 216, 0, f"216,{note},{leader},{second},0,0;")
+    bad.add_entity(recs, 404, 0, f"404,1,{view},0.,0.,1,{dimension};")
+    bad.add_entity(recs, 406, 16, "406,2,841.,594.;")
+    bad.add_entity(recs, 406, 17, "406,2,2,2HMM;")
+    bad.add_entity(recs, 304, 2, "304,2,1.,0.5,1H3;")
+
+    def de_field(de, field, value):
+        i = bad.didx(recs, de)
+        col = 8 * (field - 1)
+        recs[i] = recs[i][:col] + f"{value:>8}" + recs[i][col + 8:]
+
+    de_field(13, 6, visible)
+    de_field(15, 6, attributes)
+    de_field(19, 8, label)
+    emit("iges_views_and_back_pointers", ".igs", "\n".join(recs) + "\n", 9, "surf_poles4x3.igs", 0)
+
+
 if __name__ == "__main__":
     for n in os.listdir(HERE):
         if n.endswith((".step", ".igs", ".expect")):
@@ -250,4 +306,5 @@ if __name__ == "__main__":
     iges_cases()
     planar_case()
     associativity_cases()
+    views_and_back_pointers_case()
     print(len([x for x in os.listdir(HERE) if x.endswith(".expect")]), "cases")

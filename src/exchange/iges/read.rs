@@ -222,8 +222,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// label display, color; IGES 5.3 section 2.2.4.4) and the parameter pointers the entity
 /// declarations name (chapter 4, with the associativity and property pointers of section
 /// 2.2.4.5.2) must each name the first (odd) line of an existing directory entry, of an
-/// entity type the field allows, and no entity may reach itself through them. An entity
-/// whose parameters do not decode is reported here too.
+/// entity type the field allows, and no entity may reach itself through them (back pointers
+/// aside, [`back_pointer`]). An entity whose parameters do not decode is reported here too.
 fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
     let count = file.entries.len();
     // Every entity's outgoing pointers (to DE pointers), for the cycle search.
@@ -279,8 +279,10 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
                 )),
                 Some((_, Err(_))) => None, // that entry's own error is reported
                 Some((p, Ok(t))) => {
-                    if let Some(slot) = graph.get_mut(entry.pointer / 2) {
-                        slot.push(p);
+                    if !back_pointer(name) {
+                        if let Some(slot) = graph.get_mut(entry.pointer / 2) {
+                            slot.push(p);
+                        }
                     }
                     (!to.is_empty() && !to.contains(&t.entity_type)).then(|| {
                         format!(
@@ -341,6 +343,22 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
             }
         }
     }
+}
+
+/// Whether a pointer field names an entity that lists the entity holding it, so that the two
+/// point at each other by design and the pair is no dependency cycle: the associativity
+/// pointers (IGES 5.3 section 2.2.4.5.2, back pointers to the 402 instances, and the
+/// text entities in their place, that refer to the entity), the DE view field (section
+/// 2.2.4.4.6; a 402 form 3 or 4 Views Visible lists the entities it displays) and the DE
+/// label display field (section 2.2.4.4.8; a 402 form 5 Label Display names the entity
+/// it labels). Such pointers are still checked for their target's existence and type.
+fn back_pointer(field: &str) -> bool {
+    matches!(
+        field,
+        nurbsx_parsers::iges::records::ASSOCIATIVITY_POINTER
+            | "DE view"
+            | "DE label display associativity"
+    )
 }
 
 /// The DE fields outside their ranges (IGES 5.3 section 2.2.4.4, see

@@ -8,6 +8,9 @@
 //! | forms | name | parameters |
 //! | --- | --- | --- |
 //! | 1, 7, 14, 15 | Group (un)ordered, with/without back pointers | `N`, `N` DE pointers |
+//! | 3 | Views Visible | `NV`, `NE`, `NV` 410 views, `NE` displayed entities |
+//! | 4 | Views Visible, Color, Line Weight | `NV`, `NE`, `NV` × (410 view, line font value, 304 line font definition, color, line weight), `NE` displayed entities |
+//! | 5 | Entity Label Display | `NL`, `NL` × (410 view, text location, 214 leader, label level, labelled entity) |
 //! | 9 | Single Parent | `NP` (1), `NC`, the parent, `NC` children |
 //! | 12 | External Reference File Index | `N`, `N` × (symbolic name, DE pointer) |
 //! | 13 | Dimensioned Geometry | `ND` (1), `N`, the dimension, `N` geometry pointers |
@@ -17,10 +20,21 @@
 //! | 20 | Piping Flow | `NCF` (1), the six counts, type flag, then the lists |
 //! | 21 | Dimensioned Geometry (new) | `ND` (1), `N`, the dimension, orientation flag, angle, `N` × (pointer, location) |
 //!
-//! Colors and line fonts of form 19 are values or negated pointers (to 314 and 304) and are
-//! read as integers here.
+//! Colors and line fonts of forms 4 and 19 are values, or negated pointers to a 314 Color
+//! Definition or a 304 Line Font Definition, as the DE fields they stand in for (IGES 5.3
+//! sections 2.2.4.4.4 and 2.2.4.4.13): [`Type::ValueOrPointer`]. The displayed entities of
+//! forms 3 and 4 and the labelled entity of form 5 name entities whose DE view or label
+//! display field names the 402 in turn: a pair of pointers by design, not a cycle.
 
 use super::{Count, Field, Schema, Type};
+
+/// The entities a view pointer of these forms may name: a 410 View (form 0) or Perspective
+/// View (form 1), or a 402 standing for views (forms 3, 4 and 19), as the DE view field.
+const VIEW: Type = Type::Pointer(&[410, 402]);
+/// A color value (0-8), or a negated pointer to a 314 Color Definition.
+const COLOR: Type = Type::ValueOrPointer(&[314]);
+/// A line font pattern value (0-5), or a negated pointer to a 304 Line Font Definition.
+const LINE_FONT: Type = Type::ValueOrPointer(&[304]);
 
 /// Forms 1, 7, 14 and 15: `N`, then `N` pointers to the members.
 pub(super) const GROUP: Schema = Schema {
@@ -29,6 +43,64 @@ pub(super) const GROUP: Schema = Schema {
     fields: &[
         Field::one("N", Type::Integer),
         Field::times("DE", Type::Pointer(&[]), Count::Field("N")),
+    ],
+};
+
+/// Form 3: `NV`, `NE`, the `NV` views in which the entities are visible, then the `NE`
+/// displayed entities.
+pub(super) const VIEWS_VISIBLE: Schema = Schema {
+    entity: 402,
+    name: "Views Visible Associativity",
+    fields: &[
+        Field::one("NV", Type::Integer),
+        Field::one("NE", Type::Integer),
+        Field::times("VIEW", VIEW, Count::Field("NV")),
+        Field::times("DE", Type::Pointer(&[]), Count::Field("NE")),
+    ],
+};
+
+/// Form 4: `NV`, `NE`, per view the view, the line font value, the 304 line font
+/// definition (when the value is 0), the color and the line weight; then the `NE`
+/// displayed entities.
+pub(super) const VIEWS_VISIBLE_WITH_ATTRIBUTES: Schema = Schema {
+    entity: 402,
+    name: "Views Visible, Color, Line Weight Associativity",
+    fields: &[
+        Field::one("NV", Type::Integer),
+        Field::one("NE", Type::Integer),
+        Field::group(
+            "view",
+            Count::Field("NV"),
+            &[
+                Field::one("VIEW", VIEW),
+                Field::one("LINE FONT", Type::Flag),
+                Field::one("LINE FONT DEFINITION", Type::Pointer(&[304])),
+                Field::one("COLOR", COLOR),
+                Field::one("LINE WEIGHT", Type::Flag),
+            ],
+        ),
+        Field::times("DE", Type::Pointer(&[]), Count::Field("NE")),
+    ],
+};
+
+/// Form 5: `NL`, then per label placement the view, the text location, the 214 leader, the
+/// entity label level number and the labelled entity.
+pub(super) const LABEL_DISPLAY: Schema = Schema {
+    entity: 402,
+    name: "Entity Label Display Associativity",
+    fields: &[
+        Field::one("NL", Type::Integer),
+        Field::group(
+            "label",
+            Count::Field("NL"),
+            &[
+                Field::one("VIEW", VIEW),
+                Field::one("LOCATION", Type::Point),
+                Field::one("LEADER", Type::Pointer(&[214])),
+                Field::one("LEVEL", Type::Flag),
+                Field::one("DE", Type::Pointer(&[])),
+            ],
+        ),
     ],
 };
 
@@ -132,11 +204,11 @@ pub(super) const SEGMENTED_VIEWS_VISIBLE: Schema = Schema {
             "segment",
             Count::Field("N"),
             &[
-                Field::one("VIEW", Type::Pointer(&[410])),
+                Field::one("VIEW", VIEW),
                 Field::one("BREAKPOINT", Type::Real),
                 Field::one("DISPLAY", Type::Flag),
-                Field::one("COLOR", Type::Flag),
-                Field::one("FONT", Type::Flag),
+                Field::one("COLOR", COLOR),
+                Field::one("FONT", LINE_FONT),
                 Field::one("WEIGHT", Type::Flag),
             ],
         ),

@@ -10,10 +10,12 @@
 //! declaration too. Adding an entity is one declaration plus its record type.
 
 mod analytic_surfaces190_198;
+mod annotation202_230;
 mod associativity402;
 mod bounded_surface143;
 mod brep_solid186;
 mod circular_arc100;
+mod color314_line_font304;
 mod composite102;
 mod conic_arc104;
 mod copious_data106;
@@ -38,6 +40,7 @@ mod tabulated_cylinder122;
 mod transform124;
 mod trimmed_surface144;
 mod vertex_list502;
+mod view410_drawing404;
 
 pub use analytic_surfaces190_198::{Cone194, Cylinder192, PlaneSurface190, Sphere196, Torus198};
 pub use bounded_surface143::{Boundary141, BoundaryCurve, BoundedSurface143};
@@ -70,6 +73,10 @@ pub use vertex_list502::VertexList502;
 use super::directory::DirectoryEntry;
 use super::error::ErrorKind;
 use super::grammar::parameters::{Error, ParameterReader};
+
+/// The field name [`Values::pointers`] gives the associativity pointers of IGES 5.3 section
+/// 2.2.4.5.2 (back pointers from a member to the 402 instances listing it).
+pub const ASSOCIATIVITY_POINTER: &str = "associativity pointer";
 
 /// Curve entities a curve pointer may name (IGES 5.3 sections 4.2-4.23, 4.26).
 pub const CURVES: &[i64] = &[100, 102, 104, 106, 110, 112, 116, 126, 130];
@@ -114,13 +121,28 @@ pub const SCHEMAS: &[Schema] = &[
     analytic_surfaces190_198::CONE_SCHEMA,
     analytic_surfaces190_198::SPHERE_SCHEMA,
     analytic_surfaces190_198::TORUS_SCHEMA,
+    annotation202_230::ANGULAR_DIMENSION,
+    annotation202_230::DIAMETER_DIMENSION,
+    annotation202_230::FLAG_NOTE,
+    annotation202_230::GENERAL_LABEL,
+    annotation202_230::GENERAL_NOTE,
+    annotation202_230::LEADER_ARROW,
+    annotation202_230::LINEAR_DIMENSION,
+    annotation202_230::POINT_DIMENSION,
+    annotation202_230::GENERAL_SYMBOL,
+    annotation202_230::SECTIONED_AREA,
+    color314_line_font304::COLOR,
 ];
 
 /// Declarations whose parameters depend on the form number: `(forms, schema)`.
-/// The 402 Associativity Instance forms 1, 7, 9, 12-16 and 18-21 and the 406 Property forms
-/// 1 and 15; the other forms of these types are not declared (their pointers unchecked).
+/// The 402 Associativity Instance forms 1, 3-5, 7, 9, 12-16 and 18-21, the 406 Property
+/// forms 1-3, 5, 15-21, 23 and 28-30, and the two forms each of 218, 222, 304, 404 and 410;
+/// the other forms of 402 and 406 are not declared (their pointers unchecked).
 pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1, 7, 14, 15], associativity402::GROUP),
+    (&[3], associativity402::VIEWS_VISIBLE),
+    (&[4], associativity402::VIEWS_VISIBLE_WITH_ATTRIBUTES),
+    (&[5], associativity402::LABEL_DISPLAY),
     (&[9], associativity402::SINGLE_PARENT),
     (&[12], associativity402::EXTERNAL_REFERENCE_INDEX),
     (&[13], associativity402::DIMENSIONED_GEOMETRY),
@@ -131,6 +153,29 @@ pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[21], associativity402::NEW_DIMENSIONED_GEOMETRY),
     (&[1], property406::DEFINITION_LEVELS),
     (&[15], property406::NAME),
+    (&[2], property406::REGION_RESTRICTION),
+    (&[3], property406::LEVEL_FUNCTION),
+    (&[5], property406::LINE_WIDENING),
+    (&[16], property406::DRAWING_SIZE),
+    (&[17], property406::DRAWING_UNITS),
+    (&[18], property406::INTERCHARACTER_SPACING),
+    (&[19], property406::LINE_FONT_PATTERN),
+    (&[20], property406::HIGHLIGHT),
+    (&[21], property406::PICK),
+    (&[23], property406::ASSOCIATIVITY_GROUP_TYPE),
+    (&[28], property406::DIMENSION_UNITS),
+    (&[29], property406::DIMENSION_TOLERANCE),
+    (&[30], property406::DIMENSION_DISPLAY_DATA),
+    (&[0], annotation202_230::ORDINATE_DIMENSION),
+    (&[1], annotation202_230::ORDINATE_DIMENSION_WITH_LEADER),
+    (&[0], annotation202_230::RADIUS_DIMENSION),
+    (&[1], annotation202_230::RADIUS_DIMENSION_TWO_LEADERS),
+    (&[1], color314_line_font304::LINE_FONT_TEMPLATE),
+    (&[2], color314_line_font304::LINE_FONT_PATTERN),
+    (&[0], view410_drawing404::DRAWING),
+    (&[1], view410_drawing404::DRAWING_WITH_ROTATION),
+    (&[0], view410_drawing404::VIEW_SCHEMA),
+    (&[1], view410_drawing404::PERSPECTIVE_VIEW),
 ];
 
 /// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
@@ -222,6 +267,10 @@ pub enum Type {
     /// A DE pointer to an entity of one of these types (any type when empty); the default
     /// is 0, no entity.
     Pointer(&'static [i64]),
+    /// A value when zero or positive, a negated DE pointer to an entity of one of these
+    /// types when negative: the line font and color fields (IGES 5.3 sections 2.2.4.4.4 and
+    /// 2.2.4.4.13, and the parameters that repeat them); the default is 0.
+    ValueOrPointer(&'static [i64]),
     /// A Hollerith string.
     String,
 }
@@ -419,8 +468,11 @@ pub struct Values<'a> {
     /// Parameters after the declared ones (the associativity and property pointer groups
     /// with their counts); 0 for a group.
     pub extra: usize,
-    /// The associativity and property pointers (IGES 5.3 section 2.2.4.5.2).
+    /// The associativity and property pointers (IGES 5.3 section 2.2.4.5.2), in that
+    /// order.
     pub additional: Vec<i64>,
+    /// How many of [`Values::additional`] are associativity pointers (the first group).
+    pub associativities: usize,
 }
 
 impl<'a> Values<'a> {
@@ -492,18 +544,26 @@ impl<'a> Values<'a> {
     }
 
     /// Every DE pointer among the values, with its field name and the entity types the
-    /// declaration allows it to name (zero pointers, "no entity", left out).
+    /// declaration allows it to name (zero pointers, "no entity", left out; a negated
+    /// pointer of a [`Type::ValueOrPointer`] field as it is written, negative). The
+    /// associativity pointers of section 2.2.4.5.2 are named [`ASSOCIATIVITY_POINTER`]: they
+    /// are back pointers to the 402 instances that list the entity (or the 212 General Note
+    /// or 312 Text Display Template that section allows in their place); the property
+    /// pointers name 406 properties (or the same two text entities).
     pub fn pointers(&self) -> Vec<(&'static str, i64, &'static [i64])> {
         let mut out = Vec::new();
         // The declaration, not the input, bounds the depth: groups nest as the standard's
         // tables do (at most two levels here).
         self.pointers_into(&mut out);
-        out.extend(
-            self.additional
-                .iter()
-                .filter(|&&p| p != 0)
-                .map(|&p| ("associativity or property", p, &[][..])),
-        );
+        for (k, &p) in self.additional.iter().enumerate() {
+            if p != 0 {
+                out.push(if k < self.associativities {
+                    (ASSOCIATIVITY_POINTER, p, &[402, 212, 312][..])
+                } else {
+                    ("property pointer", p, &[406, 212, 312][..])
+                });
+            }
+        }
         out
     }
 
@@ -513,6 +573,10 @@ impl<'a> Values<'a> {
                 (Type::Pointer(to), Value::Int(p)) if *p != 0 => out.push((f.name, *p, to)),
                 (Type::Pointer(to), Value::Ints(ps)) => {
                     out.extend(ps.iter().filter(|&&p| p != 0).map(|&p| (f.name, p, to)));
+                }
+                (Type::ValueOrPointer(to), Value::Int(p)) if *p < 0 => out.push((f.name, *p, to)),
+                (Type::ValueOrPointer(to), Value::Ints(ps)) => {
+                    out.extend(ps.iter().filter(|&&p| p < 0).map(|&p| (f.name, p, to)));
                 }
                 (_, Value::Groups(gs)) => {
                     for g in gs {
@@ -562,7 +626,7 @@ pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'
     }
     let mut values = read_fields(schema, schema.fields, r, &mut head, first, true)?;
     let start = r.index();
-    additional_pointers(r, &mut values.additional)?;
+    values.associativities = additional_pointers(r, &mut values.additional)?;
     values.extra = r.index() - start;
     Ok(values)
 }
@@ -571,16 +635,22 @@ pub fn read<'a>(schema: &Schema, r: &mut ParameterReader<'a>) -> Result<Values<'
 /// `NA` and `NA` associativity pointers, then `NP` and `NP` property pointers. Anything
 /// else there (a real, a string, parameters after the last group) means the entity's
 /// counts do not match its data: an [`ErrorKind::Arity`] error, never a shifted reading.
+///
+/// Returns how many of the pointers are associativity pointers (the first group's).
 fn additional_pointers<'a>(
     r: &mut ParameterReader<'a>,
     out: &mut Vec<i64>,
-) -> Result<(), Error<'a>> {
-    for (count, pointer) in [
+) -> Result<usize, Error<'a>> {
+    let mut associativities = 0;
+    for (group, (count, pointer)) in [
         ("NA (associativity count)", "associativity pointer"),
         ("NP (property count)", "property pointer"),
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         if r.done() {
-            return Ok(());
+            return Ok(associativities);
         }
         let (at, index) = (r.rest(), r.index());
         let n = r.integer(count, Some(0)).map_err(|_| {
@@ -602,9 +672,12 @@ fn additional_pointers<'a>(
             // One pointer per parameter read: a hostile count allocates nothing ahead.
             out.push(r.integer(pointer, None)?);
         }
+        if group == 0 {
+            associativities = out.len();
+        }
     }
     if r.done() {
-        return Ok(());
+        return Ok(associativities);
     }
     let at = r.rest();
     let left = r.skip_rest()?;
@@ -696,7 +769,7 @@ fn read_fields<'a>(
                         }
                         Value::Strings(v)
                     }
-                    Type::Integer | Type::Flag | Type::Pointer(_) => {
+                    Type::Integer | Type::Flag | Type::Pointer(_) | Type::ValueOrPointer(_) => {
                         let default = (ty != Type::Integer).then_some(0);
                         let mut v = Vec::with_capacity(r.capacity(n, 1));
                         for _ in 0..n {
@@ -729,6 +802,7 @@ fn read_fields<'a>(
         values,
         extra: 0,
         additional: Vec::new(),
+        associativities: 0,
     })
 }
 
@@ -760,7 +834,7 @@ fn one<'a>(
             Value::Int(v)
         }
         Type::Flag => Value::Int(r.required_flag(name)?),
-        Type::Pointer(_) => Value::Int(r.integer(name, Some(0))?),
+        Type::Pointer(_) | Type::ValueOrPointer(_) => Value::Int(r.integer(name, Some(0))?),
         Type::Real => Value::Real(r.required_real(name)?),
         Type::Point => Value::Point([
             r.required_real(name)?,
