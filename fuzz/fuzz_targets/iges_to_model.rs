@@ -9,4 +9,10 @@ fuzz_target!(|data: &[u8]| {
     let mut bytes = format!("{:<72}S{:>7}\n", "", 1).into_bytes();
     bytes.extend_from_slice(data);
     let _ = nurbsx::exchange::read(&bytes, &Default::default());
+    // The conformance checks of `validate` (every entity's declared pointers, cycles).
+    let validate = nurbsx::exchange::ImportOptions {
+        conformance: true,
+        ..Default::default()
+    };
+    let _ = nurbsx::exchange::read(&bytes, &validate);
 });

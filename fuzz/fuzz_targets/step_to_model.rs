@@ -8,4 +8,10 @@ fuzz_target!(|data: &[u8]| {
     bytes.extend_from_slice(data);
     let _ = nurbsx::exchange::read(&bytes, &Default::default());
     let _ = nurbsx::exchange::read(data, &Default::default());
+    // The conformance checks of `validate` (every instance decoded, references, cycles).
+    let validate = nurbsx::exchange::ImportOptions {
+        conformance: true,
+        ..Default::default()
+    };
+    let _ = nurbsx::exchange::read(&bytes, &validate);
 });

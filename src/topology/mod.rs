@@ -41,7 +41,7 @@ mod sew;
 
 pub use assembly::{Assembly, Copied, Instance, Part, Placed};
 pub use error::TopologyError;
-pub use measure::{FACE_EVALUATIONS, FaceMeasure, MeasureError, Totals};
+pub use measure::{FACE_EVALUATIONS, FaceMeasure, MODEL_EVALUATIONS, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
 pub use pcurve::{
     EdgePcurve, PcurveMethod, edge_pcurve, exact_pcurve, loop_counter_clockwise, moved_seams,

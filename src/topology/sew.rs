@@ -20,7 +20,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use super::measure::faces_outward;
+use super::measure::{MODEL_EVALUATIONS, faces_outward};
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
 use crate::nurbs::project::invert_curve;
 use crate::nurbs::vector::dist;
@@ -389,9 +389,11 @@ impl Model {
             closed_first.push((closed, members));
         }
         closed_first.sort_by_key(|(closed, _)| !*closed);
+        // The closed shells' faces are measured (for their orientation) within one budget.
+        let mut evaluations = (MODEL_EVALUATIONS, MODEL_EVALUATIONS);
         for (closed, members) in closed_first {
             let members = if closed {
-                self.outward(members)
+                self.outward(members, &mut evaluations)
             } else {
                 members
             };
@@ -470,11 +472,16 @@ impl Model {
     }
 
     /// The members turned so that the enclosed volume is positive (when measurable), each
-    /// face's flux signed as [`Model::solid_volume`] signs it.
-    fn outward(&self, members: Vec<(FaceId, bool)>) -> Vec<(FaceId, bool)> {
+    /// face's flux signed as [`Model::solid_volume`] signs it; the measures spend from
+    /// `evaluations` ([`Model::measure_face_sharing`]).
+    fn outward(
+        &self,
+        members: Vec<(FaceId, bool)>,
+        evaluations: &mut (u64, u64),
+    ) -> Vec<(FaceId, bool)> {
         let mut flux = 0.0;
         for &(f, o) in &members {
-            let Ok(m) = self.measure_face(&self.faces[f.0]) else {
+            let Ok(m) = self.measure_face_sharing(&self.faces[f.0], evaluations) else {
                 return members;
             };
             flux += if faces_outward(&self.faces[f.0], o) {
