@@ -394,6 +394,25 @@ fn loops_edges_and_pcurves_are_checked() {
         Ok(_) => panic!("the shifted pcurve must be refused"),
     }
     let mut c = cube(0.0).unwrap();
+    // A deviation measured where the pcurve was made is compared with the edge's tolerance
+    // (not sampled again): above it, the face is refused with that deviation; within it,
+    // the face is added and keeps it.
+    let f0 = c.model.faces[c.faces[0].0].clone();
+    let tolerance = c.model.edges[f0.loops[0].coedges[0].edge.0].tolerance;
+    for (given, accepted) in [(2.0 * tolerance, false), (0.5 * tolerance, true)] {
+        let mut loops = f0.loops.clone();
+        loops[0].coedges[0].pcurve_deviation = Some(given);
+        match c.model.add_face(f0.surface.clone(), loops, f0.same_sense) {
+            Ok(f) if accepted => assert_eq!(
+                c.model.faces[f.0].loops[0].coedges[0].pcurve_deviation,
+                Some(given)
+            ),
+            Err(TopologyError::PcurveDeviates { deviation, .. }) if !accepted => {
+                assert_eq!(deviation, given)
+            }
+            other => panic!("{given}: {other:?}"),
+        }
+    }
     // A loop whose edges do not chain: two opposite edges of the bottom face.
     let f0 = &c.model.faces[c.faces[0].0];
     let (a, b) = (

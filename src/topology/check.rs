@@ -99,8 +99,15 @@ pub(super) fn face_loop(
         let Some(p) = &c.pcurve else { continue };
         let e = &m.edges[c.edge.0];
         let (pa, pb) = p.domain();
-        let mut worst: f64 = 0.0;
-        for s in 0..=PCURVE_SAMPLES {
+        // Measured where the pcurve was made ([`super::edge_pcurve`], more densely than
+        // here), or sampled now.
+        let mut worst: f64 = c.pcurve_deviation.unwrap_or(0.0);
+        let samples = if c.pcurve_deviation.is_some() {
+            0
+        } else {
+            PCURVE_SAMPLES + 1
+        };
+        for s in 0..samples {
             let t = if s == PCURVE_SAMPLES {
                 e.range.1
             } else {

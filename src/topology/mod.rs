@@ -106,7 +106,11 @@ pub struct Coedge {
     /// The edge in the face surface's `(u, v)` space, parameterised like the edge's curve
     /// (ISO 10303-42 surface_curve: the associated geometry shares the curve's parameter).
     pub pcurve: Option<NurbsCurve>,
-    /// Largest distance found between `surface(pcurve(t))` and `curve(t)` when checked.
+    /// Largest distance found between `surface(pcurve(t))` and `curve(t)` over the edge's
+    /// range. Given with the pcurve when it was measured as the pcurve was made
+    /// ([`edge_pcurve`], at more points than the face check takes): the face check of
+    /// [`Model::add_face`] then compares it with the edge's tolerance; `None` has the face
+    /// check sample it.
     pub pcurve_deviation: Option<f64>,
 }
 

@@ -574,7 +574,7 @@ impl Build<'_, '_, '_, '_> {
                 *uses.entry(c.edge).or_default() += 1;
             }
         }
-        let mut cache: HashMap<EdgeId, Option<NurbsCurve>> = HashMap::new();
+        let mut cache: HashMap<EdgeId, Option<(NurbsCurve, f64)>> = HashMap::new();
         let size = bounding_box_diagonal(surface.control_points().as_slice());
         let closed = [
             surface.is_closed_u(1e-9 * size),
@@ -589,16 +589,22 @@ impl Build<'_, '_, '_, '_> {
                         edge_pcurve(surface, &edge.curve, edge.range, edge.tolerance)
                             .ok()
                             .filter(|p| p.deviation <= edge.tolerance)
-                            .map(|p| p.curve)
+                            .map(|p| (p.curve, p.deviation))
                     })
                     .clone();
-                c.pcurve = match p {
-                    Some(p) => {
+                // The deviation measured with the pcurve is kept (the face check then
+                // compares it with the tolerance instead of sampling again), unless the
+                // pcurve moves to the other side of a seam, where it is measured anew.
+                (c.pcurve, c.pcurve_deviation) = match p {
+                    Some((p, deviation)) => {
                         let twice = uses[&c.edge] == 2;
                         let seam = [closed[0] || twice, closed[1] || twice];
-                        seam_side(surface, &p, c.forward == same_sense, seam).or(Some(p))
+                        match seam_side(surface, &p, c.forward == same_sense, seam) {
+                            Some(moved) => (Some(moved), None),
+                            None => (Some(p), Some(deviation)),
+                        }
                     }
-                    None => None,
+                    None => (None, None),
                 };
                 if c.pcurve.is_none() {
                     missing += 1;
