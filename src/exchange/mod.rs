@@ -79,15 +79,20 @@ pub fn read(bytes: &[u8], options: &ImportOptions) -> Result<Document, Diagnosti
 /// brep_with_voids: the shell normals point away from the solid's material; IGES 5.3 186
 /// with its shells' orientation flags). Each shell whose enclosed volume has the wrong sign
 /// is a violation read as it is (the solid is still the region its shells bound).
-/// Shells with a face that cannot be measured are not judged.
+/// Shells with a face that cannot be measured are not judged. The faces are measured once,
+/// within the model's budget of evaluations ([`crate::topology::Model::totals`]).
 fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
     let m = &topology.model;
     let mut out = Vec::new();
+    if m.solids.is_empty() {
+        return out;
+    }
+    let totals = m.totals();
     for (k, solid) in m.solids.iter().enumerate() {
         let shells =
             std::iter::once((solid.outer, true)).chain(solid.voids.iter().map(|&v| (v, false)));
         for (shell, outer) in shells {
-            let volume = match m.shell_volume(shell) {
+            let volume = match m.shell_volume(shell, &totals.faces) {
                 Ok(v) => v,
                 Err(e) => {
                     // Not judged, but said: the face that could not be measured.

@@ -580,11 +580,19 @@ impl Model {
 
     /// The volume one shell encloses, its faces signed by their orientation as in
     /// [`Model::solid_volume`]: positive when the shell faces away from what it encloses (a
-    /// solid's outer shell), negative when it faces into it (a void's).
-    pub fn shell_volume(&self, shell: ShellId) -> Result<f64, MeasureError> {
+    /// solid's outer shell), negative when it faces into it (a void's). The faces'
+    /// measures are taken from `faces`, the model's in model order ([`Totals::faces`]: each
+    /// face measured once, within the model's budget).
+    pub fn shell_volume(
+        &self,
+        shell: ShellId,
+        faces: &[Result<FaceMeasure, MeasureError>],
+    ) -> Result<f64, MeasureError> {
         let flux = self.shell_flux_with(shell, |f| {
-            let face = self.faces.get(f.0).ok_or(MeasureError::NoShell(shell.0))?;
-            self.measure_face(face)
+            faces
+                .get(f.0)
+                .cloned()
+                .unwrap_or(Err(MeasureError::NoShell(shell.0)))
         })?;
         Ok(flux / 3.0)
     }
