@@ -48,7 +48,7 @@ proptest! {
         lon in -3.0f64..3.0, lat in -1.4f64..1.4, rho in 0.3f64..3.0,
     ) {
         let r = 2.0;
-        let (s, _, _) = sweep::sphere(&Z, r, (-PI, PI), (-FRAC_PI_2, FRAC_PI_2)).unwrap();
+        let (s, _) = sweep::sphere(&Z, r, (-PI, PI), (-FRAC_PI_2, FRAC_PI_2)).unwrap();
         let dir = [lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()];
         let p = [Z.origin[0] + rho * r * dir[0], Z.origin[1] + rho * r * dir[1], Z.origin[2] + rho * r * dir[2]];
         let hit = invert_surface(&s, p, None).unwrap();
@@ -134,7 +134,7 @@ fn generators_of_a_cylinder_and_its_seam() {
             Z.origin[2] + h,
         ]
     };
-    for (angle, expected) in [(0.0, None), (FRAC_PI_2, Some(map.to_nurbs(FRAC_PI_2)))] {
+    for (angle, expected) in [(0.0, None), (FRAC_PI_2, Some(map.u().to_nurbs(FRAC_PI_2)))] {
         let line = line_segment(at(angle, -0.5), at(angle, 2.5), 0.0, 3.0).unwrap();
         let (pc, dev) = pcurve_by_projection(&cyl, &line, (0.0, 3.0), 1e-9).unwrap();
         assert!(dev <= 1e-9, "{dev:e}");
@@ -164,7 +164,7 @@ fn generators_of_a_cylinder_and_its_seam() {
 #[test]
 fn meridian_through_a_pole() {
     let r = 1.0;
-    let (s, umap, _) = sweep::sphere(&Z, r, (-PI, PI), (-FRAC_PI_2, FRAC_PI_2)).unwrap();
+    let (s, map) = sweep::sphere(&Z, r, (-PI, PI), (-FRAC_PI_2, FRAC_PI_2)).unwrap();
     let lon: f64 = 0.7;
     let (meridian, _) = conic_arc(
         ConicKind::Elliptic,
@@ -177,7 +177,7 @@ fn meridian_through_a_pole() {
     .unwrap();
     let (pc, dev) = pcurve_by_projection(&s, &meridian, meridian.domain(), 1e-9).unwrap();
     assert!(dev <= 1e-9, "{dev:e}");
-    let want = umap.to_nurbs(lon);
+    let want = map.u().to_nurbs(lon);
     let (a, b) = pc.domain();
     for i in 0..=10 {
         let t = if i == 10 {

@@ -80,7 +80,7 @@ fn exact_pcurves_lie_on_their_edges() {
                     let e = &m.edges[c.edge.0];
                     let (a, b) = e.range;
                     let at = |t: f64| (a + (b - a) * t).min(b);
-                    let p = exact_pcurve(s, &e.curve, e.range, e.tolerance);
+                    let p = exact_pcurve(s, None, &e.curve, e.range, e.tolerance);
                     let kind = match p.as_ref().map(|p| p.method) {
                         Some(PcurveMethod::Affine) => "affine",
                         Some(PcurveMethod::Iso) => "iso",
@@ -204,7 +204,8 @@ fn every_part_is_measured_against_freecad() {
             for l in &face.loops {
                 for c in &l.coedges {
                     let e = &m.edges[c.edge.0];
-                    exact &= exact_pcurve(&face.surface, &e.curve, e.range, e.tolerance).is_some();
+                    exact &=
+                        exact_pcurve(&face.surface, None, &e.curve, e.range, e.tolerance).is_some();
                 }
             }
         }

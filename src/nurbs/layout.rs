@@ -343,7 +343,7 @@ mod tests {
             y: [0.0, 0.0, 1.0],
             z: [1.0, 0.0, 0.0],
         };
-        let (t, _, _) = torus(&f, 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        let (t, _) = torus(&f, 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
         assert!(t.is_closed_u(1e-9) && t.is_closed_v(1e-9));
         assert!(boundary_gap(&t, true) <= 1e-9 && boundary_gap(&t, false) <= 1e-9);
         let tol = 1e-6;

@@ -283,7 +283,7 @@ mod tests {
     #[test]
     fn a_rotated_seam_gives_the_same_surface() {
         let tau = 2.0 * std::f64::consts::PI;
-        let (s, _, _) = torus(&frame(), 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        let (s, _) = torus(&frame(), 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
         let ((u0, u1), (v0, v1)) = s.domain();
         for (along_u, t) in [(true, 0.37 * u1), (false, 0.5 * (v0 + v1)), (false, 1.3)] {
             let r = if along_u {

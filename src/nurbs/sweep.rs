@@ -325,6 +325,84 @@ fn revolve_in_frame(
     Ok((rotation_net(&map, &rows, profile)?, map))
 }
 
+/// The exact inverse of a quadric's parameterisation ([`cylinder`], [`cone`], [`sphere`],
+/// [`torus`]): the NURBS parameters of a point of the surface in closed form, and the
+/// [`ArcMap`]s of its angular directions. The angle about the axis is `atan2` of the point's
+/// frame coordinates (ISO 10303-42 4.4.3-4.4.6 measure it from x towards y), the height
+/// along a cylinder's or cone's axis is the point's z coordinate (identity map), and the
+/// angle round a torus's tube (or a sphere's latitude) is `atan2` of the height over the
+/// distance from the tube's centre circle; angles go to NURBS parameters through the exact
+/// [`ArcMap::to_nurbs`]. For a point off the surface these are the parameters of its radial
+/// projection; callers compare the surface point there with the point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuadricMap {
+    frame: Frame,
+    u: ArcMap,
+    axial: Axial,
+}
+
+/// The direction along the axis of a [`QuadricMap`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Axial {
+    /// Cylinder and cone: `v` is the height, in `range`; the radius there is `r + v tan`.
+    Height { r: f64, tan: f64, range: (f64, f64) },
+    /// Sphere (`major = 0`) and torus: `v` is the tube angle, mapped.
+    Tube { major: f64, map: ArcMap },
+}
+
+impl QuadricMap {
+    /// The map of the rotation direction `u` (angle <-> NURBS parameter).
+    pub fn u(&self) -> &ArcMap {
+        &self.u
+    }
+
+    /// The map of `v` when it is an angle (sphere, torus); `None` for the identity of a
+    /// cylinder's or cone's height.
+    pub fn v(&self) -> Option<&ArcMap> {
+        match &self.axial {
+            Axial::Height { .. } => None,
+            Axial::Tube { map, .. } => Some(map),
+        }
+    }
+
+    /// The NURBS parameters `(u, v)` of point `p` (see the type), inside the surface's
+    /// domain. An angle outside its direction's range is taken a whole turn round when that
+    /// lands inside, else to the nearer end (around the circle); at the seam of a whole turn
+    /// either end may come out. A height outside the range is clamped into it.
+    pub fn parameters(&self, p: Point3) -> (f64, f64) {
+        let f = &self.frame;
+        let q = sub(p, f.origin);
+        let (x, y, z) = (dot(q, f.x), dot(q, f.y), dot(q, f.z));
+        let (angle, v) = match self.axial {
+            Axial::Height { r, tan, range } => {
+                // Past a cone's apex the radius is negative: the point lies opposite.
+                let flip = r + z * tan < 0.0;
+                let angle = if flip { (-y).atan2(-x) } else { y.atan2(x) };
+                (angle, z.clamp(range.0, range.1))
+            }
+            Axial::Tube { major, map } => {
+                let tube = z.atan2(x.hypot(y) - major);
+                (y.atan2(x), map.to_nurbs(into_range(tube, map.range())))
+            }
+        };
+        (self.u.to_nurbs(into_range(angle, self.u.range())), v)
+    }
+}
+
+/// Angle `a` moved by whole turns into `[lo, hi]` when it fits, else the end of the range
+/// nearer round the circle.
+fn into_range(a: f64, (lo, hi): (f64, f64)) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let x = lo + (a - lo).rem_euclid(tau);
+    if x <= hi {
+        x
+    } else if x - hi <= lo + tau - x {
+        hi
+    } else {
+        lo
+    }
+}
+
 /// The cylinder `O + r (cos u x + sin u y) + v z` (ISO 10303-42 4.4.3): u angle (mapped),
 /// v identity.
 pub fn cylinder(
@@ -332,7 +410,7 @@ pub fn cylinder(
     r: f64,
     u: (f64, f64),
     v: (f64, f64),
-) -> Result<(NurbsSurface, ArcMap), GeometryError> {
+) -> Result<(NurbsSurface, QuadricMap), GeometryError> {
     cone(f, r, 0.0, u, v)
 }
 
@@ -344,7 +422,7 @@ pub fn cone(
     semi_angle: f64,
     u: (f64, f64),
     v: (f64, f64),
-) -> Result<(NurbsSurface, ArcMap), GeometryError> {
+) -> Result<(NurbsSurface, QuadricMap), GeometryError> {
     check_range("v", v)?;
     if !(r.is_finite() && semi_angle.is_finite() && semi_angle.abs() < std::f64::consts::FRAC_PI_2)
     {
@@ -354,7 +432,19 @@ pub fn cone(
     }
     let t = semi_angle.tan();
     let profile = line_segment([r + v.0 * t, v.0, 0.0], [r + v.1 * t, v.1, 0.0], v.0, v.1)?;
-    revolve_in_frame(f, &profile, u)
+    let (surface, map) = revolve_in_frame(f, &profile, u)?;
+    Ok((
+        surface,
+        QuadricMap {
+            frame: *f,
+            u: map,
+            axial: Axial::Height {
+                r,
+                tan: t,
+                range: v,
+            },
+        },
+    ))
 }
 
 /// The sphere `O + r cos v (cos u x + sin u y) + r sin v z` (ISO 10303-42 4.4.5), v in
@@ -364,7 +454,7 @@ pub fn sphere(
     r: f64,
     u: (f64, f64),
     v: (f64, f64),
-) -> Result<(NurbsSurface, ArcMap, ArcMap), GeometryError> {
+) -> Result<(NurbsSurface, QuadricMap), GeometryError> {
     let lim = std::f64::consts::FRAC_PI_2 * (1.0 + 1e-12);
     if v.0 < -lim || v.1 > lim {
         return Err(GeometryError::InvalidArgument(format!(
@@ -383,7 +473,7 @@ pub fn torus(
     minor: f64,
     u: (f64, f64),
     v: (f64, f64),
-) -> Result<(NurbsSurface, ArcMap, ArcMap), GeometryError> {
+) -> Result<(NurbsSurface, QuadricMap), GeometryError> {
     if !(major.is_finite() && minor.is_finite()) {
         return Err(GeometryError::InvalidArgument(
             "torus radii are not finite".into(),
@@ -398,5 +488,12 @@ pub fn torus(
         v.1,
     )?;
     let (surface, umap) = revolve_in_frame(f, &profile, u)?;
-    Ok((surface, umap, vmap))
+    Ok((
+        surface,
+        QuadricMap {
+            frame: *f,
+            u: umap,
+            axial: Axial::Tube { major, map: vmap },
+        },
+    ))
 }

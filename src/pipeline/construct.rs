@@ -323,7 +323,7 @@ pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
         } => {
             positive(radius, "radius")?;
             let f = frame(centre, axis, reference)?;
-            let (s, _, _) = sweep::sphere(&f, radius, (0.0, TAU), (-FRAC_PI_2, FRAC_PI_2))?;
+            let (s, _) = sweep::sphere(&f, radius, (0.0, TAU), (-FRAC_PI_2, FRAC_PI_2))?;
             (Geometry::Surface(s), Shape::Sphere)
         }
         MakeShape::Torus {
@@ -336,7 +336,7 @@ pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
             positive(minor, "minor radius")?;
             positive(major - minor, "major radius minus the minor radius")?;
             let f = frame(centre, axis, reference)?;
-            let (s, _, _) = sweep::torus(&f, major, minor, (0.0, TAU), (0.0, TAU))?;
+            let (s, _) = sweep::torus(&f, major, minor, (0.0, TAU), (0.0, TAU))?;
             (Geometry::Surface(s), Shape::Torus)
         }
         MakeShape::Revolve {

@@ -20,7 +20,10 @@
 //!   and 2-24: the NURBS circle and cylinder); the interior knots must correspond under the
 //!   map, and the agreement is then checked densely. The pcurve is the line from
 //!   `(u_c, v(a))` to `(u_c, v(b))`, of degree 1. A point where the surface degenerates (a
-//!   pole, an apex) takes the iso's `u_c`.
+//!   pole, an apex) takes the iso's `u_c`. The edge's points are located on the surface
+//!   by the closed-form inverse of a quadric's parameterisation when the caller has it
+//!   ([`QuadricMap`]: cylinders, cones, spheres, tori as [`crate::nurbs::sweep`] builds
+//!   them), by point inversion (NURBS Book section 6.1) otherwise or where it misses.
 //! - **Otherwise** (a rational change of parameter, a freeform surface): projection of the
 //!   curve onto the surface within the edge tolerance
 //!   ([`crate::nurbs::project::pcurve_by_projection`]).
@@ -31,6 +34,7 @@
 
 use super::{Coedge, EdgeId, Loop, Model};
 use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
+use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::{add, dist, dot, sub};
 use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
 
@@ -68,16 +72,18 @@ const EXACT: f64 = 1e-12;
 
 /// The pcurve of the part `range` of `curve` on `surface` (see the module): exact for
 /// affine surfaces and iso-parametric edges ([`exact_pcurve`]), else projected within
-/// `tolerance`.
+/// `tolerance`. `map` is the surface's own parameterisation when it is a quadric built by
+/// [`crate::nurbs::sweep`] (it only saves point inversions; the result is the same).
 ///
 /// Errors: those of [`pcurve_by_projection`] when no exact pcurve applies.
 pub fn edge_pcurve(
     surface: &NurbsSurface,
+    map: Option<&QuadricMap>,
     curve: &NurbsCurve,
     range: (f64, f64),
     tolerance: f64,
 ) -> Result<EdgePcurve, GeometryError> {
-    if let Some(p) = exact_pcurve(surface, curve, range, tolerance) {
+    if let Some(p) = exact_pcurve(surface, map, curve, range, tolerance) {
         return Ok(p);
     }
     let (p, deviation) = pcurve_by_projection(surface, curve, range, tolerance)?;
@@ -92,9 +98,10 @@ pub fn edge_pcurve(
 /// module): an iso-parametric one whose measured deviation is rounding (1e-12 of the
 /// surface's size), or the affine map of a plane, whose deviation is the curve's own
 /// distance from the plane (the map is the orthogonal projection onto it; no pcurve can do
-/// better) and is accepted within `tolerance`.
+/// better) and is accepted within `tolerance`. `map` as for [`edge_pcurve`].
 pub fn exact_pcurve(
     surface: &NurbsSurface,
+    map: Option<&QuadricMap>,
     curve: &NurbsCurve,
     range: (f64, f64),
     tolerance: f64,
@@ -107,7 +114,7 @@ pub fn exact_pcurve(
     let size = bounding_box_diagonal(surface.control_points().as_slice());
     let (p, method) = affine(surface, curve)
         .map(|p| (p, PcurveMethod::Affine))
-        .or_else(|| iso(surface, curve, range, size).map(|p| (p, PcurveMethod::Iso)))?;
+        .or_else(|| iso(surface, map, curve, range, size).map(|p| (p, PcurveMethod::Iso)))?;
     let deviation = deviation(surface, curve, &p, range);
     (deviation <= EXACT * size || (method == PcurveMethod::Affine && deviation <= tolerance))
         .then_some(EdgePcurve {
@@ -468,6 +475,7 @@ fn inner_knots(knots: &[f64], lo: f64, hi: f64) -> Vec<f64> {
 /// edge is not an isocurve of the surface up to an affine change of parameter.
 fn iso(
     surface: &NurbsSurface,
+    map: Option<&QuadricMap>,
     curve: &NurbsCurve,
     (a, b): (f64, f64),
     size: f64,
@@ -476,12 +484,22 @@ fn iso(
         return Some(line);
     }
     let ((u0, u1), (v0, v1)) = surface.domain();
+    // The quadric's closed-form parameters of a point, when they land on it.
+    let located = |point: Point3| {
+        let (u, v) = map?.parameters(point);
+        (dist(surface.point_at_unchecked(u, v), point) <= EXACT * size).then_some([u, v])
+    };
     // Three interior points of the edge on the surface.
     let mut inner = [[0.0f64; 2]; 3];
     let mut guess = None;
     for (k, q) in inner.iter_mut().enumerate() {
         let t = a + (b - a) * (k + 1) as f64 / 4.0;
         let point = curve.point_at_unchecked(t);
+        if let Some(found) = located(point) {
+            *q = found;
+            guess = Some((found[0], found[1]));
+            continue;
+        }
         let mut hit = invert_surface(surface, point, guess)?;
         // Newton from the previous point can stop on the far side of a closed surface.
         if hit.distance > EXACT * size && guess.is_some() {
@@ -534,7 +552,16 @@ fn iso(
         dist(line.point_at_unchecked(la), line.point_at_unchecked(lb)) <= EXACT * size
     };
     let end = |t: f64, start: bool| -> Option<f64> {
-        let (x, d) = invert_curve(&line, curve.point_at_unchecked(t))?;
+        let point = curve.point_at_unchecked(t);
+        // The isocurve's parameter is the surface's in the free direction.
+        let (x, d) = match located(point) {
+            Some(q) => {
+                let (la, lb) = line.domain();
+                let x = q[free].clamp(la, lb);
+                (x, dist(line.point_at_unchecked(x), point))
+            }
+            None => invert_curve(&line, point)?,
+        };
         if d > EXACT * size {
             return None;
         }
@@ -713,7 +740,7 @@ mod tests {
             Some(vec![1.0, 0.5, 1.0]),
         )
         .unwrap();
-        let p = edge_pcurve(&s, &c, (0.2, 0.9), 1e-6).unwrap();
+        let p = edge_pcurve(&s, None, &c, (0.2, 0.9), 1e-6).unwrap();
         assert_eq!(p.method, PcurveMethod::Affine);
         for k in 0..=100 {
             let t = 0.2 + 0.7 * k as f64 / 100.0;
@@ -721,26 +748,39 @@ mod tests {
         }
     }
 
+    /// Generators and parallels of a cylinder get exact iso lines, the same whether the
+    /// edge's points are located by point inversion or by the cylinder's closed-form map.
     #[test]
     fn a_generator_of_a_cylinder_is_an_iso_line() {
-        let (s, _) =
+        let (s, map) =
             cylinder(&frame(), 2.0, (0.0, 2.0 * std::f64::consts::PI), (0.0, 4.0)).unwrap();
         let ((u0, u1), _) = s.domain();
         let u = u0 + 0.3 * (u1 - u0);
         let g = s.iso_u(u).unwrap().reparameterize(10.0, 20.0).unwrap();
-        let p = edge_pcurve(&s, &g, (11.0, 19.0), 1e-6).unwrap();
-        assert_eq!(p.method, PcurveMethod::Iso);
-        assert!(p.deviation <= 1e-14 * 10.0, "{}", p.deviation);
         // A parallel: the isocurve in v at some height, over part of its range.
         let ((_, _), (v0, v1)) = s.domain();
         let par = s.iso_v(v0 + 0.7 * (v1 - v0)).unwrap();
         let (a, b) = par.domain();
         let r = (a + 0.1 * (b - a), a + 0.8 * (b - a));
-        let p = edge_pcurve(&s, &par, r, 1e-6).unwrap();
-        assert_eq!(p.method, PcurveMethod::Iso);
-        for k in 0..=200 {
-            let t = r.0 + (r.1 - r.0) * k as f64 / 200.0;
-            assert!(dist(on_surface(&s, &p.curve, t), par.point_at_unchecked(t)) <= 1e-14 * 10.0);
+        for (edge, range) in [(&g, (11.0, 19.0)), (&par, r)] {
+            let by_inversion = edge_pcurve(&s, None, edge, range, 1e-6).unwrap();
+            let by_map = edge_pcurve(&s, Some(&map), edge, range, 1e-6).unwrap();
+            for p in [&by_inversion, &by_map] {
+                assert_eq!(p.method, PcurveMethod::Iso);
+                assert!(p.deviation <= 1e-14 * 10.0, "{}", p.deviation);
+                for k in 0..=200 {
+                    let t = range.0 + (range.1 - range.0) * k as f64 / 200.0;
+                    let d = dist(on_surface(&s, &p.curve, t), edge.point_at_unchecked(t));
+                    assert!(d <= 1e-14 * 10.0, "{d:e}");
+                }
+            }
+            let (pi, pm) = (
+                by_inversion.curve.control_points(),
+                by_map.curve.control_points(),
+            );
+            for (x, y) in pi.iter().zip(pm) {
+                assert!(dist(*x, *y) <= 1e-14 * (u1 - u0), "{x:?} {y:?}");
+            }
         }
     }
 

@@ -205,7 +205,7 @@ fn carried_pcurve(
         }
         Match::Other { .. } => {
             let surface = &m.faces.get(face.0)?.surface;
-            super::edge_pcurve(surface, &et.curve, et.range, et.tolerance)
+            super::edge_pcurve(surface, None, &et.curve, et.range, et.tolerance)
                 .ok()
                 .filter(|p| p.deviation <= et.tolerance)
                 .map(|p| p.curve)

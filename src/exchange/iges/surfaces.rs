@@ -658,12 +658,12 @@ fn analytic19x(
                 angular_extent(&f, &poles, tol),
                 (-FRAC_PI_2, FRAC_PI_2),
             )
-            .map(|(s, _, _)| s),
+            .map(|(s, _)| s),
             Shape::Sphere,
         ),
         Kind::Torus(major, minor) => (
             sweep::torus(&f, major, minor, angular_extent(&f, &poles, tol), (-PI, PI))
-                .map(|(s, _, _)| s),
+                .map(|(s, _)| s),
             Shape::Torus,
         ),
     };

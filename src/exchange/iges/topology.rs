@@ -638,7 +638,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 })
             })
             .or_else(|| {
-                edge_pcurve(s, &edge.curve, (a, b), tol)
+                edge_pcurve(s, None, &edge.curve, (a, b), tol)
                     .ok()
                     .filter(|p| p.deviation <= tol)
                     .map(|p| p.curve)
@@ -671,7 +671,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             let mut trial = loops.to_vec();
             let found = trial.iter_mut().flat_map(|l| &mut l.coedges).all(|c| {
                 let e = &m.edges[c.edge.0];
-                c.pcurve = edge_pcurve(&candidate, &e.curve, e.range, e.tolerance)
+                c.pcurve = edge_pcurve(&candidate, None, &e.curve, e.range, e.tolerance)
                     .ok()
                     .filter(|p| p.deviation <= e.tolerance)
                     .map(|p| p.curve);

@@ -31,7 +31,7 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
 use crate::nurbs::project::invert_curve;
-use crate::nurbs::sweep::{self, Frame};
+use crate::nurbs::sweep::{self, Frame, QuadricMap};
 use crate::nurbs::vector::{add, sub};
 use crate::nurbs::vector::{cross, dot, norm, scale as mul};
 use crate::nurbs::{
@@ -352,13 +352,22 @@ impl SurfaceBasis {
         }
     }
 
-    fn build(&self, u: (f64, f64), v: (f64, f64)) -> Result<NurbsSurface, GeometryError> {
-        match self {
+    /// The NURBS surface over `u x v`, with the closed-form inverse of its parameterisation
+    /// for the quadrics ([`QuadricMap`]; `None` for the other kinds).
+    fn build(
+        &self,
+        u: (f64, f64),
+        v: (f64, f64),
+    ) -> Result<(NurbsSurface, Option<QuadricMap>), GeometryError> {
+        let mapped = |(s, m): (NurbsSurface, QuadricMap)| (s, Some(m));
+        let surface = match self {
             SurfaceBasis::Plane(f) => sweep::plane(f, u, v),
-            SurfaceBasis::Cylinder(f, r) => Ok(sweep::cylinder(f, *r, u, v)?.0),
-            SurfaceBasis::Cone(f, r, a) => Ok(sweep::cone(f, *r, *a, u, v)?.0),
-            SurfaceBasis::Sphere(f, r) => Ok(sweep::sphere(f, *r, u, v)?.0),
-            SurfaceBasis::Torus(f, big, small, _) => Ok(sweep::torus(f, *big, *small, u, v)?.0),
+            SurfaceBasis::Cylinder(f, r) => return sweep::cylinder(f, *r, u, v).map(mapped),
+            SurfaceBasis::Cone(f, r, a) => return sweep::cone(f, *r, *a, u, v).map(mapped),
+            SurfaceBasis::Sphere(f, r) => return sweep::sphere(f, *r, u, v).map(mapped),
+            SurfaceBasis::Torus(f, big, small, _) => {
+                return sweep::torus(f, *big, *small, u, v).map(mapped);
+            }
             SurfaceBasis::Revolution {
                 profile,
                 point,
@@ -384,7 +393,8 @@ impl SurfaceBasis {
                 }
                 Ok(out)
             }
-        }
+        };
+        surface.map(|s| (s, None))
     }
 }
 
@@ -463,6 +473,9 @@ pub(super) struct Output {
     pub consumed_bsplines: HashSet<u64>,
     /// The converted EDGE_CURVEs by instance id (for the topology).
     pub edges: HashMap<u64, EdgeOut>,
+    /// The closed-form inverses of the face surfaces that are quadrics, by surface instance
+    /// id (for the pcurves of the topology).
+    pub quadric_maps: HashMap<u64, QuadricMap>,
     /// The warning that the file's analytic pcurves (2-D lines and conics in a surface's
     /// parameter plane) are not represented: the reader gives it when it reads geometry
     /// only. A whole-part reading carries every coedge's pcurve, computed on the face's
@@ -1151,7 +1164,8 @@ impl<'a> Converter<'_, '_, 'a> {
         };
         let ur = range(u1, u2, usense, ku, pu)?;
         let vr = range(v1, v2, vsense, kv, pv)?;
-        let mut s = basis
+        // The reversals below change the parameterisation: no closed-form map is kept.
+        let (mut s, _) = basis
             .build(ur, vr)
             .map_err(|e| self.geometry_error(id, e))?;
         if !usense {
@@ -1706,13 +1720,17 @@ impl<'a> Converter<'_, '_, 'a> {
         // Surfaces used by faces are consumed above but converted here, bounded by them.
         let mut face_surfaces: Vec<u64> = faces_of.keys().copied().collect();
         face_surfaces.sort_unstable();
-        let results: Vec<Res<Option<Placed>>> = face_surfaces
+        let results: Vec<(u64, Res<Option<(Placed, Option<QuadricMap>)>>)> = face_surfaces
             .par_iter()
-            .map(|&sid| self.face_surface(sid, &faces_of[&sid], &edge_map))
+            .map(|&sid| (sid, self.face_surface(sid, &faces_of[&sid], &edge_map)))
             .collect();
-        for r in results {
+        for (sid, r) in results {
             match r {
-                Ok(e) => out.entities.extend(e),
+                Ok(Some((e, map))) => {
+                    out.entities.push(e);
+                    out.quadric_maps.extend(map.map(|m| (sid, m)));
+                }
+                Ok(None) => {}
                 Err(d) => out.diagnostics.push(d),
             }
         }
@@ -1825,7 +1843,7 @@ impl<'a> Converter<'_, '_, 'a> {
                         match (u, v) {
                             (Some(u), Some(v)) => b
                                 .build(u, v)
-                                .map(|s| (s, b.shape()))
+                                .map(|(s, _)| (s, b.shape()))
                                 .map_err(|e| self.geometry_error(id, e)),
                             _ => Err(unbounded(item.entity)),
                         }
@@ -1845,13 +1863,14 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     /// A surface used by faces: bounded in each unbounded (or angular) direction by the
-    /// parameter box of the faces' edges ([`face_box`]).
+    /// parameter box of the faces' edges ([`face_box`]), with the closed-form inverse of
+    /// its parameterisation when it is a quadric.
     fn face_surface(
         &self,
         id: u64,
         faces: &[u64],
         edges: &HashMap<u64, EdgeOut>,
-    ) -> Res<Option<Placed>> {
+    ) -> Res<Option<(Placed, Option<QuadricMap>)>> {
         let basis = self.surface_basis(id, id, 0)?;
         if let SurfaceBasis::Nurbs(_) = basis {
             if !matches!(
@@ -1905,19 +1924,20 @@ impl<'a> Converter<'_, '_, 'a> {
             )
             .not_carried());
         };
-        let surface = if let R::RectangularTrimmedSurface { .. } = self.items[&id].record {
-            self.rectangular_trimmed(id, &self.items[&id], 0)?.0
+        let (surface, map) = if let R::RectangularTrimmedSurface { .. } = self.items[&id].record {
+            (self.rectangular_trimmed(id, &self.items[&id], 0)?.0, None)
         } else {
             basis.build(u, v).map_err(|e| self.geometry_error(id, e))?
         };
-        Ok(Some(self.entity(
+        let placed = self.entity(
             id,
             format!("#{id}"),
             Geometry::Surface(surface),
             basis.shape(),
             faces.iter().map(|f| format!("#{f}")).collect(),
             None,
-        )))
+        );
+        Ok(Some((placed, map)))
     }
 }
 

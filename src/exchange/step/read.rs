@@ -251,6 +251,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let mut converted = converter.run();
     cancel.stop_read()?;
     let edges = std::mem::take(&mut converted.edges);
+    let quadric_maps = std::mem::take(&mut converted.quadric_maps);
     doc.diagnostics.extend(converted.diagnostics);
     let consumed = converted.consumed_bsplines;
     if let Ok(mut notes) = bspline_notes.lock() {
@@ -330,7 +331,13 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             .not_carried());
         }
     } else {
-        let built = super::topology::build(&converter, &edges, &doc.entities, uncertainty);
+        let built = super::topology::build(
+            &converter,
+            &edges,
+            &quadric_maps,
+            &doc.entities,
+            uncertainty,
+        );
         cancel.stop_read()?;
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);

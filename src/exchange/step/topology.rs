@@ -22,6 +22,7 @@ use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
 use super::geometry::{Converter, EdgeOut};
 use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
+use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{
     Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
@@ -81,6 +82,8 @@ pub(super) fn count(conv: &Converter<'_, '_, '_>) -> Counts {
 /// The builder's state: the model under construction and the map from file ids to it.
 struct Build<'c, 'm, 's, 'a> {
     conv: &'c Converter<'m, 's, 'a>,
+    /// The quadric face surfaces' closed-form parameter maps, by surface instance id.
+    quadric_maps: &'c HashMap<u64, QuadricMap>,
     topology: Topology,
     diagnostics: Vec<Diagnostic>,
     tolerance: f64,
@@ -114,6 +117,7 @@ pub(super) struct Built {
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
     edges: &HashMap<u64, EdgeOut>,
+    quadric_maps: &HashMap<u64, QuadricMap>,
     entities: &[Entity],
     uncertainty: f64,
 ) -> Built {
@@ -121,6 +125,7 @@ pub(super) fn build(
     ids.sort_unstable();
     let mut b = Build {
         conv,
+        quadric_maps,
         topology: Topology::default(),
         diagnostics: Vec::new(),
         tolerance: 0.0,
@@ -492,7 +497,8 @@ impl Build<'_, '_, '_, '_> {
         if loops.len() == 1 {
             loops[0].outer = true;
         }
-        let mut missing = self.pcurves(surface, &mut loops, same_sense);
+        let map = self.quadric_maps.get(&face_geometry);
+        let mut missing = self.pcurves(surface, map, &mut loops, same_sense);
         // Edges across the surface's seam: the face's own seam may lie elsewhere
         // (`moved_seams`); the first surface with the seam moved to a vertex of the face on
         // which every pcurve is found replaces it (the same surface, exactly).
@@ -501,7 +507,7 @@ impl Build<'_, '_, '_, '_> {
             let m = &self.topology.model;
             for candidate in moved_seams(surface, m, &loops, self.tolerance) {
                 let mut trial = loops.clone();
-                if self.pcurves(&candidate, &mut trial, same_sense) == 0 {
+                if self.pcurves(&candidate, None, &mut trial, same_sense) == 0 {
                     loops = trial;
                     missing = 0;
                     moved = Some(candidate);
@@ -566,7 +572,13 @@ impl Build<'_, '_, '_, '_> {
     /// used once that runs along the seam line of a surface closed across it ([`seam_side`]). Coedges whose
     /// projection fails keep `None`; returns how many (the caller counts them in one
     /// warning of the file).
-    fn pcurves(&self, surface: &NurbsSurface, loops: &mut [Loop], same_sense: bool) -> usize {
+    fn pcurves(
+        &self,
+        surface: &NurbsSurface,
+        map: Option<&QuadricMap>,
+        loops: &mut [Loop],
+        same_sense: bool,
+    ) -> usize {
         let mut missing = 0;
         let mut uses: HashMap<EdgeId, usize> = HashMap::new();
         for l in loops.iter() {
@@ -586,7 +598,7 @@ impl Build<'_, '_, '_, '_> {
                 let p = cache
                     .entry(c.edge)
                     .or_insert_with(|| {
-                        edge_pcurve(surface, &edge.curve, edge.range, edge.tolerance)
+                        edge_pcurve(surface, map, &edge.curve, edge.range, edge.tolerance)
                             .ok()
                             .filter(|p| p.deviation <= edge.tolerance)
                             .map(|p| (p.curve, p.deviation))
