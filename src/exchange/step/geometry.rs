@@ -445,6 +445,9 @@ pub(super) type Items<'a> = HashMap<u64, GeometryItem<'a>, std::hash::BuildHashe
 /// One converted entity with the byte offset of its instance (for file order).
 pub(super) type Placed = (usize, Entity);
 
+/// A converted face surface and the closed-form inverse of its parameterisation (quadrics).
+type FaceSurface = (Placed, Option<QuadricMap>);
+
 /// Turns the decoded geometry items into entities.
 pub(super) struct Converter<'m, 's, 'a> {
     pub s: &'s Scanned<'a>,
@@ -1720,7 +1723,7 @@ impl<'a> Converter<'_, '_, 'a> {
         // Surfaces used by faces are consumed above but converted here, bounded by them.
         let mut face_surfaces: Vec<u64> = faces_of.keys().copied().collect();
         face_surfaces.sort_unstable();
-        let results: Vec<(u64, Res<Option<(Placed, Option<QuadricMap>)>>)> = face_surfaces
+        let results: Vec<(u64, Res<Option<FaceSurface>>)> = face_surfaces
             .par_iter()
             .map(|&sid| (sid, self.face_surface(sid, &faces_of[&sid], &edge_map)))
             .collect();
@@ -1870,7 +1873,7 @@ impl<'a> Converter<'_, '_, 'a> {
         id: u64,
         faces: &[u64],
         edges: &HashMap<u64, EdgeOut>,
-    ) -> Res<Option<(Placed, Option<QuadricMap>)>> {
+    ) -> Res<Option<FaceSurface>> {
         let basis = self.surface_basis(id, id, 0)?;
         if let SurfaceBasis::Nurbs(_) = basis {
             if !matches!(
