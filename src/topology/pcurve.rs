@@ -35,7 +35,7 @@
 use super::{Coedge, EdgeId, Loop, Model};
 use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
 use crate::nurbs::sweep::QuadricMap;
-use crate::nurbs::vector::{add, dist, dot, sub};
+use crate::nurbs::vector::{add, cross, dist, dot, norm, sub};
 use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
 
 /// How a pcurve was obtained.
@@ -69,6 +69,10 @@ const SAMPLES_PER_SPAN: usize = 8;
 const MIN_SAMPLES: usize = 32;
 /// Relative size (of the surface's control net) below which a deviation is rounding.
 const EXACT: f64 = 1e-12;
+/// Rounding of one evaluation of a point, per basis term, relative to the largest pole
+/// coordinates: a few units in the last place for the sums and the rational division, on
+/// the curve's side and the surface's.
+const EVALUATION_ROUNDING: f64 = 16.0 * f64::EPSILON;
 
 /// The pcurve of the part `range` of `curve` on `surface` (see the module): exact for
 /// affine surfaces and iso-parametric edges ([`exact_pcurve`]), else projected within
@@ -112,16 +116,28 @@ pub fn exact_pcurve(
         return None;
     }
     let size = bounding_box_diagonal(surface.control_points().as_slice());
-    let (p, method) = affine(surface, curve)
-        .map(|p| (p, PcurveMethod::Affine))
-        .or_else(|| iso(surface, map, curve, range, size).map(|p| (p, PcurveMethod::Iso)))?;
-    let deviation = deviation(surface, curve, &p, range);
-    (deviation <= EXACT * size || (method == PcurveMethod::Affine && deviation <= tolerance))
-        .then_some(EdgePcurve {
-            curve: p,
-            deviation,
-            method,
-        })
+    // The pcurve, a bound of its deviation from the poles, and the deviation accepted.
+    let (p, method, bound, accept) = match affine(surface, curve) {
+        Some(p) => {
+            let bound = plane_bound(surface, curve, &p);
+            (p, PcurveMethod::Affine, bound, tolerance.max(EXACT * size))
+        }
+        None => {
+            let found = iso(surface, map, curve, range, size)?;
+            let bound = iso_bound(curve, range, &found);
+            (found.pcurve, PcurveMethod::Iso, bound, EXACT * size)
+        }
+    };
+    // The bound when it accepts the pcurve (the common case), else the sampled deviation.
+    let deviation = match bound {
+        Some(d) if d <= accept => d,
+        _ => deviation(surface, curve, &p, range),
+    };
+    (deviation <= accept).then_some(EdgePcurve {
+        curve: p,
+        deviation,
+        method,
+    })
 }
 
 /// A pcurve lying on a seam of its surface (constant u at an end of a u-closed surface's
@@ -385,6 +401,150 @@ fn deviation(
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
+/// An iso-parametric pcurve with the isocurve it runs along.
+struct Iso {
+    /// The line `t -> (u, v)` over the edge's range `[a, b]`.
+    pcurve: NurbsCurve,
+    /// The surface's isocurve through it, parameterised by the surface's free parameter.
+    line: NurbsCurve,
+    /// The free parameter at `a` and at `b`.
+    ends: (f64, f64),
+}
+
+/// A bound of the deviation of a plane's pcurve ([`affine`]): the map is the orthogonal
+/// projection onto the plane, so `|S(p(t)) - C(t)|` is `C(t)`'s distance from the plane, a
+/// convex combination of its poles' distances (positive weights: NURBS Book section 4.2,
+/// strong convex hull property), so at most the largest (plus the rounding of evaluating
+/// it, [`EVALUATION_ROUNDING`]). `None` when a pole of the pcurve
+/// is outside the surface's domain (the sampling then tells what clamping does).
+fn plane_bound(surface: &NurbsSurface, curve: &NurbsCurve, p: &NurbsCurve) -> Option<f64> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let inside = p
+        .control_points()
+        .iter()
+        .all(|q| (u0..=u1).contains(&q[0]) && (v0..=v1).contains(&q[1]));
+    if !inside {
+        return None;
+    }
+    let g = surface.control_points();
+    let (p00, p10, p01) = (*g.get(0, 0), *g.get(1, 0), *g.get(0, 1));
+    let n = cross(sub(p10, p00), sub(p01, p00));
+    let len = norm(n);
+    if !(len.is_finite() && len > 0.0) {
+        return None;
+    }
+    let poles = curve.control_points();
+    let worst = poles
+        .iter()
+        .map(|&x| dot(sub(x, p00), n).abs() / len)
+        .fold(0.0f64, f64::max);
+    let magnitude = poles
+        .iter()
+        .chain(g.as_slice())
+        .map(|q| norm(*q))
+        .fold(0.0f64, f64::max);
+    let rounding = EVALUATION_ROUNDING * (curve.degree() as f64 + 1.0) * magnitude;
+    let bound = worst + rounding;
+    bound.is_finite().then_some(bound)
+}
+
+/// A bound of the deviation of an iso-parametric pcurve: the edge's piece over `[a, b]` and
+/// the isocurve's piece between `found.ends` (reversed when the edge runs down it), each cut
+/// out exactly (NURBS Book A5.1), compared pole by pole ([`same_curve_bound`]). `None` when
+/// their knots, degrees or pole counts do not match (the sampling then decides).
+fn iso_bound(curve: &NurbsCurve, (a, b): (f64, f64), found: &Iso) -> Option<f64> {
+    let (fa, fb) = found.ends;
+    let (lo, hi) = (fa.min(fb), fa.max(fb));
+    let edge = piece(curve, a, b)?;
+    let mut line = piece(&found.line, lo, hi)?;
+    if fa > fb {
+        line = line.reverse().ok()?;
+    }
+    same_curve_bound(&edge, &line)
+}
+
+/// `c` cut to `[a, b]` (inside its domain) by knot insertion.
+fn piece(c: &NurbsCurve, a: f64, b: f64) -> Option<NurbsCurve> {
+    let (s, e) = c.domain();
+    if !(s <= a && a < b && b <= e) {
+        return None;
+    }
+    let mut out = c.clone();
+    if a > s {
+        out = out.split_at(a).ok()?.1;
+    }
+    if b < e {
+        out = out.split_at(b).ok()?.0;
+    }
+    Some(out)
+}
+
+/// A bound of `|C(t) - D(phi(t))|` over `C`'s domain, `phi` the increasing affine map of
+/// `C`'s domain onto `D`'s, when the two have the same degree and pole count and `D`'s knots
+/// are `phi` of `C`'s up to rounding: then both are combinations of their poles with the
+/// same basis functions, so the distance is at most
+/// - the largest distance between corresponding poles (equal weights: a convex combination
+///   of the pole differences, NURBS Book section 4.2),
+/// - plus, for weights proportional only up to a relative `e`, `4 e` times the poles'
+///   extent (the normalised combination weights move by at most `2 e / (1 - e)` in sum),
+/// - plus, for knots off `phi` by `k`, `2 p (p + 1) k / h` times the extent (`h` the
+///   shortest non-empty span: a basis function's derivative in a knot is at most `p / h`),
+/// - plus what evaluating either side rounds ([`EVALUATION_ROUNDING`] per basis term, of the
+///   largest pole coordinates), so the bound covers any deviation measured by evaluation.
+///
+/// `None` when the structure differs or the mismatches are not rounding-sized.
+fn same_curve_bound(c: &NurbsCurve, d: &NurbsCurve) -> Option<f64> {
+    let p = c.degree();
+    let (kc, kd) = (c.knots(), d.knots());
+    if d.degree() != p || kc.len() != kd.len() || c.num_poles() != d.num_poles() {
+        return None;
+    }
+    let (c0, c1) = c.domain();
+    let (d0, d1) = d.domain();
+    let alpha = (d1 - d0) / (c1 - c0);
+    if !(alpha.is_finite() && alpha > 0.0) {
+        return None;
+    }
+    let span = d1 - d0;
+    let knot_off = kc
+        .iter()
+        .zip(kd)
+        .map(|(&x, &y)| (d0 + (x - c0) * alpha - y).abs())
+        .fold(0.0f64, f64::max);
+    let shortest = kd
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|&h| h > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let ratio = d.weight(0) / c.weight(0);
+    let weight_off = (0..c.num_poles())
+        .map(|i| (d.weight(i) / (ratio * c.weight(i)) - 1.0).abs())
+        .fold(0.0f64, f64::max);
+    if !(knot_off <= 1e-12 * span && weight_off <= 1e-9 && ratio.is_finite() && ratio > 0.0) {
+        return None;
+    }
+    let all: Vec<Point3> = c
+        .control_points()
+        .iter()
+        .chain(d.control_points())
+        .copied()
+        .collect();
+    let extent = bounding_box_diagonal(&all);
+    let poles = c
+        .control_points()
+        .iter()
+        .zip(d.control_points())
+        .map(|(x, y)| dist(*x, *y))
+        .fold(0.0f64, f64::max);
+    let magnitude = all.iter().map(|q| norm(*q)).fold(0.0f64, f64::max);
+    let pf = p as f64;
+    let bound = poles
+        + 4.0 * weight_off * extent
+        + 2.0 * pf * (pf + 1.0) * (knot_off / shortest) * extent
+        + EVALUATION_ROUNDING * (pf + 1.0) * magnitude;
+    bound.is_finite().then_some(bound)
+}
+
 /// A surface whose point is an affine function of `(u, v)`: degree 1 in both directions,
 /// 2 x 2 poles forming a parallelogram, equal weights. Returns the pcurve of `curve`:
 /// each pole mapped to `(u, v)` by the inverse map (least squares in the plane).
@@ -479,9 +639,9 @@ fn iso(
     curve: &NurbsCurve,
     (a, b): (f64, f64),
     size: f64,
-) -> Option<NurbsCurve> {
-    if let Some(line) = boundary_row(surface, curve, (a, b), size) {
-        return Some(line);
+) -> Option<Iso> {
+    if let Some(found) = boundary_row(surface, curve, (a, b), size) {
+        return Some(found);
     }
     let ((u0, u1), (v0, v1)) = surface.domain();
     // The quadric's closed-form parameters of a point, when they land on it.
@@ -607,7 +767,14 @@ fn iso(
         q[free] = x;
         q
     };
-    NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(fa), point(fb)], None, 2).ok()
+    let pcurve =
+        NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(fa), point(fb)], None, 2)
+            .ok()?;
+    Some(Iso {
+        pcurve,
+        line,
+        ends: (fa, fb),
+    })
 }
 
 /// The fast path of [`iso`], without any point inversion: the edge's curve is a boundary
@@ -622,7 +789,7 @@ fn boundary_row(
     curve: &NurbsCurve,
     (a, b): (f64, f64),
     size: f64,
-) -> Option<NurbsCurve> {
+) -> Option<Iso> {
     let grid = surface.control_points();
     let weights = surface.weights();
     let (nu, nv) = (grid.nu(), grid.nv());
@@ -698,14 +865,20 @@ fn boundary_row(
                 q[free] = s(x);
                 q
             };
-            return NurbsCurve::with_dimension(
-                1,
-                vec![a, a, b, b],
-                vec![point(a), point(b)],
-                None,
-                2,
-            )
-            .ok();
+            let pcurve =
+                NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(a), point(b)], None, 2)
+                    .ok()?;
+            // The row's isocurve (NURBS Book eq. 3.10 at a clamped end: the row itself).
+            let line = if fixed == 0 {
+                surface.iso_u(c).ok()?
+            } else {
+                surface.iso_v(c).ok()?
+            };
+            return Some(Iso {
+                pcurve,
+                line,
+                ends: (s(a), s(b)),
+            });
         }
     }
     None
@@ -742,9 +915,57 @@ mod tests {
         .unwrap();
         let p = edge_pcurve(&s, None, &c, (0.2, 0.9), 1e-6).unwrap();
         assert_eq!(p.method, PcurveMethod::Affine);
+        assert!(p.deviation <= 1e-14 * 10.0, "{:e}", p.deviation);
         for k in 0..=100 {
             let t = 0.2 + 0.7 * k as f64 / 100.0;
             assert!(dist(on_surface(&s, &p.curve, t), c.point_at_unchecked(t)) <= 1e-14 * 10.0);
+        }
+    }
+
+    /// A curve lifted off a plane by up to 1e-8 gets the plane's pcurve with a deviation
+    /// that bounds the distance found densely and is no more than the lift (plus rounding);
+    /// a parallel of a cylinder with one pole moved by 1e-7 is no isocurve, and with a
+    /// tolerance below that no exact pcurve is claimed.
+    #[test]
+    fn deviations_bound_what_evaluation_finds() {
+        let s = plane(&frame(), (-5.0, 5.0), (-2.0, 2.0)).unwrap();
+        let c = NurbsCurve::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![[0.0, 1.0, 3.0], [3.0, 4.0, 3.0 + 1e-8], [5.0, 2.5, 3.0]],
+            Some(vec![1.0, 0.5, 1.0]),
+        )
+        .unwrap();
+        let p = edge_pcurve(&s, None, &c, (0.0, 1.0), 1e-6).unwrap();
+        assert_eq!(p.method, PcurveMethod::Affine);
+        let mut worst: f64 = 0.0;
+        for k in 0..=1000 {
+            let t = k as f64 / 1000.0;
+            worst = worst.max(dist(on_surface(&s, &p.curve, t), c.point_at_unchecked(t)));
+        }
+        assert!(
+            worst > 1e-9 && worst <= p.deviation,
+            "{worst:e} {:e}",
+            p.deviation
+        );
+        assert!(p.deviation <= 1e-8 + 1e-13, "{:e}", p.deviation);
+
+        let (cyl, map) =
+            cylinder(&frame(), 2.0, (0.0, 2.0 * std::f64::consts::PI), (0.0, 4.0)).unwrap();
+        let ((_, _), (v0, v1)) = cyl.domain();
+        let par = cyl.iso_v(v0 + 0.5 * (v1 - v0)).unwrap();
+        let mut poles = par.control_points().to_vec();
+        poles[3][2] += 1e-7;
+        let moved = NurbsCurve::new(
+            par.degree(),
+            par.knots().to_vec(),
+            poles,
+            par.weights().map(<[f64]>::to_vec),
+        )
+        .unwrap();
+        for m in [None, Some(&map)] {
+            assert!(exact_pcurve(&cyl, m, &par, par.domain(), 1e-9).is_some());
+            assert!(exact_pcurve(&cyl, m, &moved, moved.domain(), 1e-9).is_none());
         }
     }
 
@@ -765,14 +986,19 @@ mod tests {
         for (edge, range) in [(&g, (11.0, 19.0)), (&par, r)] {
             let by_inversion = edge_pcurve(&s, None, edge, range, 1e-6).unwrap();
             let by_map = edge_pcurve(&s, Some(&map), edge, range, 1e-6).unwrap();
+            let size = bounding_box_diagonal(s.control_points().as_slice());
             for p in [&by_inversion, &by_map] {
                 assert_eq!(p.method, PcurveMethod::Iso);
-                assert!(p.deviation <= 1e-14 * 10.0, "{}", p.deviation);
+                // The deviation reported bounds the one found densely and is rounding.
+                assert!(p.deviation <= EXACT * size, "{}", p.deviation);
+                let mut worst: f64 = 0.0;
                 for k in 0..=200 {
                     let t = range.0 + (range.1 - range.0) * k as f64 / 200.0;
                     let d = dist(on_surface(&s, &p.curve, t), edge.point_at_unchecked(t));
                     assert!(d <= 1e-14 * 10.0, "{d:e}");
+                    worst = worst.max(d);
                 }
+                assert!(worst <= p.deviation, "{worst:e} > {:e}", p.deviation);
             }
             let (pi, pm) = (
                 by_inversion.curve.control_points(),
