@@ -1757,6 +1757,30 @@ pub fn bspline_kind(body: &Body<'_>) -> Option<BSplineKind> {
     kind
 }
 
+/// The keywords of the B-spline surface entities (ISO 10303-42 4.4.39-4.4.44).
+const BSPLINE_SURFACES: [&str; 6] = [
+    "B_SPLINE_SURFACE",
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "BEZIER_SURFACE",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_SURFACE",
+    "RATIONAL_B_SPLINE_SURFACE",
+];
+
+/// Whether instance `raw` names a B-spline surface entity, from its text alone: the keyword
+/// of a simple instance, or any of those keywords inside a complex one. No decoding, so a
+/// reader that leaves B-spline surfaces to [`Scanned::bspline`] can skip them cheaply
+/// (that decoder still checks the instance and locates its errors).
+pub fn names_bspline_surface(raw: &RawInstance<'_>) -> bool {
+    match raw.keyword() {
+        Some(k) => BSPLINE_SURFACES.contains(&canonical_name(k)),
+        // These three are inside every other name of the list.
+        None => ["B_SPLINE_SURFACE", "BEZIER_SURFACE", "UNIFORM_SURFACE"]
+            .iter()
+            .any(|k| raw.body.contains(k)),
+    }
+}
+
 /// A B-spline curve or surface record: what [`Scanned::bspline`] decodes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BSpline<'a> {
@@ -2113,6 +2137,32 @@ mod point_text_tests {
                 None,
                 "{body}"
             );
+        }
+    }
+
+    /// The text test of B-spline surfaces agrees with the decoded entity names
+    /// (`bspline_kind`) on simple, short-named and complex instances of surfaces, curves and
+    /// other entities.
+    #[test]
+    fn bspline_surfaces_are_named_as_decoding_finds() {
+        let grid = "((#9,#9),(#9,#9))";
+        let bodies = [
+            format!("B_SPLINE_SURFACE_WITH_KNOTS('',1,1,{grid},.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.)"),
+            format!("BSSWK('',1,1,{grid},.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.)"),
+            format!("BEZIER_SURFACE('',1,1,{grid},.UNSPECIFIED.,.F.,.F.,.F.)"),
+            format!("(BOUNDED_SURFACE() B_SPLINE_SURFACE(1,1,{grid},.UNSPECIFIED.,.F.,.F.,.F.) B_SPLINE_SURFACE_WITH_KNOTS((2,2),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(((1.,1.),(1.,1.))) REPRESENTATION_ITEM('') SURFACE())"),
+            "(BOUNDED_CURVE() B_SPLINE_CURVE(1,(#9,#9),.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS((2,2),(0.,1.),.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE((1.,1.)) REPRESENTATION_ITEM(''))".to_string(),
+            "B_SPLINE_CURVE_WITH_KNOTS('',1,(#9,#9),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),.UNSPECIFIED.)".to_string(),
+            "PLANE('',#9)".to_string(),
+        ];
+        for body in &bodies {
+            let text = format!(
+                "ISO-10303-21;HEADER;ENDSEC;DATA;\n#1={body};\n#9=CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;END-ISO-10303-21;"
+            );
+            let s = scan(&text, &Limits::default()).unwrap();
+            let raw = s.get(1).unwrap();
+            let decoded = bspline_kind(&s.decode(raw).unwrap().body) == Some(BSplineKind::Surface);
+            assert_eq!(names_bspline_surface(raw), decoded, "{body}");
         }
     }
 

@@ -26,6 +26,7 @@ use std::collections::{HashMap, HashSet};
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 use nurbsx_parsers::step::geometry::{GeometryItem, GeometryRecord as R, TrimmingSelect};
+use nurbsx_parsers::step::schema::names_bspline_surface;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
@@ -1874,6 +1875,11 @@ impl<'a> Converter<'_, '_, 'a> {
         faces: &[u64],
         edges: &HashMap<u64, EdgeOut>,
     ) -> Res<Option<FaceSurface>> {
+        // A B-spline surface: the reader's B-spline path converts it (and reports what is
+        // wrong with it); decoding it here too would only find that out.
+        if !self.items.contains_key(&id) && self.s.get(id).is_some_and(names_bspline_surface) {
+            return Ok(None);
+        }
         let basis = self.surface_basis(id, id, 0)?;
         if let SurfaceBasis::Nurbs(_) = basis {
             if !matches!(
