@@ -1713,9 +1713,14 @@ impl<'a> Converter<'_, '_, 'a> {
             .copied()
             .filter(|id| !consumed.contains(id))
             .collect();
+        // Only what produced something is kept: most items are parts of others (points,
+        // placements, topology), and a slot for each would be the read's peak of memory.
         let results: Vec<(Option<Placed>, Option<Diagnostic>)> = jobs
             .par_iter()
-            .map(|&id| self.free_item(id, &faces_of))
+            .filter_map(|&id| match self.free_item(id, &faces_of) {
+                (None, None) => None,
+                found => Some(found),
+            })
             .collect();
         for (e, d) in results {
             out.entities.extend(e);

@@ -299,6 +299,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         .collect();
     cancel.stop_read()?;
     let mut placed: Vec<(usize, Entity)> = converted.entities;
+    // Exactly the room needed: growing by doubling would hold both buffers at the read's
+    // peak of memory.
+    placed.reserve_exact(results.iter().filter(|(e, _)| e.is_some()).count());
     let mut late_products = false;
     for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
         doc.diagnostics.extend(diags);
@@ -313,7 +316,12 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     }
     // File order (a stable sort: entities of one instance keep their order).
     placed.sort_by_key(|(offset, _)| *offset);
-    doc.entities.extend(placed.into_iter().map(|(_, e)| e));
+    if doc.entities.is_empty() {
+        // Collected in place (the standard library reuses `placed`'s buffer).
+        doc.entities = placed.into_iter().map(|(_, e)| e).collect();
+    } else {
+        doc.entities.extend(placed.into_iter().map(|(_, e)| e));
+    }
 
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
