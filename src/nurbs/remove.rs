@@ -29,118 +29,136 @@ struct Removal {
     refused: Option<f64>,
 }
 
-/// A5.8: tries to remove the interior knot `u` up to `num` times from every row, spending at
-/// most `budget` (homogeneous error units). Preconditions (callers): `u` strictly inside the
-/// domain, `1 <= num <= multiplicity`.
+/// Where one removal of the knot at index `r` (multiplicity `s`) splits its equations.
+///
+/// Removing one copy of `u = U_r` replaces the poles `P_first..=P_last` (`first = r - p`,
+/// `last = r - s`) by `Q_first..Q_(last-1)`, tied by the knot insertion equations (NURBS Book
+/// eq. 5.28, A5.8) `P_k = a_k Q_k + (1 - a_k) Q_(k-1)`, `a_k = (u - U_k) / (U_(k+p+1) - U_k)`,
+/// `k = first..=last`, with `Q_(first-1) = P_(first-1)` and `Q_last = P_(last+1)`: one
+/// equation more than unknowns. A5.8 solves the first half forward (dividing by `a_k`) and
+/// the second half backward (dividing by `1 - a_k`) and tests where they meet. Any split
+/// point gives the same exact result, but rounding grows by `1 / a_k` or `1 / (1 - a_k)` per
+/// step, which near a knot of high multiplicity reaches 1e5 for a symmetric split (an
+/// exactly inserted knot then fails a 1e-9 removal). So the split `m` (forward through
+/// `m`, backward down to `m + 2`, equation `m + 1` left over as the test) is the one whose
+/// rounding amplification, in the new poles and in the test, is the smallest.
+fn best_split(knots: &[f64], p: usize, r: usize, s: usize) -> usize {
+    let (first, last) = (r - p, r - s);
+    let u = knots[r];
+    let a = |k: usize| (u - knots[k]) / (knots[k + p + 1] - knots[k]);
+    // Forward: gf[k] bounds the rounding of Q_k in units of one step's rounding.
+    let mut gf = vec![0.0f64; last + 1 - first + 1];
+    for k in first..=last {
+        let ak = a(k);
+        gf[k + 1 - first] = (1.0 + (1.0 - ak).abs() * gf[k - first]) / ak.abs();
+    }
+    // Backward: gb[k] for Q_k computed from equation k + 1 down.
+    let mut gb = vec![0.0f64; last + 1 - first + 1];
+    for k in (first + 1..=last).rev() {
+        let ak = a(k);
+        gb[k - 1 - first + 1] = (1.0 + ak.abs() * gb[k - first + 1]) / (1.0 - ak).abs();
+    }
+    // gf index k + 1 - first holds Q_k (index 0: Q_(first-1), exact); gb likewise, its last
+    // slot Q_last exact.
+    let mut best = (f64::INFINITY, last - 1);
+    for m in first - 1..last {
+        let t = m + 1;
+        let at = a(t);
+        let test = at.abs() * gb[t + 1 - first] + (1.0 - at).abs() * gf[t - first];
+        let poles = gf[..=m + 1 - first]
+            .iter()
+            .chain(&gb[m + 2 - first..])
+            .fold(0.0f64, |w, &g| w.max(g));
+        let score = test.max(poles);
+        // NaN (overflowed amplification) never wins.
+        if score < best.0 {
+            best = (score, m);
+        }
+    }
+    best.1
+}
+
+/// Tries to remove the interior knot `u` up to `num` times from every row, one copy at a
+/// time (A5.8's removals in sequence, each on the poles the previous one left, as in A5.8),
+/// spending at most `budget` (homogeneous error units). Each removal's error value is the
+/// distance by which its left-over equation misses: the curve without the knot, with `u`
+/// inserted again, has exactly the old poles except that one, so the curve moves by at most
+/// that distance (homogeneous; basis functions sum to one). Preconditions (callers): `u`
+/// strictly inside the domain, `1 <= num <= multiplicity`.
 fn remove_bundle(b: &Bundle, u: f64, num: usize, budget: f64) -> Removal {
     let p = b.degree;
-    let knots = &b.knots;
-    let n = b.poles() - 1;
-    let m = n + p + 1;
-    let ord = p + 1;
-    let s = multiplicity(knots, u);
-    let r = knots.partition_point(|&x| x <= u) - 1;
-    let fout = (2 * r - s - p) / 2;
-    let mut first = r - p;
-    let mut last = r - s;
+    let mut knots = b.knots.clone();
     let mut rows = b.rows.clone();
-    let mut t = 0usize;
     let mut spent = 0.0;
     let mut refused = None;
-    let uk = |i: usize| knots[i];
-    while t < num {
-        let off = first - 1;
-        let mut temps = Vec::with_capacity(rows.len());
+    let mut removed = 0;
+    let mut scratch: Vec<Hpoint> = Vec::with_capacity(p + 2);
+    while removed < num {
+        let s = multiplicity(&knots, u);
+        let r = knots.partition_point(|&x| x <= u) - 1;
+        let (first, last) = (r - p, r - s);
+        let m = best_split(&knots, p, r, s);
+        let a = |k: usize| (u - knots[k]) / (knots[k + p + 1] - knots[k]);
         let mut worst: f64 = 0.0;
+        let mut solved: Vec<Vec<Hpoint>> = Vec::with_capacity(rows.len());
         for pw in &rows {
-            let mut temp = vec![[0.0; 4]; last + 2 - off];
-            temp[0] = pw[off];
-            temp[last + 1 - off] = pw[last + 1];
-            let (mut i, mut j) = (first, last);
-            let (mut ii, mut jj) = (1usize, last - off);
-            // Signed: j - i may become negative.
-            while (j as isize) - (i as isize) > t as isize {
-                let alfi = (u - uk(i)) / (uk(i + ord + t) - uk(i));
-                let alfj = (u - uk(j - t)) / (uk(j + ord) - uk(j - t));
+            // q[k + 1 - first] = Q_k for k = first - 1..=last.
+            scratch.clear();
+            scratch.resize(last + 2 - first, [0.0; 4]);
+            let q = &mut scratch;
+            q[0] = pw[first - 1];
+            q[last + 1 - first] = pw[last + 1];
+            for k in first..=m {
+                let ak = a(k);
+                let prev = q[k - first];
                 for c in 0..4 {
-                    temp[ii][c] = (pw[i][c] - (1.0 - alfi) * temp[ii - 1][c]) / alfi;
-                    temp[jj][c] = (pw[j][c] - alfj * temp[jj + 1][c]) / (1.0 - alfj);
+                    q[k + 1 - first][c] = (pw[k][c] - (1.0 - ak) * prev[c]) / ak;
                 }
-                i += 1;
-                ii += 1;
-                j -= 1;
-                jj -= 1;
             }
-            let d = if ((j as isize) - (i as isize)) < t as isize {
-                dist4(temp[ii - 1], temp[jj + 1])
-            } else {
-                let alfi = (u - uk(i)) / (uk(i + ord + t) - uk(i));
-                let a = temp[ii + t + 1];
-                let c = temp[ii - 1];
-                let mix = [
-                    alfi * a[0] + (1.0 - alfi) * c[0],
-                    alfi * a[1] + (1.0 - alfi) * c[1],
-                    alfi * a[2] + (1.0 - alfi) * c[2],
-                    alfi * a[3] + (1.0 - alfi) * c[3],
-                ];
-                dist4(pw[i], mix)
-            };
+            for k in (m + 2..=last).rev() {
+                let ak = a(k);
+                let next = q[k + 1 - first];
+                for c in 0..4 {
+                    q[k - first][c] = (pw[k][c] - ak * next[c]) / (1.0 - ak);
+                }
+            }
+            let t = m + 1;
+            let at = a(t);
+            let (hi, lo) = (q[t + 1 - first], q[t - first]);
+            let mix = [
+                at * hi[0] + (1.0 - at) * lo[0],
+                at * hi[1] + (1.0 - at) * lo[1],
+                at * hi[2] + (1.0 - at) * lo[2],
+                at * hi[3] + (1.0 - at) * lo[3],
+            ];
+            let d = dist4(pw[t], mix);
             // NaN (overflow) counts as a failure.
             worst = if d.is_nan() {
                 f64::INFINITY
             } else {
                 worst.max(d)
             };
-            temps.push(temp);
+            solved.push(q[1..last + 1 - first].to_vec());
         }
         if spent + worst > budget {
             refused = Some(worst);
             break;
         }
         spent += worst;
-        for (pw, temp) in rows.iter_mut().zip(&temps) {
-            let (mut i, mut j) = (first, last);
-            while (j as isize) - (i as isize) > t as isize {
-                pw[i] = temp[i - off];
-                pw[j] = temp[j - off];
-                i += 1;
-                j -= 1;
-            }
+        for (pw, new) in rows.iter_mut().zip(&solved) {
+            // P_first..=P_last become Q_first..Q_(last-1): one pole fewer.
+            pw.splice(first..=last, new.iter().copied());
         }
-        first -= 1;
-        last += 1;
-        t += 1;
-    }
-    if t == 0 {
-        return Removal {
-            bundle: b.clone(),
-            removed: 0,
-            spent,
-            refused,
-        };
-    }
-    let mut new_knots = knots[..=r - t].to_vec();
-    new_knots.extend_from_slice(&knots[r + 1..=m]);
-    let (mut i, mut j) = (fout, fout);
-    for k in 1..t {
-        if k % 2 == 1 {
-            i += 1;
-        } else {
-            j -= 1;
-        }
-    }
-    for pw in &mut rows {
-        // A5.8's final shift: poles i+1..=n move down to start at j (memmove).
-        pw.copy_within(i + 1..=n, j);
-        pw.truncate(n + 1 - t);
+        knots.remove(r);
+        removed += 1;
     }
     Removal {
         bundle: Bundle {
             degree: p,
-            knots: new_knots,
+            knots,
             rows,
         },
-        removed: t,
+        removed,
         spent,
         refused,
     }

@@ -56,6 +56,26 @@ impl NurbsCurve {
         Ok((self.with_bundle(l)?, self.with_bundle(r)?))
     }
 
+    /// The piece of the curve on `[a, b]`, `u_p <= a < b <= u_{n+1}`, keeping its parameters:
+    /// [`split_at`](Self::split_at) at each end strictly inside the domain (NURBS Book A5.1,
+    /// exact). Error if the range is not inside the domain or is empty.
+    pub fn piece(&self, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
+        let (s, e) = self.domain();
+        if !(s <= a && a < b && b <= e) {
+            return Err(GeometryError::InvalidArgument(format!(
+                "range [{a}, {b}] is not inside the curve's domain [{s}, {e}]"
+            )));
+        }
+        let mut out = self.clone();
+        if a > s {
+            out = out.split_at(a)?.1;
+        }
+        if b < e {
+            out = out.split_at(b)?.0;
+        }
+        Ok(out)
+    }
+
     /// Joins `other` after `self`: the end of `self` must meet the start of `other` within
     /// `tolerance` (else [`GeometryError::ToleranceExceeded`] with the gap). Degrees,
     /// rationality and dimensions must agree (else [`GeometryError::InvalidArgument`]).
@@ -142,6 +162,37 @@ impl NurbsCurve {
 }
 
 impl NurbsSurface {
+    /// The piece of the surface on `[a, b] x [c, d]` inside its domain, keeping its
+    /// parameters: [`split_at_u`](Self::split_at_u) and [`split_at_v`](Self::split_at_v) at
+    /// each end strictly inside the domain (NURBS Book A5.3, exact). Error if either range
+    /// is empty or not inside the domain.
+    pub fn piece(
+        &self,
+        (a, b): (f64, f64),
+        (c, d): (f64, f64),
+    ) -> Result<NurbsSurface, GeometryError> {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        if !(u0 <= a && a < b && b <= u1 && v0 <= c && c < d && d <= v1) {
+            return Err(GeometryError::InvalidArgument(format!(
+                "range [{a}, {b}] x [{c}, {d}] is not inside the surface's domain [{u0}, {u1}] x [{v0}, {v1}]"
+            )));
+        }
+        let mut out = self.clone();
+        if a > u0 {
+            out = out.split_at_u(a)?.1;
+        }
+        if b < u1 {
+            out = out.split_at_u(b)?.0;
+        }
+        if c > v0 {
+            out = out.split_at_v(c)?.1;
+        }
+        if d < v1 {
+            out = out.split_at_v(d)?.0;
+        }
+        Ok(out)
+    }
+
     /// Splits at `u` into the surfaces on `[u_p, u]` and `[u, u_{n+1}]` in u (A5.3 insertion
     /// to multiplicity `p`, then cut). Exact; parameters kept.
     pub fn split_at_u(&self, u: f64) -> Result<(NurbsSurface, NurbsSurface), GeometryError> {

@@ -52,7 +52,7 @@ use super::{EdgeId, Face, FaceId, Model};
 use crate::nurbs::project::invert_surface;
 use crate::nurbs::tessellate::{Budget, Mesh, Polyline, STOP_POLL, TessellationError};
 use crate::nurbs::vector::{cross, dist, norm};
-use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+use crate::nurbs::{NurbsSurface, Point3};
 
 /// Rounds of refinement of a face's triangulation at most.
 pub const MAX_ROUNDS: usize = 64;
@@ -274,7 +274,7 @@ impl Model {
                 edge.0
             )))
         })?;
-        let piece = restrict(&e.curve, e.range)?;
+        let piece = e.curve.piece(e.range.0, e.range.1)?;
         let mut line = piece.tessellate_within(tolerance, budget)?;
         let start = self.vertices.get(e.start.0).map(|v| v.point);
         let end = self.vertices.get(e.end.0).map(|v| v.point);
@@ -1112,18 +1112,4 @@ fn segment_distance(p: [f64; 2], [a, b]: [[f64; 2]; 2]) -> f64 {
         0.0
     };
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
-}
-
-/// The curve over `range` only (exact: A5.1 knot insertion at the range's ends), keeping
-/// its parameters.
-fn restrict(c: &NurbsCurve, (a, b): (f64, f64)) -> Result<NurbsCurve, TessellationError> {
-    let (d0, d1) = c.domain();
-    let mut piece = c.clone();
-    if a > d0 && a < d1 {
-        piece = piece.split_at(a)?.1;
-    }
-    if b > a && b < d1 {
-        piece = piece.split_at(b)?.0;
-    }
-    Ok(piece)
 }

@@ -455,28 +455,12 @@ fn plane_bound(surface: &NurbsSurface, curve: &NurbsCurve, p: &NurbsCurve) -> Op
 fn iso_bound(curve: &NurbsCurve, (a, b): (f64, f64), found: &Iso) -> Option<f64> {
     let (fa, fb) = found.ends;
     let (lo, hi) = (fa.min(fb), fa.max(fb));
-    let edge = piece(curve, a, b)?;
-    let mut line = piece(&found.line, lo, hi)?;
+    let edge = curve.piece(a, b).ok()?;
+    let mut line = found.line.piece(lo, hi).ok()?;
     if fa > fb {
         line = line.reverse().ok()?;
     }
     same_curve_bound(&edge, &line)
-}
-
-/// `c` cut to `[a, b]` (inside its domain) by knot insertion.
-fn piece(c: &NurbsCurve, a: f64, b: f64) -> Option<NurbsCurve> {
-    let (s, e) = c.domain();
-    if !(s <= a && a < b && b <= e) {
-        return None;
-    }
-    let mut out = c.clone();
-    if a > s {
-        out = out.split_at(a).ok()?.1;
-    }
-    if b < e {
-        out = out.split_at(b).ok()?.0;
-    }
-    Some(out)
 }
 
 /// A bound of `|C(t) - D(phi(t))|` over `C`'s domain, `phi` the increasing affine map of

@@ -1362,7 +1362,7 @@ pub(super) fn read_curve(
             (Some(a), Some(b)) if a >= d0 && b <= d1 && a < b => Some((a, b)),
             _ => None,
         };
-        let trimmed = range.map(|(a, b)| trim_curve(&curve, a, b));
+        let trimmed = range.map(|(a, b)| curve.piece(a, b));
         match trimmed {
             Some(Ok(c)) => {
                 if c.domain() != (d0, d1) {
@@ -1422,44 +1422,6 @@ fn full_with_one_pole_less(rec: &Curve126) -> bool {
         && knots[m] <= v0
         && v0 < v1
         && v1 <= knots[k + 1]
-}
-
-/// The curve on exactly `[a, b]` (inside its domain): split at `a` and at `b` by knot
-/// insertion to full multiplicity (NURBS Book A5.1, [`NurbsCurve::split_at`]); the pieces
-/// keep their parameters, so the trimmed curve is the untrimmed one on `[a, b]`.
-fn trim_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, crate::nurbs::GeometryError> {
-    let (d0, d1) = c.domain();
-    let mut c = c.clone();
-    if a > d0 {
-        c = c.split_at(a)?.1;
-    }
-    if b < d1 {
-        c = c.split_at(b)?.0;
-    }
-    Ok(c)
-}
-
-/// The surface on exactly `[a, b] x [c, d]`: [`trim_curve`]'s splits in u, then in v.
-fn trim_surface(
-    s: &NurbsSurface,
-    (a, b): (f64, f64),
-    (c, d): (f64, f64),
-) -> Result<NurbsSurface, crate::nurbs::GeometryError> {
-    let ((u0, u1), (v0, v1)) = s.domain();
-    let mut s = s.clone();
-    if a > u0 {
-        s = s.split_at_u(a)?.1;
-    }
-    if b < u1 {
-        s = s.split_at_u(b)?.0;
-    }
-    if c > v0 {
-        s = s.split_at_v(c)?.1;
-    }
-    if d < v1 {
-        s = s.split_at_v(d)?.0;
-    }
-    Ok(s)
 }
 
 fn trimmed_diag(loc: &Location, what: &str, u: (f64, f64), v: Option<(f64, f64)>) -> Diagnostic {
@@ -1605,7 +1567,7 @@ fn read_surface(
             }
             _ => None,
         };
-        match range.map(|(u, v)| trim_surface(&surface, u, v)) {
+        match range.map(|(u, v)| surface.piece(u, v)) {
             Some(Ok(s)) => {
                 let (u, v) = s.domain();
                 if (u, v) != ((u0, u1), (v0, v1)) {

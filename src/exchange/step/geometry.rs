@@ -224,37 +224,18 @@ impl Basis {
                         let k = ((a - s) / p).floor();
                         let (a, b) = (a - k * p, b - k * p);
                         if b <= e + 1e-12 * p {
-                            sub_curve(curve, a, b.min(e))
+                            curve.piece(a, b.min(e))
                         } else {
-                            let first = sub_curve(curve, a, e)?;
-                            let second = sub_curve(curve, s, b - p)?;
+                            let first = curve.piece(a, e)?;
+                            let second = curve.piece(s, b - p)?;
                             first.join(&second, super::closure_tolerance(curve.control_points()))
                         }
                     }
-                    None => sub_curve(curve, a, b),
+                    None => curve.piece(a, b),
                 }
             }
         }
     }
-}
-
-/// The piece of a NURBS on `[a, b]` inside its domain, by exact splitting (A5.1 knot
-/// insertion): parameters unchanged.
-fn sub_curve(c: &NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
-    let (s, e) = c.domain();
-    if !(a >= s && b <= e && a < b) {
-        return Err(GeometryError::InvalidArgument(format!(
-            "range [{a}, {b}] is not inside the curve's domain [{s}, {e}]"
-        )));
-    }
-    let mut out = c.clone();
-    if a > s {
-        out = out.split_at(a)?.1;
-    }
-    if b < e {
-        out = out.split_at(b)?.0;
-    }
-    Ok(out)
 }
 
 /// `[lo, hi]` of a range running from `from` to `to` along increasing parameter: for a
@@ -378,21 +359,9 @@ impl SurfaceBasis {
                 sweep::extrude(&profile.bounded(u.0, u.1)?, *d, v.0, v.1)
             }
             SurfaceBasis::Nurbs(s) => {
+                // A trim reaching past the knot domain keeps the domain's end there.
                 let ((u0, u1), (v0, v1)) = s.domain();
-                let mut out = s.clone();
-                if u.0 > u0 {
-                    out = out.split_at_u(u.0)?.1;
-                }
-                if u.1 < u1 {
-                    out = out.split_at_u(u.1)?.0;
-                }
-                if v.0 > v0 {
-                    out = out.split_at_v(v.0)?.1;
-                }
-                if v.1 < v1 {
-                    out = out.split_at_v(v.1)?.0;
-                }
-                Ok(out)
+                s.piece((u.0.max(u0), u.1.min(u1)), (v.0.max(v0), v.1.min(v1)))
             }
         };
         surface.map(|s| (s, None))
