@@ -201,3 +201,76 @@ fn a_curve_off_the_surface_is_refused() {
     assert!(pcurve_by_projection(&plane, &on, (0.5, 0.5), 1e-7).is_err());
     assert!(pcurve_by_projection(&plane, &on, (0.0, 1.0), 1e-7).is_ok());
 }
+
+/// An arc of a cylinder's parallel that starts on the seam and runs to smaller angles, with
+/// a loose tolerance (a file's 1e-2): Newton continued from the previous point is kept in
+/// the domain, so the points just across the seam stopped on it (the seam's side of the
+/// start) within the tolerance, and the next ones, found by the global search on the other
+/// side, made the pcurve jump (refused as a seam crossing). Each point must land at its own
+/// angle (through the cylinder's exact angle map), the whole pcurve on the far side.
+#[test]
+fn an_arc_leaving_the_seam_backwards_takes_the_far_side() {
+    let r = 1.5;
+    let (cyl, map) = sweep::cylinder(&Z, r, (0.0, 2.0 * PI), (-1.0, 3.0)).unwrap();
+    let ((u0, u1), _) = cyl.domain();
+    let centre = [Z.origin[0], Z.origin[1], Z.origin[2] + 0.7];
+    // Angle -t for t in [0, 2]: x = cos t, y = -sin t.
+    let (arc, _) = conic_arc(
+        ConicKind::Elliptic,
+        centre,
+        [r, 0.0, 0.0],
+        [0.0, -r, 0.0],
+        0.0,
+        2.0,
+    )
+    .unwrap();
+    // Short spans near the seam (exact refinement, A5.4), as an intersection curve has: the
+    // projected points there are a small fraction of the tolerance apart.
+    let fine: Vec<f64> = (1..40).map(|k| 0.005 * k as f64).collect();
+    let arc = arc.refine(&fine).unwrap();
+    let tol = 1e-2;
+    let (pc, dev) = pcurve_by_projection(&cyl, &arc, arc.domain(), tol).unwrap();
+    assert!(dev <= tol, "{dev:e}");
+    for i in 0..=40 {
+        let t = 2.0 * i as f64 / 40.0;
+        let u = pc.point_at(t).unwrap()[0];
+        assert!(u >= u0 && u <= u1, "u {u} outside [{u0}, {u1}]");
+        let want = if i == 0 {
+            u1
+        } else {
+            map.u().to_nurbs(2.0 * PI - t)
+        };
+        // The fit is within the tolerance on the surface: r du/dangle >= r / 2 here.
+        assert!(
+            (u - want).abs() * r <= 4.0 * tol,
+            "t {t}: u {u}, the angle's u {want}"
+        );
+    }
+}
+
+/// A point just across the seam of a closed surface from the seam's sample (which stands
+/// for both ends of the domain, being one point) is found at its own parameters.
+#[test]
+fn a_point_just_across_the_seam_is_found() {
+    let r = 1.5;
+    let (cyl, map) = sweep::cylinder(&Z, r, (0.0, 2.0 * PI), (-1.0, 3.0)).unwrap();
+    for angle in [-1e-3, -1e-7, 1e-3, 1e-7] {
+        let p = [
+            Z.origin[0] + r * f64::cos(angle),
+            Z.origin[1] + r * f64::sin(angle),
+            Z.origin[2] + 1.3,
+        ];
+        let hit = invert_surface(&cyl, p, None).unwrap();
+        assert!(
+            hit.distance <= 1e-12,
+            "angle {angle}: distance {:e}",
+            hit.distance
+        );
+        let want = map.u().to_nurbs(angle.rem_euclid(2.0 * PI));
+        assert!(
+            (hit.u - want).abs() <= 1e-9,
+            "angle {angle}: u {} vs {want}",
+            hit.u
+        );
+    }
+}

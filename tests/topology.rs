@@ -359,6 +359,52 @@ fn a_plate_with_a_hole() {
     let mut bare = m.faces[0].clone();
     bare.loops[1].coedges[0].pcurve = None;
     assert!(m.measure_face(&bare).is_err());
+
+    // Splitting the hole's edge (used by both faces, once each way) keeps every face whole:
+    // two coedges in the order each loop runs, pcurves cut at the same parameter and still
+    // on the 3-D curve, the loops closed through the new vertex, the same area.
+    let (edges, vertices) = (m.edges.len(), m.vertices.len());
+    assert!(m.split_edge(eh, dom.1 + 1.0).is_err());
+    assert!(m.split_edge(eh, dom.0).is_err());
+    assert_eq!((m.edges.len(), m.vertices.len()), (edges, vertices));
+    let t = dom.0 + 0.37 * (dom.1 - dom.0);
+    let (mid, second) = m.split_edge(eh, t).unwrap();
+    assert_eq!((m.edges.len(), m.vertices.len()), (edges + 1, vertices + 1));
+    assert!(
+        dist(
+            m.vertices[mid.0].point,
+            m.edges[eh.0].curve.point_at(t).unwrap()
+        ) == 0.0
+    );
+    assert_eq!(m.edges[eh.0].range, (dom.0, t));
+    assert_eq!(m.edges[second.0].range, (t, dom.1));
+    for face in m.faces.clone() {
+        let hole = &face.loops[1].coedges;
+        assert_eq!(hole.len(), 2);
+        let ends: Vec<_> = hole.iter().map(|c| m.coedge_ends(c).unwrap()).collect();
+        assert_eq!(ends[0].1, ends[1].0);
+        assert_eq!(ends[1].1, ends[0].0);
+        for c in hole {
+            let e = &m.edges[c.edge.0];
+            let p = c.pcurve.as_ref().unwrap();
+            for k in 0..=10 {
+                let s = e.range.0 + (e.range.1 - e.range.0) * k as f64 / 10.0;
+                let [u, v, _] = p.point_at(s).unwrap();
+                let on = face.surface.point_at(u, v).unwrap();
+                assert!(dist(on, e.curve.point_at(s).unwrap()) <= 1e-9);
+            }
+        }
+        let again = m
+            .add_face(face.surface.clone(), face.loops.clone(), true)
+            .unwrap();
+        let got = m.measure_face(&m.faces[again.0]).unwrap();
+        let want = 16.0 - PI * r * r;
+        assert!(
+            (got.area - want).abs() <= 1e-9 * want,
+            "{} vs {want}",
+            got.area
+        );
+    }
 }
 
 #[test]

@@ -116,16 +116,38 @@ pub fn invert_surface(
     }
     // A start that lands on the point itself (within the rounding Newton stops at) is a
     // closest point no other start can beat: the rest are not run.
-    let mut best: Option<Inversion> = None;
-    for &(_, u, v, _) in &starts {
-        let Some(found) = newton(surface, point, (u, v), (du, dv), size) else {
-            continue;
-        };
-        if best.is_none_or(|b| found.distance < b.distance) {
-            best = Some(found);
+    // A start on the seam of a closed surface is also the same point at the other end of
+    // the domain (kept once among the distinct points above); Newton is kept inside the
+    // domain, so from one end it cannot reach a point just across the seam: both ends run.
+    let other_end = |x: f64, (lo, hi): (f64, f64)| {
+        if x == lo {
+            Some(hi)
+        } else if x == hi {
+            Some(lo)
+        } else {
+            None
         }
-        if found.distance <= 1e-15 * size {
-            break;
+    };
+    let mut best: Option<Inversion> = None;
+    'starts: for &(_, u, v, q) in &starts {
+        let across = [
+            other_end(u, du).map(|w| (w, v)),
+            other_end(v, dv).map(|w| (u, w)),
+        ];
+        let same_point =
+            |(a, b): (f64, f64)| dist(surface.point_at_unchecked(a, b), q) <= 1e-12 * size;
+        let tries =
+            std::iter::once((u, v)).chain(across.into_iter().flatten().filter(|&x| same_point(x)));
+        for start in tries {
+            let Some(found) = newton(surface, point, start, (du, dv), size) else {
+                continue;
+            };
+            if best.is_none_or(|b| found.distance < b.distance) {
+                best = Some(found);
+            }
+            if found.distance <= 1e-15 * size {
+                break 'starts;
+            }
         }
     }
     best
@@ -332,8 +354,9 @@ const MAX_PCURVE_SAMPLES: usize = MAX_FIT_POINTS / 2;
 /// where that could be reached, and the largest deviation found (checked at the fitted
 /// points and midway between them).
 ///
-/// On a surface closed in u or v (a cylinder's seam), each point takes the side of the seam
-/// that continues its neighbours; a start on the seam takes the side of the next point. Where
+/// On a surface closed in u or v (a cylinder's seam), the points take the side of the seam
+/// that keeps the pcurve continuous and inside the domain (a start or end on the seam, or
+/// past it by less than `tolerance`, is put on it). Where
 /// the surface is degenerate (a sphere's pole, where every u gives the same point) the
 /// parameter that is free there is taken from the neighbours.
 ///
@@ -370,25 +393,32 @@ pub fn pcurve_by_projection(
     let spans = breaks.len() - 1;
     let mut per = (p + 1).max(3);
     loop {
-        let mut pieces: Vec<NurbsCurve> = Vec::new();
-        let mut all_t: Vec<f64> = Vec::new();
+        // The parameters of each piece (consecutive pieces share their end), projected all
+        // together so that the whole pcurve takes one side of a seam.
+        let mut bounds: Vec<(usize, usize)> = Vec::new();
+        let mut all_t: Vec<f64> = vec![a];
         let mut first = 0;
-        let mut previous: Option<(f64, f64)> = None;
         for last in 1..breaks.len() {
             if last < breaks.len() - 1 && !hard[last] {
                 continue;
             }
-            let t: Vec<f64> = breaks[first..=last]
-                .windows(2)
-                .flat_map(|w| (0..per).map(move |i| w[0] + (w[1] - w[0]) * i as f64 / per as f64))
-                .chain(std::iter::once(breaks[last]))
-                .collect();
-            let uv = project_points(surface, curve, &t, tolerance, previous)?;
-            previous = uv.last().map(|q| (q[0], q[1]));
-            let piece = interpolate_at(&uv, &t, 3, 2)?;
-            all_t.extend_from_slice(&t[usize::from(!all_t.is_empty())..]);
-            pieces.push(piece);
+            let from = all_t.len() - 1;
+            all_t.extend(
+                breaks[first..=last]
+                    .windows(2)
+                    .flat_map(|w| {
+                        (0..per).map(move |i| w[0] + (w[1] - w[0]) * i as f64 / per as f64)
+                    })
+                    .skip(1)
+                    .chain(std::iter::once(breaks[last])),
+            );
+            bounds.push((from, all_t.len() - 1));
             first = last;
+        }
+        let uv = project_points(surface, curve, &all_t, tolerance)?;
+        let mut pieces: Vec<NurbsCurve> = Vec::with_capacity(bounds.len());
+        for &(from, to) in &bounds {
+            pieces.push(interpolate_at(&uv[from..=to], &all_t[from..=to], 3, 2)?);
         }
         let mut pieces = pieces.into_iter();
         let Some(mut pcurve) = pieces.next() else {
@@ -406,27 +436,41 @@ pub fn pcurve_by_projection(
 }
 
 /// The images of `curve(t)` for each `t`, continued from point to point.
+///
+/// On a surface closed in u or v the inverted parameters are unwrapped (each point within
+/// half a period of the one before) and the whole sequence is moved by the whole periods
+/// that put it inside the domain, where a point past the seam by less than `tolerance` on
+/// the surface (`tolerance / |S_u|` in u) is put on the seam: a curve that starts or ends
+/// on the seam, or wanders across it by less than the tolerance, gets one continuous
+/// pcurve. A sequence that spans more than that crosses the seam (an error).
 fn project_points(
     surface: &NurbsSurface,
     curve: &NurbsCurve,
     t: &[f64],
     tolerance: f64,
-    previous: Option<(f64, f64)>,
 ) -> Result<Vec<Point3>, GeometryError> {
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let closed = (
+    let closed = [
         closed_in(surface, true, tolerance),
         closed_in(surface, false, tolerance),
-    );
+    ];
     let mut uv: Vec<Point3> = Vec::with_capacity(t.len());
     let mut free: Vec<(bool, bool)> = Vec::with_capacity(t.len());
-    let continued = previous.is_some();
-    let mut previous = previous;
+    // |S_u|, |S_v| at each point: how far a parameter may pass the seam.
+    let mut speed: Vec<[f64; 2]> = Vec::with_capacity(t.len());
+    let mut previous: Option<(f64, f64)> = None;
     for &ti in t {
         let p = curve.point_at_unchecked(ti);
         let mut hit = invert_surface(surface, p, previous);
-        // A continued start that stopped in a local minimum: search the whole surface.
-        if hit.is_none_or(|h| h.distance > tolerance) && previous.is_some() {
+        // Newton from the previous point keeps its parameters in the domain: on a closed
+        // surface a point just past the seam stops on it, at a distance that may still be
+        // within the tolerance of a curve that is not exactly on the surface.
+        let stopped_on_seam = |h: &Inversion| {
+            (closed[0] && (h.u <= u0 || h.u >= u1)) || (closed[1] && (h.v <= v0 || h.v >= v1))
+        };
+        // A continued start that stopped in a local minimum (or on the seam): search the
+        // whole surface.
+        if hit.is_none_or(|h| h.distance > tolerance || stopped_on_seam(&h)) && previous.is_some() {
             let global = invert_surface(surface, p, None);
             if let (Some(g), Some(h)) = (global, hit) {
                 if g.distance < h.distance {
@@ -448,62 +492,55 @@ fn project_points(
                 h.distance
             )));
         }
-        let (mut u, mut v) = (h.u, h.v);
-        // The side of a seam that continues the previous point; a previous point on the seam
-        // itself (within 1e-9 of the period: a surface closed only within the tolerance puts
-        // the seam's points just inside) has no side yet (a start on the seam takes the side
-        // of this point, below), so this point keeps its own parameter.
-        let on_seam = |x: f64, lo: f64, hi: f64| {
-            let near = 1e-9 * (hi - lo);
-            x <= lo + near || x >= hi - near
-        };
-        if let Some((pu, pv)) = previous {
-            if closed.0 && (u - pu).abs() > 0.5 * (u1 - u0) && !on_seam(pu, u0, u1) {
-                u = if u < pu { u1 } else { u0 };
-            }
-            if closed.1 && (v - pv).abs() > 0.5 * (v1 - v0) && !on_seam(pv, v0, v1) {
-                v = if v < pv { v1 } else { v0 };
-            }
-        }
+        let (u, v) = (h.u, h.v);
         // Degenerate directions: a zero tangent makes that parameter free at this point.
         let skl = surface.derivatives(u, v, 1)?;
         let scale = (u1 - u0).max(v1 - v0);
         let size = norm(skl[0][0]).max(1.0);
-        free.push((
-            norm(skl[1][0]) * scale <= 1e-9 * size,
-            norm(skl[0][1]) * scale <= 1e-9 * size,
-        ));
+        let (su, sv) = (norm(skl[1][0]), norm(skl[0][1]));
+        free.push((su * scale <= 1e-9 * size, sv * scale <= 1e-9 * size));
+        speed.push([su, sv]);
         uv.push([u, v, 0.0]);
         previous = Some((u, v));
     }
-    // A seam start takes the side of the next point (unless continued from a previous
-    // piece).
-    for k in [0usize, 1] {
-        if continued {
-            break;
-        }
-        let is_closed = if k == 0 { closed.0 } else { closed.1 };
-        let (lo, hi) = if k == 0 { (u0, u1) } else { (v0, v1) };
-        if is_closed && uv.len() > 1 && (uv[0][k] - uv[1][k]).abs() > 0.5 * (hi - lo) {
-            uv[0][k] = if uv[0][k] < uv[1][k] { hi } else { lo };
-        }
-    }
     fill_free(&mut uv, &free);
-    // A jump of more than half the period between neighbours: the curve crosses the seam.
     for k in [0usize, 1] {
-        let (lo, hi, is_closed) = if k == 0 {
-            (u0, u1, closed.0)
-        } else {
-            (v0, v1, closed.1)
+        let (lo, hi) = if k == 0 { (u0, u1) } else { (v0, v1) };
+        let period = hi - lo;
+        if !closed[k] || period.is_nan() || period <= 0.0 {
+            continue;
+        }
+        let wrap = |x: f64| {
+            let y = x.rem_euclid(period);
+            if y > period / 2.0 { y - period } else { y }
         };
-        if is_closed
-            && uv
-                .windows(2)
-                .any(|w| (w[1][k] - w[0][k]).abs() > 0.5 * (hi - lo))
-        {
+        for i in 1..uv.len() {
+            uv[i][k] = uv[i - 1][k] + wrap(uv[i][k] - uv[i - 1][k]);
+        }
+        // How far past the domain each point may be: its tolerance in parameter, but never
+        // more than rounding for a point where the surface hardly moves.
+        let slack: Vec<f64> = speed
+            .iter()
+            .map(|s| (tolerance / s[k]).min(1e-3 * period).max(1e-12 * period))
+            .collect();
+        let fits = |shift: f64| {
+            uv.iter()
+                .zip(&slack)
+                .all(|(q, &e)| q[k] + shift >= lo - e && q[k] + shift <= hi + e)
+        };
+        let min = uv.iter().map(|q| q[k]).fold(f64::INFINITY, f64::min);
+        let j = -((min - lo) / period).floor();
+        let Some(shift) = [j, j - 1.0, j + 1.0]
+            .into_iter()
+            .map(|j| j * period)
+            .find(|&s| fits(s))
+        else {
             return Err(GeometryError::InvalidArgument(
                 "the curve crosses the surface's seam: its pcurve would jump".into(),
             ));
+        };
+        for q in &mut uv {
+            q[k] = (q[k] + shift).clamp(lo, hi);
         }
     }
     Ok(uv)

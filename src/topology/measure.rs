@@ -644,11 +644,21 @@ impl Model {
 /// 5.3 4.34), and sewing orients faces by their bounds: a face whose outer bound runs
 /// clockwise in (u, v) against its sense (IGES 144s on surfaces whose NURBS (u, v) reverse
 /// the file's) faces the other way round, and so does its flux.
+///
+/// A face with no outer bound (ISO 10303-42 face_bound only, as a band of a cylinder between
+/// two full circles, pierced by holes) is bounded by loops that wind around its closed
+/// surface, whose orientation in `(u, v)` says nothing: the loops that close in `(u, v)`
+/// are its holes, which run clockwise around the face normal.
 pub(crate) fn faces_outward(face: &Face, orientation: bool) -> bool {
-    let outer = face.loops.iter().find(|l| l.outer).or(face.loops.first());
-    let bound_agrees = outer
-        .and_then(|l| loop_counter_clockwise(&face.surface, &l.coedges))
-        .is_none_or(|ccw| ccw == face.same_sense);
+    let ccw = |l: &super::Loop| loop_counter_clockwise(&face.surface, &l.coedges);
+    let bound_agrees = match face.loops.iter().find(|l| l.outer) {
+        Some(outer) => ccw(outer).is_none_or(|c| c == face.same_sense),
+        None => face
+            .loops
+            .iter()
+            .find_map(ccw)
+            .is_none_or(|c| c != face.same_sense),
+    };
     (face.same_sense == orientation) == bound_agrees
 }
 

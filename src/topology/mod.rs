@@ -44,8 +44,8 @@ pub use error::TopologyError;
 pub use measure::{FACE_EVALUATIONS, FaceMeasure, MODEL_EVALUATIONS, MeasureError, Totals};
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
 pub use pcurve::{
-    EdgePcurve, PcurveMethod, edge_pcurve, exact_pcurve, loop_counter_clockwise, moved_seams,
-    seam_side, seam_sides_by_continuity,
+    EdgePcurve, PcurveMethod, SeamPlan, edge_pcurve, exact_pcurve, loop_counter_clockwise,
+    moved_seams, seam_side, seam_sides_by_continuity, seam_splits,
 };
 pub use sew::Sewing;
 
@@ -218,6 +218,92 @@ impl Model {
         Ok(id)
     }
 
+    /// Splits an edge at the parameter `t` strictly inside its range: the edge keeps
+    /// `[range.0, t]` and ends at a new vertex at `curve(t)`; a new edge on the same curve
+    /// takes `[t, range.1]` from that vertex to the old end. Every coedge of the edge in the
+    /// model's faces becomes two (in the order its loop runs), their pcurves cut at `t`
+    /// exactly ([`NurbsCurve::piece`], A5.1: a pcurve shares the edge curve's parameter).
+    /// The geometry is unchanged; the model gains one vertex and one edge. Returns them.
+    ///
+    /// Errors: a missing edge, or `t` not strictly inside the range or not splitting every
+    /// pcurve (nothing is changed then).
+    pub fn split_edge(
+        &mut self,
+        edge: EdgeId,
+        t: f64,
+    ) -> Result<(VertexId, EdgeId), TopologyError> {
+        let e = self.edges.get(edge.0).ok_or(TopologyError::Missing {
+            what: "edge",
+            index: edge.0,
+        })?;
+        let (a, b) = e.range;
+        let bad = TopologyError::EdgeRange {
+            edge,
+            range: (a, t),
+            domain: (a, b),
+        };
+        if !(t > a && t < b) {
+            return Err(bad);
+        }
+        // Every pcurve is cut first, so that a failure changes nothing.
+        let mut cut: Vec<(usize, usize, usize, [Option<NurbsCurve>; 2])> = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            for (l, lp) in face.loops.iter().enumerate() {
+                for (k, c) in lp.coedges.iter().enumerate() {
+                    if c.edge == edge {
+                        cut.push((f, l, k, split_pcurve(c, (a, t, b)).ok_or(bad.clone())?));
+                    }
+                }
+            }
+        }
+        let point = e.curve.point_at(t).map_err(|_| bad.clone())?;
+        let (curve, end, tolerance) = (e.curve.clone(), e.end, e.tolerance);
+        let middle = self.add_vertex(point, tolerance)?;
+        let second = EdgeId(self.edges.len());
+        self.edges.push(Edge {
+            curve,
+            range: (t, b),
+            start: middle,
+            end,
+            tolerance,
+        });
+        let first = &mut self.edges[edge.0];
+        first.range = (a, t);
+        first.end = middle;
+        // Coedges from the last, so that the indices of the earlier ones stay valid.
+        for (f, l, k, [p1, p2]) in cut.into_iter().rev() {
+            let coedges = &mut self.faces[f].loops[l].coedges;
+            let c = coedges[k].clone();
+            coedges.splice(k..=k, split_coedge(&c, second, p1, p2));
+        }
+        Ok((middle, second))
+    }
+
+    /// The loops with every coedge of `edge` replaced by the two coedges of its halves after
+    /// [`split_edge`](Self::split_edge) made `second` of it at `t`: for loops not yet in a
+    /// face. `None` (the loops unchanged) if a pcurve does not split.
+    pub fn split_coedges(&self, loops: &mut [Loop], edge: EdgeId, second: EdgeId) -> Option<()> {
+        let (a, t) = self.edges.get(edge.0)?.range;
+        let b = self.edges.get(second.0)?.range.1;
+        let mut out: Vec<Vec<Coedge>> = Vec::with_capacity(loops.len());
+        for l in loops.iter() {
+            let mut coedges = Vec::with_capacity(l.coedges.len() + 1);
+            for c in &l.coedges {
+                if c.edge == edge {
+                    let [p1, p2] = split_pcurve(c, (a, t, b))?;
+                    coedges.extend(split_coedge(c, second, p1, p2));
+                } else {
+                    coedges.push(c.clone());
+                }
+            }
+            out.push(coedges);
+        }
+        for (l, coedges) in loops.iter_mut().zip(out) {
+            l.coedges = coedges;
+        }
+        Some(())
+    }
+
     /// The vertices an edge is traversed from and to by a coedge.
     pub fn coedge_ends(&self, c: &Coedge) -> Option<(VertexId, VertexId)> {
         let e = self.edges.get(c.edge.0)?;
@@ -343,4 +429,31 @@ impl Model {
         self.solids.push(Solid { outer, voids });
         Ok(SolidId(self.solids.len() - 1))
     }
+}
+
+/// A coedge's pcurve cut at `t` of its edge's range `[a, b]`: `[None, None]` without one.
+fn split_pcurve(c: &Coedge, (a, t, b): (f64, f64, f64)) -> Option<[Option<NurbsCurve>; 2]> {
+    match &c.pcurve {
+        None => Some([None, None]),
+        Some(p) => Some([Some(p.piece(a, t).ok()?), Some(p.piece(t, b).ok()?)]),
+    }
+}
+
+/// The two coedges that replace `c` once its edge is split ([`Model::split_edge`]): the
+/// first half (`c.edge`, kept) then the second (`second`) when the loop runs with the edge,
+/// the other way round otherwise. The deviation found over the whole range bounds each half.
+fn split_coedge(
+    c: &Coedge,
+    second: EdgeId,
+    p1: Option<NurbsCurve>,
+    p2: Option<NurbsCurve>,
+) -> [Coedge; 2] {
+    let half = |edge: EdgeId, pcurve: Option<NurbsCurve>| Coedge {
+        edge,
+        forward: c.forward,
+        pcurve,
+        pcurve_deviation: c.pcurve_deviation,
+    };
+    let (h1, h2) = (half(c.edge, p1), half(second, p2));
+    if c.forward { [h1, h2] } else { [h2, h1] }
 }

@@ -269,12 +269,7 @@ pub fn loop_counter_clockwise(surface: &NurbsSurface, coedges: &[Coedge]) -> Opt
         let p = c.pcurve.as_ref()?;
         let (a, b) = p.domain();
         for k in 0..=LOOP_SAMPLES {
-            let x = k as f64 / LOOP_SAMPLES as f64;
-            let t = if c.forward {
-                a + (b - a) * x
-            } else {
-                b - (b - a) * x
-            };
+            let t = along(c, (a, b), k as f64 / LOOP_SAMPLES as f64);
             let [u, v, _] = p.point_at_unchecked(t);
             if k == 0 {
                 if let Some(q) = last {
@@ -365,6 +360,218 @@ pub fn moved_seams(
         }
     }
     out
+}
+
+/// The parameter of `[a, b]` a fraction `f` of the way along a coedge, in the direction its
+/// loop runs.
+fn along(c: &Coedge, (a, b): (f64, f64), f: f64) -> f64 {
+    if c.forward {
+        a + (b - a) * f
+    } else {
+        b - (b - a) * f
+    }
+}
+
+/// Points per coedge at which [`seam_splits`] locates a loop on the surface.
+const SEAM_SAMPLES: usize = 24;
+
+/// A seam for a closed surface and the edges it must cut ([`seam_splits`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeamPlan {
+    /// The surface with its seam moved ([`NurbsSurface::rotate_seam_u`], exact) or as it was.
+    pub surface: NurbsSurface,
+    /// Edges crossing the seam and the curve parameter where they do: each is to be split
+    /// there ([`Model::split_edge`]), so that each half has a pcurve inside the domain.
+    pub splits: Vec<(EdgeId, f64)>,
+}
+
+/// A seam for a face on a surface closed in u or v whose loops both wind around it and do
+/// not. ISO 10303-42 lets a face on a cylinder (cone, torus, revolution) have no seam edge:
+/// Solid Edge writes a pipe between two full circles, pierced by two holes, as one face
+/// whose circles start at 0 and 180 degrees and whose holes lie around 0 and 180 degrees.
+/// A NURBS surface has its seam at one place, and a pcurve must stay inside the domain, so
+/// - the seam goes where no loop that does not wind around is: in the middle of the widest
+///   gap between them, or where it is if it already lies in a gap, or with no such loops at
+///   the start of the first winding loop;
+/// - each edge of a winding loop that the seam then crosses away from its ends is to be
+///   split where it crosses ([`Model::split_edge`]; found by bisection on the side of the
+///   seam of the point inverted onto the surface, to the curve parameter's rounding).
+///
+/// Loops are located by inverting 24 points per coedge; a loop winds when
+/// its travel in the closed direction is more than half the period. `None` when a point is
+/// off the surface by more than `tolerance`, when the loops that do not wind cover the whole
+/// period, when an edge crosses the seam more than once, or when nothing would change.
+pub fn seam_splits(
+    surface: &NurbsSurface,
+    model: &Model,
+    loops: &[Loop],
+    tolerance: f64,
+) -> Option<SeamPlan> {
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let near = tolerance.max(1e-9 * size);
+    let locate = |q: Point3| invert_surface(surface, q, None).filter(|h| h.distance <= near);
+    // Per loop, per coedge in loop order: (edge, [(curve parameter, (u, v))]).
+    type Track = Vec<(EdgeId, Vec<(f64, [f64; 2])>)>;
+    let mut tracks: Vec<Track> = Vec::with_capacity(loops.len());
+    for l in loops {
+        let mut track = Vec::with_capacity(l.coedges.len());
+        for c in &l.coedges {
+            let e = model.edges.get(c.edge.0)?;
+            let (a, b) = e.range;
+            let mut pts = Vec::with_capacity(SEAM_SAMPLES + 1);
+            for k in 0..=SEAM_SAMPLES {
+                let t = along(c, (a, b), k as f64 / SEAM_SAMPLES as f64).clamp(a, b);
+                let hit = locate(e.curve.point_at(t).ok()?)?;
+                pts.push((t, [hit.u, hit.v]));
+            }
+            track.push((c.edge, pts));
+        }
+        tracks.push(track);
+    }
+    let domain = surface.domain();
+    let mut current = surface.clone();
+    let mut moved = false;
+    let mut splits: Vec<(EdgeId, f64)> = Vec::new();
+    for d in 0..2 {
+        let (lo, hi) = if d == 0 { domain.0 } else { domain.1 };
+        let period = hi - lo;
+        let closed = if d == 0 {
+            surface.is_closed_u(tolerance)
+        } else {
+            surface.is_closed_v(tolerance)
+        };
+        if !closed || period.is_nan() || period <= 0.0 {
+            continue;
+        }
+        // Into (-period / 2, period / 2].
+        let wrap = |x: f64| {
+            let y = x.rem_euclid(period);
+            if y > period / 2.0 { y - period } else { y }
+        };
+        let mut arcs: Vec<(f64, f64)> = Vec::new();
+        let mut winding: Vec<usize> = Vec::new();
+        for (k, track) in tracks.iter().enumerate() {
+            let mut x: Option<f64> = None;
+            let (mut min, mut max, mut start) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
+            for (_, pts) in track {
+                for (_, uv) in pts {
+                    let y = match x {
+                        None => {
+                            start = uv[d];
+                            uv[d]
+                        }
+                        Some(px) => px + wrap(uv[d] - px),
+                    };
+                    (min, max) = (min.min(y), max.max(y));
+                    x = Some(y);
+                }
+            }
+            let Some(end) = x else { continue };
+            if (end - start).abs() > period / 2.0 {
+                winding.push(k);
+            } else {
+                arcs.push((lo + (min - lo).rem_euclid(period), max - min));
+            }
+        }
+        let Some(&first_winding) = winding.first() else {
+            continue;
+        };
+        let seam = if arcs.is_empty() {
+            tracks[first_winding].first()?.1.first()?.1[d]
+        } else {
+            arcs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if arcs.iter().any(|a| a.1 >= period) {
+                return None;
+            }
+            // Is the current seam (`lo`, also `hi`) in a gap?
+            let covers = |&(s, l): &(f64, f64)| s + l > hi || s <= lo;
+            if arcs.iter().any(covers) {
+                let mut best = (0.0f64, 0.0f64);
+                let mut reach = arcs[0].0 + arcs[0].1;
+                for &(s, l) in &arcs[1..] {
+                    if s > reach && s - reach > best.0 {
+                        best = (s - reach, reach + (s - reach) / 2.0);
+                    }
+                    reach = reach.max(s + l);
+                }
+                let around = arcs[0].0 + period - reach;
+                if around > best.0 {
+                    best = (around, reach + around / 2.0);
+                }
+                if best.0 <= 0.0 {
+                    return None;
+                }
+                lo + (best.1 - lo).rem_euclid(period)
+            } else {
+                lo
+            }
+        };
+        let slack = 1e-9 * period;
+        if (seam - lo).abs() > slack && (hi - seam).abs() > slack {
+            current = if d == 0 {
+                current.rotate_seam_u(seam, tolerance)
+            } else {
+                current.rotate_seam_v(seam, tolerance)
+            }
+            .ok()?;
+            moved = true;
+        }
+        // The side of the seam of a curve point: negative before it, positive after.
+        let side = |e: &super::Edge, t: f64| -> Option<f64> {
+            let h = locate(e.curve.point_at(t).ok()?)?;
+            Some(wrap([h.u, h.v][d] - seam))
+        };
+        for &k in &winding {
+            for (edge, pts) in &tracks[k] {
+                let e = model.edges.get(edge.0)?;
+                let (a, b) = e.range;
+                for w in pts.windows(2) {
+                    let (ta, tb) = (w[0].0, w[1].0);
+                    let (ga, gb) = (wrap(w[0].1[d] - seam), wrap(w[1].1[d] - seam));
+                    // A crossing of the seam, not of its opposite line.
+                    if (ga < 0.0) == (gb < 0.0) || (ga - gb).abs() > period / 2.0 {
+                        continue;
+                    }
+                    let (mut inside, mut outside) = (ta, tb);
+                    for _ in 0..80 {
+                        let mid = 0.5 * (inside + outside);
+                        if mid == inside || mid == outside {
+                            break;
+                        }
+                        if (side(e, mid)? < 0.0) == (ga < 0.0) {
+                            inside = mid;
+                        } else {
+                            outside = mid;
+                        }
+                    }
+                    let mut t = 0.5 * (inside + outside);
+                    // A knot within rounding of the crossing is the crossing (a circle crosses
+                    // a quadric's seam at a knot): cut there, not a rounding error away,
+                    // which would leave a sliver span.
+                    if let Some(k) = e
+                        .curve
+                        .knots()
+                        .iter()
+                        .find(|&&k| (k - t).abs() <= 1e-10 * (b - a))
+                    {
+                        t = *k;
+                    }
+                    // At a vertex: the edge ends on the seam, nothing to cut.
+                    if (t - a).abs() <= 1e-9 * (b - a) || (b - t).abs() <= 1e-9 * (b - a) {
+                        continue;
+                    }
+                    if splits.iter().any(|(x, _)| x == edge) {
+                        return None;
+                    }
+                    splits.push((*edge, t));
+                }
+            }
+        }
+    }
+    (moved || !splits.is_empty()).then_some(SeamPlan {
+        surface: current,
+        splits,
+    })
 }
 
 /// Largest `|S(p(t)) - C(t)|` at `SAMPLES_PER_SPAN` points per knot span of `curve` in

@@ -29,7 +29,7 @@ use crate::nurbs::{
 };
 use crate::topology::{
     Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
-    seam_side,
+    seam_side, seam_splits,
 };
 
 /// Relative tolerance of the topology (of the part's size).
@@ -96,6 +96,8 @@ struct Build<'c, 'm, 's, 'a> {
     shells: HashMap<u64, ShellId>,
     /// Coedges whose pcurve could not be computed.
     missing_pcurves: usize,
+    /// Edges split at a face's seam ([`seam_splits`]): (first half, second half).
+    splits: Vec<(EdgeId, EdgeId)>,
     /// (entity id of a PCURVE's 2-D curve, the edge using it).
     pcurve_entities: Vec<(String, String)>,
 }
@@ -135,6 +137,7 @@ pub(super) fn build(
         faces: HashMap::new(),
         shells: HashMap::new(),
         missing_pcurves: 0,
+        splits: Vec::new(),
         pcurve_entities: Vec::new(),
     };
     // Vertices first: their box gives the tolerance.
@@ -352,6 +355,18 @@ impl Build<'_, '_, '_, '_> {
                 pcurve_deviation: None,
             });
         }
+        // Edges split for an earlier face, in the order they were split.
+        if !self.splits.is_empty() {
+            let mut l = [Loop {
+                coedges: out,
+                outer: false,
+            }];
+            for &(edge, second) in &self.splits {
+                let _ = self.topology.model.split_coedges(&mut l, edge, second);
+            }
+            let [Loop { coedges, .. }] = l;
+            out = coedges;
+        }
         Some(out)
     }
 
@@ -515,6 +530,26 @@ impl Build<'_, '_, '_, '_> {
                 }
             }
         }
+        // Loops that wind around the surface and loops that do not (a pipe between two
+        // full circles, pierced by holes, without a seam edge): the seam goes between the
+        // holes and the winding edges are split where it crosses them (`seam_splits`).
+        if missing > 0 && moved.is_none() {
+            let m = &self.topology.model;
+            if let Some(plan) = seam_splits(surface, m, &loops, self.tolerance) {
+                for &(edge, t) in &plan.splits {
+                    self.split_edge(id, edge, t, &mut loops);
+                }
+                let mut trial = loops.clone();
+                if self.pcurves(&plan.surface, None, &mut trial, same_sense) == 0 {
+                    loops = trial;
+                    missing = 0;
+                    moved = Some(plan.surface);
+                } else if !plan.splits.is_empty() {
+                    // The split loops, on the surface as it was.
+                    missing = self.pcurves(surface, map, &mut loops, same_sense);
+                }
+            }
+        }
         self.missing_pcurves += missing;
         let surface = moved.as_ref().unwrap_or(surface);
         // Bounds that do not say which one is outer (all plain face_bounds, as Open CASCADE
@@ -554,6 +589,33 @@ impl Build<'_, '_, '_, '_> {
                 }
             }
             Err(e) => self.refuse(id, &e),
+        }
+    }
+
+    /// Splits `edge` at `t` for the face `face` ([`seam_splits`]): in the model (faces
+    /// already built included), in the face's `loops`, and in every loop built later.
+    fn split_edge(&mut self, face: u64, edge: EdgeId, t: f64, loops: &mut [Loop]) {
+        let model = &mut self.topology.model;
+        match model.split_edge(edge, t) {
+            Ok((vertex, second)) => {
+                let _ = model.split_coedges(loops, edge, second);
+                let origin = self.topology.origins.edges.get(edge.0).cloned();
+                if let Some(o) = origin {
+                    self.topology.origins.vertices.push(o.clone());
+                    self.topology.origins.edges.push(o.clone());
+                    let d = Diagnostic::info(
+                        "topology.edge_split_at_seam",
+                        format!(
+                            "edge {} is split in two at the seam of face #{face}'s NURBS surface (new vertex {}): the face has no seam edge, its loops need the seam where this edge runs, and a pcurve must stay inside the surface's domain; the geometry is unchanged",
+                            o.id, vertex.0
+                        ),
+                        self.conv.location(face),
+                    );
+                    self.diagnostics.push(d);
+                }
+                self.splits.push((edge, second));
+            }
+            Err(e) => self.refuse(face, &e),
         }
     }
 
