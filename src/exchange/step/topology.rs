@@ -536,6 +536,11 @@ impl Build<'_, '_, '_, '_> {
         if missing > 0 && moved.is_none() {
             let m = &self.topology.model;
             if let Some(plan) = seam_splits(surface, m, &loops, self.tolerance) {
+                // The pcurves are found again below, on the halves.
+                for c in loops.iter_mut().flat_map(|l| &mut l.coedges) {
+                    c.pcurve = None;
+                    c.pcurve_deviation = None;
+                }
                 for &(edge, t) in &plan.splits {
                     self.split_edge(id, edge, t, &mut loops);
                 }
@@ -598,21 +603,21 @@ impl Build<'_, '_, '_, '_> {
         let model = &mut self.topology.model;
         match model.split_edge(edge, t) {
             Ok((vertex, second)) => {
+                // Without pcurves (cleared by the caller) the coedges always split.
                 let _ = model.split_coedges(loops, edge, second);
-                let origin = self.topology.origins.edges.get(edge.0).cloned();
-                if let Some(o) = origin {
-                    self.topology.origins.vertices.push(o.clone());
-                    self.topology.origins.edges.push(o.clone());
-                    let d = Diagnostic::info(
-                        "topology.edge_split_at_seam",
-                        format!(
-                            "edge {} is split in two at the seam of face #{face}'s NURBS surface (new vertex {}): the face has no seam edge, its loops need the seam where this edge runs, and a pcurve must stay inside the surface's domain; the geometry is unchanged",
-                            o.id, vertex.0
-                        ),
-                        self.conv.location(face),
-                    );
-                    self.diagnostics.push(d);
-                }
+                let origins = &mut self.topology.origins;
+                let o = origins.edges.get(edge.0).cloned().unwrap_or_default();
+                origins.vertices.push(o.clone());
+                origins.edges.push(o.clone());
+                let d = Diagnostic::info(
+                    "topology.edge_split_at_seam",
+                    format!(
+                        "edge {} is split in two at the seam of face #{face}'s NURBS surface (new vertex {}): the face has no seam edge, its loops need the seam where this edge runs, and a pcurve must stay inside the surface's domain; the geometry is unchanged",
+                        o.id, vertex.0
+                    ),
+                    self.conv.location(face),
+                );
+                self.diagnostics.push(d);
                 self.splits.push((edge, second));
             }
             Err(e) => self.refuse(face, &e),
