@@ -251,7 +251,14 @@ fn sphere_has_gaussian_one_over_r2_and_mean_one_over_r() {
             "inward normal"
         );
         assert!((k.mean - 1.0 / r).abs() < 1e-12, "H = {}", k.mean);
-        assert!((k.k1 - 1.0 / r).abs() < 1e-6 && (k.k2 - 1.0 / r).abs() < 1e-6);
+        // The discriminant as a sum of squares keeps the principal curvatures of an umbilic
+        // within rounding of each other (`mean^2 - gaussian` left sqrt(eps) = 1e-8).
+        assert!(
+            (k.k1 - 1.0 / r).abs() < 1e-12 && (k.k2 - 1.0 / r).abs() < 1e-12,
+            "k1 {} k2 {}",
+            k.k1,
+            k.k2
+        );
         assert!(k.umbilic);
         let ff = s.fundamental_forms(u, v).unwrap();
         // On a sphere II = I / r (inward normal): L = E / r, M = F / r, N = G / r.
@@ -369,4 +376,56 @@ proptest! {
         let n = s.normal(u, v).unwrap();
         prop_assert!(norm(sub(n, k.normal)) < 1e-14);
     }
+}
+
+/// A proptest failure (CI): a rational bicubic-by-linear patch at a nearly cylindrical point
+/// (k1 = 8e-9, k2 = -1.3), where `k1 = mean + disc` cancelled to 1e-8 relative error and
+/// `k1 k2` missed the gaussian curvature by 2e-9 of itself. The small root now comes from
+/// the product of the roots.
+#[test]
+fn principal_curvatures_of_a_nearly_cylindrical_point_multiply_to_the_gaussian() {
+    let pts = [
+        [-9.677610559151358, 5.810926254126056, 0.0],
+        [-2.134552392770927, 3.8235969912363013, -7.891719122462799],
+        [3.8127984977218596, 0.0, -1.5738398321134435],
+        [-5.79660420397526, 6.027245244502987, -9.271835213800857],
+        [-5.478919467671139, 9.733381527195485, 1.2625914915793974],
+        [1.1030674796862332, 7.686520009992596, -5.596581970357492],
+        [-7.558167083632465, -5.826035205154047, -3.3225261271911775],
+        [0.12754583149688384, 9.036340072098534, -8.292474230723569],
+    ];
+    let w = [
+        2.6924190582586016,
+        4.202534960706155,
+        0.9520933109494163,
+        2.9572528821675728,
+        4.38083153112737,
+        2.4359706239855106,
+        1.7777751819650478,
+        4.361456417221429,
+    ];
+    let s = NurbsSurface::new(
+        3,
+        1,
+        vec![0.0, 0.0, 0.0, 0.0, 0.05, 0.05, 0.05, 0.05],
+        vec![0.0, 0.05, 0.1, 0.15000000000000002],
+        Grid::from_u_major(4, 2, pts.to_vec()).unwrap(),
+        Some(Grid::from_u_major(4, 2, w.to_vec()).unwrap()),
+    )
+    .unwrap();
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (u, v) = (
+        u0 + 0.8421516591446582 * (u1 - u0),
+        v0 + 0.7480767455338997 * (v1 - v0),
+    );
+    let k = s.curvature(u, v).unwrap();
+    assert!(k.k1 >= k.k2);
+    let scale = (k.k1 * k.k2).abs().max(k.k1 * k.k1).max(1e-12);
+    assert!(
+        (k.gaussian - k.k1 * k.k2).abs() <= 1e-9 * scale,
+        "K {} vs k1 k2 {}",
+        k.gaussian,
+        k.k1 * k.k2
+    );
+    assert!((k.mean - 0.5 * (k.k1 + k.k2)).abs() <= 1e-12 * k.k1.abs().max(k.k2.abs()));
 }

@@ -275,8 +275,33 @@ impl NurbsSurface {
         let det = e * g - f * f;
         let gaussian = (l * n - m * m) / det;
         let mean = (e * n - 2.0 * f * m + g * l) / (2.0 * det);
-        let disc = (mean * mean - gaussian).max(0.0).sqrt();
-        let (k1, k2) = (mean + disc, mean - disc);
+        // Half the distance between the principal curvatures, from the discriminant of
+        // `det k^2 - (eN - 2fM + gL) k + (LN - M^2) = 0` written as a sum of squares
+        // (dividing by the larger of e and g): `mean^2 - gaussian` subtracts two nearly
+        // equal numbers near an umbilic and could come out negative by more than rounding,
+        // which made `k1 k2` differ from the gaussian curvature.
+        let (p, q, a) = if g >= e {
+            (e * n - g * l, f * n - g * m, g)
+        } else {
+            (g * l - e * n, f * l - e * m, e)
+        };
+        let disc = ((p - 2.0 * f * q / a).powi(2) + 4.0 * det.max(0.0) * (q / a).powi(2)).sqrt()
+            / (2.0 * det.abs());
+        // The root of larger magnitude is `mean +- disc` with the sign of `mean` (no
+        // cancellation); the other is `gaussian / big` by Vieta's product of the roots, since
+        // `mean -+ disc` loses all digits of a curvature far smaller than the other (a nearly
+        // cylindrical point: 1e-8 relative error in k1 k2 at k1 / k2 = 1e-8).
+        let big = if mean >= 0.0 {
+            mean + disc
+        } else {
+            mean - disc
+        };
+        let small = if big != 0.0 { gaussian / big } else { 0.0 };
+        let (k1, k2) = if big >= small {
+            (big, small)
+        } else {
+            (small, big)
+        };
         // Umbilic test: relative to the curvatures themselves, with a floor of 1e-12 / size
         // for planes where both vanish up to rounding.
         let kmax = k1.abs().max(k2.abs());
