@@ -59,24 +59,24 @@ fn result_dimension(dimension: usize, points: &[Point3]) -> usize {
 /// monotone and on the right side of the domain ends despite rounding, so the reversed
 /// vector is valid and has exactly the same domain.
 fn reverse_knots(knots: &[f64], a: f64, b: f64) -> Vec<f64> {
+    knots.iter().rev().map(|&u| mirror(u, a, b)).collect()
+}
+
+/// `u -> a + b - u`, with the domain ends mapped exactly onto each other and values kept on
+/// their side of the domain ends despite rounding (the map [`reverse_knots`] applies).
+fn mirror(u: f64, a: f64, b: f64) -> f64 {
     let s = a + b;
-    knots
-        .iter()
-        .rev()
-        .map(|&u| {
-            if u == a {
-                b
-            } else if u == b {
-                a
-            } else if u < a {
-                (s - u).max(b)
-            } else if u > b {
-                (s - u).min(a)
-            } else {
-                (s - u).clamp(a, b)
-            }
-        })
-        .collect()
+    if u == a {
+        b
+    } else if u == b {
+        a
+    } else if u < a {
+        (s - u).max(b)
+    } else if u > b {
+        (s - u).min(a)
+    } else {
+        (s - u).clamp(a, b)
+    }
 }
 
 /// Maps a knot vector affinely so that `[a, b]` becomes `[c, d]` (ends exact, order kept).
@@ -126,6 +126,15 @@ impl NurbsCurve {
             self.weights().map(<[f64]>::to_vec),
             dim,
         )
+    }
+
+    /// The parameter of [`reverse`](Self::reverse)'s curve at which it passes where this
+    /// curve is at `t`: `a + b - t`, with the domain's ends mapped exactly onto each other
+    /// (as the reversed knots are), so that a range ending at a domain end still does after
+    /// the reversal.
+    pub fn reversed_parameter(&self, t: f64) -> f64 {
+        let (a, b) = self.domain();
+        mirror(t, a, b)
     }
 
     /// The same point set traversed the other way: `C'(u) = C(a + b - u)` on the same

@@ -168,6 +168,8 @@ struct Builder<'c, 'f, 'a> {
     widened: usize,
     /// Vertex uses of 508 loops (TYPE = 1), implied by their neighbouring edges.
     vertex_uses: usize,
+    /// 142/141 boundary pieces whose model-space curve is a point (degenerate sides).
+    degenerate_pieces: usize,
     /// Coedges built, and those left without a pcurve.
     coedges: usize,
     no_pcurve: usize,
@@ -220,6 +222,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             shells: BTreeMap::new(),
             widened: 0,
             vertex_uses: 0,
+            degenerate_pieces: 0,
             coedges: 0,
             no_pcurve: 0,
         }
@@ -393,6 +396,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 format!(
                     "{} vertex uses in 508 loops (TYPE = 1, degenerate sides at poles and apexes) are the vertex the neighbouring edges share; no degenerate edge is made for them",
                     self.vertex_uses
+                ),
+                Location::default(),
+            ));
+        }
+        if self.degenerate_pieces > 0 {
+            diags.push(Diagnostic::info(
+                "topology.degenerate_side",
+                format!(
+                    "{} boundary pieces of 142/141 curves are a single point in model space (degenerate sides at poles and apexes, as Open CASCADE writes them); no degenerate edge is made for them, the neighbouring edges share their vertex",
+                    self.degenerate_pieces
                 ),
                 Location::default(),
             ));
@@ -948,6 +961,18 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
     ) -> Result<Vec<Coedge>, TopologyError> {
         let mut coedges = Vec::with_capacity(model.len());
         for (i, piece) in model.iter().enumerate() {
+            // A side collapsed to a point (a pole, an apex) bounds nothing in model space:
+            // the edges before and after it meet at its point (as for 508 vertex uses).
+            let poles = piece.curve.control_points();
+            let point = poles.iter().all(|p| {
+                poles
+                    .first()
+                    .is_some_and(|q| (0..3).all(|k| (p[k] - q[k]).abs() <= self.tol))
+            });
+            if point && model.len() > 1 {
+                self.degenerate_pieces += 1;
+                continue;
+            }
             let edge = self.boundary_edge(from, piece)?;
             let given = params.and_then(|ps| ps.get(i)).map(|q| q.curve);
             let pcurve = self.pcurve(surface, given, edge);

@@ -8,7 +8,10 @@
 //!   edge's parameter range (`V(0), V(1)`); when every coedge has a pcurve and the pcurves
 //!   chain in the surface's (u, v) within 1e-9 of its domain's size, B(t) is a 102 of the 2-D
 //!   126 pcurves (z = 0, use flag 05) and PREF = 1 (parameter space preferred), otherwise
-//!   BPTR = 0 and PREF = 2 (model space).
+//!   BPTR = 0 and PREF = 2 (model space). Loops that wind around a closed surface without a
+//!   seam edge, and loops that skip a collapsed side, are first made into boundaries that
+//!   close in (u, v): joined by the seam, with the collapsed side as a curve of zero length
+//!   (`closed_in_parameter_space`).
 //! - With `iges_brep`: every solid as a 186 Manifold Solid B-Rep Object, every shell as a
 //!   514 Shell (form 1 closed, 2 open; a shell no solid holds is written alone), every face
 //!   of a shell as a 510 Face with its 508 Loops (form 1), the edges in one 504 Edge List
@@ -31,7 +34,7 @@ use nurbsx_parsers::iges::records::{
 
 use super::write::Items;
 use crate::exchange::{Cancel, Document, Entity, Meta, ParameterRange};
-use crate::nurbs::NurbsCurve;
+use crate::nurbs::{NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
 use crate::topology::{Coedge, EdgeId, Face, FaceId, Loop, Model, VertexId};
 
 /// Relative distance (of the surface's parameter domain) within which consecutive pcurves
@@ -265,17 +268,50 @@ fn trimmed_face<'d>(
     let surface = items.surface(Cow::Borrowed(&face.surface), meta, 1);
     let mut ordered: Vec<_> = face.loops.iter().collect();
     ordered.sort_by_key(|l| !l.outer);
-    let mut boundaries = Vec::with_capacity(ordered.len());
-    for l in &ordered {
-        let coedges = written_coedges(face, l);
-        // Model space: one 126 per coedge, in the loop's direction.
-        let mut model_pieces = Vec::with_capacity(coedges.len());
-        for &(c, forward) in &coedges {
-            let edge = &model.edges[c.edge.0];
-            let (curve, range) = along(&edge.curve, edge.range, forward);
-            let mut m = edge_meta(c.edge);
-            m.parameter_range = Some(ParameterRange { u: range, v: None });
-            model_pieces.push(items.curve(curve, &m, 1));
+    let loops: Vec<Boundary<'d>> = ordered
+        .iter()
+        .map(|l| {
+            let coedges = written_coedges(face, l);
+            let segments = coedges
+                .iter()
+                .map(|&(c, forward)| {
+                    let edge = &model.edges[c.edge.0];
+                    let (d0, d1) = c.pcurve.as_ref().map_or((0.0, 0.0), |p| p.domain());
+                    Segment {
+                        model: along(&edge.curve, edge.range, forward),
+                        meta: edge_meta(c.edge),
+                        parameter: c
+                            .pcurve
+                            .as_ref()
+                            .filter(|_| edge.range.0 >= d0 && edge.range.1 <= d1)
+                            .map(|p| along(p, edge.range, forward)),
+                    }
+                })
+                .collect();
+            Boundary {
+                outer: l.outer,
+                segments,
+            }
+        })
+        .collect();
+    let tolerance = face
+        .loops
+        .iter()
+        .flat_map(|l| &l.coedges)
+        .map(|c| model.edges[c.edge.0].tolerance)
+        .fold(0.0, f64::max);
+    let loops = closed_in_parameter_space(&face.surface, tolerance, loops);
+    let mut boundaries = Vec::with_capacity(loops.len());
+    for l in &loops {
+        // Model space: one 126 per segment, in the loop's direction.
+        let mut model_pieces = Vec::with_capacity(l.segments.len());
+        for seg in &l.segments {
+            let mut m = seg.meta.clone();
+            m.parameter_range = Some(ParameterRange {
+                u: seg.model.1,
+                v: None,
+            });
+            model_pieces.push(items.curve(seg.model.0.clone(), &m, 1));
         }
         let model_curve = items.record(
             102,
@@ -286,7 +322,7 @@ fn trimmed_face<'d>(
                 members: model_pieces,
             },
         );
-        let parameter_curve = parameter_loop(model, face, &coedges).map(|pieces| {
+        let parameter_curve = parameter_loop(&face.surface, &l.segments).map(|pieces| {
             let members = pieces
                 .into_iter()
                 .map(|(curve, range)| {
@@ -313,7 +349,7 @@ fn trimmed_face<'d>(
             },
         ));
     }
-    let outer = ordered.first().is_some_and(|l| l.outer);
+    let outer = loops.first().is_some_and(|l| l.outer);
     let (outer_given, outer_ptr, inner) = if outer {
         (1, boundaries[0], boundaries[1..].to_vec())
     } else {
@@ -333,6 +369,355 @@ fn trimmed_face<'d>(
     );
 }
 
+/// One piece of a 144 boundary: its model-space curve on its range with the metadata of
+/// the edge it comes from, and its pcurve on its range when it has one.
+struct Segment<'d> {
+    model: Piece<'d>,
+    meta: Meta,
+    parameter: Option<Piece<'d>>,
+}
+
+/// A 144 boundary (outer or hole) as a chain of segments.
+struct Boundary<'d> {
+    outer: bool,
+    segments: Vec<Segment<'d>>,
+}
+
+/// The face's loops as boundaries that close in the surface's parameter space, which a 144
+/// needs (IGES 5.3 section 4.34: each boundary a closed curve in the domain; Open CASCADE
+/// otherwise cuts the face into pieces and zero-area slivers). ISO 10303-42 and the
+/// topology model do not need it: a face on a surface closed in u (or v) may have no seam
+/// edge, with one loop winding around each end of a band (two full circles bounding a
+/// cylinder), or one winding loop and a collapsed side (a cone up to its apex, a sphere cap
+/// up to its pole), and a face's loops may skip a collapsed side (a side of zero length is
+/// no edge). Points are compared in model space, within the edges' tolerance: a pcurve
+/// projected from another system's curve may end a little off the seam. So:
+/// - a gap between consecutive pcurves whose ends both lie on a collapsed side of the
+///   domain is filled by a segment along it (its model-space curve a single point);
+/// - a loop with one gap left whose ends are the same point and lie a period apart winds
+///   around the surface;
+/// - two loops winding in the same direction become one outer boundary around the band
+///   between them, counter-clockwise (each loop turned round if it ran the other way: the
+///   band is the only region two winding loops bound), joined by the seam twice: the lower
+///   loop, the seam from its end to the upper loop's start, the upper loop, the seam back;
+/// - one winding loop becomes the outer boundary around to the collapsed side on its left
+///   (or to the only collapsed side, the loop turned round if needed): loop, seam, the
+///   collapsed side, seam.
+///
+/// The seam segments are the surface's iso-curve on the seam in model space, and in
+/// parameter space the line between the loop ends they join. Loops that do not close this
+/// way keep their gaps and are written in model space only (PREF = 2).
+fn closed_in_parameter_space<'d>(
+    surface: &NurbsSurface,
+    tolerance: f64,
+    loops: Vec<Boundary<'d>>,
+) -> Vec<Boundary<'d>> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let size = bounding_box_diagonal(surface.control_points().as_slice());
+    let tol3 = tolerance.max(1e-9 * size);
+    let tol2 = PCURVE_CHAIN_TOL * (u1 - u0).abs().max((v1 - v0).abs()).max(1.0);
+    let period = [u1 - u0, v1 - v0];
+    let closed = [surface.is_closed_u(tol3), surface.is_closed_v(tol3)];
+    let at = |p: [f64; 2]| surface.point_at_unchecked(p[0].clamp(u0, u1), p[1].clamp(v0, v1));
+    let near = |a: Point3, b: Point3| (0..3).all(|k| (a[k] - b[k]).abs() <= tol3);
+    // The point of a side of the domain (`k` the coordinate fixed on it, at `value`) when
+    // the side is collapsed to it.
+    let collapsed = |k: usize, value: f64| -> Option<Point3> {
+        let row = if k == 1 {
+            surface.iso_v(value).ok()?
+        } else {
+            surface.iso_u(value).ok()?
+        };
+        let poles = row.control_points();
+        let first = *poles.first()?;
+        poles.iter().all(|&p| near(p, first)).then_some(first)
+    };
+    let sides: Vec<(usize, f64, Point3)> = [(1, v0), (1, v1), (0, u0), (0, u1)]
+        .into_iter()
+        .filter_map(|(k, value)| Some((k, value, collapsed(k, value)?)))
+        .collect();
+    let mut closed_loops: Vec<Boundary<'d>> = Vec::with_capacity(loops.len());
+    // Winding loops: rotated to start after their gap, with the closed direction.
+    let mut winding: Vec<(Boundary<'d>, usize)> = Vec::new();
+    let mut open: Vec<Boundary<'d>> = Vec::new();
+    for mut l in loops {
+        let ends: Option<Vec<([f64; 2], [f64; 2])>> = l
+            .segments
+            .iter()
+            .map(|s| {
+                let (c, (a, b)) = s.parameter.as_ref()?;
+                let p = c.point_at_unchecked(*a);
+                let q = c.point_at_unchecked(*b);
+                Some(([p[0], p[1]], [q[0], q[1]]))
+            })
+            .collect();
+        let Some(ends) = ends.filter(|e| !e.is_empty()) else {
+            open.push(l);
+            continue;
+        };
+        let n = ends.len();
+        // Fill the gaps along collapsed sides: fills[i] goes after segment i.
+        let mut gaps: Vec<usize> = Vec::new();
+        let mut fills: Vec<Option<Segment<'d>>> = (0..n).map(|_| None).collect();
+        for i in 0..n {
+            let (e, s) = (ends[i].1, ends[(i + 1) % n].0);
+            if (e[0] - s[0]).abs().max((e[1] - s[1]).abs()) <= tol2 {
+                continue;
+            }
+            let side = sides.iter().find(|&&(k, value, point)| {
+                (e[k] - value).abs() <= 0.5 * period[k]
+                    && (s[k] - value).abs() <= 0.5 * period[k]
+                    && near(at(e), point)
+                    && near(at(s), point)
+            });
+            match side.and_then(|&(k, _, point)| collapsed_segment(e, s, point, 1 - k)) {
+                Some(seg) => fills[i] = Some(seg),
+                None => gaps.push(i),
+            }
+        }
+        // Which gap is left: none (closed), or one a period long in a closed direction
+        // between two ends that are the same point (winding).
+        let wind = match gaps.as_slice() {
+            [] => None,
+            &[i] => {
+                let (e, s) = (ends[i].1, ends[(i + 1) % n].0);
+                let found = (0..2).find(|&d| {
+                    closed[d] && (e[d] - s[d]).abs() > 0.5 * period[d] && near(at(e), at(s))
+                });
+                match found {
+                    Some(d) => Some((i, d)),
+                    None => {
+                        open.push(l);
+                        continue;
+                    }
+                }
+            }
+            _ => {
+                open.push(l);
+                continue;
+            }
+        };
+        // The segments with the fills, starting after the winding loop's gap.
+        let first = wind.map_or(0, |(i, _)| (i + 1) % n);
+        let mut old: Vec<Option<Segment<'d>>> = l.segments.into_iter().map(Some).collect();
+        let mut segments = Vec::with_capacity(n + 2);
+        for k in 0..n {
+            let j = (first + k) % n;
+            segments.extend(old[j].take());
+            segments.extend(fills[j].take());
+        }
+        l.segments = segments;
+        match wind {
+            None => closed_loops.push(l),
+            Some((_, d)) => winding.push((l, d)),
+        }
+    }
+    let joined = join_winding(surface, &sides, &mut winding, &at, &near);
+    let mut out = Vec::with_capacity(closed_loops.len() + winding.len() + open.len() + 1);
+    match joined {
+        Some(j) => {
+            out.push(j);
+            for l in &mut closed_loops {
+                l.outer = false;
+            }
+        }
+        None => open.extend(winding.into_iter().map(|(l, _)| l)),
+    }
+    out.extend(closed_loops);
+    out.extend(open);
+    out.sort_by_key(|l| !l.outer);
+    out
+}
+
+/// The first and last parameter-space points of a boundary.
+fn boundary_ends(l: &Boundary<'_>) -> Option<([f64; 2], [f64; 2])> {
+    let (c, (a, _)) = l.segments.first()?.parameter.as_ref()?;
+    let (d, (_, b)) = l.segments.last()?.parameter.as_ref()?;
+    let (p, q) = (c.point_at_unchecked(*a), d.point_at_unchecked(*b));
+    Some(([p[0], p[1]], [q[0], q[1]]))
+}
+
+/// The boundary traversed the other way (segments in reverse order, each reversed).
+fn turned<'d>(l: &mut Boundary<'d>) {
+    let old = std::mem::take(&mut l.segments);
+    l.segments = old
+        .into_iter()
+        .rev()
+        .map(|s| {
+            let (m, r) = s.model;
+            Segment {
+                model: reversed_piece(m, r),
+                meta: s.meta,
+                parameter: s.parameter.map(|(c, r)| reversed_piece(c, r)),
+            }
+        })
+        .collect();
+}
+
+fn reversed_piece<'d>(c: Cow<'d, NurbsCurve>, r: (f64, f64)) -> Piece<'d> {
+    let (rc, rr) = along(&c, r, false);
+    (Cow::Owned(rc.into_owned()), rr)
+}
+
+/// Joins the winding loops of [`closed_in_parameter_space`] into one outer boundary.
+fn join_winding<'d>(
+    surface: &NurbsSurface,
+    sides: &[(usize, f64, Point3)],
+    winding: &mut [(Boundary<'d>, usize)],
+    at: &dyn Fn([f64; 2]) -> Point3,
+    near: &dyn Fn(Point3, Point3) -> bool,
+) -> Option<Boundary<'d>> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    match winding {
+        [(a, da), (b, db)] if da == db => {
+            let d = *da;
+            let k = 1 - d;
+            let (sa, _) = boundary_ends(a)?;
+            let (sb, _) = boundary_ends(b)?;
+            // Counter-clockwise around the band: for u closed the loop at the lower v runs
+            // +u; for v closed the loop at the larger u runs +v.
+            let (low, high) = if sa[k] <= sb[k] { (a, b) } else { (b, a) };
+            let (first, second) = if d == 0 { (low, high) } else { (high, low) };
+            let runs_forward =
+                |l: &Boundary<'_>| boundary_ends(l).is_some_and(|(s, e)| e[d] > s[d]);
+            if !runs_forward(first) {
+                turned(first);
+            }
+            if runs_forward(second) {
+                turned(second);
+            }
+            let (s1, e1) = boundary_ends(first)?;
+            let (s2, e2) = boundary_ends(second)?;
+            let up = seam_segment(surface, d, e1, s2, at, near)?;
+            let down = seam_segment(surface, d, e2, s1, at, near)?;
+            let mut segments = std::mem::take(&mut first.segments);
+            segments.push(up);
+            segments.append(&mut second.segments);
+            segments.push(down);
+            Some(Boundary {
+                outer: true,
+                segments,
+            })
+        }
+        [(a, d)] => {
+            let d = *d;
+            let k = 1 - d;
+            let (s, e) = boundary_ends(a)?;
+            // The collapsed side the region reaches: the one on the loop's left (for u
+            // closed and the loop running +u, v = v1; for v closed and +v, u = u0), or the
+            // only collapsed side of that coordinate.
+            let forward = e[d] > s[d];
+            let left = match (d, forward) {
+                (0, true) => v1,
+                (0, false) => v0,
+                (_, true) => u0,
+                (_, false) => u1,
+            };
+            let candidates: Vec<&(usize, f64, Point3)> =
+                sides.iter().filter(|x| x.0 == k).collect();
+            let &&(_, value, point) = match candidates.as_slice() {
+                [one] => one,
+                _ => candidates.iter().find(|x| x.1 == left)?,
+            };
+            let lower = value == v0 || value == u0;
+            // Counter-clockwise: for u closed a side above (v1) needs the loop to run +u;
+            // for v closed a side on the left (u0) needs +v.
+            let wanted = if d == 0 { !lower } else { lower };
+            if forward != wanted {
+                turned(a);
+            }
+            let (s, e) = boundary_ends(a)?;
+            let corner = |p: [f64; 2]| {
+                let mut q = p;
+                q[k] = value;
+                q
+            };
+            let (ce, cs) = (corner(e), corner(s));
+            let up = seam_segment(surface, d, e, ce, at, near)?;
+            let side = collapsed_segment(ce, cs, point, d)?;
+            let down = seam_segment(surface, d, cs, s, at, near)?;
+            let mut segments = std::mem::take(&mut a.segments);
+            segments.extend([up, side, down]);
+            Some(Boundary {
+                outer: true,
+                segments,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// A 2-D line from `p` to `q`, parameterised by the coordinate `k` that changes along it
+/// (the other is equal at both ends), on the range it runs over, traversed from `p`.
+fn parameter_line(p: [f64; 2], q: [f64; 2], k: usize) -> Option<Piece<'static>> {
+    let (lo, hi) = if p[k] < q[k] { (p, q) } else { (q, p) };
+    if hi[k].partial_cmp(&lo[k]) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let line = NurbsCurve::with_dimension(
+        1,
+        vec![lo[k], lo[k], hi[k], hi[k]],
+        vec![[lo[0], lo[1], 0.0], [hi[0], hi[1], 0.0]],
+        None,
+        2,
+    )
+    .ok()?;
+    let (c, range) = along(&line, (lo[k], hi[k]), p[k] < q[k]);
+    Some((Cow::Owned(c.into_owned()), range))
+}
+
+/// The segment along a collapsed side of the domain from `p` to `q` (both on it, `k` the
+/// coordinate that changes along it): in parameter space the line between them, in model
+/// space the side's single point as a curve of zero length (as Open CASCADE writes a
+/// degenerate edge), on the same range.
+fn collapsed_segment<'d>(p: [f64; 2], q: [f64; 2], point: Point3, k: usize) -> Option<Segment<'d>> {
+    let parameter = parameter_line(p, q, k)?;
+    let (a, b) = parameter.1;
+    let model = NurbsCurve::new(1, vec![a, a, b, b], vec![point, point], None).ok()?;
+    Some(Segment {
+        model: (Cow::Owned(model), (a, b)),
+        meta: Meta::default(),
+        parameter: Some(parameter),
+    })
+}
+
+/// The seam of a surface closed in direction `d` (0: u) from `p` to `q`, both within the
+/// tolerance of it in model space: in model space the surface's iso-curve on the seam
+/// (exact, NURBS Book section 5.4 knot insertion to full multiplicity; the one at the
+/// domain's start, so that the seam's two uses are the same curve), in parameter space the
+/// line from `p` to `q`, both parameterised by the coordinate along the seam.
+fn seam_segment<'d>(
+    surface: &NurbsSurface,
+    d: usize,
+    p: [f64; 2],
+    q: [f64; 2],
+    at: &dyn Fn([f64; 2]) -> Point3,
+    near: &dyn Fn(Point3, Point3) -> bool,
+) -> Option<Segment<'d>> {
+    let k = 1 - d;
+    let ((u0, _), (v0, _)) = surface.domain();
+    let on_seam = |x: [f64; 2]| {
+        let mut y = x;
+        y[d] = if d == 0 { u0 } else { v0 };
+        near(at(x), at(y))
+    };
+    if !(on_seam(p) && on_seam(q)) {
+        return None;
+    }
+    let parameter = parameter_line(p, q, k)?;
+    let iso = if d == 0 {
+        surface.iso_u(u0).ok()?
+    } else {
+        surface.iso_v(v0).ok()?
+    };
+    let (model, range) = along(&iso, (p[k].min(q[k]), p[k].max(q[k])), p[k] < q[k]);
+    Some(Segment {
+        model: (Cow::Owned(model.into_owned()), range),
+        meta: Meta::default(),
+        parameter: Some(parameter),
+    })
+}
+
 /// A curve to write with the parameter range it is written on.
 type Piece<'d> = (Cow<'d, NurbsCurve>, (f64, f64));
 
@@ -346,32 +731,27 @@ fn along(
     if forward {
         return (Cow::Borrowed(curve), range);
     }
-    let (a, b) = curve.domain();
     match curve.reverse() {
-        Ok(r) => (Cow::Owned(r), (a + b - range.1, a + b - range.0)),
+        Ok(r) => (
+            Cow::Owned(r),
+            (
+                curve.reversed_parameter(range.1),
+                curve.reversed_parameter(range.0),
+            ),
+        ),
         Err(_) => (Cow::Borrowed(curve), range),
     }
 }
 
-/// The loop's pcurves in the loop's direction when every coedge has one and they chain in
-/// the surface's parameter space (module documentation); `None` otherwise.
-fn parameter_loop<'d>(
-    model: &'d Model,
-    face: &Face,
-    coedges: &[(&'d Coedge, bool)],
-) -> Option<Vec<Piece<'d>>> {
-    let ((u0, u1), (v0, v1)) = face.surface.domain();
+/// The boundary's pcurves when every segment has one and they chain in the surface's
+/// parameter space (module documentation); `None` otherwise.
+fn parameter_loop<'d>(surface: &NurbsSurface, segments: &[Segment<'d>]) -> Option<Vec<Piece<'d>>> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
     let tol = PCURVE_CHAIN_TOL * (u1 - u0).abs().max((v1 - v0).abs()).max(1.0);
-    let mut pieces = Vec::with_capacity(coedges.len());
-    for &(c, forward) in coedges {
-        let p = c.pcurve.as_ref()?;
-        let edge = &model.edges[c.edge.0];
-        let (d0, d1) = p.domain();
-        if edge.range.0 < d0 || edge.range.1 > d1 {
-            return None;
-        }
-        pieces.push(along(p, edge.range, forward));
-    }
+    let pieces: Vec<Piece<'d>> = segments
+        .iter()
+        .map(|s| s.parameter.clone())
+        .collect::<Option<_>>()?;
     let n = pieces.len();
     for i in 0..n {
         let (a, ra) = &pieces[i];
