@@ -412,6 +412,9 @@ fn closed_in_parameter_space<'d>(
     tolerance: f64,
     loops: Vec<Boundary<'d>>,
 ) -> Vec<Boundary<'d>> {
+    if loops.iter().all(|l| chains(surface, &l.segments)) {
+        return loops;
+    }
     let ((u0, u1), (v0, v1)) = surface.domain();
     let size = bounding_box_diagonal(surface.control_points().as_slice());
     let tol3 = tolerance.max(1e-9 * size);
@@ -746,21 +749,28 @@ fn along(
 /// The boundary's pcurves when every segment has one and they chain in the surface's
 /// parameter space (module documentation); `None` otherwise.
 fn parameter_loop<'d>(surface: &NurbsSurface, segments: &[Segment<'d>]) -> Option<Vec<Piece<'d>>> {
+    chains(surface, segments).then(|| {
+        segments
+            .iter()
+            .filter_map(|s| s.parameter.clone())
+            .collect()
+    })
+}
+
+/// Whether every segment has a pcurve and each ends where the next starts, within
+/// [`PCURVE_CHAIN_TOL`] of the surface's domain.
+fn chains(surface: &NurbsSurface, segments: &[Segment<'_>]) -> bool {
     let ((u0, u1), (v0, v1)) = surface.domain();
     let tol = PCURVE_CHAIN_TOL * (u1 - u0).abs().max((v1 - v0).abs()).max(1.0);
-    let pieces: Vec<Piece<'d>> = segments
-        .iter()
-        .map(|s| s.parameter.clone())
-        .collect::<Option<_>>()?;
-    let n = pieces.len();
-    for i in 0..n {
-        let (a, ra) = &pieces[i];
-        let (b, rb) = &pieces[(i + 1) % n];
+    let n = segments.len();
+    (0..n).all(|i| {
+        let (Some((a, ra)), Some((b, rb))) =
+            (&segments[i].parameter, &segments[(i + 1) % n].parameter)
+        else {
+            return false;
+        };
         let end = a.point_at_unchecked(ra.1);
         let start = b.point_at_unchecked(rb.0);
-        if (end[0] - start[0]).abs().max((end[1] - start[1]).abs()) > tol {
-            return None;
-        }
-    }
-    Some(pieces)
+        (end[0] - start[0]).abs().max((end[1] - start[1]).abs()) <= tol
+    })
 }
