@@ -6,10 +6,12 @@
 //! | type | name | parameters |
 //! | --- | --- | --- |
 //! | 202 | Angular Dimension | note, two witness lines, vertex `XV, YV`, leader arc radius, two leaders |
+//! | 204 | Curve Dimension | note, the first curve, the second curve (0 for none), two leaders, two witness lines (0 for none) |
 //! | 206 | Diameter Dimension | note, two leaders (the second 0 when absent), arc center `XC, YC` |
 //! | 208 | Flag Note | lower-left corner, rotation, note, `N`, `N` leaders |
 //! | 210 | General Label | note, `N`, `N` leaders |
 //! | 212 | General Note | `NS`, `NS` × (characters, box width and height, font code, slant, rotation, mirror, rotate flag, start point, text) |
+//! | 213 | New General Note | text width and height, justification, area location, area rotation, base line position, normal interline spacing, `NS`, `NS` × (character display, character width and height, intercharacter and interline spacing, font style, character angle, control code string, characters, box width and height, character set or font, slant, rotation, mirror, rotate flag, start point, text) |
 //! | 214 | Leader (Arrow) | `N`, arrowhead height and width, depth, head `XH, YH`, `N` segment tails `X, Y` |
 //! | 216 | Linear Dimension | note, two leaders, two witness lines |
 //! | 218 | Ordinate Dimension | note, then form 0: a witness line or a leader; form 1: a witness line and a leader |
@@ -18,8 +20,10 @@
 //! | 228 | General Symbol | note, `N`, `N` geometry entities, `M`, `M` leaders |
 //! | 230 | Sectioned Area | exterior curve, fill pattern, passing point, line distance, angle, `N`, `N` island curves |
 //!
-//! The font code of a 212 string (FC) is a value, or a negated pointer to a 310 Text Font
-//! Definition.
+//! The font code of a 212 string (FC) and the character set of a 213 string are values,
+//! or negated pointers to a 310 Text Font Definition. IGES 5.3 sections 4.55-4.68 define
+//! the annotation entities (204 Curve Dimension: 4.56; 213 New General Note: 4.61). The
+//! 213 field names below describe the parameters; they are not the standard's.
 
 use super::{Count, Field, Schema, Type};
 
@@ -223,5 +227,64 @@ pub(super) const SECTIONED_AREA: Schema = Schema {
         Field::one("ANGLE", Type::Real),
         Field::one("N", Type::Integer),
         Field::times("ISLAND", Type::Pointer(&[]), Count::Field("N")),
+    ],
+};
+
+/// 204 Curve Dimension (IGES 5.3 section 4.56): the dimension of a curve's length (or of
+/// the distance along two curves), with its note, the curves, two leaders and two optional
+/// witness lines.
+pub(super) const CURVE_DIMENSION: Schema = Schema {
+    entity: 204,
+    name: "Curve Dimension",
+    fields: &[
+        Field::one("DENOTE", NOTE),
+        Field::one("DECURV1", Type::Pointer(&[])),
+        Field::one("DECURV2", Type::Pointer(&[])),
+        Field::one("DEARR1", LEADER),
+        Field::one("DEARR2", LEADER),
+        Field::one("DEWIT1", WITNESS),
+        Field::one("DEWIT2", WITNESS),
+    ],
+};
+
+/// 213 New General Note (IGES 5.3 section 4.61): the note's area, then per string its
+/// character layout and the 212 string's fields (box, font, slant, rotation, mirror,
+/// rotate flag, start point, text).
+pub(super) const NEW_GENERAL_NOTE: Schema = Schema {
+    entity: 213,
+    name: "New General Note",
+    fields: &[
+        Field::one("text width", Type::Real),
+        Field::one("text height", Type::Real),
+        Field::one("justification", Type::Flag),
+        Field::one("area location", Type::Point),
+        Field::one("area rotation", Type::Real),
+        Field::one("base line", Type::Point),
+        Field::one("interline spacing", Type::Real),
+        Field::one("NS", Type::Integer),
+        Field::group(
+            "string",
+            Count::Field("NS"),
+            &[
+                Field::one("character display", Type::Flag),
+                Field::one("character width", Type::Real),
+                Field::one("character height", Type::Real),
+                Field::one("intercharacter spacing", Type::Real),
+                Field::one("line spacing", Type::Real),
+                Field::one("font style", Type::Flag),
+                Field::one("character angle", Type::Real),
+                Field::one("control codes", Type::String),
+                Field::one("characters", Type::Flag),
+                Field::one("box width", Type::Real),
+                Field::one("box height", Type::Real),
+                Field::one("character set", Type::ValueOrPointer(&[310])),
+                Field::one("slant angle", Type::Real),
+                Field::one("rotation angle", Type::Real),
+                Field::one("mirror", Type::Flag),
+                Field::one("rotate", Type::Flag),
+                Field::one("start", Type::Point),
+                Field::one("TEXT", Type::String),
+            ],
+        ),
     ],
 };

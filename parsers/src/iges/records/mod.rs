@@ -11,6 +11,7 @@
 
 mod analytic_surfaces190_198;
 mod annotation202_230;
+mod array_subfigure412_414;
 mod associativity402;
 mod bounded_surface143;
 mod brep_solid186;
@@ -23,22 +24,28 @@ mod curve126;
 mod curve_on_surface142;
 mod direction123;
 mod edge_list504;
+mod external_reference416;
 mod face510;
 mod line110;
 mod loop508;
+mod network_subfigure320_420;
+mod nodal_constraint418;
 mod plane108;
 mod point116;
 mod property406;
 mod revolution120;
 mod ruled_surface118;
 mod shell514;
+mod solid_instance430;
 mod spline_curve112;
 mod spline_surface114;
 mod subfigure308_408;
 mod surface128;
 mod tabulated_cylinder122;
+mod text_font310_template312;
 mod transform124;
 mod trimmed_surface144;
+mod units316;
 mod vertex_list502;
 mod view410_drawing404;
 
@@ -86,7 +93,13 @@ pub const SURFACES: &[i64] = &[
     108, 114, 118, 120, 122, 128, 140, 143, 190, 192, 194, 196, 198,
 ];
 
-/// Every declared entity.
+/// Every declared entity whose parameters do not depend on the form.
+///
+/// Not declared (their pointers unchecked): the 322 Attribute Table Definition (IGES 5.3
+/// section 4.79), whose forms 1 and 2 hold values of the types its own attribute entries
+/// name, and the 422 Attribute Table Instance (section 4.141), whose values follow the
+/// layout of the 322 it names: a parameter's type read from data, or from another entity,
+/// is beyond these declarations.
 pub const SCHEMAS: &[Schema] = &[
     circular_arc100::SCHEMA,
     composite102::SCHEMA,
@@ -131,13 +144,28 @@ pub const SCHEMAS: &[Schema] = &[
     annotation202_230::POINT_DIMENSION,
     annotation202_230::GENERAL_SYMBOL,
     annotation202_230::SECTIONED_AREA,
+    annotation202_230::CURVE_DIMENSION,
+    annotation202_230::NEW_GENERAL_NOTE,
     color314_line_font304::COLOR,
+    text_font310_template312::TEXT_FONT,
+    text_font310_template312::TEXT_TEMPLATE,
+    units316::SCHEMA,
+    network_subfigure320_420::DEFINITION,
+    network_subfigure320_420::INSTANCE,
+    array_subfigure412_414::RECTANGULAR_ARRAY,
+    array_subfigure412_414::CIRCULAR_ARRAY,
+    nodal_constraint418::SCHEMA,
+    solid_instance430::SCHEMA,
 ];
 
 /// Declarations whose parameters depend on the form number: `(forms, schema)`.
-/// The 402 Associativity Instance forms 1, 3-5, 7, 9, 12-16 and 18-21, the 406 Property
-/// forms 1-3, 5, 15-21, 23 and 28-30, and the two forms each of 218, 222, 304, 404 and 410;
-/// the other forms of 402 and 406 are not declared (their pointers unchecked).
+/// The 402 Associativity Instance forms 1, 3-5, 7, 9, 12-16 and 18-21 (every form IGES 5.3
+/// predefines, sections 4.81-4.95), the 406 Property forms 1-3, 5-10, 12-26 and 28-36, the
+/// two forms each of 218, 222, 304, 404 and 410, and the five forms of 416. The 406 forms
+/// 11 (Tabular Data, section 4.107: its value counts are sums and products of values it
+/// lists) and 27 (Generic Data, section 4.123: each value's type is the integer before
+/// it) are not declared, nor are implementor-defined forms (5001-9999): their parameters
+/// and pointers are unchecked.
 pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1, 7, 14, 15], associativity402::GROUP),
     (&[3], associativity402::VIEWS_VISIBLE),
@@ -166,6 +194,24 @@ pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[28], property406::DIMENSION_UNITS),
     (&[29], property406::DIMENSION_TOLERANCE),
     (&[30], property406::DIMENSION_DISPLAY_DATA),
+    (&[6], property406::DRILLED_HOLE),
+    (&[7], property406::REFERENCE_DESIGNATOR),
+    (&[8], property406::PIN_NUMBER),
+    (&[9], property406::PART_NUMBER),
+    (&[10], property406::HIERARCHY),
+    (&[12], property406::EXTERNAL_REFERENCE_FILE_LIST),
+    (&[13], property406::NOMINAL_SIZE),
+    (&[14], property406::FLOW_LINE_SPECIFICATION),
+    (&[22], property406::UNIFORM_RECTANGULAR_GRID),
+    (&[24], property406::LEVEL_TO_LEP_LAYER_MAP),
+    (&[25], property406::LEP_ARTWORK_STACKUP),
+    (&[26], property406::LEP_DRILLED_HOLE),
+    (&[31], property406::BASIC_DIMENSION),
+    (&[32], property406::DRAWING_SHEET_APPROVAL),
+    (&[33], property406::DRAWING_SHEET_ID),
+    (&[34], property406::UNDERSCORE),
+    (&[35], property406::OVERSCORE),
+    (&[36], property406::CLOSURE),
     (&[0], annotation202_230::ORDINATE_DIMENSION),
     (&[1], annotation202_230::ORDINATE_DIMENSION_WITH_LEADER),
     (&[0], annotation202_230::RADIUS_DIMENSION),
@@ -176,6 +222,10 @@ pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1], view410_drawing404::DRAWING_WITH_ROTATION),
     (&[0], view410_drawing404::VIEW_SCHEMA),
     (&[1], view410_drawing404::PERSPECTIVE_VIEW),
+    (&[0, 2], external_reference416::FILE_AND_NAME),
+    (&[1], external_reference416::FILE),
+    (&[3], external_reference416::NAME),
+    (&[4], external_reference416::LIBRARY_AND_NAME),
 ];
 
 /// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
@@ -273,6 +323,9 @@ pub enum Type {
     ValueOrPointer(&'static [i64]),
     /// A Hollerith string.
     String,
+    /// An integer the form fixes to this value (the `NP` of a 406 form whose table gives
+    /// one value count): no default, and another value is an [`ErrorKind::Arity`] error.
+    Fixed(i64),
 }
 
 impl Type {
@@ -769,8 +822,12 @@ fn read_fields<'a>(
                         }
                         Value::Strings(v)
                     }
-                    Type::Integer | Type::Flag | Type::Pointer(_) | Type::ValueOrPointer(_) => {
-                        let default = (ty != Type::Integer).then_some(0);
+                    Type::Integer
+                    | Type::Flag
+                    | Type::Pointer(_)
+                    | Type::ValueOrPointer(_)
+                    | Type::Fixed(_) => {
+                        let default = (!matches!(ty, Type::Integer | Type::Fixed(_))).then_some(0);
                         let mut v = Vec::with_capacity(r.capacity(n, 1));
                         for _ in 0..n {
                             v.push(r.integer(f.name, default)?);
@@ -842,6 +899,22 @@ fn one<'a>(
             r.required_real(name)?,
         ]),
         Type::String => Value::String(r.string(name)?),
+        Type::Fixed(n) => {
+            let at = r.rest();
+            let v = r.integer(name, None)?;
+            if v != n {
+                let blanks = at.iter().take_while(|&&c| c == b' ').count();
+                return Err(Error::format(
+                    at.get(blanks..).unwrap_or(at),
+                    ErrorKind::Arity(format!(
+                        "{name} = {v}, but this form has {name} = {n}: the count in the \
+                         record does not match its form"
+                    )),
+                ));
+            }
+            head.ints.push((name, v));
+            Value::Int(v)
+        }
     })
 }
 

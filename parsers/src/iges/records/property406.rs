@@ -1,7 +1,7 @@
-//! Entity 406, Property (IGES 5.3, type 406): `NP`, then `NP` property values whose types
-//! the form defines. None holds a DE pointer among its values; their declarations give the
-//! count check and the check of the trailing associativity and property pointers (IGES 5.3
-//! section 2.2.4.5.2). Declared here:
+//! Entity 406, Property (IGES 5.3 section 4.97; the forms sections 4.98-4.132): `NP`, then
+//! `NP` property values whose types the form defines. None holds a DE pointer among its
+//! values; their declarations give the count check and the check of the trailing
+//! associativity and property pointers (IGES 5.3 section 2.2.4.5.2). Declared here:
 //!
 //! | form | name | values after `NP` |
 //! | --- | --- | --- |
@@ -20,10 +20,33 @@
 //! | 28 | Dimension Units | secondary position, units indicator, character set, format, fraction flag, precision |
 //! | 29 | Dimension Tolerance | secondary flag, type, placement, upper and lower tolerance, sign suppression, fraction flag, precision |
 //! | 30 | Dimension Display Data | type, label position, character set, `L` string, decimal symbol, witness angle, alignment, level, placement, arrowhead orientation, initial value, `NS`, `NS` × (note, start and end index) |
+//! | 6 | Drilled Hole (section 4.102) | `NP` = 5: drill and finish diameters, plating flag, lower and higher layer |
+//! | 7 | Reference Designator (4.103) | `NP` = 1: the designator |
+//! | 8 | Pin Number (4.104) | `NP` = 1: the pin number |
+//! | 9 | Part Number (4.105) | `NP` = 4: generic, military, vendor and internal part numbers |
+//! | 10 | Hierarchy (4.106) | `NP` = 6: line font, view, level, blank status, line weight and color flags |
+//! | 12 | External Reference File List (4.108) | `NP` file names |
+//! | 13 | Nominal Size (4.109) | `NP` = 2 or 3: size, name, the engineering standard (when `NP` = 3) |
+//! | 14 | Flow Line Specification (4.110) | `NP` strings: the specification name, then modifiers |
+//! | 22 | Uniform Rectangular Grid (4.118) | `NP` = 9: finite, line and weighted flags, point `PX, PY`, spacing `DX, DY`, counts `NX, NY` |
+//! | 24 | Level to LEP Layer Map (4.120) | `NLD`, `NLD` × (level, native level name, physical layer, functional level name) |
+//! | 25 | LEP Artwork Stackup (4.121) | stackup name, `NV`, `NV` level numbers |
+//! | 26 | LEP Drilled Hole (4.122) | `NP` = 3: drill and finish diameters, function code |
+//! | 31 | Basic Dimension (4.127) | `NP` = 8: the box corners `LLX` .. `ULY` |
+//! | 32 | Drawing Sheet Approval (4.128) | `NP` = 3: name, organization, date |
+//! | 33 | Drawing Sheet ID (4.129) | `NP` = 2: sheet number, revision identifier |
+//! | 34 | Underscore (4.130) | `NP` = 1 + 3 `ND`: `ND`, `ND` × (string, first and last character) |
+//! | 35 | Overscore (4.131) | as form 34 |
+//! | 36 | Closure (4.132) | `NP` = 1 or 2: closure in U, and in V for a surface |
 //!
-//! The other forms are not declared (their parameters unchecked).
+//! Where the form's table fixes `NP` (forms 6-10, 22, 26 and 31-33: [`Type::Fixed`]; 13,
+//! 34-36 by a formula) another `NP` is an error; the forms declared before these read `NP`
+//! without comparing it. Forms 11 (Tabular Data, section 4.107: its value counts are sums
+//! and products of the counts it lists) and 27 (Generic Data, section 4.123: each value's
+//! type is the integer before it) are beyond these declarations and not declared; nor are
+//! implementor-defined forms. Their parameters are unchecked.
 
-use super::{Count, Field, Schema, Type};
+use super::{Count, Field, Head, Schema, Type};
 
 /// Form 1, Definition Levels: `NP`, then the `NP` level numbers.
 pub(super) const DEFINITION_LEVELS: Schema = Schema {
@@ -175,3 +198,265 @@ fixed!(
         ),
     ]
 );
+
+/// A property whose table fixes `NP` to `$np`: the listed fields follow it.
+macro_rules! fixed_np {
+    ($name:ident, $title:literal, $np:literal, [$($field:expr),* $(,)?]) => {
+        pub(super) const $name: Schema = Schema {
+            entity: 406,
+            name: $title,
+            fields: &[Field::one("NP", Type::Fixed($np)), $($field),*],
+        };
+    };
+}
+
+fixed_np!(
+    DRILLED_HOLE,
+    "Drilled Hole Property",
+    5,
+    [
+        Field::one("DDS", Type::Real),
+        Field::one("FDS", Type::Real),
+        Field::one("PF", Type::Flag),
+        Field::one("LNL", Type::Flag),
+        Field::one("HNL", Type::Flag),
+    ]
+);
+fixed_np!(
+    REFERENCE_DESIGNATOR,
+    "Reference Designator Property",
+    1,
+    [Field::one("RD", Type::String)]
+);
+fixed_np!(
+    PIN_NUMBER,
+    "Pin Number Property",
+    1,
+    [Field::one("PN", Type::String)]
+);
+fixed_np!(
+    PART_NUMBER,
+    "Part Number Property",
+    4,
+    [
+        Field::one("GPN", Type::String),
+        Field::one("MPN", Type::String),
+        Field::one("VPN", Type::String),
+        Field::one("IPN", Type::String),
+    ]
+);
+fixed_np!(
+    HIERARCHY,
+    "Hierarchy Property",
+    6,
+    [
+        Field::one("LF", Type::Flag),
+        Field::one("VU", Type::Flag),
+        Field::one("LAB", Type::Flag),
+        Field::one("BL", Type::Flag),
+        Field::one("LW", Type::Flag),
+        Field::one("CO", Type::Flag),
+    ]
+);
+fixed_np!(
+    UNIFORM_RECTANGULAR_GRID,
+    "Uniform Rectangular Grid Property",
+    9,
+    [
+        Field::one("FFLAG", Type::Flag),
+        Field::one("LFLAG", Type::Flag),
+        Field::one("WFLAG", Type::Flag),
+        Field::one("PX", Type::Real),
+        Field::one("PY", Type::Real),
+        Field::one("DX", Type::Real),
+        Field::one("DY", Type::Real),
+        Field::one("NX", Type::Flag),
+        Field::one("NY", Type::Flag),
+    ]
+);
+fixed_np!(
+    LEP_DRILLED_HOLE,
+    "LEP Drilled Hole Property",
+    3,
+    [
+        Field::one("DDS", Type::Real),
+        Field::one("FDS", Type::Real),
+        Field::one("FC", Type::Flag),
+    ]
+);
+fixed_np!(
+    BASIC_DIMENSION,
+    "Basic Dimension Property",
+    8,
+    [
+        Field::one("LLX", Type::Real),
+        Field::one("LLY", Type::Real),
+        Field::one("LRX", Type::Real),
+        Field::one("LRY", Type::Real),
+        Field::one("URX", Type::Real),
+        Field::one("URY", Type::Real),
+        Field::one("ULX", Type::Real),
+        Field::one("ULY", Type::Real),
+    ]
+);
+fixed_np!(
+    DRAWING_SHEET_APPROVAL,
+    "Drawing Sheet Approval Property",
+    3,
+    [
+        Field::one("NAME", Type::String),
+        Field::one("ORG", Type::String),
+        Field::one("DATE", Type::String),
+    ]
+);
+fixed_np!(
+    DRAWING_SHEET_ID,
+    "Drawing Sheet ID Property",
+    2,
+    [
+        Field::one("SNUM", Type::Flag),
+        Field::one("SID", Type::String),
+    ]
+);
+
+/// Form 12, External Reference File List: `NP`, then `NP` file names.
+pub(super) const EXTERNAL_REFERENCE_FILE_LIST: Schema = Schema {
+    entity: 406,
+    name: "External Reference File List Property",
+    fields: &[
+        Field::one("NP", Type::Integer),
+        Field::times("NAME", Type::String, Count::Field("NP")),
+    ],
+};
+
+/// Form 14, Flow Line Specification: `NP`, then the specification name and its modifiers.
+pub(super) const FLOW_LINE_SPECIFICATION: Schema = Schema {
+    entity: 406,
+    name: "Flow Line Specification Property",
+    fields: &[
+        Field::one("NP", Type::Integer),
+        Field::times("L", Type::String, Count::Field("NP")),
+    ],
+};
+
+/// Form 13, Nominal Size: `NP` (2 or 3), the size, its name, and the engineering standard
+/// when `NP` = 3.
+pub(super) const NOMINAL_SIZE: Schema = Schema {
+    entity: 406,
+    name: "Nominal Size Property",
+    fields: &[
+        Field::one("NP", Type::Integer),
+        Field::one("SZ", Type::Real),
+        Field::one("NM", Type::String),
+        Field::times(
+            "SP",
+            Type::String,
+            Count::Formula {
+                formula: "NP - 2, NP = 2 or 3",
+                of: |h: &Head| match h.get("NP")? {
+                    np @ 2..=3 => Ok(usize::from(np == 3)),
+                    np => Err(format!("NP = {np}: the Nominal Size Property has 2 or 3")),
+                },
+            },
+        ),
+    ],
+};
+
+/// Form 24, Level to LEP Layer Map: `NP`, `NLD`, then per level its number, native name,
+/// physical layer and functional name.
+pub(super) const LEVEL_TO_LEP_LAYER_MAP: Schema = Schema {
+    entity: 406,
+    name: "Level to LEP Layer Map Property",
+    fields: &[
+        Field::one("NP", Type::Flag),
+        Field::one("NLD", Type::Integer),
+        Field::group(
+            "level",
+            Count::Field("NLD"),
+            &[
+                Field::one("EXCHANGE LEVEL", Type::Flag),
+                Field::one("NATIVE LEVEL", Type::String),
+                Field::one("PHYSICAL LAYER", Type::Flag),
+                Field::one("FUNCTIONAL LEVEL", Type::String),
+            ],
+        ),
+    ],
+};
+
+/// Form 25, LEP Artwork Stackup: `NP`, the stackup name, `NV`, then `NV` level numbers.
+pub(super) const LEP_ARTWORK_STACKUP: Schema = Schema {
+    entity: 406,
+    name: "LEP Artwork Stackup Property",
+    fields: &[
+        Field::one("NP", Type::Flag),
+        Field::one("ID", Type::String),
+        Field::one("NV", Type::Integer),
+        Field::times("L", Type::Flag, Count::Field("NV")),
+    ],
+};
+
+/// `ND` when `NP` = 1 + 3 `ND` (forms 34 and 35), an error otherwise.
+fn scores(h: &Head) -> Result<usize, String> {
+    let (np, nd) = (h.get("NP")?, h.count("ND")?);
+    match u64::try_from(nd)
+        .ok()
+        .and_then(|nd| nd.checked_mul(3)?.checked_add(1))
+    {
+        Some(n) if i64::try_from(n) == Ok(np) => Ok(nd),
+        _ => Err(format!("NP = {np} is not 1 + 3 ND with ND = {nd}")),
+    }
+}
+
+/// The specifications of forms 34 and 35: `ND`, then per specification the text string's
+/// index and its first and last character.
+const SCORES: [Field; 3] = [
+    Field::one("NP", Type::Integer),
+    Field::one("ND", Type::Integer),
+    Field::group(
+        "specification",
+        Count::Formula {
+            formula: "ND, NP = 1 + 3 ND",
+            of: scores,
+        },
+        &[
+            Field::one("T", Type::Flag),
+            Field::one("F", Type::Flag),
+            Field::one("L", Type::Flag),
+        ],
+    ),
+];
+
+/// Form 34, Underscore.
+pub(super) const UNDERSCORE: Schema = Schema {
+    entity: 406,
+    name: "Underscore Property",
+    fields: &SCORES,
+};
+
+/// Form 35, Overscore.
+pub(super) const OVERSCORE: Schema = Schema {
+    entity: 406,
+    name: "Overscore Property",
+    fields: &SCORES,
+};
+
+/// Form 36, Closure: `NP` (1 or 2, no default), then the closure flag in U and, for a
+/// surface, in V.
+pub(super) const CLOSURE: Schema = Schema {
+    entity: 406,
+    name: "Closure Property",
+    fields: &[
+        Field::one("NP", Type::Integer),
+        Field::times(
+            "CLOSED",
+            Type::Flag,
+            Count::Formula {
+                formula: "NP, 1 or 2",
+                of: |h: &Head| match h.get("NP")? {
+                    np @ 1..=2 => Ok(usize::from(np == 2) + 1),
+                    np => Err(format!("NP = {np}: the Closure Property has 1 or 2")),
+                },
+            },
+        ),
+    ],
+};
