@@ -794,3 +794,57 @@ fn boundary_sense_reverses_its_curves() {
     let area = m.measure_face(f).unwrap().area;
     assert!((area - 0.75).abs() <= 1e-15, "{area}");
 }
+
+/// The entity types declared in session 18 (IGES 5.3 sections 4.136 Rectangular Array
+/// Subfigure Instance, 4.142 Solid Instance, 4.140 Network Subfigure Instance) have their pointers checked by `validate`'s conformance read: a pointer
+/// to no directory entry and a pointer to an entity of a type the standard's table does
+/// not list are located errors, a well-formed instance is not.
+#[test]
+fn pointers_of_arrays_instances_and_templates_are_checked() {
+    let mut b = Builder::new(GLOBAL);
+    let curve = b.entity(De::default(), &line([0.0, 0.0], [1.0, 0.0]));
+    // 412: base entity, scale, corner, NC, NR, DX, DY, AX, LC, DO-DON'T.
+    let good412 = b.entity(
+        ty(412),
+        &format!("412,{curve},1.,0.,0.,0.,2,3,1.,1.,0.,0,0;"),
+    );
+    let missing412 = b.entity(ty(412), "412,999,1.,0.,0.,0.,2,3,1.,1.,0.,0,0;");
+    // 430: the solid it places; a 126 curve is not one of the table's types.
+    let wrong430 = b.entity(ty(430), &format!("430,{curve};"));
+    // 420 naming the curve as its definition (a 320 or a 416 is required).
+    let wrong420 = b.entity(
+        ty(420),
+        &format!("420,{curve},0.,0.,0.,1.,1.,1.,0,4HR101,0,0;"),
+    );
+    let text = b.build();
+    // The conformance check (`validate`) reads every entity's pointers.
+    let options = ImportOptions {
+        conformance: true,
+        ..ImportOptions::default()
+    };
+    let doc = exchange::iges::read(&text, &options).unwrap();
+    let at = |de: usize| {
+        doc.diagnostics
+            .iter()
+            .filter(|d| {
+                d.code == "pointer.invalid"
+                    && d.location.entity.as_deref() == Some(&format!("D{de}"))
+            })
+            .collect::<Vec<_>>()
+    };
+    assert!(at(good412).is_empty(), "{:#?}", at(good412));
+    for de in [missing412, wrong430, wrong420] {
+        let found = at(de);
+        assert_eq!(found.len(), 1, "D{de}: {:#?}", doc.diagnostics);
+        assert_eq!(found[0].severity, Severity::Error);
+        assert_eq!(
+            (found[0].location.section, found[0].location.sequence),
+            (Some('D'), Some(de))
+        );
+    }
+    assert!(
+        at(missing412)[0].message.contains("999"),
+        "{}",
+        at(missing412)[0].message
+    );
+}
