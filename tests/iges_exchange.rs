@@ -751,3 +751,82 @@ fn polynomial_flag_with_unusable_weights_reads_as_polynomial() {
     assert_eq!(d.location.entity.as_deref(), Some("D3"));
     assert_eq!(doc.entities.len(), 1);
 }
+
+/// Declared parameter ranges (`V(0), V(1)`, `U(0)..V(1)`) are written clipped to the knot
+/// domain (IGES 5.3 sections 4.23, 4.24 want them inside); a range inside is written as
+/// declared, one beyond the domain by rounding is clipped without a word, and every other
+/// change is a `range_clipped` warning naming the entity. The expected ranges are the
+/// intersections of the declared ranges with the domain [0, 1], worked by hand.
+#[test]
+fn declared_ranges_are_written_clipped_to_the_domain_and_reported() {
+    use nurbsx::exchange::ParameterRange;
+    let line = || {
+        NurbsCurve::new(
+            1,
+            vec![0., 0., 1., 1.],
+            vec![[0., 0., 0.], [1., 2., 3.]],
+            None,
+        )
+        .unwrap()
+    };
+    let patch = NurbsSurface::new(
+        1,
+        1,
+        vec![0., 0., 1., 1.],
+        vec![0., 0., 1., 1.],
+        Grid::from_u_major(
+            2,
+            2,
+            vec![[0., 0., 0.], [0., 1., 0.], [1., 0., 0.], [1., 1., 1.]],
+        )
+        .unwrap(),
+        None,
+    )
+    .unwrap();
+    let ulp = f64::EPSILON;
+    let cases: [(&str, (f64, f64), (f64, f64), bool); 4] = [
+        ("inside", (0.25, 0.75), (0.25, 0.75), false),
+        ("overlapping", (-0.5, 0.5), (0.0, 0.5), true),
+        ("rounding", (-ulp, 1.0 + 2.0 * ulp), (0.0, 1.0), false),
+        ("disjoint", (2.0, 3.0), (0.0, 1.0), true),
+    ];
+    let mut doc = Document::new(Format::Iges, LengthUnit::Mm);
+    for (id, range, _, _) in cases {
+        let mut e = entity(id, Geometry::Curve(line()));
+        e.meta.parameter_range = Some(ParameterRange { u: range, v: None });
+        doc.entities.push(e);
+    }
+    let mut s = entity("surface", Geometry::Surface(patch));
+    s.meta.parameter_range = Some(ParameterRange {
+        u: (0.125, 0.5),
+        v: Some((0.5, 1.5)),
+    });
+    doc.entities.push(s);
+    let warnings = exchange::iges::range_warnings(&doc);
+    let warned: Vec<&str> = warnings
+        .iter()
+        .filter(|d| d.code == "range_clipped" && d.severity == Severity::Warning)
+        .filter_map(|d| d.location.entity.as_deref())
+        .collect();
+    assert_eq!(
+        warned,
+        ["overlapping", "disjoint", "surface"],
+        "{warnings:#?}"
+    );
+    let text = exchange::iges::write(&doc, &export_options()).unwrap();
+    let file = nurbsx_parsers::iges::parse(&text).unwrap();
+    use nurbsx_parsers::iges::records::{Curve126, Surface128};
+    for (k, (id, _, written, _)) in cases.iter().enumerate() {
+        let de = 2 * k as i64 + 1;
+        let rec = file
+            .decode::<Curve126>(file.entry(de).unwrap())
+            .record
+            .unwrap();
+        assert_eq!((rec.v0, rec.v1), (Some(written.0), Some(written.1)), "{id}");
+    }
+    let rec = file
+        .decode::<Surface128>(file.entry(9).unwrap())
+        .record
+        .unwrap();
+    assert_eq!(rec.range, Some([0.125, 0.5, 0.5, 1.0]));
+}

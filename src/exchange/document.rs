@@ -125,6 +125,24 @@ pub struct Origins {
     pub assemblies: Vec<Origin>,
 }
 
+impl Origins {
+    /// The [`Entity::id`]s the topological items hold their geometry in (a face's surface,
+    /// an edge's curve...).
+    pub fn entity_ids(&self) -> std::collections::HashSet<&str> {
+        [
+            &self.vertices,
+            &self.edges,
+            &self.faces,
+            &self.shells,
+            &self.solids,
+        ]
+        .into_iter()
+        .flatten()
+        .filter_map(|x| x.entity.as_deref())
+        .collect()
+    }
+}
+
 /// Where one topological item came from.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Origin {
@@ -254,6 +272,16 @@ pub struct ParameterRange {
     /// `(start, end)` in v, for surfaces.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub v: Option<(f64, f64)>,
+}
+
+impl ParameterRange {
+    /// Whether `(a, b)` and `(c, d)` are the same range up to rounding at the scale of
+    /// `domain` (four units in the last place of its largest end).
+    pub(crate) fn same_within_rounding(x: (f64, f64), y: (f64, f64), domain: (f64, f64)) -> bool {
+        let scale = domain.0.abs().max(domain.1.abs()).max(f64::MIN_POSITIVE);
+        let ulps = 4.0 * f64::EPSILON * scale;
+        (x.0 - y.0).abs() <= ulps && (x.1 - y.1).abs() <= ulps
+    }
 }
 
 /// The format-neutral kind of a source curve or surface that nurbsx converted to NURBS.

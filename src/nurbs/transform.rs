@@ -246,6 +246,20 @@ impl NurbsSurface {
         )
     }
 
+    /// The same surface with its parameters exchanged: `S'(u, v) = S(v, u)` (degrees, knot
+    /// vectors, and the net and weights transposed; nothing is computed, so it is exact).
+    pub fn swap_uv(&self) -> Result<NurbsSurface, GeometryError> {
+        NurbsSurface::with_dimension(
+            self.degree_v(),
+            self.degree_u(),
+            self.knots_v().to_vec(),
+            self.knots_u().to_vec(),
+            self.control_points().transposed(),
+            self.weights().map(Grid::transposed),
+            self.dimension(),
+        )
+    }
+
     /// Maps the u domain affinely onto `[c, d]` (poles unchanged).
     pub fn reparameterize_u(&self, c: f64, d: f64) -> Result<NurbsSurface, GeometryError> {
         check_interval(c, d)?;

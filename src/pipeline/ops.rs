@@ -451,6 +451,9 @@ pub fn drop_unwritable(doc: &mut Document, format: Format, options: &ExportOptio
     if format == Format::Step {
         let warnings = crate::exchange::step::form_warnings(doc);
         doc.diagnostics.extend(warnings);
+        // Declared parameter ranges of free geometry have no STEP counterpart: say so.
+        let ranges = crate::exchange::step::range_warnings(doc);
+        doc.diagnostics.extend(ranges);
     }
     if format != Format::Iges {
         return;
@@ -459,6 +462,9 @@ pub fn drop_unwritable(doc: &mut Document, format: Format, options: &ExportOptio
     // form 0: say so.
     let forms = exchange::iges::form_warnings(doc);
     doc.diagnostics.extend(forms);
+    // Declared parameter ranges outside the knot domain are written clipped to it: say so.
+    let ranges = exchange::iges::range_warnings(doc);
+    doc.diagnostics.extend(ranges);
     // A 2-D curve that a face's boundary uses (IGES 142/508, STEP pcurve) is carried on its
     // coedge when the document has topology: not dropped.
     let carried = !doc.topology.is_empty();

@@ -169,8 +169,21 @@ fn rotation_axis(s: &NurbsSurface, tol: f64) -> Option<Axis> {
     Some((c0, n0, rows))
 }
 
-/// The 128 form of a surface of kind `shape`, or why not.
+/// The 128 form of a surface of kind `shape`, or why not. IGES 5.3 section 4.24 does not
+/// say which parameter runs around a cylinder or along a ruling, so the check passes when
+/// the surface passes it with u and v as written or exchanged.
 pub fn surface_form(s: &NurbsSurface, shape: Option<Shape>) -> Result<i64, String> {
+    surface_form_as_written(s, shape).or_else(|why| {
+        s.swap_uv()
+            .ok()
+            .and_then(|t| surface_form_as_written(&t, shape).ok())
+            .ok_or(why)
+    })
+}
+
+/// [`surface_form`] with u and v as written: the surfaces of revolution turn about the axis
+/// in u; a ruled surface is straight in v.
+fn surface_form_as_written(s: &NurbsSurface, shape: Option<Shape>) -> Result<i64, String> {
     let tol = analysis::tolerance(s.control_points().as_slice().iter());
     let ((u0, u1), (v0, v1)) = s.domain();
     let v_curves_straight = || {
@@ -272,6 +285,69 @@ pub fn form(geometry: &Geometry, shape: Option<Shape>) -> Result<i64, String> {
     match geometry {
         Geometry::Curve(c) => curve_form(c, shape),
         Geometry::Surface(s) => surface_form(s, shape),
+    }
+}
+
+/// The kind IGES 5.3 gives a form number of a 126 (section 4.23: 1-5) or a 128 (section
+/// 4.24: 1-8); `None` for form 0 (the data decides), 128 form 9 (general quadric, no kind
+/// in nurbsx) and undefined forms.
+fn shape_of_form(entity_type: i64, form: i64) -> Option<Shape> {
+    let kinds: &[Shape] = match entity_type {
+        126 => &[
+            Shape::Line,
+            Shape::CircularArc,
+            Shape::EllipticArc,
+            Shape::ParabolicArc,
+            Shape::HyperbolicArc,
+        ],
+        128 => &[
+            Shape::Plane,
+            Shape::Cylinder,
+            Shape::Cone,
+            Shape::Sphere,
+            Shape::Torus,
+            Shape::Revolution,
+            Shape::Extrusion,
+            Shape::Ruled,
+        ],
+        _ => &[],
+    };
+    let index = usize::try_from(form.checked_sub(1)?).ok()?;
+    kinds.get(index).copied()
+}
+
+/// The kind a 126 or 128 of form `form` is labelled with, when its geometry passes that
+/// kind's check ([`form`]); a form that fails gives a `form_mismatch` warning (the data is
+/// read as written, and written as form 0 / `.UNSPECIFIED.`), and 128 form 9 a
+/// `form_unchecked` warning (nurbsx does not keep that label).
+pub(super) fn labelled_shape(
+    entity_type: i64,
+    form_number: i64,
+    geometry: &Geometry,
+    location: &Location,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Shape> {
+    if entity_type == 128 && form_number == 9 {
+        diags.push(Diagnostic::warning(
+            "form_unchecked",
+            "form 9 (general quadric surface) has no check in nurbsx: the label is not kept (written as IGES form 0, STEP .UNSPECIFIED.)".to_owned(),
+            location.clone(),
+        ));
+        return None;
+    }
+    let shape = shape_of_form(entity_type, form_number)?;
+    match form(geometry, Some(shape)) {
+        Ok(_) => Some(shape),
+        Err(why) => {
+            diags.push(Diagnostic::warning(
+                "form_mismatch",
+                format!(
+                    "form {form_number} ({shape:?}) but {why}; the data is read as written (and written as form 0)"
+                ),
+                location.clone(),
+            ));
+            None
+        }
     }
 }
 

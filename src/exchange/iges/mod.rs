@@ -37,4 +37,4 @@ mod write_topology;
 
 pub use forms::{form, form_warnings};
 pub use read::read;
-pub use write::write;
+pub use write::{range_warnings, write};

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use super::analysis;
 use super::chain::{self, ChainError};
 use super::curves::{self, Composite};
+use super::forms;
 use super::surfaces;
 use super::vector::compose;
 use crate::exchange::{
@@ -1386,7 +1387,9 @@ pub(super) fn read_curve(
     } else {
         curve
     };
-    Some((Geometry::Curve(curve), meta))
+    let geometry = Geometry::Curve(curve);
+    meta.shape = forms::labelled_shape(126, entry.form, &geometry, &loc, diags);
+    Some((geometry, meta))
 }
 
 /// Whether a 126 that ends after its control points (`17 + 5K + M - 5` parameters) is also
@@ -1591,5 +1594,7 @@ fn read_surface(
     } else {
         surface
     };
-    Some((Geometry::Surface(surface), meta))
+    let geometry = Geometry::Surface(surface);
+    meta.shape = forms::labelled_shape(128, entry.form, &geometry, &loc, diags);
+    Some((geometry, meta))
 }

@@ -12,8 +12,10 @@
 //!   curve written as PROP3 = 1 would read back without weights). pitfalls.md 11: PROP3 = 1
 //!   only when the weights are equal, which this satisfies.
 //! - PROP4/PROP5: 1 only when the knots and poles have the periodic layout.
-//! - `V(0), V(1)` (`U(0)..V(1)`): the entity's declared parameter range when it lies in the
-//!   knot domain, else the domain.
+//! - `V(0), V(1)` (`U(0)..V(1)`): the entity's declared parameter range, clipped to the knot
+//!   domain (IGES 5.3 sections 4.23, 4.24 require it inside); the domain when the entity
+//!   declares none or the clipped range is empty ([`written_range`]; [`range_warnings`]
+//!   reports every range the writer changes beyond rounding).
 //! - DE status `00000000`, or `00000500` (use flag 05, 2-D parametric) for 2-D curves; the
 //!   form number of the entity's kind (`Meta::shape`: 126 forms 1-5, 128 forms 1-8) when the
 //!   geometry passes that kind's check ([`forms`]), else 0 ([`form_warnings`](super::form_warnings)
@@ -30,7 +32,7 @@ use nurbsx_parsers::real::NonFiniteReal;
 use std::borrow::Cow;
 
 use super::{analysis, forms};
-use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta};
+use crate::exchange::{Diagnostic, Document, ExportOptions, Location, Meta, ParameterRange};
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
 
 /// Writes the document as an IGES 5.3 file: its topology when it has one (faces as 144
@@ -278,12 +280,7 @@ fn curve_plan(c: &NurbsCurve, meta: &Meta) -> CurvePlan {
             _ => analysis::plane_normal(c.control_points(), tol),
         }
     };
-    let domain = c.domain();
-    let range = meta
-        .parameter_range
-        .map(|r| r.u)
-        .filter(|&r| within(r, domain))
-        .unwrap_or(domain);
+    let range = written_range(meta.parameter_range.map(|r| r.u), c.domain());
     CurvePlan {
         planar: i64::from(normal.is_some()),
         closed: i64::from(analysis::curve_closed(c, tol)),
@@ -298,13 +295,8 @@ fn surface_plan(s: &NurbsSurface, meta: &Meta) -> SurfacePlan {
     let net = s.control_points();
     let tol = analysis::tolerance(net.as_slice().iter());
     let (du, dv) = s.domain();
-    let (ru, rv) = match meta.parameter_range {
-        Some(r) => match r.v {
-            Some(v) if within(r.u, du) && within(v, dv) => (r.u, v),
-            _ => (du, dv),
-        },
-        None => (du, dv),
-    };
+    let ru = written_range(meta.parameter_range.map(|r| r.u), du);
+    let rv = written_range(meta.parameter_range.and_then(|r| r.v), dv);
     SurfacePlan {
         closed: [
             i64::from(analysis::surface_closed(s, 0, tol)),
@@ -406,8 +398,73 @@ fn de(entity_type: i64, meta: &Meta, use_flag: u8, form: i64) -> DirectoryEntry 
     }
 }
 
-fn within(range: (f64, f64), domain: (f64, f64)) -> bool {
-    range.0 >= domain.0 && range.1 <= domain.1 && range.0 < range.1
+/// The parameter range a 126 (`V(0), V(1)`) or one direction of a 128 declares: `range`
+/// clipped to the knot `domain`, as IGES 5.3 sections 4.23 and 4.24 want it inside; the
+/// domain when there is no range or nothing of it is left. A range computed in the model
+/// (an edge's, a boundary segment's) lies in its curve's domain or beyond it by rounding
+/// only, which the clip removes; a source file's range beyond it is reported by
+/// [`range_warnings`].
+pub(super) fn written_range(range: Option<(f64, f64)>, domain: (f64, f64)) -> (f64, f64) {
+    match range {
+        Some((a, b)) => {
+            let clipped = (a.max(domain.0), b.min(domain.1));
+            if clipped.0 < clipped.1 {
+                clipped
+            } else {
+                domain
+            }
+        }
+        None => domain,
+    }
+}
+
+/// One warning per entity whose declared parameter range ([`Meta::parameter_range`], an
+/// IGES file's `V(0), V(1)` or `U(0)..V(1)`) the IGES writer changes by more than rounding
+/// ([`written_range`]): the file said a range outside the knot domain (its reader warned
+/// `param_range_outside`), and the written file declares another.
+pub fn range_warnings(document: &Document) -> Vec<Diagnostic> {
+    document
+        .entities
+        .iter()
+        .filter_map(|e| {
+            let declared = e.meta.parameter_range?;
+            let (pairs, name) = match &e.geometry {
+                Geometry::Curve(c) => (vec![(Some(declared.u), c.domain())], "V(0), V(1)"),
+                Geometry::Surface(s) => {
+                    let (du, dv) = s.domain();
+                    (
+                        vec![(Some(declared.u), du), (declared.v, dv)],
+                        "U(0), U(1), V(0), V(1)",
+                    )
+                }
+            };
+            let written: Vec<(f64, f64)> = pairs
+                .iter()
+                .map(|&(r, d)| written_range(r, d))
+                .collect();
+            let changed = pairs.iter().zip(&written).any(|(&(r, d), &w)| {
+                r.is_some_and(|r| !ParameterRange::same_within_rounding(r, w, d))
+            });
+            if !changed {
+                return None;
+            }
+            let list = |rs: &mut dyn Iterator<Item = (f64, f64)>| {
+                rs.flat_map(|(a, b)| [a, b])
+                    .map(|x| x.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let declared_list = list(&mut pairs.iter().filter_map(|&(r, _)| r));
+            let written_list = list(&mut written.iter().copied());
+            Some(Diagnostic::warning(
+                "range_clipped",
+                format!(
+                    "{name} = {declared_list} is not inside the knot domain; written as {written_list} (IGES 5.3 requires the range inside the domain)"
+                ),
+                Location::at_entity(e.id.clone()),
+            ))
+        })
+        .collect()
 }
 
 fn is_unit(n: Point3) -> bool {

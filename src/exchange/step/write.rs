@@ -36,7 +36,8 @@ use nurbsx_parsers::step::{Body, Builder, Parameter, Record, StepString};
 use super::closure_tolerance;
 use super::implicit::{KnotForm, implicit_knots, knot_form};
 use crate::exchange::{
-    Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, Shape, StepSchema,
+    Diagnostic, Document, Entity, ExportOptions, LengthUnit, Location, ParameterRange, Shape,
+    StepSchema,
 };
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, distance};
 
@@ -867,16 +868,20 @@ const FORMS: &[(Shape, &str)] = &[
 
 /// The form to write: the declared kind's form when the geometry check
 /// (`exchange::iges::form`) agrees; `Err` with the reason when a kind is declared and the
-/// geometry disagrees; `Ok("UNSPECIFIED")` when nothing is declared.
+/// geometry disagrees; `Ok("UNSPECIFIED")` when nothing is declared. An IGES form number
+/// (`meta.form` of a 126/128) is not a STEP form: the IGES reader turned the ones with a
+/// kind into `meta.shape` and reported the others.
 fn form_of(e: &Entity) -> Result<&'static str, String> {
     let declared = match declared_shape(e) {
         Some(s) => s,
         None => {
             return match e.meta.form.as_deref() {
-                Some(f) if !f.eq_ignore_ascii_case("unspecified") => Err(format!(
-                    "form .{}. has no check in nurbsx",
-                    f.to_ascii_uppercase()
-                )),
+                Some(f) if !f.eq_ignore_ascii_case("unspecified") && f.parse::<i64>().is_err() => {
+                    Err(format!(
+                        "form .{}. has no check in nurbsx",
+                        f.to_ascii_uppercase()
+                    ))
+                }
                 _ => Ok("UNSPECIFIED"),
             };
         }
@@ -914,6 +919,54 @@ pub fn form_warnings(document: &Document) -> Vec<Diagnostic> {
                     Location::at_entity(e.id.clone()),
                 )
             })
+        })
+        .collect()
+}
+
+/// One warning per free curve or surface (one no face, edge or composite uses) whose
+/// declared parameter range ([`crate::exchange::Meta::parameter_range`], an IGES
+/// `V(0), V(1)` or `U(0)..V(1)`) is not its whole knot domain: a STEP B-spline has no such
+/// range, so the writer writes the whole domain, a longer curve or larger surface than the
+/// source meant. Reading with `trim_to_parameter_range` (`--trim-to-range`) cuts it to the
+/// range exactly (NURBS Book A5.1) and there is nothing to report.
+pub fn range_warnings(document: &Document) -> Vec<Diagnostic> {
+    let named = document.topology.origins.entity_ids();
+    document
+        .entities
+        .iter()
+        .filter(|e| e.meta.used_by.is_empty() && !named.contains(e.id.as_str()))
+        .filter_map(|e| {
+            let declared = e.meta.parameter_range?;
+            let (u, v) = match &e.geometry {
+                Geometry::Curve(c) => (c.domain(), None),
+                Geometry::Surface(s) => {
+                    let (u, v) = s.domain();
+                    (u, Some(v))
+                }
+            };
+            let same = ParameterRange::same_within_rounding(declared.u, u, u)
+                && match (declared.v, v) {
+                    (Some(r), Some(d)) => ParameterRange::same_within_rounding(r, d, d),
+                    _ => true,
+                };
+            if same {
+                return None;
+            }
+            let show = |r: (f64, f64)| format!("[{}, {}]", r.0, r.1);
+            let (declared_text, domain_text) = match (declared.v, v) {
+                (Some(r), Some(d)) => (
+                    format!("{} x {}", show(declared.u), show(r)),
+                    format!("{} x {}", show(u), show(d)),
+                ),
+                _ => (show(declared.u), show(u)),
+            };
+            Some(Diagnostic::warning(
+                "range_not_written",
+                format!(
+                    "declared parameter range {declared_text} is not written: a STEP B-spline has none, so the whole knot domain {domain_text} is (read with --trim-to-range to convert the declared range exactly)"
+                ),
+                Location::at_entity(e.id.clone()),
+            ))
         })
         .collect()
 }

@@ -153,11 +153,7 @@ pub(super) fn write_free(
     scale: f64,
     options: &ExportOptions,
 ) -> Result<Free, NonFiniteReal> {
-    let named: HashSet<&str> = [&o.vertices, &o.edges, &o.faces, &o.shells, &o.solids]
-        .into_iter()
-        .flatten()
-        .filter_map(|x| x.entity.as_deref())
-        .collect();
+    let named = o.entity_ids();
     // The 2-D curves of the source's pcurves of written edges: the edges carry their own.
     let edge_ids: HashSet<&str> = o.edges.iter().map(|x| x.id.as_str()).collect();
     let is_pcurve = |e: &Entity| {
