@@ -85,10 +85,12 @@ use super::grammar::parameters::{Error, ParameterReader};
 /// 2.2.4.5.2 (back pointers from a member to the 402 instances listing it).
 pub const ASSOCIATIVITY_POINTER: &str = "associativity pointer";
 
-/// Curve entities a curve pointer may name (IGES 5.3 sections 4.2-4.23, 4.26).
+/// Curve entities a curve pointer may name (IGES 5.3 sections 4.3-4.11, 4.13, 4.14, 4.16,
+/// 4.23 and 4.25).
 pub const CURVES: &[i64] = &[100, 102, 104, 106, 110, 112, 116, 126, 130];
 
-/// Surface entities a surface pointer may name (IGES 5.3 sections 4.18-4.24, 4.30, 4.160-4.164).
+/// Surface entities a surface pointer may name (IGES 5.3 sections 4.12, 4.15, 4.17-4.19,
+/// 4.24, 4.30, 4.33 and 4.50-4.54).
 pub const SURFACES: &[i64] = &[
     108, 114, 118, 120, 122, 128, 140, 143, 190, 192, 194, 196, 198,
 ];
