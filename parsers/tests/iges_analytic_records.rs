@@ -1,4 +1,4 @@
-//! The analytic curve and surface entities (IGES 5.3 sections 4.3-4.19, 4.161-4.165):
+//! The analytic curve and surface entities (IGES 5.3 sections 4.3-4.19, 4.50-4.54):
 //! every parameter lands in its field, and a record with too few parameters (or a count out
 //! of range) is an error located at the entity's P record with its DE pointer. Files are
 //! built by `iges_support`, which formats every record by hand.

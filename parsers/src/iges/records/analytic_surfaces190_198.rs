@@ -1,4 +1,4 @@
-//! Entities 190-198, the analytic surfaces of IGES 5.3 sections 4.161-4.165 (plane surface,
+//! Entities 190-198, the analytic surfaces of IGES 5.3 sections 4.50-4.54 (plane surface,
 //! right circular cylindrical, conical, spherical and toroidal surface). Form 0 is the
 //! unparameterised surface; form 1 adds the reference direction DEREFD that fixes the
 //! parameterisation. Locations are 116 Points and directions 123 Directions.

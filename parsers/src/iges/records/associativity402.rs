@@ -1,9 +1,10 @@
-//! Entity 402, Associativity Instance (IGES 5.3, type 402): the forms whose parameters
+//! Entity 402, Associativity Instance (IGES 5.3 section 4.80; its
+//! predefined forms sections 4.81-4.95): the forms whose parameters
 //! hold DE pointers, declared for the pointer and arity checks. nurbsx converts none of
 //! them; a group's members are read through the entities themselves.
 //!
 //! The parameter layout depends on the form (the Associativity Definition each form
-//! stands for, IGES 5.3 type 302 and the predefined forms of type 402):
+//! stands for, IGES 5.3 type 302, section 4.69, and the predefined forms of type 402):
 //!
 //! | forms | name | parameters |
 //! | --- | --- | --- |

@@ -1,5 +1,5 @@
-//! Entity 143, Bounded Surface (IGES 5.3, type 143), and the 141 Boundary entities it
-//! names (type 141).
+//! Entity 143, Bounded Surface (IGES 5.3 section 4.33), and the 141 Boundary entities it
+//! names (section 4.31).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
 

@@ -1,4 +1,4 @@
-//! Entity 186, Manifold Solid B-Rep Object (IGES 5.3, MSBO entity, type 186).
+//! Entity 186, Manifold Solid B-Rep Object (IGES 5.3 section 4.49).
 
 use super::{Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

@@ -1,5 +1,5 @@
-//! Entity 314, Color Definition, and entity 304, Line Font Definition (IGES 5.3, types 314
-//! and 304): the entities a negated DE color or line font field names, declared for the
+//! Entity 314, Color Definition, and entity 304, Line Font Definition (IGES 5.3 sections
+//! 4.76 and 4.70): the entities a negated DE color or line font field names, declared for the
 //! pointer and arity checks. nurbsx carries neither (colors and line fonts are reported
 //! as not carried).
 //!

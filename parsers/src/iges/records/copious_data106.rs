@@ -1,4 +1,5 @@
-//! Entity 106, Copious Data (IGES 5.3 section 4.6), forms 1-3, 11-13 and 63.
+//! Entity 106, Copious Data (IGES 5.3 section 4.6), forms 1-3; the Linear Path forms 11-13
+//! (section 4.7) and the Simple Closed Planar Curve form 63 (section 4.11).
 
 use super::{Count, DirectoryEntry, Entity, Field, Head, Schema, Type, Values};
 

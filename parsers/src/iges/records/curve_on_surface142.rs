@@ -1,4 +1,4 @@
-//! Entity 142, Curve on a Parametric Surface (IGES 5.3 section 4.22).
+//! Entity 142, Curve on a Parametric Surface (IGES 5.3 section 4.32).
 
 use super::{CURVES, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

@@ -1,4 +1,4 @@
-//! Entity 504, Edge List (IGES 5.3 section 4.147).
+//! Entity 504, Edge List (IGES 5.3 section 4.144, the Edge entity, and 4.144.1).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

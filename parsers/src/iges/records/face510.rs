@@ -1,4 +1,4 @@
-//! Entity 510, Face (IGES 5.3 section 4.153).
+//! Entity 510, Face (IGES 5.3 section 4.146).
 
 use super::{Count, DirectoryEntry, Entity, Field, SURFACES, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

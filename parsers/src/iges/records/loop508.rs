@@ -1,4 +1,4 @@
-//! Entity 508, Loop (IGES 5.3 section 4.152).
+//! Entity 508, Loop (IGES 5.3 section 4.145).
 
 use super::{CURVES, Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

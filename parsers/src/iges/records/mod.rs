@@ -85,10 +85,12 @@ use super::grammar::parameters::{Error, ParameterReader};
 /// 2.2.4.5.2 (back pointers from a member to the 402 instances listing it).
 pub const ASSOCIATIVITY_POINTER: &str = "associativity pointer";
 
-/// Curve entities a curve pointer may name (IGES 5.3 sections 4.2-4.23, 4.26).
+/// Curve entities a curve pointer may name (IGES 5.3 sections 4.3-4.11, 4.13, 4.14, 4.16,
+/// 4.23 and 4.25).
 pub const CURVES: &[i64] = &[100, 102, 104, 106, 110, 112, 116, 126, 130];
 
-/// Surface entities a surface pointer may name (IGES 5.3 sections 4.18-4.24, 4.30, 4.160-4.164).
+/// Surface entities a surface pointer may name (IGES 5.3 sections 4.12, 4.15, 4.17-4.19,
+/// 4.24, 4.30, 4.33 and 4.50-4.54).
 pub const SURFACES: &[i64] = &[
     108, 114, 118, 120, 122, 128, 140, 143, 190, 192, 194, 196, 198,
 ];
@@ -260,11 +262,26 @@ pub fn is_defined_entity_type(entity: i64) -> bool {
 }
 
 /// The form numbers chapter 4 defines for the entity types whose forms are checked
-/// (DE field 15); other types' forms are not judged. The 402 forms 5001-9999 are
-/// implementor-defined.
+/// (DE field 15); other types' forms are not judged. The 402 and 406 forms 5001-9999 are
+/// implementor-defined (sections 4.80 and 4.97).
+///
+/// Each entry is the form list (or DE field 15 range) of the type's section: 106 the form
+/// table of section 4.6 (forms 1-3 there, 11-13 section 4.7, 20-21 section 4.8, 31-38
+/// section 4.9, 40 section 4.10, 63 section 4.11), 304 section 4.70, 314 section 4.76, 316
+/// section 4.77, 404 section 4.96, 406 the form sections 4.98-4.132 (form 4 has none), 410
+/// sections 4.134 and 4.135, 416 section 4.138, 430 section 4.142. Not listed, because the
+/// reading of the standard behind these tables gave no form list for them: 104, the
+/// annotation types 202-230 (204 and 213 among them), 310, 312, 320, 412, 414, 418 and
+/// 420.
 const DEFINED_FORMS: &[(i64, &[i64])] = &[
     (100, &[0]),
     (102, &[0]),
+    (
+        106,
+        &[
+            1, 2, 3, 11, 12, 13, 20, 21, 31, 32, 33, 34, 35, 36, 37, 38, 40, 63,
+        ],
+    ),
     (108, &[-1, 0, 1]),
     (110, &[0, 1, 2]),
     (112, &[0]),
@@ -287,9 +304,23 @@ const DEFINED_FORMS: &[(i64, &[i64])] = &[
     (194, &[0, 1]),
     (196, &[0, 1]),
     (198, &[0, 1]),
+    (304, &[1, 2]),
     (308, &[0]),
+    (314, &[0]),
+    (316, &[0]),
     (402, &[1, 3, 4, 5, 7, 9, 12, 13, 14, 15, 16, 18, 19, 20, 21]),
+    (404, &[0, 1]),
+    (
+        406,
+        &[
+            1, 2, 3, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25,
+            26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36,
+        ],
+    ),
     (408, &[0]),
+    (410, &[0, 1]),
+    (416, &[0, 1, 2, 3, 4]),
+    (430, &[0, 1]),
     (502, &[1]),
     (504, &[1]),
     (508, &[0, 1]),
@@ -300,7 +331,8 @@ const DEFINED_FORMS: &[(i64, &[i64])] = &[
 /// Whether `form` is a form number of `entity`; `None` when its forms are not checked.
 pub fn is_defined_form(entity: i64, form: i64) -> Option<bool> {
     let (_, forms) = DEFINED_FORMS.iter().find(|(e, _)| *e == entity)?;
-    Some(forms.contains(&form) || (entity == 402 && (5001..=9999).contains(&form)))
+    let implementor = matches!(entity, 402 | 406) && (5001..=9999).contains(&form);
+    Some(forms.contains(&form) || implementor)
 }
 
 /// The type of a parameter as a schema declares it (IGES 5.3 section 2.2.2).

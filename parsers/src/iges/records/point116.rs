@@ -1,4 +1,4 @@
-//! Entity 116, Point (IGES 5.3 section 4.15), as the location of an analytic surface.
+//! Entity 116, Point (IGES 5.3 section 4.16), as the location of an analytic surface.
 
 use super::{DirectoryEntry, Entity, Field, Schema, Type, Values};
 

@@ -5,21 +5,21 @@
 //!
 //! | form | name | values after `NP` |
 //! | --- | --- | --- |
-//! | 1 | Definition Levels | `NP` level numbers |
-//! | 2 | Region Restriction | vias, components and circuitry flags |
-//! | 3 | Level Function | function code, description (optional) |
-//! | 5 | Line Widening | width, cornering, extension flag, justification, extension value (optional) |
-//! | 15 | Name | the name |
-//! | 16 | Drawing Size | width, height |
-//! | 17 | Drawing Units | units flag, units name |
-//! | 18 | Intercharacter Spacing | spacing |
-//! | 19 | Line Font Pattern | pattern code |
-//! | 20 | Highlight | highlight flag (optional) |
-//! | 21 | Pick | pick flag (optional) |
-//! | 23 | Associativity Group Type | type number, name |
-//! | 28 | Dimension Units | secondary position, units indicator, character set, format, fraction flag, precision |
-//! | 29 | Dimension Tolerance | secondary flag, type, placement, upper and lower tolerance, sign suppression, fraction flag, precision |
-//! | 30 | Dimension Display Data | type, label position, character set, `L` string, decimal symbol, witness angle, alignment, level, placement, arrowhead orientation, initial value, `NS`, `NS` × (note, start and end index) |
+//! | 1 | Definition Levels (section 4.98) | `NP` level numbers |
+//! | 2 | Region Restriction (4.99) | `NP` = 3: vias, components and circuitry flags |
+//! | 3 | Level Function (4.100) | `NP` = 2: function code, description (optional) |
+//! | 5 | Line Widening (4.101) | `NP` = 5: width, cornering, extension flag, justification, extension value (optional) |
+//! | 15 | Name (4.111) | `NP` = 1: the name |
+//! | 16 | Drawing Size (4.112) | `NP` = 2: width, height |
+//! | 17 | Drawing Units (4.113) | `NP` = 2: units flag, units name |
+//! | 18 | Intercharacter Spacing (4.114) | `NP` = 1: spacing |
+//! | 19 | Line Font Pattern (4.115) | `NP` = 1: pattern code |
+//! | 20 | Highlight (4.116) | `NP` = 1: highlight flag (optional) |
+//! | 21 | Pick (4.117) | `NP` = 1: pick flag (optional) |
+//! | 23 | Associativity Group Type (4.119) | `NP` = 2: type number, name |
+//! | 28 | Dimension Units (4.124) | `NP` = 6: secondary position, units indicator, character set, format, fraction flag, precision |
+//! | 29 | Dimension Tolerance (4.125) | `NP` = 8: secondary flag, type, placement, upper and lower tolerance, sign suppression, fraction flag, precision |
+//! | 30 | Dimension Display Data (4.126) | type, label position, character set, `L` string, decimal symbol, witness angle, alignment, level, placement, arrowhead orientation, initial value, `NS`, `NS` × (note, start and end index) |
 //! | 6 | Drilled Hole (section 4.102) | `NP` = 5: drill and finish diameters, plating flag, lower and higher layer |
 //! | 7 | Reference Designator (4.103) | `NP` = 1: the designator |
 //! | 8 | Pin Number (4.104) | `NP` = 1: the pin number |
@@ -39,9 +39,11 @@
 //! | 35 | Overscore (4.131) | as form 34 |
 //! | 36 | Closure (4.132) | `NP` = 1 or 2: closure in U, and in V for a surface |
 //!
-//! Where the form's table fixes `NP` (forms 6-10, 22, 26 and 31-33: [`Type::Fixed`]; 13,
-//! 34-36 by a formula) another `NP` is an error; the forms declared before these read `NP`
-//! without comparing it. Forms 11 (Tabular Data, section 4.107: its value counts are sums
+//! Where the form's table fixes `NP` (forms 2, 3, 5-10, 15-23, 26, 28, 29 and 31-33:
+//! [`Type::Fixed`]; 13, 34-36 by a formula) another `NP` is an error. Form 1's `NP` is the
+//! count of its levels. Form 30's table (section 4.126) gives `NP` = 14 but lists twelve
+//! values and three more per supplemental note, so no one value of `NP` matches every
+//! record it describes: its `NP` is read without comparing it. Forms 11 (Tabular Data, section 4.107: its value counts are sums
 //! and products of the counts it lists) and 27 (Generic Data, section 4.123: each value's
 //! type is the integer before it) are beyond these declarations and not declared; nor are
 //! implementor-defined forms. Their parameters are unchecked.
@@ -58,18 +60,18 @@ pub(super) const DEFINITION_LEVELS: Schema = Schema {
     ],
 };
 
-/// Form 15, Name: `NP` (1), then the name.
+/// Form 15, Name (section 4.111): `NP` = 1, then the name.
 pub(super) const NAME: Schema = Schema {
     entity: 406,
     name: "Name Property",
     fields: &[
-        Field::one("NP", Type::Flag),
+        Field::one("NP", Type::Fixed(1)),
         Field::one("NAME", Type::String),
     ],
 };
 
-/// A property whose values are the listed fields after `NP` (which is not a count of
-/// parameters here: the form fixes them).
+/// A property whose values are the listed fields after `NP`, `NP` read without comparing
+/// it (form 30: see the module documentation).
 macro_rules! fixed {
     ($name:ident, $title:literal, [$($field:expr),* $(,)?]) => {
         pub(super) const $name: Schema = Schema {
@@ -80,26 +82,40 @@ macro_rules! fixed {
     };
 }
 
-fixed!(
+/// A property whose table fixes `NP` to `$np`: the listed fields follow it.
+macro_rules! fixed_np {
+    ($name:ident, $title:literal, $np:literal, [$($field:expr),* $(,)?]) => {
+        pub(super) const $name: Schema = Schema {
+            entity: 406,
+            name: $title,
+            fields: &[Field::one("NP", Type::Fixed($np)), $($field),*],
+        };
+    };
+}
+
+fixed_np!(
     REGION_RESTRICTION,
     "Region Restriction Property",
+    3,
     [
         Field::one("VIAS", Type::Flag),
         Field::one("COMPONENTS", Type::Flag),
         Field::one("CIRCUITRY", Type::Flag),
     ]
 );
-fixed!(
+fixed_np!(
     LEVEL_FUNCTION,
     "Level Function Property",
+    2,
     [
         Field::one("FC", Type::Flag),
         Field::optional("DESCRIPTION", Type::String),
     ]
 );
-fixed!(
+fixed_np!(
     LINE_WIDENING,
     "Line Widening Property",
+    5,
     [
         Field::one("WIDTH", Type::Real),
         Field::one("CORNERING", Type::Flag),
@@ -108,46 +124,58 @@ fixed!(
         Field::optional("EXTENSION", Type::Real),
     ]
 );
-fixed!(
+fixed_np!(
     DRAWING_SIZE,
     "Drawing Size Property",
+    2,
     [Field::one("X", Type::Real), Field::one("Y", Type::Real),]
 );
-fixed!(
+fixed_np!(
     DRAWING_UNITS,
     "Drawing Units Property",
+    2,
     [
         Field::one("FLAG", Type::Flag),
         Field::one("UNITS", Type::String),
     ]
 );
-fixed!(
+fixed_np!(
     INTERCHARACTER_SPACING,
     "Intercharacter Spacing Property",
+    1,
     [Field::one("ISCP", Type::Real),]
 );
-fixed!(
+fixed_np!(
     LINE_FONT_PATTERN,
     "Line Font Pattern Property",
+    1,
     [Field::one("LFPC", Type::Flag),]
 );
-fixed!(
+fixed_np!(
     HIGHLIGHT,
     "Highlight Property",
+    1,
     [Field::optional("HIGHLIGHT", Type::Flag),]
 );
-fixed!(PICK, "Pick Property", [Field::optional("PICK", Type::Flag)]);
-fixed!(
+fixed_np!(
+    PICK,
+    "Pick Property",
+    1,
+    [Field::optional("PICK", Type::Flag)]
+);
+fixed_np!(
     ASSOCIATIVITY_GROUP_TYPE,
     "Associativity Group Type Property",
+    2,
     [
         Field::one("TYPE", Type::Flag),
         Field::one("NAME", Type::String),
     ]
 );
-fixed!(
+fixed_np!(
     DIMENSION_UNITS,
     "Dimension Units Property",
+    6,
     [
         Field::one("SDP", Type::Flag),
         Field::one("UI", Type::Flag),
@@ -157,9 +185,10 @@ fixed!(
         Field::one("PRECISION", Type::Flag),
     ]
 );
-fixed!(
+fixed_np!(
     DIMENSION_TOLERANCE,
     "Dimension Tolerance Property",
+    8,
     [
         Field::one("STF", Type::Flag),
         Field::one("TT", Type::Flag),
@@ -198,17 +227,6 @@ fixed!(
         ),
     ]
 );
-
-/// A property whose table fixes `NP` to `$np`: the listed fields follow it.
-macro_rules! fixed_np {
-    ($name:ident, $title:literal, $np:literal, [$($field:expr),* $(,)?]) => {
-        pub(super) const $name: Schema = Schema {
-            entity: 406,
-            name: $title,
-            fields: &[Field::one("NP", Type::Fixed($np)), $($field),*],
-        };
-    };
-}
 
 fixed_np!(
     DRILLED_HOLE,

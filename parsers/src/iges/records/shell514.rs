@@ -1,4 +1,4 @@
-//! Entity 514, Shell (IGES 5.3, Shell entity, type 514): form 1 closed, form 2 open.
+//! Entity 514, Shell (IGES 5.3 section 4.147): form 1 closed, form 2 open.
 
 use super::{Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

@@ -1,5 +1,5 @@
-//! Entity 308, Subfigure Definition, and entity 408, Singular Subfigure Instance (IGES 5.3,
-//! types 308 and 408).
+//! Entity 308, Subfigure Definition, and entity 408, Singular Subfigure Instance (IGES 5.3
+//! sections 4.73 and 4.133).
 
 use super::{Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 

@@ -1,4 +1,5 @@
-//! Entity 502 form 1, Vertex List (IGES 5.3, Vertex entity, type 502).
+//! Entity 502 form 1, Vertex List (IGES 5.3 section 4.143, the Vertex entity, and
+//! 4.143.1).
 
 use super::{Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
 use crate::iges::writer::{ParamWriter, WriteParams};

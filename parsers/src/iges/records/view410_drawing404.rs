@@ -1,4 +1,5 @@
-//! Entity 410, View, and entity 404, Drawing (IGES 5.3, types 410 and 404), declared for the
+//! Entity 410, View, and entity 404, Drawing (IGES 5.3 sections 4.134 and
+//! 4.135 for the two 410 forms, 4.96 for 404), declared for the
 //! pointer and arity checks. nurbsx converts neither.
 //!
 //! | type, form | name | parameters |
