@@ -118,6 +118,34 @@ proptest! {
         }
     }
 
+    /// `swap_uv` exchanges the parameters: `S'(u, v) = S(v, u)` and `S'_u = S_v`,
+    /// `S'_v = S_u`, `S'_uv = S_uv` (evaluated independently on each surface, NURBS Book
+    /// A4.4); swapping twice gives the same surface, bit for bit.
+    #[test]
+    fn swap_uv_exchanges_the_parameters(s in arb_surface(3, true, Ends::Any)) {
+        let t = s.swap_uv().unwrap();
+        let ((u0, u1), (v0, v1)) = s.domain();
+        prop_assert_eq!(t.domain(), ((v0, v1), (u0, u1)));
+        prop_assert_eq!(t.swap_uv().unwrap(), s.clone());
+        let size = size_of(s.control_points().as_slice());
+        for u in grid(u0, u1, 9) {
+            for v in grid(v0, v1, 9) {
+                let a = s.derivatives(u, v, 2).unwrap();
+                let b = t.derivatives(v, u, 2).unwrap();
+                let pairs = [
+                    (a[0][0], b[0][0], 1e-12),
+                    (a[1][0], b[0][1], 1e-9),
+                    (a[0][1], b[1][0], 1e-9),
+                    (a[1][1], b[1][1], 1e-9),
+                ];
+                for (p, q, tol) in pairs {
+                    let scale = size.max(p.iter().fold(0.0f64, |m, x| m.max(x.abs())));
+                    prop_assert!(dist(p, q) <= tol * scale, "{:?} {:?}", p, q);
+                }
+            }
+        }
+    }
+
     #[test]
     fn surface_reverse_and_reparameterize(s in arb_surface(3, true, Ends::Any)) {
         let ((u0, u1), (v0, v1)) = s.domain();

@@ -1,7 +1,7 @@
 //! # The topology of a part: vertices, edges, loops, faces, shells, solids, assemblies
 //!
 //! The boundary representation of ISO 10303-42 clause 5 (topology: vertex, edge, oriented
-//! edge, loop, face, shell, solid) and of IGES 5.3 section 4.32 (186 manifold solid B-rep
+//! edge, loop, face, shell, solid) and of IGES 5.3 section 4.49 (186 manifold solid B-rep
 //! with 502/504/508/510/514), over the exact NURBS geometry of [`crate::nurbs`]: every edge
 //! carries a NURBS curve, every face a NURBS surface. Readers of both formats build a
 //! [`Model`]; writers walk it.

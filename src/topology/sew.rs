@@ -47,7 +47,7 @@ pub struct Sewing {
     /// Pairs of open edges that nearly coincide (ends and middles within a tenth of the
     /// shorter one's chord, but beyond the tolerance), with the largest of those
     /// distances: where the faces almost close, as opposed to the border of a surface
-    /// model (ISO 10303-42 clause 5.4.28 open_shell; IGES 5.3 section 4.20), whose open
+    /// model (ISO 10303-42 clause 5.4.28 open_shell; IGES 5.3 section 4.147, 514 form 2), whose open
     /// edges have no partner.
     pub gaps: Vec<(EdgeId, EdgeId, f64)>,
     /// Whether every candidate pair of open edges was compared for [`Sewing::gaps`] (false

@@ -465,7 +465,7 @@ pub(super) fn axis_line(
     Some((p, scale(d, 1.0 / n)))
 }
 
-/// 106 (IGES 5.3 section 4.6): forms 11, 12 and 13 (linear paths) and 63 (closed planar
+/// 106 (IGES 5.3 sections 4.7, 4.11): forms 11, 12 and 13 (linear paths) and 63 (closed planar
 /// curve) are polylines through the points, the parameter being the point index
 /// `0, 1, ..` (IGES 5.3 defines no parameter for it); form 63
 /// is closed by repeating the first point when the last differs. Forms 1-3 are point
@@ -499,7 +499,9 @@ fn copious(
             diags.push(
                 Diagnostic::warning(
                     "annotation.not_represented",
-                    format!("106 form {f} is annotation (IGES 5.3 section 4.6); not represented"),
+                    format!(
+                        "106 form {f} is annotation (IGES 5.3 sections 4.8-4.10); not represented"
+                    ),
                     loc,
                 )
                 .not_carried(),

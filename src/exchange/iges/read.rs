@@ -28,7 +28,7 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3};
 /// Curve entity types converted (IGES 5.3 sections 4.3-4.14, 4.23).
 const CURVE_TYPES: [i64; 7] = [100, 102, 104, 106, 110, 112, 126];
 
-/// Surface entity types converted (sections 4.12, 4.15-4.19, 4.24, 4.161-4.165).
+/// Surface entity types converted (sections 4.12, 4.15-4.19, 4.24, 4.50-4.54).
 const SURFACE_TYPES: [i64; 11] = [108, 114, 118, 120, 122, 128, 190, 192, 194, 196, 198];
 
 /// Entity types with no exact rational form: one located diagnostic each.
@@ -677,8 +677,8 @@ fn finish(
 }
 
 /// The 102 Composite Curves that bound faces: named by a 142 (C(t) or B(t); IGES 5.3
-/// section 4.22), a 141 (its model-space and parameter-space curves; type 141), a 504 edge
-/// (section 4.147) or a 508 loop's parameter-space curves (section 4.152).
+/// section 4.32), a 141 (its model-space and parameter-space curves; type 141), a 504 edge
+/// (section 4.144) or a 508 loop's parameter-space curves (section 4.145).
 fn edge_chains(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let mut add = |p: i64| {
@@ -741,10 +741,10 @@ fn composite_members(file: &IgesFile<'_>) -> BTreeSet<usize> {
 }
 
 /// For every surface named by a 144 Trimmed Surface (IGES 5.3 section 4.34), a 143
-/// Bounded Surface (type 143) or a 510 Face (section 4.153), the model-space curves that
-/// bound those faces: the C(t) of the 142 boundaries (section 4.22), the model-space
-/// curves of the 141 boundaries and the 504 edge curves of the 508 loops (sections 4.147,
-/// 4.152).
+/// Bounded Surface (type 143) or a 510 Face (section 4.146), the model-space curves that
+/// bound those faces: the C(t) of the 142 boundaries (section 4.32), the model-space
+/// curves of the 141 boundaries and the 504 edge curves of the 508 loops (sections 4.144,
+/// 4.145).
 fn boundaries(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<i64>> {
     let mut map: BTreeMap<usize, Vec<i64>> = BTreeMap::new();
     let mut edge_lists: BTreeMap<usize, Option<EdgeList504>> = BTreeMap::new();
@@ -927,9 +927,9 @@ fn users(file: &IgesFile<'_>) -> BTreeMap<usize, Vec<(usize, i64)>> {
 }
 
 /// The DE pointers of the curves that live in a surface's parameter space: the B(t) curve
-/// of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.22), directly or as members
+/// of a 142 Curve on a Parametric Surface (IGES 5.3 section 4.32), directly or as members
 /// of a 102 Composite Curve, those of a 141 Boundary (type 141), and the parameter-space
-/// curves of a 508 Loop (section 4.152).
+/// curves of a 508 Loop (section 4.145).
 fn parameter_space_curves(file: &IgesFile<'_>) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     let add = |ptr: i64, out: &mut BTreeSet<usize>| {

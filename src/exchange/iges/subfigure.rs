@@ -1,6 +1,6 @@
-//! IGES 5.3 subfigures -> placed parts: each 308 Subfigure Definition (section 4.74) is a
+//! IGES 5.3 subfigures -> placed parts: each 308 Subfigure Definition (section 4.73) is a
 //! definition whose members are read as faces (144, 510), shells (514), solids (186) and
-//! nested instances (408); each 408 Singular Subfigure Instance (section 4.137) places its
+//! nested instances (408); each 408 Singular Subfigure Instance (section 4.133) places its
 //! 308 by `x' = M (S x + T)`, with `T = (X, Y, Z)`, `S` the scale and `M` the instance's own
 //! 124 chain (DE field 7). The 408s that no 308 names are the file's root instances. The
 //! placements are applied by [`place_all`](crate::exchange::assembly::place_all), as for

@@ -555,7 +555,7 @@ fn direction_of(cx: &Context<'_, '_>, pointer: i64, diags: &mut Vec<Diagnostic>)
     Some(chain.map_or(d, |m| apply_linear(&m, d)))
 }
 
-/// 190-198 (IGES 5.3 sections 4.161-4.165) in the ISO 10303-42 parameterisations of
+/// 190-198 (IGES 5.3 sections 4.50-4.54) in the ISO 10303-42 parameterisations of
 /// [`sweep`]: frame origin DELOC, z the axis (190: the normal), x DEREFD projected off z
 /// (form 1) or the world axis least aligned with z, projected (form 0); u the angle about
 /// z from x (radians, exact ArcMap), v the distance along z (cylinder, cone) or the

@@ -4,7 +4,7 @@
 //! - 144 Trimmed Surface (IGES 5.3 section 4.34): a face on its surface (PTS) whose outer
 //!   loop is PTO's 142 and whose holes are the PTI 142s; `N1 = 0` (the surface's own
 //!   boundary) gives a face with no loop. Each 142 Curve on a Parametric Surface (section
-//!   4.22) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
+//!   4.32) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
 //!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
 //!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
 //!   elsewhere (the analytic surfaces, whose IGES parameters are not the NURBS ones) the
@@ -135,7 +135,7 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
     b.sew(diags);
     // Faces (510) that no shell names: a lone face, or a surface model written face by face
-    // (IGES 5.3 section 4.150 does not require a 510 to sit in a 514). They share their 504
+    // (IGES 5.3 section 4.146 does not require a 510 to sit in a 514). They share their 504
     // edge lists already, so they are read as they are, not sewn.
     for entry in cx.file.entries.iter().flatten() {
         if entry.entity_type == 510 && !b.faces.contains_key(&entry.pointer) {
@@ -319,7 +319,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .collect();
             // Open edges in pairs that nearly coincide: faces that almost close, worth a
             // warning; open edges without a partner are the border of a surface model
-            // (IGES 5.3 section 4.20 allows a set of faces that bounds no solid): a note.
+            // (IGES 5.3 section 4.147, form 2 open shell, allows a set of faces that bounds no solid): a note.
             let name = |e: EdgeId| o.edges.get(e.0).map_or_else(String::new, |x| x.id.clone());
             let (severity, message): (fn(_, _, _) -> Diagnostic, String) = if let Some(widest) =
                 sewing.gaps.iter().map(|g| g.2).reduce(f64::max)

@@ -420,7 +420,8 @@ pub(super) fn written_range(range: Option<(f64, f64)>, domain: (f64, f64)) -> (f
 
 /// One warning per entity whose declared parameter range ([`Meta::parameter_range`], an
 /// IGES file's `V(0), V(1)` or `U(0)..V(1)`) the IGES writer changes by more than rounding
-/// ([`written_range`]): the file said a range outside the knot domain (its reader warned
+/// (it writes the range clipped to the knot domain, or the domain when nothing of the range
+/// is left in it): the file said a range outside the knot domain (its reader warned
 /// `param_range_outside`), and the written file declares another.
 pub fn range_warnings(document: &Document) -> Vec<Diagnostic> {
     document

@@ -3,7 +3,7 @@
 //! - Faces (the default, and the faces no shell holds): a 144 Trimmed Surface (IGES 5.3
 //!   section 4.34) over the face's 128, `N1 = 1` with the outer loop as PTO and the holes as
 //!   PTI (`N1 = 0` and no loop for a face bounded by its surface's domain). Each loop is a
-//!   142 Curve on a Parametric Surface (section 4.22) whose model-space curve C(t) is a 102
+//!   142 Curve on a Parametric Surface (section 4.32) whose model-space curve C(t) is a 102
 //!   Composite Curve (section 4.4) of one 126 per coedge, in the loop's direction and on the
 //!   edge's parameter range (`V(0), V(1)`); when every coedge has a pcurve and the pcurves
 //!   chain in the surface's (u, v) within 1e-9 of its domain's size, B(t) is a 102 of the 2-D
@@ -245,7 +245,7 @@ impl Brep {
 /// A loop's coedges as IGES writes them, each with its direction along its edge. A 144 has
 /// no orientation of its own (its side is its surface's normal, with the region on the left
 /// of its boundaries seen from there, IGES 5.3 section 4.34), and neither has a 510 (its
-/// shell's OF flag turns it over as a whole, section 4.151, which the writer sets from
+/// shell's OF flag turns it over as a whole, section 4.147, which the writer sets from
 /// `same_sense`). So a face on the other side of its surface (`same_sense` false) has its
 /// loops run the other way round: a reader orients it as the surface does and does not
 /// take the loops for the face's side.
