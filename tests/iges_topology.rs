@@ -281,12 +281,60 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / a.abs().max(b.abs()).max(1e-300)
 }
 
-/// Samples whose faces meet themselves at a degenerate side (a sphere's poles, a cone's
-/// apex): IGES gives those sides as vertex uses (508 TYPE = 1) or as curves of zero length,
-/// which the topology model holds as no edge, so the face is written with model-space
-/// boundaries that do not close in the surface's parameter space and FreeCAD cannot rebuild
-/// it. Checked to still fail, so that a fix shows.
-const DEGENERATE_SIDES: [&str; 2] = ["sphere.igs", "sphere_brep.igs"];
+/// Samples with faces on B-spline geometry (a B-spline surface, or a swept B-spline
+/// directrix or profile), where Open CASCADE's `Face.Area` (its fixed Gauss rule, README)
+/// is not a 1e-6 reference: FreeCAD's two readings of `extrude_bspline` (144 and 186)
+/// differ by 2e-5 between themselves, and nurbsx's own meshes of that part at 1e-3 and
+/// 2e-4 chord extrapolate to its measure within 3e-7 while FreeCAD is 2.3e-4 off. They
+/// are held to 5e-4.
+const FREECAD_AREA_ROUGH: [&str; 8] = [
+    "extrusion_ellipse.igs",
+    "ruled_surface.igs",
+    "extrude_bspline.igs",
+    "extrude_bspline_brep.igs",
+    "loft_bspline.igs",
+    "loft_bspline_brep.igs",
+    "revolve_bspline_270.igs",
+    "revolve_bspline_270_brep.igs",
+];
+
+/// Every FreeCAD IGES sample with faces (144 or 186) measures, face by face summed and in
+/// mm, the area FreeCAD gives its faces (the sample JSON's `faces[].area`, Open CASCADE's
+/// integration over its own analytic surfaces: an independent kernel) within 1e-6. The
+/// whole sphere (`sphere.igs`, a 120 cut along one meridian; `sphere_brep.igs`, a 196) and
+/// the whole torus have loops of seam coedges only: they measured 0 or could not be
+/// measured while those seam pcurves lay on one side of the domain.
+#[test]
+fn face_areas_match_freecads() {
+    let mut bad = Vec::new();
+    for p in samples() {
+        let doc = read_text(&std::fs::read_to_string(&p).unwrap());
+        let m = &doc.topology.model;
+        let mm2 = doc.units.to_mm() * doc.units.to_mm();
+        let got: f64 = m
+            .faces
+            .iter()
+            .map(|f| m.measure_face(f).map_or(f64::NAN, |x| x.area * mm2))
+            .sum();
+        let want: f64 = reading(&p)["faces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["area"].as_f64().unwrap())
+            .sum();
+        let file = name(&p);
+        let bound = if FREECAD_AREA_ROUGH.contains(&file.as_str()) {
+            5e-4
+        } else {
+            1e-6
+        };
+        let within = rel(got, want) <= bound;
+        if !within {
+            bad.push(format!("{file}: {got} vs FreeCAD {want} (bound {bound})"));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
 
 /// IGES -> IGES in 144 mode and in 186 mode, re-imported by FreeCAD: the number of faces
 /// FreeCAD finds in the source, valid shapes, and for the 186 output of a solid part the
@@ -392,18 +440,7 @@ fn freecad_reimports_both_modes() {
                 f186["solids"], src["solids"]
             ));
         }
-        if DEGENERATE_SIDES.contains(&file.as_str()) {
-            let lost = [f144, f186].iter().any(|v| {
-                let kept = rel(area, num(v, "area")) <= 0.5;
-                !kept
-            });
-            assert!(
-                lost || !bad.is_empty(),
-                "{file} now passes: take it off DEGENERATE_SIDES"
-            );
-        } else {
-            failures.extend(bad);
-        }
+        failures.extend(bad);
     }
     let _ = std::fs::remove_dir_all(&work);
     assert!(failures.is_empty(), "{failures:#?}");

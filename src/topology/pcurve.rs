@@ -182,9 +182,17 @@ pub fn seam_side(
 /// its neighbour), takes the side nearest to where its neighbour in the loop ends (the
 /// previous coedge; the next one's start when the previous is such a seam coedge too), so
 /// the loop is continuous in `(u, v)`.
+///
+/// A loop of coedges that all lie on the seams of the directions in which the surface is
+/// closed (a whole sphere cut along one meridian, whose poles'
+/// degenerate sides are not written; a whole torus cut along its two seams) has no such
+/// neighbour. It bounds the whole domain, and only its counter-clockwise run (against the
+/// face's `same_sense`) encloses that; the clockwise one encloses nothing of the domain. So
+/// each of its coedges takes the side [`seam_side`] gives a counter-clockwise loop.
 pub fn seam_sides_by_continuity(
     surface: &NurbsSurface,
     coedges: &mut [Coedge],
+    same_sense: bool,
     twice: impl Fn(EdgeId) -> bool,
 ) {
     let ((u0, u1), (v0, v1)) = surface.domain();
@@ -217,6 +225,19 @@ pub fn seam_sides_by_continuity(
         .iter()
         .map(|c| c.pcurve.as_ref().and_then(|p| on_seam(p, twice(c.edge))))
         .collect();
+    let on_closed_seam = |c: &Coedge| c.pcurve.as_ref().and_then(|p| on_seam(p, false));
+    if n >= 2 && coedges.iter().all(|c| on_closed_seam(c).is_some()) {
+        for c in coedges.iter_mut() {
+            let moved = c
+                .pcurve
+                .as_ref()
+                .and_then(|p| seam_side(surface, p, c.forward == same_sense, closed));
+            if let Some(m) = moved {
+                c.pcurve = Some(m);
+            }
+        }
+        return;
+    }
     for i in 0..n {
         let Some((k, lo, hi)) = seam[i] else {
             continue;

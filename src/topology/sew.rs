@@ -317,12 +317,13 @@ impl Model {
             // An edge this face now uses twice (two boundary pieces merged into one seam edge):
             // its two coedges take the seam's two sides, as the loop continues.
             let surface = self.faces[f.0].surface.clone();
+            let same_sense = self.faces[f.0].same_sense;
             let mut uses: BTreeMap<EdgeId, usize> = BTreeMap::new();
             for c in new_loops.iter().flat_map(|l| &l.coedges) {
                 *uses.entry(c.edge).or_default() += 1;
             }
             for l in &mut new_loops {
-                super::seam_sides_by_continuity(&surface, &mut l.coedges, |e| {
+                super::seam_sides_by_continuity(&surface, &mut l.coedges, same_sense, |e| {
                     uses.get(&e) == Some(&2)
                 });
             }

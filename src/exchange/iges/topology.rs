@@ -722,7 +722,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             *uses.entry(c.edge).or_default() += 1;
         }
         for l in &mut loops {
-            seam_sides_by_continuity(nurbs, &mut l.coedges, |e| {
+            // IGES faces are added with the surface's sense (`add_face(.., true)` below).
+            seam_sides_by_continuity(nurbs, &mut l.coedges, true, |e| {
                 trimmed || uses.get(&e) == Some(&2)
             });
         }
