@@ -2237,3 +2237,38 @@ async fn measure_lengths_areas_and_closest_points() {
     )
     .await;
 }
+
+/// A file modified over HTTP is written as the CLI writes it: what the output cannot carry
+/// is reported (and counted in `x-nurbsx-diagnostics`). Here the arc is labelled
+/// `.CIRCULAR_ARC.` but is a polynomial parabola, so the STEP writer writes
+/// `.UNSPECIFIED.` and says so (`step.form_unspecified`, one more diagnostic than the
+/// reading has); the written file carries no circle label.
+#[tokio::test]
+async fn modified_files_report_what_the_writer_changes() {
+    let labelled = STEP_ARC.replacen(
+        "(0.,1.),.UNSPECIFIED.);",
+        "(0.,1.),.UNSPECIFIED.);\n#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.CIRCULAR_ARC.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+        1,
+    );
+    let (_, body) = ok(
+        app(),
+        post_raw("/v1/info", Some("model/step"), labelled.clone()),
+    )
+    .await;
+    let read = json_of(&body)["diagnostics"].as_array().unwrap().len();
+    let (headers, step) = ok(
+        app(),
+        post_json(
+            "/v1/degree-elevate",
+            &json!({ "file": labelled, "by": 1, "entity": "#4" }),
+        ),
+    )
+    .await;
+    let written: usize = headers["x-nurbsx-diagnostics"]
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(written, read + 1, "{}", String::from_utf8_lossy(&step));
+    assert!(!String::from_utf8_lossy(&step).contains(".CIRCULAR_ARC."));
+}

@@ -285,6 +285,9 @@ async fn operate(
                         cancel: settings.cancel.clone(),
                         ..ExportOptions::default()
                     };
+                    // What the output cannot hold is dropped and reported (counted in
+                    // `x-nurbsx-diagnostics`), as the CLI's modify commands do.
+                    pipeline::drop_unwritable(&mut document, format, &export);
                     let text = pipeline::write(&document, format, &export)?;
                     Ok((
                         Ok((
