@@ -184,9 +184,8 @@ pub fn seam_side(
 /// the loop is continuous in `(u, v)`.
 ///
 /// A loop of coedges that all lie on the seams of the directions in which the surface is
-/// closed (a whole sphere cut along one meridian, whose poles'
-/// degenerate sides are not written; a whole torus cut along its two seams) has no such
-/// neighbour. It bounds the whole domain, and only its counter-clockwise run (against the
+/// closed (a whole sphere cut along one meridian, whose poles' degenerate sides are not
+/// written; a whole torus cut along its two seams) has no such neighbour. It bounds the whole domain, and only its counter-clockwise run (against the
 /// face's `same_sense`) encloses that; the clockwise one encloses nothing of the domain. So
 /// each of its coedges takes the side [`seam_side`] gives a counter-clockwise loop.
 pub fn seam_sides_by_continuity(
