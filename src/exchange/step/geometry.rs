@@ -22,7 +22,10 @@
 //! are in the file's plane-angle unit and are converted to radians exactly once, here, by
 //! [`Converter::angle`].
 
-use std::collections::{HashMap, HashSet};
+/// The id-keyed maps and sets of the conversion: foldhash's `quality` hasher, as [`Items`].
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
+/// See [`HashMap`].
+type HashSet<K> = std::collections::HashSet<K, foldhash::quality::RandomState>;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 use nurbsx_parsers::step::geometry::{GeometryItem, GeometryRecord as R, TrimmingSelect};
@@ -393,7 +396,7 @@ fn curve_param(b: &Basis) -> Param {
 /// per process (foldhash, its `quality` variant), so ids chosen to collide (all a multiple
 /// of 2^24 apart, which a plain multiplicative hash puts in one bucket) cost no more than
 /// any others.
-pub(super) type Items<'a> = HashMap<u64, GeometryItem<'a>, foldhash::quality::RandomState>;
+pub(super) type Items<'a> = HashMap<u64, GeometryItem<'a>>;
 
 /// One converted entity with the byte offset of its instance (for file order).
 pub(super) type Placed = (usize, Entity);
@@ -1535,8 +1538,8 @@ impl<'a> Converter<'_, '_, 'a> {
         use rayon::prelude::*;
         let mut out = Output::default();
         // Uses: which instances are parts of other ones.
-        let mut consumed: HashSet<u64> = HashSet::new();
-        let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::new();
+        let mut consumed: HashSet<u64> = HashSet::default();
+        let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::default();
         let mut pcurve_items: Vec<u64> = Vec::new();
         let mut edges: Vec<u64> = Vec::new();
         let mut order: Vec<u64> = self.items.keys().copied().collect();
@@ -1629,8 +1632,8 @@ impl<'a> Converter<'_, '_, 'a> {
         // Edges, in parallel (each independent), kept for the faces' boxes.
         let edge_results: Vec<(u64, Res<EdgeOut>)> =
             edges.par_iter().map(|&e| (e, self.edge(e))).collect();
-        let mut edge_map: HashMap<u64, EdgeOut> = HashMap::new();
-        let mut uses: HashMap<u64, usize> = HashMap::new();
+        let mut edge_map: HashMap<u64, EdgeOut> = HashMap::default();
+        let mut uses: HashMap<u64, usize> = HashMap::default();
         for (e, r) in edge_results {
             match r {
                 Ok(mut o) => {
@@ -1849,7 +1852,7 @@ impl<'a> Converter<'_, '_, 'a> {
         }
         let mut poles: Vec<Point3> = Vec::new();
         let mut full_turn = false;
-        let mut seen: HashSet<u64> = HashSet::new();
+        let mut seen: HashSet<u64> = HashSet::default();
         for &f in faces {
             let (face_edges, apexes) = self.face_edges(f)?;
             // The points of its VERTEX_LOOPs bound the face too (a cone's apex: the axial

@@ -366,7 +366,11 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             options.limits.max_entities,
         ));
         if !built.pcurve_entities.is_empty() {
-            let mut users: std::collections::HashMap<String, Vec<String>> = Default::default();
+            let mut users: std::collections::HashMap<
+                String,
+                Vec<String>,
+                foldhash::quality::RandomState,
+            > = Default::default();
             for (entity, edge) in built.pcurve_entities {
                 users.entry(entity).or_default().push(edge);
             }

@@ -16,7 +16,9 @@
 //! - Every refused item is a located diagnostic (`topology.*`) and is skipped; a
 //!   CLOSED_SHELL that is not closed is kept as an open shell.
 
-use std::collections::HashMap;
+/// The id-keyed maps of the topology build: foldhash's `quality` hasher (ids far apart do
+/// not share buckets; see `geometry::Items`), about a tenth of SipHash's cost per lookup.
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
 
 use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
@@ -131,11 +133,11 @@ pub(super) fn build(
         topology: Topology::default(),
         diagnostics: Vec::new(),
         tolerance: 0.0,
-        vertices: HashMap::new(),
-        edges: HashMap::new(),
-        poly_edges: HashMap::new(),
-        faces: HashMap::new(),
-        shells: HashMap::new(),
+        vertices: HashMap::default(),
+        edges: HashMap::default(),
+        poly_edges: HashMap::default(),
+        faces: HashMap::default(),
+        shells: HashMap::default(),
         missing_pcurves: 0,
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
@@ -647,13 +649,13 @@ impl Build<'_, '_, '_, '_> {
         same_sense: bool,
     ) -> usize {
         let mut missing = 0;
-        let mut uses: HashMap<EdgeId, usize> = HashMap::new();
+        let mut uses: HashMap<EdgeId, usize> = HashMap::default();
         for l in loops.iter() {
             for c in &l.coedges {
                 *uses.entry(c.edge).or_default() += 1;
             }
         }
-        let mut cache: HashMap<EdgeId, Option<(NurbsCurve, f64)>> = HashMap::new();
+        let mut cache: HashMap<EdgeId, Option<(NurbsCurve, f64)>> = HashMap::default();
         let size = bounding_box_diagonal(surface.control_points().as_slice());
         let closed = [
             surface.is_closed_u(1e-9 * size),
