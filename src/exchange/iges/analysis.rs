@@ -172,30 +172,48 @@ fn decimal_digits(x: f64) -> Option<(i32, i32)> {
     if x == 0.0 || !x.is_finite() {
         return None;
     }
-    // `{:e}` is the shortest round-trip form: `d.ddddde-X`.
-    let text = format!("{:e}", x.abs());
+    // `{:e}` is the shortest round-trip form: `d.ddddde-X`, at most 24 bytes for an f64
+    // (`2.2250738585072014e-308`), written into the stack (no allocation per value).
+    let mut text = StackText::default();
+    std::fmt::Write::write_fmt(&mut text, format_args!("{:e}", x.abs())).ok()?;
+    let text = std::str::from_utf8(text.bytes.get(..text.len)?).ok()?;
     let (mantissa, exponent) = text.split_once('e')?;
     let digits = mantissa.bytes().filter(u8::is_ascii_digit).count();
     Some((i32::try_from(digits).ok()?, exponent.parse().ok()?))
+}
+
+/// A short text written in place ([`decimal_digits`]); writing past its 32 bytes fails.
+#[derive(Default)]
+struct StackText {
+    bytes: [u8; 32],
+    len: usize,
+}
+
+impl std::fmt::Write for StackText {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len.checked_add(s.len()).ok_or(std::fmt::Error)?;
+        self.bytes
+            .get_mut(self.len..end)
+            .ok_or(std::fmt::Error)?
+            .copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
 }
 
 /// Half a unit in the last decimal place the writer used for `values`: the most significant
 /// digits among them are taken as the writer's precision (a value shown with fewer had
 /// trailing zeros), and the largest value's last place at that precision is the rounding any
 /// of them may carry (`0.479, 10.019, 8.508`: 5 digits, 0.5e-3). 0 when no value is
-/// finite and non-zero.
-pub fn written_rounding(values: &[f64]) -> f64 {
-    let digits = values
-        .iter()
-        .filter_map(|&x| decimal_digits(x))
-        .map(|(d, _)| d)
-        .max()
-        .unwrap_or(17);
-    values
-        .iter()
-        .filter_map(|&x| decimal_digits(x))
-        .map(|(_, e)| 0.5 * 10f64.powi(e - digits + 1))
-        .fold(0.0f64, f64::max)
+/// finite and non-zero. One pass: the largest last place is that of the largest exponent.
+pub fn written_rounding(values: impl IntoIterator<Item = f64>) -> f64 {
+    let mut most: Option<(i32, i32)> = None;
+    for (d, e) in values.into_iter().filter_map(decimal_digits) {
+        most = Some(most.map_or((d, e), |(md, me)| (md.max(d), me.max(e))));
+    }
+    most.map_or(0.0, |(digits, exponent)| {
+        0.5 * 10f64.powi(exponent - digits + 1)
+    })
 }
 
 /// How far from the plane through `points[0]` with normal `n` the points may lie when both
@@ -215,9 +233,9 @@ pub fn plane_tolerance(points: &[Point3], n: Point3) -> f64 {
     let normal = if (len - 1.0).abs() <= 1e-12 {
         0.0
     } else {
-        written_rounding(&n) / len
+        written_rounding(n) / len
     };
-    let coordinate = written_rounding(&points.iter().flatten().copied().collect::<Vec<_>>());
+    let coordinate = written_rounding(points.iter().flatten().copied());
     let extent = points
         .iter()
         .map(|&q| norm(sub(q, p0)))
@@ -244,6 +262,22 @@ pub fn on_plane(points: &[Point3], n: Point3, tol: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shortest round-trip decimals worked by hand: digits and exponent, and the
+    /// written rounding of the doc comment's example (5 digits, largest exponent 1).
+    #[test]
+    fn written_rounding_follows_the_digits_written() {
+        assert_eq!(decimal_digits(0.12345678), Some((8, -1)));
+        assert_eq!(decimal_digits(-10.019), Some((5, 1)));
+        assert_eq!(decimal_digits(2.2250738585072014e-308), Some((17, -308)));
+        assert_eq!(decimal_digits(f64::MAX), Some((17, 308)));
+        assert_eq!(decimal_digits(0.0), None);
+        assert_eq!(decimal_digits(f64::NAN), None);
+        assert_eq!(written_rounding([0.479, 10.019, 8.508]), 0.5e-3);
+        assert_eq!(written_rounding([0.0, f64::INFINITY]), 0.0);
+        // One digit is the precision; the last place of 3 at one digit is 1.
+        assert_eq!(written_rounding([1e-5, 3.0]), 0.5);
+    }
 
     #[test]
     fn periodic_layout_of_a_closed_quadratic() {

@@ -88,8 +88,9 @@ impl Context<'_, '_> {
     /// distance between two points within `2 sqrt 2 e`, and the difference of two such
     /// distances within `4 sqrt 2 e`.
     pub fn written_tolerance(&self, values: &[f64]) -> f64 {
-        self.tolerance(values)
-            .max(4.0 * std::f64::consts::SQRT_2 * analysis::written_rounding(values))
+        self.tolerance(values).max(
+            4.0 * std::f64::consts::SQRT_2 * analysis::written_rounding(values.iter().copied()),
+        )
     }
 }
 
