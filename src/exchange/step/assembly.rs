@@ -128,7 +128,7 @@ impl<'r, 'a> Reader<'r, '_, '_, 'a> {
             Some(P::Product { id, name }) => text(name).or_else(|| text(id)),
             _ => None,
         }
-        .unwrap_or_else(|| format!("#{pd}"))
+        .unwrap_or_else(|| super::instance_label(pd))
     }
 
     /// An axis placement's matrix, or a located error.
@@ -287,7 +287,7 @@ pub(super) fn apply<'a>(
                 placement: IDENTITY,
                 part: Ok(p),
             };
-            let id = format!("#{item}");
+            let id = super::instance_label(item);
             if let Some(&p) = by_id.get(id.as_str()) {
                 list.push(leaf(p));
                 continue;
@@ -314,7 +314,7 @@ pub(super) fn apply<'a>(
                     (Ok(from), Ok(to)) => {
                         mapped_reps.extend(closure(&[rep]));
                         list.push(Use {
-                            name: Some(format!("#{item}")),
+                            name: Some(super::instance_label(item)),
                             source: Some(item),
                             placement: compose(&to, &inverse_rigid(&from)),
                             part: Err(Key::Representation(rep)),
@@ -328,7 +328,7 @@ pub(super) fn apply<'a>(
                 Some(G::ShellBasedSurfaceModel { sbsm_boundary: s })
                 | Some(G::FaceBasedSurfaceModel { fbsm_faces: s }) => {
                     for shell in s {
-                        if let Some(&p) = by_id.get(format!("#{shell}").as_str()) {
+                        if let Some(&p) = by_id.get(super::instance_label(*shell).as_str()) {
                             list.push(leaf(p));
                         }
                     }
@@ -338,7 +338,7 @@ pub(super) fn apply<'a>(
                     // where the product's own coordinates put them.
                     let mut all = true;
                     for e in elements {
-                        match by_id.get(format!("#{e}").as_str()) {
+                        match by_id.get(super::instance_label(*e).as_str()) {
                             Some(&p @ Part::Edge(_)) => list.push(leaf(p)),
                             _ => all = false,
                         }
@@ -370,7 +370,7 @@ pub(super) fn apply<'a>(
                     .flatten()
                     .map(|s| s.decode_lossy().into_owned())
                     .find(|s| !s.is_empty())
-                    .unwrap_or_else(|| format!("#{u}"));
+                    .unwrap_or_else(|| super::instance_label(u));
                 let child_reps = closure(reps_of.get(&related).map_or(&[][..], |v| v));
                 let placement = match placement_of.get(&u) {
                     None if child_reps.iter().any(|c| mapped_reps.contains(c)) => continue,
@@ -422,7 +422,7 @@ pub(super) fn apply<'a>(
                 {
                     n.decode_lossy().into_owned()
                 }
-                _ => format!("#{rep}"),
+                _ => super::instance_label(*rep),
             },
         };
         let mut instances = Vec::with_capacity(list.len());
@@ -456,7 +456,7 @@ pub(super) fn apply<'a>(
             .into_iter()
             .map(|l| {
                 l.into_iter()
-                    .map(|s| s.map_or_else(String::new, |s| format!("#{s}")))
+                    .map(|s| s.map_or_else(String::new, super::instance_label))
                     .collect()
             })
             .collect(),
@@ -512,7 +512,7 @@ fn set_edges(
         .map(|e| e.tolerance)
         .fold(0.0f64, f64::max);
     for c in curves {
-        let id = format!("#{c}");
+        let id = super::instance_label(c);
         let Some(entity) = by_id.get(id.as_str()) else {
             continue;
         };

@@ -392,11 +392,92 @@ fn curve_param(b: &Basis) -> Param {
     }
 }
 
-/// The decoded geometry items by instance id. The ids are the file's: the hash is seeded
-/// per process (foldhash, its `quality` variant), so ids chosen to collide (all a multiple
-/// of 2^24 apart, which a plain multiplicative hash puts in one bucket) cost no more than
-/// any others.
-pub(super) type Items<'a> = HashMap<u64, GeometryItem<'a>>;
+/// The decoded geometry items by instance id, held in one vector in ascending id order
+/// (no per-item allocation, no hash table slack: the items are the read's largest
+/// structure). An id is found through a slot table indexed by id when the ids are dense
+/// (the largest at most four times their count, as in files written by CAD systems), by
+/// binary search otherwise, so ids chosen to be sparse or to collide cost at most a
+/// logarithm.
+#[derive(Default)]
+pub(super) struct Items<'a> {
+    /// The items, ids ascending and unique.
+    entries: Vec<(u64, GeometryItem<'a>)>,
+    /// `slots[id]` is the item's position in `entries` ([`Items::NONE`] for none); empty
+    /// when the ids are sparse.
+    slots: Vec<u32>,
+}
+
+impl<'a> Items<'a> {
+    /// A slot with no item.
+    const NONE: u32 = u32::MAX;
+
+    /// The items `(id, item)`, in any order; of a repeated id the first is kept (the
+    /// reader decodes only the indexed instance of a duplicated id).
+    pub(super) fn new(mut entries: Vec<(u64, GeometryItem<'a>)>) -> Self {
+        // Files list instances in ascending id order almost always: the sort then only
+        // checks the order (a linear pass).
+        entries.sort_by_key(|(id, _)| *id);
+        entries.dedup_by_key(|(id, _)| *id);
+        let max = entries.last().map_or(0, |(id, _)| *id);
+        let dense = usize::try_from(max).ok().filter(|&m| {
+            m <= entries.len().saturating_mul(4).saturating_add(1024)
+                && u32::try_from(entries.len()).is_ok()
+        });
+        let mut slots = Vec::new();
+        if let Some(m) = dense {
+            slots = vec![Self::NONE; m + 1];
+            for (k, (id, _)) in entries.iter().enumerate() {
+                if let (Some(cell), Ok(k)) = (
+                    usize::try_from(*id).ok().and_then(|i| slots.get_mut(i)),
+                    u32::try_from(k),
+                ) {
+                    *cell = k;
+                }
+            }
+        }
+        Items { entries, slots }
+    }
+
+    /// The item `#id`.
+    #[inline]
+    pub(super) fn get(&self, id: &u64) -> Option<&GeometryItem<'a>> {
+        let k = if self.slots.is_empty() {
+            self.entries.binary_search_by_key(id, |(i, _)| *i).ok()?
+        } else {
+            let slot = *self.slots.get(usize::try_from(*id).ok()?)?;
+            if slot == Self::NONE {
+                return None;
+            }
+            usize::try_from(slot).ok()?
+        };
+        self.entries.get(k).map(|(_, item)| item)
+    }
+
+    /// Whether `#id` is an item.
+    pub(super) fn contains_key(&self, id: &u64) -> bool {
+        self.get(id).is_some()
+    }
+
+    /// The items with their ids, ascending.
+    pub(super) fn iter(&self) -> impl Iterator<Item = (u64, &GeometryItem<'a>)> {
+        self.entries.iter().map(|(id, item)| (*id, item))
+    }
+
+    /// The ids, ascending.
+    pub(super) fn keys(&self) -> impl Iterator<Item = &u64> {
+        self.entries.iter().map(|(id, _)| id)
+    }
+
+    /// The items, in ascending id order.
+    pub(super) fn values(&self) -> impl Iterator<Item = &GeometryItem<'a>> {
+        self.entries.iter().map(|(_, item)| item)
+    }
+
+    /// Whether there is no item.
+    pub(super) fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
 
 /// One converted entity with the byte offset of its instance (for file order).
 pub(super) type Placed = (usize, Entity);
@@ -456,16 +537,21 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     pub(super) fn location(&self, id: u64) -> Location {
-        let (line, column) = self
-            .s
-            .get(id)
-            .map_or((0, 0), |raw| self.s.locate(raw.offset));
+        let (line, column) = self.line_column(id);
         Location {
             line: (line > 0).then_some(line),
             column: (column > 0).then_some(column),
-            entity: Some(format!("#{id}")),
+            entity: Some(super::instance_label(id)),
             ..Location::default()
         }
+    }
+
+    /// The 1-based line and column where instance `#id` starts; (0, 0) when it is not in
+    /// the file.
+    pub(super) fn line_column(&self, id: u64) -> (usize, usize) {
+        self.s
+            .get(id)
+            .map_or((0, 0), |raw| self.s.locate(raw.offset))
     }
 
     pub(super) fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
@@ -1542,10 +1628,8 @@ impl<'a> Converter<'_, '_, 'a> {
         let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::default();
         let mut pcurve_items: Vec<u64> = Vec::new();
         let mut edges: Vec<u64> = Vec::new();
-        let mut order: Vec<u64> = self.items.keys().copied().collect();
-        order.sort_unstable();
-        for &id in &order {
-            let item = &self.items[&id];
+        let order: Vec<u64> = self.items.keys().copied().collect();
+        for (id, item) in self.items.iter() {
             match &item.record {
                 R::TrimmedCurve { basis_curve, .. } => {
                     consumed.insert(*basis_curve);
@@ -1600,18 +1684,19 @@ impl<'a> Converter<'_, '_, 'a> {
                 Some(R::TrimmedCurve { basis_curve: c, .. } | R::SurfaceCurve { curve_3d: c, .. }) if c == id
             )
         });
-        let builders: Vec<u64> = order
+        let builders: Vec<u64> = self
+            .items
             .iter()
-            .copied()
-            .filter(|id| {
+            .filter(|(_, item)| {
                 matches!(
-                    self.items[id].record,
+                    item.record,
                     R::TrimmedCurve { .. }
                         | R::CompositeCurve { .. }
                         | R::CompositeCurveSegment { .. }
                         | R::RectangularTrimmedSurface { .. }
                 )
             })
+            .map(|(id, _)| id)
             .collect();
         for e in self.s.find_cycles(builders) {
             out.diagnostics.push(Diagnostic::error(
@@ -1620,7 +1705,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 Location {
                     line: Some(e.line),
                     column: Some(e.column),
-                    entity: e.entity.map(|id| format!("#{id}")),
+                    entity: e.entity.map(super::instance_label),
                     ..Location::default()
                 },
             ));
@@ -1637,12 +1722,12 @@ impl<'a> Converter<'_, '_, 'a> {
         for (e, r) in edge_results {
             match r {
                 Ok(mut o) => {
-                    o.entity = format!("#{}", o.curve_id);
+                    o.entity = super::instance_label(o.curve_id);
                     if !o.bspline {
                         let n = uses.entry(o.curve_id).or_insert(0);
                         *n += 1;
                         let label = if *n == 1 {
-                            format!("#{}", o.curve_id)
+                            super::instance_label(o.curve_id)
                         } else {
                             format!("#{}@#{e}", o.curve_id)
                         };
@@ -1652,7 +1737,7 @@ impl<'a> Converter<'_, '_, 'a> {
                             label,
                             Geometry::Curve(o.curve.clone()),
                             o.shape,
-                            vec![format!("#{e}")],
+                            vec![super::instance_label(e)],
                             None,
                         ));
                     }
@@ -1715,7 +1800,11 @@ impl<'a> Converter<'_, '_, 'a> {
             })
             .collect();
         if let Some(&first) = analytic.first() {
-            let list: Vec<String> = analytic.iter().take(8).map(|i| format!("#{i}")).collect();
+            let list: Vec<String> = analytic
+                .iter()
+                .take(8)
+                .map(|&i| super::instance_label(i))
+                .collect();
             out.analytic_pcurves = Some(Diagnostic::warning(
                 "pcurve.not_converted",
                 format!(
@@ -1737,8 +1826,12 @@ impl<'a> Converter<'_, '_, 'a> {
         id: u64,
         faces_of: &HashMap<u64, Vec<u64>>,
     ) -> (Option<Placed>, Option<Diagnostic>) {
-        let item = &self.items[&id];
-        let label = format!("#{id}");
+        let Some(item) = self.items.get(&id) else {
+            return (None, None);
+        };
+        // Most items produce nothing here (they are parts of others): the label is made
+        // only for what is kept.
+        let label = || super::instance_label(id);
         let unbounded = |what: &str| {
             Diagnostic::warning(
                 "geometry.unbounded",
@@ -1755,7 +1848,7 @@ impl<'a> Converter<'_, '_, 'a> {
             }
             R::TrimmedCurve { .. } => match self.trimmed(id, item, 0) {
                 Ok((c, shape, meta)) => (
-                    Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new(), meta)),
+                    Some(self.entity(id, label(), Geometry::Curve(c), shape, Vec::new(), meta)),
                     None,
                 ),
                 Err(d) => (None, Some(d)),
@@ -1782,7 +1875,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 };
                 match curve {
                     Ok(c) => (
-                        Some(self.entity(id, label, Geometry::Curve(c), shape, Vec::new(), None)),
+                        Some(self.entity(id, label(), Geometry::Curve(c), shape, Vec::new(), None)),
                         None,
                     ),
                     Err(d) => (None, Some(d)),
@@ -1815,7 +1908,14 @@ impl<'a> Converter<'_, '_, 'a> {
                 };
                 match r {
                     Ok((s, shape)) => (
-                        Some(self.entity(id, label, Geometry::Surface(s), shape, Vec::new(), None)),
+                        Some(self.entity(
+                            id,
+                            label(),
+                            Geometry::Surface(s),
+                            shape,
+                            Vec::new(),
+                            None,
+                        )),
                         None,
                     ),
                     Err(d) => (None, Some(d)),
@@ -1893,17 +1993,21 @@ impl<'a> Converter<'_, '_, 'a> {
             )
             .not_carried());
         };
-        let (surface, map) = if let R::RectangularTrimmedSurface { .. } = self.items[&id].record {
-            (self.rectangular_trimmed(id, &self.items[&id], 0)?.0, None)
+        let trimmed = self
+            .items
+            .get(&id)
+            .filter(|item| matches!(item.record, R::RectangularTrimmedSurface { .. }));
+        let (surface, map) = if let Some(item) = trimmed {
+            (self.rectangular_trimmed(id, item, 0)?.0, None)
         } else {
             basis.build(u, v).map_err(|e| self.geometry_error(id, e))?
         };
         let placed = self.entity(
             id,
-            format!("#{id}"),
+            super::instance_label(id),
             Geometry::Surface(surface),
             basis.shape(),
-            faces.iter().map(|f| format!("#{f}")).collect(),
+            faces.iter().map(|&f| super::instance_label(f)).collect(),
             None,
         );
         Ok(Some((placed, map)))
@@ -1913,6 +2017,51 @@ impl<'a> Converter<'_, '_, 'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An item of the given id (a DIRECTION whose ratio is the id, to tell them apart).
+    fn item(id: u64) -> (u64, GeometryItem<'static>) {
+        let item = GeometryItem {
+            name: None,
+            entity: "DIRECTION",
+            entity_type: std::borrow::Cow::Borrowed("DIRECTION"),
+            record: R::Direction {
+                direction_ratios: vec![id as f64],
+            },
+        };
+        (id, item)
+    }
+
+    /// The items are found by id whether the ids are dense (a slot table) or sparse (binary
+    /// search), given in any order; ids that are not items, 0 and the largest u64
+    /// included, are not found.
+    #[test]
+    fn items_are_found_by_id_dense_or_sparse() {
+        let dense: Vec<u64> = (1..=3000).rev().filter(|i| i % 3 != 0).collect();
+        let sparse: Vec<u64> = (1..=3000).map(|j| j << 24).chain([u64::MAX - 1]).collect();
+        for ids in [dense, sparse] {
+            let items = Items::new(ids.iter().map(|&i| item(i)).collect());
+            assert_eq!(items.is_empty(), ids.is_empty());
+            let mut sorted = ids.clone();
+            sorted.sort_unstable();
+            assert_eq!(items.keys().copied().collect::<Vec<_>>(), sorted);
+            for &id in &ids {
+                let found = items.get(&id).map(|i| &i.record);
+                assert_eq!(
+                    found,
+                    Some(&R::Direction {
+                        direction_ratios: vec![id as f64]
+                    })
+                );
+                for other in [id.wrapping_add(1), id.wrapping_sub(1)] {
+                    assert_eq!(items.contains_key(&other), ids.contains(&other));
+                }
+            }
+            for absent in [0, u64::MAX, 3, 1 << 23] {
+                assert!(!items.contains_key(&absent));
+            }
+        }
+        assert!(Items::new(Vec::new()).is_empty());
+    }
 
     /// Ids a power of two apart (`#16777216`, `#33554432`, ...) land in different buckets:
     /// a plain multiplicative hash gives them all the same low bits (one bucket, quadratic
@@ -1930,7 +2079,7 @@ mod tests {
                 .len()
         }
         // 4096 random 16-bit values have about 3971 distinct ones.
-        let here = distinct_low_bits(<Items<'_> as Default>::default().hasher());
+        let here = distinct_low_bits(HashMap::<u64, ()>::default().hasher());
         assert!(here > 3800, "{here} distinct");
         let mut state = 0x9E37_79B9_7F4A_7C15u64;
         for _ in 0..512 {

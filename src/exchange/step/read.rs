@@ -197,18 +197,21 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         })
         .collect();
     cancel.stop_read()?;
-    let mut items: Items<'_> = Items::default();
-    items.reserve(decoded.len());
+    let mut kept = Vec::with_capacity(
+        decoded
+            .iter()
+            .filter(|(_, r)| matches!(r, Ok(Some(_))))
+            .count(),
+    );
     for (id, r) in decoded {
         match r {
-            Ok(Some(item)) => {
-                items.insert(id, item);
-            }
+            Ok(Some(item)) => kept.push((id, item)),
             Ok(None) => {}
             Err(DecodeError::Syntax(e)) => doc.diagnostics.push(parse_diagnostic(&e)),
             Err(DecodeError::Schema(e)) => doc.diagnostics.push(schema_diagnostic(&e)),
         }
     }
+    let items = Items::new(kept);
     let radians = if items.is_empty() {
         1.0
     } else {
@@ -454,7 +457,7 @@ impl Presentation {
                 Location {
                     line,
                     column,
-                    entity: Some(format!("#{first}")),
+                    entity: Some(super::instance_label(first)),
                     ..Location::default()
                 },
             )
@@ -629,7 +632,7 @@ fn plane_angle(s: &Scanned<'_>, complex: &[&RawInstance<'_>], doc: &mut Document
             Location {
                 line: Some(line),
                 column: Some(column),
-                entity: Some(format!("#{id}")),
+                entity: Some(super::instance_label(id)),
                 ..Location::default()
             },
         ));
@@ -667,7 +670,7 @@ fn schema_diagnostic(e: &SchemaError) -> Diagnostic {
         Location {
             line: Some(e.line),
             column: Some(e.column),
-            entity: Some(format!("#{}", e.entity)),
+            entity: Some(super::instance_label(e.entity)),
             ..Location::default()
         },
     )
@@ -678,7 +681,7 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
     let loc = Location {
         line: Some(e.line),
         column: Some(e.column),
-        entity: e.entity.map(|id| format!("#{id}")),
+        entity: e.entity.map(super::instance_label),
         ..Location::default()
     };
     match &e.kind {
@@ -732,7 +735,7 @@ fn file_units(
         Location {
             line: Some(line),
             column: Some(column),
-            entity: Some(format!("#{id}")),
+            entity: Some(super::instance_label(id)),
             ..Location::default()
         }
     };
@@ -842,7 +845,7 @@ impl<'a> Ctx<'_, 'a> {
         Location {
             line: Some(line),
             column: Some(column),
-            entity: Some(format!("#{}", self.raw.id)),
+            entity: Some(super::instance_label(self.raw.id)),
             ..Location::default()
         }
     }
@@ -1087,7 +1090,7 @@ impl<'a> Ctx<'_, 'a> {
             }
         }
         Ok(Entity {
-            id: format!("#{}", self.raw.id),
+            id: super::instance_label(self.raw.id),
             geometry: Geometry::Curve(curve),
             source: Source {
                 entity: r.entity_type,
@@ -1214,7 +1217,7 @@ impl<'a> Ctx<'_, 'a> {
             }
         }
         Ok(Entity {
-            id: format!("#{}", self.raw.id),
+            id: super::instance_label(self.raw.id),
             geometry: Geometry::Surface(surface),
             source: Source {
                 entity: r.entity_type,

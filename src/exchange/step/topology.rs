@@ -125,8 +125,6 @@ pub(super) fn build(
     entities: &[Entity],
     uncertainty: f64,
 ) -> Built {
-    let mut ids: Vec<u64> = conv.items.keys().copied().collect();
-    ids.sort_unstable();
     let mut b = Build {
         conv,
         quadric_maps,
@@ -144,8 +142,8 @@ pub(super) fn build(
     };
     // Vertices first: their box gives the tolerance.
     let mut points: Vec<(u64, Point3)> = Vec::new();
-    for &id in &ids {
-        if let R::VertexPoint { vertex_geometry } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::VertexPoint { vertex_geometry } = item.record {
             match conv.point(vertex_geometry, id) {
                 Ok(p) => points.push((id, p)),
                 Err(d) => b.diagnostics.push(d),
@@ -180,8 +178,8 @@ pub(super) fn build(
             Err(e) => b.refuse(id, &e),
         }
     }
-    for &id in &ids {
-        if let R::EdgeCurve { .. } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::EdgeCurve { .. } = item.record {
             if let Some(out) = edges.get(&id) {
                 b.edge(id, out);
             }
@@ -192,23 +190,23 @@ pub(super) fn build(
         .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
         .map(|e| (e.id.as_str(), e))
         .collect();
-    for &id in &ids {
-        if let R::FaceSurface { .. } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::FaceSurface { .. } = item.record {
             b.face(id, &surfaces);
         }
     }
-    for &id in &ids {
-        if let R::Shell { .. } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::Shell { .. } = item.record {
             b.shell(id);
         }
     }
-    for &id in &ids {
-        if let R::OrientedClosedShell { .. } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::OrientedClosedShell { .. } = item.record {
             b.oriented_shell(id);
         }
     }
-    for &id in &ids {
-        if let R::ManifoldSolidBrep { .. } = conv.items[&id].record {
+    for (id, item) in conv.items.iter() {
+        if let R::ManifoldSolidBrep { .. } = item.record {
             b.solid(id);
         }
     }
@@ -233,12 +231,12 @@ pub(super) fn build(
 impl Build<'_, '_, '_, '_> {
     fn origin(&self, id: u64, entity: Option<String>) -> Origin {
         let item = self.conv.items.get(&id);
-        let loc = self.conv.location(id);
+        let (line, _) = self.conv.line_column(id);
         Origin {
-            id: format!("#{id}"),
+            id: super::instance_label(id),
             source: Source {
                 entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
-                line: loc.line,
+                line: (line > 0).then_some(line),
             },
             name: item
                 .and_then(|i| i.name.as_ref())
@@ -256,7 +254,7 @@ impl Build<'_, '_, '_, '_> {
     }
 
     fn missing(&mut self, id: u64, what: &str, refs: &[u64]) {
-        let list: Vec<String> = refs.iter().map(|r| format!("#{r}")).collect();
+        let list: Vec<String> = refs.iter().map(|&r| super::instance_label(r)).collect();
         let d = self.conv.error(
             id,
             "topology.missing",
@@ -270,12 +268,12 @@ impl Build<'_, '_, '_, '_> {
 
     /// An EDGE_CURVE (ISO 10303-42 5.4, edge_curve).
     fn edge(&mut self, id: u64, out: &EdgeOut) {
-        let R::EdgeCurve {
+        let Some(&R::EdgeCurve {
             edge_start,
             edge_end,
             same_sense,
             ..
-        } = self.conv.items[&id].record
+        }) = self.conv.items.get(&id).map(|i| &i.record)
         else {
             return;
         };
@@ -328,7 +326,7 @@ impl Build<'_, '_, '_, '_> {
             {
                 for c in curves {
                     self.pcurve_entities
-                        .push((format!("#{c}"), format!("#{edge}")));
+                        .push((super::instance_label(*c), super::instance_label(edge)));
                 }
             }
         }
@@ -466,15 +464,15 @@ impl Build<'_, '_, '_, '_> {
 
     /// An ADVANCED_FACE or FACE_SURFACE (ISO 10303-42 5.4, face_surface).
     fn face(&mut self, id: u64, surfaces: &HashMap<&str, &Entity>) {
-        let R::FaceSurface {
+        let Some(&R::FaceSurface {
             ref bounds,
             face_geometry,
             same_sense,
-        } = self.conv.items[&id].record
+        }) = self.conv.items.get(&id).map(|i| &i.record)
         else {
             return;
         };
-        let label = format!("#{face_geometry}");
+        let label = super::instance_label(face_geometry);
         let Some(entity) = surfaces.get(label.as_str()) else {
             self.missing(id, "the face's surface", &[face_geometry]);
             return;
@@ -698,10 +696,10 @@ impl Build<'_, '_, '_, '_> {
     /// An OPEN_SHELL or CLOSED_SHELL (ISO 10303-42 5.4); a CLOSED_SHELL that is not
     /// closed is reported and kept as an open shell.
     fn shell(&mut self, id: u64) {
-        let R::Shell {
+        let Some(&R::Shell {
             ref cfs_faces,
             closed,
-        } = self.conv.items[&id].record
+        }) = self.conv.items.get(&id).map(|i| &i.record)
         else {
             return;
         };
@@ -753,10 +751,10 @@ impl Build<'_, '_, '_, '_> {
     /// An ORIENTED_CLOSED_SHELL: the faces of its closed shell, each reversed when
     /// `orientation = .F.`.
     fn oriented_shell(&mut self, id: u64) {
-        let R::OrientedClosedShell {
+        let Some(&R::OrientedClosedShell {
             closed_shell_element,
             orientation,
-        } = self.conv.items[&id].record
+        }) = self.conv.items.get(&id).map(|i| &i.record)
         else {
             return;
         };
@@ -781,7 +779,9 @@ impl Build<'_, '_, '_, '_> {
 
     /// A MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS (ISO 10303-42 clause 6).
     fn solid(&mut self, id: u64) {
-        let R::ManifoldSolidBrep { outer, ref voids } = self.conv.items[&id].record else {
+        let Some(&R::ManifoldSolidBrep { outer, ref voids }) =
+            self.conv.items.get(&id).map(|i| &i.record)
+        else {
             return;
         };
         let mut shells = Vec::with_capacity(1 + voids.len());

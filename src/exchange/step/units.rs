@@ -69,7 +69,7 @@ pub(super) fn resolve_length(
             return Err(format!(
                 "unit definition #{id} is cyclic or nested too deep ({})",
                 seen.iter()
-                    .map(|i| format!("#{i}"))
+                    .map(|&i| super::instance_label(i))
                     .collect::<Vec<_>>()
                     .join(" -> ")
             ));
