@@ -2272,3 +2272,227 @@ async fn modified_files_report_what_the_writer_changes() {
     assert_eq!(written, read + 1, "{}", String::from_utf8_lossy(&step));
     assert!(!String::from_utf8_lossy(&step).contains(".CIRCULAR_ARC."));
 }
+
+/// `request` asking for a JSON reply (`Accept: application/json`).
+fn accepting_json(mut request: Request<Body>) -> Request<Body> {
+    request
+        .headers_mut()
+        .insert(header::ACCEPT, "application/json".parse().unwrap());
+    request
+}
+
+/// A written file with its time stamps' digits masked (STEP FILE_NAME
+/// `YYYY-MM-DDTHH:MM:SS`, ISO 10303-21 clause 8.2.2; IGES Global parameters 18 and 25
+/// `YYYYMMDD.HHMMSS`), so that two writings of one document in different seconds compare
+/// equal; every other byte is kept.
+fn without_time_stamps(file: &str) -> String {
+    const STEP: &[u8] = b"dddd-dd-ddTdd:dd:dd";
+    const IGES: &[u8] = b"dddddddd.dddddd";
+    let fits = |window: &[u8], pattern: &[u8]| {
+        window.len() == pattern.len()
+            && window.iter().zip(pattern).all(|(c, p)| match p {
+                b'd' => c.is_ascii_digit(),
+                p => c == p,
+            })
+    };
+    let mut bytes = file.as_bytes().to_vec();
+    let mut i = 0;
+    while i < bytes.len() {
+        let len = [STEP, IGES]
+            .into_iter()
+            .find(|p| fits(&bytes[i..bytes.len().min(i + p.len())], p))
+            .map(<[u8]>::len);
+        match len {
+            Some(n) => {
+                for c in &mut bytes[i..i + n] {
+                    if c.is_ascii_digit() {
+                        *c = b'#';
+                    }
+                }
+                i += n;
+            }
+            None => i += 1,
+        }
+    }
+    String::from_utf8(bytes).unwrap()
+}
+
+/// The codes of a JSON array of diagnostics, sorted.
+fn codes(diagnostics: &Value) -> Vec<String> {
+    let mut codes: Vec<String> = diagnostics
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["code"].as_str().unwrap().to_owned())
+        .collect();
+    codes.sort();
+    codes
+}
+
+/// An operation on a file with `Accept: application/json` replies as `/v1/convert` does:
+/// the report holds every diagnostic that `X-Nurbsx-Diagnostics` counts in the file reply,
+/// whole (code, severity, message, location): the reader's and the writer's (the arc
+/// labelled `.CIRCULAR_ARC.` is a parabola, written `.UNSPECIFIED.` with
+/// `step.form_unspecified`, as in `modified_files_report_what_the_writer_changes`), and
+/// the file is the one the plain reply carries.
+#[tokio::test]
+async fn operations_on_files_answer_json_with_every_diagnostic() {
+    let doc = openapi().await;
+    let labelled = STEP_ARC.replacen(
+        "(0.,1.),.UNSPECIFIED.);",
+        "(0.,1.),.UNSPECIFIED.);\n#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.CIRCULAR_ARC.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+        1,
+    );
+    let (_, body) = ok(
+        app(),
+        post_raw("/v1/info", Some("model/step"), labelled.clone()),
+    )
+    .await;
+    let mut want = codes(&json_of(&body)["diagnostics"]);
+    want.push("step.form_unspecified".to_owned());
+    want.sort();
+    let request = json!({ "file": labelled, "by": 1, "entity": "#5" });
+    let (headers, plain) = ok(app(), post_json("/v1/degree-elevate", &request)).await;
+    assert_eq!(headers[header::CONTENT_TYPE], "model/step");
+    let count = |name: &str| -> usize { headers[name].to_str().unwrap().parse().unwrap() };
+    let (json_headers, body) = ok(
+        app(),
+        accepting_json(post_json("/v1/degree-elevate", &request)),
+    )
+    .await;
+    assert_eq!(json_headers[header::CONTENT_TYPE], "application/json");
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("ConvertJsonReply"), &doc, "$").unwrap_or_else(|e| panic!("{e}"));
+    conforms(&v, &schema_ref("OperationJsonReply"), &doc, "$").unwrap_or_else(|e| panic!("{e}"));
+    let report = &v["report"];
+    assert_eq!(
+        report["diagnostics"].as_array().unwrap().len(),
+        count("x-nurbsx-diagnostics"),
+        "{report}"
+    );
+    assert_eq!(codes(&report["diagnostics"]), want, "{report}");
+    let form = report["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "step.form_unspecified")
+        .unwrap();
+    assert_eq!(form["severity"], "warning", "{form}");
+    assert_eq!(form["location"]["entity"], "#5", "{form}");
+    assert!(form["message"].as_str().is_some_and(|m| !m.is_empty()));
+    assert_eq!(
+        (
+            &report["input_format"],
+            &report["output_format"],
+            &report["entities_in"],
+            &report["entities_out"]
+        ),
+        (
+            &json!("step"),
+            &json!("step"),
+            &json!(2),
+            &json!(count("x-nurbsx-entities"))
+        ),
+        "{report}"
+    );
+    // Elevation reports no notes.
+    assert!(v.get("notes").is_none(), "{v}");
+    let file = v["file"].as_str().unwrap();
+    assert!(file.starts_with("ISO-10303-21;") && !file.contains(".CIRCULAR_ARC."));
+    assert_eq!(
+        without_time_stamps(file),
+        without_time_stamps(std::str::from_utf8(&plain).unwrap())
+    );
+    // Model JSON in keeps its model-JSON reply, whatever the Accept header says.
+    let (_, body) = ok(
+        app(),
+        accepting_json(post_json(
+            "/v1/degree-elevate",
+            &json!({ "geometry": circle(), "by": 1 }),
+        )),
+    )
+    .await;
+    let v = json_of(&body);
+    assert!(v["geometry"].is_object() && v.get("file").is_none(), "{v}");
+}
+
+/// The JSON reply of an operation on a file carries the operation's notes, as its
+/// model-JSON reply does: a reduction's bound is the one `X-Nurbsx-Error-Bound` gives in
+/// the file reply, and the file is the same.
+#[tokio::test]
+async fn file_json_replies_carry_the_notes_the_headers_give() {
+    let (_, elevated) = ok(
+        app(),
+        post_json("/v1/degree-elevate", &json!({ "file": STEP_ARC, "by": 1 })),
+    )
+    .await;
+    let request =
+        json!({ "file": String::from_utf8(elevated.to_vec()).unwrap(), "tolerance": 1e-9 });
+    let (headers, plain) = ok(app(), post_json("/v1/reduce", &request)).await;
+    let bound: f64 = headers["x-nurbsx-error-bound"]
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let (_, body) = ok(app(), accepting_json(post_json("/v1/reduce", &request))).await;
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("OperationJsonReply"), &openapi().await, "$")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let notes = v["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{v}");
+    assert!(notes[0]["entity"].is_string(), "{v}");
+    assert_eq!(notes[0]["error_bound"].as_f64(), Some(bound), "{v}");
+    assert_eq!(
+        without_time_stamps(v["file"].as_str().unwrap()),
+        without_time_stamps(std::str::from_utf8(&plain).unwrap())
+    );
+}
+
+/// `/v1/make` and `/v1/fit` with `format` and `Accept: application/json` reply with the
+/// report and the file (the plain reply's), and a fit with its report, as its model-JSON
+/// reply gives it.
+#[tokio::test]
+async fn built_files_answer_json_too() {
+    let doc = openapi().await;
+    let q = [
+        [0.0, 0.0, 0.0],
+        [3.0, 4.0, 1.0],
+        [-1.0, 4.0, 0.0],
+        [-4.0, 0.0, 2.0],
+    ];
+    let model = fit_reply(&json!({ "points": q, "degree": 3 })).await;
+    let request = json!({ "points": q, "degree": 3, "format": "iges" });
+    let (headers, plain) = ok(app(), post_json("/v1/fit", &request)).await;
+    let (_, body) = ok(app(), accepting_json(post_json("/v1/fit", &request))).await;
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("FitJsonReply"), &doc, "$").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v["fit"], model["fit"], "{v}");
+    let report = &v["report"];
+    assert_eq!(
+        (&report["input_format"], &report["output_format"]),
+        (&json!("json"), &json!("iges")),
+        "{report}"
+    );
+    assert_eq!(
+        report["diagnostics"].as_array().unwrap().len(),
+        headers["x-nurbsx-diagnostics"]
+            .to_str()
+            .unwrap()
+            .parse::<usize>()
+            .unwrap()
+    );
+    assert_eq!(
+        without_time_stamps(v["file"].as_str().unwrap()),
+        without_time_stamps(std::str::from_utf8(&plain).unwrap())
+    );
+    let request = json!({ "shape": "circle", "radius": 2.0, "format": "step" });
+    let (_, plain) = ok(app(), post_json("/v1/make", &request)).await;
+    let (_, body) = ok(app(), accepting_json(post_json("/v1/make", &request))).await;
+    let v = json_of(&body);
+    conforms(&v, &schema_ref("OperationJsonReply"), &doc, "$").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v["report"]["entities_out"], 1, "{v}");
+    assert_eq!(
+        without_time_stamps(v["file"].as_str().unwrap()),
+        without_time_stamps(std::str::from_utf8(&plain).unwrap())
+    );
+}

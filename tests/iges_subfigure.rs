@@ -232,3 +232,18 @@ fn a_scaled_subfigure_instance_is_written_flattened_to_step_with_a_warning() {
         assert!(((b[k] - a[k]) / a[k]).abs() < 1e-8, "{} vs {}", b[k], a[k]);
     }
 }
+
+/// The STEP writer returns the warning about the scaled instance with the text it wrote
+/// by the plan that flattened it: what `assembly_warnings` says without writing.
+#[test]
+fn the_step_writer_returns_its_flattening_warning() {
+    let doc = read(&placed_twice());
+    let options = exchange::ExportOptions::default();
+    let (step, said) = exchange::write_reporting(&doc, exchange::Format::Step, &options).unwrap();
+    assert_eq!(said, exchange::step::assembly_warnings(&doc, &options));
+    assert_eq!(
+        said.iter().map(|d| d.code.as_str()).collect::<Vec<_>>(),
+        ["assembly.instance_flattened"]
+    );
+    assert_eq!(step.matches("= NEXT_ASSEMBLY_USAGE_OCCURRENCE(").count(), 1);
+}

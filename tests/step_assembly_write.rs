@@ -501,3 +501,40 @@ fn placements_are_written_in_the_output_unit() {
         }
     }
 }
+
+/// The STEP writer reports how it wrote the assembly from the one plan it wrote by: what
+/// `assembly_warnings` says without writing, with the text `write` gives; a conversion
+/// reports it once (the pipeline does not plan a second time).
+#[test]
+fn the_writer_reports_the_plan_it_wrote_by() {
+    let doc = read(&sample());
+    for flatten in [false, true] {
+        let options = ExportOptions {
+            flatten_assemblies: flatten,
+            timestamp: Some("2024-01-01T00:00:00".to_owned()),
+            ..ExportOptions::default()
+        };
+        let (text, said) = exchange::write_reporting(&doc, Format::Step, &options).unwrap();
+        assert_eq!(said, exchange::step::assembly_warnings(&doc, &options));
+        assert_eq!(said.len(), usize::from(flatten), "{said:#?}");
+        assert_eq!(text, write(&doc, &options));
+        let request = ConvertRequest {
+            to: Some(Format::Step),
+            export: options,
+            ..ConvertRequest::default()
+        };
+        let out =
+            pipeline::convert(sample().as_bytes(), None, &request, &Settings::default()).unwrap();
+        // The writer's codes (the reader's `assembly.placed` aside), each said once.
+        let reported: Vec<_> = out
+            .report
+            .diagnostics
+            .iter()
+            .filter(|d| {
+                ["assembly.flattened", "assembly.instance_flattened"].contains(&d.code.as_str())
+            })
+            .cloned()
+            .collect();
+        assert_eq!(reported, said, "{:#?}", out.report.diagnostics);
+    }
+}

@@ -165,7 +165,7 @@ fn round_trip(doc: &Document, format: Format, implicit: bool) {
         ..ExportOptions::default()
     };
     let mut reference = doc.clone();
-    drop_unwritable(&mut reference, format, &options);
+    drop_unwritable(&mut reference, format);
     let text = exchange::write(&reference, format, &options).unwrap();
     let mut import = ImportOptions::default();
     import.limits.max_input_bytes = usize::MAX;

@@ -315,9 +315,9 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
     };
     let shape =
         construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
-    let document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
+    let mut document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    write_document(&document, &a.out, target)?;
+    write_document(&mut document, &a.out, target)?;
     let name = clap::ValueEnum::to_possible_value(&a.shape)
         .map_or_else(String::new, |v| v.get_name().to_owned());
     ctx.report.summary(&format!(
@@ -348,10 +348,10 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
         poles_v: a.poles_v,
         method,
     };
-    let (document, report) =
+    let (mut document, report) =
         fit(&data, dimension, spec).map_err(|e| CliError::pipeline(&a.input, e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    write_document(&document, &a.out, target)?;
+    write_document(&mut document, &a.out, target)?;
     let sizes = |v: &[usize]| {
         v.iter()
             .map(usize::to_string)
@@ -383,19 +383,20 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
 }
 
 /// Writes `document` as `target` to `out`'s file (its name in the header, the knot form it
-/// asks for).
+/// asks for); what the writer says about it joins the document's diagnostics.
 fn write_document(
-    document: &crate::exchange::Document,
+    document: &mut crate::exchange::Document,
     out: &OutputArgs,
     target: InputKind,
 ) -> Result<(), CliError> {
-    let text = pipeline::write_as(
+    let (text, written) = pipeline::write_as(
         document,
         target,
         &export_options(&out.output),
         knot_form(out, target)?,
     )
     .map_err(|e| CliError::pipeline(&out.output, e))?;
+    document.diagnostics.extend(written);
     write_output(&out.output, &text)
 }
 
@@ -451,7 +452,7 @@ fn modify(
     // could have carried), so that every warning is printed.
     let faces = !document.topology.is_empty();
     if let Some(format) = target.format().filter(|_| !faces) {
-        pipeline::drop_unwritable(&mut document, format, &export_options(&out.output));
+        pipeline::drop_unwritable(&mut document, format);
     }
     if let Some(outcome) = nothing_to_do(ctx, &name, input, &document, entity)? {
         return Ok(outcome);
@@ -459,10 +460,12 @@ fn modify(
     let notes = pipeline::apply(&mut document, op, entity, &ctx.settings)
         .map_err(|e| CliError::pipeline(input, e))?;
     if let Some(format) = target.format().filter(|_| faces) {
-        pipeline::drop_unwritable(&mut document, format, &export_options(&out.output));
+        pipeline::drop_unwritable(&mut document, format);
     }
+    // The writer's diagnostics are printed with the rest, also when writing fails.
+    let result = write_document(&mut document, out, target);
     ctx.report.diagnostics(&name, &document.diagnostics);
-    write_document(&document, out, target)?;
+    result?;
     let written = document.entities.len();
     let mut summary = format!(
         "{name} -> {}: read {read} curves and surfaces, wrote {written} as {}",

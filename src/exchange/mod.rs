@@ -152,19 +152,31 @@ fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
     out
 }
 
-/// Writes a document in the given format.
+/// Writes a document in the given format (what the writer says about it is left out: see
+/// [`write_reporting`]).
 pub fn write(
     document: &Document,
     format: Format,
     options: &ExportOptions,
 ) -> Result<String, Diagnostic> {
-    let text = match format {
-        Format::Step => step::write(document, options),
-        Format::Iges => iges::write(document, options),
+    write_reporting(document, format, options).map(|(text, _)| text)
+}
+
+/// Writes a document in the given format, and returns with the text what the writer says
+/// about it: for STEP, how it wrote the document's assembly
+/// ([`step::write_reporting`]); IGES says nothing here.
+pub fn write_reporting(
+    document: &Document,
+    format: Format,
+    options: &ExportOptions,
+) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
+    let written = match format {
+        Format::Step => step::write_reporting(document, options),
+        Format::Iges => iges::write(document, options).map(|text| (text, Vec::new())),
     };
     // A stopped writer's text is partial, or its error stands for the stop.
     options.cancel.stop_write()?;
-    text
+    written
 }
 
 /// Most byte-level encoding diagnostics reported one by one; the rest are counted.

@@ -1,7 +1,7 @@
 //! Writing a document as STEP, IGES or nurbsx model JSON (the modify commands keep the
 //! input's form, and model JSON has no exchange writer of its own).
 
-use crate::exchange::{Document, ExportOptions};
+use crate::exchange::{Diagnostic, Document, ExportOptions};
 use crate::nurbs::serde_form::KnotIntervalForm;
 
 use super::{ErrorKind, InputKind, PipelineError, write};
@@ -51,21 +51,22 @@ pub fn write_model_json(doc: &Document, knots: KnotForm) -> Result<String, Pipel
 }
 
 /// Writes the document as STEP, IGES ([`write()`]) or model JSON ([`write_model_json`],
-/// curves' knots in the form `knots` says).
+/// curves' knots in the form `knots` says). Returns the text and what the writer says
+/// about it ([`write()`]; nothing for model JSON).
 pub fn write_as(
     doc: &Document,
     kind: InputKind,
     options: &ExportOptions,
     knots: KnotForm,
-) -> Result<String, PipelineError> {
+) -> Result<(String, Vec<Diagnostic>), PipelineError> {
     match kind.format() {
         Some(format) => {
             // 2-D curves have no place in IGES model space (see `drop_unwritable`).
             let mut doc = doc.clone();
-            super::drop_unwritable(&mut doc, format, options);
+            super::drop_unwritable(&mut doc, format);
             write(&doc, format, options)
         }
-        None => write_model_json(doc, knots),
+        None => write_model_json(doc, knots).map(|text| (text, Vec::new())),
     }
 }
 
@@ -85,7 +86,7 @@ mod tests {
                 .unwrap()
                 .document;
             for form in [KnotForm::Vector, KnotForm::Intervals] {
-                let text =
+                let (text, _) =
                     write_as(&doc, InputKind::Json, &ExportOptions::default(), form).unwrap();
                 // One entity: a single object; several: an array.
                 assert_eq!(text.starts_with('['), doc.entities.len() > 1, "{text}");

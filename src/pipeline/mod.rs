@@ -25,8 +25,8 @@ pub use input::{InputKind, Loaded, Settings, load};
 pub use ops::{
     ClampPolicy, ConvertOutput, ConvertRequest, Direction, EvalRequest, MeshFile, MeshFormat,
     OpNote, Operation, Tessellated, affine, apply, check_evaluation, check_file_reply, convert,
-    drop_unwritable, evaluate, evaluate_each, info, select, tessellate, tessellate_file, validate,
-    write,
+    drop_unwritable, evaluate, evaluate_each, file_report, info, select, tessellate,
+    tessellate_file, validate, write,
 };
 pub use reports::{
     ConvertReport, EntityDeviation, EntityInfo, EvalReport, EvalResult, FaceInfo, InfoReport,

@@ -403,12 +403,37 @@ pub fn select<'d>(doc: &'d Document, id: Option<&str>) -> Result<&'d Entity, Pip
 }
 
 /// Writes a document in the given format, with the document's diagnostics untouched.
+/// Returns the text and what the writer says about it, for the caller to report with the
+/// document's diagnostics: for STEP, how it wrote the document's assembly (the plan the
+/// writing follows, computed once; see [`drop_unwritable`]).
 pub fn write(
     doc: &Document,
     format: Format,
     options: &ExportOptions,
-) -> Result<String, PipelineError> {
-    exchange::write(doc, format, options).map_err(PipelineError::from_exchange)
+) -> Result<(String, Vec<Diagnostic>), PipelineError> {
+    exchange::write_reporting(doc, format, options).map_err(PipelineError::from_exchange)
+}
+
+/// What writing `doc` as `format` in `units` did, `doc` read as `kind` with `entities_in`
+/// entities and its diagnostics holding the writer's: the report of [`convert`], without
+/// verification. An operation on a file reports with it too.
+pub fn file_report(
+    kind: InputKind,
+    format: Format,
+    entities_in: usize,
+    doc: &Document,
+    units: LengthUnit,
+) -> ConvertReport {
+    ConvertReport {
+        input_format: kind.name().to_owned(),
+        output_format: format_name(format).to_owned(),
+        entities_in,
+        entities_out: doc.entities.len(),
+        units: units_info(units),
+        diagnostics: doc.diagnostics.clone(),
+        verify: None,
+        verify_part: None,
+    }
 }
 
 /// Removes what a format cannot represent, with a warning per entity.
@@ -424,17 +449,14 @@ pub fn write(
 /// (`exchange::step::form_warnings`).
 ///
 /// An assembly (read with its placements applied) is written to STEP with its product
-/// structure (each part once, placed by its instances) unless `options` ask for it
+/// structure (each part once, placed by its instances) unless the export options ask for it
 /// flattened; instances whose placement an axis placement cannot carry are written
-/// flattened with a warning (`exchange::step::assembly_warnings`). IGES output has
-/// subfigures (308/408) that nurbsx does not write: there the assembly is written flattened,
-/// a warning (`assembly.flattened`), as the product and instance names and the sharing of
-/// parts are lost for the user.
-pub fn drop_unwritable(doc: &mut Document, format: Format, options: &ExportOptions) {
-    if format == Format::Step {
-        let warnings = crate::exchange::step::assembly_warnings(doc, options);
-        doc.diagnostics.extend(warnings);
-    }
+/// flattened with a warning. The STEP writer decides that while writing, so [`write()`]
+/// returns those warnings (`exchange::step::write_reporting`), not this function. IGES
+/// output has subfigures (308/408) that nurbsx does not write: there the assembly is written
+/// flattened, a warning (`assembly.flattened`), as the product and instance names and the
+/// sharing of parts are lost for the user.
+pub fn drop_unwritable(doc: &mut Document, format: Format) {
     let instances = doc.topology.instances.len();
     if instances > 0 && format == Format::Iges {
         let message = format!(
@@ -532,7 +554,7 @@ pub fn convert(
         }),
     };
     let entities_in = document.entities.len();
-    drop_unwritable(&mut document, format, &request.export);
+    drop_unwritable(&mut document, format);
     settings.cancel.check()?;
     let original = op.is_some().then(|| document.clone());
     if let Some(op) = op {
@@ -543,7 +565,8 @@ pub fn convert(
         cancel: settings.cancel.clone(),
         ..request.export.clone()
     };
-    let text = write(&document, format, &export)?;
+    let (text, written) = write(&document, format, &export)?;
+    document.diagnostics.extend(written);
     settings.cancel.check()?;
     let out_units = request.export.units.unwrap_or(document.units);
     let (verify, verify_part) = match request.verify {
@@ -554,10 +577,10 @@ pub fn convert(
             (Some(entities), part)
         }
     };
-    let mut diagnostics = document.diagnostics.clone();
+    let mut report = file_report(kind, format, entities_in, &document, out_units);
     if let Some(devs) = &verify {
         for d in devs.iter().filter(|d| !d.ok) {
-            diagnostics.push(Diagnostic::error(
+            report.diagnostics.push(Diagnostic::error(
                 "verify.deviation",
                 format!(
                     "re-read entity {} deviates by {:e} (relative {:e}) from input {}",
@@ -567,16 +590,8 @@ pub fn convert(
             ));
         }
     }
-    let mut report = ConvertReport {
-        input_format: kind.name().to_owned(),
-        output_format: format_name(format).to_owned(),
-        entities_in,
-        entities_out: document.entities.len(),
-        units: units_info(out_units),
-        diagnostics,
-        verify,
-        verify_part,
-    };
+    report.verify = verify;
+    report.verify_part = verify_part;
     if let Some(p) = report
         .verify_part
         .as_ref()

@@ -245,7 +245,8 @@ pub struct ElevateRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<Box<RawValue>>,
-    /// A STEP or IGES file's text (the reply is a file in the same format).
+    /// A STEP or IGES file's text (the reply is a file in the same format, or with
+    /// `Accept: application/json` the report and the file).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
     pub format: Option<FileFormat>,
@@ -265,7 +266,8 @@ pub struct KnotEndsRequest {
     /// Model JSON (the reply is model JSON).
     #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
     pub geometry: Option<Box<RawValue>>,
-    /// A STEP or IGES file's text (the reply is a file in the same format).
+    /// A STEP or IGES file's text (the reply is a file in the same format, or with
+    /// `Accept: application/json` the report and the file).
     pub file: Option<String>,
     /// The format of `file` (sniffed when absent).
     pub format: Option<FileFormat>,
@@ -470,7 +472,8 @@ macro_rules! operation_request {
             /// Model JSON (the reply is model JSON).
             #[schema(value_type = Option<crate::service::openapi::GeometryInputDoc>)]
             pub geometry: Option<Box<RawValue>>,
-            /// A STEP or IGES file's text (the reply is a file in the same format).
+            /// A STEP or IGES file's text (the reply is a file in the same format, or with
+            /// `Accept: application/json` the report and the file).
             pub file: Option<String>,
             /// The format of `file` (sniffed when absent).
             pub format: Option<FileFormat>,

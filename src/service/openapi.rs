@@ -67,7 +67,8 @@ use super::error::{ErrorBody, ErrorDetail};
         UnitsInfoDoc, SourceDoc, EntityInfoDoc, InfoReportDoc, ValidationReportDoc,
         ConvertReportDoc, EntityDeviationDoc, StructureInfoDoc, InstanceInfoDoc, SolidInfoDoc, ShellInfoDoc,
         FaceInfoDoc, PartDeviationDoc, EvalReportDoc, EvalResultDoc, ConvertJsonReply,
-        GeometryReply, OpNoteDoc, Health, Limits, InsertKnotRequest, RefineRequest, ReduceRequest,
+        GeometryReply, OperationJsonReply, FitJsonReply, OpNoteDoc, Health, Limits,
+        InsertKnotRequest, RefineRequest, ReduceRequest,
         RemoveKnotsRequest, DecomposeRequest, SplitRequest, JoinRequest, ReverseRequest,
         ReparameterizeRequest, TransformRequest, Rotation, IsoRequest, PeriodicRequest,
         DerivativeCurveRequest, super::api::MakeRequest, super::api::MakeName,
@@ -494,13 +495,47 @@ pub struct EntityDeviationDoc {
     pub ok: bool,
 }
 
-/// `POST /v1/convert` with `Accept: application/json`.
+/// A written file with `Accept: application/json`: `POST /v1/convert`, an operation on a
+/// file, `POST /v1/make` and `POST /v1/fit` with `format`.
 #[derive(Serialize, ToSchema)]
 pub struct ConvertJsonReply {
-    /// What happened.
+    /// What happened: for an operation, the file read (`entities_in`) and written
+    /// (`entities_out`) with every diagnostic of the reading, the operation and the
+    /// writing (those `X-Nurbsx-Diagnostics` counts in the file reply); for a built shape,
+    /// `input_format` is `json` (the request) and `entities_in` the entities built.
     pub report: ConvertReportDoc,
     /// The file text.
     pub file: String,
+    /// An operation's notes, as its model-JSON reply gives them (absent when nothing).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub notes: Option<Vec<OpNoteDoc>>,
+    /// A fit's report, as its model-JSON reply gives it (`/v1/fit` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitReportDoc>,
+}
+
+/// The `application/json` reply of an operation (and of `POST /v1/make`): model JSON for
+/// model-JSON input, or for a file (`Accept: application/json`) the report and the file.
+#[derive(Serialize, ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+pub enum OperationJsonReply {
+    /// Model JSON in: the new geometry.
+    Geometry(GeometryReply),
+    /// A file: the report, the file text and the notes.
+    File(Box<ConvertJsonReply>),
+}
+
+/// The `application/json` reply of `POST /v1/fit`: model JSON, or with `format` and
+/// `Accept: application/json` the report, the file and the fit.
+#[derive(Serialize, ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+pub enum FitJsonReply {
+    /// Model JSON: the fitted geometry and the fit.
+    Geometry(FitReply),
+    /// A file: the report, the file text and the fit.
+    File(ConvertJsonReply),
 }
 
 /// `POST /v1/evaluate`.

@@ -141,7 +141,7 @@ Errors are JSON: <code>{"error":{"code","message","location"}}</code>.</p>
 <tr><td><code>POST /v1/validate[?strict=true]</code></td><td>diagnostics of a file</td></tr>
 <tr><td><code>POST /v1/info</code></td><td>format, units, every entity with its exact geometry</td></tr>
 <tr><td><code>POST /v1/evaluate</code></td><td>points (derivatives, normals, curvature) of a curve or surface</td></tr>
-<tr><td><code>POST /v1/degree-elevate</code></td><td>exact degree elevation</td></tr>
+<tr><td><code>POST /v1/degree-elevate</code></td><td>exact degree elevation; on a file, as every operation, <code>Accept: application/json</code> for report + file</td></tr>
 <tr><td><code>POST /v1/clamp</code>, <code>/v1/unclamp</code></td><td>knot-end conversion, shape unchanged</td></tr>
 <tr><td><code>POST /v1/insert-knot</code>, <code>/v1/refine</code></td><td>knot insertion and refinement, shape unchanged</td></tr>
 <tr><td><code>POST /v1/reduce</code>, <code>/v1/remove-knots</code></td><td>degree reduction and knot removal within a tolerance (the bound is reported)</td></tr>

@@ -20,11 +20,14 @@ use super::api::{
 use super::error::ApiError;
 use super::extract::{ApiJson, ApiQuery, FileBody};
 use super::openapi::{
-    ConvertJsonReply, EvalReportDoc, FileErrors, GeometryReply, InfoReportDoc, ValidationReportDoc,
+    ConvertJsonReply, EvalReportDoc, FileErrors, InfoReportDoc, OperationJsonReply,
+    ValidationReportDoc,
 };
 use super::{AppState, Deadline};
 use crate::exchange::{ExportOptions, Format};
-use crate::pipeline::{self, ConvertReport, ConvertRequest, EvalRequest, Loaded, Operation};
+use crate::pipeline::{
+    self, ConvertReport, ConvertRequest, EvalRequest, InputKind, Loaded, OpNote, Operation,
+};
 
 /// The media type of a written file.
 fn media_type(format: Format) -> &'static str {
@@ -52,11 +55,30 @@ fn file_reply(format: Format, text: String, entities: usize, diagnostics: usize)
     response
 }
 
-/// `{"report": ..., "file": "..."}`: the conversion with `Accept: application/json`.
+/// `{"report": ..., "file": "..."}`: a written file with `Accept: application/json` (a
+/// conversion, an operation on a file, a built shape written as a file), with what the
+/// endpoint's model-JSON reply carries besides the geometry: an operation's `notes`, a
+/// fit's `fit`.
 #[derive(Serialize)]
-struct ConvertJson {
+struct FileJson {
     report: ConvertReport,
     file: String,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<OpNote>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fit: Option<pipeline::construct::FitReport>,
+}
+
+impl FileJson {
+    /// The reply of `report` and `file` alone.
+    fn new(report: ConvertReport, file: String) -> Self {
+        FileJson {
+            report,
+            file,
+            notes: Vec::new(),
+            fit: None,
+        }
+    }
 }
 
 /// Converts a STEP, IGES or model-JSON file to STEP or IGES.
@@ -119,11 +141,7 @@ pub async fn convert(
         .metrics
         .add_entities_converted(output.report.entities_out);
     if wants_json(&headers) {
-        return Ok(Json(ConvertJson {
-            report: output.report,
-            file: output.text,
-        })
-        .into_response());
+        return Ok(Json(FileJson::new(output.report, output.text)).into_response());
     }
     Ok(file_reply(
         output.format,
@@ -262,12 +280,15 @@ pub async fn evaluate(
 /// Loads, applies `op`, and renders in the input's form: model JSON in gives
 /// `{"geometry": ..., "notes": [...]}` out (`notes` when the operation reports something,
 /// such as a reduction's deviation bound); a file in gives a file in the same format out,
-/// with the largest reported bound in `X-Nurbsx-Error-Bound`.
+/// with the largest reported bound in `X-Nurbsx-Error-Bound`, or, with `json`
+/// (`Accept: application/json`), `{"report": ..., "file": "...", "notes": [...]}` as
+/// `/v1/convert` replies.
 async fn operate(
     state: Arc<AppState>,
     input: Input,
     op: Operation,
     entity: Option<String>,
+    json: bool,
 ) -> Result<Response, ApiError> {
     let mut settings = state.settings.clone();
     let json_array = input.json_array;
@@ -277,6 +298,7 @@ async fn operate(
             settings.cancel = cancel;
             let Loaded { kind, mut document } =
                 pipeline::load(&input.bytes, input.hint, &settings)?;
+            let entities_in = document.entities.len();
             let notes = pipeline::apply(&mut document, op, entity.as_deref(), &settings)?;
             pipeline::check_file_reply(&document, &settings)?;
             match kind.format() {
@@ -286,26 +308,28 @@ async fn operate(
                         ..ExportOptions::default()
                     };
                     // What the output cannot hold is dropped and reported (counted in
-                    // `x-nurbsx-diagnostics`), as the CLI's modify commands do.
-                    pipeline::drop_unwritable(&mut document, format, &export);
-                    let text = pipeline::write(&document, format, &export)?;
-                    Ok((
-                        Ok((
-                            format,
-                            text,
-                            document.entities.len(),
-                            document.diagnostics.len(),
-                        )),
-                        notes,
-                    ))
+                    // `x-nurbsx-diagnostics`), as the CLI's modify commands do, with what
+                    // the writer says.
+                    pipeline::drop_unwritable(&mut document, format);
+                    let (text, written) = pipeline::write(&document, format, &export)?;
+                    document.diagnostics.extend(written);
+                    let units = document.units;
+                    let report = pipeline::file_report(kind, format, entities_in, &document, units);
+                    Ok((Ok((format, text, report)), notes))
                 }
                 None => Ok((Err(document), notes)),
             }
         })
         .await?;
     match rendered {
-        Ok((format, text, entities, diagnostics)) => {
-            let mut response = file_reply(format, text, entities, diagnostics);
+        Ok((_, text, report)) if json => Ok(Json(FileJson {
+            notes,
+            ..FileJson::new(report, text)
+        })
+        .into_response()),
+        Ok((format, text, report)) => {
+            let mut response =
+                file_reply(format, text, report.entities_out, report.diagnostics.len());
             let bound = notes
                 .iter()
                 .filter_map(|n| n.error_bound)
@@ -339,13 +363,15 @@ async fn operate(
     }
 }
 
-/// Runs the operation of a request (see [`OperationRequest`]).
+/// Runs the operation of a request (see [`OperationRequest`]); `headers` say whether a
+/// file reply is wanted as JSON.
 async fn run_operation(
     state: Arc<AppState>,
+    headers: &HeaderMap,
     request: impl OperationRequest,
 ) -> Result<Response, ApiError> {
     let (input, entity, op) = request.parts()?;
-    operate(state, input, op, entity).await
+    operate(state, input, op, entity, wants_json(headers)).await
 }
 
 /// Declares the handler of one geometric operation: its OpenAPI description and the call
@@ -361,9 +387,13 @@ macro_rules! operation_route {
             responses(
                 (status = 200, description = "Model JSON in: model JSON out (with `notes` \
                                               when the operation reports); a file in: a \
-                                              file in the same format out",
+                                              file in the same format out (headers \
+                                              X-Nurbsx-Entities and X-Nurbsx-Diagnostics), \
+                                              or with Accept: application/json the report \
+                                              (every diagnostic), the file text and the \
+                                              `notes`",
                     content(
-                        (GeometryReply = "application/json"),
+                        (OperationJsonReply = "application/json"),
                         (String = "model/step"),
                         (String = "model/iges")
                     )),
@@ -372,9 +402,10 @@ macro_rules! operation_route {
         )]
         pub async fn $name(
             State(state): State<Arc<AppState>>,
+            headers: HeaderMap,
             ApiJson(req): ApiJson<$request>,
         ) -> Result<Response, ApiError> {
-            run_operation(state, req).await
+            run_operation(state, &headers, req).await
         }
     };
 }
@@ -442,9 +473,12 @@ operation_route!(
     tag = "geometry",
     request_body = ElevateRequest,
     responses(
-        (status = 200, description = "Model JSON in: model JSON out; a file in: a file in the same format out",
+        (status = 200, description = "Model JSON in: model JSON out; a file in: a file in the \
+                                      same format out (headers X-Nurbsx-Entities and \
+                                      X-Nurbsx-Diagnostics), or with Accept: application/json \
+                                      the report (every diagnostic) and the file text",
             content(
-                (GeometryReply = "application/json"),
+                (OperationJsonReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -453,9 +487,10 @@ operation_route!(
 )]
 pub async fn degree_elevate(
     State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
     ApiJson(req): ApiJson<ElevateRequest>,
 ) -> Result<Response, ApiError> {
-    run_operation(state, req).await
+    run_operation(state, &headers, req).await
 }
 
 /// Clamps the knot-vector ends (knot insertion at the domain ends; shape unchanged).
@@ -467,7 +502,7 @@ pub async fn degree_elevate(
     responses(
         (status = 200, description = "As for /v1/degree-elevate",
             content(
-                (GeometryReply = "application/json"),
+                (OperationJsonReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -476,13 +511,14 @@ pub async fn degree_elevate(
 )]
 pub async fn clamp(
     State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
     ApiJson(req): ApiJson<KnotEndsRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, req.format)?;
     let op = Operation::Clamp {
         direction: req.direction.into(),
     };
-    operate(state, input, op, req.entity).await
+    operate(state, input, op, req.entity, wants_json(&headers)).await
 }
 
 /// Unclamps the knot-vector ends (NURBS Book A12.1; shape unchanged).
@@ -494,7 +530,7 @@ pub async fn clamp(
     responses(
         (status = 200, description = "As for /v1/degree-elevate",
             content(
-                (GeometryReply = "application/json"),
+                (OperationJsonReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -503,13 +539,14 @@ pub async fn clamp(
 )]
 pub async fn unclamp(
     State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
     ApiJson(req): ApiJson<KnotEndsRequest>,
 ) -> Result<Response, ApiError> {
     let input = Input::from_fields(req.geometry, req.file, req.format)?;
     let op = Operation::Unclamp {
         direction: req.direction.into(),
     };
-    operate(state, input, op, req.entity).await
+    operate(state, input, op, req.entity, wants_json(&headers)).await
 }
 
 /// Tessellates curves (polylines) and surfaces (triangles) under a chord tolerance; the
@@ -605,9 +642,10 @@ pub async fn tessellate(
     request_body = super::api::MakeRequest,
     responses(
         (status = 200, description = "Model JSON `{\"geometry\": ...}` (default), or a STEP/IGES \
-                                      file with `format`",
+                                      file with `format` (with Accept: application/json, the \
+                                      report and the file text)",
             content(
-                (GeometryReply = "application/json"),
+                (OperationJsonReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -616,11 +654,12 @@ pub async fn tessellate(
 )]
 pub async fn make(
     State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
     ApiJson(req): ApiJson<super::api::MakeRequest>,
 ) -> Result<Response, ApiError> {
     let format = req.format;
     let shape = req.shape()?;
-    built(state, format, move || {
+    built(state, format, wants_json(&headers), move || {
         pipeline::construct::make(&shape).map(|d| (d, None))
     })
     .await
@@ -637,9 +676,10 @@ pub async fn make(
         (status = 200, description = "Model JSON `{\"geometry\": ..., \"fit\": ...}` \
                                       (default), or a STEP/IGES file with `format` and the \
                                       residual in `X-Nurbsx-Residual-Max` and \
-                                      `X-Nurbsx-Residual-Rms`",
+                                      `X-Nurbsx-Residual-Rms` (with Accept: \
+                                      application/json, the report, the file text and `fit`)",
             content(
-                (super::openapi::FitReply = "application/json"),
+                (super::openapi::FitJsonReply = "application/json"),
                 (String = "model/step"),
                 (String = "model/iges")
             )),
@@ -648,6 +688,7 @@ pub async fn make(
 )]
 pub async fn fit(
     State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
     ApiJson(req): ApiJson<super::api::FitRequest>,
 ) -> Result<Response, ApiError> {
     let format = req.format;
@@ -659,7 +700,7 @@ pub async fn fit(
         method: req.params.into(),
     };
     let points = req.points;
-    built(state, format, move || {
+    built(state, format, wants_json(&headers), move || {
         let (data, dimension) = pipeline::construct::read_fit_data(points.get())?;
         let (document, report) = pipeline::construct::fit(&data, dimension, spec)?;
         Ok((document, Some(report)))
@@ -761,10 +802,12 @@ pub async fn compare(
 
 /// Runs `build` on a computing slot and replies with the document: model JSON
 /// `{"geometry": ...}` (with `fit` when the build reports a fit), or a file in `format`
-/// (a fit's residual in `X-Nurbsx-Residual-Max` / `-Rms`).
+/// (a fit's residual in `X-Nurbsx-Residual-Max` / `-Rms`), with `json`
+/// (`Accept: application/json`) as `{"report": ..., "file": "...", "fit": ...}`.
 async fn built(
     state: Arc<AppState>,
     format: Option<super::api::FileFormat>,
+    json: bool,
     build: impl FnOnce() -> Result<
         (
             crate::exchange::Document,
@@ -779,23 +822,39 @@ async fn built(
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
-            let (document, report) = build()?;
+            let (mut document, report) = build()?;
             pipeline::check_file_reply(&document, &settings)?;
             let text = match format {
-                Some(f) => Some(pipeline::write(
-                    &document,
-                    f.kind().format().unwrap_or(Format::Step),
-                    &ExportOptions {
-                        cancel: settings.cancel.clone(),
-                        ..ExportOptions::default()
-                    },
-                )?),
+                Some(f) => {
+                    let (text, written) = pipeline::write(
+                        &document,
+                        f.kind().format().unwrap_or(Format::Step),
+                        &ExportOptions {
+                            cancel: settings.cancel.clone(),
+                            ..ExportOptions::default()
+                        },
+                    )?;
+                    document.diagnostics.extend(written);
+                    Some(text)
+                }
                 None => None,
             };
             Ok((document, report, text))
         })
         .await?;
     match (format, text) {
+        (Some(f), Some(text)) if json => {
+            // Built from the request's JSON: every entity is one of those written.
+            let format = f.kind().format().unwrap_or(Format::Step);
+            let entities = document.entities.len();
+            let file_report =
+                pipeline::file_report(InputKind::Json, format, entities, &document, document.units);
+            Ok(Json(FileJson {
+                fit: report,
+                ..FileJson::new(file_report, text)
+            })
+            .into_response())
+        }
         (Some(f), Some(text)) => {
             let mut response = file_reply(
                 f.kind().format().unwrap_or(Format::Step),

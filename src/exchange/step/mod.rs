@@ -58,7 +58,7 @@ mod write;
 
 pub use implicit::{KnotForm, implicit_knots, knot_form};
 pub use read::read;
-pub use write::{assembly_warnings, form_warnings, range_warnings, write};
+pub use write::{assembly_warnings, form_warnings, range_warnings, write, write_reporting};
 
 /// Closure tolerance shared by the reader (checking `closed_curve`/`u_closed` against the
 /// data) and the writer (computing them), so the two always agree: 1e-9 of the control

@@ -385,7 +385,21 @@ fn finish(
 /// through [`Builder`] and [`write_instance`]. The text is byte-identical to the
 /// parameter-tree path (the reference writer of the tests) and ids are assigned in the same
 /// order: each entity's poles, then the entity.
+///
+/// What the writer says about the file (how it wrote an assembly) is left out: see
+/// [`write_reporting`].
 pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
+    write_reporting(document, options).map(|(text, _)| text)
+}
+
+/// Writes `document` as [`write()`] does, and returns with the text what the writer says
+/// about it: how it wrote the document's assembly (the instances written flattened and
+/// why, or why the whole assembly is; on request an info), from the one assembly plan the
+/// writing follows ([`assembly_warnings`] gives the same without writing).
+pub fn write_reporting(
+    document: &Document,
+    options: &ExportOptions,
+) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
     if !document.topology.is_empty() {
         return topology::write(document, options);
     }
@@ -434,7 +448,7 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
     let set: Vec<u64> = set.into_iter().collect();
     let header = finish(&mut f, options, rep_keyword, &set, &curves2);
     let scale = f.scale;
-    assemble(&mut f, &header, first, size, |out| {
+    let text = assemble(&mut f, &header, first, size, |out| {
         let mut id = first;
         for e in &document.entities {
             match &e.geometry {
@@ -443,7 +457,8 @@ pub fn write(document: &Document, options: &ExportOptions) -> Result<String, Dia
             }?;
         }
         Ok(())
-    })
+    })?;
+    Ok((text, Vec::new()))
 }
 
 fn real_error(e: NonFiniteReal) -> Diagnostic {

@@ -285,7 +285,8 @@ pub(crate) fn plan<'d>(document: &'d Document, options: &ExportOptions) -> Plan<
 }
 
 /// The warnings (and on request the info) about how the STEP writer writes `document`'s
-/// assembly.
+/// assembly, without writing it: [`write_reporting`](super::write_reporting) returns the
+/// same with the text it writes.
 pub fn assembly_warnings(document: &Document, options: &ExportOptions) -> Vec<Diagnostic> {
     plan(document, options).diagnostics
 }

@@ -189,10 +189,16 @@ pub(super) fn write_free(
 
 /// Writes `document` (whose topology is not empty): its product structure when it has one
 /// and the options do not ask for it flattened (`write/assembly.rs`), else its flattened
-/// model as one product.
-pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<String, Diagnostic> {
-    if let Some(plan) = super::assembly::plan(document, options).structure {
-        return super::assembly::write(document, options, &plan);
+/// model as one product. Returns the text and what the assembly plan it followed says
+/// (the diagnostics of [`assembly_warnings`](super::assembly_warnings)).
+pub(super) fn write(
+    document: &Document,
+    options: &ExportOptions,
+) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
+    let plan = super::assembly::plan(document, options);
+    if let Some(structure) = &plan.structure {
+        let text = super::assembly::write(document, options, structure)?;
+        return Ok((text, plan.diagnostics));
     }
     let mut f = super::frame(document, options, None);
     let first = f.b.next_id();
@@ -247,10 +253,11 @@ pub(super) fn write(document: &Document, options: &ExportOptions) -> Result<Stri
     items.extend(set);
     let header = finish(&mut f, options, rep_keyword, &items, &curves2);
     let size = w.text.len() + 4096;
-    assemble(&mut f, &header, first, size, |out| {
+    let text = assemble(&mut f, &header, first, size, |out| {
         out.push_str(&w.text);
         Ok(())
-    })
+    })?;
+    Ok((text, plan.diagnostics))
 }
 
 /// Appends to `items` the SHELL_BASED_SURFACE_MODEL of `shells` and of one OPEN_SHELL of
