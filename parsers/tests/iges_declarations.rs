@@ -1,10 +1,12 @@
 //! The declarations of IGES 5.3 entities nurbsx checks but does not convert (204, 213,
-//! 310, 312, 316, 320, 412-420, 430, the 416 forms and more 406 forms), each against its
-//! table in the standard: a well-formed record, built here parameter by parameter from the
-//! table, is read with exactly the pointers the table names; a pointer to no entry or to
-//! an entity the table does not allow is found by the validator's rule (an existing odd
-//! DE line of an allowed type, `src/exchange/iges/read.rs`), located at the entity and
-//! field; a record missing a parameter is an error located at the entity.
+//! 310, 312, 316, 320, 322 form 0, 412-420, 430, the 416 forms and more 406 forms), each
+//! against its table in the standard: a well-formed record, built here parameter by
+//! parameter from the table, is read with exactly the pointers the table names; a pointer
+//! to no entry or to an entity the table does not allow is found by the validator's rule
+//! (an existing odd DE line of an allowed type, `src/exchange/iges/read.rs`), located at
+//! the entity and field; a record missing a parameter is an error located at the entity.
+//! And the form numbers (DE field 15) the standard gives these types: one it does not
+//! give is reported.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod iges_support;
@@ -318,6 +320,15 @@ const CASES: &[Case] = &[
         bad: None,
         short: "316,2,6HLENGTH,2HMM,1.,4HMASS,2HKG;",
     },
+    // 322 form 0 (section 4.79): NAME, ATYP, NA, NA x (AT, AVT, AVC), integers.
+    Case {
+        ty: 322,
+        form: 0,
+        good: "322,5HTABLE,1,2,10,1,1,11,2,3;",
+        expected: &[],
+        bad: None,
+        short: "322,5HTABLE,1,2,10,1,1,11,2;",
+    },
 ];
 
 /// The 406 forms declared here (sections 4.99-4.132): a well-formed record and one
@@ -481,5 +492,88 @@ fn a_fixed_np_is_checked() {
                 || matches!(&kind, ErrorKind::BadParameter { name: "NP", .. }),
             "406 form {form}: {params}: {kind:?}"
         );
+    }
+}
+
+/// The records whose parameters' types come from their data or from another entity have
+/// no declaration: the 322 forms 1 and 2 (section 4.79: values of the type each attribute
+/// names), the 422 (section 4.141: the layout of the 322 its structure field names) and
+/// the 406 forms 11 (section 4.107) and 27 (section 4.123). A 322 form 1 record is not
+/// read by the form 0 declaration.
+#[test]
+fn data_driven_records_are_not_declared() {
+    let records: &[(i64, i64, &str)] = &[
+        (322, 1, "322,5HTABLE,1,1,10,2,2,1.5,2.5;"),
+        (322, 2, "322,5HTABLE,1,1,10,1,1,7,9;"),
+        (422, 0, "422,1.5;"),
+        (422, 1, "422,2,1.5,2.5;"),
+        (406, 11, "406,6,1,3,0,1.,1.,1.;"),
+        (406, 27, "406,4,4HDATA,1,2,1.5;"),
+    ];
+    let text = file_text(records);
+    let file = iges::parse(&text).unwrap();
+    for (k, &(ty, form, params)) in records.iter().enumerate() {
+        let entry = file.entry(de(k)).unwrap();
+        assert!(
+            file.references(entry).is_none(),
+            "{ty} form {form}: {params} is declared"
+        );
+    }
+}
+
+/// The form numbers (DE field 15) of the types whose form lists came with the annotation
+/// and definition entities, read from a file: each type in a form its section gives, and
+/// in one it does not give, which the directory check reports at field 15 on the second
+/// DE line. 104 (section 4.5), 202-230 (4.55-4.68), 310 (4.74), 312 (4.75), 320 (4.78),
+/// 322 (4.79), 412 (4.136), 414 (4.137), 418 (4.139), 420 (4.140), 422 (4.141).
+#[test]
+fn undefined_forms_of_the_standard_are_reported() {
+    let forms: &[(i64, i64, i64)] = &[
+        (104, 3, 4),
+        (202, 0, 1),
+        (204, 0, 1),
+        (206, 0, 1),
+        (208, 0, 1),
+        (210, 0, 1),
+        (212, 105, 103),
+        (213, 0, 2),
+        (214, 12, 0),
+        (216, 2, 3),
+        (218, 1, 2),
+        (220, 0, 1),
+        (222, 1, 2),
+        (228, 5001, 4),
+        (230, 1, 2),
+        (310, 0, 1),
+        (312, 1, 2),
+        (320, 0, 1),
+        (322, 2, 3),
+        (412, 0, 1),
+        (414, 0, 1),
+        (418, 0, 1),
+        (420, 0, 1),
+        (422, 1, 2),
+    ];
+    let params: Vec<String> = forms.iter().map(|&(ty, _, _)| format!("{ty};")).collect();
+    let mut records: Vec<(i64, i64, &str)> = Vec::new();
+    for (&(ty, good, bad), p) in forms.iter().zip(&params) {
+        records.push((ty, good, p));
+        records.push((ty, bad, p));
+    }
+    let text = file_text(&records);
+    let file = iges::parse(&text).unwrap();
+    for (k, &(ty, good, bad)) in forms.iter().enumerate() {
+        let fields = |pointer: i64| {
+            let entry = file.entry(pointer).unwrap();
+            assert_eq!(entry.entity_type, ty);
+            entry
+                .field_problems(None)
+                .into_iter()
+                .map(|p| (p.field, p.sequence))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(fields(de(2 * k)), [], "{ty} form {good}");
+        let second = usize::try_from(de(2 * k + 1) + 1).unwrap();
+        assert_eq!(fields(de(2 * k + 1)), [(15, second)], "{ty} form {bad}");
     }
 }

@@ -669,6 +669,26 @@ def iges_cases():
         if field == 1:
             setfield(recs, didx(recs, 2), 1, value)  # field 11 repeats the type
         emit(f"iges_de_{name}", ".igs", join(recs), code="iges.directory_field", section="D", sequence=line, entity="D1")
+    # A form number (DE field 15) the entity's section of IGES 5.3 does not give, on its
+    # second DE line: the 104 Conic Arc of analytic/ellipse_arc.igs (D1, form 1 ellipse;
+    # section 4.5 gives forms 0-3) in form 4; and, appended to surf_poles4x3.igs as D27,
+    # a 212 General Note in form 9 (section 4.60: 0-8, 100-102, 105), a 214 Leader in form 0
+    # (section 4.62: 1-12), a 228 General Symbol in form 4 (section 4.67: 0-3, and
+    # 5001-9999 implementor-defined) and a 312 Text Display Template in form 2 (section
+    # 4.75: 0 and 1), each record well formed.
+    recs = records(read("analytic/ellipse_arc.igs"))
+    setfield(recs, didx(recs, 2), 5, 4)
+    emit("iges_104_form_undefined", ".igs", join(recs), code="iges.directory_field", section="D", sequence=2, entity="D1")
+    for name, etype, form, params in (
+        ("iges_212_form_undefined", 212, 9, "212,1,5,10.,2.,1,1.5707963267948966,0.,0,0,0.,0.,0.,5HHELLO;"),
+        ("iges_214_form_undefined", 214, 0, "214,1,1.,1.,0.,0.,0.,1.,1.;"),
+        ("iges_228_form_undefined", 228, 4, "228,0,0,0;"),
+        ("iges_312_form_undefined", 312, 2, "312,1.,2.,1,1.5708,0.,0,0,0.,0.,0.;"),
+    ):
+        recs = list(srf)
+        de = add_entity(recs, etype, form, params)
+        assert de == 27
+        emit(name, ".igs", join(recs), code="iges.directory_field", section="D", sequence=de + 1, entity=f"D{de}")
     # DE pointer fields (negated for line font, level, color): to no entry, to an entity
     # of another type, or of the right type and the wrong form (a level names a 406 form 1,
     # a label display a 402 form 5). surf_poles4x3.igs, on the 110 at D9.

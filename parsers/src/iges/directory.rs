@@ -262,11 +262,13 @@ mod tests {
         assert_eq!(e.field_problems(None)[0].sequence, 6);
     }
 
-    /// The form lists of IGES 5.3 chapter 4 for 106 (sections 4.6-4.11), 304 (4.70), 314
-    /// (4.76), 316 (4.77), 404 (4.96), 406 (4.97, its forms 4.98-4.132), 410 (4.134,
-    /// 4.135), 416 (4.138) and 430 (4.142): each form the standard gives passes, a form it
-    /// does not give is reported at field 15. A type whose forms are not checked reports
-    /// nothing, so dropping a type from the table fails here.
+    /// The form lists of IGES 5.3 chapter 4 for 104 (4.5), 106 (sections 4.6-4.11), the
+    /// annotation entities 202-230 (4.55-4.68), 304 (4.70), 310 (4.74), 312 (4.75), 314
+    /// (4.76), 316 (4.77), 320 (4.78), 322 (4.79), 404 (4.96), 406 (4.97, its forms
+    /// 4.98-4.132), 410 (4.134, 4.135), 412 (4.136), 414 (4.137), 416 (4.138), 418 (4.139),
+    /// 420 (4.140), 422 (4.141) and 430 (4.142): each form the standard gives passes, a
+    /// form it does not give is reported at field 15. A type whose forms are not checked
+    /// reports nothing, so dropping a type from the table fails here.
     #[test]
     fn forms_of_the_standard_and_others() {
         let with_form = |entity_type: i64, form: i64| {
@@ -276,6 +278,34 @@ mod tests {
             })
         };
         let cases: &[(i64, &[i64], &[i64])] = &[
+            (104, &[0, 1, 2, 3], &[4, -1]),
+            (202, &[0], &[1]),
+            (204, &[0], &[1]),
+            (206, &[0], &[1]),
+            (208, &[0], &[1]),
+            (210, &[0], &[1]),
+            (
+                212,
+                &[0, 1, 4, 8, 100, 101, 102, 105],
+                &[9, 99, 103, 104, 106, 5001, -1],
+            ),
+            (213, &[0], &[1]),
+            (214, &[1, 2, 6, 11, 12], &[0, 13, 5001, -1]),
+            (216, &[0, 1, 2], &[3]),
+            (218, &[0, 1], &[2]),
+            (220, &[0], &[1]),
+            (222, &[0, 1], &[2]),
+            (228, &[0, 1, 2, 3, 5001, 9999], &[4, 5000, 10000, -1]),
+            (230, &[0, 1], &[2]),
+            (310, &[0], &[1]),
+            (312, &[0, 1], &[2]),
+            (320, &[0], &[1]),
+            (322, &[0, 1, 2], &[3]),
+            (412, &[0], &[1]),
+            (414, &[0], &[1]),
+            (418, &[0], &[1]),
+            (420, &[0], &[1]),
+            (422, &[0, 1], &[2]),
             (
                 106,
                 &[1, 2, 3, 11, 12, 13, 20, 21, 31, 34, 38, 40, 63],

@@ -13,6 +13,7 @@ mod analytic_surfaces190_198;
 mod annotation202_230;
 mod array_subfigure412_414;
 mod associativity402;
+mod attribute_table322;
 mod bounded_surface143;
 mod brep_solid186;
 mod circular_arc100;
@@ -97,11 +98,11 @@ pub const SURFACES: &[i64] = &[
 
 /// Every declared entity whose parameters do not depend on the form.
 ///
-/// Not declared (their pointers unchecked): the 322 Attribute Table Definition (IGES 5.3
-/// section 4.79), whose forms 1 and 2 hold values of the types its own attribute entries
-/// name, and the 422 Attribute Table Instance (section 4.141), whose values follow the
-/// layout of the 322 it names: a parameter's type read from data, or from another entity,
-/// is beyond these declarations.
+/// Not declared (their pointers unchecked): the 422 Attribute Table Instance (section
+/// 4.141), whose values follow the layout of the 322 it names: a parameter's type read
+/// from another entity is beyond these declarations. The 322 Attribute Table Definition
+/// (section 4.79) is declared in its form 0 only ([`FORM_SCHEMAS`]): its forms 1 and 2
+/// hold values of the types its own attribute entries name.
 pub const SCHEMAS: &[Schema] = &[
     circular_arc100::SCHEMA,
     composite102::SCHEMA,
@@ -163,7 +164,8 @@ pub const SCHEMAS: &[Schema] = &[
 /// Declarations whose parameters depend on the form number: `(forms, schema)`.
 /// The 402 Associativity Instance forms 1, 3-5, 7, 9, 12-16 and 18-21 (every form IGES 5.3
 /// predefines, sections 4.81-4.95), the 406 Property forms 1-3, 5-10, 12-26 and 28-36, the
-/// two forms each of 218, 222, 304, 404 and 410, and the five forms of 416. The 406 forms
+/// two forms each of 218, 222, 304, 404 and 410, the five forms of 416, and the 322
+/// Attribute Table Definition form 0 (section 4.79). The 406 forms
 /// 11 (Tabular Data, section 4.107: its value counts are sums and products of values it
 /// lists) and 27 (Generic Data, section 4.123: each value's type is the integer before
 /// it) are not declared, nor are implementor-defined forms (5001-9999): their parameters
@@ -228,6 +230,7 @@ pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1], external_reference416::FILE),
     (&[3], external_reference416::NAME),
     (&[4], external_reference416::LIBRARY_AND_NAME),
+    (&[0], attribute_table322::DEFINITION),
 ];
 
 /// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
@@ -262,20 +265,31 @@ pub fn is_defined_entity_type(entity: i64) -> bool {
 }
 
 /// The form numbers chapter 4 defines for the entity types whose forms are checked
-/// (DE field 15); other types' forms are not judged. The 402 and 406 forms 5001-9999 are
-/// implementor-defined (sections 4.80 and 4.97).
+/// (DE field 15); other types' forms are not judged. The 228 forms 5001-9999 and the 402
+/// and 406 forms 5001-9999 are implementor-defined (sections 4.67, 4.80 and 4.97).
 ///
-/// Each entry is the form list (or DE field 15 range) of the type's section: 106 the form
-/// table of section 4.6 (forms 1-3 there, 11-13 section 4.7, 20-21 section 4.8, 31-38
-/// section 4.9, 40 section 4.10, 63 section 4.11), 304 section 4.70, 314 section 4.76, 316
-/// section 4.77, 404 section 4.96, 406 the form sections 4.98-4.132 (form 4 has none), 410
-/// sections 4.134 and 4.135, 416 section 4.138, 430 section 4.142. Not listed, because the
-/// reading of the standard behind these tables gave no form list for them: 104, the
-/// annotation types 202-230 (204 and 213 among them), 310, 312, 320, 412, 414, 418 and
-/// 420.
+/// Each entry is the form list (or DE field 15 range) of the type's section: 104 section
+/// 4.5 (1 ellipse, 2 hyperbola, 3 parabola, and 0, the older form whose conic type is read
+/// from the coefficients alone), 106 the form table of section 4.6 (forms 1-3 there, 11-13
+/// section 4.7, 20-21 section 4.8, 31-38 section 4.9, 40 section 4.10, 63 section 4.11),
+/// the annotation entities of sections 4.55-4.68 (202 Angular Dimension 4.55, 204 Curve
+/// Dimension 4.56, 206 Diameter Dimension 4.57, 208 Flag Note 4.58, 210 General Label
+/// 4.59, 213 New General Note 4.61, 220 Point Dimension 4.65: form 0; 212 General Note
+/// 4.60: forms 0-8, the fraction forms 100-102 and 105; 214 Leader (Arrow) 4.62: the
+/// arrowhead forms 1-12; 216 Linear Dimension 4.63: 0 undetermined, 1 diameter, 2 radius;
+/// 218 Ordinate Dimension 4.64 and 222 Radius Dimension 4.66: forms 0 and 1; 228 General
+/// Symbol 4.67: 0 general symbol, 1 datum feature, 2 datum target, 3 feature control
+/// frame; 230 Sectioned Area 4.68: 0 standard and 1 inverted crosshatch), 304 section
+/// 4.70, 310 section 4.74 (form 0), 312 section 4.75 (0 absolute and 1 incremental
+/// corner), 314 section 4.76, 316 section 4.77, 320 section 4.78 (form 0), 322 section
+/// 4.79 (forms 0-2), 404 section 4.96, 406 the form sections 4.98-4.132 (form 4 has none),
+/// 410 sections 4.134 and 4.135, 412 section 4.136 and 414 section 4.137 (form 0), 416
+/// section 4.138, 418 section 4.139 and 420 section 4.140 (form 0), 422 section 4.141
+/// (forms 0 and 1), 430 section 4.142.
 const DEFINED_FORMS: &[(i64, &[i64])] = &[
     (100, &[0]),
     (102, &[0]),
+    (104, &[0, 1, 2, 3]),
     (
         106,
         &[
@@ -304,10 +318,28 @@ const DEFINED_FORMS: &[(i64, &[i64])] = &[
     (194, &[0, 1]),
     (196, &[0, 1]),
     (198, &[0, 1]),
+    (202, &[0]),
+    (204, &[0]),
+    (206, &[0]),
+    (208, &[0]),
+    (210, &[0]),
+    (212, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 100, 101, 102, 105]),
+    (213, &[0]),
+    (214, &[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]),
+    (216, &[0, 1, 2]),
+    (218, &[0, 1]),
+    (220, &[0]),
+    (222, &[0, 1]),
+    (228, &[0, 1, 2, 3]),
+    (230, &[0, 1]),
     (304, &[1, 2]),
     (308, &[0]),
+    (310, &[0]),
+    (312, &[0, 1]),
     (314, &[0]),
     (316, &[0]),
+    (320, &[0]),
+    (322, &[0, 1, 2]),
     (402, &[1, 3, 4, 5, 7, 9, 12, 13, 14, 15, 16, 18, 19, 20, 21]),
     (404, &[0, 1]),
     (
@@ -319,7 +351,12 @@ const DEFINED_FORMS: &[(i64, &[i64])] = &[
     ),
     (408, &[0]),
     (410, &[0, 1]),
+    (412, &[0]),
+    (414, &[0]),
     (416, &[0, 1, 2, 3, 4]),
+    (418, &[0]),
+    (420, &[0]),
+    (422, &[0, 1]),
     (430, &[0, 1]),
     (502, &[1]),
     (504, &[1]),
@@ -331,7 +368,7 @@ const DEFINED_FORMS: &[(i64, &[i64])] = &[
 /// Whether `form` is a form number of `entity`; `None` when its forms are not checked.
 pub fn is_defined_form(entity: i64, form: i64) -> Option<bool> {
     let (_, forms) = DEFINED_FORMS.iter().find(|(e, _)| *e == entity)?;
-    let implementor = matches!(entity, 402 | 406) && (5001..=9999).contains(&form);
+    let implementor = matches!(entity, 228 | 402 | 406) && (5001..=9999).contains(&form);
     Some(forms.contains(&form) || implementor)
 }
 
