@@ -431,6 +431,25 @@ const FIRST_LETTERS: u32 = {
     mask
 };
 
+/// The entry of [`GEOMETRY_ENTITIES`] equal to `name` (a long-form name). The entries are
+/// grouped by length on first use, so a name is compared with the few of its length only
+/// (every geometry instance of a file is looked up here, and the table has over 40
+/// entries).
+fn geometry_entity(name: &str) -> Option<&'static str> {
+    static BY_LENGTH: std::sync::OnceLock<Vec<Vec<&'static str>>> = std::sync::OnceLock::new();
+    let table = BY_LENGTH.get_or_init(|| {
+        let longest = GEOMETRY_ENTITIES.iter().map(|e| e.len()).max().unwrap_or(0);
+        let mut table = vec![Vec::new(); longest + 1];
+        for &e in GEOMETRY_ENTITIES {
+            if let Some(group) = table.get_mut(e.len()) {
+                group.push(e);
+            }
+        }
+        table
+    });
+    table.get(name.len())?.iter().copied().find(|&e| e == name)
+}
+
 /// Whether an entity name (long or short form) is one this module reads.
 ///
 /// Every simple instance of a file passes here, most of them CARTESIAN_POINTs and
@@ -443,7 +462,7 @@ pub fn is_geometry_entity(keyword: &str) -> bool {
     };
     let letter = first.wrapping_sub(b'A');
     if letter < 26 && FIRST_LETTERS & (1 << letter) != 0 {
-        k != "CARTESIAN_POINT" && GEOMETRY_ENTITIES.contains(&k)
+        k != "CARTESIAN_POINT" && geometry_entity(k).is_some()
     } else {
         first == b'B' && k == BREP_WITH_VOIDS
     }
@@ -494,8 +513,8 @@ impl<'a> GeometryItem<'a> {
         let simple = match &inst.body {
             Body::Simple(r) => {
                 let name = canonical_name(r.keyword);
-                match GEOMETRY_ENTITIES.iter().find(|e| **e == name) {
-                    Some(e) => Some(*e),
+                match geometry_entity(name) {
+                    Some(e) => Some(e),
                     None => return Ok(None),
                 }
             }
