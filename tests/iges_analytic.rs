@@ -801,9 +801,22 @@ fn conic_104_in_general_position_satisfies_its_equation() {
     let mut b = Builder::new(GLOBAL);
     b.entity(de(104, 1), &body((p0.0, p0.1, p1.0, p1.1)));
     b.entity(de(104, 2), &body((p0.0, p0.1, p1.0, p1.1))); // wrong form: 2 = hyperbola
+    b.entity(de(104, 0), &body((p0.0, p0.1, p1.0, p1.1))); // form 0: no type named
     let doc = read(&b.build(), &ImportOptions::default());
     assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
-    for id in ["D1", "D3"] {
+    // Form 0 declares no type, so it disagrees with nothing; the coefficients give it.
+    assert!(
+        !doc.diagnostics
+            .iter()
+            .any(|d| d.code == "form_mismatch" && d.location.entity.as_deref() == Some("D5")),
+        "{:#?}",
+        doc.diagnostics
+    );
+    assert_eq!(
+        entity(&doc, "D5").meta.shape,
+        Some(exchange::Shape::EllipticArc)
+    );
+    for id in ["D1", "D3", "D5"] {
         let curve = curve_of(&doc, id);
         let (d0, d1) = curve.domain();
         for k in 0..=50 {

@@ -241,7 +241,8 @@ fn conic(
         ));
         return None;
     };
-    if form != rec.form {
+    // Form 0 names no conic: the type is the coefficients' (IGES 5.3 section 4.5).
+    if rec.form != 0 && form != rec.form {
         diags.push(Diagnostic::warning(
             "form_mismatch",
             format!(
