@@ -2238,6 +2238,16 @@ async fn measure_lengths_areas_and_closest_points() {
     .await;
 }
 
+/// [`STEP_ARC`] with a second curve labelled `.CIRCULAR_ARC.` that is a polynomial
+/// parabola (the STEP writer writes it `.UNSPECIFIED.`, `step.form_unspecified`).
+fn labelled_parabola() -> String {
+    STEP_ARC.replacen(
+        "(0.,1.),.UNSPECIFIED.);",
+        "(0.,1.),.UNSPECIFIED.);\n#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.CIRCULAR_ARC.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
+        1,
+    )
+}
+
 /// A file modified over HTTP is written as the CLI writes it: what the output cannot carry
 /// is reported (and counted in `x-nurbsx-diagnostics`). Here the arc is labelled
 /// `.CIRCULAR_ARC.` but is a polynomial parabola, so the STEP writer writes
@@ -2245,11 +2255,7 @@ async fn measure_lengths_areas_and_closest_points() {
 /// reading has); the written file carries no circle label.
 #[tokio::test]
 async fn modified_files_report_what_the_writer_changes() {
-    let labelled = STEP_ARC.replacen(
-        "(0.,1.),.UNSPECIFIED.);",
-        "(0.,1.),.UNSPECIFIED.);\n#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.CIRCULAR_ARC.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
-        1,
-    );
+    let labelled = labelled_parabola();
     let (_, body) = ok(
         app(),
         post_raw("/v1/info", Some("model/step"), labelled.clone()),
@@ -2338,11 +2344,7 @@ fn codes(diagnostics: &Value) -> Vec<String> {
 #[tokio::test]
 async fn operations_on_files_answer_json_with_every_diagnostic() {
     let doc = openapi().await;
-    let labelled = STEP_ARC.replacen(
-        "(0.,1.),.UNSPECIFIED.);",
-        "(0.,1.),.UNSPECIFIED.);\n#5=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.CIRCULAR_ARC.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);",
-        1,
-    );
+    let labelled = labelled_parabola();
     let (_, body) = ok(
         app(),
         post_raw("/v1/info", Some("model/step"), labelled.clone()),
