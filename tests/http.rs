@@ -2498,3 +2498,38 @@ async fn built_files_answer_json_too() {
         without_time_stamps(std::str::from_utf8(&plain).unwrap())
     );
 }
+
+/// A file built over HTTP is written as the CLI's make and fit commands write it: what the
+/// output cannot hold is dropped and said. A 2-D fitted curve has no place in IGES model
+/// space (`pcurve_not_written`), so the IGES reply holds no curve and its report says
+/// why, with the built entity counted in and none out; STEP holds it.
+#[tokio::test]
+async fn built_files_drop_and_report_what_the_output_cannot_hold() {
+    let q = [[0.0, 0.0], [3.0, 4.0], [-1.0, 4.0], [-4.0, 0.0]];
+    let request = json!({ "points": q, "degree": 3, "format": "iges" });
+    let (status, _, body) = send(app(), accepting_json(post_json("/v1/fit", &request))).await;
+    let v = json_of(&body);
+    assert_eq!(status, StatusCode::OK, "{v}");
+    let report = &v["report"];
+    assert_eq!(
+        (&report["entities_in"], &report["entities_out"]),
+        (&json!(1), &json!(0)),
+        "{report}"
+    );
+    assert!(
+        codes(&report["diagnostics"]).contains(&"pcurve_not_written".to_owned()),
+        "{report}"
+    );
+    assert!(!v["file"].as_str().unwrap().contains("126,"), "{v}");
+    let request = json!({ "points": q, "degree": 3, "format": "step" });
+    let (_, body) = ok(app(), accepting_json(post_json("/v1/fit", &request))).await;
+    let v = json_of(&body);
+    assert_eq!(v["report"]["entities_out"], 1, "{v}");
+    assert!(
+        v["file"]
+            .as_str()
+            .unwrap()
+            .contains("B_SPLINE_CURVE_WITH_KNOTS"),
+        "{v}"
+    );
+}

@@ -818,17 +818,22 @@ async fn built(
     + 'static,
 ) -> Result<Response, ApiError> {
     let mut settings = state.settings.clone();
-    let (document, report, text) = state
+    let (document, report, text, entities_in) = state
         .gate
         .run(move |cancel| {
             settings.cancel = cancel;
             let (mut document, report) = build()?;
             pipeline::check_file_reply(&document, &settings)?;
+            let entities_in = document.entities.len();
             let text = match format {
                 Some(f) => {
+                    let format = f.kind().format().unwrap_or(Format::Step);
+                    // What the output cannot hold is dropped and reported, as the CLI's
+                    // make and fit commands do.
+                    pipeline::drop_unwritable(&mut document, format);
                     let (text, written) = pipeline::write(
                         &document,
-                        f.kind().format().unwrap_or(Format::Step),
+                        format,
                         &ExportOptions {
                             cancel: settings.cancel.clone(),
                             ..ExportOptions::default()
@@ -839,16 +844,19 @@ async fn built(
                 }
                 None => None,
             };
-            Ok((document, report, text))
+            Ok((document, report, text, entities_in))
         })
         .await?;
     match (format, text) {
         (Some(f), Some(text)) if json => {
-            // Built from the request's JSON: every entity is one of those written.
             let format = f.kind().format().unwrap_or(Format::Step);
-            let entities = document.entities.len();
-            let file_report =
-                pipeline::file_report(InputKind::Json, format, entities, &document, document.units);
+            let file_report = pipeline::file_report(
+                InputKind::Json,
+                format,
+                entities_in,
+                &document,
+                document.units,
+            );
             Ok(Json(FileJson {
                 fit: report,
                 ..FileJson::new(file_report, text)
