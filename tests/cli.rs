@@ -3075,6 +3075,47 @@ fn fit_passes_through_the_points_of_a_text_file() {
     );
 }
 
+/// A fit of 2-D points is a 2-D curve, which IGES model space cannot hold: the output
+/// warns and is refused (no empty file, exit 2); STEP and model JSON hold it.
+#[test]
+fn fit_says_what_the_output_format_cannot_hold() {
+    let dir = temp_dir("fit-2d");
+    let points = dir.join("p.csv");
+    std::fs::write(&points, "0,0\n1,1\n2,0\n3,1\n").unwrap();
+    let iges = dir.join("c.igs");
+    let o = nurbsx([
+        "fit".as_ref(),
+        points.as_os_str(),
+        "-o".as_ref(),
+        iges.as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+    assert!(stderr(&o).contains("pcurve_not_written"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--to step"), "{}", stderr(&o));
+    assert!(!iges.exists(), "an empty IGES file was written");
+    for name in ["c.step", "c.json"] {
+        let out = dir.join(name);
+        let o = nurbsx([
+            "fit".as_ref(),
+            points.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert_exit(&o, 0);
+        assert!(!stderr(&o).contains("warning"), "{name}: {}", stderr(&o));
+        // Interpolation: the curve starts at the first point and ends at the last.
+        let (start, end) = (point_of(&out, 0.0), point_of(&out, 1.0));
+        assert!(
+            start[0].abs() < 1e-12 && start[1].abs() < 1e-12,
+            "{name}: {start:?}"
+        );
+        assert!(
+            (end[0] - 3.0).abs() < 1e-12 && (end[1] - 1.0).abs() < 1e-12,
+            "{name}: {end:?}"
+        );
+    }
+}
+
 /// A part sample of `samples/freecad/parts`.
 fn part(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -317,7 +317,7 @@ pub fn make(ctx: &Context, a: MakeArgs) -> Result<Outcome, CliError> {
         construct::shape(kind, spec).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let mut document = make(&shape).map_err(|e| CliError::pipeline(Path::new("make"), e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    write_document(&mut document, &a.out, target)?;
+    write_built(ctx, "make", &mut document, &a.out, target)?;
     let name = clap::ValueEnum::to_possible_value(&a.shape)
         .map_or_else(String::new, |v| v.get_name().to_owned());
     ctx.report.summary(&format!(
@@ -351,7 +351,7 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
     let (mut document, report) =
         fit(&data, dimension, spec).map_err(|e| CliError::pipeline(&a.input, e))?;
     let target = output_kind(&a.out, InputKind::Json)?;
-    write_document(&mut document, &a.out, target)?;
+    write_built(ctx, &display_name(&a.input), &mut document, &a.out, target)?;
     let sizes = |v: &[usize]| {
         v.iter()
             .map(usize::to_string)
@@ -382,8 +382,38 @@ pub fn fit(ctx: &Context, a: FitArgs) -> Result<Outcome, CliError> {
     Ok(outcome_of(&document.diagnostics))
 }
 
+/// Writes a document that `make` or `fit` built: what `target` cannot hold (a 2-D curve in
+/// IGES, a declared range) is dropped and reported first, and every diagnostic, the
+/// writer's included, is printed, also when writing fails. When nothing of it fits the
+/// format, no file is written: a usage error names the formats that hold it.
+fn write_built(
+    ctx: &Context,
+    name: &str,
+    document: &mut crate::exchange::Document,
+    out: &OutputArgs,
+    target: InputKind,
+) -> Result<(), CliError> {
+    if let Some(format) = target.format() {
+        let built = document.entities.len();
+        pipeline::drop_unwritable(document, format);
+        if built > 0 && document.entities.is_empty() {
+            // Nothing of what was built fits the format: an empty file is no answer.
+            ctx.report.diagnostics(name, &document.diagnostics);
+            return Err(CliError::Usage(format!(
+                "{} output cannot hold what {name} built (see the warning above): write it as \
+                 --to step or --to json",
+                target.name().to_ascii_uppercase()
+            )));
+        }
+    }
+    let result = write_document(document, out, target);
+    ctx.report.diagnostics(name, &document.diagnostics);
+    result
+}
+
 /// Writes `document` as `target` to `out`'s file (its name in the header, the knot form it
-/// asks for); what the writer says about it joins the document's diagnostics.
+/// asks for); what the writer says about it joins the document's diagnostics. What the
+/// format cannot hold must have been dropped first (`pipeline::drop_unwritable`).
 fn write_document(
     document: &mut crate::exchange::Document,
     out: &OutputArgs,

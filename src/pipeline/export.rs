@@ -52,7 +52,9 @@ pub fn write_model_json(doc: &Document, knots: KnotForm) -> Result<String, Pipel
 
 /// Writes the document as STEP, IGES ([`write()`]) or model JSON ([`write_model_json`],
 /// curves' knots in the form `knots` says). Returns the text and what the writer says
-/// about it ([`write()`]; nothing for model JSON).
+/// about it ([`write()`]; nothing for model JSON). What the format cannot hold must have
+/// been dropped and reported first ([`super::drop_unwritable`] on the caller's document,
+/// whose diagnostics the user sees).
 pub fn write_as(
     doc: &Document,
     kind: InputKind,
@@ -60,12 +62,7 @@ pub fn write_as(
     knots: KnotForm,
 ) -> Result<(String, Vec<Diagnostic>), PipelineError> {
     match kind.format() {
-        Some(format) => {
-            // 2-D curves have no place in IGES model space (see `drop_unwritable`).
-            let mut doc = doc.clone();
-            super::drop_unwritable(&mut doc, format);
-            write(&doc, format, options)
-        }
+        Some(format) => write(doc, format, options),
         None => write_model_json(doc, knots).map(|text| (text, Vec::new())),
     }
 }
