@@ -922,12 +922,116 @@ fn iges_form_numbers_label_the_kind_when_the_geometry_agrees() {
     );
     // IGES: forms 2 (arc), 0 (parabola), 2 (cylinder).
     let iges = exchange::iges::write(&doc, &export_options()).unwrap();
-    let file = nurbsx_parsers::iges::parse(&iges).unwrap();
-    let forms: Vec<(i64, i64)> = file
-        .entries
+    let forms = entity_forms(&iges);
+    assert_eq!(forms, [(126, 2), (126, 0), (128, 2), (126, 0)]);
+}
+
+/// A writer that prints 8 significant digits (SolidWorks, many others) writes a circle's
+/// weight as `0.64278761` and its poles rounded: the arc is a circle only to that precision.
+/// The form check follows the digits written (README "IGES form numbers"), so the 126 form 2
+/// and 128 form 2 labels are kept, with no warning, and written again as IGES forms 2 and
+/// STEP `.CIRCULAR_ARC.` / `.CYLINDRICAL_SURF.`, also for a copy under a 124 rotation (whose
+/// recomputed poles carry the file's precision as `meta.shape_tolerance`). The same arc with
+/// its weight off by 1e-4 (far beyond 8 digits) is still refused the label.
+#[test]
+fn form_checks_follow_the_digits_the_file_wrote() {
+    use nurbsx::exchange::Shape;
+    let eight = |x: f64| format!("{x:.7E}");
+    // A 100-degree arc of radius 37.5 about (12, -3, 7) in the plane of x = (1, 2, 2) / 3,
+    // y = (2, 1, -2) / 3: one rational Bezier segment, middle weight cos 50 degrees.
+    let (r, sweep) = (37.5, 100f64.to_radians());
+    let w = (sweep / 2.0).cos();
+    let at = |t: f64, rad: f64| -> [f64; 3] {
+        let (x, y) = ([1.0, 2.0, 2.0], [2.0, 1.0, -2.0]);
+        let c = [12.0, -3.0, 7.0];
+        [0, 1, 2].map(|i| c[i] + rad * (t.cos() * x[i] + t.sin() * y[i]) / 3.0)
+    };
+    let poles = [at(0.0, r), at(sweep / 2.0, r / w), at(sweep, r)];
+    let arc = |weight: f64| {
+        let mut p = format!("126,2,2,0,0,0,0,0.,0.,0.,1.,1.,1.,1.,{},1.,", eight(weight));
+        for q in &poles {
+            p += &format!("{},{},{},", eight(q[0]), eight(q[1]), eight(q[2]));
+        }
+        p + "0.,1.,0.,0.,0.;"
+    };
+    // A quarter cylinder of radius 25 and height 40 about z: circles in u, rulings in v.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let mut cyl = format!(
+        "128,2,1,2,1,0,0,0,0,0,0.,0.,0.,1.,1.,1.,0.,0.,1.,1.,1.,{},1.,1.,{},1.,",
+        eight(h),
+        eight(h)
+    );
+    for z in [0.0, 40.0] {
+        for (x, y) in [(25.0, 0.0), (25.0, 25.0), (0.0, 25.0)] {
+            cyl += &format!("{x}.,{y}.,{z}.,").replace("..", ".");
+        }
+    }
+    cyl += "0.,1.,0.,1.;";
+    let mut b = Builder::new(&global(2, "MM"));
+    let form2 = |ty: i64| De {
+        ty,
+        form: 2,
+        ..De::default()
+    };
+    let arc_de = b.entity(form2(126), &arc(w));
+    let cyl_de = b.entity(form2(128), &cyl);
+    let off_de = b.entity(form2(126), &arc(w * (1.0 + 1e-4)));
+    // The arc again under a 124 turning it by 30 degrees about z: its poles recomputed in
+    // full precision no longer show the 8 digits, which the label keeps as its precision.
+    let (c, s30) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let turn = b.entity(
+        De {
+            ty: 124,
+            ..De::default()
+        },
+        &format!("124,{c},{},0.,5.,{s30},{c},0.,-2.,0.,0.,1.,0.;", -s30),
+    );
+    let turned_de = b.entity(
+        De {
+            transform: turn as i64,
+            ..form2(126)
+        },
+        &arc(w),
+    );
+    let doc = exchange::iges::read(&b.build(), &ImportOptions::default()).unwrap();
+    assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
+    let entity = |de: usize| {
+        doc.entities
+            .iter()
+            .find(|e| e.id == format!("D{de}"))
+            .unwrap()
+    };
+    assert_eq!(entity(arc_de).meta.shape, Some(Shape::CircularArc));
+    assert_eq!(entity(cyl_de).meta.shape, Some(Shape::Cylinder));
+    assert_eq!(entity(off_de).meta.shape, None);
+    assert_eq!(entity(turned_de).meta.shape, Some(Shape::CircularArc));
+    // Only the turned arc needed the file's digits beyond its own.
+    assert_eq!(entity(arc_de).meta.shape_tolerance, None);
+    assert!(entity(turned_de).meta.shape_tolerance.is_some());
+    let warned: Vec<_> = doc
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity != Severity::Info)
+        .map(|d| (d.code.as_str(), d.location.entity.clone()))
+        .collect();
+    assert_eq!(warned, [("form_mismatch", Some(format!("D{off_de}")))]);
+    // The labels survive writing: no form warning, the forms written.
+    assert!(exchange::iges::form_warnings(&doc).is_empty());
+    assert!(exchange::step::form_warnings(&doc).is_empty());
+    let step = exchange::step::write(&doc, &export_options()).unwrap();
+    assert_eq!(step.matches(".CIRCULAR_ARC.").count(), 2, "{step}");
+    assert_eq!(step.matches(".CYLINDRICAL_SURF.").count(), 1, "{step}");
+    let iges = exchange::iges::write(&doc, &export_options()).unwrap();
+    let forms = entity_forms(&iges);
+    assert_eq!(forms, [(126, 2), (128, 2), (126, 0), (126, 2)]);
+}
+
+/// `(entity type, form)` of every directory entry of an IGES text, in order.
+fn entity_forms(iges: &str) -> Vec<(i64, i64)> {
+    let file = nurbsx_parsers::iges::parse(iges).unwrap();
+    file.entries
         .iter()
         .flatten()
         .map(|e| (e.entity_type, e.form))
-        .collect();
-    assert_eq!(forms, [(126, 2), (126, 0), (128, 2), (126, 0)]);
+        .collect()
 }

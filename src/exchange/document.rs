@@ -248,6 +248,12 @@ pub struct Meta {
     /// 1-5 / 128 forms 1-8 when the geometry agrees.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shape: Option<Shape>,
+    /// The precision [`Meta::shape`] was checked to when read, when the check needed more
+    /// than the geometry's own digits give: an IGES 126/128 written with few digits (a
+    /// circle's weight as `0.70710678`) is its kind to the precision the file carries
+    /// (`exchange::iges::form`); writers check the label to at least this.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape_tolerance: Option<f64>,
     /// IGES 126 `V(0), V(1)` / 128 `U(0), U(1), V(0), V(1)`: the parameter range the file
     /// declares (kept; geometry is trimmed to it only on request).
     #[serde(skip_serializing_if = "Option::is_none")]

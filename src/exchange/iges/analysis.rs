@@ -216,6 +216,59 @@ pub fn written_rounding(values: impl IntoIterator<Item = f64>) -> f64 {
     })
 }
 
+/// The fewest significant digits a writer is taken to have used for the numbers of a
+/// B-spline's net: single precision. A net written with fewer (`0.5`, `10.`) is taken as
+/// exact to that many, so that short numbers never widen a check beyond it.
+const LEAST_WRITTEN_DIGITS: i32 = 6;
+
+/// The most significant digits and the largest decimal exponent among `values`.
+fn digits_and_exponent(values: impl IntoIterator<Item = f64>) -> Option<(i32, i32)> {
+    values
+        .into_iter()
+        .filter_map(decimal_digits)
+        .reduce(|(md, me), (d, e)| (md.max(d), me.max(e)))
+}
+
+/// How far a point of a B-spline may lie from the one its writer meant when its poles and
+/// weights carry only the digits written. The writer's precision is the most significant
+/// digits among all of them (at least [`LEAST_WRITTEN_DIGITS`]; a circle's irrational
+/// weight shows it), so each coordinate is within `e`, half a unit in that last place of
+/// the largest coordinate, and each weight within `dw` likewise. Each pole is then within
+/// `sqrt 3 e` and, a point being a convex combination of the poles (NURBS Book eq. 4.2,
+/// positive weights), the point too; a weight moves a point by at most `dw / w_min` times
+/// the polygon's diameter (the derivative of eq. 4.2 in `w_i` is
+/// `N_i (P_i - C) / sum N_j w_j`); equal weights cancel and count for nothing. For
+/// full-precision values (17 digits) this is a few units in the last place.
+pub fn written_point_rounding(points: &[Point3], weights: &[f64]) -> f64 {
+    let coordinates = digits_and_exponent(points.iter().flatten().copied());
+    let ws = digits_and_exponent(weights.iter().copied());
+    let digits = [coordinates, ws]
+        .iter()
+        .flatten()
+        .map(|&(d, _)| d)
+        .fold(LEAST_WRITTEN_DIGITS, i32::max);
+    let rounding =
+        |de: Option<(i32, i32)>| de.map_or(0.0, |(_, e)| 0.5 * 10f64.powi(e - digits + 1));
+    let least = weights.iter().copied().fold(f64::INFINITY, f64::min);
+    let most = weights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Equal weights cancel in eq. 4.2 whatever their rounding.
+    let weight = if least > 0.0 && least.is_finite() && most > least {
+        rounding(ws) / least
+    } else {
+        0.0
+    };
+    let diameter = match points.first() {
+        Some(&p0) => {
+            2.0 * points
+                .iter()
+                .map(|&q| norm(sub(q, p0)))
+                .fold(0.0f64, f64::max)
+        }
+        None => 0.0,
+    };
+    3f64.sqrt() * rounding(coordinates) + diameter * weight
+}
+
 /// How far from the plane through `points[0]` with normal `n` the points may lie when both
 /// were written with the digits the writer used. The most significant digits among the
 /// coordinates is taken as the writer's precision for them (a value shown with fewer had
@@ -277,6 +330,102 @@ mod tests {
         assert_eq!(written_rounding([0.0, f64::INFINITY]), 0.0);
         // One digit is the precision; the last place of 3 at one digit is 1.
         assert_eq!(written_rounding([1e-5, 3.0]), 0.5);
+    }
+
+    /// `x` rounded to `digits` significant decimal digits, as a writer printing them does.
+    fn round_to(x: f64, digits: usize) -> f64 {
+        format!("{x:.*e}", digits - 1).parse().unwrap()
+    }
+
+    /// The bound holds against an independent computation: rational quadratic arcs (one
+    /// Bezier segment, middle weight cos(a/2), NURBS Book eq. 7.33) of random centre, radius,
+    /// plane and sweep are written with 6 to 12 significant digits; every sample of the
+    /// curve so written lies within `written_point_rounding` of the true arc (its distance
+    /// from the centre, computed by trigonometry, not by the curve). Full-precision numbers
+    /// give a bound of a few units in the last place.
+    #[test]
+    fn written_point_rounding_bounds_what_rounding_moves() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rand = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..300 {
+            let digits = 6 + case % 7;
+            let centre = [
+                rand() * 200.0 - 100.0,
+                rand() * 200.0 - 100.0,
+                rand() * 50.0,
+            ];
+            let radius = 0.5 + rand() * 300.0;
+            let sweep = 0.2 + rand() * 2.6;
+            // An orthonormal frame of a random plane.
+            let a = [rand() - 0.5, rand() - 0.5, rand() - 0.5];
+            let b = [rand() - 0.5, rand() - 0.5, rand() - 0.5];
+            let n = cross(a, b);
+            let unit = |v: Point3| {
+                let l = norm(v);
+                [v[0] / l, v[1] / l, v[2] / l]
+            };
+            let (x, y) = (unit(a), unit(cross(n, a)));
+            let at = |t: f64, r: f64| {
+                [0, 1, 2].map(|i| centre[i] + r * (t.cos() * x[i] + t.sin() * y[i]))
+            };
+            let w = (sweep / 2.0).cos();
+            let exact_poles = [
+                at(0.0, radius),
+                at(sweep / 2.0, radius / w),
+                at(sweep, radius),
+            ];
+            let poles: Vec<Point3> = exact_poles
+                .iter()
+                .map(|p| p.map(|c| round_to(c, digits)))
+                .collect();
+            let weights = vec![1.0, round_to(w, digits), 1.0];
+            let bound = written_point_rounding(&poles, &weights);
+            let curve = NurbsCurve::new(
+                2,
+                vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+                poles.clone(),
+                Some(weights.clone()),
+            )
+            .unwrap();
+            let worst = (0..=32)
+                .map(|k| {
+                    let p = curve.point_at(f64::from(k) / 32.0).unwrap();
+                    (norm(sub(p, centre)) - radius).abs()
+                })
+                .fold(0.0f64, f64::max);
+            assert!(
+                worst <= bound,
+                "case {case}: {digits} digits, off {worst:e} > {bound:e}"
+            );
+            // Not a vacuous bound: within a few hundred times the digits' last place.
+            let scale = norm(centre) + 2.0 * radius;
+            assert!(
+                bound <= 500.0 * scale * 10f64.powi(-(digits as i32)),
+                "case {case}: {bound:e}"
+            );
+        }
+        // Full precision: a few units in the last place of the largest coordinate.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let poles = [[100.0, 0.0, 0.0], [100.0, 100.0, 0.0], [0.0, 100.0, 0.0]];
+        assert!(written_point_rounding(&poles, &[1.0, h, 1.0]) < 1e-12);
+        // Short numbers are taken as written with six digits, never coarser: coordinates
+        // within 5e-5 (sqrt 3 of that a pole), the weight 0.5 within 5e-6 (over the least
+        // weight 0.5, times the diameter 2 x 14.14): 3.69e-4, not the 5 that one digit of
+        // `10.` would give.
+        let coarse = written_point_rounding(&[[10.0, 0.0, 0.0], [0.0, 10.0, 0.0]], &[1.0, 0.5]);
+        let expected = 3f64.sqrt() * 5e-5 + 2.0 * 200f64.sqrt() * 1e-5;
+        assert!(
+            (coarse - expected).abs() <= 1e-15,
+            "{coarse:e} vs {expected:e}"
+        );
+        // Equal weights cancel: only the coordinates' rounding is left.
+        let equal = written_point_rounding(&[[10.0, 0.0, 0.0], [0.0, 10.0, 0.0]], &[0.5, 0.5]);
+        assert_eq!(equal, 3f64.sqrt() * 5e-5);
     }
 
     #[test]

@@ -112,10 +112,43 @@ fn conic_type(c: &NurbsCurve, sign: i32, tol: f64) -> bool {
     })
 }
 
+/// Runs a kind's `check` on a net of `points` and `weights` at the net-relative tolerance,
+/// at least `at_least` (the precision a label was checked to when read,
+/// [`crate::exchange::Meta::shape_tolerance`]); when it fails, again at four times what the
+/// digits of the poles and weights allow ([`analysis::written_point_rounding`]: a check
+/// compares the distances of two samples from a centre estimated from three more), if that
+/// is more. So a circle written with 8 digits is a circle to 8 digits, and exact numbers
+/// (the usual case) pay for one check only.
+fn within_written(
+    points: &[Point3],
+    weights: Option<&[f64]>,
+    at_least: f64,
+    check: impl Fn(f64) -> Result<i64, String>,
+) -> Result<i64, String> {
+    let tol = analysis::tolerance(points.iter()).max(at_least);
+    check(tol).or_else(|why| {
+        let written = 4.0 * analysis::written_point_rounding(points, weights.unwrap_or_default());
+        if written > tol {
+            check(written)
+        } else {
+            Err(why)
+        }
+    })
+}
+
 /// The 126 form of a curve of kind `shape`: `Ok(form)`, or `Err(why)` when the geometry does
-/// not pass the kind's check.
-pub fn curve_form(c: &NurbsCurve, shape: Option<Shape>) -> Result<i64, String> {
-    let tol = analysis::tolerance(c.control_points().iter());
+/// not pass the kind's check ([`within_written`]).
+pub fn curve_form(c: &NurbsCurve, shape: Option<Shape>, at_least: f64) -> Result<i64, String> {
+    if shape.is_none() {
+        return Ok(0);
+    }
+    within_written(c.control_points(), c.weights(), at_least, |tol| {
+        curve_form_within(c, shape, tol)
+    })
+}
+
+/// [`curve_form`] at the tolerance `tol`.
+fn curve_form_within(c: &NurbsCurve, shape: Option<Shape>, tol: f64) -> Result<i64, String> {
     match shape {
         None | Some(Shape::Polyline) => Ok(0),
         Some(Shape::Line) => straight(c, tol)
@@ -156,9 +189,10 @@ fn rotation_axis(s: &NurbsSurface, tol: f64) -> Option<Axis> {
         circles.push(circle(&c, tol)?);
     }
     let (c0, n0, _) = *circles.first()?;
-    let ok = circles
-        .iter()
-        .all(|&(c, n, _)| norm(cross(n, n0)) <= 1e-9 && norm(cross(sub(c, c0), n0)) <= tol);
+    // A circle's normal, from chords of about its radius, turns by about tol / radius.
+    let ok = circles.iter().all(|&(c, n, r)| {
+        norm(cross(n, n0)) <= 1e-9f64.max(tol / r) && norm(cross(sub(c, c0), n0)) <= tol
+    });
     if !ok {
         return None;
     }
@@ -172,19 +206,32 @@ fn rotation_axis(s: &NurbsSurface, tol: f64) -> Option<Axis> {
 /// The 128 form of a surface of kind `shape`, or why not. IGES 5.3 section 4.24 does not
 /// say which parameter runs around a cylinder or along a ruling, so the check passes when
 /// the surface passes it with u and v as written or exchanged.
-pub fn surface_form(s: &NurbsSurface, shape: Option<Shape>) -> Result<i64, String> {
-    surface_form_as_written(s, shape).or_else(|why| {
-        s.swap_uv()
-            .ok()
-            .and_then(|t| surface_form_as_written(&t, shape).ok())
-            .ok_or(why)
-    })
+pub fn surface_form(s: &NurbsSurface, shape: Option<Shape>, at_least: f64) -> Result<i64, String> {
+    if shape.is_none() {
+        return Ok(0);
+    }
+    within_written(
+        s.control_points().as_slice(),
+        s.weights().map(|w| w.as_slice()),
+        at_least,
+        |tol| {
+            surface_form_as_written(s, shape, tol).or_else(|why| {
+                s.swap_uv()
+                    .ok()
+                    .and_then(|t| surface_form_as_written(&t, shape, tol).ok())
+                    .ok_or(why)
+            })
+        },
+    )
 }
 
 /// [`surface_form`] with u and v as written: the surfaces of revolution turn about the axis
 /// in u; a ruled surface is straight in v.
-fn surface_form_as_written(s: &NurbsSurface, shape: Option<Shape>) -> Result<i64, String> {
-    let tol = analysis::tolerance(s.control_points().as_slice().iter());
+fn surface_form_as_written(
+    s: &NurbsSurface,
+    shape: Option<Shape>,
+    tol: f64,
+) -> Result<i64, String> {
     let ((u0, u1), (v0, v1)) = s.domain();
     let v_curves_straight = || {
         (0..5).all(|i| {
@@ -280,11 +327,12 @@ fn surface_form_as_written(s: &NurbsSurface, shape: Option<Shape>) -> Result<i64
     }
 }
 
-/// The form of an entity's geometry, or why its kind's check failed.
-pub fn form(geometry: &Geometry, shape: Option<Shape>) -> Result<i64, String> {
+/// The form of an entity's geometry, or why its kind's check failed; `at_least` as for
+/// [`curve_form`].
+pub fn form(geometry: &Geometry, shape: Option<Shape>, at_least: f64) -> Result<i64, String> {
     match geometry {
-        Geometry::Curve(c) => curve_form(c, shape),
-        Geometry::Surface(s) => surface_form(s, shape),
+        Geometry::Curve(c) => curve_form(c, shape, at_least),
+        Geometry::Surface(s) => surface_form(s, shape, at_least),
     }
 }
 
@@ -317,27 +365,46 @@ fn shape_of_form(entity_type: i64, form: i64) -> Option<Shape> {
 }
 
 /// The kind a 126 or 128 of form `form` is labelled with, when its geometry passes that
-/// kind's check ([`form`]); a form that fails gives a `form_mismatch` warning (the data is
-/// read as written, and written as form 0 / `.UNSPECIFIED.`), and 128 form 9 a
-/// `form_unchecked` warning (nurbsx does not keep that label).
+/// kind's check ([`form`]) to the precision of the digits the file wrote (`written()`: four
+/// times [`analysis::written_point_rounding`] of the entity's own numbers, stretched as
+/// its 124 chain and unit factor stretch them), with that precision when the check needs
+/// it ([`crate::exchange::Meta::shape_tolerance`]: the geometry's own digits do not show it
+/// once a 124, the unit factor or a trim has recomputed the poles). A form that fails gives a
+/// `form_mismatch` warning (the data is read as written, and written as form 0 /
+/// `.UNSPECIFIED.`), and 128 form 9 a `form_unchecked` warning (nurbsx does not keep that
+/// label).
 pub(super) fn labelled_shape(
     entity_type: i64,
     form_number: i64,
     geometry: &Geometry,
     location: &Location,
     diags: &mut Vec<Diagnostic>,
-) -> Option<Shape> {
+    written: impl FnOnce() -> f64,
+) -> (Option<Shape>, Option<f64>) {
     if entity_type == 128 && form_number == 9 {
         diags.push(Diagnostic::warning(
             "form_unchecked",
             "form 9 (general quadric surface) has no check in nurbsx: the label is not kept (written as IGES form 0, STEP .UNSPECIFIED.)".to_owned(),
             location.clone(),
         ));
-        return None;
+        return (None, None);
     }
-    let shape = shape_of_form(entity_type, form_number)?;
-    match form(geometry, Some(shape)) {
-        Ok(_) => Some(shape),
+    let Some(shape) = shape_of_form(entity_type, form_number) else {
+        return (None, None);
+    };
+    // The geometry's own digits first (all it needs unless a 124 or a trim recomputed the
+    // poles), then the file's.
+    let checked = form(geometry, Some(shape), 0.0)
+        .map(|_| None)
+        .or_else(|why| {
+            let written = written();
+            match form(geometry, Some(shape), written) {
+                Ok(_) => Ok(Some(written)),
+                Err(_) => Err(why),
+            }
+        });
+    match checked {
+        Ok(at) => (Some(shape), at),
         Err(why) => {
             diags.push(Diagnostic::warning(
                 "form_mismatch",
@@ -346,7 +413,7 @@ pub(super) fn labelled_shape(
                 ),
                 location.clone(),
             ));
-            None
+            (None, None)
         }
     }
 }
@@ -358,7 +425,12 @@ pub fn form_warnings(document: &Document) -> Vec<Diagnostic> {
         .entities
         .iter()
         .filter_map(|e| {
-            let why = form(&e.geometry, e.meta.shape).err()?;
+            let why = form(
+                &e.geometry,
+                e.meta.shape,
+                e.meta.shape_tolerance.unwrap_or(0.0),
+            )
+            .err()?;
             Some(Diagnostic::warning(
                 "form_unchecked",
                 format!(

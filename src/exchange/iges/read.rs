@@ -17,7 +17,7 @@ use super::chain::{self, ChainError};
 use super::curves::{self, Composite};
 use super::forms;
 use super::surfaces;
-use super::vector::compose;
+use super::vector::{compose, dot};
 use crate::exchange::{
     Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta,
     ParameterRange, Source,
@@ -1090,6 +1090,43 @@ fn apply_all(ts: &[Transform124], p: Point3, factor: Option<f64>) -> Point3 {
     q
 }
 
+/// The precision of a 126/128 form check ([`forms::labelled_shape`]), computed when the
+/// check needs it: four times [`analysis::written_point_rounding`] of the poles and weights
+/// as the file wrote them, times [`stretch`].
+fn written_precision<'a>(
+    ts: &'a [Transform124],
+    factor: Option<f64>,
+    points: &'a [Point3],
+    weights: Option<&'a [f64]>,
+) -> impl FnOnce() -> f64 + 'a {
+    move || {
+        4.0 * stretch(ts, factor)
+            * analysis::written_point_rounding(points, weights.unwrap_or_default())
+    }
+}
+
+/// A bound on how much [`apply_all`] stretches a length: per 124 of the chain 1 for a
+/// rotation or reflection (the linear part's columns orthonormal within 1e-12; IGES 5.3
+/// section 4.21 forms 0 and 1), else its Frobenius norm (at least its largest singular
+/// value); times the unit factor.
+fn stretch(ts: &[Transform124], factor: Option<f64>) -> f64 {
+    let of = |t: &Transform124| {
+        let c = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|e| t.apply_linear(e));
+        let orthonormal = (0..3).all(|i| {
+            (0..3).all(|j| {
+                let d = dot(c[i], c[j]) - if i == j { 1.0 } else { 0.0 };
+                d.abs() <= 1e-12
+            })
+        });
+        if orthonormal {
+            1.0
+        } else {
+            c.iter().map(|v| dot(*v, *v)).sum::<f64>().sqrt()
+        }
+    };
+    ts.iter().map(of).product::<f64>() * factor.map_or(1.0, f64::abs)
+}
+
 fn check_limits(
     entry: &DirectoryEntry,
     degrees: &[usize],
@@ -1262,6 +1299,8 @@ pub(super) fn read_curve(
         .iter()
         .map(|&p| apply_all(&ts, p, factor))
         .collect();
+    // The weights as written, for the precision of a form check (`forms::labelled_shape`).
+    let written_weights = (entry.form != 0).then(|| rec.weights.clone());
     let weights = weights_policy(polynomial, rec.weights, entry, diags);
     // IGES 2-D parametric curves stay 2-D: use flag 05, or the role of a parameter-space
     // curve (the B(t) of a 142, a 508 loop pcurve) whatever the flag says (Open CASCADE
@@ -1389,7 +1428,9 @@ pub(super) fn read_curve(
         curve
     };
     let geometry = Geometry::Curve(curve);
-    meta.shape = forms::labelled_shape(126, entry.form, &geometry, &loc, diags);
+    let written = written_precision(&ts, factor, &rec.points, written_weights.as_deref());
+    (meta.shape, meta.shape_tolerance) =
+        forms::labelled_shape(126, entry.form, &geometry, &loc, diags, written);
     Some((geometry, meta))
 }
 
@@ -1494,6 +1535,8 @@ fn read_surface(
                 apply_all(&ts, p.unwrap_or([f64::NAN; 3]), factor)
             })
         });
+    // The weights as written, for the precision of a form check (`forms::labelled_shape`).
+    let written_weights = (entry.form != 0).then(|| rec.weights.clone());
     let weights = weights_policy(polynomial, rec.weights, entry, diags)
         .map(|w| transposed(&w, nu, nv, |x| x).unwrap_or_else(|| from_file_order(&w, nu, nv)));
     let surface = match NurbsSurface::new(
@@ -1596,6 +1639,8 @@ fn read_surface(
         surface
     };
     let geometry = Geometry::Surface(surface);
-    meta.shape = forms::labelled_shape(128, entry.form, &geometry, &loc, diags);
+    let written = written_precision(&ts, factor, &rec.points, written_weights.as_deref());
+    (meta.shape, meta.shape_tolerance) =
+        forms::labelled_shape(128, entry.form, &geometry, &loc, diags, written);
     Some((geometry, meta))
 }

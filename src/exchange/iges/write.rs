@@ -145,7 +145,7 @@ impl<'d> Items<'d> {
             126,
             meta,
             use_flag,
-            forms::curve_form(&c, meta.shape).unwrap_or(0),
+            forms::curve_form(&c, meta.shape, meta.shape_tolerance.unwrap_or(0.0)).unwrap_or(0),
         );
         d.status.subordinate = subordinate;
         let factor = self.factor;
@@ -169,7 +169,7 @@ impl<'d> Items<'d> {
             128,
             meta,
             0,
-            forms::surface_form(&s, meta.shape).unwrap_or(0),
+            forms::surface_form(&s, meta.shape, meta.shape_tolerance.unwrap_or(0.0)).unwrap_or(0),
         );
         d.status.subordinate = subordinate;
         let net = s.control_points().as_slice();

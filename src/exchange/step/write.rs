@@ -903,7 +903,11 @@ fn form_of(e: &Entity) -> Result<&'static str, String> {
     };
     // The kind's check is the one the IGES writer uses for its form numbers (one check per
     // kind, `exchange::iges::form`); a polyline label also needs degree 1.
-    crate::exchange::iges::form(&e.geometry, Some(declared))?;
+    crate::exchange::iges::form(
+        &e.geometry,
+        Some(declared),
+        e.meta.shape_tolerance.unwrap_or(0.0),
+    )?;
     if let (Shape::Polyline, Geometry::Curve(c)) = (declared, &e.geometry) {
         if c.degree() != 1 {
             return Err("a polyline is degree 1".to_owned());
