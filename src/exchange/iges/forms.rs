@@ -327,8 +327,10 @@ fn surface_form_as_written(
     }
 }
 
-/// The form of an entity's geometry, or why its kind's check failed; `at_least` as for
-/// [`curve_form`].
+/// The form of an entity's geometry, or why its kind's check failed. The check passes within
+/// the net-relative tolerance, at least `at_least` (the precision a label was checked to
+/// when read, [`crate::exchange::Meta::shape_tolerance`]; 0 when none), or else within four
+/// times what the digits of the poles and weights allow.
 pub fn form(geometry: &Geometry, shape: Option<Shape>, at_least: f64) -> Result<i64, String> {
     match geometry {
         Geometry::Curve(c) => curve_form(c, shape, at_least),
