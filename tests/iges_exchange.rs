@@ -3,6 +3,7 @@
 // Test helpers outside #[test] functions may unwrap and panic too.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod common;
 #[path = "../parsers/tests/iges_support/mod.rs"]
 mod iges_util;
 
@@ -936,17 +937,8 @@ fn iges_form_numbers_label_the_kind_when_the_geometry_agrees() {
 #[test]
 fn form_checks_follow_the_digits_the_file_wrote() {
     use nurbsx::exchange::Shape;
-    let eight = |x: f64| format!("{x:.7E}");
-    // A 100-degree arc of radius 37.5 about (12, -3, 7) in the plane of x = (1, 2, 2) / 3,
-    // y = (2, 1, -2) / 3: one rational Bezier segment, middle weight cos 50 degrees.
-    let (r, sweep) = (37.5, 100f64.to_radians());
-    let w = (sweep / 2.0).cos();
-    let at = |t: f64, rad: f64| -> [f64; 3] {
-        let (x, y) = ([1.0, 2.0, 2.0], [2.0, 1.0, -2.0]);
-        let c = [12.0, -3.0, 7.0];
-        [0, 1, 2].map(|i| c[i] + rad * (t.cos() * x[i] + t.sin() * y[i]) / 3.0)
-    };
-    let poles = [at(0.0, r), at(sweep / 2.0, r / w), at(sweep, r)];
+    let eight = common::eight_digits;
+    let (poles, w) = common::tilted_arc();
     let arc = |weight: f64| {
         let mut p = format!("126,2,2,0,0,0,0,0.,0.,0.,1.,1.,1.,1.,{},1.,", eight(weight));
         for q in &poles {

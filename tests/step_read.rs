@@ -5,6 +5,8 @@
 // Helpers outside #[test] functions may fail loudly too: they only run under tests.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use nurbsx::exchange::step::{read, write};
 use nurbsx::exchange::{Document, ExportOptions, ImportOptions, LengthUnit, Severity, StepSchema};
 use nurbsx::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface};
@@ -662,4 +664,81 @@ fn empty_document_writes_a_valid_file() {
     let back = read(&t, &opts()).unwrap();
     assert!(back.entities.is_empty());
     assert!(errors(&back).is_empty());
+}
+
+/// A B-spline's `curve_form` names its kind (ISO 10303-42 clause 4.3): kept as the entity's
+/// kind when the geometry passes the kind's check to the digits the file wrote, so that a
+/// circle read from STEP is written as an IGES 126 form 2 too (it was form 0); a label the
+/// geometry does not have is a `form_mismatch` warning at the instance (it was accepted in
+/// silence). Read in inches, the poles are recomputed (every digit changes) and the label
+/// still holds to the precision of the file's numbers.
+#[test]
+fn bspline_curve_forms_label_the_kind_when_the_geometry_agrees() {
+    // The arc of `common::tilted_arc`, all numbers written with 8 significant digits.
+    let eight = common::eight_digits;
+    let (poles, w) = common::tilted_arc();
+    let mut points = String::new();
+    for (k, q) in poles.iter().enumerate() {
+        points += &format!(
+            "#{}=CARTESIAN_POINT('',({},{},{}));\n",
+            k + 2,
+            eight(q[0]),
+            eight(q[1]),
+            eight(q[2])
+        );
+    }
+    let arc = |id: u32, weight: f64| {
+        format!(
+            "#{id}=(BOUNDED_CURVE() B_SPLINE_CURVE(2,(#2,#3,#4),.CIRCULAR_ARC.,.F.,.F.) \
+             B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.PIECEWISE_BEZIER_KNOTS.) CURVE() \
+             GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE((1.,{},1.)) \
+             REPRESENTATION_ITEM(''));\n",
+            eight(weight)
+        )
+    };
+    let text = file(&format!(
+        "{}{}{points}",
+        arc(1, w),
+        arc(10, w * (1.0 + 1e-4))
+    ));
+    let shape = |d: &Document, id: &str| {
+        let e = d.entities.iter().find(|e| e.id == id).unwrap();
+        (e.meta.shape, e.meta.shape_tolerance.is_some())
+    };
+    let iges_forms = |d: &Document| {
+        let text = nurbsx::exchange::iges::write(d, &ExportOptions::default()).unwrap();
+        let file = nurbsx_parsers::iges::parse(&text).unwrap();
+        file.entries
+            .iter()
+            .flatten()
+            .map(|e| (e.entity_type, e.form))
+            .collect::<Vec<_>>()
+    };
+    let arc_shape = Some(nurbsx::exchange::Shape::CircularArc);
+    let d = read(&text, &opts()).unwrap();
+    assert_eq!(shape(&d, "#1"), (arc_shape, false));
+    assert_eq!(shape(&d, "#10"), (None, false));
+    let warned: Vec<_> = d
+        .diagnostics
+        .iter()
+        .filter(|x| x.severity != Severity::Info)
+        .map(|x| {
+            (
+                x.code.as_str(),
+                x.location.entity.as_deref(),
+                x.location.line,
+            )
+        })
+        .collect();
+    assert_eq!(warned, [("form_mismatch", Some("#10"), Some(6))]);
+    assert_eq!(iges_forms(&d), [(126, 2), (126, 0)]);
+    // In inches: the poles divided by 25.4, the label kept at the file's precision.
+    let inches = ImportOptions {
+        target_units: Some(LengthUnit::In),
+        ..opts()
+    };
+    let d = read(&text, &inches).unwrap();
+    assert_eq!(shape(&d, "#1"), (arc_shape, true));
+    assert_eq!(shape(&d, "#10").0, None);
+    assert_eq!(iges_forms(&d), [(126, 2), (126, 0)]);
 }

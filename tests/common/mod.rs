@@ -224,3 +224,23 @@ pub fn circle9(r: f64) -> NurbsCurve {
     )
     .unwrap()
 }
+
+/// The poles and middle weight of a 100-degree circular arc of radius 37.5 about
+/// (12, -3, 7) in the plane of x = (1, 2, 2) / 3, y = (2, 1, -2) / 3: one rational Bezier
+/// segment whose middle pole is at radius r / w, w = cos 50 degrees (NURBS Book eq. 7.33),
+/// every number a tilted plane makes irrational.
+pub fn tilted_arc() -> ([Point3; 3], f64) {
+    let (r, sweep) = (37.5, 100f64.to_radians());
+    let w = (sweep / 2.0).cos();
+    let at = |t: f64, rad: f64| -> Point3 {
+        let (x, y) = ([1.0, 2.0, 2.0], [2.0, 1.0, -2.0]);
+        let c = [12.0, -3.0, 7.0];
+        [0, 1, 2].map(|i| c[i] + rad * (t.cos() * x[i] + t.sin() * y[i]) / 3.0)
+    };
+    ([at(0.0, r), at(sweep / 2.0, r / w), at(sweep, r)], w)
+}
+
+/// `x` with 8 significant digits, as many CAD writers print reals.
+pub fn eight_digits(x: f64) -> String {
+    format!("{x:.7E}")
+}

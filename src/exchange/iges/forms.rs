@@ -367,14 +367,8 @@ fn shape_of_form(entity_type: i64, form: i64) -> Option<Shape> {
 }
 
 /// The kind a 126 or 128 of form `form` is labelled with, when its geometry passes that
-/// kind's check ([`form`]) to the precision of the digits the file wrote (`written()`: four
-/// times [`analysis::written_point_rounding`] of the entity's own numbers, stretched as
-/// its 124 chain and unit factor stretch them), with that precision when the check needs
-/// it ([`crate::exchange::Meta::shape_tolerance`]: the geometry's own digits do not show it
-/// once a 124, the unit factor or a trim has recomputed the poles). A form that fails gives a
-/// `form_mismatch` warning (the data is read as written, and written as form 0 /
-/// `.UNSPECIFIED.`), and 128 form 9 a `form_unchecked` warning (nurbsx does not keep that
-/// label).
+/// kind's check ([`checked_label`]); 128 form 9 gives a `form_unchecked` warning (nurbsx
+/// does not keep that label).
 pub(super) fn labelled_shape(
     entity_type: i64,
     form_number: i64,
@@ -391,11 +385,38 @@ pub(super) fn labelled_shape(
         ));
         return (None, None);
     }
-    let Some(shape) = shape_of_form(entity_type, form_number) else {
-        return (None, None);
-    };
-    // The geometry's own digits first (all it needs unless a 124 or a trim recomputed the
-    // poles), then the file's.
+    match shape_of_form(entity_type, form_number) {
+        Some(shape) => checked_label(
+            shape,
+            &format!("form {form_number} ({shape:?})"),
+            geometry,
+            location,
+            diags,
+            written,
+        ),
+        None => (None, None),
+    }
+}
+
+/// The kind `shape` a file labels its geometry with (`label`: an IGES form number, a STEP
+/// `curve_form`), kept when the geometry passes the kind's check ([`form`]) to the precision
+/// of the digits the file wrote (`written()`: four times
+/// [`analysis::written_point_rounding`] of the entity's own numbers, stretched as its 124
+/// chain and unit factor stretch them), with that precision when the check needs it
+/// ([`crate::exchange::Meta::shape_tolerance`]: the geometry's own digits do not show it once
+/// a 124, the unit factor or a trim has recomputed the poles). A label that fails gives a
+/// `form_mismatch` warning: the data is read as written, and written as IGES form 0 / STEP
+/// `.UNSPECIFIED.`.
+pub(crate) fn checked_label(
+    shape: Shape,
+    label: &str,
+    geometry: &Geometry,
+    location: &Location,
+    diags: &mut Vec<Diagnostic>,
+    written: impl FnOnce() -> f64,
+) -> (Option<Shape>, Option<f64>) {
+    // The geometry's own digits first (all it needs unless a 124, the unit factor or a trim
+    // recomputed the poles), then the file's.
     let checked = form(geometry, Some(shape), 0.0)
         .map(|_| None)
         .or_else(|why| {
@@ -411,7 +432,7 @@ pub(super) fn labelled_shape(
             diags.push(Diagnostic::warning(
                 "form_mismatch",
                 format!(
-                    "form {form_number} ({shape:?}) but {why}; the data is read as written (and written as form 0)"
+                    "{label} but {why}; the data is read as written (and written as IGES form 0, STEP .UNSPECIFIED.)"
                 ),
                 location.clone(),
             ));

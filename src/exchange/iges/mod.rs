@@ -35,6 +35,8 @@ mod vector;
 mod write;
 mod write_topology;
 
+pub(crate) use analysis::written_point_rounding;
+pub(crate) use forms::checked_label;
 pub use forms::{form, form_warnings};
 pub use read::read;
 pub use write::{range_warnings, write};

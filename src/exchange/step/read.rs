@@ -1052,6 +1052,55 @@ impl<'a> Ctx<'_, 'a> {
         }
     }
 
+    /// `meta.shape` from a B-spline's `curve_form` / `surface_form` (`form`) when it names a
+    /// kind nurbsx checks (ISO 10303-42 clause 4.3 `b_spline_curve_form`,
+    /// `b_spline_surface_form`: the conic arcs and the planar, quadric, revolved, extruded
+    /// and ruled surfaces) and the geometry passes that kind's check
+    /// (`exchange::iges::checked_label`), so that a circle read from STEP is a circle in IGES
+    /// output too (form 2); a label the geometry does not have is a `form_mismatch` warning.
+    /// `.POLYLINE_FORM.` is checked when written; `.UNSPECIFIED.`, `.QUADRIC_SURF.` and
+    /// `.GENERALISED_CONE.` name no kind. The digits the file wrote are those of the poles
+    /// before the unit factor (`scale`) multiplied them.
+    fn label(&self, form: &str, geometry: &Geometry, meta: &mut Meta, diags: &mut Vec<Diagnostic>) {
+        let Some(shape) = super::write::form_shape(form).filter(|s| {
+            !matches!(
+                s,
+                crate::exchange::Shape::Line | crate::exchange::Shape::Polyline
+            )
+        }) else {
+            return;
+        };
+        let scale = self.scale;
+        let written = || {
+            let (points, weights) = match geometry {
+                Geometry::Curve(c) => (c.control_points(), c.weights()),
+                Geometry::Surface(s) => (
+                    s.control_points().as_slice(),
+                    s.weights().map(|w| w.as_slice()),
+                ),
+            };
+            let file: Vec<Point3> = points.iter().map(|p| p.map(|c| c / scale)).collect();
+            4.0 * scale.abs()
+                * crate::exchange::iges::written_point_rounding(&file, weights.unwrap_or_default())
+        };
+        let label = format!(
+            "{} .{}.",
+            match geometry {
+                Geometry::Curve(_) => "curve_form",
+                Geometry::Surface(_) => "surface_form",
+            },
+            form.to_ascii_uppercase()
+        );
+        (meta.shape, meta.shape_tolerance) = crate::exchange::iges::checked_label(
+            shape,
+            &label,
+            geometry,
+            &self.location(),
+            diags,
+            written,
+        );
+    }
+
     /// A curve entity from its typed record.
     fn curve_record(
         &self,
@@ -1072,6 +1121,7 @@ impl<'a> Ctx<'_, 'a> {
         self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
         meta.form = Some(r.curve_form.to_ascii_lowercase());
+
         meta.closed_u = r.closed_curve.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
         if let Some(flag) = r.closed_curve.as_bool() {
@@ -1089,9 +1139,11 @@ impl<'a> Ctx<'_, 'a> {
                 ));
             }
         }
+        let geometry = Geometry::Curve(curve);
+        self.label(r.curve_form, &geometry, &mut meta, diags);
         Ok(Entity {
             id: super::instance_label(self.raw.id),
-            geometry: Geometry::Curve(curve),
+            geometry,
             source: Source {
                 entity: r.entity_type,
                 line: Some(self.s.locate(self.raw.offset).0),
@@ -1216,9 +1268,11 @@ impl<'a> Ctx<'_, 'a> {
                 ));
             }
         }
+        let geometry = Geometry::Surface(surface);
+        self.label(r.surface_form, &geometry, &mut meta, diags);
         Ok(Entity {
             id: super::instance_label(self.raw.id),
-            geometry: Geometry::Surface(surface),
+            geometry,
             source: Source {
                 entity: r.entity_type,
                 line: Some(self.s.locate(self.raw.offset).0),

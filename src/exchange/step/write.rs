@@ -856,10 +856,15 @@ fn declared_shape(e: &Entity) -> Option<Shape> {
     if e.meta.shape.is_some() {
         return e.meta.shape;
     }
-    let form = e.meta.form.as_deref()?.to_ascii_lowercase();
+    form_shape(e.meta.form.as_deref()?)
+}
+
+/// The kind a `b_spline_curve_form` / `b_spline_surface_form` value names (any case);
+/// `.POLYLINE_FORM.` is a line, `None` for the values with no kind in nurbsx.
+pub(super) fn form_shape(form: &str) -> Option<Shape> {
     FORMS
         .iter()
-        .find(|(_, name)| name.eq_ignore_ascii_case(&form))
+        .find(|(_, name)| name.eq_ignore_ascii_case(form))
         .map(|(shape, _)| *shape)
 }
 
