@@ -85,6 +85,11 @@ impl<'a> Reader<'a> {
         self.byte(b'\'')?;
         self.param()?;
         let start = self.i;
+        // Most names are empty (`''`): no search for the closing apostrophe.
+        if self.b.get(start) == Some(&b'\'') && self.b.get(start + 1) != Some(&b'\'') {
+            self.i = start + 1;
+            return self.text.get(start..start).map(StepString::new);
+        }
         loop {
             let p = self.i + memchr::memchr(b'\'', self.b.get(self.i..)?)?;
             if self.b.get(p + 1) == Some(&b'\'') {
@@ -418,6 +423,34 @@ mod tests {
             let n = rest.iter().take_while(|c| c.is_ascii_digit()).count();
             let expect = (1..=7).contains(&n).then(|| (decimal_u64(&rest[..n]).unwrap(), n));
             prop_assert_eq!(short_digit_run(&text, from), expect);
+        }
+    }
+
+    proptest! {
+        /// A STRING is the text up to the first apostrophe not doubled (ISO 10303-21
+        /// 6.3.4), with or without the empty-name shortcut: a byte loop says where.
+        #[test]
+        fn strings_end_at_the_first_single_apostrophe(
+            body in prop::collection::vec(prop::sample::select(b"'a,)".to_vec()), 0..12),
+        ) {
+            let text = format!("'{}", String::from_utf8(body).unwrap());
+            let b = text.as_bytes();
+            let mut expect = None;
+            let mut k = 1;
+            while k < b.len() {
+                if b[k] == b'\'' {
+                    if b.get(k + 1) == Some(&b'\'') {
+                        k += 2;
+                        continue;
+                    }
+                    expect = Some((&text[1..k], k + 1));
+                    break;
+                }
+                k += 1;
+            }
+            let mut r = Reader { text: &text, b, i: 0, count: 0, max_params: 10, max_depth: 4 };
+            let got = r.string().map(|s| (s.raw.into_owned(), r.i));
+            prop_assert_eq!(got, expect.map(|(s, i)| (s.to_owned(), i)));
         }
     }
 
