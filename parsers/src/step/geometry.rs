@@ -450,6 +450,21 @@ fn geometry_entity(name: &str) -> Option<&'static str> {
     table.get(name.len())?.iter().copied().find(|&e| e == name)
 }
 
+/// Whether the body of a complex instance may hold a partial record this module reads. The
+/// complex instances that are rational B-splines (the B-spline decoder's; their
+/// `B_SPLINE_` partial comes within the first few names), representation contexts or units
+/// (most of a B-rep's: one per pcurve) hold none.
+pub fn maybe_complex_geometry(body: &str) -> bool {
+    use super::product::Needle;
+    use memchr::memmem::Finder;
+    static BSPLINE: Needle = Needle::new(|| Finder::new("B_SPLINE_"));
+    static CONTEXT: Needle = Needle::new(|| Finder::new("REPRESENTATION_CONTEXT"));
+    static UNIT: Needle = Needle::new(|| Finder::new("_UNIT"));
+    ![&BSPLINE, &CONTEXT, &UNIT]
+        .iter()
+        .any(|n| n.find(body.as_bytes()).is_some())
+}
+
 /// Whether an entity name (long or short form) is one this module reads.
 ///
 /// Every simple instance of a file passes here, most of them CARTESIAN_POINTs and

@@ -14,6 +14,7 @@ use super::error::SchemaError;
 use super::scan::{RawInstance, Scanned};
 use super::schema::{At, Attributes, DecodeError, canonical_name};
 use super::string::StepString;
+use memchr::memmem::Finder;
 
 /// One entity of the product structure; each variant carries the explicit attributes the
 /// assembly needs under their EXPRESS names.
@@ -155,8 +156,15 @@ pub fn is_product_entity(keyword: &str) -> bool {
 /// Whether a complex instance's body may hold one of [`PRODUCT_ENTITIES`] (the
 /// representation relationships Open CASCADE writes as complex instances).
 pub fn maybe_complex_product(body: &str) -> bool {
-    body.contains("REPRESENTATION_RELATIONSHIP") || body.contains("SHAPE_REPRESENTATION")
+    static RELATIONSHIP: Needle = Needle::new(|| Finder::new("REPRESENTATION_RELATIONSHIP"));
+    static SHAPE: Needle = Needle::new(|| Finder::new("SHAPE_REPRESENTATION"));
+    [&RELATIONSHIP, &SHAPE]
+        .iter()
+        .any(|n| n.find(body.as_bytes()).is_some())
 }
+
+/// A substring searcher built once (a file has thousands of complex instances to test).
+pub type Needle = std::sync::LazyLock<Finder<'static>>;
 
 /// A decoded product-structure instance: its record and the entity type read.
 #[derive(Debug, Clone, PartialEq)]

@@ -12,7 +12,7 @@ use nurbsx_parsers::step::{
 
 use rayon::prelude::*;
 
-use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity};
+use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity, maybe_complex_geometry};
 use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
@@ -609,14 +609,7 @@ fn maybe_product(raw: &RawInstance<'_>) -> bool {
 fn maybe_geometry(raw: &RawInstance<'_>) -> bool {
     match raw.keyword() {
         Some(k) => is_geometry_entity(k),
-        // Complex instances that are rational B-splines (the B-spline decoder's; their
-        // B_SPLINE_ partial comes within the first few names, so the search stops early),
-        // contexts or units (most of a B-rep's: one per pcurve) hold no geometry partial.
-        None => {
-            !(raw.body.contains("B_SPLINE_")
-                || raw.body.contains("REPRESENTATION_CONTEXT")
-                || raw.body.contains("_UNIT"))
-        }
+        None => maybe_complex_geometry(raw.body),
     }
 }
 
