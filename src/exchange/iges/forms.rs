@@ -388,7 +388,7 @@ pub(super) fn labelled_shape(
     match shape_of_form(entity_type, form_number) {
         Some(shape) => checked_label(
             shape,
-            &format!("form {form_number} ({shape:?})"),
+            || format!("form {form_number} ({shape:?})"),
             geometry,
             location,
             diags,
@@ -398,8 +398,8 @@ pub(super) fn labelled_shape(
     }
 }
 
-/// The kind `shape` a file labels its geometry with (`label`: an IGES form number, a STEP
-/// `curve_form`), kept when the geometry passes the kind's check ([`form`]) to the precision
+/// The kind `shape` a file labels its geometry with (`label()` names it: an IGES form
+/// number, a STEP `curve_form`; built only for a warning), kept when the geometry passes the kind's check ([`form`]) to the precision
 /// of the digits the file wrote (`written()`: four times
 /// [`analysis::written_point_rounding`] of the entity's own numbers, stretched as its 124
 /// chain and unit factor stretch them), with that precision when the check needs it
@@ -409,7 +409,7 @@ pub(super) fn labelled_shape(
 /// `.UNSPECIFIED.`.
 pub(crate) fn checked_label(
     shape: Shape,
-    label: &str,
+    label: impl FnOnce() -> String,
     geometry: &Geometry,
     location: &Location,
     diags: &mut Vec<Diagnostic>,
@@ -432,7 +432,8 @@ pub(crate) fn checked_label(
             diags.push(Diagnostic::warning(
                 "form_mismatch",
                 format!(
-                    "{label} but {why}; the data is read as written (and written as IGES form 0, STEP .UNSPECIFIED.)"
+                    "{} but {why}; the data is read as written (and written as IGES form 0, STEP .UNSPECIFIED.)",
+                    label()
                 ),
                 location.clone(),
             ));

@@ -1076,17 +1076,19 @@ impl<'a> Ctx<'_, 'a> {
             4.0 * scale.abs()
                 * crate::exchange::iges::written_point_rounding(&file, weights.unwrap_or_default())
         };
-        let label = format!(
-            "{} .{}.",
-            match geometry {
-                Geometry::Curve(_) => "curve_form",
-                Geometry::Surface(_) => "surface_form",
-            },
-            form.to_ascii_uppercase()
-        );
+        let label = || {
+            format!(
+                "{} .{}.",
+                match geometry {
+                    Geometry::Curve(_) => "curve_form",
+                    Geometry::Surface(_) => "surface_form",
+                },
+                form.to_ascii_uppercase()
+            )
+        };
         (meta.shape, meta.shape_tolerance) = crate::exchange::iges::checked_label(
             shape,
-            &label,
+            label,
             geometry,
             &self.location(),
             diags,
