@@ -495,30 +495,284 @@ fn a_fixed_np_is_checked() {
     }
 }
 
-/// The records whose parameters' types come from their data or from another entity have
-/// no declaration: the 322 forms 1 and 2 (section 4.79: values of the type each attribute
-/// names), the 422 (section 4.141: the layout of the 322 its structure field names) and
-/// the 406 forms 11 (section 4.107) and 27 (section 4.123). A 322 form 1 record is not
-/// read by the form 0 declaration.
-#[test]
-fn data_driven_records_are_not_declared() {
-    let records: &[(i64, i64, &str)] = &[
-        (322, 1, "322,5HTABLE,1,1,10,2,2,1.5,2.5;"),
-        (322, 2, "322,5HTABLE,1,1,10,1,1,7,9;"),
-        (422, 0, "422,1.5;"),
-        (422, 1, "422,2,1.5,2.5;"),
-        (406, 11, "406,6,1,3,0,1.,1.,1.;"),
-        (406, 27, "406,4,4HDATA,1,2,1.5;"),
-    ];
-    let text = file_text(records);
-    let file = iges::parse(&text).unwrap();
-    for (k, &(ty, form, params)) in records.iter().enumerate() {
-        let entry = file.entry(de(k)).unwrap();
-        assert!(
-            file.references(entry).is_none(),
-            "{ty} form {form}: {params} is declared"
-        );
+/// `text` with DE field 3 (structure) of the entity at `pointer` set to `value`.
+fn with_structure(text: &str, pointer: i64, value: i64) -> String {
+    let seq = format!("D{pointer:07}");
+    text.lines()
+        .map(|l| {
+            if l.get(72..80) == Some(seq.as_str()) {
+                format!("{}{value:>8}{}", &l[..16], &l[24..])
+            } else {
+                l.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// The records whose parameters' types come from their data or from another entity, each
+/// written by hand from its layout (D29 on, after the targets): the 322 Attribute Table
+/// Definition (section 4.79), the 422 Attribute Table Instance (section 4.141) following
+/// the 322 its DE structure field names, the 406 forms 27 Generic Data (section 4.123) and
+/// 11 Tabular Data (section 4.107).
+const DATA_RECORDS: &[(i64, i64, &str)] = &[
+    // D29, 322 form 0: NAME "TABLE", ATYP 0, NA = 2; attribute 1: AT 10, AVT 4 (pointer),
+    // AVC 1; attribute 2: AT 11, AVT 2 (real), AVC 2. Form 0 holds no values.
+    (322, 0, "322,5HTABLE,0,2,10,4,1,11,2,2;"),
+    // D31, 422 form 0 following D29: one row, the pointer (D1, a point), then two reals.
+    (422, 0, "422,1,1.5,2.5;"),
+    // D33, 422 form 1 following D29: NR = 2, row 1 (D3, 1., 2.), row 2 (D19, 3., 4.).
+    (422, 1, "422,2,3,1.,2.,19,3.,4.;"),
+    // D35, 322 form 1: NAME "ATTS", ATYP 1, NA = 3; AT 1, AVT 1 (integer), AVC 2: 5, 7;
+    // AT 2, AVT 3 (string), AVC 2: "NAME", "PART"; AT 3, AVT 6 (logical), AVC 1: 1.
+    (
+        322,
+        1,
+        "322,4HATTS,1,3,1,1,2,5,7,2,3,2,4HNAME,4HPART,3,6,1,1;",
+    ),
+    // D37, 322 form 2: NAME "TXT", ATYP 1, NA = 2; AT 1, AVT 4 (pointer), AVC 1: D1 with
+    // its 312 D9; AT 2, AVT 0 (no value), AVC 1: a default with its 312 D9.
+    (322, 2, "322,3HTXT,1,2,1,4,1,1,9,2,0,1,,9;"),
+    // D39, 406 form 27: NP = 16, NAME "DATA", TNUM = 7; (1 integer, 42), (2 real, 2.5),
+    // (3 string, "OK"), (4 pointer, D19), (0 no value, default), (5 not used, default),
+    // (6 logical, 1).
+    (406, 27, "406,16,4HDATA,7,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;"),
+    // D41, 406 form 11: NP = 18, PTYPE 1, NDEP = 1, NIND = 2; TYPIND 1, 2; NVALIN 2, 3;
+    // the 2 + 3 independent values; the 1 x 2 x 3 dependent values.
+    (
+        406,
+        11,
+        "406,18,1,1,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;",
+    ),
+];
+
+/// The 422 records of [`DATA_RECORDS`] name the 322 at D29 (negated, section 4.141).
+fn data_file_text(records: &[(i64, i64, &str)]) -> String {
+    let mut text = file_text(records);
+    for (k, &(ty, ..)) in records.iter().enumerate() {
+        if ty == 422 {
+            text = with_structure(&text, de(k), -29);
+        }
     }
+    text
+}
+
+/// Well-formed records of each data-driven layout read with exactly their pointers (the
+/// pointer values, and the 312 pointers of a 322 form 2), and the validator's pointer rule
+/// finds nothing.
+#[test]
+fn data_driven_records_read_by_their_layout() {
+    let text = data_file_text(DATA_RECORDS);
+    let file = iges::parse(&text).unwrap();
+    let expected: &[&[(&str, i64)]] = &[
+        &[],
+        &[("value", 1)],
+        &[("value", 3), ("value", 19)],
+        &[],
+        &[
+            ("value", 1),
+            ("text display template", 9),
+            ("text display template", 9),
+        ],
+        &[("value", 19)],
+        &[],
+    ];
+    for (k, want) in expected.iter().enumerate() {
+        let (ty, form, params) = DATA_RECORDS[k];
+        let got = pointers(&file, de(k)).unwrap_or_else(|e| panic!("{ty} form {form}: {e}"));
+        assert_eq!(got, *want, "{ty} form {form}: {params}");
+        assert!(pointer_problems(&file, de(k)).is_empty(), "{params}");
+    }
+}
+
+/// One damaged data-driven record in place of `DATA_RECORDS[k]`: the error it must give,
+/// at its P line and DE.
+fn damaged(k: usize, params: &'static str) -> ErrorKind {
+    let mut records = DATA_RECORDS.to_vec();
+    records[k].2 = params;
+    let text = data_file_text(&records);
+    let file = iges::parse(&text).unwrap();
+    let e = pointers(&file, de(k)).expect_err(params);
+    assert_eq!((e.section, e.de), ('P', usize::try_from(de(k)).ok()), "{e}");
+    e.kind
+}
+
+/// Counts one too high or too low, a wrong type code, a value of another type than its
+/// code names: each an error located at the record.
+#[test]
+fn damaged_data_driven_records_are_errors() {
+    use ErrorKind::{Arity, BadParameter, OutOfRange, Truncated};
+    let cases: &[(usize, &str, fn(&ErrorKind) -> bool)] = &[
+        // 406 form 27: TNUM one too high (NP kept, then NP raised with it), one too low.
+        (
+            5,
+            "406,16,4HDATA,8,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;",
+            |k| matches!(k, Arity(_)),
+        ),
+        (
+            5,
+            "406,18,4HDATA,8,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;",
+            |k| matches!(k, Truncated { .. }),
+        ),
+        (
+            5,
+            "406,14,4HDATA,6,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;",
+            |k| matches!(k, BadParameter { found, .. } if found == "<missing>"),
+        ),
+        // A type code outside 0-6; an integer code before a real; a logical of 2.
+        (
+            5,
+            "406,16,4HDATA,7,9,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;",
+            |k| matches!(k, OutOfRange(_)),
+        ),
+        (
+            5,
+            "406,16,4HDATA,7,1,4.5,2,2.5,3,2HOK,4,19,0,,5,,6,1;",
+            |k| matches!(k, BadParameter { .. }),
+        ),
+        (
+            5,
+            "406,16,4HDATA,7,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,2;",
+            |k| matches!(k, OutOfRange(_)),
+        ),
+        // 406 form 11: NVALIN(2) one too high (NP kept; then NP raised by the three values
+        // it adds), NDEP one too low.
+        (
+            6,
+            "406,18,1,1,2,1,2,2,4,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;",
+            |k| matches!(k, Arity(_)),
+        ),
+        (
+            6,
+            "406,21,1,1,2,1,2,2,4,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;",
+            |k| matches!(k, Truncated { .. }),
+        ),
+        (
+            6,
+            "406,18,1,0,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;",
+            |k| matches!(k, Arity(_)),
+        ),
+        // A string among the values.
+        (
+            6,
+            "406,18,1,1,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,2HAB;",
+            |k| matches!(k, BadParameter { .. }),
+        ),
+        // 322 form 1: the last AVC one too high, one too low; an AVT of 7; a real for an
+        // integer attribute.
+        (
+            3,
+            "322,4HATTS,1,3,1,1,2,5,7,2,3,2,4HNAME,4HPART,3,6,2,1;",
+            |k| matches!(k, Truncated { .. }),
+        ),
+        (
+            3,
+            "322,4HATTS,1,3,1,1,2,5,7,2,3,2,4HNAME,4HPART,3,6,0,1;",
+            |k| matches!(k, BadParameter { found, .. } if found == "<missing>"),
+        ),
+        (
+            3,
+            "322,4HATTS,1,3,1,7,2,5,7,2,3,2,4HNAME,4HPART,3,6,1,1;",
+            |k| matches!(k, OutOfRange(_)),
+        ),
+        (
+            3,
+            "322,4HATTS,1,3,1,1,2,5.,7,2,3,2,4HNAME,4HPART,3,6,1,1;",
+            |k| matches!(k, BadParameter { .. }),
+        ),
+        // 322 form 2: a value without its 312 pointer.
+        (4, "322,3HTXT,1,2,1,4,1,1,9,2,0,1,;", |k| {
+            matches!(k, Truncated { .. })
+        }),
+        // 322 form 0: NA one too high.
+        (0, "322,5HTABLE,0,3,10,4,1,11,2,2;", |k| {
+            matches!(k, Truncated { .. })
+        }),
+        // 422 form 0: a value short, a value over, a real for the pointer.
+        (1, "422,1,1.5;", |k| matches!(k, Truncated { .. })),
+        (1, "422,1,1.5,2.5,3.5;", |k| matches!(k, Arity(_))),
+        (1, "422,1.5,1,2.5;", |k| matches!(k, BadParameter { .. })),
+        // 422 form 1: NR one too high, one too low.
+        (2, "422,3,3,1.,2.,19,3.,4.;", |k| {
+            matches!(k, Truncated { .. })
+        }),
+        (2, "422,1,3,1.,2.,19,3.,4.;", |k| {
+            matches!(k, Arity(_) | BadParameter { .. })
+        }),
+        // Hostile counts: an error, nothing allocated.
+        (5, "406,16,4HDATA,2147483647,1,42;", |k| {
+            matches!(k, Arity(_))
+        }),
+        (
+            6,
+            "406,18,1,1,3,1,2,3,2147483647,2147483647,2147483647,0.;",
+            |k| matches!(k, OutOfRange(_)),
+        ),
+        (2, "422,2147483647,3,1.,2.;", |k| {
+            matches!(k, Truncated { .. })
+        }),
+    ];
+    for &(k, params, want) in cases {
+        let kind = damaged(k, params);
+        assert!(want(&kind), "{params}: {kind}");
+    }
+}
+
+/// Pointer values and 312 pointers to an even or missing DE line, or a 312 pointer to
+/// another type: found by the validator's rule, named by field.
+#[test]
+fn data_driven_pointers_are_checked() {
+    let cases: &[(usize, &str, &[(&str, i64, &str)])] = &[
+        (1, "422,99,1.5,2.5;", &[("value", 99, "no entry")]),
+        (2, "422,2,4,1.,2.,19,3.,4.;", &[("value", 4, "no entry")]),
+        (
+            5,
+            "406,16,4HDATA,7,1,42,2,2.5,3,2HOK,4,20,0,,5,,6,1;",
+            &[("value", 20, "no entry")],
+        ),
+        (
+            4,
+            "322,3HTXT,1,2,1,4,1,77,3,2,0,1,,19;",
+            &[
+                ("value", 77, "no entry"),
+                ("text display template", 3, "a 308"),
+                ("text display template", 19, "a 110"),
+            ],
+        ),
+    ];
+    for &(k, params, want) in cases {
+        let mut records = DATA_RECORDS.to_vec();
+        records[k].2 = params;
+        let text = data_file_text(&records);
+        let file = iges::parse(&text).unwrap();
+        let got: Vec<(&str, i64, String)> = pointer_problems(&file, de(k))
+            .into_iter()
+            .map(|(_, f, v, what)| (f, v, what))
+            .collect();
+        let want: Vec<(&str, i64, String)> =
+            want.iter().map(|&(f, v, w)| (f, v, w.to_owned())).collect();
+        assert_eq!(got, want, "{params}");
+    }
+}
+
+/// A 422 whose DE structure field names no entity or an entity other than a 322 has no
+/// layout: an error at its DE line. One naming a 322 that does not read is checked no
+/// further (the 322's error is its own).
+#[test]
+fn an_attribute_instance_needs_its_definition() {
+    for structure in [0, -1] {
+        let text = with_structure(&data_file_text(DATA_RECORDS), de(1), structure);
+        let file = iges::parse(&text).unwrap();
+        let e = pointers(&file, de(1)).expect_err("no 322");
+        assert_eq!((e.section, e.sequence, e.de), ('D', 31, Some(31)), "{e}");
+    }
+    let mut records = DATA_RECORDS.to_vec();
+    records[0].2 = "322,5HTABLE,0,2,10,4;";
+    let text = data_file_text(&records);
+    let file = iges::parse(&text).unwrap();
+    assert!(pointers(&file, de(0)).is_err());
+    assert_eq!(pointers(&file, de(1)).unwrap(), []);
 }
 
 /// The form numbers (DE field 15) of the types whose form lists came with the annotation

@@ -62,6 +62,11 @@ use grammar::records::{Record, field};
 /// Data columns of a Parameter Data record (1-64); 65 is blank, 66-72 the back-pointer.
 pub const P_DATA_COLUMNS: usize = 64;
 
+/// The layouts of the 322 Attribute Table Definitions read so far, by DE pointer, for
+/// [`IgesFile::references_with`] (`None`: the 322 does not read).
+#[derive(Debug, Clone, Default)]
+pub struct AttributeLayouts(std::collections::HashMap<usize, Option<records::AttributeLayout>>);
+
 /// A parsed IGES file: the Start text, the Global section, the Directory Entries, and
 /// the Parameter Data records, which are decoded per entity on demand.
 #[derive(Debug, Clone)]
@@ -342,17 +347,97 @@ impl<'a> IgesFile<'a> {
     /// The DE pointers among an entity's parameters, by its declaration ([`records::schema_of`]):
     /// `(field name, pointer, entity types the field may name)`, zero pointers left out.
     /// `None` when the entity's type has no declaration.
+    /// `None` when the entity's type has no declaration. The entities whose layout no
+    /// declaration holds ([`records::Dependent`]: the 406 forms 11 and 27, the 322 and the
+    /// 422) are read by their own checkers; a 422 follows the 322 its DE structure field
+    /// names (read anew: see [`IgesFile::references_with`]).
     #[allow(clippy::type_complexity)]
     pub fn references(
         &self,
         entry: &DirectoryEntry,
     ) -> Option<Result<Vec<(&'static str, i64, &'static [i64])>, ParseError>> {
-        let schema = records::schema_of(entry.entity_type, entry.form)?;
+        self.references_with(entry, &mut AttributeLayouts::default())
+    }
+
+    /// [`IgesFile::references`], keeping the layouts of the 322 Attribute Table
+    /// Definitions the 422 instances follow in `layouts`, so that each 322 is read once
+    /// however many instances name it.
+    ///
+    /// A 422 whose DE structure field (IGES 5.3 section 4.141) names no entity, or an
+    /// entity other than a 322, is an error at its DE; one naming a 322 whose own
+    /// parameters do not read (its error is its own) or no directory entry (a
+    /// `pointer.invalid` of the DE structure field) has no layout to check: no pointer.
+    #[allow(clippy::type_complexity)]
+    pub fn references_with(
+        &self,
+        entry: &DirectoryEntry,
+        layouts: &mut AttributeLayouts,
+    ) -> Option<Result<Vec<(&'static str, i64, &'static [i64])>, ParseError>> {
+        if let Some(schema) = records::schema_of(entry.entity_type, entry.form) {
+            return Some(
+                self.read(entry, |r| records::read(schema, r).map(|v| v.pointers()))
+                    .map(|(_, refs)| refs)
+                    .map_err(|(_, e)| e),
+            );
+        }
+        let dependent = records::dependent_of(entry.entity_type, entry.form)?;
+        let layout: &[(i64, usize)] = match dependent {
+            records::Dependent::AttributeInstance(_) => match self.attribute_layout(entry, layouts)
+            {
+                Ok(Some(layout)) => layout,
+                Ok(None) => return Some(Ok(Vec::new())),
+                Err(e) => return Some(Err(e)),
+            },
+            _ => &[],
+        };
         Some(
-            self.read(entry, |r| records::read(schema, r).map(|v| v.pointers()))
-                .map(|(_, refs)| refs)
-                .map_err(|(_, e)| e),
+            self.read(entry, |r| {
+                records::read_dependent(dependent, r, layout).map(|v| v.pointers())
+            })
+            .map(|(_, refs)| refs)
+            .map_err(|(_, e)| e),
         )
+    }
+
+    /// The layout of the 322 a 422 `entry` follows (its DE structure field, negated):
+    /// `Ok(None)` when it cannot be known (the 322 does not read, or the field names no
+    /// directory entry), an error when the field names no entity or one of another type.
+    fn attribute_layout<'l>(
+        &self,
+        entry: &DirectoryEntry,
+        layouts: &'l mut AttributeLayouts,
+    ) -> Result<Option<&'l [(i64, usize)]>, ParseError> {
+        let wrong = |kind: ErrorKind| {
+            ParseError::new(kind, 'D', entry.pointer)
+                .at_line(entry.line)
+                .of_entity(entry.pointer)
+        };
+        if entry.structure >= 0 {
+            return Err(wrong(ErrorKind::Arity(format!(
+                "DE field 3 (structure) is {}: a 422 Attribute Table Instance names the 322 \
+                 Attribute Table Definition whose layout its values follow by a negated \
+                 pointer there",
+                entry.structure
+            ))));
+        }
+        let Some(definition) = self.entry(entry.structure) else {
+            return Ok(None);
+        };
+        if definition.entity_type != 322 {
+            return Err(wrong(ErrorKind::Arity(format!(
+                "DE field 3 (structure) names D{}, a {} entity: a 422 Attribute Table \
+                 Instance's values follow the layout of a 322 Attribute Table Definition",
+                definition.pointer, definition.entity_type
+            ))));
+        }
+        let layout = layouts.0.entry(definition.pointer).or_insert_with(|| {
+            self.read(definition, |r| {
+                records::attribute_layout(r, definition.form)
+            })
+            .ok()
+            .map(|(_, layout)| layout)
+        });
+        Ok(layout.as_deref())
     }
 
     /// The parameters of any entity as the grammar cuts them (for entities without a

@@ -223,13 +223,16 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// not: the DE pointer fields (structure, line font, level, view, transformation matrix,
 /// label display, color; IGES 5.3 section 2.2.4.4) and the parameter pointers the entity
 /// declarations name (chapter 4, with the associativity and property pointers of section
-/// 2.2.4.5.2) must each name the first (odd) line of an existing directory entry, of an
+/// 2.2.4.5.2; for the 322, the 422 and the 406 forms 11 and 27, whose layouts come from
+/// their data, the pointers their checkers read) must each name the first (odd) line of an existing directory entry, of an
 /// entity type the field allows, and no entity may reach itself through them (back pointers
 /// aside, [`back_pointer`]). An entity whose parameters do not decode is reported here too.
 fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
     let count = file.entries.len();
     // Every entity's outgoing pointers (to DE pointers), for the cycle search.
     let mut graph: Vec<Vec<usize>> = vec![Vec::new(); count];
+    // The 322 layouts the 422 instances follow, each read once.
+    let mut layouts = iges::AttributeLayouts::default();
     for entry in file.entries.iter().flatten() {
         let mut fields: Vec<(&'static str, i64, &'static [i64])> = Vec::new();
         // DE fields that are pointers when negative (section 2.2.4.4.3-5, .13) or positive.
@@ -258,7 +261,7 @@ fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
                 _ => {}
             }
         }
-        match file.references(entry) {
+        match file.references_with(entry, &mut layouts) {
             Some(Ok(refs)) => fields.extend(refs),
             Some(Err(e)) => diags.push(parse_diag("iges.entity", &e)),
             None => {}

@@ -14,6 +14,7 @@ mod annotation202_230;
 mod array_subfigure412_414;
 mod associativity402;
 mod attribute_table322;
+mod attribute_table422;
 mod bounded_surface143;
 mod brep_solid186;
 mod circular_arc100;
@@ -98,11 +99,11 @@ pub const SURFACES: &[i64] = &[
 
 /// Every declared entity whose parameters do not depend on the form.
 ///
-/// Not declared (their pointers unchecked): the 422 Attribute Table Instance (section
-/// 4.141), whose values follow the layout of the 322 it names: a parameter's type read
-/// from another entity is beyond these declarations. The 322 Attribute Table Definition
-/// (section 4.79) is declared in its form 0 only ([`FORM_SCHEMAS`]): its forms 1 and 2
-/// hold values of the types its own attribute entries name.
+/// Not declared here, because a parameter's type or count is read from the data: the 322
+/// Attribute Table Definition (section 4.79, whose forms 1 and 2 hold values of the types
+/// its own attribute entries name) and the 422 Attribute Table Instance (section 4.141,
+/// whose values follow the layout of the 322 its DE structure field names). Each has its
+/// own checker instead ([`Dependent`], [`read_dependent`]), with the same checks.
 pub const SCHEMAS: &[Schema] = &[
     circular_arc100::SCHEMA,
     composite102::SCHEMA,
@@ -164,12 +165,11 @@ pub const SCHEMAS: &[Schema] = &[
 /// Declarations whose parameters depend on the form number: `(forms, schema)`.
 /// The 402 Associativity Instance forms 1, 3-5, 7, 9, 12-16 and 18-21 (every form IGES 5.3
 /// predefines, sections 4.81-4.95), the 406 Property forms 1-3, 5-10, 12-26 and 28-36, the
-/// two forms each of 218, 222, 304, 404 and 410, the five forms of 416, and the 322
-/// Attribute Table Definition form 0 (section 4.79). The 406 forms
+/// two forms each of 218, 222, 304, 404 and 410, and the five forms of 416. The 406 forms
 /// 11 (Tabular Data, section 4.107: its value counts are sums and products of values it
 /// lists) and 27 (Generic Data, section 4.123: each value's type is the integer before
-/// it) are not declared, nor are implementor-defined forms (5001-9999): their parameters
-/// and pointers are unchecked.
+/// it) are not declared: each has its own checker ([`Dependent`]). Implementor-defined
+/// forms (5001-9999) are not declared: their parameters and pointers are unchecked.
 pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1, 7, 14, 15], associativity402::GROUP),
     (&[3], associativity402::VIEWS_VISIBLE),
@@ -230,7 +230,6 @@ pub const FORM_SCHEMAS: &[(&[i64], Schema)] = &[
     (&[1], external_reference416::FILE),
     (&[3], external_reference416::NAME),
     (&[4], external_reference416::LIBRARY_AND_NAME),
-    (&[0], attribute_table322::DEFINITION),
 ];
 
 /// The declaration of entity type `entity` in form `form`: from [`SCHEMAS`], or for the
@@ -242,6 +241,199 @@ pub fn schema_of(entity: i64, form: i64) -> Option<&'static Schema> {
             .find(|(forms, s)| s.entity == entity && forms.contains(&form))
             .map(|(_, s)| s)
     })
+}
+
+/// An entity whose parameter layout no [`Schema`] can declare, because the type or the
+/// count of its parameters is read from its own values or from another entity; each has
+/// its own checker in its record module, with the checks the declared entities get: the
+/// parameter count against the counts and types it declares (too few: a
+/// [`ErrorKind::Truncated`] error; too many: an [`ErrorKind::Arity`] error, as
+/// [`read`] gives), each value of its declared type, and its DE pointers for
+/// [`Values::pointers`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dependent {
+    /// 406 form 11, Tabular Data (IGES 5.3 section 4.107).
+    TabularData,
+    /// 406 form 27, Generic Data (IGES 5.3 section 4.123).
+    GenericData,
+    /// 322 Attribute Table Definition in this form, 0 to 2 (IGES 5.3 section 4.79).
+    AttributeDefinition(i64),
+    /// 422 Attribute Table Instance in this form, 0 or 1 (IGES 5.3 section 4.141): its
+    /// values follow the layout ([`attribute_layout`]) of the 322 its DE structure field
+    /// names.
+    AttributeInstance(i64),
+}
+
+/// The checker of entity type `entity` in form `form` when no [`Schema`] declares it.
+pub fn dependent_of(entity: i64, form: i64) -> Option<Dependent> {
+    match (entity, form) {
+        (406, 11) => Some(Dependent::TabularData),
+        (406, 27) => Some(Dependent::GenericData),
+        (322, 0..=2) => Some(Dependent::AttributeDefinition(form)),
+        (422, 0 | 1) => Some(Dependent::AttributeInstance(form)),
+        _ => None,
+    }
+}
+
+/// The layout of a 322 Attribute Table Definition's attributes that hold values, as a 422
+/// Attribute Table Instance repeats them: `(AVT, AVC)` per attribute whose value count
+/// `AVC` is not 0, in order (IGES 5.3 sections 4.79 and 4.141).
+pub type AttributeLayout = Vec<(i64, usize)>;
+
+/// Reads the parameters after the entity type of an entity of layout `dependent`, then
+/// the associativity and property pointer groups (section 2.2.4.5.2), as [`read`] does
+/// for a declared one; `layout` is the layout of the 322 a 422 follows (unused for the
+/// others). The values' DE pointers come out of [`Values::pointers`]: the pointer values
+/// (type code 4), and the 312 Text Display Template pointers of a 322 form 2.
+pub fn read_dependent<'a>(
+    dependent: Dependent,
+    r: &mut ParameterReader<'a>,
+    layout: &[(i64, usize)],
+) -> Result<Values<'a>, Error<'a>> {
+    let mut pointers = Vec::new();
+    let mut templates = Vec::new();
+    match dependent {
+        Dependent::TabularData => property406::tabular_data(r)?,
+        Dependent::GenericData => property406::generic_data(r, &mut pointers)?,
+        Dependent::AttributeDefinition(form) => {
+            attribute_table322::definition(r, form, &mut pointers, &mut templates)?;
+        }
+        Dependent::AttributeInstance(form) => {
+            attribute_table422::instance(r, form, layout, &mut pointers)?;
+        }
+    }
+    let mut values = Values {
+        fields: DATA_POINTERS,
+        values: vec![Value::Ints(pointers), Value::Ints(templates)],
+        extra: 0,
+        additional: Vec::new(),
+        associativities: 0,
+    };
+    let start = r.index();
+    values.associativities = additional_pointers(r, &mut values.additional)?;
+    values.extra = r.index() - start;
+    Ok(values)
+}
+
+/// Reads a 322 Attribute Table Definition (any form) for the layout a 422 follows.
+pub fn attribute_layout<'a>(
+    r: &mut ParameterReader<'a>,
+    form: i64,
+) -> Result<AttributeLayout, Error<'a>> {
+    attribute_table322::definition(r, form, &mut Vec::new(), &mut Vec::new())
+}
+
+/// The pointer fields of the [`Dependent`] layouts, for [`Values::pointers`] (their counts
+/// are never evaluated: the values are read by the checkers).
+const DATA_POINTERS: &[Field] = &[
+    Field::times("value", Type::Pointer(&[]), Count::Field("pointer values")),
+    Field::times(
+        "text display template",
+        Type::Pointer(&[312]),
+        Count::Field("AVC"),
+    ),
+];
+
+/// The value types the type codes of the 406 form 27 Generic Data (IGES 5.3 section
+/// 4.123) and the 322 Attribute Table Definition (section 4.79, `AVT`) name: 0 no value,
+/// 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical.
+const VALUE_TYPES: std::ops::RangeInclusive<i64> = 0..=6;
+
+/// Reads a type code (`TYPE`, `AVT`): an integer of [`VALUE_TYPES`].
+fn value_type<'a>(r: &mut ParameterReader<'a>, name: &'static str) -> Result<i64, Error<'a>> {
+    let at = r.rest();
+    let code = r.integer(name, Some(0))?;
+    if VALUE_TYPES.contains(&code) {
+        Ok(code)
+    } else {
+        Err(Error::format(
+            trim(at),
+            ErrorKind::OutOfRange(format!(
+                "{name} = {code} is no value type code (0 none, 1 integer, 2 real, 3 string, \
+                 4 pointer, 5 not used, 6 logical)"
+            )),
+        ))
+    }
+}
+
+/// Reads one value of type code `code` ([`VALUE_TYPES`]): a pointer goes to `pointers`
+/// (0, no entity, left out); a logical is 0 (false) or 1 (true); the slot of "no value"
+/// and "not used" is one parameter of any type.
+fn typed_value<'a>(
+    r: &mut ParameterReader<'a>,
+    code: i64,
+    name: &'static str,
+    pointers: &mut Vec<i64>,
+) -> Result<(), Error<'a>> {
+    match code {
+        1 => {
+            r.integer(name, Some(0))?;
+        }
+        2 => {
+            r.real(name)?;
+        }
+        3 => {
+            r.string(name)?;
+        }
+        4 => {
+            let p = r.integer(name, Some(0))?;
+            if p != 0 {
+                pointers.push(p);
+            }
+        }
+        6 => {
+            let at = r.rest();
+            let v = r.integer(name, Some(0))?;
+            if !matches!(v, 0 | 1) {
+                return Err(Error::format(
+                    trim(at),
+                    ErrorKind::OutOfRange(format!(
+                        "{name} = {v}, but a logical value is 0 (false) or 1 (true)"
+                    )),
+                ));
+            }
+        }
+        _ => {
+            if r.done() {
+                // Past the record's end: the reader's error (a truncated record).
+                r.integer(name, Some(0))?;
+            } else {
+                r.parameter()?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads a count: an integer (`default` when defaulted; `None`: required), not negative.
+fn count_parameter<'a>(
+    r: &mut ParameterReader<'a>,
+    name: &'static str,
+    default: Option<i64>,
+) -> Result<usize, Error<'a>> {
+    let at = r.rest();
+    let v = r.integer(name, default)?;
+    usize::try_from(v).map_err(|_| {
+        Error::format(
+            trim(at),
+            ErrorKind::OutOfRange(format!("{name} = {v} is negative")),
+        )
+    })
+}
+
+/// A count computed from the record's counts that overflows: an error at `at`.
+#[cold]
+fn too_big<'a>(at: &'a [u8], what: &str) -> Error<'a> {
+    Error::format(
+        trim(at),
+        ErrorKind::OutOfRange(format!("{what} is too large")),
+    )
+}
+
+/// `at` without its leading blanks: where a parameter's text starts.
+fn trim(at: &[u8]) -> &[u8] {
+    let blanks = at.iter().take_while(|&&c| c == b' ').count();
+    at.get(blanks..).unwrap_or(at)
 }
 
 /// The entity type numbers IGES 5.3 defines (chapter 4; 0 is the Null entity), besides the

@@ -43,12 +43,22 @@
 //! [`Type::Fixed`]; 13, 34-36 by a formula) another `NP` is an error. Form 1's `NP` is the
 //! count of its levels. Form 30's table (section 4.126) gives `NP` = 14 but lists twelve
 //! values and three more per supplemental note, so no one value of `NP` matches every
-//! record it describes: its `NP` is read without comparing it. Forms 11 (Tabular Data, section 4.107: its value counts are sums
-//! and products of the counts it lists) and 27 (Generic Data, section 4.123: each value's
-//! type is the integer before it) are beyond these declarations and not declared; nor are
-//! implementor-defined forms. Their parameters are unchecked.
+//! record it describes: its `NP` is read without comparing it. Implementor-defined forms
+//! are not declared; their parameters are unchecked.
+//!
+//! Two forms are beyond a declaration and have their own checkers
+//! ([`super::Dependent`]):
+//!
+//! | form | name | values after `NP` |
+//! | --- | --- | --- |
+//! | 11 | Tabular Data (section 4.107) | `PTYPE`, `NDEP`, `NIND`, `NIND` types of the independent variables, `NIND` value counts `NVALIN(i)`, the `Σ NVALIN(i)` values of the independent variables (reals), then `NDEP × Π NVALIN(i)` values of the dependent variables (reals); `NP` = `3 + 2 NIND + Σ NVALIN(i) + NDEP × Π NVALIN(i)` |
+//! | 27 | Generic Data (section 4.123) | the name (string), `TNUM`, then `TNUM` × (`TYPE`, `VALUE`), each value of the type its code names (0 no value, 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical); `NP` = `2 + 2 TNUM` |
 
-use super::{Count, Field, Head, Schema, Type};
+use super::{
+    Count, Field, Head, Schema, Type, count_parameter, too_big, trim, typed_value, value_type,
+};
+use crate::iges::error::ErrorKind;
+use crate::iges::grammar::parameters::{Error, ParameterReader};
 
 /// Form 1, Definition Levels: `NP`, then the `NP` level numbers.
 pub(super) const DEFINITION_LEVELS: Schema = Schema {
@@ -478,3 +488,108 @@ pub(super) const CLOSURE: Schema = Schema {
         ),
     ],
 };
+
+/// `NP` against the values the record's counts declare (`expected`): another value is an
+/// [`ErrorKind::Arity`] error at `NP` (at `at`).
+fn check_np<'a>(at: &'a [u8], np: i64, expected: usize, counts: &str) -> Result<(), Error<'a>> {
+    if usize::try_from(np).ok() == Some(expected) {
+        return Ok(());
+    }
+    Err(Error::format(
+        trim(at),
+        ErrorKind::Arity(format!(
+            "NP = {np}, but {counts} declare {expected} property values: the counts in the \
+             record do not match its data"
+        )),
+    ))
+}
+
+/// Form 11, Tabular Data (section 4.107): checks the parameters after the entity type
+/// (see the module documentation). Every count is checked and every value read one by
+/// one: nothing is allocated.
+pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<'a>> {
+    let first = r.rest();
+    let np_at = r.rest();
+    let np = r.integer("NP", None)?;
+    r.integer("PTYPE", Some(0))?;
+    let ndep = count_parameter(r, "NDEP", None)?;
+    let nind = count_parameter(r, "NIND", None)?;
+    let head = nind
+        .checked_mul(2)
+        .and_then(|n| n.checked_add(4))
+        .ok_or_else(|| too_big(first, "4 + 2 NIND"))?;
+    let as_int = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+    r.expect(
+        head,
+        406,
+        vec![("NDEP", as_int(ndep)), ("NIND", as_int(nind))],
+    );
+    for _ in 0..nind {
+        // One parameter per turn: the data, not the count, bounds the loop.
+        r.integer("TYPIND", Some(0))?;
+    }
+    let (mut sum, mut product, mut zero) = (Some(0usize), Some(1usize), false);
+    for _ in 0..nind {
+        let n = count_parameter(r, "NVALIN", None)?;
+        sum = sum.and_then(|s| s.checked_add(n));
+        product = product.and_then(|p| p.checked_mul(n));
+        zero |= n == 0;
+    }
+    let independent = sum.ok_or_else(|| too_big(first, "Σ NVALIN"))?;
+    let dependent = if ndep == 0 || zero {
+        0
+    } else {
+        product
+            .and_then(|p| p.checked_mul(ndep))
+            .ok_or_else(|| too_big(first, "NDEP × Π NVALIN"))?
+    };
+    let needed = head
+        .checked_add(independent)
+        .and_then(|n| n.checked_add(dependent))
+        .ok_or_else(|| too_big(first, "the value count"))?;
+    r.expect(
+        needed,
+        406,
+        vec![
+            ("NDEP", as_int(ndep)),
+            ("NIND", as_int(nind)),
+            ("Σ NVALIN", as_int(independent)),
+        ],
+    );
+    check_np(np_at, np, needed - 1, "NDEP, NIND and NVALIN")?;
+    for _ in 0..independent {
+        r.real("VALIN")?;
+    }
+    for _ in 0..dependent {
+        r.real("VALDEP")?;
+    }
+    Ok(())
+}
+
+/// Form 27, Generic Data (section 4.123): checks the parameters after the entity type
+/// (see the module documentation); the pointer values go to `pointers`.
+pub(super) fn generic_data<'a>(
+    r: &mut ParameterReader<'a>,
+    pointers: &mut Vec<i64>,
+) -> Result<(), Error<'a>> {
+    let first = r.rest();
+    let np_at = r.rest();
+    let np = r.integer("NP", None)?;
+    r.string("NAME")?;
+    let tnum = count_parameter(r, "TNUM", None)?;
+    let needed = tnum
+        .checked_mul(2)
+        .and_then(|n| n.checked_add(3))
+        .ok_or_else(|| too_big(first, "3 + 2 TNUM"))?;
+    r.expect(
+        needed,
+        406,
+        vec![("TNUM", i64::try_from(tnum).unwrap_or(i64::MAX))],
+    );
+    check_np(np_at, np, needed - 1, "TNUM")?;
+    for _ in 0..tnum {
+        let code = value_type(r, "TYPE")?;
+        typed_value(r, code, "VALUE", pointers)?;
+    }
+    Ok(())
+}
