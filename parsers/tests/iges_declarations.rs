@@ -1,12 +1,14 @@
 //! The declarations of IGES 5.3 entities nurbsx checks but does not convert (204, 213,
-//! 310, 312, 316, 320, 322 form 0, 412-420, 430, the 416 forms and more 406 forms), each
+//! 310, 312, 316, 320, 322, 412-420, 430, the 416 forms and more 406 forms), each
 //! against its table in the standard: a well-formed record, built here parameter by
 //! parameter from the table, is read with exactly the pointers the table names; a pointer
 //! to no entry or to an entity the table does not allow is found by the validator's rule
 //! (an existing odd DE line of an allowed type, `src/exchange/iges/read.rs`), located at
 //! the entity and field; a record missing a parameter is an error located at the entity.
 //! And the form numbers (DE field 15) the standard gives these types: one it does not
-//! give is reported.
+//! give is reported. The layouts read from the data (the 322 in its three forms, the 422
+//! by the 322 it names, the 406 forms 11 and 27) are checked the same way by their own
+//! checkers.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod iges_support;

@@ -644,6 +644,65 @@ def iges_cases():
     recs = list(srf)
     de = add_entity(recs, 406, 1, "406,3,1,2;")
     emit("iges_406_levels_count_too_big", ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    # --- layouts read from the data (IGES 5.3 sections 4.79, 4.107, 4.123, 4.141), appended
+    # to surf_poles4x3.igs (D3 a 128, D9 a 110) at D27 (P21). The 406 form 27 Generic Data:
+    # NP, NAME, TNUM, then TNUM (TYPE, VALUE) pairs, each value of its type code (0 none,
+    # 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical), NP = 2 + 2 TNUM. The
+    # 406 form 11 Tabular Data: NP, PTYPE, NDEP, NIND, NIND types, NIND counts NVALIN, their
+    # sum of independent values, NDEP x their product of dependent values. The 322
+    # Attribute Table Definition: NAME, ATYP, NA, then per attribute AT, AVT (a type code),
+    # AVC, with its AVC values (form 1) each followed by a 312 pointer (form 2). The 422
+    # Attribute Table Instance: (form 1: NR rows of) the values of the 322 its DE structure
+    # field names, negated.
+    for name, etype, form, params in (
+        # TNUM = 2 (NP = 6) before three pairs: the third pair is left over.
+        ("iges_406_generic_data_pairs_over", 406, 27, "406,6,4HDATA,2,1,42,2,2.5,3,2HOK;"),
+        # A type code outside 0-6.
+        ("iges_406_generic_data_type_code", 406, 27, "406,4,4HDATA,1,9,42;"),
+        # A real where its type code 1 declares an integer.
+        ("iges_406_generic_data_value_type", 406, 27, "406,4,4HDATA,1,1,4.5;"),
+        # NP = 4 for TNUM = 2.
+        ("iges_406_generic_data_np", 406, 27, "406,4,4HDATA,2,1,42,2,2.5;"),
+        # NVALIN = 4 (NP = 13) over three independent and three dependent values.
+        ("iges_406_tabular_data_values_short", 406, 11, "406,13,1,1,1,1,4,0.,1.,2.,5.,6.,7.;"),
+        # NDEP = 2 with NP = 11 for one dependent variable's three values.
+        ("iges_406_tabular_data_np", 406, 11, "406,11,1,2,1,1,3,0.,1.,2.,5.,6.,7.;"),
+        # 322 form 1: AVT 7.
+        ("iges_322_value_type_code", 322, 1, "322,4HATTS,1,1,1,7,1,5;"),
+        # 322 form 1: AVC = 3 over two integers.
+        ("iges_322_values_short", 322, 1, "322,4HATTS,1,1,1,1,3,5,7;"),
+    ):
+        recs = list(srf)
+        de = add_entity(recs, etype, form, params)
+        assert de == 27
+        emit(name, ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+    for name, etype, form, params in (
+        # A pointer value (type code 4) to the second line of D9.
+        ("iges_406_generic_data_pointer_even", 406, 27, "406,4,4HDATA,1,4,10;"),
+        # A pointer value past the directory.
+        ("iges_406_generic_data_pointer_missing", 406, 27, "406,6,4HDATA,2,3,2HOK,4,99;"),
+        # 322 form 2: the value's 312 Text Display Template pointer names the 128 at D3.
+        ("iges_322_template_not_312", 322, 2, "322,3HTXT,1,1,1,1,1,5,3;"),
+    ):
+        assoc(name, etype, form, params, "pointer.invalid")
+    # A Generic Data whose pointer value names itself: a cycle.
+    assoc("iges_406_generic_data_pointer_cycle", 406, 27, "406,4,4HDATA,1,4,SELF;", "pointer.cycle")
+    # 422 following a 322 form 0 (D27: a pointer, then two reals) at D29 (P22).
+    for name, params, structure, code, section in (
+        # One real short: the error is at the 422's P line.
+        ("iges_422_values_short", "422,9,1.5;", -27, "iges.entity", "P"),
+        # Its pointer value names no directory entry.
+        ("iges_422_pointer_missing", "422,99,1.5,2.5;", -27, "pointer.invalid", "D"),
+        # Its structure field names no 322: no layout, an error at its DE line.
+        ("iges_422_no_definition", "422,9,1.5,2.5;", 0, "iges.entity", "D"),
+        ("iges_422_definition_not_322", "422,9,1.5,2.5;", -9, "iges.entity", "D"),
+    ):
+        recs = list(srf)
+        assert add_entity(recs, 322, 0, "322,5HTABLE,0,2,10,4,1,11,2,2;") == 27
+        de = add_entity(recs, 422, 0, params)
+        assert de == 29
+        setfield(recs, didx(recs, de), 3, structure)
+        emit(name, ".igs", join(recs), code=code, section=section, sequence=22 if section == "P" else de, entity=f"D{de}")
     # --- DE fields in range (IGES 5.3 section 2.2.4.4), on the 126 at D1/D2 of
     # curve_deg2_clamped.igs (Global parameter 16, line weight gradations, is 1). Each at
     # the DE line holding the field (field 9 status digit pairs: blank, subordinate,

@@ -241,6 +241,35 @@ def associativity_cases():
     emit("iges_associativities_and_properties", ".igs", "\n".join(recs) + "\n", 9, "surf_poles4x3.igs", 0)
 
 
+def data_tables_case():
+    """Valid records whose layouts come from their data (IGES 5.3 sections 4.79, 4.107,
+    4.123, 4.141): a 322 Attribute Table Definition in each form, a 422 Attribute Table
+    Instance (form 1, two rows) following the form 0 one, a 406 form 27 Generic Data and a
+    406 form 11 Tabular Data, appended to surf_poles4x3.igs (D3 a 128, D9 a 110): each is
+    read by its layout and its pointers checked, and must give no finding."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "bad_inputs_make", os.path.join(os.path.dirname(HERE), "bad_inputs", "make.py"))
+    bad = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bad)
+    recs = iges_records(read("surf_poles4x3.igs"))
+    # NAME, ATYP 0, NA = 2: (AT 10, AVT 4 pointer, AVC 1), (AT 11, AVT 2 real, AVC 2).
+    table = bad.add_entity(recs, 322, 0, "322,5HTABLE,0,2,10,4,1,11,2,2;")
+    # NR = 2 rows of (pointer, real, real).
+    instance = bad.add_entity(recs, 422, 1, "422,2,3,1.,2.,9,3.,4.;")
+    bad.setfield(recs, bad.didx(recs, instance), 3, -table)
+    # NP = 10, NAME, TNUM = 4: (1, 42), (2, 2.5), (3, "OK"), (4, D3).
+    bad.add_entity(recs, 406, 27, "406,10,4HDATA,4,1,42,2,2.5,3,2HOK,4,3;")
+    # NP = 11, PTYPE 1, NDEP 1, NIND 1, TYPIND 1, NVALIN 3, 3 + 1 x 3 reals.
+    bad.add_entity(recs, 406, 11, "406,11,1,1,1,1,3,0.,1.,2.,5.,6.,7.;")
+    template = bad.add_entity(recs, 312, 0, "312,1.,2.,1,1.5708,0.,0,0,0.,0.,0.;")
+    # Form 2: NA = 1, (AT 1, AVT 4, AVC 1): D3 shown by the 312.
+    bad.add_entity(recs, 322, 2, f"322,3HTXT,1,1,1,4,1,3,{template};")
+    # Form 1: NA = 2, (AT 1, AVT 1, AVC 2): 5, 7; (AT 3, AVT 6, AVC 1): true.
+    bad.add_entity(recs, 322, 1, "322,4HATTS,1,2,1,1,2,5,7,3,6,1,1;")
+    emit("iges_data_tables", ".igs", "\n".join(recs) + "\n", 9, "surf_poles4x3.igs", 0)
+
+
 def views_and_back_pointers_case():
     """Associativities that point at their members while the members point back, by design
     (IGES 5.3 section 2.2.4.5.2 back pointers; DE view and label display fields naming a
@@ -307,4 +336,5 @@ if __name__ == "__main__":
     planar_case()
     associativity_cases()
     views_and_back_pointers_case()
+    data_tables_case()
     print(len([x for x in os.listdir(HERE) if x.endswith(".expect")]), "cases")

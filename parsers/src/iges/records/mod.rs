@@ -8,6 +8,12 @@
 //! its fields by name. The arity check (a record must hold what its counts declare, checked
 //! before anything is allocated) and the pointer walk ([`Values::pointers`]) come from the
 //! declaration too. Adding an entity is one declaration plus its record type.
+//!
+//! Four layouts no declaration can hold, because the type or the count of a parameter is
+//! read from the record's own values or from another entity, have a checker each instead
+//! ([`Dependent`], [`read_dependent`]) giving the same checks: the 406 forms 11 Tabular
+//! Data (section 4.107) and 27 Generic Data (section 4.123), the 322 Attribute Table
+//! Definition (section 4.79) and the 422 Attribute Table Instance (section 4.141).
 
 mod analytic_surfaces190_198;
 mod annotation202_230;

@@ -509,7 +509,6 @@ fn check_np<'a>(at: &'a [u8], np: i64, expected: usize, counts: &str) -> Result<
 /// one: nothing is allocated.
 pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<'a>> {
     let first = r.rest();
-    let np_at = r.rest();
     let np = r.integer("NP", None)?;
     r.integer("PTYPE", Some(0))?;
     let ndep = count_parameter(r, "NDEP", None)?;
@@ -556,7 +555,7 @@ pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<
             ("Σ NVALIN", as_int(independent)),
         ],
     );
-    check_np(np_at, np, needed - 1, "NDEP, NIND and NVALIN")?;
+    check_np(first, np, needed - 1, "NDEP, NIND and NVALIN")?;
     for _ in 0..independent {
         r.real("VALIN")?;
     }
@@ -573,7 +572,6 @@ pub(super) fn generic_data<'a>(
     pointers: &mut Vec<i64>,
 ) -> Result<(), Error<'a>> {
     let first = r.rest();
-    let np_at = r.rest();
     let np = r.integer("NP", None)?;
     r.string("NAME")?;
     let tnum = count_parameter(r, "TNUM", None)?;
@@ -586,7 +584,7 @@ pub(super) fn generic_data<'a>(
         406,
         vec![("TNUM", i64::try_from(tnum).unwrap_or(i64::MAX))],
     );
-    check_np(np_at, np, needed - 1, "TNUM")?;
+    check_np(first, np, needed - 1, "TNUM")?;
     for _ in 0..tnum {
         let code = value_type(r, "TYPE")?;
         typed_value(r, code, "VALUE", pointers)?;
