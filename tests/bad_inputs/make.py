@@ -595,11 +595,16 @@ def iges_cases():
     # 7, 9, 12-16, 18-21; type 406 forms 1 and 15, with the trailing pointer groups of
     # section 2.2.4.5.2), appended to surf_poles4x3.igs (D1 144, D3 128, D5 142, D7 102,
     # D9..D15 110): each reported on the 402/406's directory entry.
-    def assoc(name, etype, form, params, code):
+    def appended(name, etype, form, params, code, section, sequence):
+        """`params` appended to surf_poles4x3.igs as D27 (P21), its error expected at
+        `section` `sequence`."""
         recs = list(srf)
-        de = add_entity(recs, etype, form, params.replace("SELF", str(2 * 13 + 1)))
+        de = add_entity(recs, etype, form, params)
         assert de == 27
-        emit(name, ".igs", join(recs), code=code, section="D", sequence=de, entity=f"D{de}")
+        emit(name, ".igs", join(recs), code=code, section=section, sequence=sequence, entity=f"D{de}")
+
+    def assoc(name, etype, form, params, code):
+        appended(name, etype, form, params.replace("SELF", str(2 * 13 + 1)), code, "D", 27)
     assoc("iges_402_group_missing_member", 402, 7, "402,2,1,99;", "pointer.invalid")
     assoc("iges_402_group_even_member", 402, 1, "402,2,1,4;", "pointer.invalid")
     assoc("iges_402_ordered_group_cycle", 402, 14, "402,2,3,SELF;", "pointer.cycle")
@@ -672,10 +677,7 @@ def iges_cases():
         # 322 form 1: AVC = 3 over two integers.
         ("iges_322_values_short", 322, 1, "322,4HATTS,1,1,1,1,3,5,7;"),
     ):
-        recs = list(srf)
-        de = add_entity(recs, etype, form, params)
-        assert de == 27
-        emit(name, ".igs", join(recs), code="iges.entity", section="P", sequence=21, entity=f"D{de}")
+        appended(name, etype, form, params, "iges.entity", "P", 21)
     for name, etype, form, params in (
         # A pointer value (type code 4) to the second line of D9.
         ("iges_406_generic_data_pointer_even", 406, 27, "406,4,4HDATA,1,4,10;"),
@@ -744,10 +746,7 @@ def iges_cases():
         ("iges_228_form_undefined", 228, 4, "228,0,0,0;"),
         ("iges_312_form_undefined", 312, 2, "312,1.,2.,1,1.5708,0.,0,0,0.,0.,0.;"),
     ):
-        recs = list(srf)
-        de = add_entity(recs, etype, form, params)
-        assert de == 27
-        emit(name, ".igs", join(recs), code="iges.directory_field", section="D", sequence=de + 1, entity=f"D{de}")
+        appended(name, etype, form, params, "iges.directory_field", "D", 28)
     # DE pointer fields (negated for line font, level, color): to no entry, to an entity
     # of another type, or of the right type and the wrong form (a level names a 406 form 1,
     # a label display a 402 form 5). surf_poles4x3.igs, on the 110 at D9.
