@@ -541,7 +541,7 @@ const DATA_RECORDS: &[(i64, i64, &str)] = &[
     // (6 logical, 1).
     (406, 27, "406,16,4HDATA,7,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;"),
     // D41, 406 form 11: NP = 18, PTYPE 1, NDEP = 1, NIND = 2; TYPIND 1, 2; NVALIN 2, 3;
-    // the 2 + 3 independent values; the 1 x 2 x 3 dependent values.
+    // the 2 + 3 independent values; the 6 dependent values (one for each pair of them).
     (
         406,
         11,
@@ -629,11 +629,12 @@ fn damaged_data_driven_records_are_errors() {
         (5, "406,16,4HDATA,7,9,42,2,2.5,3,2HOK,4,19,0,,5,,6,1;", "range"),
         (5, "406,16,4HDATA,7,1,4.5,2,2.5,3,2HOK,4,19,0,,5,,6,1;", "type"),
         (5, "406,16,4HDATA,7,1,42,2,2.5,3,2HOK,4,19,0,,5,,6,2;", "range"),
-        // 406 form 11: NVALIN(2) one too high (NP kept; then NP raised by the three values
-        // it adds), NDEP one too low, a string among the values.
-        (6, "406,18,1,1,2,1,2,2,4,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "arity"),
-        (6, "406,21,1,1,2,1,2,2,4,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "truncated"),
-        (6, "406,18,1,0,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "arity"),
+        // 406 form 11: NVALIN(2) = 10, more independent values than NP = 18 can hold; NP
+        // one too high (a value missing), one too low (a value left over); a string among
+        // the values.
+        (6, "406,18,1,1,2,1,2,2,10,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "arity"),
+        (6, "406,19,1,1,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "truncated"),
+        (6, "406,17,1,1,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,7.;", "arity"),
         (6, "406,18,1,1,2,1,2,2,3,0.,1.,10.,20.,30.,0.,5.,1.,6.,2.,2HAB;", "type"),
         // 322 form 1: the last AVC one too high, one too low; an AVT of 7; a real for an
         // integer attribute.
@@ -653,7 +654,7 @@ fn damaged_data_driven_records_are_errors() {
         (2, "422,1,3,1.,2.,19,3.,4.;", "type"),
         // Hostile counts: an error, nothing allocated.
         (5, "406,16,4HDATA,2147483647,1,42;", "arity"),
-        (6, "406,18,1,1,3,1,2,3,2147483647,2147483647,2147483647,0.;", "range"),
+        (6, "406,18,1,1,3,1,2,3,2147483647,2147483647,2147483647,0.;", "arity"),
         (2, "422,2147483647,3,1.,2.;", "truncated"),
     ];
     for &(k, params, want) in cases {

@@ -654,7 +654,7 @@ def iges_cases():
     # NP, NAME, TNUM, then TNUM (TYPE, VALUE) pairs, each value of its type code (0 none,
     # 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical), NP = 2 + 2 TNUM. The
     # 406 form 11 Tabular Data: NP, PTYPE, NDEP, NIND, NIND types, NIND counts NVALIN, their
-    # sum of independent values, NDEP x their product of dependent values. The 322
+    # sum of independent values, then dependent values (reals) up to NP. The 322
     # Attribute Table Definition: NAME, ATYP, NA, then per attribute AT, AVT (a type code),
     # AVC, with its AVC values (form 1) each followed by a 312 pointer (form 2). The 422
     # Attribute Table Instance: (form 1: NR rows of) the values of the 322 its DE structure
@@ -668,10 +668,10 @@ def iges_cases():
         ("iges_406_generic_data_value_type", 406, 27, "406,4,4HDATA,1,1,4.5;"),
         # NP = 4 for TNUM = 2.
         ("iges_406_generic_data_np", 406, 27, "406,4,4HDATA,2,1,42,2,2.5;"),
-        # NVALIN = 4 (NP = 13) over three independent and three dependent values.
+        # NVALIN = 4 and NP = 13 (four independent values, four dependent) over six values.
         ("iges_406_tabular_data_values_short", 406, 11, "406,13,1,1,1,1,4,0.,1.,2.,5.,6.,7.;"),
-        # NDEP = 2 with NP = 11 for one dependent variable's three values.
-        ("iges_406_tabular_data_np", 406, 11, "406,11,1,2,1,1,3,0.,1.,2.,5.,6.,7.;"),
+        # NP = 5 where the three independent values alone need NP >= 8.
+        ("iges_406_tabular_data_np", 406, 11, "406,5,1,1,1,1,3,0.,1.,2.,5.,6.,7.;"),
         # 322 form 1: AVT 7.
         ("iges_322_value_type_code", 322, 1, "322,4HATTS,1,1,1,7,1,5;"),
         # 322 form 1: AVC = 3 over two integers.

@@ -51,7 +51,7 @@
 //!
 //! | form | name | values after `NP` |
 //! | --- | --- | --- |
-//! | 11 | Tabular Data (section 4.107) | `PTYPE`, `NDEP`, `NIND`, `NIND` types of the independent variables, `NIND` value counts `NVALIN(i)`, the `Σ NVALIN(i)` values of the independent variables (reals), then `NDEP × Π NVALIN(i)` values of the dependent variables (reals); `NP` = `3 + 2 NIND + Σ NVALIN(i) + NDEP × Π NVALIN(i)` |
+//! | 11 | Tabular Data (section 4.107) | `PTYPE`, `NDEP`, `NIND`, `NIND` types of the independent variables, `NIND` value counts `NVALIN(i)`, the `Σ NVALIN(i)` values of the independent variables (reals), then the values of the dependent variables (reals) up to `NP`, which must count at least `3 + 2 NIND + Σ NVALIN(i)`; how many dependent values `NDEP` and the counts make is not checked (see [`tabular_data`]) |
 //! | 27 | Generic Data (section 4.123) | the name (string), `TNUM`, then `TNUM` × (`TYPE`, `VALUE`), each value of the type its code names (0 no value, 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical); `NP` = `2 + 2 TNUM` |
 
 use super::{
@@ -506,7 +506,10 @@ fn check_np<'a>(at: &'a [u8], np: i64, expected: usize, counts: &str) -> Result<
 
 /// Form 11, Tabular Data (section 4.107): checks the parameters after the entity type
 /// (see the module documentation). Every count is checked and every value read one by
-/// one: nothing is allocated.
+/// one: nothing is allocated. The values after the independent ones, up to `NP`, are the
+/// dependent values, each a real; how many `NDEP` and the `NVALIN(i)` make is not checked
+/// (nurbsx has no text of section 4.107 that fixes it, and Open CASCADE's reader takes every
+/// real that follows), so a valid table is never refused for its layout.
 pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<'a>> {
     let first = r.rest();
     let np = r.integer("NP", None)?;
@@ -527,35 +530,38 @@ pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<
         // One parameter per turn: the data, not the count, bounds the loop.
         r.integer("TYPIND", Some(0))?;
     }
-    let (mut sum, mut product, mut zero) = (Some(0usize), Some(1usize), false);
+    let mut sum = Some(0usize);
     for _ in 0..nind {
         let n = count_parameter(r, "NVALIN", None)?;
         sum = sum.and_then(|s| s.checked_add(n));
-        product = product.and_then(|p| p.checked_mul(n));
-        zero |= n == 0;
     }
     let independent = sum.ok_or_else(|| too_big(first, "Σ NVALIN"))?;
-    let dependent = if ndep == 0 || zero {
-        0
-    } else {
-        product
-            .and_then(|p| p.checked_mul(ndep))
-            .ok_or_else(|| too_big(first, "NDEP × Π NVALIN"))?
-    };
-    let needed = head
+    // Parameters through the independent values, `NP` included; `NP` counts the rest.
+    let through = head
         .checked_add(independent)
-        .and_then(|n| n.checked_add(dependent))
         .ok_or_else(|| too_big(first, "the value count"))?;
+    let dependent = usize::try_from(np)
+        .ok()
+        .and_then(|np| np.checked_sub(through - 1))
+        .ok_or_else(|| {
+            Error::format(
+                trim(first),
+                ErrorKind::Arity(format!(
+                    "NP = {np}, but NIND and NVALIN declare at least {} property values: \
+                     the counts in the record do not match its data",
+                    through - 1
+                )),
+            )
+        })?;
     r.expect(
-        needed,
+        through.saturating_add(dependent),
         406,
         vec![
-            ("NDEP", as_int(ndep)),
+            ("NP", np),
             ("NIND", as_int(nind)),
             ("Σ NVALIN", as_int(independent)),
         ],
     );
-    check_np(first, np, needed - 1, "NDEP, NIND and NVALIN")?;
     for _ in 0..independent {
         r.real("VALIN")?;
     }
