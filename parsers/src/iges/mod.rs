@@ -346,7 +346,6 @@ impl<'a> IgesFile<'a> {
 
     /// The DE pointers among an entity's parameters, by its declaration ([`records::schema_of`]):
     /// `(field name, pointer, entity types the field may name)`, zero pointers left out.
-    /// `None` when the entity's type has no declaration.
     /// `None` when the entity's type has no declaration. The entities whose layout no
     /// declaration holds ([`records::Dependent`]: the 406 forms 11 and 27, the 322 and the
     /// 422) are read by their own checkers; a 422 follows the 322 its DE structure field

@@ -224,8 +224,9 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// label display, color; IGES 5.3 section 2.2.4.4) and the parameter pointers the entity
 /// declarations name (chapter 4, with the associativity and property pointers of section
 /// 2.2.4.5.2; for the 322, the 422 and the 406 forms 11 and 27, whose layouts come from
-/// their data, the pointers their checkers read) must each name the first (odd) line of an existing directory entry, of an
-/// entity type the field allows, and no entity may reach itself through them (back pointers
+/// their data, the pointers their checkers read) must each name the first (odd) line of an
+/// existing directory entry, of an entity type the field allows, and no entity may reach
+/// itself through them (back pointers
 /// aside, [`back_pointer`]). An entity whose parameters do not decode is reported here too.
 fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
     let count = file.entries.len();
