@@ -226,8 +226,8 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
 /// 2.2.4.5.2; for the 322, the 422 and the 406 forms 11 and 27, whose layouts come from
 /// their data, the pointers their checkers read) must each name the first (odd) line of an
 /// existing directory entry, of an entity type the field allows, and no entity may reach
-/// itself through them (back pointers
-/// aside, [`back_pointer`]). An entity whose parameters do not decode is reported here too.
+/// itself through them (back pointers aside, [`back_pointer`]). An entity whose parameters
+/// do not decode is reported here too.
 fn pointer_conformance(file: &IgesFile<'_>, diags: &mut Vec<Diagnostic>) {
     let count = file.entries.len();
     // Every entity's outgoing pointers (to DE pointers), for the cycle search.
