@@ -207,11 +207,7 @@ impl std::fmt::Write for StackText {
 /// of them may carry (`0.479, 10.019, 8.508`: 5 digits, 0.5e-3). 0 when no value is
 /// finite and non-zero. One pass: the largest last place is that of the largest exponent.
 pub fn written_rounding(values: impl IntoIterator<Item = f64>) -> f64 {
-    let mut most: Option<(i32, i32)> = None;
-    for (d, e) in values.into_iter().filter_map(decimal_digits) {
-        most = Some(most.map_or((d, e), |(md, me)| (md.max(d), me.max(e))));
-    }
-    most.map_or(0.0, |(digits, exponent)| {
+    digits_and_exponent(values).map_or(0.0, |(digits, exponent)| {
         0.5 * 10f64.powi(exponent - digits + 1)
     })
 }

@@ -1116,7 +1116,6 @@ impl<'a> Ctx<'_, 'a> {
         self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
         meta.form = Some(r.curve_form.to_ascii_lowercase());
-
         meta.closed_u = r.closed_curve.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
         if let Some(flag) = r.closed_curve.as_bool() {

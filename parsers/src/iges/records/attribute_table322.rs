@@ -15,7 +15,7 @@
 //! defaulted `AVC` reads 0. The 422 Attribute Table Instance (section 4.141) repeats the
 //! layout this returns.
 
-use super::{AttributeLayout, count_parameter, too_big, typed_value, value_type};
+use super::{AttributeLayout, count, count_parameter, too_big, typed_value, value_type};
 use crate::iges::grammar::parameters::{Error, ParameterReader};
 
 /// Checks a 322 in form `form` after the entity type: `3 + 3 NA` parameters, plus
@@ -32,12 +32,11 @@ pub(super) fn definition<'a>(
     r.string("NAME")?;
     r.integer("ATYP", Some(0))?;
     let na = count_parameter(r, "NA", None)?;
-    let as_int = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
     let mut needed = na
         .checked_mul(3)
         .and_then(|n| n.checked_add(3))
         .ok_or_else(|| too_big(first, "3 + 3 NA"))?;
-    r.expect(needed, 322, vec![("NA", as_int(na))]);
+    r.expect(needed, 322, vec![("NA", count(na))]);
     // Each value of form 2 is followed by its 312 pointer.
     let width = if form == 2 { 2 } else { 1 };
     let mut layout = Vec::with_capacity(r.capacity(na, 3));
@@ -51,7 +50,7 @@ pub(super) fn definition<'a>(
                 .checked_mul(width)
                 .and_then(|n| n.checked_add(needed))
                 .ok_or_else(|| too_big(avc_at, "the value count"))?;
-            r.expect(needed, 322, vec![("NA", as_int(na)), ("AVC", as_int(avc))]);
+            r.expect(needed, 322, vec![("NA", count(na)), ("AVC", count(avc))]);
             for _ in 0..avc {
                 typed_value(r, avt, "AVALUE", pointers)?;
                 if form == 2 {

@@ -11,7 +11,7 @@
 //! declares them; [`instance`] checks them against the 322's layout
 //! ([`super::Dependent::AttributeInstance`]).
 
-use super::{count_parameter, too_big, typed_value};
+use super::{count, count_parameter, too_big, typed_value};
 use crate::iges::grammar::parameters::{Error, ParameterReader};
 
 /// Checks a 422 in form `form` after the entity type against `layout`, the `(AVT, AVC)`
@@ -28,12 +28,11 @@ pub(super) fn instance<'a>(
         .iter()
         .try_fold(0usize, |n, &(_, avc)| n.checked_add(avc))
         .ok_or_else(|| too_big(first, "the 322's value count"))?;
-    let as_int = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
     let (rows, counts) = if form == 1 {
         let nr = count_parameter(r, "NR", None)?;
-        (nr, vec![("NR", as_int(nr)), ("values a row", as_int(row))])
+        (nr, vec![("NR", count(nr)), ("values a row", count(row))])
     } else {
-        (1, vec![("values a row", as_int(row))])
+        (1, vec![("values a row", count(row))])
     };
     let needed = rows
         .checked_mul(row)

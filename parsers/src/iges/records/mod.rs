@@ -1134,9 +1134,8 @@ fn read_fields<'a>(
 /// starts at `at`).
 #[cold]
 fn tail_cut<'a>(at: &'a [u8], name: &'static str) -> Error<'a> {
-    let blanks = at.iter().take_while(|&&c| c == b' ').count();
     Error::format(
-        at.get(blanks..).unwrap_or(at),
+        trim(at),
         ErrorKind::Arity(format!(
             "the record ends inside its optional parameters, before {name}: the counts in \
              the record do not match its data"
@@ -1170,9 +1169,8 @@ fn one<'a>(
             let at = r.rest();
             let v = r.integer(name, None)?;
             if v != n {
-                let blanks = at.iter().take_while(|&&c| c == b' ').count();
                 return Err(Error::format(
-                    at.get(blanks..).unwrap_or(at),
+                    trim(at),
                     ErrorKind::Arity(format!(
                         "{name} = {v}, but this form has {name} = {n}: the count in the \
                          record does not match its form"

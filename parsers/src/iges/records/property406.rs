@@ -55,7 +55,8 @@
 //! | 27 | Generic Data (section 4.123) | the name (string), `TNUM`, then `TNUM` × (`TYPE`, `VALUE`), each value of the type its code names (0 no value, 1 integer, 2 real, 3 string, 4 pointer, 5 not used, 6 logical); `NP` = `2 + 2 TNUM` |
 
 use super::{
-    Count, Field, Head, Schema, Type, count_parameter, too_big, trim, typed_value, value_type,
+    Count, Field, Head, Schema, Type, count, count_parameter, too_big, trim, typed_value,
+    value_type,
 };
 use crate::iges::error::ErrorKind;
 use crate::iges::grammar::parameters::{Error, ParameterReader};
@@ -520,11 +521,10 @@ pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<
         .checked_mul(2)
         .and_then(|n| n.checked_add(4))
         .ok_or_else(|| too_big(first, "4 + 2 NIND"))?;
-    let as_int = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
     r.expect(
         head,
         406,
-        vec![("NDEP", as_int(ndep)), ("NIND", as_int(nind))],
+        vec![("NDEP", count(ndep)), ("NIND", count(nind))],
     );
     for _ in 0..nind {
         // One parameter per turn: the data, not the count, bounds the loop.
@@ -558,8 +558,8 @@ pub(super) fn tabular_data<'a>(r: &mut ParameterReader<'a>) -> Result<(), Error<
         406,
         vec![
             ("NP", np),
-            ("NIND", as_int(nind)),
-            ("Σ NVALIN", as_int(independent)),
+            ("NIND", count(nind)),
+            ("Σ NVALIN", count(independent)),
         ],
     );
     for _ in 0..independent {
@@ -585,11 +585,7 @@ pub(super) fn generic_data<'a>(
         .checked_mul(2)
         .and_then(|n| n.checked_add(3))
         .ok_or_else(|| too_big(first, "3 + 2 TNUM"))?;
-    r.expect(
-        needed,
-        406,
-        vec![("TNUM", i64::try_from(tnum).unwrap_or(i64::MAX))],
-    );
+    r.expect(needed, 406, vec![("TNUM", count(tnum))]);
     check_np(first, np, needed - 1, "TNUM")?;
     for _ in 0..tnum {
         let code = value_type(r, "TYPE")?;
