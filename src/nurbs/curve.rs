@@ -1,5 +1,7 @@
 //! The NURBS curve type: degree, flat knots, Euclidean control points, optional weights.
 
+use std::sync::Arc;
+
 use super::basis::basis_funs;
 use super::knots::{self, find_span};
 use super::{GeometryError, Hpoint, MAX_DEGREE, Point3};
@@ -15,13 +17,32 @@ use super::{GeometryError, Hpoint, MAX_DEGREE, Point3};
 /// deserialisation), so every value of this type satisfies the invariants listed there.
 ///
 /// [`dimension`]: NurbsCurve::dimension
-#[derive(Debug, Clone, PartialEq)]
-pub struct NurbsCurve {
+#[derive(Clone, PartialEq)]
+pub struct NurbsCurve(Arc<CurveData>);
+
+/// The data of a [`NurbsCurve`], behind one shared pointer: a clone (a face's surface
+/// and the entity it came from, an edge's curve and its entity) shares the knots, poles
+/// and weights instead of copying them. Every value is immutable once checked.
+#[derive(Clone, PartialEq)]
+struct CurveData {
     degree: usize,
     knots: Vec<f64>,
     points: Vec<Point3>,
     weights: Option<Vec<f64>>,
     dimension: usize,
+}
+
+impl std::fmt::Debug for NurbsCurve {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let d = &*self.0;
+        f.debug_struct("NurbsCurve")
+            .field("degree", &d.degree)
+            .field("knots", &d.knots)
+            .field("points", &d.points)
+            .field("weights", &d.weights)
+            .field("dimension", &d.dimension)
+            .finish()
+    }
 }
 
 impl NurbsCurve {
@@ -60,13 +81,13 @@ impl NurbsCurve {
         if let Some(w) = &weights {
             check_weights(w, points.len())?;
         }
-        Ok(NurbsCurve {
+        Ok(NurbsCurve(Arc::new(CurveData {
             degree,
             knots,
             points,
             weights,
             dimension,
-        })
+        })))
     }
 
     /// Builds a curve from homogeneous poles `(w x, w y, w z, w)`, projecting them back to
@@ -84,66 +105,61 @@ impl NurbsCurve {
 
     /// The degree `p`.
     pub fn degree(&self) -> usize {
-        self.degree
+        self.0.degree
     }
 
     /// The flat knot vector `u_0 .. u_{n+p+1}`.
     pub fn knots(&self) -> &[f64] {
-        &self.knots
+        &self.0.knots
     }
 
     /// The Euclidean control points (z = 0 for 2-D curves).
     pub fn control_points(&self) -> &[Point3] {
-        &self.points
+        &self.0.points
     }
 
     /// The weights, or `None` for a polynomial curve.
     pub fn weights(&self) -> Option<&[f64]> {
-        self.weights.as_deref()
+        self.0.weights.as_deref()
     }
 
     /// The weight of pole `i` (1 for polynomial curves).
     #[inline]
     pub fn weight(&self, i: usize) -> f64 {
-        self.weights.as_ref().map_or(1.0, |w| w[i])
+        self.0.weights.as_ref().map_or(1.0, |w| w[i])
     }
 
     /// Whether the curve carries weights.
     pub fn is_rational(&self) -> bool {
-        self.weights.is_some()
+        self.0.weights.is_some()
     }
 
     /// Number of control points `n + 1`.
     pub fn num_poles(&self) -> usize {
-        self.points.len()
+        self.0.points.len()
     }
 
     /// 2 or 3.
     pub fn dimension(&self) -> usize {
-        self.dimension
+        self.0.dimension
     }
 
     /// The valid parameter domain `[u_p, u_{n+1}]`.
     pub fn domain(&self) -> (f64, f64) {
-        knots::domain(self.degree, self.points.len(), &self.knots)
+        knots::domain(self.0.degree, self.0.points.len(), &self.0.knots)
     }
 
     /// The control points in homogeneous form `(w x, w y, w z, w)`.
     pub fn homogeneous(&self) -> Vec<Hpoint> {
-        (0..self.points.len())
-            .map(|i| super::to_homogeneous(self.points[i], self.weight(i)))
+        (0..self.0.points.len())
+            .map(|i| super::to_homogeneous(self.0.points[i], self.weight(i)))
             .collect()
     }
 
     /// Decomposes the curve into its parts `(degree, knots, points, weights, dimension)`.
     pub fn into_parts(self) -> (usize, Vec<f64>, Vec<Point3>, Option<Vec<f64>>, usize) {
-        (
-            self.degree,
-            self.knots,
-            self.points,
-            self.weights,
-            self.dimension,
-        )
+        let d = Arc::unwrap_or_clone(self.0);
+        (d.degree, d.knots, d.points, d.weights, d.dimension)
     }
 
     /// Checks that `u` lies in the domain.
@@ -168,7 +184,7 @@ impl NurbsCurve {
     pub fn point_at_unchecked(&self, u: f64) -> Point3 {
         // The basis buffer sized to the degree: zeroing a MAX_DEGREE + 1 array on every
         // call costs more than a low-degree evaluation (same arithmetic, same bits).
-        match self.degree {
+        match self.0.degree {
             0..4 => self.point_in::<4>(u),
             4..8 => self.point_in::<8>(u),
             _ => self.point_in::<{ MAX_DEGREE + 1 }>(u),
@@ -178,16 +194,16 @@ impl NurbsCurve {
     /// [`NurbsCurve::point_at_unchecked`] with a basis buffer of `N > degree` entries.
     #[inline(always)]
     fn point_in<const N: usize>(&self, u: f64) -> Point3 {
-        let p = self.degree;
-        let span = find_span(p, self.points.len(), &self.knots, u);
+        let p = self.0.degree;
+        let span = find_span(p, self.0.points.len(), &self.0.knots, u);
         let mut n = [0.0; N];
-        basis_funs(span, u, p, &self.knots, &mut n);
+        basis_funs(span, u, p, &self.0.knots, &mut n);
         let base = span - p;
-        match &self.weights {
+        match &self.0.weights {
             None => {
                 let mut c = [0.0; 3];
                 for (j, nj) in n[..=p].iter().enumerate() {
-                    let q = self.points[base + j];
+                    let q = self.0.points[base + j];
                     c[0] += nj * q[0];
                     c[1] += nj * q[1];
                     c[2] += nj * q[2];
@@ -197,7 +213,7 @@ impl NurbsCurve {
             Some(w) => {
                 let mut c = [0.0; 4];
                 for (j, nj) in n[..=p].iter().enumerate() {
-                    let q = self.points[base + j];
+                    let q = self.0.points[base + j];
                     let f = nj * w[base + j];
                     c[0] += f * q[0];
                     c[1] += f * q[1];

@@ -1,6 +1,8 @@
 //! The NURBS surface type: two degrees, two flat knot vectors, a control net and optional
 //! weights, indexed `(i, j)` with `i` along u and `j` along v.
 
+use std::sync::Arc;
+
 use super::basis::basis_funs;
 use super::curve::{check_points, check_weights};
 use super::knots::{self, find_span};
@@ -11,8 +13,14 @@ use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, Point3};
 /// Storage follows [`NurbsCurve`](super::NurbsCurve): Euclidean control points exactly as
 /// read, `weights: None` when polynomial. The control net is a [`Grid`] indexed `(i, j)`,
 /// `i` along u (`0..nu`), `j` along v (`0..nv`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct NurbsSurface {
+#[derive(Clone, PartialEq)]
+pub struct NurbsSurface(Arc<SurfaceData>);
+
+/// The data of a [`NurbsSurface`], behind one shared pointer: a clone (a face's surface
+/// and the entity it came from, an edge's curve and its entity) shares the knots, poles
+/// and weights instead of copying them. Every value is immutable once checked.
+#[derive(Clone, PartialEq)]
+struct SurfaceData {
     degree_u: usize,
     degree_v: usize,
     knots_u: Vec<f64>,
@@ -20,6 +28,21 @@ pub struct NurbsSurface {
     points: Grid<Point3>,
     weights: Option<Grid<f64>>,
     dimension: usize,
+}
+
+impl std::fmt::Debug for NurbsSurface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let d = &*self.0;
+        f.debug_struct("NurbsSurface")
+            .field("degree_u", &d.degree_u)
+            .field("degree_v", &d.degree_v)
+            .field("knots_u", &d.knots_u)
+            .field("knots_v", &d.knots_v)
+            .field("points", &d.points)
+            .field("weights", &d.weights)
+            .field("dimension", &d.dimension)
+            .finish()
+    }
 }
 
 impl NurbsSurface {
@@ -64,7 +87,7 @@ impl NurbsSurface {
             }
             check_weights(w.as_slice(), points.as_slice().len())?;
         }
-        Ok(NurbsSurface {
+        Ok(NurbsSurface(Arc::new(SurfaceData {
             degree_u,
             degree_v,
             knots_u,
@@ -72,7 +95,7 @@ impl NurbsSurface {
             points,
             weights,
             dimension,
-        })
+        })))
     }
 
     /// Builds a surface from a homogeneous net `(w x, w y, w z, w)`; `rational == false`
@@ -104,62 +127,62 @@ impl NurbsSurface {
 
     /// Degree in u.
     pub fn degree_u(&self) -> usize {
-        self.degree_u
+        self.0.degree_u
     }
 
     /// Degree in v.
     pub fn degree_v(&self) -> usize {
-        self.degree_v
+        self.0.degree_v
     }
 
     /// Flat knot vector in u.
     pub fn knots_u(&self) -> &[f64] {
-        &self.knots_u
+        &self.0.knots_u
     }
 
     /// Flat knot vector in v.
     pub fn knots_v(&self) -> &[f64] {
-        &self.knots_v
+        &self.0.knots_v
     }
 
     /// The control net.
     pub fn control_points(&self) -> &Grid<Point3> {
-        &self.points
+        &self.0.points
     }
 
     /// The weights, or `None` when polynomial.
     pub fn weights(&self) -> Option<&Grid<f64>> {
-        self.weights.as_ref()
+        self.0.weights.as_ref()
     }
 
     /// The weight of pole `(i, j)` (1 when polynomial).
     #[inline]
     pub fn weight(&self, i: usize, j: usize) -> f64 {
-        self.weights.as_ref().map_or(1.0, |w| *w.get(i, j))
+        self.0.weights.as_ref().map_or(1.0, |w| *w.get(i, j))
     }
 
     /// Whether the surface carries weights.
     pub fn is_rational(&self) -> bool {
-        self.weights.is_some()
+        self.0.weights.is_some()
     }
 
     /// 2 or 3.
     pub fn dimension(&self) -> usize {
-        self.dimension
+        self.0.dimension
     }
 
     /// The valid domain `([u_p, u_{n+1}], [v_q, v_{m+1}])`.
     pub fn domain(&self) -> ((f64, f64), (f64, f64)) {
         (
-            knots::domain(self.degree_u, self.points.nu(), &self.knots_u),
-            knots::domain(self.degree_v, self.points.nv(), &self.knots_v),
+            knots::domain(self.0.degree_u, self.0.points.nu(), &self.0.knots_u),
+            knots::domain(self.0.degree_v, self.0.points.nv(), &self.0.knots_v),
         )
     }
 
     /// The control net in homogeneous form.
     pub fn homogeneous(&self) -> Grid<Hpoint> {
-        Grid::from_fn(self.points.nu(), self.points.nv(), |i, j| {
-            super::to_homogeneous(*self.points.get(i, j), self.weight(i, j))
+        Grid::from_fn(self.0.points.nu(), self.0.points.nv(), |i, j| {
+            super::to_homogeneous(*self.0.points.get(i, j), self.weight(i, j))
         })
     }
 
@@ -177,14 +200,15 @@ impl NurbsSurface {
         Option<Grid<f64>>,
         usize,
     ) {
+        let d = Arc::unwrap_or_clone(self.0);
         (
-            self.degree_u,
-            self.degree_v,
-            self.knots_u,
-            self.knots_v,
-            self.points,
-            self.weights,
-            self.dimension,
+            d.degree_u,
+            d.degree_v,
+            d.knots_u,
+            d.knots_v,
+            d.points,
+            d.weights,
+            d.dimension,
         )
     }
 
@@ -219,7 +243,7 @@ impl NurbsSurface {
     pub fn point_at_unchecked(&self, u: f64, v: f64) -> Point3 {
         // Basis buffers sized to the degrees: zeroing two MAX_DEGREE + 1 arrays on every
         // call costs more than a bicubic evaluation (same arithmetic, same bits).
-        match self.degree_u.max(self.degree_v) {
+        match self.0.degree_u.max(self.0.degree_v) {
             0..4 => self.point_in::<4>(u, v),
             4..8 => self.point_in::<8>(u, v),
             _ => self.point_in::<{ MAX_DEGREE + 1 }>(u, v),
@@ -229,17 +253,17 @@ impl NurbsSurface {
     /// [`NurbsSurface::point_at_unchecked`] with basis buffers of `N > degree` entries.
     #[inline(always)]
     fn point_in<const N: usize>(&self, u: f64, v: f64) -> Point3 {
-        let (p, q) = (self.degree_u, self.degree_v);
-        let su = find_span(p, self.points.nu(), &self.knots_u, u);
-        let sv = find_span(q, self.points.nv(), &self.knots_v, v);
+        let (p, q) = (self.0.degree_u, self.0.degree_v);
+        let su = find_span(p, self.0.points.nu(), &self.0.knots_u, u);
+        let sv = find_span(q, self.0.points.nv(), &self.0.knots_v, v);
         let mut nu = [0.0; N];
         let mut nv = [0.0; N];
-        basis_funs(su, u, p, &self.knots_u, &mut nu);
-        basis_funs(sv, v, q, &self.knots_v, &mut nv);
+        basis_funs(su, u, p, &self.0.knots_u, &mut nu);
+        basis_funs(sv, v, q, &self.0.knots_v, &mut nv);
         let mut s = [0.0; 4];
         for (k, nk) in nu[..=p].iter().enumerate() {
             let i = su - p + k;
-            let row = self.points.row(i);
+            let row = self.0.points.row(i);
             let mut t = [0.0; 4];
             for (l, nl) in nv[..=q].iter().enumerate() {
                 let j = sv - q + l;
