@@ -23,7 +23,7 @@
 //! [`Converter::angle`].
 
 /// The id-keyed maps and sets of the conversion: foldhash's `quality` hasher, as [`Items`].
-type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
+pub(super) type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
 /// See [`HashMap`].
 type HashSet<K> = std::collections::HashSet<K, foldhash::quality::RandomState>;
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -1250,7 +1250,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 id: label,
                 geometry,
                 source: Source {
-                    entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
+                    entity: item.map_or_else(Default::default, |i| i.entity_type.clone()),
                     line: raw.map(|r| self.s.locate(r.offset).0),
                 },
                 meta,

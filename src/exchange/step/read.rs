@@ -196,6 +196,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             (raw.id, scanned.geometry_item(raw))
         })
         .collect();
+    // Every instance index no longer needed is freed before the read's peak (the topology,
+    // below).
+    drop(geometry_candidates);
     cancel.stop_read()?;
     let mut kept = Vec::with_capacity(
         decoded
@@ -217,10 +220,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     } else {
         plane_angle(&scanned, &complex, &mut doc)
     };
-    // What the B-spline path notices about B-splines converted inside other entities is kept
-    // for the ones built into those (the others are converted again below and say it then).
-    let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
-    let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
+    // One B-spline instance, decoded and converted: the entity (or why not) and what was
+    // noticed on the way.
+    let decode = |raw: &RawInstance<'_>| -> (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>) {
         let ctx = Ctx {
             s: &scanned,
             raw,
@@ -235,6 +237,31 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             Err(DecodeError::Syntax(e)) => Err(parse_diagnostic(&e)),
             Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
         };
+        (r, diags)
+    };
+    // The B-splines the geometry below builds into edges, trims and sweeps, converted once:
+    // the B-spline pass after it takes them from here (an edge's curve and its entity share
+    // their poles) instead of decoding them again. What was noticed on the way is kept with
+    // them; for the B-splines consumed by other entities (not converted again below) it is
+    // reported from `bspline_notes`.
+    let converted_bsplines: std::sync::Mutex<
+        super::geometry::HashMap<u64, (Entity, Vec<Diagnostic>)>,
+    > = Default::default();
+    let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
+    let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
+        if let Some((e, _)) = converted_bsplines
+            .lock()
+            .ok()
+            .and_then(|c| c.get(&raw.id).cloned())
+        {
+            return Ok(Some(e));
+        }
+        let (r, diags) = decode(raw);
+        if let Ok(Some(e)) = &r {
+            if let Ok(mut c) = converted_bsplines.lock() {
+                c.insert(raw.id, (e.clone(), diags.clone()));
+            }
+        }
         if !diags.is_empty() {
             if let Ok(mut all) = bspline_notes.lock() {
                 all.push((raw.id, diags));
@@ -277,22 +304,16 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             if cancel.skip(k, &stopped) {
                 return (None, Vec::new());
             }
-            let mut diags = Vec::new();
-            let ctx = Ctx {
-                s: &scanned,
-                raw,
-                options,
-                scale,
-            };
-            let result = match scanned.bspline(raw) {
-                Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags),
-                Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags),
-                Ok(None) => return (None, diags),
-                Err(DecodeError::Syntax(e)) => return (None, vec![parse_diagnostic(&e)]),
-                Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+            let taken = converted_bsplines
+                .lock()
+                .ok()
+                .and_then(|mut c| c.remove(&raw.id));
+            let (result, mut diags) = match taken {
+                Some((e, diags)) => (Ok(Some(e)), diags),
+                None => decode(raw),
             };
             match result {
-                Ok(e) => (Some(e), diags),
+                Ok(e) => (e, diags),
                 Err(d) => {
                     diags.push(d);
                     (None, diags)
@@ -301,6 +322,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         })
         .collect();
     cancel.stop_read()?;
+    // Only the consumed B-splines are left: their entities are the edges' and sweeps' own.
+    if let Ok(mut c) = converted_bsplines.lock() {
+        *c = Default::default();
+    }
     let mut placed: Vec<(usize, Entity)> = converted.entities;
     // Exactly the room needed: growing by doubling would hold both buffers at the read's
     // peak of memory.
