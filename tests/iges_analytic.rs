@@ -191,7 +191,7 @@ fn curves(doc: &Document) -> Vec<(&str, &NurbsCurve)> {
     doc.entities
         .iter()
         .filter_map(|e| match &e.geometry {
-            Geometry::Curve(c) => Some((e.source.entity.as_str(), c)),
+            Geometry::Curve(c) => Some((&*e.source.entity, c)),
             Geometry::Surface(_) => None,
         })
         .collect()

@@ -244,11 +244,11 @@ fn record_writers_round_trip_every_sample_record() {
             let back = s2.bspline(&s2.instances[0]).unwrap().unwrap();
             let strip = |b: BSpline<'_>| match b {
                 BSpline::Curve(mut c) => {
-                    c.entity_type.clear();
+                    c.entity_type = Default::default();
                     format!("{c:?}")
                 }
                 BSpline::Surface(mut sf) => {
-                    sf.entity_type.clear();
+                    sf.entity_type = Default::default();
                     format!("{sf:?}")
                 }
             };

@@ -225,7 +225,7 @@ pub fn info_text(file: &str, r: &InfoReport) -> String {
                         .join(" x "),
                     match e.source.line {
                         Some(l) => format!("{} (line {l})", e.source.entity),
-                        None => e.source.entity.clone(),
+                        None => e.source.entity.to_string(),
                     },
                 ]
             })

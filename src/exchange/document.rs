@@ -1,5 +1,7 @@
 //! What a file holds, in one form for both formats.
 
+use std::borrow::Cow;
+
 use serde::Serialize;
 
 use super::{Diagnostic, Format, LengthUnit, Severity};
@@ -206,8 +208,9 @@ pub struct Entity {
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
 pub struct Source {
     /// Entity type as the file names it: `B_SPLINE_CURVE_WITH_KNOTS`,
-    /// `(B_SPLINE_CURVE,RATIONAL_B_SPLINE_CURVE,...)`, `126`, `128`.
-    pub entity: String,
+    /// `(B_SPLINE_CURVE,RATIONAL_B_SPLINE_CURVE,...)`, `126`, `128`. Borrowed when it is a
+    /// name the reader knows (no allocation per entity).
+    pub entity: Cow<'static, str>,
     /// 1-based line where the entity starts (STEP instance line; IGES first D line).
     pub line: Option<usize>,
 }

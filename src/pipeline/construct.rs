@@ -384,7 +384,7 @@ fn document(geometry: Geometry, shape: Option<Shape>) -> Document {
         id: "0".to_owned(),
         geometry,
         source: Source {
-            entity: "make".to_owned(),
+            entity: "make".into(),
             line: None,
         },
         meta: Meta {

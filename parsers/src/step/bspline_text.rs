@@ -31,10 +31,14 @@
 //! The tests below compare both paths on every sample file, on generated files and on
 //! damaged copies.
 
+use std::borrow::Cow;
+
 use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
-use super::schema::{BSpline, BSplineCurve, BSplineSurface, KnotSpec, Logical, canonical_name};
+use super::schema::{
+    BSpline, BSplineCurve, BSplineSurface, KnotSpec, Logical, bspline_entity_type, canonical_name,
+};
 use super::string::StepString;
 
 /// Reads a B-spline curve or surface instance straight from its body text, if it has one of
@@ -202,7 +206,7 @@ impl<'a> Reader<'a> {
                     c,
                     knots,
                     None,
-                    keyword.to_owned(),
+                    bspline_entity_type(keyword),
                 )))
             }
             "B_SPLINE_SURFACE_WITH_KNOTS" => {
@@ -221,7 +225,7 @@ impl<'a> Reader<'a> {
                     s,
                     knots,
                     None,
-                    keyword.to_owned(),
+                    bspline_entity_type(keyword),
                 )))
             }
             _ => None,
@@ -316,6 +320,7 @@ impl<'a> Reader<'a> {
             self.byte(b')')?;
         }
         entity_type.push(')');
+        let entity_type = bspline_entity_type(&entity_type);
         match family {
             Family::Curve => Some(BSpline::Curve(curve_record(
                 name,
@@ -341,7 +346,7 @@ fn curve_record<'a>(
     c: CurveAttrs<'a>,
     knots: KnotSpec<'a>,
     weights: Option<Vec<f64>>,
-    entity_type: String,
+    entity_type: Cow<'static, str>,
 ) -> BSplineCurve<'a> {
     BSplineCurve {
         name,
@@ -361,7 +366,7 @@ fn surface_record<'a>(
     s: SurfaceAttrs<'a>,
     knots: KnotSpec<'a>,
     weights: Option<Vec<Vec<f64>>>,
-    entity_type: String,
+    entity_type: Cow<'static, str>,
 ) -> BSplineSurface<'a> {
     BSplineSurface {
         name,

@@ -113,10 +113,11 @@ pub enum GeometryRecord<'a> {
     TrimmedCurve {
         /// `basis_curve`.
         basis_curve: u64,
-        /// `trim_1`: one or two trimming selects (a point and/or a parameter).
-        trim_1: Vec<TrimmingSelect>,
+        /// `trim_1`: one or two trimming selects (a point and/or a parameter). Boxed slices
+        /// (not vectors) keep this, the largest record, and so every item, smaller.
+        trim_1: Box<[TrimmingSelect]>,
         /// `trim_2`.
-        trim_2: Vec<TrimmingSelect>,
+        trim_2: Box<[TrimmingSelect]>,
         /// `sense_agreement`.
         sense_agreement: bool,
         /// `master_representation` without dots (`PARAMETER`, `CARTESIAN`, `UNSPECIFIED`).
@@ -483,7 +484,7 @@ pub fn is_geometry_entity(keyword: &str) -> bool {
     }
 }
 
-fn trimming_selects(p: &Parameter<'_>) -> Result<Vec<TrimmingSelect>, String> {
+fn trimming_selects(p: &Parameter<'_>) -> Result<Box<[TrimmingSelect]>, String> {
     let Some(list) = p.as_list() else {
         return Err(format!(
             "expected a list of trimming selects, found {}",

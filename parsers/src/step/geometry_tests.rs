@@ -111,8 +111,8 @@ fn valid_simple_instances() {
             "#1=TRIMMED_CURVE('',#2,(#3,PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.5)),.F.,.PARAMETER.);",
             R::TrimmedCurve {
                 basis_curve: 2,
-                trim_1: vec![TrimmingSelect::Point(3), TrimmingSelect::Parameter(0.0)],
-                trim_2: vec![TrimmingSelect::Parameter(1.5)],
+                trim_1: vec![TrimmingSelect::Point(3), TrimmingSelect::Parameter(0.0)].into(),
+                trim_2: vec![TrimmingSelect::Parameter(1.5)].into(),
                 sense_agreement: false,
                 master_representation: "PARAMETER",
             },

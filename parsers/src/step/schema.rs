@@ -1554,6 +1554,31 @@ pub enum KnotSpec<'a> {
     QuasiUniform,
 }
 
+/// The B-spline entity types as files spell them: the simple types, and the complex
+/// instances of the rational ones with every partial in the alphabetical order that
+/// ISO 10303-21's external mapping gives complex instances (as Open CASCADE writes them).
+const BSPLINE_ENTITY_TYPES: &[&str] = &[
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "BEZIER_CURVE",
+    "BEZIER_SURFACE",
+    "UNIFORM_CURVE",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_CURVE",
+    "QUASI_UNIFORM_SURFACE",
+    "(BOUNDED_CURVE,B_SPLINE_CURVE,B_SPLINE_CURVE_WITH_KNOTS,CURVE,GEOMETRIC_REPRESENTATION_ITEM,RATIONAL_B_SPLINE_CURVE,REPRESENTATION_ITEM)",
+    "(BOUNDED_SURFACE,B_SPLINE_SURFACE,B_SPLINE_SURFACE_WITH_KNOTS,GEOMETRIC_REPRESENTATION_ITEM,RATIONAL_B_SPLINE_SURFACE,REPRESENTATION_ITEM,SURFACE)",
+];
+
+/// A B-spline record's `entity_type` for the type `written`: one of
+/// [`BSPLINE_ENTITY_TYPES`] borrowed, any other spelling copied.
+pub(crate) fn bspline_entity_type(written: &str) -> Cow<'static, str> {
+    BSPLINE_ENTITY_TYPES
+        .iter()
+        .find(|t| **t == written)
+        .map_or_else(|| Cow::Owned(written.to_owned()), |t| Cow::Borrowed(*t))
+}
+
 /// Which knot subtype partial the instance carries (exactly one is required, WR1 of
 /// `b_spline_curve`).
 fn knot_subtype(a: &Attributes<'_, '_>, kind: &str) -> Result<(&'static str, usize), SchemaError> {
@@ -1605,8 +1630,9 @@ pub struct BSplineCurve<'a> {
     pub knots: KnotSpec<'a>,
     /// `weights_data` of RATIONAL_B_SPLINE_CURVE.
     pub weights: Option<Vec<f64>>,
-    /// The entity type as written (`B_SPLINE_CURVE_WITH_KNOTS` or `(A,B,...)`).
-    pub entity_type: String,
+    /// The entity type as written (`B_SPLINE_CURVE_WITH_KNOTS` or `(A,B,...)`); borrowed
+    /// for the spellings of [`bspline_entity_type`] (no allocation per record).
+    pub entity_type: Cow<'static, str>,
 }
 
 impl<'a> BSplineCurve<'a> {
@@ -1647,7 +1673,7 @@ impl<'a> BSplineCurve<'a> {
             self_intersect: a.logical(E, "self_intersect")?,
             knots,
             weights,
-            entity_type: a.entity_type().to_owned(),
+            entity_type: bspline_entity_type(a.entity_type()),
         })
     }
 }
@@ -1675,8 +1701,8 @@ pub struct BSplineSurface<'a> {
     pub knots: KnotSpec<'a>,
     /// `weights_data` of RATIONAL_B_SPLINE_SURFACE, same shape as the net.
     pub weights: Option<Vec<Vec<f64>>>,
-    /// The entity type as written.
-    pub entity_type: String,
+    /// The entity type as written (see [`BSplineCurve::entity_type`]).
+    pub entity_type: Cow<'static, str>,
 }
 
 impl<'a> BSplineSurface<'a> {
@@ -1721,7 +1747,7 @@ impl<'a> BSplineSurface<'a> {
             self_intersect: a.logical(E, "self_intersect")?,
             knots,
             weights,
-            entity_type: a.entity_type().to_owned(),
+            entity_type: bspline_entity_type(a.entity_type()),
         })
     }
 }

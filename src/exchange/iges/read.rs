@@ -674,7 +674,7 @@ fn finish(
         id: format!("D{}", entry.pointer),
         geometry,
         source: Source {
-            entity: entry.entity_type.to_string(),
+            entity: super::entity_type_name(entry.entity_type),
             line: Some(entry.line),
         },
         meta,

@@ -582,7 +582,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         Origin {
             id,
             source: Source {
-                entity: entry.entity_type.to_string(),
+                entity: super::entity_type_name(entry.entity_type),
                 line: Some(entry.line),
             },
             name: (!entry.label.is_empty()).then(|| entry.label.clone()),

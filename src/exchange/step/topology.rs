@@ -235,7 +235,7 @@ impl Build<'_, '_, '_, '_> {
         Origin {
             id: super::instance_label(id),
             source: Source {
-                entity: item.map_or_else(String::new, |i| i.entity_type.to_string()),
+                entity: item.map_or_else(Default::default, |i| i.entity_type.clone()),
                 line: (line > 0).then_some(line),
             },
             name: item

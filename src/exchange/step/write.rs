@@ -563,7 +563,7 @@ fn write_curve(
         self_intersect: e.meta.self_intersect.unwrap_or(false).into(),
         knots,
         weights: c.weights().map(<[f64]>::to_vec),
-        entity_type: String::new(),
+        entity_type: Default::default(),
     };
     write_bspline_curve(out, cid, &record)
 }
@@ -621,7 +621,7 @@ fn write_surface(
         weights: sf
             .weights()
             .map(|w| (0..nu).map(|i| w.row(i).to_vec()).collect()),
-        entity_type: String::new(),
+        entity_type: Default::default(),
     };
     write_bspline_surface(out, sid, &record)
 }
