@@ -418,6 +418,13 @@ impl<'a> Items<'a> {
         // checks the order (a linear pass).
         entries.sort_by_key(|(id, _)| *id);
         entries.dedup_by_key(|(id, _)| *id);
+        let slots = Self::slots(&entries);
+        Items { entries, slots }
+    }
+
+    /// The dense id -> entry index of `entries` (sorted by id), or none when the ids are
+    /// too sparse for one (lookups then search).
+    fn slots(entries: &[(u64, GeometryItem<'a>)]) -> Vec<u32> {
         let max = entries.last().map_or(0, |(id, _)| *id);
         let dense = usize::try_from(max).ok().filter(|&m| {
             m <= entries.len().saturating_mul(4).saturating_add(1024)
@@ -435,7 +442,15 @@ impl<'a> Items<'a> {
                 }
             }
         }
-        Items { entries, slots }
+        slots
+    }
+
+    /// Keeps the items `keep` accepts and frees the room of the others (the index is
+    /// rebuilt).
+    pub(super) fn retain(&mut self, mut keep: impl FnMut(&R<'a>) -> bool) {
+        self.entries.retain(|(_, item)| keep(&item.record));
+        self.entries.shrink_to_fit();
+        self.slots = Self::slots(&self.entries);
     }
 
     /// The item `#id`.
@@ -499,6 +514,34 @@ pub(super) struct Converter<'m, 's, 'a> {
     pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Entity>, Diagnostic> + Sync),
     /// Warnings found while converting (parallel workers push here).
     pub warnings: std::sync::Mutex<Vec<Diagnostic>>,
+}
+
+/// The file's units as the conversion applies them (see [`Converter`]'s fields).
+#[derive(Clone, Copy)]
+pub(super) struct Units {
+    pub scale: f64,
+    pub radians: f64,
+    pub uncertainty: f64,
+}
+
+impl<'m, 's, 'a> Converter<'m, 's, 'a> {
+    /// A converter of `items` with no warnings yet.
+    pub(super) fn new(
+        s: &'s Scanned<'a>,
+        items: &'m Items<'a>,
+        units: Units,
+        bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Entity>, Diagnostic> + Sync),
+    ) -> Self {
+        Converter {
+            s,
+            items,
+            scale: units.scale,
+            radians: units.radians,
+            uncertainty: units.uncertainty,
+            bspline,
+            warnings: std::sync::Mutex::new(Vec::new()),
+        }
+    }
 }
 
 /// What a conversion run produced.

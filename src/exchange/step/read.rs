@@ -16,7 +16,7 @@ use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity, maybe_com
 use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
-use super::geometry::{Converter, Items};
+use super::geometry::{Converter, Items, Units};
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_plane_angle, context_units};
 use crate::exchange::{
@@ -214,7 +214,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             Err(DecodeError::Schema(e)) => doc.diagnostics.push(schema_diagnostic(&e)),
         }
     }
-    let items = Items::new(kept);
+    let mut items = Items::new(kept);
     let radians = if items.is_empty() {
         1.0
     } else {
@@ -269,16 +269,12 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
         r
     };
-    let converter = Converter {
-        s: &scanned,
-        items: &items,
+    let units = Units {
         scale,
         radians,
         uncertainty,
-        bspline: &bspline,
-        warnings: std::sync::Mutex::new(Vec::new()),
     };
-    let mut converted = converter.run();
+    let mut converted = Converter::new(&scanned, &items, units, &bspline).run();
     cancel.stop_read()?;
     let edges = std::mem::take(&mut converted.edges);
     let quadric_maps = std::mem::take(&mut converted.quadric_maps);
@@ -354,7 +350,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The boundary representation over the converted geometry (topology.rs).
     if options.geometry_only {
         doc.diagnostics.extend(converted.analytic_pcurves.take());
-        let c = super::topology::count(&converter);
+        let c = super::topology::count(&Converter::new(&scanned, &items, units, &bspline));
         if c != super::topology::Counts::default() {
             doc.diagnostics.push(Diagnostic::warning(
                 "topology.not_read",
@@ -367,6 +363,11 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             .not_carried());
         }
     } else {
+        // The curves and surfaces are converted: what the topology and the product
+        // structure read is kept, the rest of the decoded items freed before the read's
+        // peak of memory.
+        items.retain(super::topology::reads);
+        let converter = Converter::new(&scanned, &items, units, &bspline);
         let built = super::topology::build(
             &converter,
             &edges,

@@ -81,6 +81,36 @@ pub(super) fn count(conv: &Converter<'_, '_, '_>) -> Counts {
     c
 }
 
+/// Whether the topology ([`build`]) or the product structure (assembly.rs) reads items
+/// of this kind once the curves and surfaces are converted: everything but the curves,
+/// surfaces and their vectors, whose NURBS are the entities now. Placements and directions
+/// stay (an assembly's transformations are frames), and so does any kind not listed.
+pub(super) fn reads(record: &R<'_>) -> bool {
+    !matches!(
+        record,
+        R::Vector { .. }
+            | R::Axis1Placement { .. }
+            | R::Line { .. }
+            | R::Circle { .. }
+            | R::Ellipse { .. }
+            | R::Hyperbola { .. }
+            | R::Parabola { .. }
+            | R::Polyline { .. }
+            | R::TrimmedCurve { .. }
+            | R::CompositeCurve { .. }
+            | R::CompositeCurveSegment { .. }
+            | R::Plane { .. }
+            | R::CylindricalSurface { .. }
+            | R::ConicalSurface { .. }
+            | R::SphericalSurface { .. }
+            | R::ToroidalSurface { .. }
+            | R::SurfaceOfLinearExtrusion { .. }
+            | R::SurfaceOfRevolution { .. }
+            | R::RectangularTrimmedSurface { .. }
+            | R::Offset { .. }
+    )
+}
+
 /// The builder's state: the model under construction and the map from file ids to it.
 struct Build<'c, 'm, 's, 'a> {
     conv: &'c Converter<'m, 's, 'a>,
