@@ -168,22 +168,41 @@ impl NurbsCurve {
     }
 }
 
-/// Contracts a homogeneous net along u at parameter `u`: for every column j,
-/// `sum_k N_{k,p}(u) Pw_{k,j}` (A3.5 / A4.3 first stage). Exact in homogeneous space.
-fn contract(p: usize, knots: &[f64], net: &Grid<Hpoint>, u: f64) -> Vec<Hpoint> {
-    let span = find_span(p, net.nu(), knots, u);
+/// Contracts the surface's homogeneous net at parameter `t` of one direction (`in_u`: the
+/// fixed parameter is u, the result runs along v): for every pole `j` of the other
+/// direction, `sum_k N_{k,p}(t) Pw_{k,j}` (A3.5 / A4.3 first stage). Exact in homogeneous
+/// space. Only the `p + 1` rows the basis functions touch are lifted to homogeneous form
+/// (`w x, w y, w z, w`, the same products as [`NurbsSurface::homogeneous`]), not the net.
+fn contract(s: &NurbsSurface, in_u: bool, t: f64) -> Vec<Hpoint> {
+    let (p, knots) = if in_u {
+        (s.degree_u(), s.knots_u())
+    } else {
+        (s.degree_v(), s.knots_v())
+    };
+    let net = s.control_points();
+    let (fixed, free) = if in_u {
+        (net.nu(), net.nv())
+    } else {
+        (net.nv(), net.nu())
+    };
+    let span = find_span(p, fixed, knots, t);
     let mut n = [0.0; MAX_DEGREE + 1];
-    basis_funs(span, u, p, knots, &mut n);
-    (0..net.nv())
+    basis_funs(span, t, p, knots, &mut n);
+    (0..free)
         .map(|j| {
-            let mut s = [0.0; 4];
+            let mut sum = [0.0; 4];
             for (k, nk) in n[..=p].iter().enumerate() {
-                let q = net.get(span - p + k, j);
+                let (a, b) = if in_u {
+                    (span - p + k, j)
+                } else {
+                    (j, span - p + k)
+                };
+                let q = super::to_homogeneous(*net.get(a, b), s.weight(a, b));
                 for c in 0..4 {
-                    s[c] += nk * q[c];
+                    sum[c] += nk * q[c];
                 }
             }
-            s
+            sum
         })
         .collect()
 }
@@ -302,7 +321,7 @@ impl NurbsSurface {
                 end: b,
             });
         }
-        let h = contract(self.degree_u(), self.knots_u(), &self.homogeneous(), u);
+        let h = contract(self, true, u);
         NurbsCurve::from_homogeneous(
             self.degree_v(),
             self.knots_v().to_vec(),
@@ -324,12 +343,7 @@ impl NurbsSurface {
                 end: d,
             });
         }
-        let h = contract(
-            self.degree_v(),
-            self.knots_v(),
-            &self.homogeneous().transposed(),
-            v,
-        );
+        let h = contract(self, false, v);
         NurbsCurve::from_homogeneous(
             self.degree_u(),
             self.knots_u().to_vec(),
