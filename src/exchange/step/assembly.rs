@@ -27,7 +27,7 @@ use nurbsx_parsers::step::product::{ProductItem, ProductRecord as P};
 use nurbsx_parsers::step::schema::DecodeError;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
-use super::geometry::Converter;
+use super::geometry::{Converter, Items};
 use crate::exchange::assembly::{Definitions, parts_by_id, place_all};
 use crate::exchange::{Diagnostic, Entity, Location, Origin, Topology};
 use crate::nurbs::sweep::Frame;
@@ -37,6 +37,39 @@ use crate::topology::{Assembly, AssemblyId, Instance, Model, Part};
 
 /// The decoded product-structure instances by id.
 pub(super) type Products<'a> = HashMap<u64, ProductItem<'a>>;
+
+/// The placements the product structure reads as frames (ISO 10303-43
+/// item_defined_transformation's two items, representation_map's `mapping_origin` and
+/// mapped_item's `mapping_target`) and the directions they name: the decoded items
+/// [`apply`] needs of the file's placements and directions.
+pub(super) fn frame_items(products: &Products<'_>, items: &Items<'_>) -> HashSet<u64> {
+    let mut out = HashSet::new();
+    for item in products.values() {
+        let ids: [Option<u64>; 2] = match item.record {
+            P::ItemDefinedTransformation {
+                transform_item_1,
+                transform_item_2,
+            } => [Some(transform_item_1), Some(transform_item_2)],
+            P::RepresentationMap { mapping_origin, .. } => [Some(mapping_origin), None],
+            P::MappedItem { mapping_target, .. } => [Some(mapping_target), None],
+            _ => continue,
+        };
+        for id in ids.into_iter().flatten() {
+            out.insert(id);
+            match items.get(&id).map(|i| &i.record) {
+                Some(G::Axis2Placement3d {
+                    axis,
+                    ref_direction,
+                    ..
+                }) => out.extend(axis.iter().chain(ref_direction)),
+                Some(G::Axis2Placement2d { ref_direction, .. }) => out.extend(ref_direction),
+                Some(G::Axis1Placement { axis, .. }) => out.extend(axis),
+                _ => {}
+            }
+        }
+    }
+    out
+}
 
 /// Decodes the product-structure candidates; schema and syntax errors are diagnostics.
 pub(super) fn decode<'a>(

@@ -447,8 +447,8 @@ impl<'a> Items<'a> {
 
     /// Keeps the items `keep` accepts and frees the room of the others (the index is
     /// rebuilt).
-    pub(super) fn retain(&mut self, mut keep: impl FnMut(&R<'a>) -> bool) {
-        self.entries.retain(|(_, item)| keep(&item.record));
+    pub(super) fn retain(&mut self, mut keep: impl FnMut(u64, &R<'a>) -> bool) {
+        self.entries.retain(|(id, item)| keep(*id, &item.record));
         self.entries.shrink_to_fit();
         self.slots = Self::slots(&self.entries);
     }

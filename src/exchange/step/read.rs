@@ -363,10 +363,23 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             .not_carried());
         }
     } else {
+        // The product structure first: the placements it reads as frames are kept below.
+        let mut product_diagnostics = Vec::new();
+        let products = super::assembly::decode(
+            &scanned,
+            &product_candidates,
+            &mut product_diagnostics,
+            |e| match e {
+                DecodeError::Syntax(e) => parse_diagnostic(&e),
+                DecodeError::Schema(e) => schema_diagnostic(&e),
+            },
+        );
         // The curves and surfaces are converted: what the topology and the product
         // structure read is kept, the rest of the decoded items freed before the read's
         // peak of memory.
-        items.retain(super::topology::reads);
+        let frames = super::assembly::frame_items(&products, &items);
+        items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+        drop(frames);
         let converter = Converter::new(&scanned, &items, units, &bspline);
         let built = super::topology::build(
             &converter,
@@ -378,15 +391,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         cancel.stop_read()?;
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
-        let products = super::assembly::decode(
-            &scanned,
-            &product_candidates,
-            &mut doc.diagnostics,
-            |e| match e {
-                DecodeError::Syntax(e) => parse_diagnostic(&e),
-                DecodeError::Schema(e) => schema_diagnostic(&e),
-            },
-        );
+        doc.diagnostics.extend(product_diagnostics);
         doc.diagnostics.extend(super::assembly::apply(
             &converter,
             &products,

@@ -81,15 +81,18 @@ pub(super) fn count(conv: &Converter<'_, '_, '_>) -> Counts {
     c
 }
 
-/// Whether the topology ([`build`]) or the product structure (assembly.rs) reads items
-/// of this kind once the curves and surfaces are converted: everything but the curves,
-/// surfaces and their vectors, whose NURBS are the entities now. Placements and directions
-/// stay (an assembly's transformations are frames), and so does any kind not listed.
+/// Whether the topology ([`build`]) reads items of this kind once the curves and surfaces
+/// are converted: everything but the curves, surfaces, placements, directions and vectors,
+/// whose NURBS are the entities now (the few placements the product structure reads as
+/// frames are kept by the reader, `assembly::frame_items`). Any kind not listed stays.
 pub(super) fn reads(record: &R<'_>) -> bool {
     !matches!(
         record,
-        R::Vector { .. }
+        R::Direction { .. }
+            | R::Vector { .. }
             | R::Axis1Placement { .. }
+            | R::Axis2Placement2d { .. }
+            | R::Axis2Placement3d { .. }
             | R::Line { .. }
             | R::Circle { .. }
             | R::Ellipse { .. }
