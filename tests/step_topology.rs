@@ -850,3 +850,75 @@ fn a_seam_moved_to_a_vertex_an_ulp_off_a_knot_keeps_every_pcurve() {
     let want = 377886.16715;
     assert!((v - want).abs() <= 1e-6 * want, "{v} vs {want}");
 }
+
+/// Every 2-D curve of the file's PCURVEs is marked as used by the EDGE_CURVEs whose
+/// SURFACE_CURVE (or SEAM_CURVE) lists it (ISO 10303-42 surface_curve ->
+/// pcurve -> definitional_representation), as the file text says: the chain is followed
+/// here in the text itself, one instance per `;`.
+#[test]
+fn pcurve_curves_are_used_by_their_edges() {
+    let path = root().join("samples/freecad/brep_filleted_box_nurbs.step");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let data = &text[text.find("DATA;").unwrap()..];
+    let mut body: std::collections::HashMap<u64, (String, Vec<u64>)> = Default::default();
+    for statement in data.split(';') {
+        let Some((head, rest)) = statement.split_once('=') else {
+            continue;
+        };
+        let Ok(id) = head.trim().trim_start_matches('#').parse::<u64>() else {
+            continue;
+        };
+        let keyword: String = rest
+            .trim()
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        let refs = rest
+            .split('#')
+            .skip(1)
+            .filter_map(|s| {
+                let digits: String = s.chars().take_while(char::is_ascii_digit).collect();
+                digits.parse().ok()
+            })
+            .collect();
+        body.insert(id, (keyword, refs));
+    }
+    let mut expected: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for (&edge, (keyword, refs)) in &body {
+        if keyword != "EDGE_CURVE" {
+            continue;
+        }
+        let Some((k, curve_refs)) = body.get(&refs[2]) else {
+            continue;
+        };
+        if k != "SURFACE_CURVE" && k != "SEAM_CURVE" {
+            continue;
+        }
+        for pcurve in &curve_refs[1..] {
+            let (k, p) = &body[pcurve];
+            assert_eq!(k, "PCURVE");
+            let (k, items) = &body[&p[1]];
+            assert_eq!(k, "DEFINITIONAL_REPRESENTATION");
+            for c in &items[..items.len() - 1] {
+                expected
+                    .entry(format!("#{c}"))
+                    .or_default()
+                    .push(format!("#{edge}"));
+            }
+        }
+    }
+    assert!(expected.len() >= 48, "{} pcurve curves", expected.len());
+    let doc = read_path(&path);
+    let mut found: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for e in &doc.entities {
+        if expected.contains_key(&e.id) {
+            let mut users = e.meta.used_by.clone();
+            users.sort();
+            found.insert(e.id.clone(), users);
+        }
+    }
+    for users in expected.values_mut() {
+        users.sort();
+    }
+    assert_eq!(found, expected);
+}

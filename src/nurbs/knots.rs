@@ -85,15 +85,20 @@ pub fn to_distinct(knots: &[f64]) -> (Vec<f64>, Vec<usize>) {
 
 /// The flat knot vector from distinct values and multiplicities; `None` on length mismatch
 /// or if the total overflows `usize`.
-pub fn from_distinct(values: &[f64], multiplicities: &[usize]) -> Option<Vec<f64>> {
+pub fn from_distinct<M>(values: &[f64], multiplicities: M) -> Option<Vec<f64>>
+where
+    M: IntoIterator<Item = usize>,
+    M::IntoIter: ExactSizeIterator + Clone,
+{
+    let multiplicities = multiplicities.into_iter();
     if values.len() != multiplicities.len() {
         return None;
     }
     let total = multiplicities
-        .iter()
-        .try_fold(0usize, |acc, &m| acc.checked_add(m))?;
+        .clone()
+        .try_fold(0usize, |acc, m| acc.checked_add(m))?;
     let mut out = Vec::with_capacity(total);
-    for (&v, &m) in values.iter().zip(multiplicities) {
+    for (&v, m) in values.iter().zip(multiplicities) {
         out.extend(std::iter::repeat_n(v, m));
     }
     Some(out)
@@ -197,6 +202,6 @@ mod tests {
         let (v, m) = to_distinct(&flat);
         assert_eq!(v, vec![0., 0.5, 1.]);
         assert_eq!(m, vec![3, 1, 3]);
-        assert_eq!(from_distinct(&v, &m).unwrap(), flat);
+        assert_eq!(from_distinct(&v, m.iter().copied()).unwrap(), flat);
     }
 }

@@ -400,16 +400,20 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             options.limits.max_entities,
         ));
         if !built.pcurve_entities.is_empty() {
-            let mut users: std::collections::HashMap<
-                String,
-                Vec<String>,
-                foldhash::quality::RandomState,
-            > = Default::default();
-            for (entity, edge) in built.pcurve_entities {
-                users.entry(entity).or_default().push(edge);
+            let mut users: super::geometry::HashMap<u64, Vec<String>> = Default::default();
+            for (curve, edge) in built.pcurve_entities {
+                users
+                    .entry(curve)
+                    .or_default()
+                    .push(super::instance_label(edge));
             }
             for e in &mut doc.entities {
-                if let Some(list) = users.remove(&e.id) {
+                // The entity of instance #n is labelled `#n` (`instance_label`).
+                let instance =
+                    e.id.strip_prefix('#')
+                        .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))
+                        .and_then(|d| d.parse::<u64>().ok());
+                if let Some(list) = instance.and_then(|id| users.remove(&id)) {
                     e.meta.used_by.extend(list);
                 }
             }
@@ -986,7 +990,6 @@ impl<'a> Ctx<'_, 'a> {
                         format!("{what}: {} multiplicities for {} knots", m.len(), k.len()),
                     ));
                 }
-                let mut mults = Vec::with_capacity(m.len());
                 let mut sum: usize = 0;
                 for (i, &v) in m.iter().enumerate() {
                     let mv = usize::try_from(v).ok().filter(|&x| x >= 1).ok_or_else(|| {
@@ -1001,7 +1004,6 @@ impl<'a> Ctx<'_, 'a> {
                             format!("{what}: multiplicities overflow"),
                         )
                     })?;
-                    mults.push(mv);
                 }
                 let need = poles
                     .checked_add(degree)
@@ -1015,8 +1017,10 @@ impl<'a> Ctx<'_, 'a> {
                         ),
                     ));
                 }
+                // Every multiplicity is at least 1 and their sum fits: read them as counts.
+                let mults = || m.iter().map(|&v| usize::try_from(v).unwrap_or(0));
                 let rule = "ISO 10303-42 function constraints_param_b_spline";
-                match knot_rules(k, &mults, degree) {
+                match knot_rules(k, mults(), degree) {
                     Ok(None) => {}
                     Ok(Some(m)) => diags.push(Diagnostic::nonconforming(
                         "knots.repeated",
@@ -1029,7 +1033,7 @@ impl<'a> Ctx<'_, 'a> {
                         return Err(self.error("knots.invalid", format!("{what}: {m} ({rule})")));
                     }
                 }
-                return crate::nurbs::knots::from_distinct(k, &mults).ok_or_else(|| {
+                return crate::nurbs::knots::from_distinct(k, mults()).ok_or_else(|| {
                     self.error("knots.invalid", format!("{what}: knot lists do not match"))
                 });
             }
@@ -1338,13 +1342,15 @@ fn logical_text(l: Logical) -> &'static str {
 /// loaded); a value written twice in a row (`Ok(Some(..))`) has one meaning, that knot with
 /// the summed multiplicity, and is non-conforming. The bounds apply to the summed
 /// multiplicities.
-fn knot_rules(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<String>, String> {
+fn knot_rules(
+    knots: &[f64],
+    mults: impl Iterator<Item = usize>,
+    degree: usize,
+) -> Result<Option<String>, String> {
+    // The order first: a decreasing knot is the error, whatever the multiplicities.
     let mut repeated = None;
-    let mut merged: Vec<usize> = Vec::with_capacity(mults.len());
-    for (i, (w, &m)) in knots.windows(2).zip(mults.iter().skip(1)).enumerate() {
-        if i == 0 {
-            merged.push(mults.first().copied().unwrap_or(0));
-        }
+    let mut runs = usize::from(!knots.is_empty());
+    for (i, w) in knots.windows(2).enumerate() {
         if w[1] < w[0] {
             return Err(format!(
                 "knot {} ({}) is less than knot {} ({}); the distinct knots must strictly increase",
@@ -1363,26 +1369,43 @@ fn knot_rules(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<St
                     w[0]
                 )
             });
-            if let Some(last) = merged.last_mut() {
-                *last += m;
-            }
         } else {
-            merged.push(m);
+            runs += 1;
         }
     }
-    let last = merged.len().saturating_sub(1);
-    for (i, &m) in merged.iter().enumerate() {
-        let end = i == 0 || i == last;
-        let max = if end { degree + 1 } else { degree };
-        if m > max {
-            return Err(format!(
-                "{} multiplicity {} is {m}, above {max} (degree {degree})",
-                if end { "end" } else { "interior" },
-                i + 1
-            ));
-        }
+    if knots.len() < 2 {
+        return Ok(repeated);
     }
+    // Then each run of equal knots, read as one knot of the summed multiplicity, against
+    // its bound.
+    let bound = |i: usize, m: usize| multiplicity_bound(i, runs, m, degree);
+    let (mut run, mut sum, mut previous) = (0, 0, None);
+    for (&value, m) in knots.iter().zip(mults) {
+        if previous.is_some_and(|p| p != value) {
+            bound(run, sum)?;
+            run += 1;
+            sum = 0;
+        }
+        sum += m;
+        previous = Some(value);
+    }
+    bound(run, sum)?;
     Ok(repeated)
+}
+
+/// Multiplicity `m` of distinct knot `i` of `count` against its bound: at most
+/// `degree + 1` at the ends, `degree` inside (ISO 10303-42 constraints_param_b_spline).
+fn multiplicity_bound(i: usize, count: usize, m: usize, degree: usize) -> Result<(), String> {
+    let end = i == 0 || i + 1 == count;
+    let max = if end { degree + 1 } else { degree };
+    if m > max {
+        return Err(format!(
+            "{} multiplicity {} is {m}, above {max} (degree {degree})",
+            if end { "end" } else { "interior" },
+            i + 1
+        ));
+    }
+    Ok(())
 }
 
 /// Checks an enumeration value against its type's values in ISO 10303-42 (`knot_type`,
@@ -1489,5 +1512,69 @@ mod lower_case_tests {
             .map(|d| (d.location.line, d.location.entity.as_deref()))
             .collect();
         assert_eq!(found, [(Some(8), Some("#1")), (Some(9), Some("#2"))]);
+    }
+}
+
+/// [`knot_rules`] against the rules read literally (ISO 10303-42
+/// constraints_param_b_spline): merge each run of equal knots into one of the summed
+/// multiplicity, then bound every merged multiplicity.
+#[cfg(test)]
+mod knot_rule_tests {
+    use proptest::prelude::*;
+
+    use super::{knot_rules, multiplicity_bound};
+
+    /// The rules written out with the merged list.
+    fn literal(knots: &[f64], mults: &[usize], degree: usize) -> Result<Option<String>, String> {
+        if let Some(i) = knots.windows(2).position(|w| w[1] < w[0]) {
+            return Err(format!(
+                "knot {} ({}) is less than knot {} ({}); the distinct knots must strictly increase",
+                i + 2,
+                knots[i + 1],
+                i + 1,
+                knots[i]
+            ));
+        }
+        let repeated = knots.windows(2).position(|w| w[1] == w[0]).map(|i| {
+            format!(
+                "knot {} repeats the value of knot {} ({}); the distinct knots must strictly increase",
+                i + 2,
+                i + 1,
+                knots[i]
+            )
+        });
+        if knots.len() < 2 {
+            return Ok(repeated);
+        }
+        let mut merged: Vec<(f64, usize)> = Vec::new();
+        for (&k, &m) in knots.iter().zip(mults) {
+            match merged.last_mut() {
+                Some((v, n)) if *v == k => *n += m,
+                _ => merged.push((k, m)),
+            }
+        }
+        for (i, &(_, m)) in merged.iter().enumerate() {
+            multiplicity_bound(i, merged.len(), m, degree)?;
+        }
+        Ok(repeated)
+    }
+
+    proptest! {
+        #[test]
+        fn knot_rules_are_the_rules_read_literally(
+            steps in prop::collection::vec(-1i8..3, 0..12),
+            mults in prop::collection::vec(1usize..6, 12),
+            degree in 1usize..5,
+        ) {
+            // Knots from small steps: rises, repeats and (step -1) decreases.
+            let mut knots = Vec::new();
+            let mut v = 0.0;
+            for s in steps {
+                v += f64::from(s);
+                knots.push(v);
+            }
+            let m = &mults[..knots.len()];
+            prop_assert_eq!(knot_rules(&knots, m.iter().copied(), degree), literal(&knots, m, degree));
+        }
     }
 }

@@ -133,8 +133,8 @@ struct Build<'c, 'm, 's, 'a> {
     missing_pcurves: usize,
     /// Edges split at a face's seam ([`seam_splits`]): (first half, second half).
     splits: Vec<(EdgeId, EdgeId)>,
-    /// (entity id of a PCURVE's 2-D curve, the edge using it).
-    pcurve_entities: Vec<(String, String)>,
+    /// (instance of a PCURVE's 2-D curve, the EDGE_CURVE using it).
+    pcurve_entities: Vec<(u64, u64)>,
 }
 
 /// What [`build`] made.
@@ -143,9 +143,9 @@ pub(super) struct Built {
     pub topology: Topology,
     /// What was refused or left out.
     pub diagnostics: Vec<Diagnostic>,
-    /// (entity id, edge id): the 2-D curves of the file's PCURVEs of edges in the
-    /// topology, to be marked as used by those edges.
-    pub pcurve_entities: Vec<(String, String)>,
+    /// (curve instance, EDGE_CURVE instance): the 2-D curves of the file's PCURVEs of edges
+    /// in the topology, to be marked as used by those edges.
+    pub pcurve_entities: Vec<(u64, u64)>,
 }
 
 /// Builds the topology of the decoded items over the converted edges and the document's
@@ -358,8 +358,7 @@ impl Build<'_, '_, '_, '_> {
                 items.get(reference_to_curve).map(|i| &i.record)
             {
                 for c in curves {
-                    self.pcurve_entities
-                        .push((super::instance_label(*c), super::instance_label(edge)));
+                    self.pcurve_entities.push((*c, edge));
                 }
             }
         }
