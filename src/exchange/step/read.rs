@@ -200,20 +200,24 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // below).
     drop(geometry_candidates);
     cancel.stop_read()?;
-    let mut kept = Vec::with_capacity(
-        decoded
-            .iter()
-            .filter(|(_, r)| matches!(r, Ok(Some(_))))
-            .count(),
-    );
-    for (id, r) in decoded {
-        match r {
-            Ok(Some(item)) => kept.push((id, item)),
-            Ok(None) => {}
-            Err(DecodeError::Syntax(e)) => doc.diagnostics.push(parse_diagnostic(&e)),
-            Err(DecodeError::Schema(e)) => doc.diagnostics.push(schema_diagnostic(&e)),
-        }
-    }
+    // Collected in place (the standard library reuses `decoded`'s buffer, then fits it):
+    // a second vector of every item beside it was the read's peak of memory.
+    let mut kept: Vec<(u64, GeometryItem<'_>)> = decoded
+        .into_iter()
+        .filter_map(|(id, r)| match r {
+            Ok(Some(item)) => Some((id, item)),
+            Ok(None) => None,
+            Err(DecodeError::Syntax(e)) => {
+                doc.diagnostics.push(parse_diagnostic(&e));
+                None
+            }
+            Err(DecodeError::Schema(e)) => {
+                doc.diagnostics.push(schema_diagnostic(&e));
+                None
+            }
+        })
+        .collect();
+    kept.shrink_to_fit();
     let mut items = Items::new(kept);
     let radians = if items.is_empty() {
         1.0
