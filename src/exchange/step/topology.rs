@@ -202,6 +202,20 @@ pub(super) fn build(
             ));
         }
     }
+    // The model's lists and their origins at the size the file gives them (grown by
+    // doubling, up to half of each would be unused room at the read's peak of memory).
+    let faces = conv
+        .items
+        .values()
+        .filter(|i| matches!(i.record, R::FaceSurface { .. }))
+        .count();
+    let (model, origins) = (&mut b.topology.model, &mut b.topology.origins);
+    model.vertices.reserve_exact(points.len());
+    origins.vertices.reserve_exact(points.len());
+    model.edges.reserve_exact(edges.len());
+    origins.edges.reserve_exact(edges.len());
+    model.faces.reserve_exact(faces);
+    origins.faces.reserve_exact(faces);
     for (id, p) in points {
         match b.topology.model.add_vertex(p, b.tolerance) {
             Ok(v) => {
