@@ -1631,7 +1631,8 @@ pub struct BSplineCurve<'a> {
     /// `weights_data` of RATIONAL_B_SPLINE_CURVE.
     pub weights: Option<Vec<f64>>,
     /// The entity type as written (`B_SPLINE_CURVE_WITH_KNOTS` or `(A,B,...)`); borrowed
-    /// for the spellings of [`bspline_entity_type`] (no allocation per record).
+    /// (no allocation per record) for the simple B-spline types and the rational complex
+    /// instances with all their partials in alphabetical order.
     pub entity_type: Cow<'static, str>,
 }
 
