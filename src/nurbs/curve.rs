@@ -17,32 +17,19 @@ use super::{GeometryError, Hpoint, MAX_DEGREE, Point3};
 /// deserialisation), so every value of this type satisfies the invariants listed there.
 ///
 /// [`dimension`]: NurbsCurve::dimension
-#[derive(Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NurbsCurve(Arc<CurveData>);
 
 /// The data of a [`NurbsCurve`], behind one shared pointer: a clone (a face's surface
 /// and the entity it came from, an edge's curve and its entity) shares the knots, poles
 /// and weights instead of copying them. Every value is immutable once checked.
-#[derive(Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct CurveData {
     degree: usize,
     knots: Vec<f64>,
     points: Vec<Point3>,
     weights: Option<Vec<f64>>,
     dimension: usize,
-}
-
-impl std::fmt::Debug for NurbsCurve {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let d = &*self.0;
-        f.debug_struct("NurbsCurve")
-            .field("degree", &d.degree)
-            .field("knots", &d.knots)
-            .field("points", &d.points)
-            .field("weights", &d.weights)
-            .field("dimension", &d.dimension)
-            .finish()
-    }
 }
 
 impl NurbsCurve {

@@ -13,13 +13,13 @@ use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, Point3};
 /// Storage follows [`NurbsCurve`](super::NurbsCurve): Euclidean control points exactly as
 /// read, `weights: None` when polynomial. The control net is a [`Grid`] indexed `(i, j)`,
 /// `i` along u (`0..nu`), `j` along v (`0..nv`).
-#[derive(Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NurbsSurface(Arc<SurfaceData>);
 
 /// The data of a [`NurbsSurface`], behind one shared pointer: a clone (a face's surface
 /// and the entity it came from, an edge's curve and its entity) shares the knots, poles
 /// and weights instead of copying them. Every value is immutable once checked.
-#[derive(Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct SurfaceData {
     degree_u: usize,
     degree_v: usize,
@@ -28,21 +28,6 @@ struct SurfaceData {
     points: Grid<Point3>,
     weights: Option<Grid<f64>>,
     dimension: usize,
-}
-
-impl std::fmt::Debug for NurbsSurface {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let d = &*self.0;
-        f.debug_struct("NurbsSurface")
-            .field("degree_u", &d.degree_u)
-            .field("degree_v", &d.degree_v)
-            .field("knots_u", &d.knots_u)
-            .field("knots_v", &d.knots_v)
-            .field("points", &d.points)
-            .field("weights", &d.weights)
-            .field("dimension", &d.dimension)
-            .finish()
-    }
 }
 
 impl NurbsSurface {

@@ -63,7 +63,6 @@ pub(super) fn frame_items(products: &Products<'_>, items: &Items<'_>) -> HashSet
                     ..
                 }) => out.extend(axis.iter().chain(ref_direction)),
                 Some(G::Axis2Placement2d { ref_direction, .. }) => out.extend(ref_direction),
-                Some(G::Axis1Placement { axis, .. }) => out.extend(axis),
                 _ => {}
             }
         }
