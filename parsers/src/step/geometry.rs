@@ -26,6 +26,36 @@ pub enum TrimmingSelect {
     Point(u64),
 }
 
+/// The trimming attributes of a `trimmed_curve` (ISO 10303-42 4.4.21).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trimming<'a> {
+    /// `trim_1`: one or two trimming selects (a point and/or a parameter).
+    pub trim_1: Box<[TrimmingSelect]>,
+    /// `trim_2`.
+    pub trim_2: Box<[TrimmingSelect]>,
+    /// `sense_agreement`.
+    pub sense_agreement: bool,
+    /// `master_representation` without dots (`PARAMETER`, `CARTESIAN`, `UNSPECIFIED`).
+    pub master_representation: &'a str,
+}
+
+/// The trimming attributes of a `rectangular_trimmed_surface` (ISO 10303-42 4.4.50).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RectangularTrim {
+    /// `u1`.
+    pub u1: f64,
+    /// `u2`.
+    pub u2: f64,
+    /// `v1`.
+    pub v1: f64,
+    /// `v2`.
+    pub v2: f64,
+    /// `usense`.
+    pub usense: bool,
+    /// `vsense`.
+    pub vsense: bool,
+}
+
 /// One ISO 10303-42 entity of those this module reads; each variant carries its explicit
 /// attributes under their EXPRESS names (inherited `position`/`location` included).
 #[derive(Debug, Clone, PartialEq)]
@@ -113,15 +143,9 @@ pub enum GeometryRecord<'a> {
     TrimmedCurve {
         /// `basis_curve`.
         basis_curve: u64,
-        /// `trim_1`: one or two trimming selects (a point and/or a parameter). Boxed slices
-        /// (not vectors) keep this, the largest record, and so every item, smaller.
-        trim_1: Box<[TrimmingSelect]>,
-        /// `trim_2`.
-        trim_2: Box<[TrimmingSelect]>,
-        /// `sense_agreement`.
-        sense_agreement: bool,
-        /// `master_representation` without dots (`PARAMETER`, `CARTESIAN`, `UNSPECIFIED`).
-        master_representation: &'a str,
+        /// The other attributes, boxed: the entity is rare, and its attributes inline would
+        /// make every record (the variants share one size) half as large again.
+        trimming: Box<Trimming<'a>>,
     },
     /// `composite_curve` (4.4.22): `segments`, `self_intersect`.
     CompositeCurve {
@@ -143,8 +167,9 @@ pub enum GeometryRecord<'a> {
     SurfaceCurve {
         /// `curve_3d`.
         curve_3d: u64,
-        /// `associated_geometry` (PCURVEs or surfaces, 1 or 2).
-        associated_geometry: Vec<u64>,
+        /// `associated_geometry` (PCURVEs or surfaces, 1 or 2). A boxed slice, not a
+        /// vector: this record is common, and sets the size of all of them.
+        associated_geometry: Box<[u64]>,
         /// `master_representation` without dots (`CURVE_3D`, `PCURVE_S1`, `PCURVE_S2`).
         master_representation: &'a str,
     },
@@ -219,18 +244,9 @@ pub enum GeometryRecord<'a> {
     RectangularTrimmedSurface {
         /// `basis_surface`.
         basis_surface: u64,
-        /// `u1`.
-        u1: f64,
-        /// `u2`.
-        u2: f64,
-        /// `v1`.
-        v1: f64,
-        /// `v2`.
-        v2: f64,
-        /// `usense`.
-        usense: bool,
-        /// `vsense`.
-        vsense: bool,
+        /// The trimming parameters, boxed (a rare entity; see
+        /// [`GeometryRecord::TrimmedCurve`]).
+        bounds: Box<RectangularTrim>,
     },
     /// `offset_curve_2d`/`offset_curve_3d`/`offset_surface` (4.4.24, 4.4.25, 4.4.46): no
     /// exact rational form in general; read so the reader can name what it refuses.
@@ -590,10 +606,12 @@ impl<'a> GeometryItem<'a> {
             },
             "TRIMMED_CURVE" => R::TrimmedCurve {
                 basis_curve: a.reference(entity, "basis_curve")?,
-                trim_1: a.checked(entity, "trim_1", trimming_selects)?,
-                trim_2: a.checked(entity, "trim_2", trimming_selects)?,
-                sense_agreement: a.boolean(entity, "sense_agreement")?,
-                master_representation: a.enumeration(entity, "master_representation")?,
+                trimming: Box::new(Trimming {
+                    trim_1: a.checked(entity, "trim_1", trimming_selects)?,
+                    trim_2: a.checked(entity, "trim_2", trimming_selects)?,
+                    sense_agreement: a.boolean(entity, "sense_agreement")?,
+                    master_representation: a.enumeration(entity, "master_representation")?,
+                }),
             },
             "COMPOSITE_CURVE" => R::CompositeCurve {
                 segments: a.references(entity, "segments")?,
@@ -606,7 +624,9 @@ impl<'a> GeometryItem<'a> {
             },
             "SEAM_CURVE" | "INTERSECTION_CURVE" | "SURFACE_CURVE" => R::SurfaceCurve {
                 curve_3d: a.reference("SURFACE_CURVE", "curve_3d")?,
-                associated_geometry: a.references("SURFACE_CURVE", "associated_geometry")?,
+                associated_geometry: a
+                    .references("SURFACE_CURVE", "associated_geometry")?
+                    .into_boxed_slice(),
                 master_representation: a.enumeration("SURFACE_CURVE", "master_representation")?,
             },
             "PCURVE" => R::Pcurve {
@@ -653,12 +673,14 @@ impl<'a> GeometryItem<'a> {
             },
             "RECTANGULAR_TRIMMED_SURFACE" => R::RectangularTrimmedSurface {
                 basis_surface: a.reference(entity, "basis_surface")?,
-                u1: a.real(entity, "u1")?,
-                u2: a.real(entity, "u2")?,
-                v1: a.real(entity, "v1")?,
-                v2: a.real(entity, "v2")?,
-                usense: a.boolean(entity, "usense")?,
-                vsense: a.boolean(entity, "vsense")?,
+                bounds: Box::new(RectangularTrim {
+                    u1: a.real(entity, "u1")?,
+                    u2: a.real(entity, "u2")?,
+                    v1: a.real(entity, "v1")?,
+                    v2: a.real(entity, "v2")?,
+                    usense: a.boolean(entity, "usense")?,
+                    vsense: a.boolean(entity, "vsense")?,
+                }),
             },
             "OFFSET_CURVE_2D" | "OFFSET_CURVE_3D" => R::Offset {
                 basis: a.reference(entity, "basis_curve")?,

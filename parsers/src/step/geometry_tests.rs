@@ -111,10 +111,12 @@ fn valid_simple_instances() {
             "#1=TRIMMED_CURVE('',#2,(#3,PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.5)),.F.,.PARAMETER.);",
             R::TrimmedCurve {
                 basis_curve: 2,
-                trim_1: vec![TrimmingSelect::Point(3), TrimmingSelect::Parameter(0.0)].into(),
-                trim_2: vec![TrimmingSelect::Parameter(1.5)].into(),
-                sense_agreement: false,
-                master_representation: "PARAMETER",
+                trimming: Box::new(Trimming {
+                    trim_1: vec![TrimmingSelect::Point(3), TrimmingSelect::Parameter(0.0)].into(),
+                    trim_2: vec![TrimmingSelect::Parameter(1.5)].into(),
+                    sense_agreement: false,
+                    master_representation: "PARAMETER",
+                }),
             },
         ),
         (
@@ -136,7 +138,7 @@ fn valid_simple_instances() {
             "#1=SEAM_CURVE('',#2,(#3,#4),.PCURVE_S1.);",
             R::SurfaceCurve {
                 curve_3d: 2,
-                associated_geometry: vec![3, 4],
+                associated_geometry: vec![3, 4].into(),
                 master_representation: "PCURVE_S1",
             },
         ),
@@ -213,12 +215,14 @@ fn valid_simple_instances() {
             "#1=RECTANGULAR_TRIMMED_SURFACE('',#2,0.,1.,-2.,3.,.T.,.F.);",
             R::RectangularTrimmedSurface {
                 basis_surface: 2,
-                u1: 0.0,
-                u2: 1.0,
-                v1: -2.0,
-                v2: 3.0,
-                usense: true,
-                vsense: false,
+                bounds: Box::new(RectangularTrim {
+                    u1: 0.0,
+                    u2: 1.0,
+                    v1: -2.0,
+                    v2: 3.0,
+                    usense: true,
+                    vsense: false,
+                }),
             },
         ),
         ("#1=OFFSET_SURFACE('',#2,1.,.F.);", R::Offset { basis: 2 }),

@@ -99,7 +99,7 @@ pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<Geo
         },
         Shape::SurfaceCurve => R::SurfaceCurve {
             curve_3d: r.next_reference()?,
-            associated_geometry: r.next_references()?,
+            associated_geometry: r.next_references()?.into_boxed_slice(),
             master_representation: {
                 r.byte(b',')?;
                 r.enumeration()?

@@ -26,9 +26,12 @@
 pub(super) type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
 /// See [`HashMap`].
 type HashSet<K> = std::collections::HashSet<K, foldhash::quality::RandomState>;
+use std::borrow::Cow;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-use nurbsx_parsers::step::geometry::{GeometryItem, GeometryRecord as R, TrimmingSelect};
+use nurbsx_parsers::step::geometry::{
+    GeometryItem, GeometryRecord as R, RectangularTrim, Trimming, TrimmingSelect,
+};
 use nurbsx_parsers::step::schema::names_bspline_surface;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
@@ -392,6 +395,28 @@ fn curve_param(b: &Basis) -> Param {
     }
 }
 
+/// A decoded geometry item as the reader keeps it: the most specific entity type read and
+/// the attributes. The name and the entity type as written, which only the entities and
+/// origins made from it need, are read again from the instance then
+/// ([`Converter::provenance`]): holding them for every item made each 136 bytes instead
+/// of 88, and the items are the read's largest structure.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Kept<'a> {
+    /// [`GeometryItem::entity`].
+    pub entity: &'static str,
+    /// [`GeometryItem::record`].
+    pub record: R<'a>,
+}
+
+impl<'a> From<GeometryItem<'a>> for Kept<'a> {
+    fn from(item: GeometryItem<'a>) -> Self {
+        Kept {
+            entity: item.entity,
+            record: item.record,
+        }
+    }
+}
+
 /// The decoded geometry items by instance id, held in one vector in ascending id order
 /// (no per-item allocation, no hash table slack: the items are the read's largest
 /// structure). An id is found through a slot table indexed by id when the ids are dense
@@ -401,7 +426,7 @@ fn curve_param(b: &Basis) -> Param {
 #[derive(Default)]
 pub(super) struct Items<'a> {
     /// The items, ids ascending and unique.
-    entries: Vec<(u64, GeometryItem<'a>)>,
+    entries: Vec<(u64, Kept<'a>)>,
     /// `slots[id]` is the item's position in `entries` ([`Items::NONE`] for none); empty
     /// when the ids are sparse.
     slots: Vec<u32>,
@@ -413,7 +438,7 @@ impl<'a> Items<'a> {
 
     /// The items `(id, item)`, in any order; of a repeated id the first is kept (the
     /// reader decodes only the indexed instance of a duplicated id).
-    pub(super) fn new(mut entries: Vec<(u64, GeometryItem<'a>)>) -> Self {
+    pub(super) fn new(mut entries: Vec<(u64, Kept<'a>)>) -> Self {
         // Files list instances in ascending id order almost always: the sort then only
         // checks the order (a linear pass).
         entries.sort_by_key(|(id, _)| *id);
@@ -424,7 +449,7 @@ impl<'a> Items<'a> {
 
     /// The dense id -> entry index of `entries` (sorted by id), or none when the ids are
     /// too sparse for one (lookups then search).
-    fn slots(entries: &[(u64, GeometryItem<'a>)]) -> Vec<u32> {
+    fn slots(entries: &[(u64, Kept<'a>)]) -> Vec<u32> {
         let max = entries.last().map_or(0, |(id, _)| *id);
         let dense = usize::try_from(max).ok().filter(|&m| {
             m <= entries.len().saturating_mul(4).saturating_add(1024)
@@ -455,7 +480,7 @@ impl<'a> Items<'a> {
 
     /// The item `#id`.
     #[inline]
-    pub(super) fn get(&self, id: &u64) -> Option<&GeometryItem<'a>> {
+    pub(super) fn get(&self, id: &u64) -> Option<&Kept<'a>> {
         let k = if self.slots.is_empty() {
             self.entries.binary_search_by_key(id, |(i, _)| *i).ok()?
         } else {
@@ -474,7 +499,7 @@ impl<'a> Items<'a> {
     }
 
     /// The items with their ids, ascending.
-    pub(super) fn iter(&self) -> impl Iterator<Item = (u64, &GeometryItem<'a>)> {
+    pub(super) fn iter(&self) -> impl Iterator<Item = (u64, &Kept<'a>)> {
         self.entries.iter().map(|(id, item)| (*id, item))
     }
 
@@ -484,7 +509,7 @@ impl<'a> Items<'a> {
     }
 
     /// The items, in ascending id order.
-    pub(super) fn values(&self) -> impl Iterator<Item = &GeometryItem<'a>> {
+    pub(super) fn values(&self) -> impl Iterator<Item = &Kept<'a>> {
         self.entries.iter().map(|(_, item)| item)
     }
 
@@ -602,7 +627,7 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     /// An OFFSET_CURVE/OFFSET_SURFACE: refused, located at the entity.
-    fn unsupported(&self, id: u64, item: &GeometryItem<'_>) -> Diagnostic {
+    fn unsupported(&self, id: u64, item: &Kept<'_>) -> Diagnostic {
         self.error(
             id,
             "geometry.unsupported",
@@ -631,7 +656,7 @@ impl<'a> Converter<'_, '_, 'a> {
         }
     }
 
-    fn item(&self, id: u64, from: u64, what: &str) -> Res<&GeometryItem<'a>> {
+    fn item(&self, id: u64, from: u64, what: &str) -> Res<&Kept<'a>> {
         self.items.get(&id).ok_or_else(|| {
             self.error(
                 from,
@@ -896,19 +921,22 @@ impl<'a> Converter<'_, '_, 'a> {
     fn trimmed(
         &self,
         id: u64,
-        item: &GeometryItem<'a>,
+        item: &Kept<'a>,
         depth: usize,
     ) -> Res<(NurbsCurve, Option<Shape>, Option<Meta>)> {
         let R::TrimmedCurve {
             basis_curve,
-            trim_1,
-            trim_2,
-            sense_agreement,
-            master_representation,
+            trimming,
         } = &item.record
         else {
             return Err(self.error(id, "step.reference", "not a TRIMMED_CURVE"));
         };
+        let Trimming {
+            trim_1,
+            trim_2,
+            sense_agreement,
+            master_representation,
+        } = trimming.as_ref();
         let basis = self.basis(*basis_curve, id, depth + 1)?;
         let t1 = self.trim_value(id, &basis, trim_1, master_representation)?;
         let t2 = self.trim_value(id, &basis, trim_2, master_representation)?;
@@ -1221,21 +1249,24 @@ impl<'a> Converter<'_, '_, 'a> {
     fn rectangular_trimmed(
         &self,
         id: u64,
-        item: &GeometryItem<'a>,
+        item: &Kept<'a>,
         depth: usize,
     ) -> Res<(NurbsSurface, Option<Shape>)> {
         let R::RectangularTrimmedSurface {
             basis_surface,
+            ref bounds,
+        } = item.record
+        else {
+            return Err(self.error(id, "step.reference", "not a RECTANGULAR_TRIMMED_SURFACE"));
+        };
+        let RectangularTrim {
             u1,
             u2,
             v1,
             v2,
             usense,
             vsense,
-        } = item.record
-        else {
-            return Err(self.error(id, "step.reference", "not a RECTANGULAR_TRIMMED_SURFACE"));
-        };
+        } = **bounds;
         let basis = self.surface_basis(basis_surface, id, depth + 1)?;
         let (ku, kv) = basis.units();
         let (pu, pv) = basis.periods();
@@ -1275,15 +1306,11 @@ impl<'a> Converter<'_, '_, 'a> {
         base: Option<Meta>,
     ) -> Placed {
         let raw = self.s.get(id);
-        let item = self.items.get(&id);
         let offset = raw.map_or(0, |r| r.offset);
         let mut meta = base.unwrap_or_default();
-        if let Some(name) = item
-            .and_then(|i| i.name.as_ref())
-            .map(|n| n.decode_lossy().into_owned())
-            .filter(|n| !n.is_empty())
-        {
-            meta.name = Some(name);
+        let (entity, name) = self.provenance(id);
+        if name.is_some() {
+            meta.name = name;
         }
         meta.shape = shape;
         meta.used_by = used_by;
@@ -1293,12 +1320,31 @@ impl<'a> Converter<'_, '_, 'a> {
                 id: label,
                 geometry,
                 source: Source {
-                    entity: item.map_or_else(Default::default, |i| i.entity_type.clone()),
+                    entity,
                     line: raw.map(|r| self.s.locate(r.offset).0),
                 },
                 meta,
             },
         )
+    }
+
+    /// The entity type as written and the name (when not empty) of item `#id`, read again
+    /// from its instance (see [`Kept`]); the default (an empty type, no name) when `#id` is
+    /// no item.
+    pub(super) fn provenance(&self, id: u64) -> (Cow<'static, str>, Option<String>) {
+        if !self.items.contains_key(&id) {
+            return Default::default();
+        }
+        // Decoded before, so again (the decoders are pure functions of the instance text).
+        match self.s.get(id).map(|raw| self.s.geometry_item(raw)) {
+            Some(Ok(Some(item))) => (
+                item.entity_type,
+                item.name
+                    .map(|n| n.decode_lossy().into_owned())
+                    .filter(|n| !n.is_empty()),
+            ),
+            _ => Default::default(),
+        }
     }
 }
 
@@ -2062,11 +2108,9 @@ mod tests {
     use super::*;
 
     /// An item of the given id (a DIRECTION whose ratio is the id, to tell them apart).
-    fn item(id: u64) -> (u64, GeometryItem<'static>) {
-        let item = GeometryItem {
-            name: None,
+    fn item(id: u64) -> (u64, Kept<'static>) {
+        let item = Kept {
             entity: "DIRECTION",
-            entity_type: std::borrow::Cow::Borrowed("DIRECTION"),
             record: R::Direction {
                 direction_ratios: vec![id as f64],
             },

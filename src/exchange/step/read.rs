@@ -12,11 +12,11 @@ use nurbsx_parsers::step::{
 
 use rayon::prelude::*;
 
-use nurbsx_parsers::step::geometry::{GeometryItem, is_geometry_entity, maybe_complex_geometry};
+use nurbsx_parsers::step::geometry::{is_geometry_entity, maybe_complex_geometry};
 use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
-use super::geometry::{Converter, Items, Units};
+use super::geometry::{Converter, Items, Kept, Units};
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_plane_angle, context_units};
 use crate::exchange::{
@@ -100,6 +100,10 @@ const LOWER_CASE_KEYWORD: &str = "step.syntax.lowercase_keyword";
 /// How many lower-case keywords are listed one by one (a file written all in lower case has
 /// one per instance); the rest are counted.
 const MAX_LOWER_CASE_LISTED: usize = 100;
+
+/// A geometry candidate decoded: the item as kept, none (not a geometry instance after
+/// all), or why not.
+type Decoded<'a> = Result<Option<Kept<'a>>, Box<DecodeError>>;
 
 /// [`read`] of a text read as written.
 fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
@@ -186,14 +190,18 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // then converted (geometry.rs), which also says which B-splines it built into other
     // entities (trimmed, composite, swept): those are not converted again below.
     let stopped = std::sync::atomic::AtomicBool::new(false);
-    let decoded: Vec<(u64, Result<Option<GeometryItem<'_>>, DecodeError>)> = geometry_candidates
+    // Kept as the reader keeps them (`Kept`: no name or type text), with the rare errors
+    // boxed, so that this vector, the largest of the read while it lives, is no larger
+    // than the items it becomes.
+    let decoded: Vec<(u64, Decoded<'_>)> = geometry_candidates
         .par_iter()
         .enumerate()
         .map(|(k, raw)| {
             if cancel.skip(k, &stopped) {
                 return (raw.id, Ok(None));
             }
-            (raw.id, scanned.geometry_item(raw))
+            let item = scanned.geometry_item(raw);
+            (raw.id, item.map(|i| i.map(Kept::from)).map_err(Box::new))
         })
         .collect();
     // Every instance index no longer needed is freed before the read's peak (the topology,
@@ -202,17 +210,16 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     cancel.stop_read()?;
     // Collected in place (the standard library reuses `decoded`'s buffer, then fits it):
     // a second vector of every item beside it was the read's peak of memory.
-    let mut kept: Vec<(u64, GeometryItem<'_>)> = decoded
+    let mut kept: Vec<(u64, Kept<'_>)> = decoded
         .into_iter()
         .filter_map(|(id, r)| match r {
             Ok(Some(item)) => Some((id, item)),
             Ok(None) => None,
-            Err(DecodeError::Syntax(e)) => {
-                doc.diagnostics.push(parse_diagnostic(&e));
-                None
-            }
-            Err(DecodeError::Schema(e)) => {
-                doc.diagnostics.push(schema_diagnostic(&e));
+            Err(e) => {
+                doc.diagnostics.push(match *e {
+                    DecodeError::Syntax(e) => parse_diagnostic(&e),
+                    DecodeError::Schema(e) => schema_diagnostic(&e),
+                });
                 None
             }
         })

@@ -277,18 +277,15 @@ pub(super) fn build(
 
 impl Build<'_, '_, '_, '_> {
     fn origin(&self, id: u64, entity: Option<String>) -> Origin {
-        let item = self.conv.items.get(&id);
         let (line, _) = self.conv.line_column(id);
+        let (source_entity, name) = self.conv.provenance(id);
         Origin {
             id: super::instance_label(id),
             source: Source {
-                entity: item.map_or_else(Default::default, |i| i.entity_type.clone()),
+                entity: source_entity,
                 line: (line > 0).then_some(line),
             },
-            name: item
-                .and_then(|i| i.name.as_ref())
-                .map(|n| n.decode_lossy().into_owned())
-                .filter(|n| !n.is_empty()),
+            name,
             entity,
         }
     }
