@@ -105,7 +105,7 @@ fn meta(rng: &mut Rng) -> Meta {
             Some("PLANE_SURF"),
             Some("bogus"),
         ][rng.below(4)]
-        .map(str::to_owned),
+        .map(std::borrow::Cow::Borrowed),
         self_intersect: [None, Some(false), Some(true)][rng.below(3)],
         ..Meta::default()
     }

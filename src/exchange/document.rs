@@ -224,9 +224,9 @@ pub struct Meta {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// STEP `curve_form`/`surface_form` in lower case (`circular_arc`), or the IGES form
-    /// number as a string.
+    /// number as a string. Borrowed for the standard's values (no allocation per entity).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub form: Option<String>,
+    pub form: Option<Cow<'static, str>>,
     /// STEP `closed_curve`/`u_closed`, IGES PROP2 (126) / PROP1 (128).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closed_u: Option<bool>,
@@ -244,8 +244,9 @@ pub struct Meta {
     pub self_intersect: Option<bool>,
     /// STEP `knot_spec` in lower case (`piecewise_bezier_knots`), or the implicit-knot
     /// subtype the knots were synthesised for (`bezier`, `uniform`, `quasi_uniform`).
+    /// Borrowed for the standard's values.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub knot_spec: Option<String>,
+    pub knot_spec: Option<Cow<'static, str>>,
     /// What the geometry was in the source file (a circle, a cylinder ...), kept through
     /// conversion; writers map it to STEP `curve_form`/`surface_form` and to IGES 126 forms
     /// 1-5 / 128 forms 1-8 when the geometry agrees.

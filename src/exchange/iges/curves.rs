@@ -49,7 +49,7 @@ pub(super) fn simple_curve(
 ) -> Option<CurveOut> {
     let mut meta = Meta {
         name: super::read::name_of(entry),
-        form: Some(entry.form.to_string()),
+        form: Some(super::form_text(entry.form)),
         ..Meta::default()
     };
     let built = match entry.entity_type {
@@ -720,7 +720,7 @@ pub(super) fn composite(
     }
     let mut meta = Meta {
         name: super::read::name_of(entry),
-        form: Some(entry.form.to_string()),
+        form: Some(super::form_text(entry.form)),
         ..Meta::default()
     };
     let chain = cx.transforms(entry, &mut meta, diags)?;

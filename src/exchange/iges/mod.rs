@@ -77,3 +77,16 @@ fn entity_type_name(n: i64) -> std::borrow::Cow<'static, str> {
     };
     known.into()
 }
+
+/// An entity's form number (IGES 5.3 section 2.2.4.4.15) as the model keeps it
+/// (`Meta::form`): the forms of the curve and surface entities (0 to 12) spelt without an
+/// allocation per entity, any other one formatted.
+fn form_text(form: i64) -> std::borrow::Cow<'static, str> {
+    const FORMS: [&str; 13] = [
+        "0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "10", "11", "12",
+    ];
+    match usize::try_from(form).ok().and_then(|k| FORMS.get(k)) {
+        Some(f) => (*f).into(),
+        None => form.to_string().into(),
+    }
+}

@@ -1288,7 +1288,7 @@ pub(super) fn read_curve(
     }
     let mut meta = Meta {
         name: name_of(entry),
-        form: Some(entry.form.to_string()),
+        form: Some(super::form_text(entry.form)),
         ..Meta::default()
     };
     let planar = flag(rec.planar, "PROP1 (planar)", entry, diags);
@@ -1513,7 +1513,7 @@ fn read_surface(
     let loc = entity_location(entry);
     let mut meta = Meta {
         name: name_of(entry),
-        form: Some(entry.form.to_string()),
+        form: Some(super::form_text(entry.form)),
         ..Meta::default()
     };
     let closed = [

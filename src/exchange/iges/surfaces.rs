@@ -46,7 +46,7 @@ pub(super) fn surface(
 ) -> Option<SurfaceOut> {
     let mut meta = Meta {
         name: name_of(entry),
-        form: Some(entry.form.to_string()),
+        form: Some(super::form_text(entry.form)),
         ..Meta::default()
     };
     let chain = cx.transforms(entry, &mut meta, diags)?;

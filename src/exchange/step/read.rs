@@ -11,6 +11,7 @@ use nurbsx_parsers::step::{
 };
 
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 use nurbsx_parsers::step::geometry::{is_geometry_entity, maybe_complex_geometry};
 use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
@@ -359,6 +360,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     }
 
     // The boundary representation over the converted geometry (topology.rs).
+    let mut pcurve_users = Vec::new();
     if options.geometry_only {
         doc.diagnostics.extend(converted.analytic_pcurves.take());
         let c = super::topology::count(&Converter::new(&scanned, &items, units, &bspline));
@@ -410,25 +412,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             &mut doc.topology,
             options.limits.max_entities,
         ));
-        if !built.pcurve_entities.is_empty() {
-            let mut users: super::geometry::HashMap<u64, Vec<String>> = Default::default();
-            for (curve, edge) in built.pcurve_entities {
-                users
-                    .entry(curve)
-                    .or_default()
-                    .push(super::instance_label(edge));
-            }
-            for e in &mut doc.entities {
-                // The entity of instance #n is labelled `#n` (`instance_label`).
-                let instance =
-                    e.id.strip_prefix('#')
-                        .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))
-                        .and_then(|d| d.parse::<u64>().ok());
-                if let Some(list) = instance.and_then(|id| users.remove(&id)) {
-                    e.meta.used_by.extend(list);
-                }
-            }
-        }
+        pcurve_users = built.pcurve_entities;
     }
     doc.diagnostics.extend(presentation.diagnostic(&scanned));
     if options.conformance {
@@ -436,12 +420,53 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         header_conformance(text, &scanned, &mut doc.diagnostics);
         conformance(&scanned, &mut doc.diagnostics, cancel)?;
     }
+    // The instance index and the decoded items are freed before the labels below are made
+    // (the read's peak of memory was there, with both alive).
+    drop(items);
+    drop(candidates);
+    drop(complex);
+    drop(product_candidates);
+    drop(scanned);
+    label_pcurve_users(&mut doc.entities, pcurve_users);
     // The same finding reached by two paths (a syntax error in a B-spline instance is met by
     // the scan and by the decoder) is reported once.
     let mut seen = std::collections::HashSet::new();
     doc.diagnostics
         .retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     Ok(doc)
+}
+
+/// Adds to each 2-D curve entity the edges whose pcurve it is (`Meta::used_by`), from the
+/// `(curve, edge)` instance pairs the topology found, in their order. The entity of
+/// instance #n is labelled `#n` (`instance_label`); of several entities with one label the
+/// first takes the list.
+fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
+    if pairs.is_empty() {
+        return;
+    }
+    // A stable sort: each curve's edges stay in the order found.
+    pairs.sort_by_key(|&(curve, _)| curve);
+    let mut taken = vec![false; pairs.len()];
+    for e in entities {
+        let Some(id) =
+            e.id.strip_prefix('#')
+                .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))
+                .and_then(|d| d.parse::<u64>().ok())
+        else {
+            continue;
+        };
+        let start = pairs.partition_point(|&(curve, _)| curve < id);
+        let end = start + pairs[start..].partition_point(|&(curve, _)| curve == id);
+        if start == end || taken[start] {
+            continue;
+        }
+        taken[start] = true;
+        e.meta.used_by.extend(
+            pairs[start..end]
+                .iter()
+                .map(|&(_, edge)| super::instance_label(edge)),
+        );
+    }
 }
 
 /// The presentation and property data of a file, which nurbsx does not carry into its
@@ -1082,10 +1107,10 @@ impl<'a> Ctx<'_, 'a> {
                 .map(|n| n.decode_lossy().into_owned())
                 .filter(|n| !n.is_empty()),
             knot_spec: Some(match spec {
-                KnotSpec::Explicit { knot_spec, .. } => knot_spec.to_ascii_lowercase(),
-                KnotSpec::Bezier => "bezier".to_owned(),
-                KnotSpec::Uniform => "uniform".to_owned(),
-                KnotSpec::QuasiUniform => "quasi_uniform".to_owned(),
+                KnotSpec::Explicit { knot_spec, .. } => lower_case(knot_spec, KNOT_TYPES),
+                KnotSpec::Bezier => Cow::Borrowed("bezier"),
+                KnotSpec::Uniform => Cow::Borrowed("uniform"),
+                KnotSpec::QuasiUniform => Cow::Borrowed("quasi_uniform"),
             }),
             ..Meta::default()
         }
@@ -1161,7 +1186,7 @@ impl<'a> Ctx<'_, 'a> {
                 .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
         self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
-        meta.form = Some(r.curve_form.to_ascii_lowercase());
+        meta.form = Some(lower_case(r.curve_form, CURVE_FORMS));
         meta.closed_u = r.closed_curve.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
         if let Some(flag) = r.closed_curve.as_bool() {
@@ -1263,7 +1288,7 @@ impl<'a> Ctx<'_, 'a> {
             diags,
         );
         let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
-        meta.form = Some(r.surface_form.to_ascii_lowercase());
+        meta.form = Some(lower_case(r.surface_form, SURFACE_FORMS));
         meta.closed_u = r.u_closed.as_bool();
         meta.closed_v = r.v_closed.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
@@ -1423,6 +1448,15 @@ fn multiplicity_bound(i: usize, count: usize, m: usize, degree: usize) -> Result
 /// `b_spline_curve_form`, `b_spline_surface_form`). A value outside them is non-conforming; the geometry does not
 /// depend on it. `location` is asked for only when there is something to say (finding a
 /// line counts the lines before the instance).
+/// `value` in lower case: the entry of `known` (lower-case values) it names, borrowed, else
+/// a lower-cased copy.
+fn lower_case(value: &str, known: &[&'static str]) -> Cow<'static, str> {
+    match known.iter().find(|k| k.eq_ignore_ascii_case(value)) {
+        Some(k) => Cow::Borrowed(k),
+        None => Cow::Owned(value.to_ascii_lowercase()),
+    }
+}
+
 fn enumeration(
     value: &str,
     allowed: &[&str],
@@ -1435,44 +1469,44 @@ fn enumeration(
             "step.enumeration",
             format!(
                 "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
-                allowed.join(", ")
+                allowed.join(", ").to_ascii_uppercase()
             ),
             location(),
         ));
     }
 }
 
-/// ISO 10303-42 `knot_type`.
+/// ISO 10303-42 `knot_type`, in lower case as the model keeps it (`Meta::knot_spec`).
 const KNOT_TYPES: &[&str] = &[
-    "UNIFORM_KNOTS",
-    "QUASI_UNIFORM_KNOTS",
-    "PIECEWISE_BEZIER_KNOTS",
-    "UNSPECIFIED",
+    "uniform_knots",
+    "quasi_uniform_knots",
+    "piecewise_bezier_knots",
+    "unspecified",
 ];
 
-/// ISO 10303-42 `b_spline_curve_form`.
+/// ISO 10303-42 `b_spline_curve_form`, in lower case as the model keeps it (`Meta::form`).
 const CURVE_FORMS: &[&str] = &[
-    "POLYLINE_FORM",
-    "CIRCULAR_ARC",
-    "ELLIPTIC_ARC",
-    "PARABOLIC_ARC",
-    "HYPERBOLIC_ARC",
-    "UNSPECIFIED",
+    "polyline_form",
+    "circular_arc",
+    "elliptic_arc",
+    "parabolic_arc",
+    "hyperbolic_arc",
+    "unspecified",
 ];
 
-/// ISO 10303-42 `b_spline_surface_form`.
+/// ISO 10303-42 `b_spline_surface_form`, in lower case as the model keeps it.
 const SURFACE_FORMS: &[&str] = &[
-    "PLANE_SURF",
-    "CYLINDRICAL_SURF",
-    "CONICAL_SURF",
-    "SPHERICAL_SURF",
-    "TOROIDAL_SURF",
-    "SURF_OF_REVOLUTION",
-    "RULED_SURF",
-    "GENERALISED_CONE",
-    "QUADRIC_SURF",
-    "SURF_OF_LINEAR_EXTRUSION",
-    "UNSPECIFIED",
+    "plane_surf",
+    "cylindrical_surf",
+    "conical_surf",
+    "spherical_surf",
+    "toroidal_surf",
+    "surf_of_revolution",
+    "ruled_surf",
+    "generalised_cone",
+    "quadric_surf",
+    "surf_of_linear_extrusion",
+    "unspecified",
 ];
 
 fn check_weights(w: impl ExactSizeIterator<Item = f64>, poles: usize) -> Result<(), String> {
