@@ -232,6 +232,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     } else {
         plane_angle(&scanned, &complex, &mut doc)
     };
+    // The candidate lists are freed once used (each is a pointer per instance of its kind).
+    drop(complex);
     // One B-spline instance, decoded and converted: the entity (or why not) and what was
     // noticed on the way.
     let decode = |raw: &RawInstance<'_>| -> (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>) {
@@ -302,50 +304,73 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
     }
     candidates.retain(|raw| !consumed.contains(&raw.id));
+    // The curves and surfaces are converted: what the topology and the product structure
+    // read is kept, the rest of the decoded items freed before the read's peak of memory
+    // (the B-spline entities below, then the topology). The product structure is decoded
+    // first for the placements it reads as frames. A complex B-spline candidate may turn
+    // out to be a product item (below, when it is no B-spline), naming more: then both wait
+    // for the B-spline pass.
+    let mut product_diagnostics = Vec::new();
+    let mut products = None;
+    if !options.geometry_only
+        && !candidates
+            .iter()
+            .any(|raw| raw.keyword().is_none() && maybe_product(raw))
+    {
+        let early = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
+        let frames = super::assembly::frame_items(&early, &items);
+        items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+        products = Some(early);
+    }
 
-    // Each B-spline is independent once the file is scanned: decode them in parallel
-    // (rayon keeps the file order in `collect`), then append results in order.
-    let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = candidates
-        .par_iter()
-        .enumerate()
-        .map(|(k, raw)| {
-            if cancel.skip(k, &stopped) {
-                return (None, Vec::new());
-            }
-            let taken = converted_bsplines
-                .lock()
-                .ok()
-                .and_then(|mut c| c.remove(&raw.id));
-            let (result, mut diags) = match taken {
-                Some((e, diags)) => (Ok(Some(e)), diags),
-                None => decode(raw),
-            };
-            match result {
-                Ok(e) => (e, diags),
-                Err(d) => {
-                    diags.push(d);
-                    (None, diags)
+    // Each B-spline is independent once the file is scanned: decoded in parallel (rayon
+    // keeps the file order in `collect`), a chunk at a time, each chunk's results appended
+    // in order. `placed` has room for one entity per candidate (each gives at most one), so
+    // the entities are never held twice: a vector of every result beside `placed` was the
+    // read's peak of memory.
+    let mut placed: Vec<(usize, Entity)> = converted.entities;
+    placed.reserve_exact(candidates.len());
+    let mut late_products = false;
+    for (c, chunk) in candidates.chunks(BSPLINE_CHUNK).enumerate() {
+        let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = chunk
+            .par_iter()
+            .enumerate()
+            .map(|(i, raw)| {
+                if cancel.skip(c * BSPLINE_CHUNK + i, &stopped) {
+                    return (None, Vec::new());
                 }
+                let taken = converted_bsplines
+                    .lock()
+                    .ok()
+                    .and_then(|mut c| c.remove(&raw.id));
+                let (result, mut diags) = match taken {
+                    Some((e, diags)) => (Ok(Some(e)), diags),
+                    None => decode(raw),
+                };
+                match result {
+                    Ok(e) => (e, diags),
+                    Err(d) => {
+                        diags.push(d);
+                        (None, diags)
+                    }
+                }
+            })
+            .collect();
+        cancel.stop_read()?;
+        for ((entity, diags), raw) in results.into_iter().zip(chunk) {
+            doc.diagnostics.extend(diags);
+            if entity.is_none() && raw.keyword().is_none() && maybe_product(raw) {
+                product_candidates.push(raw);
+                late_products = true;
             }
-        })
-        .collect();
-    cancel.stop_read()?;
+            placed.extend(entity.map(|e| (raw.offset, e)));
+        }
+    }
+    placed.shrink_to_fit();
+    drop(candidates);
     // Only the consumed B-splines are left: their entities are the edges' and sweeps' own.
     if let Ok(mut c) = converted_bsplines.lock() {
         *c = Default::default();
-    }
-    let mut placed: Vec<(usize, Entity)> = converted.entities;
-    // Exactly the room needed: growing by doubling would hold both buffers at the read's
-    // peak of memory.
-    placed.reserve_exact(results.iter().filter(|(e, _)| e.is_some()).count());
-    let mut late_products = false;
-    for ((entity, diags), raw) in results.into_iter().zip(&candidates) {
-        doc.diagnostics.extend(diags);
-        if entity.is_none() && raw.keyword().is_none() && maybe_product(raw) {
-            product_candidates.push(raw);
-            late_products = true;
-        }
-        placed.extend(entity.map(|e| (raw.offset, e)));
     }
     if late_products {
         product_candidates.sort_by_key(|raw| raw.offset);
@@ -376,23 +401,17 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             .not_carried());
         }
     } else {
-        // The product structure first: the placements it reads as frames are kept below.
-        let mut product_diagnostics = Vec::new();
-        let products = super::assembly::decode(
-            &scanned,
-            &product_candidates,
-            &mut product_diagnostics,
-            |e| match e {
-                DecodeError::Syntax(e) => parse_diagnostic(&e),
-                DecodeError::Schema(e) => schema_diagnostic(&e),
-            },
-        );
-        // The curves and surfaces are converted: what the topology and the product
-        // structure read is kept, the rest of the decoded items freed before the read's
-        // peak of memory.
-        let frames = super::assembly::frame_items(&products, &items);
-        items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
-        drop(frames);
+        // The product structure and the items kept for it, unless done above.
+        let products = match products {
+            Some(p) => p,
+            None => {
+                let p = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
+                let frames = super::assembly::frame_items(&p, &items);
+                items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+                p
+            }
+        };
+        drop(std::mem::take(&mut product_candidates));
         let converter = Converter::new(&scanned, &items, units, &bspline);
         let built = super::topology::build(
             &converter,
@@ -423,8 +442,6 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The instance index and the decoded items are freed before the labels below are made
     // (the read's peak of memory was there, with both alive).
     drop(items);
-    drop(candidates);
-    drop(complex);
     drop(product_candidates);
     drop(scanned);
     label_pcurve_users(&mut doc.entities, pcurve_users);
@@ -434,6 +451,23 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     doc.diagnostics
         .retain(|d| seen.insert((d.code.clone(), d.message.clone(), d.location.to_string())));
     Ok(doc)
+}
+
+/// How many B-spline candidates are decoded (in parallel) before their entities are moved
+/// into the document's list: enough to keep the threads busy, few enough that the chunk's
+/// results are a small part of the read's memory.
+const BSPLINE_CHUNK: usize = 4096;
+
+/// The product-structure candidates decoded (assembly.rs); errors are diagnostics.
+fn decode_products<'a>(
+    s: &Scanned<'a>,
+    candidates: &[&RawInstance<'a>],
+    diagnostics: &mut Vec<Diagnostic>,
+) -> super::assembly::Products<'a> {
+    super::assembly::decode(s, candidates, diagnostics, |e| match e {
+        DecodeError::Syntax(e) => parse_diagnostic(&e),
+        DecodeError::Schema(e) => schema_diagnostic(&e),
+    })
 }
 
 /// Adds to each 2-D curve entity the edges whose pcurve it is (`Meta::used_by`), from the
