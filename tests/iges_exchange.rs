@@ -179,10 +179,18 @@ fn write_read_write_is_bit_identical() {
     assert_eq!(back.entities[0].id, "D1");
     assert_eq!(back.entities[2].geometry.dimension(), 2);
     // The planar arc carries its normal (+Z); the 2-D curve too.
-    assert_eq!(back.entities[0].meta.plane_normal, Some([0., 0., 1.]));
+    assert_eq!(
+        back.entities[0].meta.plane_normal.as_deref(),
+        Some(&[0., 0., 1.])
+    );
     assert_eq!(back.entities[1].meta.plane_normal, None);
     // The parameter range written is the domain.
-    let r = back.entities[3].meta.parameter_range.unwrap();
+    let r = back.entities[3]
+        .meta
+        .parameter_range
+        .as_deref()
+        .copied()
+        .unwrap();
     assert_eq!((r.u, r.v), ((0., 1.), Some((0., 1.))));
     // Deterministic: writing the re-read document gives the same text.
     let again = exchange::iges::write(&back, &export_options()).unwrap();
@@ -795,14 +803,14 @@ fn declared_ranges_are_written_clipped_to_the_domain_and_reported() {
     let mut doc = Document::new(Format::Iges, LengthUnit::Mm);
     for (id, range, _, _) in cases {
         let mut e = entity(id, Geometry::Curve(line()));
-        e.meta.parameter_range = Some(ParameterRange { u: range, v: None });
+        e.meta.parameter_range = Some(Box::new(ParameterRange { u: range, v: None }));
         doc.entities.push(e);
     }
     let mut s = entity("surface", Geometry::Surface(patch));
-    s.meta.parameter_range = Some(ParameterRange {
+    s.meta.parameter_range = Some(Box::new(ParameterRange {
         u: (0.125, 0.5),
         v: Some((0.5, 1.5)),
-    });
+    }));
     doc.entities.push(s);
     let warnings = exchange::iges::range_warnings(&doc);
     let warned: Vec<&str> = warnings

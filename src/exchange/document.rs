@@ -259,12 +259,14 @@ pub struct Meta {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shape_tolerance: Option<f64>,
     /// IGES 126 `V(0), V(1)` / 128 `U(0), U(1), V(0), V(1)`: the parameter range the file
-    /// declares (kept; geometry is trimmed to it only on request).
+    /// declares (kept; geometry is trimmed to it only on request). Boxed, as
+    /// [`Meta::plane_normal`]: IGES-only and rare, they would otherwise make every entity
+    /// of every read (a large file has hundreds of thousands) 56 bytes larger.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub parameter_range: Option<ParameterRange>,
+    pub parameter_range: Option<Box<ParameterRange>>,
     /// IGES 126 unit normal of a planar curve (PROP1 = 1).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub plane_normal: Option<Point3>,
+    pub plane_normal: Option<Box<Point3>>,
     /// IGES: the DE pointers of the 124 transformation chain applied to the poles.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub transforms_applied: Vec<String>,

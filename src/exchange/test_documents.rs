@@ -106,7 +106,8 @@ fn meta(rng: &mut Rng) -> Meta {
             Some([0.0, 0.0, 1.0]),
             Some([0.0, 0.0, -1.0]),
             Some([0.6, 0.8, 0.0]),
-        ][rng.below(4)],
+        ][rng.below(4)]
+        .map(Box::new),
         parameter_range: [
             None,
             Some(crate::exchange::ParameterRange {
@@ -121,7 +122,8 @@ fn meta(rng: &mut Rng) -> Meta {
                 u: (-1.0, 1e300),
                 v: Some((0.0, 1.0)),
             }),
-        ][rng.below(4)],
+        ][rng.below(4)]
+        .map(Box::new),
         ..Meta::default()
     }
 }

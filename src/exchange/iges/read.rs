@@ -1358,7 +1358,7 @@ pub(super) fn read_curve(
     let (d0, d1) = curve.domain();
     match (rec.v0, rec.v1) {
         (Some(a), Some(b)) => {
-            meta.parameter_range = Some(ParameterRange { u: (a, b), v: None });
+            meta.parameter_range = Some(Box::new(ParameterRange { u: (a, b), v: None }));
             if !(a >= d0 && b <= d1 && a < b) {
                 diags.push(Diagnostic::warning(
                     "param_range_outside",
@@ -1392,7 +1392,7 @@ pub(super) fn read_curve(
                         loc.clone(),
                     ));
                 }
-                meta.plane_normal = Some(m);
+                meta.plane_normal = Some(Box::new(m));
             }
             // IGES 5.3 section 4.23: a planar curve carries its unit normal.
             _ => diags.push(Diagnostic::nonconforming(
@@ -1591,10 +1591,10 @@ fn read_surface(
     let ((u0, u1), (v0, v1)) = surface.domain();
     match rec.range {
         Some([a, b, c, d]) => {
-            meta.parameter_range = Some(ParameterRange {
+            meta.parameter_range = Some(Box::new(ParameterRange {
                 u: (a, b),
                 v: Some((c, d)),
-            });
+            }));
             if !(a >= u0 && b <= u1 && a < b && c >= v0 && d <= v1 && c < d) {
                 diags.push(Diagnostic::warning(
                     "param_range_outside",

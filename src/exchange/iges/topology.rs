@@ -573,6 +573,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .entity
             .meta
             .parameter_range
+            .as_deref()
             .map(|r| r.u)
             .filter(|r| r.0 >= d.0 && r.1 <= d.1 && r.0 < r.1)
             .unwrap_or(d)

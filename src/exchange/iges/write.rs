@@ -275,12 +275,12 @@ fn curve_plan(c: &NurbsCurve, meta: &Meta) -> CurvePlan {
     let normal = if c.dimension() == 2 {
         Some([0.0, 0.0, 1.0])
     } else {
-        match meta.plane_normal {
+        match meta.plane_normal.as_deref().copied() {
             Some(n) if analysis::on_plane(c.control_points(), n, tol) && is_unit(n) => Some(n),
             _ => analysis::plane_normal(c.control_points(), tol),
         }
     };
-    let range = written_range(meta.parameter_range.map(|r| r.u), c.domain());
+    let range = written_range(meta.parameter_range.as_deref().map(|r| r.u), c.domain());
     CurvePlan {
         planar: i64::from(normal.is_some()),
         closed: i64::from(analysis::curve_closed(c, tol)),
@@ -295,8 +295,8 @@ fn surface_plan(s: &NurbsSurface, meta: &Meta) -> SurfacePlan {
     let net = s.control_points();
     let tol = analysis::tolerance(net.as_slice().iter());
     let (du, dv) = s.domain();
-    let ru = written_range(meta.parameter_range.map(|r| r.u), du);
-    let rv = written_range(meta.parameter_range.and_then(|r| r.v), dv);
+    let ru = written_range(meta.parameter_range.as_deref().map(|r| r.u), du);
+    let rv = written_range(meta.parameter_range.as_deref().and_then(|r| r.v), dv);
     SurfacePlan {
         closed: [
             i64::from(analysis::surface_closed(s, 0, tol)),
@@ -428,7 +428,7 @@ pub fn range_warnings(document: &Document) -> Vec<Diagnostic> {
         .entities
         .iter()
         .filter_map(|e| {
-            let declared = e.meta.parameter_range?;
+            let declared = *e.meta.parameter_range.as_deref()?;
             let (pairs, name) = match &e.geometry {
                 Geometry::Curve(c) => (vec![(Some(declared.u), c.domain())], "V(0), V(1)"),
                 Geometry::Surface(s) => {

@@ -125,10 +125,10 @@ pub(super) fn write<'d>(
             }
             let edge = &model.edges[e.0];
             let mut meta = edge_meta(e);
-            meta.parameter_range = Some(ParameterRange {
+            meta.parameter_range = Some(Box::new(ParameterRange {
                 u: edge.range,
                 v: None,
-            });
+            }));
             let curve = items.curve(Cow::Borrowed(&edge.curve), &meta, 1);
             list.push(Edge504 {
                 curve,
@@ -154,7 +154,7 @@ pub(super) fn write<'d>(
                     let pcurve = c.pcurve.as_ref().map(|p| {
                         let mut meta = Meta::default();
                         let range = model.edges[c.edge.0].range;
-                        meta.parameter_range = Some(ParameterRange { u: range, v: None });
+                        meta.parameter_range = Some(Box::new(ParameterRange { u: range, v: None }));
                         items.curve(Cow::Borrowed(p), &meta, 1)
                     });
                     uses.push(LoopEdge {
@@ -307,10 +307,10 @@ fn trimmed_face<'d>(
         let mut model_pieces = Vec::with_capacity(l.segments.len());
         for seg in &l.segments {
             let mut m = seg.meta.clone();
-            m.parameter_range = Some(ParameterRange {
+            m.parameter_range = Some(Box::new(ParameterRange {
                 u: seg.model.1,
                 v: None,
-            });
+            }));
             model_pieces.push(items.curve(seg.model.0.clone(), &m, 1));
         }
         let model_curve = items.record(
@@ -327,7 +327,7 @@ fn trimmed_face<'d>(
                 .into_iter()
                 .map(|(curve, range)| {
                     let m = Meta {
-                        parameter_range: Some(ParameterRange { u: range, v: None }),
+                        parameter_range: Some(Box::new(ParameterRange { u: range, v: None })),
                         ..Meta::default()
                     };
                     items.curve(curve, &m, 1)

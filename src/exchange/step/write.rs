@@ -960,7 +960,7 @@ pub fn range_warnings(document: &Document) -> Vec<Diagnostic> {
         .iter()
         .filter(|e| e.meta.used_by.is_empty() && !named.contains(e.id.as_str()))
         .filter_map(|e| {
-            let declared = e.meta.parameter_range?;
+            let declared = *e.meta.parameter_range.as_deref()?;
             let (u, v) = match &e.geometry {
                 Geometry::Curve(c) => (c.domain(), None),
                 Geometry::Surface(s) => {
