@@ -789,7 +789,7 @@ impl<'a> Scanned<'a> {
             column: 0,
         };
         GeometryItem::from_instance(&inst, at).map_err(|e| {
-            let (line, column) = self.locate(raw.offset);
+            let (line, column) = self.locate(raw.offset());
             DecodeError::Schema(SchemaError { line, column, ..e })
         })
     }

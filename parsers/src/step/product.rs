@@ -279,7 +279,7 @@ impl<'a> Scanned<'a> {
         raw: &RawInstance<'a>,
     ) -> Result<Option<ProductItem<'a>>, DecodeError> {
         let inst = self.decode(raw)?;
-        let (line, column) = self.locate(raw.offset);
+        let (line, column) = self.locate(raw.offset());
         let at = At {
             id: raw.id,
             line,

@@ -20,42 +20,52 @@ use crate::{Limits, Stop};
 
 /// An entity instance found by [`scan`], not yet decoded.
 ///
-/// Kept small (40 bytes): a large file has one per statement, alive for the whole read, so
-/// its size is a direct share of the reader's peak memory (issue: peak <= 2x file size).
+/// Kept small (32 bytes): a large file has one per statement, alive for most of the read,
+/// so its size is a direct share of the reader's peak memory (issue: peak <= 3x file
+/// size).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawInstance<'a> {
     /// The instance name `n` of `#n`.
     pub id: u64,
-    /// Byte offset of the `#`.
-    pub offset: usize,
+    /// The byte offset of the `#` (low [`OFFSET_BITS`] bits), the length of the keyword at
+    /// the start of `body` (the next 16 bits; 0 for a complex instance `( ... )`) and its
+    /// first byte (the high 8 bits). The keyword's first byte is kept here so that passes
+    /// over every instance (which entity kinds are there?) can reject most of them without
+    /// touching the text: on a large file each such touch is a cache miss.
+    packed: u64,
     /// The body text, from after `=` to before `;`.
     pub body: &'a str,
-    /// `body`'s offset minus `offset` (`#12 = ` is 6).
-    head_len: u32,
-    /// Length of the keyword at the start of `body` (low 24 bits; 0 for a complex instance
-    /// `( ... )`) and its first byte (high 8 bits). The first byte is kept here so that
-    /// passes over every instance (which entity kinds are there?) can reject most of them
-    /// without touching the text: on a large file each such touch is a cache miss.
-    keyword: u32,
 }
 
-/// Longest keyword a [`RawInstance`] records (2^24 - 1 bytes; ISO 10303-21 names are
-/// under 100). A longer one is reported as a statement error.
-const MAX_KEYWORD_LEN: u32 = (1 << 24) - 1;
+/// Bits of [`RawInstance`]'s packed word holding the offset: texts up to 1 TiB.
+const OFFSET_BITS: u32 = 40;
+
+/// Largest offset a [`RawInstance`] records; an instance beyond it is a statement error.
+const MAX_OFFSET: u64 = (1 << OFFSET_BITS) - 1;
+
+/// Longest keyword a [`RawInstance`] records (65,535 bytes; ISO 10303-21 names are under
+/// 100). A longer one is reported as a statement error.
+const MAX_KEYWORD_LEN: u64 = u16::MAX as u64;
 
 impl<'a> RawInstance<'a> {
-    /// Byte offset where the body (after `=`) starts.
+    /// Byte offset of the `#`.
     #[inline]
-    pub fn body_offset(&self) -> usize {
-        self.offset + self.head_len as usize
+    pub fn offset(&self) -> usize {
+        usize::try_from(self.packed & MAX_OFFSET).unwrap_or(usize::MAX)
+    }
+
+    /// The length of the keyword (0 for a complex instance).
+    #[inline]
+    fn keyword_len(&self) -> usize {
+        usize::try_from((self.packed >> OFFSET_BITS) & MAX_KEYWORD_LEN).unwrap_or(0)
     }
 
     /// The keyword of a simple instance; `None` for a complex instance `( ... )`.
     #[inline]
     pub fn keyword(&self) -> Option<&'a str> {
-        match self.keyword & MAX_KEYWORD_LEN {
+        match self.keyword_len() {
             0 => None,
-            n => self.body.get(..n as usize),
+            n => self.body.get(..n),
         }
     }
 
@@ -63,9 +73,9 @@ impl<'a> RawInstance<'a> {
     /// `None` for a complex instance.
     #[inline]
     pub fn keyword_initial(&self) -> Option<u8> {
-        match self.keyword & MAX_KEYWORD_LEN {
+        match self.keyword_len() {
             0 => None,
-            _ => Some(self.keyword.to_le_bytes()[3]),
+            _ => u8::try_from(self.packed >> 56).ok(),
         }
     }
 }
@@ -194,7 +204,7 @@ fn check_references(
         if s.get(id).is_none() {
             errors.push(s.error_at(
                 ParseErrorKind::DanglingReference(id),
-                raw.offset,
+                raw.offset(),
                 Some(raw.id),
             ));
         }
@@ -447,28 +457,33 @@ fn scan_statements<'a>(
                     run.end = RunEnd::Eof;
                     return run;
                 }
-                // `#id =` heads longer than 4 GiB and keywords longer than 16 MiB cannot be
+                // Keywords longer than 64 KiB and instances beyond 1 TiB cannot be
                 // represented; they are reported instead of truncated.
                 let keyword_len = keyword.map_or(0, str::len);
                 let initial = keyword.and_then(|k| k.bytes().next()).unwrap_or(0);
                 match (
-                    u32::try_from(body_offset - start),
-                    u32::try_from(keyword_len)
+                    u64::try_from(start).ok().filter(|&o| o <= MAX_OFFSET),
+                    u64::try_from(keyword_len)
                         .ok()
                         .filter(|&n| n <= MAX_KEYWORD_LEN),
                 ) {
-                    (Ok(head_len), Some(keyword_len)) => {
+                    (Some(offset), Some(keyword_len)) => {
                         run.max_id = run.max_id.max(id);
                         run.instances.push(RawInstance {
                             id,
-                            offset: start,
+                            packed: offset
+                                | (keyword_len << OFFSET_BITS)
+                                | (u64::from(initial) << 56),
                             body: text.get(body_offset..end).unwrap_or_default(),
-                            head_len,
-                            keyword: keyword_len | (u32::from(initial) << 24),
                         });
                     }
-                    _ => run.errors.push(error(
-                        ParseErrorKind::InvalidId("(statement head too long)".to_owned()),
+                    (None, _) => run.errors.push(error(
+                        ParseErrorKind::InvalidId("(instance beyond 1 TiB)".to_owned()),
+                        start,
+                        Some(id),
+                    )),
+                    (_, None) => run.errors.push(error(
+                        ParseErrorKind::InvalidId("(keyword too long)".to_owned()),
                         start,
                         Some(id),
                     )),
@@ -574,11 +589,19 @@ impl<'a> Scanned<'a> {
         self.index.get(id).and_then(|i| self.instances.get(i))
     }
 
+    /// Byte offset in the text where `raw`'s body (after `=`) starts.
+    #[inline]
+    pub fn body_offset(&self, raw: &RawInstance<'a>) -> usize {
+        // Both are addresses in the one text (the body is a slice of it).
+        (raw.body.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize)
+    }
+
     /// Decodes an instance's parameters.
     pub fn decode(&self, raw: &RawInstance<'a>) -> Result<Instance<'a>, ParseError> {
-        let end = raw.body_offset() + raw.body.len();
+        let start = self.body_offset(raw);
+        let end = start + raw.body.len();
         let limits = self.limits;
-        grammar::run(self.text.as_bytes(), raw.body_offset(), end, |i| {
+        grammar::run(self.text.as_bytes(), start, end, |i| {
             grammar::entity_instance_body(i, limits)
         })
         .map(|(body, _)| Instance { id: raw.id, body })
@@ -596,7 +619,7 @@ impl<'a> Scanned<'a> {
             Some(raw) => self.decode(raw),
             None => Err(self.error_at(
                 ParseErrorKind::DanglingReference(id),
-                referrer.offset,
+                referrer.offset(),
                 Some(referrer.id),
             )),
         }
@@ -650,7 +673,7 @@ impl<'a> Scanned<'a> {
                             .skip_while(|&i| i != child)
                             .collect();
                         path.push(child);
-                        let offset = self.get(id).map_or(0, |r| r.offset);
+                        let offset = self.get(id).map_or(0, |r| r.offset());
                         errors.push(self.error_at(
                             ParseErrorKind::ReferenceCycle(path),
                             offset,
@@ -812,14 +835,14 @@ impl<'a> Scanned<'a> {
                     .copied();
                 return Err(self.error_at(
                     ParseErrorKind::TooManyInstances(limits.max_entities),
-                    over.map_or(run.from, |r| r.offset),
+                    over.map_or(run.from, |r| r.offset()),
                     over.map(|r| r.id),
                 ));
             }
             self.max_id = self.max_id.max(run.max_id);
             if self.instances.is_empty() {
                 // The usual case (one DATA section, first piece): take the vector as it
-                // is rather than copy 40 bytes per statement.
+                // is rather than copy 32 bytes per statement.
                 self.instances = run.instances;
             } else {
                 self.instances.extend(run.instances);
@@ -896,13 +919,13 @@ impl<'a> Scanned<'a> {
             ) else {
                 continue;
             };
-            let first_line = self.locate(f.offset).0;
+            let first_line = self.locate(f.offset()).0;
             let e = self.error_at(
                 ParseErrorKind::DuplicateId {
                     id: r.id,
                     first_line,
                 },
-                r.offset,
+                r.offset(),
                 Some(r.id),
             );
             self.errors.push(e);
@@ -1074,8 +1097,8 @@ mod tests {
     }
 
     #[test]
-    fn keywords_over_16_mib_are_reported_not_truncated() {
-        let long = "A".repeat(MAX_KEYWORD_LEN as usize + 1);
+    fn keywords_over_64_kib_are_reported_not_truncated() {
+        let long = "A".repeat(usize::from(u16::MAX) + 1);
         let text = file(&format!("DATA;\n#1 = {long}(1);\n#2 = B(2);\nENDSEC;\n"));
         let s = scan(&text, &Limits::default()).unwrap();
         let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();

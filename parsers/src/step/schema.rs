@@ -1833,7 +1833,7 @@ pub enum DecodeError {
 impl<'a> Scanned<'a> {
     /// The location of an instance, for schema errors.
     pub fn at(&self, raw: &RawInstance<'_>) -> At {
-        let (line, column) = self.locate(raw.offset);
+        let (line, column) = self.locate(raw.offset());
         At {
             id: raw.id,
             line,

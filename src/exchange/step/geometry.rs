@@ -619,7 +619,7 @@ impl<'a> Converter<'_, '_, 'a> {
     pub(super) fn line_column(&self, id: u64) -> (usize, usize) {
         self.s
             .get(id)
-            .map_or((0, 0), |raw| self.s.locate(raw.offset))
+            .map_or((0, 0), |raw| self.s.locate(raw.offset()))
     }
 
     pub(super) fn error(&self, id: u64, code: &str, message: impl Into<String>) -> Diagnostic {
@@ -1306,7 +1306,7 @@ impl<'a> Converter<'_, '_, 'a> {
         base: Option<Meta>,
     ) -> Placed {
         let raw = self.s.get(id);
-        let offset = raw.map_or(0, |r| r.offset);
+        let offset = raw.map_or(0, |r| r.offset());
         let mut meta = base.unwrap_or_default();
         let (entity, name) = self.provenance(id);
         if name.is_some() {
@@ -1321,7 +1321,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 geometry,
                 source: Source {
                     entity,
-                    line: raw.map(|r| self.s.locate(r.offset).0),
+                    line: raw.map(|r| self.s.locate(r.offset()).0),
                 },
                 meta,
             },

@@ -168,7 +168,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
         presentation.count(raw);
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
-        let indexed = || scanned.get(raw.id).map(|r| r.offset) == Some(raw.offset);
+        let indexed = || scanned.get(raw.id).map(|r| r.offset()) == Some(raw.offset());
         if maybe_bspline(raw) {
             // No B-spline keyword is a product-structure one; a complex B-spline candidate
             // (a rational B-spline's long body) is searched for product partials only if
@@ -363,7 +363,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 product_candidates.push(raw);
                 late_products = true;
             }
-            placed.extend(entity.map(|e| (raw.offset, e)));
+            placed.extend(entity.map(|e| (raw.offset(), e)));
         }
     }
     placed.shrink_to_fit();
@@ -373,7 +373,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         *c = Default::default();
     }
     if late_products {
-        product_candidates.sort_by_key(|raw| raw.offset);
+        product_candidates.sort_by_key(|raw| raw.offset());
     }
     // File order (a stable sort: entities of one instance keep their order).
     placed.sort_by_key(|(offset, _)| *offset);
@@ -550,7 +550,7 @@ impl Presentation {
         .collect();
         let (line, column) = s
             .get(first)
-            .map(|r| s.locate(r.offset))
+            .map(|r| s.locate(r.offset()))
             .map_or((None, None), |(l, c)| (Some(l), Some(c)));
         Some(
             Diagnostic::warning(
@@ -619,7 +619,7 @@ fn conformance(
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
         }
-        if s.get(raw.id).map(|r| r.offset) != Some(raw.offset) {
+        if s.get(raw.id).map(|r| r.offset()) != Some(raw.offset()) {
             continue; // a duplicated id, reported by the scan
         }
         ids.push(raw.id);
@@ -639,7 +639,7 @@ fn conformance(
         for id in dangling {
             diags.push(parse_diagnostic(&s.error_at(
                 ParseErrorKind::DanglingReference(id),
-                raw.offset,
+                raw.offset(),
                 Some(raw.id),
             )));
         }
@@ -844,7 +844,7 @@ fn file_units(
             loc(*id, *offset),
         ));
     }
-    let offset_of = |id: u64| s.get(id).map_or(0, |r| r.offset);
+    let offset_of = |id: u64| s.get(id).map_or(0, |r| r.offset());
     let chosen: Option<(u64, FileUnit)> = found.first().cloned();
     let mut distinct: Vec<&(u64, FileUnit)> = Vec::new();
     for f in &found {
@@ -939,7 +939,7 @@ struct Ctx<'s, 'a> {
 
 impl<'a> Ctx<'_, 'a> {
     fn location(&self) -> Location {
-        let (line, column) = self.s.locate(self.raw.offset);
+        let (line, column) = self.s.locate(self.raw.offset());
         Location {
             line: Some(line),
             column: Some(column),
@@ -1245,7 +1245,7 @@ impl<'a> Ctx<'_, 'a> {
             geometry,
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.s.locate(self.raw.offset).0),
+                line: Some(self.s.locate(self.raw.offset()).0),
             },
             meta,
         })
@@ -1374,7 +1374,7 @@ impl<'a> Ctx<'_, 'a> {
             geometry,
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.s.locate(self.raw.offset).0),
+                line: Some(self.s.locate(self.raw.offset()).0),
             },
             meta,
         })

@@ -15,7 +15,7 @@ use proptest::prelude::*;
 /// The general path, written out: decode the instance, classify it, read its attributes.
 fn general<'a>(s: &Scanned<'a>, raw: &RawInstance<'a>) -> Result<Option<BSpline<'a>>, DecodeError> {
     let inst = s.decode(raw)?;
-    let (line, column) = s.locate(raw.offset);
+    let (line, column) = s.locate(raw.offset());
     let at = At {
         id: raw.id,
         line,
@@ -164,7 +164,7 @@ fn bspline_spans(text: &str) -> Vec<(usize, usize)> {
     s.instances
         .iter()
         .filter(|r| matches!(s.bspline(r), Ok(Some(_))))
-        .map(|r| (r.body_offset(), r.body_offset() + r.body.len()))
+        .map(|r| (s.body_offset(r), s.body_offset(r) + r.body.len()))
         .collect()
 }
 

@@ -79,7 +79,7 @@ pub(super) fn resolve_length(
             .get(current)
             .ok_or_else(|| format!("unit #{current} (from #{}) is not defined", referrer.id))?;
         let inst = s.decode(raw).map_err(|e| e.to_string())?;
-        let (line, column) = s.locate(raw.offset);
+        let (line, column) = s.locate(raw.offset());
         let at = At {
             id: current,
             line,
@@ -191,7 +191,7 @@ pub(super) fn context_units(
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
-        let (line, column) = s.locate(raw.offset);
+        let (line, column) = s.locate(raw.offset());
         let at = At {
             id: raw.id,
             line,
@@ -201,7 +201,7 @@ pub(super) fn context_units(
             Ok(Some(c)) => c,
             Ok(None) => continue,
             Err(e) => {
-                problems.push((raw.id, raw.offset, e.to_string()));
+                problems.push((raw.id, raw.offset(), e.to_string()));
                 continue;
             }
         };
@@ -209,7 +209,7 @@ pub(super) fn context_units(
             match length_uncertainty(s, u, raw) {
                 Ok(Some(mm)) => uncertainties.push(mm),
                 Ok(None) => {}
-                Err(m) => problems.push((raw.id, raw.offset, m)),
+                Err(m) => problems.push((raw.id, raw.offset(), m)),
             }
         }
         let mut lengths = Vec::new();
@@ -217,19 +217,19 @@ pub(super) fn context_units(
             match resolve_length(s, u, raw) {
                 Ok(Some(fu)) => lengths.push(fu),
                 Ok(None) => {}
-                Err(m) => problems.push((raw.id, raw.offset, m)),
+                Err(m) => problems.push((raw.id, raw.offset(), m)),
             }
         }
         match lengths.len() {
             0 => problems.push((
                 raw.id,
-                raw.offset,
+                raw.offset(),
                 format!("context #{} assigns no length unit", raw.id),
             )),
             1 => found.extend(lengths.into_iter().map(|l| (raw.id, l))),
             n => problems.push((
                 raw.id,
-                raw.offset,
+                raw.offset(),
                 format!("context #{} assigns {n} length units", raw.id),
             )),
         }
@@ -348,7 +348,7 @@ pub(super) fn context_plane_angle(
             match resolve_plane_angle(s, u, raw) {
                 Ok(Some(a)) => return (Some((raw.id, a)), problems),
                 Ok(None) => {}
-                Err(m) => problems.push((raw.id, raw.offset, m)),
+                Err(m) => problems.push((raw.id, raw.offset(), m)),
             }
         }
     }
