@@ -236,7 +236,17 @@ impl LineIndex {
         };
         let from = k * Self::BLOCK;
         let hay = bytes.get(from..offset).unwrap_or_default();
-        let newlines = memchr::memchr_iter(b'\n', hay).count();
+        // The newlines before `offset` in its block, counted over the shorter side: from the
+        // block's start, or back from the next block's count (every locate of a large read
+        // counted half a block on average; now at most that).
+        let to = from + Self::BLOCK;
+        let newlines = match blocks.get(k + 1) {
+            Some(&(after, _)) if offset - from > to - offset => {
+                let rest = bytes.get(offset..to).unwrap_or_default();
+                after - before - memchr::memchr_iter(b'\n', rest).count()
+            }
+            _ => memchr::memchr_iter(b'\n', hay).count(),
+        };
         let line_start = memchr::memrchr(b'\n', hay).map_or(block_line_start, |p| from + p + 1);
         (before + newlines + 1, offset - line_start + 1)
     }

@@ -481,6 +481,7 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
     // A stable sort: each curve's edges stay in the order found.
     pairs.sort_by_key(|&(curve, _)| curve);
     let mut taken = vec![false; pairs.len()];
+    let mut cursor = 0;
     for e in entities {
         let Some(id) =
             e.id.strip_prefix('#')
@@ -489,8 +490,20 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
         else {
             continue;
         };
-        let start = pairs.partition_point(|&(curve, _)| curve < id);
-        let end = start + pairs[start..].partition_point(|&(curve, _)| curve == id);
+        // Entities come in file order, ids ascending in most files: the search gallops on
+        // from where the previous one ended (neighbouring memory), and searches the whole
+        // list only for an id out of order.
+        let start = if cursor > 0 && pairs[cursor - 1].0 >= id {
+            pairs.partition_point(|&(curve, _)| curve < id)
+        } else {
+            cursor + first_not_below(&pairs[cursor..], id)
+        };
+        let end = start
+            + pairs[start..]
+                .iter()
+                .take_while(|&&(curve, _)| curve == id)
+                .count();
+        cursor = end;
         if start == end || taken[start] {
             continue;
         }
@@ -501,6 +514,23 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
                 .map(|&(_, edge)| super::instance_label(edge)),
         );
     }
+}
+
+/// The first index of `pairs` (sorted by their first element) whose first element is not
+/// below `id`, found by galloping from the start: a few steps when it is near.
+fn first_not_below(pairs: &[(u64, u64)], id: u64) -> usize {
+    // pairs[..lo] are all below `id`; the probe at lo + step - 1 either is too, or ends
+    // the gallop.
+    let (mut lo, mut step) = (0, 1);
+    while let Some(&(first, _)) = pairs.get(lo + step - 1) {
+        if first >= id {
+            break;
+        }
+        lo += step;
+        step *= 2;
+    }
+    let hi = (lo + step).min(pairs.len());
+    lo + pairs[lo..hi].partition_point(|&(first, _)| first < id)
 }
 
 /// The presentation and property data of a file, which nurbsx does not carry into its
@@ -693,9 +723,24 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
         // A simple instance whose keyword starts lower-case has no keyword here (the
         // scanner only takes upper-case ones); decode it so the syntax error is reported.
         None if raw.body.starts_with(|c: char| c.is_ascii_lowercase()) => true,
-        None => ["B_SPLINE_", "BSPCR", "BSCWK", "BSSWK", "b_spline_"]
-            .iter()
-            .any(|n| raw.body.contains(n)),
+        // A complex instance: one of the B-spline partials, long or short form, upper or
+        // lower case. Found from the `B`/`b` bytes (one SIMD pass): most complex instances
+        // of a file are representation contexts, with none.
+        None => {
+            let b = raw.body.as_bytes();
+            memchr::memchr2_iter(b'B', b'b', b).any(|i| {
+                let rest = b.get(i..).unwrap_or_default();
+                [
+                    &b"B_SPLINE_"[..],
+                    b"BSPCR",
+                    b"BSCWK",
+                    b"BSSWK",
+                    b"b_spline_",
+                ]
+                .iter()
+                .any(|n| rest.starts_with(n))
+            })
+        }
     }
 }
 
@@ -1654,6 +1699,58 @@ mod knot_rule_tests {
             }
             let m = &mults[..knots.len()];
             prop_assert_eq!(knot_rules(&knots, m.iter().copied(), degree), literal(&knots, m, degree));
+        }
+    }
+}
+
+#[cfg(test)]
+mod pcurve_user_tests {
+    use proptest::prelude::*;
+
+    use crate::exchange::Entity;
+    use crate::nurbs::{Geometry, NurbsCurve};
+
+    fn entity(id: &str) -> Entity {
+        let line = NurbsCurve::new(1, vec![0., 0., 1., 1.], vec![[0.; 3], [1., 0., 0.]], None);
+        Entity {
+            id: id.to_owned(),
+            geometry: Geometry::Curve(line.expect("a line")),
+            source: Default::default(),
+            meta: Default::default(),
+        }
+    }
+
+    proptest! {
+        /// The labels are those a direct reading of the rule gives: for each entity `#n`,
+        /// the edges paired with curve n in the order found, on the first entity so
+        /// labelled only; entity ids in any order, repeated, or not instance labels.
+        #[test]
+        fn each_curve_takes_its_edges_in_the_order_found(
+            ids in proptest::collection::vec(0u64..40, 0..30),
+            pairs in proptest::collection::vec((0u64..40, 0u64..1000), 0..60),
+            odd in proptest::collection::vec(0usize..30, 0..3),
+        ) {
+            let mut labels: Vec<String> = ids.iter().map(|id| format!("#{id}")).collect();
+            for k in odd {
+                if let Some(l) = labels.get_mut(k) {
+                    *l = format!("D{k}");
+                }
+            }
+            let mut entities: Vec<Entity> = labels.iter().map(|l| entity(l)).collect();
+            super::label_pcurve_users(&mut entities, pairs.clone());
+            let mut done = std::collections::HashSet::new();
+            for (e, label) in entities.iter().zip(&labels) {
+                let id = label.strip_prefix('#').and_then(|d| d.parse::<u64>().ok());
+                let expected: Vec<String> = match id {
+                    Some(id) if done.insert(id) => pairs
+                        .iter()
+                        .filter(|(curve, _)| *curve == id)
+                        .map(|(_, edge)| format!("#{edge}"))
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                prop_assert_eq!(&e.meta.used_by, &expected, "{}", label);
+            }
         }
     }
 }
