@@ -312,14 +312,14 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // for the B-spline pass.
     let mut product_diagnostics = Vec::new();
     let mut products = None;
+    let mut edge_pcurves = Vec::new();
     if !options.geometry_only
         && !candidates
             .iter()
             .any(|raw| raw.keyword().is_none() && maybe_product(raw))
     {
         let early = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
-        let frames = super::assembly::frame_items(&early, &items);
-        items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+        edge_pcurves = keep_for_topology(&mut items, &early);
         products = Some(early);
     }
 
@@ -406,8 +406,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             Some(p) => p,
             None => {
                 let p = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
-                let frames = super::assembly::frame_items(&p, &items);
-                items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+                edge_pcurves = keep_for_topology(&mut items, &p);
                 p
             }
         };
@@ -419,7 +418,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             &quadric_maps,
             &doc.entities,
             uncertainty,
+            &edge_pcurves,
         );
+        drop(edge_pcurves);
         cancel.stop_read()?;
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
@@ -457,6 +458,20 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 /// into the document's list: enough to keep the threads busy, few enough that the chunk's
 /// results are a small part of the read's memory.
 const BSPLINE_CHUNK: usize = 4096;
+
+/// Frees the decoded items the topology and the product structure do not read (the
+/// curves and surfaces are converted by now), keeping the placements `products` reads as
+/// frames; returns the edges' PCURVE curves, read from the items freed
+/// (`topology::edge_pcurve_curves`).
+fn keep_for_topology(
+    items: &mut Items<'_>,
+    products: &super::assembly::Products<'_>,
+) -> Vec<(u64, u64)> {
+    let edge_pcurves = super::topology::edge_pcurve_curves(items);
+    let frames = super::assembly::frame_items(products, items);
+    items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
+    edge_pcurves
+}
 
 /// The product-structure candidates decoded (assembly.rs); errors are diagnostics.
 fn decode_products<'a>(

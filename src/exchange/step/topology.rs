@@ -22,7 +22,7 @@ type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomSt
 
 use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
-use super::geometry::{Converter, EdgeOut};
+use super::geometry::{Converter, EdgeOut, Items};
 use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
 use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::dist;
@@ -111,7 +111,45 @@ pub(super) fn reads(record: &R<'_>) -> bool {
             | R::SurfaceOfRevolution { .. }
             | R::RectangularTrimmedSurface { .. }
             | R::Offset { .. }
+            | R::SurfaceCurve { .. }
+            | R::Pcurve { .. }
+            | R::DefinitionalRepresentation { .. }
     )
+}
+
+/// `(EDGE_CURVE, 2-D curve)` instance pairs, ascending by edge: the 2-D curves of each
+/// edge's PCURVEs (ISO 10303-42 surface_curve -> pcurve -> definitional_representation), in
+/// the order the file lists them. Read before the surface curves, pcurves and their
+/// representations are freed ([`reads`]): the topology needs nothing else of them (it
+/// recomputes the pcurves on its NURBS surfaces), and a pair is a fraction of their items.
+pub(super) fn edge_pcurve_curves(items: &Items<'_>) -> Vec<(u64, u64)> {
+    let mut out = Vec::new();
+    for (edge, item) in items.iter() {
+        let R::EdgeCurve { edge_geometry, .. } = item.record else {
+            continue;
+        };
+        let Some(R::SurfaceCurve {
+            associated_geometry,
+            ..
+        }) = items.get(&edge_geometry).map(|i| &i.record)
+        else {
+            continue;
+        };
+        for g in associated_geometry {
+            let Some(R::Pcurve {
+                reference_to_curve, ..
+            }) = items.get(g).map(|i| &i.record)
+            else {
+                continue;
+            };
+            if let Some(R::DefinitionalRepresentation { items: curves, .. }) =
+                items.get(reference_to_curve).map(|i| &i.record)
+            {
+                out.extend(curves.iter().map(|&c| (edge, c)));
+            }
+        }
+    }
+    out
 }
 
 /// The builder's state: the model under construction and the map from file ids to it.
@@ -135,6 +173,8 @@ struct Build<'c, 'm, 's, 'a> {
     splits: Vec<(EdgeId, EdgeId)>,
     /// (instance of a PCURVE's 2-D curve, the EDGE_CURVE using it).
     pcurve_entities: Vec<(u64, u64)>,
+    /// [`edge_pcurve_curves`] of the file.
+    edge_pcurves: &'c [(u64, u64)],
 }
 
 /// What [`build`] made.
@@ -157,8 +197,10 @@ pub(super) fn build(
     quadric_maps: &HashMap<u64, QuadricMap>,
     entities: &[Entity],
     uncertainty: f64,
+    edge_pcurves: &[(u64, u64)],
 ) -> Built {
     let mut b = Build {
+        edge_pcurves,
         conv,
         quadric_maps,
         topology: Topology::default(),
@@ -343,35 +385,13 @@ impl Build<'_, '_, '_, '_> {
         }
     }
 
-    /// The 2-D curves of the edge's PCURVEs (ISO 10303-42 surface_curve ->
-    /// pcurve -> definitional_representation): the model recomputes them on its NURBS
-    /// surfaces, so the entities are marked as used by the edge.
+    /// The 2-D curves of the edge's PCURVEs ([`edge_pcurve_curves`]): the model recomputes
+    /// them on its NURBS surfaces, so the entities are marked as used by the edge.
     fn note_pcurves(&mut self, edge: u64) {
-        let items = self.conv.items;
-        let Some(R::EdgeCurve { edge_geometry, .. }) = items.get(&edge).map(|i| &i.record) else {
-            return;
-        };
-        let Some(R::SurfaceCurve {
-            associated_geometry,
-            ..
-        }) = items.get(edge_geometry).map(|i| &i.record)
-        else {
-            return;
-        };
-        for g in associated_geometry {
-            let Some(R::Pcurve {
-                reference_to_curve, ..
-            }) = items.get(g).map(|i| &i.record)
-            else {
-                continue;
-            };
-            if let Some(R::DefinitionalRepresentation { items: curves, .. }) =
-                items.get(reference_to_curve).map(|i| &i.record)
-            {
-                for c in curves {
-                    self.pcurve_entities.push((*c, edge));
-                }
-            }
+        let pairs = self.edge_pcurves;
+        let start = pairs.partition_point(|&(e, _)| e < edge);
+        for &(_, curve) in pairs[start..].iter().take_while(|&&(e, _)| e == edge) {
+            self.pcurve_entities.push((curve, edge));
         }
     }
 
