@@ -26,6 +26,42 @@ pub enum TrimmingSelect {
     Point(u64),
 }
 
+/// A DIRECTION's `direction_ratios` (ISO 10303-42 4.4.3: `LIST [2:3] OF REAL`), held
+/// inline: a file has hundreds of thousands of directions, and a vector each was an
+/// allocation each. Up to three are held (fewer than two are the reader's to refuse where
+/// the direction is used); a longer list is a schema error of the DIRECTION.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Ratios {
+    len: u8,
+    values: [f64; 3],
+}
+
+impl Ratios {
+    /// The ratios `values`; `None` for more than three.
+    pub fn new(values: &[f64]) -> Option<Self> {
+        let mut r = Ratios::default();
+        for &v in values {
+            r.push(v)?;
+        }
+        Some(r)
+    }
+
+    /// Appends `v`; `None` when three are held already.
+    pub fn push(&mut self, v: f64) -> Option<()> {
+        *self.values.get_mut(usize::from(self.len))? = v;
+        self.len += 1;
+        Some(())
+    }
+}
+
+impl std::ops::Deref for Ratios {
+    type Target = [f64];
+
+    fn deref(&self) -> &[f64] {
+        self.values.get(..usize::from(self.len)).unwrap_or_default()
+    }
+}
+
 /// The trimming attributes of a `trimmed_curve` (ISO 10303-42 4.4.21).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trimming<'a> {
@@ -63,7 +99,7 @@ pub enum GeometryRecord<'a> {
     /// `direction` (4.4.3): `direction_ratios`, 2 or 3 of them.
     Direction {
         /// `direction_ratios`.
-        direction_ratios: Vec<f64>,
+        direction_ratios: Ratios,
     },
     /// `vector` (4.4.4): `orientation` (a DIRECTION), `magnitude` (>= 0).
     Vector {
@@ -560,7 +596,14 @@ impl<'a> GeometryItem<'a> {
         use GeometryRecord as R;
         let record = match entity {
             "DIRECTION" => R::Direction {
-                direction_ratios: a.reals(entity, "direction_ratios")?,
+                direction_ratios: {
+                    let v = a.reals(entity, "direction_ratios")?;
+                    a.checked(entity, "direction_ratios", |_| {
+                        Ratios::new(&v).ok_or_else(|| {
+                            format!("expected 2 or 3 direction ratios, found {}", v.len())
+                        })
+                    })?
+                },
             },
             "VECTOR" => R::Vector {
                 orientation: a.reference(entity, "orientation")?,

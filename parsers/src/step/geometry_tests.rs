@@ -38,7 +38,7 @@ fn valid_simple_instances() {
         (
             "#1=DIRECTION('',(0.,0.,1.));",
             R::Direction {
-                direction_ratios: vec![0., 0., 1.],
+                direction_ratios: Ratios::new(&[0., 0., 1.]).expect("three ratios"),
             },
         ),
         (
@@ -398,6 +398,8 @@ fn each_attribute_wrong() {
     let cases: &[(&str, &str, usize)] = &[
         ("#1=DIRECTION('',#2);", "direction_ratios", 2),
         ("#1=DIRECTION('',(0.,'x'));", "direction_ratios", 2),
+        // ISO 10303-42 4.4.3: at most three ratios (held inline, `Ratios`).
+        ("#1=DIRECTION('',(0.,0.,1.,2.));", "direction_ratios", 2),
         ("#1=VECTOR('',3.,2.5);", "orientation", 2),
         ("#1=VECTOR('',#2,#3);", "magnitude", 3),
         ("#1=AXIS1_PLACEMENT('',1.,$);", "location", 2),

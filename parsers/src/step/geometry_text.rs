@@ -24,7 +24,7 @@
 //! located error. The tests compare both paths on every repository STEP file and on damaged
 //! copies of their instances.
 
-use super::geometry::{GeometryItem, GeometryRecord};
+use super::geometry::{GeometryItem, GeometryRecord, Ratios};
 use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
@@ -43,7 +43,7 @@ pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<Geo
     use GeometryRecord as R;
     let record = match shape {
         Shape::Direction => R::Direction {
-            direction_ratios: r.next_reals()?,
+            direction_ratios: r.next_ratios()?,
         },
         Shape::Vector => R::Vector {
             orientation: r.next_reference()?,
@@ -282,10 +282,14 @@ impl Reader<'_> {
         self.list(1, Self::reference_token, None)
     }
 
-    /// `,` then a list of REALs.
-    fn next_reals(&mut self) -> Option<Vec<f64>> {
+    /// `,` then a DIRECTION's list of REALs, read without an allocation; `None` for more
+    /// than three (the general path reports it) or any other shape.
+    fn next_ratios(&mut self) -> Option<Ratios> {
         self.byte(b',')?;
-        self.list(1, Self::real_token, None)
+        self.open_list(1, Some(3))?;
+        let mut ratios = Ratios::default();
+        self.elements(Self::real_token, |v| ratios.push(v))?;
+        Some(ratios)
     }
 }
 

@@ -237,21 +237,38 @@ impl<'a> Reader<'a> {
         hint: Option<usize>,
     ) -> Option<Vec<T>> {
         let reserve = self.open_list(depth, hint)?;
+        let mut out = Vec::with_capacity(reserve);
+        self.elements(token, |v| {
+            out.push(v);
+            Some(())
+        })?;
+        Some(out)
+    }
+
+    /// The elements of a list [`Reader::open_list`] opened, read by `token` up to its `)`
+    /// and each given to `push`; `None` for any other shape, or when `push` refuses one.
+    #[inline(always)]
+    pub(super) fn elements<T>(
+        &mut self,
+        token: fn(&mut Self) -> Option<T>,
+        mut push: impl FnMut(T) -> Option<()>,
+    ) -> Option<()> {
         // Elements allowed before the general lexer's parameter limit (`open_list` checked
         // that `count <= max_params`).
         let budget = self.max_params - self.count;
-        let mut out = Vec::with_capacity(reserve);
+        let mut n = 0;
         self.ws();
         if self.b.get(self.i) == Some(&b')') {
             self.i += 1;
-            return Some(out);
+            return Some(());
         }
         loop {
             self.ws();
-            if out.len() >= budget {
+            if n >= budget {
                 return None;
             }
-            out.push(token(self)?);
+            push(token(self)?)?;
+            n += 1;
             // Compact text (`#1,#2,...`) has the delimiter right after the token.
             let mut c = self.b.get(self.i);
             if !matches!(c, Some(b',' | b')')) {
@@ -262,8 +279,8 @@ impl<'a> Reader<'a> {
                 Some(b',') => self.i += 1,
                 Some(b')') => {
                     self.i += 1;
-                    self.count += out.len();
-                    return Some(out);
+                    self.count += n;
+                    return Some(());
                 }
                 _ => return None,
             }

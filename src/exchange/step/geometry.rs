@@ -685,7 +685,7 @@ impl<'a> Converter<'_, '_, 'a> {
         match &self.item(id, from, "DIRECTION")?.record {
             R::Direction { direction_ratios } if (2..=3).contains(&direction_ratios.len()) => {
                 let mut d = [0.0; 3];
-                d[..direction_ratios.len()].copy_from_slice(direction_ratios);
+                d[..direction_ratios.len()].copy_from_slice(&direction_ratios[..]);
                 normalise(d)
                     .ok_or_else(|| self.error(id, "geometry.invalid", "direction has zero length"))
             }
@@ -2106,13 +2106,14 @@ impl<'a> Converter<'_, '_, 'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nurbsx_parsers::step::geometry::Ratios;
 
     /// An item of the given id (a DIRECTION whose ratio is the id, to tell them apart).
     fn item(id: u64) -> (u64, Kept<'static>) {
         let item = Kept {
             entity: "DIRECTION",
             record: R::Direction {
-                direction_ratios: vec![id as f64],
+                direction_ratios: Ratios::new(&[id as f64]).expect("one ratio"),
             },
         };
         (id, item)
@@ -2136,7 +2137,7 @@ mod tests {
                 assert_eq!(
                     found,
                     Some(&R::Direction {
-                        direction_ratios: vec![id as f64]
+                        direction_ratios: Ratios::new(&[id as f64]).expect("one ratio")
                     })
                 );
                 for other in [id.wrapping_add(1), id.wrapping_sub(1)] {
