@@ -809,6 +809,21 @@ impl<'a> GeometryItem<'a> {
 }
 
 impl<'a> Scanned<'a> {
+    /// The entity type as written and the name of a geometry instance decoded before
+    /// ([`Scanned::geometry_item`] gave it): read from the instance's start alone when it
+    /// is in the usual form, else decoded again.
+    #[allow(clippy::type_complexity)]
+    pub fn geometry_provenance(
+        &self,
+        raw: &RawInstance<'a>,
+    ) -> Result<Option<(Cow<'static, str>, Option<StepString<'a>>)>, DecodeError> {
+        if let Some((entity, name)) = super::geometry_text::name(raw, self.param_limits()) {
+            return Ok(Some((Cow::Borrowed(entity), Some(name))));
+        }
+        self.geometry_item(raw)
+            .map(|item| item.map(|i| (i.entity_type, i.name)))
+    }
+
     /// Decodes instance `raw` as one of [`GEOMETRY_ENTITIES`]; `Ok(None)` when it is
     /// another entity. The usual simple instances of a B-rep (placements, lines, circles,
     /// elementary surfaces, surface curves and pcurves, vertices, edges, loops, faces,

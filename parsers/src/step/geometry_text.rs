@@ -28,18 +28,14 @@ use super::geometry::{GeometryItem, GeometryRecord, Ratios};
 use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
+use super::string::StepString;
 
 /// Reads `raw` if it is a simple instance of one of the entities listed in the module
 /// documentation, in the usual form; `None` means "not read here" (see there).
 ///
 /// `limits` must be the limits the instance was scanned with.
 pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<GeometryItem<'a>> {
-    let keyword = raw.keyword()?;
-    let (entity, shape) = shape_of(keyword)?;
-    let mut r = Reader::new(raw, limits);
-    r.i = keyword.len();
-    r.byte(b'(')?;
-    let name = r.string()?;
+    let (entity, shape, mut r, name) = head(raw, limits)?;
     use GeometryRecord as R;
     let record = match shape {
         Shape::Direction => R::Direction {
@@ -160,6 +156,32 @@ pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<Geo
         entity_type: entity.into(),
         record,
     })
+}
+
+/// The start of every instance [`read`] reads, `KEYWORD('name'`: the entity, its attribute
+/// layout, the reader after the name, and the name.
+#[inline(always)]
+fn head<'a>(
+    raw: &RawInstance<'a>,
+    limits: ParamLimits,
+) -> Option<(&'static str, Shape, Reader<'a>, StepString<'a>)> {
+    let keyword = raw.keyword()?;
+    let (entity, shape) = shape_of(keyword)?;
+    let mut r = Reader::new(raw, limits);
+    r.i = keyword.len();
+    r.byte(b'(')?;
+    let name = r.string()?;
+    Some((entity, shape, r, name))
+}
+
+/// The entity type and the name [`read`] gives `raw`, read from its start alone: for an
+/// instance `read` read before (the rest of it is as it was then). `None` where `read`'s
+/// start is not met (see there).
+pub(crate) fn name<'a>(
+    raw: &RawInstance<'a>,
+    limits: ParamLimits,
+) -> Option<(&'static str, StepString<'a>)> {
+    head(raw, limits).map(|(entity, _, _, name)| (entity, name))
 }
 
 /// The attribute layouts read here (one per record shape).
@@ -376,6 +398,17 @@ mod tests {
                 GeometryItem::from_instance(&inst, At::default()).is_ok_and(|i| i.is_some())
             });
             readable += usize::from(kind && general);
+            // The provenance read from the instance's start is the decoded item's.
+            if let Ok(Some(item)) = s.geometry_item(raw) {
+                let provenance = s.geometry_provenance(raw).map_err(|e| e.to_string());
+                assert_eq!(
+                    provenance,
+                    Ok(Some((item.entity_type, item.name))),
+                    "#{}: {}",
+                    raw.id,
+                    raw.body
+                );
+            }
         }
         (answered, readable)
     }

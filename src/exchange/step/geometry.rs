@@ -1335,12 +1335,11 @@ impl<'a> Converter<'_, '_, 'a> {
         if !self.items.contains_key(&id) {
             return Default::default();
         }
-        // Decoded before, so again (the decoders are pure functions of the instance text).
-        match self.s.get(id).map(|raw| self.s.geometry_item(raw)) {
-            Some(Ok(Some(item))) => (
-                item.entity_type,
-                item.name
-                    .map(|n| n.decode_lossy().into_owned())
+        // Decoded before, so read again (the decoders are pure functions of the text).
+        match self.s.get(id).map(|raw| self.s.geometry_provenance(raw)) {
+            Some(Ok(Some((entity, name)))) => (
+                entity,
+                name.map(|n| n.decode_lossy().into_owned())
                     .filter(|n| !n.is_empty()),
             ),
             _ => Default::default(),
