@@ -1176,36 +1176,39 @@ impl<'a> Ctx<'_, 'a> {
     }
 
     /// The form and the knot_spec checked against their enumerations.
+    /// The form and the knot type of a B-spline as the model keeps them (`Meta::form`,
+    /// `Meta::knot_spec`), each checked against its enumeration ([`enumeration`]).
     fn enumerations(
         &self,
         spec: &KnotSpec<'_>,
         form: &str,
         form_name: &str,
-        forms: &[&str],
+        forms: &[&'static str],
         diags: &mut Vec<Diagnostic>,
-    ) {
+    ) -> (Cow<'static, str>, Cow<'static, str>) {
         let at = || self.location();
-        enumeration(form, forms, form_name, at, diags);
-        if let KnotSpec::Explicit { knot_spec, .. } = spec {
-            enumeration(knot_spec, KNOT_TYPES, "knot_spec", at, diags);
-        }
+        let form = enumeration(form, forms, form_name, at, diags);
+        let knot_spec = match spec {
+            KnotSpec::Explicit { knot_spec, .. } => {
+                enumeration(knot_spec, KNOT_TYPES, "knot_spec", at, diags)
+            }
+            KnotSpec::Bezier => Cow::Borrowed("bezier"),
+            KnotSpec::Uniform => Cow::Borrowed("uniform"),
+            KnotSpec::QuasiUniform => Cow::Borrowed("quasi_uniform"),
+        };
+        (form, knot_spec)
     }
 
     fn meta_common(
         &self,
         name: Option<&nurbsx_parsers::step::StepString<'_>>,
-        spec: &KnotSpec<'_>,
+        knot_spec: Cow<'static, str>,
     ) -> Meta {
         Meta {
             name: name
                 .map(|n| n.decode_lossy().into_owned())
                 .filter(|n| !n.is_empty()),
-            knot_spec: Some(match spec {
-                KnotSpec::Explicit { knot_spec, .. } => lower_case(knot_spec, KNOT_TYPES),
-                KnotSpec::Bezier => Cow::Borrowed("bezier"),
-                KnotSpec::Uniform => Cow::Borrowed("uniform"),
-                KnotSpec::QuasiUniform => Cow::Borrowed("quasi_uniform"),
-            }),
+            knot_spec: Some(knot_spec),
             ..Meta::default()
         }
     }
@@ -1278,9 +1281,10 @@ impl<'a> Ctx<'_, 'a> {
         let curve =
             NurbsCurve::with_dimension(degree, knots, points, r.weights.clone(), dim.unwrap_or(3))
                 .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
-        self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
-        let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
-        meta.form = Some(lower_case(r.curve_form, CURVE_FORMS));
+        let (form, knot_spec) =
+            self.enumerations(&r.knots, r.curve_form, "curve_form", CURVE_FORMS, diags);
+        let mut meta = self.meta_common(r.name.as_ref(), knot_spec);
+        meta.form = Some(form);
         meta.closed_u = r.closed_curve.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
         if let Some(flag) = r.closed_curve.as_bool() {
@@ -1374,15 +1378,15 @@ impl<'a> Ctx<'_, 'a> {
             .ok_or_else(|| self.error("points.invalid", "control net shape"))?;
         let surface = NurbsSurface::with_dimension(du, dv, ku, kv, net, weights, dim.unwrap_or(3))
             .map_err(|e| self.error("geometry.invalid", e.to_string()))?;
-        self.enumerations(
+        let (form, knot_spec) = self.enumerations(
             &r.knots,
             r.surface_form,
             "surface_form",
             SURFACE_FORMS,
             diags,
         );
-        let mut meta = self.meta_common(r.name.as_ref(), &r.knots);
-        meta.form = Some(lower_case(r.surface_form, SURFACE_FORMS));
+        let mut meta = self.meta_common(r.name.as_ref(), knot_spec);
+        meta.form = Some(form);
         meta.closed_u = r.u_closed.as_bool();
         meta.closed_v = r.v_closed.as_bool();
         meta.self_intersect = r.self_intersect.as_bool();
@@ -1538,36 +1542,31 @@ fn multiplicity_bound(i: usize, count: usize, m: usize, degree: usize) -> Result
     Ok(())
 }
 
-/// Checks an enumeration value against its type's values in ISO 10303-42 (`knot_type`,
-/// `b_spline_curve_form`, `b_spline_surface_form`). A value outside them is non-conforming; the geometry does not
-/// depend on it. `location` is asked for only when there is something to say (finding a
-/// line counts the lines before the instance).
-/// `value` in lower case: the entry of `known` (lower-case values) it names, borrowed, else
-/// a lower-cased copy.
-fn lower_case(value: &str, known: &[&'static str]) -> Cow<'static, str> {
-    match known.iter().find(|k| k.eq_ignore_ascii_case(value)) {
-        Some(k) => Cow::Borrowed(k),
-        None => Cow::Owned(value.to_ascii_lowercase()),
-    }
-}
-
+/// `value`, an enumeration value, in lower case as the model keeps it: the entry of `known`
+/// (ISO 10303-42 `knot_type`, `b_spline_curve_form` or `b_spline_surface_form`, in lower
+/// case) it names, borrowed, else a lower-cased copy. A value outside them is
+/// non-conforming, and reported; the geometry does not depend on it. `location` is asked
+/// for only when there is something to say (finding a line counts the lines before the
+/// instance).
 fn enumeration(
     value: &str,
-    allowed: &[&str],
+    known: &[&'static str],
     what: &str,
     location: impl FnOnce() -> Location,
     diags: &mut Vec<Diagnostic>,
-) {
-    if !allowed.iter().any(|a| a.eq_ignore_ascii_case(value)) {
-        diags.push(Diagnostic::nonconforming(
-            "step.enumeration",
-            format!(
-                "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
-                allowed.join(", ").to_ascii_uppercase()
-            ),
-            location(),
-        ));
+) -> Cow<'static, str> {
+    if let Some(k) = known.iter().find(|k| k.eq_ignore_ascii_case(value)) {
+        return Cow::Borrowed(k);
     }
+    diags.push(Diagnostic::nonconforming(
+        "step.enumeration",
+        format!(
+            "{what} .{value}. is not a value of its enumeration ({}); read as UNSPECIFIED",
+            known.join(", ").to_ascii_uppercase()
+        ),
+        location(),
+    ));
+    Cow::Owned(value.to_ascii_lowercase())
 }
 
 /// ISO 10303-42 `knot_type`, in lower case as the model keeps it (`Meta::knot_spec`).
