@@ -5,7 +5,7 @@
 use nurbsx_parsers::Limits;
 use nurbsx_parsers::step::schema::{
     At, BSplineCurve, BSplineSurface, CartesianPoint, KnotSpec, Logical, MeasureWithUnit,
-    RepresentationContext, Unit,
+    PerDirection, RepresentationContext, Unit,
 };
 use nurbsx_parsers::step::{Instance, StepString, parse};
 
@@ -57,8 +57,8 @@ fn none_empty_and_complex_forms_read_the_same() {
         assert_eq!(
             r.knots,
             KnotSpec::Explicit {
-                multiplicities: vec![vec![3, 3]],
-                knots: vec![vec![0., 1.]],
+                multiplicities: PerDirection::curve(vec![3, 3]),
+                knots: PerDirection::curve(vec![0., 1.]),
                 knot_spec: "PIECEWISE_BEZIER_KNOTS"
             }
         );

@@ -37,7 +37,8 @@ use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
 use super::schema::{
-    BSpline, BSplineCurve, BSplineSurface, KnotSpec, Logical, bspline_entity_type, canonical_name,
+    BSpline, BSplineCurve, BSplineSurface, KnotSpec, Logical, PerDirection, bspline_entity_type,
+    canonical_name,
 };
 use super::string::StepString;
 
@@ -162,8 +163,8 @@ impl<'a> Reader<'a> {
         self.byte(b',')?;
         let knot_spec = self.enumeration()?;
         Some(KnotSpec::Explicit {
-            multiplicities: vec![m],
-            knots: vec![k],
+            multiplicities: PerDirection::curve(m),
+            knots: PerDirection::curve(k),
             knot_spec,
         })
     }
@@ -180,8 +181,8 @@ impl<'a> Reader<'a> {
         self.byte(b',')?;
         let knot_spec = self.enumeration()?;
         Some(KnotSpec::Explicit {
-            multiplicities: vec![mu, mv],
-            knots: vec![ku, kv],
+            multiplicities: PerDirection::surface(mu, mv),
+            knots: PerDirection::surface(ku, kv),
             knot_spec,
         })
     }
@@ -486,8 +487,8 @@ mod tests {
         assert_eq!(
             c.knots,
             KnotSpec::Explicit {
-                multiplicities: vec![vec![3, 3]],
-                knots: vec![vec![0.0, 1.0]],
+                multiplicities: PerDirection::curve(vec![3, 3]),
+                knots: PerDirection::curve(vec![0.0, 1.0]),
                 knot_spec: "PIECEWISE_BEZIER_KNOTS"
             }
         );
@@ -510,7 +511,7 @@ mod tests {
         let KnotSpec::Explicit { knots, .. } = &s.knots else {
             panic!("explicit")
         };
-        assert_eq!(knots, &vec![vec![0.0, 1.0], vec![-2.5, 0.03]]);
+        assert_eq!(&knots[..], &[vec![0.0, 1.0], vec![-2.5, 0.03]]);
     }
 
     #[test]

@@ -1533,6 +1533,52 @@ impl<'a> CartesianPoint<'a> {
     }
 }
 
+/// One list per parametric direction of a B-spline (one for a curve, u then v for a
+/// surface), read as a slice of the lists. Held without an outer vector: every B-spline
+/// record of a file has two of these, and an outer vector was an allocation each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PerDirection<T> {
+    lists: [Vec<T>; 2],
+    count: u8,
+}
+
+impl<T> PerDirection<T> {
+    /// A curve's one list.
+    pub fn curve(list: Vec<T>) -> Self {
+        PerDirection {
+            lists: [list, Vec::new()],
+            count: 1,
+        }
+    }
+
+    /// A surface's lists in u and in v.
+    pub fn surface(u: Vec<T>, v: Vec<T>) -> Self {
+        PerDirection {
+            lists: [u, v],
+            count: 2,
+        }
+    }
+}
+
+impl<T> std::ops::Deref for PerDirection<T> {
+    type Target = [Vec<T>];
+
+    fn deref(&self) -> &[Vec<T>] {
+        self.lists
+            .get(..usize::from(self.count))
+            .unwrap_or_default()
+    }
+}
+
+impl<'a, T> IntoIterator for &'a PerDirection<T> {
+    type Item = &'a Vec<T>;
+    type IntoIter = std::slice::Iter<'a, Vec<T>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
 /// How a B-spline's knots are given: explicitly (`*_WITH_KNOTS`) or implied by a subtype.
 #[derive(Debug, Clone, PartialEq)]
 pub enum KnotSpec<'a> {
@@ -1540,9 +1586,9 @@ pub enum KnotSpec<'a> {
     /// `(multiplicities, distinct knots)` pair per parametric direction, and `knot_spec`.
     Explicit {
         /// Per direction (1 for a curve, u then v for a surface): multiplicities.
-        multiplicities: Vec<Vec<i64>>,
+        multiplicities: PerDirection<i64>,
         /// Per direction: distinct knot values.
-        knots: Vec<Vec<f64>>,
+        knots: PerDirection<f64>,
         /// `knot_spec` without dots (`UNSPECIFIED`, `PIECEWISE_BEZIER_KNOTS`...).
         knot_spec: &'a str,
     },
@@ -1650,10 +1696,10 @@ impl<'a> BSplineCurve<'a> {
         const E: &str = "B_SPLINE_CURVE";
         let knots = match knot_subtype(&a, "CURVE")? {
             (_, 0) => KnotSpec::Explicit {
-                multiplicities: vec![
+                multiplicities: PerDirection::curve(
                     a.integers("B_SPLINE_CURVE_WITH_KNOTS", "knot_multiplicities")?,
-                ],
-                knots: vec![a.reals("B_SPLINE_CURVE_WITH_KNOTS", "knots")?],
+                ),
+                knots: PerDirection::curve(a.reals("B_SPLINE_CURVE_WITH_KNOTS", "knots")?),
                 knot_spec: a.enumeration("B_SPLINE_CURVE_WITH_KNOTS", "knot_spec")?,
             },
             (_, 1) => KnotSpec::Bezier,
@@ -1721,11 +1767,11 @@ impl<'a> BSplineSurface<'a> {
         const K: &str = "B_SPLINE_SURFACE_WITH_KNOTS";
         let knots = match knot_subtype(&a, "SURFACE")? {
             (_, 0) => KnotSpec::Explicit {
-                multiplicities: vec![
+                multiplicities: PerDirection::surface(
                     a.integers(K, "u_multiplicities")?,
                     a.integers(K, "v_multiplicities")?,
-                ],
-                knots: vec![a.reals(K, "u_knots")?, a.reals(K, "v_knots")?],
+                ),
+                knots: PerDirection::surface(a.reals(K, "u_knots")?, a.reals(K, "v_knots")?),
                 knot_spec: a.enumeration(K, "knot_spec")?,
             },
             (_, 1) => KnotSpec::Bezier,

@@ -27,7 +27,9 @@
 use std::borrow::Cow;
 
 use nurbsx_parsers::real::NonFiniteReal;
-use nurbsx_parsers::step::schema::{BSplineCurve, BSplineSurface, CartesianPoint, KnotSpec};
+use nurbsx_parsers::step::schema::{
+    BSplineCurve, BSplineSurface, CartesianPoint, KnotSpec, PerDirection,
+};
 use nurbsx_parsers::step::writer::{
     write_bspline_curve, write_bspline_surface, write_cartesian_point, write_instance, write_record,
 };
@@ -549,8 +551,8 @@ fn write_curve(
     let knots = knot_spec(curve_subtype(c, options), || {
         let (values, mults) = crate::nurbs::knots::to_distinct(c.knots());
         (
-            vec![counts(&mults)],
-            vec![values],
+            PerDirection::curve(counts(&mults)),
+            PerDirection::curve(values),
             knot_form(c.degree(), c.knots()),
         )
     });
@@ -605,7 +607,11 @@ fn write_surface(
         let fu = knot_form(sf.degree_u(), sf.knots_u());
         let fv = knot_form(sf.degree_v(), sf.knots_v());
         let spec = if fu == fv { fu } else { "UNSPECIFIED" };
-        (vec![counts(&mu), counts(&mv)], vec![ku, kv], spec)
+        (
+            PerDirection::surface(counts(&mu), counts(&mv)),
+            PerDirection::surface(ku, kv),
+            spec,
+        )
     });
     let (closed_u, closed_v) = surface_closed(sf);
     let record = BSplineSurface {
@@ -673,7 +679,7 @@ fn surface_subtype(sf: &NurbsSurface, options: &ExportOptions) -> Option<KnotFor
 /// The knot attributes: the implicit subtype's, else the explicit lists `explicit` makes.
 fn knot_spec(
     subtype: Option<KnotForm>,
-    explicit: impl FnOnce() -> (Vec<Vec<i64>>, Vec<Vec<f64>>, &'static str),
+    explicit: impl FnOnce() -> (PerDirection<i64>, PerDirection<f64>, &'static str),
 ) -> KnotSpec<'static> {
     match subtype {
         Some(KnotForm::Bezier) => KnotSpec::Bezier,
