@@ -398,8 +398,8 @@ fn curve_param(b: &Basis) -> Param {
 /// A decoded geometry item as the reader keeps it: the most specific entity type read and
 /// the attributes. The name and the entity type as written, which only the entities and
 /// origins made from it need, are read again from the instance then
-/// ([`Converter::provenance`]): holding them for every item made each 136 bytes instead
-/// of 88, and the items are the read's largest structure.
+/// ([`Converter::provenance`]): holding them for every item made each 136 bytes with its
+/// id instead of 72, and the items are the read's largest structure.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Kept<'a> {
     /// [`GeometryItem::entity`].

@@ -1175,7 +1175,6 @@ impl<'a> Ctx<'_, 'a> {
             .map_err(|m| self.error("knots.invalid", format!("{what}: {m}")))
     }
 
-    /// The form and the knot_spec checked against their enumerations.
     /// The form and the knot type of a B-spline as the model keeps them (`Meta::form`,
     /// `Meta::knot_spec`), each checked against its enumeration ([`enumeration`]).
     fn enumerations(
