@@ -1027,7 +1027,7 @@ fn composite_102_joins_or_gives_its_pieces_once() {
         entity(&doc, &format!("D{l2}"))
             .meta
             .used_by
-            .contains(&format!("D{apart}"))
+            .contains(&compact_str::format_compact!("D{apart}"))
     );
     assert!(doc.diagnostics.iter().any(|d| d.code == "composite_pieces"));
 }
@@ -1185,7 +1185,7 @@ fn writer_labels_each_kind_with_its_checked_form() {
     let mut doc = read(&b.build(), &ImportOptions::default());
     doc.entities.retain(|e| e.source.entity == "118");
     doc.entities.push(doc.entities[0].clone());
-    doc.entities[1].id = "fake".to_owned();
+    doc.entities[1].id = "fake".into();
     doc.entities[1].meta.shape = Some(exchange::Shape::Cylinder);
     let warnings = exchange::iges::form_warnings(&doc);
     assert_eq!(warnings.len(), 1);

@@ -911,10 +911,10 @@ fn pcurve_curves_are_used_by_their_edges() {
     let doc = read_path(&path);
     let mut found: std::collections::BTreeMap<String, Vec<String>> = Default::default();
     for e in &doc.entities {
-        if expected.contains_key(&e.id) {
-            let mut users = e.meta.used_by.clone();
+        if expected.contains_key(e.id.as_str()) {
+            let mut users: Vec<String> = e.meta.used_by.iter().map(|u| u.to_string()).collect();
             users.sort();
-            found.insert(e.id.clone(), users);
+            found.insert(e.id.to_string(), users);
         }
     }
     for users in expected.values_mut() {

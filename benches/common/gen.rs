@@ -94,7 +94,7 @@ pub fn entities(count: usize) -> Vec<Entity> {
                 Geometry::Curve(curve(&mut rng))
             };
             Entity {
-                id: format!("E{i}"),
+                id: compact_str::format_compact!("E{i}"),
                 geometry,
                 source: Source::default(),
                 meta: Meta::default(),

@@ -223,7 +223,7 @@ pub(crate) fn place_all(
                         id: if path.is_empty() {
                             o.id.clone()
                         } else {
-                            format!("{}@{path}", o.id)
+                            compact_str::format_compact!("{}@{path}", o.id)
                         },
                         ..o.clone()
                     };
@@ -312,7 +312,7 @@ fn placed_id(origins: &Origins, part: Part) -> Option<String> {
         Part::Edge(e) => origins.edges.get(e.0),
         Part::Assembly(_) => None,
     };
-    o.map(|o| o.id.clone())
+    o.map(|o| o.id.to_string())
 }
 
 /// The solids, shells, faces and edges of `model` that neither an owned part nor another

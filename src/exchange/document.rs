@@ -4,6 +4,11 @@ use std::borrow::Cow;
 
 use serde::Serialize;
 
+/// A label of the model: an entity's or an item's id in its source file (`#17` in STEP,
+/// `D5` in IGES) or a made-up one. Held inline up to 24 bytes (every file label), so that
+/// the hundreds of thousands of a large read are no heap allocation each; reads as a `&str`.
+pub type Label = compact_str::CompactString;
+
 use super::{Diagnostic, Format, LengthUnit, Severity};
 use crate::nurbs::{Geometry, Point3};
 use crate::topology::{AssemblyId, Model};
@@ -150,7 +155,7 @@ impl Origins {
 pub struct Origin {
     /// The item's id in the source file: `#40` (an ADVANCED_FACE), `D45` (an IGES 144 or
     /// 510); for items made in memory, any unique label.
-    pub id: String,
+    pub id: Label,
     /// The source entity and line.
     pub source: Source,
     /// STEP `name`, IGES label (DE field 18) or 406 name property.
@@ -158,7 +163,7 @@ pub struct Origin {
     /// The [`Entity::id`] in [`Document::entities`] holding this item's geometry (a face's
     /// surface, an edge's curve), whose [`Meta`] (shape, forms) writers use; `None` when
     /// the geometry is only in the topology.
-    pub entity: Option<String>,
+    pub entity: Option<Label>,
 }
 
 /// Serialises a [`Format`] as `"step"` or `"iges"`.
@@ -195,7 +200,7 @@ impl Document {
 pub struct Entity {
     /// The id in the source file: `#17` (STEP) or `D5` (IGES DE pointer); for geometry
     /// made in memory, any unique label.
-    pub id: String,
+    pub id: Label,
     /// The exact geometry.
     pub geometry: Geometry,
     /// The source entity.
@@ -269,11 +274,11 @@ pub struct Meta {
     pub plane_normal: Option<Box<Point3>>,
     /// IGES: the DE pointers of the 124 transformation chain applied to the poles.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub transforms_applied: Vec<String>,
+    pub transforms_applied: Vec<Label>,
     /// IGES: the 144/186/142 entities that use this one (their trims/topology are not
     /// applied).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub used_by: Vec<String>,
+    pub used_by: Vec<Label>,
 }
 
 /// A declared parameter range: `u` for curves, `u` and `v` for surfaces.

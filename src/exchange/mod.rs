@@ -28,8 +28,8 @@ mod units;
 
 pub use diagnostic::{Diagnostic, Location, Severity, Standing};
 pub use document::{
-    Document, Entity, Meta, Origin, Origins, ParameterRange, PlacedInstance, ProductStructure,
-    Shape, Source, Topology,
+    Document, Entity, Label, Meta, Origin, Origins, ParameterRange, PlacedInstance,
+    ProductStructure, Shape, Source, Topology,
 };
 /// What content that is neither STEP nor IGES is (empty, UTF-16, a PDF ...): code and words.
 pub use nurbsx_parsers::signature::{
@@ -109,12 +109,12 @@ fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
                             format!(
                                 "solid {}: its orientation is not checked, a face could not be \
                              measured ({}{why})",
-                                origin.map_or_else(|| (k + 1).to_string(), |o| o.id.clone()),
+                                origin.map_or_else(|| (k + 1).to_string(), |o| o.id.to_string()),
                                 face.map_or_else(String::new, |f| format!("face {}: ", f.id)),
                             ),
                             Location {
                                 line: face.and_then(|o| o.source.line),
-                                entity: face.map(|o| o.id.clone()),
+                                entity: face.map(|o| o.id.to_string()),
                                 ..Location::default()
                             },
                         )
@@ -130,7 +130,7 @@ fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
             let origin = topology.origins.solids.get(k);
             let location = Location {
                 line: origin.and_then(|o| o.source.line),
-                entity: origin.map(|o| o.id.clone()),
+                entity: origin.map(|o| o.id.to_string()),
                 ..Location::default()
             };
             let what = if outer {
@@ -143,7 +143,7 @@ fn solids_inside_out(topology: &Topology) -> Vec<Diagnostic> {
                 format!(
                     "solid {}: {what} (the shell encloses {volume:e} along its faces' normals); \
                      the shell normals must point away from the solid's material",
-                    origin.map_or_else(|| (k + 1).to_string(), |o| o.id.clone())
+                    origin.map_or_else(|| (k + 1).to_string(), |o| o.id.to_string())
                 ),
                 location,
             ));

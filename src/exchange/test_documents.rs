@@ -160,7 +160,7 @@ pub(crate) fn random_document(seed: u64, format: Format) -> Document {
         };
         let Some(geometry) = geometry else { continue };
         doc.entities.push(Entity {
-            id: format!("E{i}"),
+            id: compact_str::format_compact!("E{i}"),
             geometry,
             source: Source::default(),
             meta: meta(&mut rng),

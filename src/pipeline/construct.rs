@@ -381,7 +381,7 @@ pub fn make(shape: &MakeShape) -> Result<Document, PipelineError> {
 fn document(geometry: Geometry, shape: Option<Shape>) -> Document {
     let mut doc = Document::new(Format::Step, LengthUnit::Mm);
     doc.entities.push(Entity {
-        id: "0".to_owned(),
+        id: "0".into(),
         geometry,
         source: Source {
             entity: "make".into(),

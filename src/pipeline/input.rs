@@ -257,7 +257,7 @@ fn load_json(bytes: &[u8], cancel: &super::Cancel) -> Result<Document, PipelineE
         .into_iter()
         .enumerate()
         .map(|(i, geometry)| Entity {
-            id: i.to_string(),
+            id: compact_str::ToCompactString::to_compact_string(&i),
             geometry,
             source: Source {
                 entity: "json".into(),

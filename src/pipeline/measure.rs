@@ -148,7 +148,7 @@ pub fn measure(
         let dim = e.geometry.dimension();
         let m = match &e.geometry {
             Geometry::Curve(c) => EntityMeasure {
-                id: e.id.clone(),
+                id: e.id.to_string(),
                 kind: "curve",
                 length: Some(curve_length(c, request.tolerance).map_err(at)?.into()),
                 area: None,
@@ -166,7 +166,7 @@ pub fn measure(
                     .transpose()?,
             },
             Geometry::Surface(s) => EntityMeasure {
-                id: e.id.clone(),
+                id: e.id.to_string(),
                 kind: "surface",
                 length: None,
                 area: Some(surface_area(s, request.tolerance).map_err(at)?.into()),
@@ -387,10 +387,10 @@ fn farthest(
     let (ti, ts) = to[w.to];
     Farthest {
         distance: w.distance,
-        entity: from_doc.entities[fi].id.clone(),
+        entity: from_doc.entities[fi].id.to_string(),
         parameters: params(fs, w.at),
         point: w.point,
-        nearest_entity: to_doc.entities[ti].id.clone(),
+        nearest_entity: to_doc.entities[ti].id.to_string(),
         nearest_parameters: params(ts, w.nearest_at),
     }
 }

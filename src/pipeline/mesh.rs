@@ -167,7 +167,7 @@ pub fn plan<'d>(
                     origins
                         .edges
                         .get(first)
-                        .map_or_else(String::new, |o| o.id.clone()),
+                        .map_or_else(String::new, |o| o.id.to_string()),
                 ),
             ));
             edges.clear();
@@ -419,14 +419,15 @@ pub fn tessellate_all(
     let mut diagnostics = Vec::new();
     if let Some(topology) = plan.topology {
         let origin = |list: &[crate::exchange::Origin], i: usize| {
-            list.get(i).map_or_else(|| format!("{i}"), |o| o.id.clone())
+            list.get(i)
+                .map_or_else(|| format!("{i}"), |o| o.id.to_string())
         };
         // An edge's line is named by the curve entity that holds its geometry (which
         // `info` describes: kind, degree, poles, knots), else by the edge's own id.
         let edge_name = |i: usize| {
             topology.origins.edges.get(i).map_or_else(
                 || format!("{i}"),
-                |o| o.entity.clone().unwrap_or_else(|| o.id.clone()),
+                |o| o.entity.as_ref().unwrap_or(&o.id).to_string(),
             )
         };
         let mut part = topology
@@ -522,7 +523,7 @@ pub fn tessellate_all(
                     .map_err(|err| failed(e, err))?;
                 vertices += line.points.len();
                 curves.push(CurveLine {
-                    entity: e.id.clone(),
+                    entity: e.id.to_string(),
                     points: line.points,
                 });
             }

@@ -706,8 +706,8 @@ fn verify_output(
             let (max, size) = sampled_deviation(&a.geometry, &b.geometry, scale);
             let relative = max / size.max(f64::MIN_POSITIVE);
             Ok(EntityDeviation {
-                input_id: a.id.clone(),
-                output_id: b.id.clone(),
+                input_id: a.id.to_string(),
+                output_id: b.id.to_string(),
                 max_deviation: max,
                 relative,
                 ok: relative <= tolerance,
@@ -863,12 +863,13 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
     }
     let (m, o) = (&doc.topology.model, &doc.topology.origins);
     let totals = m.totals();
-    let id =
-        |v: &[exchange::Origin], i: usize| v.get(i).map_or_else(|| i.to_string(), |x| x.id.clone());
+    let id = |v: &[exchange::Origin], i: usize| {
+        v.get(i).map_or_else(|| i.to_string(), |x| x.id.to_string())
+    };
     // By id once (a search per face would be quadratic on a large part).
     let by_id: std::collections::HashMap<&str, &Entity> =
         doc.entities.iter().map(|e| (e.id.as_str(), e)).collect();
-    let shape_of = |entity: &Option<String>| {
+    let shape_of = |entity: &Option<exchange::Label>| {
         entity
             .as_deref()
             .and_then(|e| by_id.get(e))
@@ -883,7 +884,7 @@ fn structure_info(doc: &Document) -> Option<StructureInfo> {
             let measured = &totals.faces[i];
             FaceInfo {
                 id: id(&o.faces, i),
-                surface: origin.and_then(|x| x.entity.clone()),
+                surface: origin.and_then(|x| x.entity.as_ref().map(|e| e.to_string())),
                 shape: origin.and_then(|x| shape_of(&x.entity)),
                 loops: f.loops.len(),
                 edges: f.loops.iter().map(|l| l.coedges.len()).sum(),
@@ -974,7 +975,7 @@ fn entity_roles(doc: &Document) -> std::collections::HashMap<&str, &'static str>
 fn entity_info(e: &Entity, role: &'static str) -> EntityInfo {
     match &e.geometry {
         Geometry::Curve(c) => EntityInfo {
-            id: e.id.clone(),
+            id: e.id.to_string(),
             kind: "curve",
             dimension: c.dimension(),
             degree: vec![c.degree()],
@@ -994,7 +995,7 @@ fn entity_info(e: &Entity, role: &'static str) -> EntityInfo {
             let net = s.control_points();
             let (du, dv) = s.domain();
             EntityInfo {
-                id: e.id.clone(),
+                id: e.id.to_string(),
                 kind: "surface",
                 dimension: s.dimension(),
                 degree: vec![s.degree_u(), s.degree_v()],
@@ -1074,7 +1075,7 @@ pub fn evaluate(
         },
     )?;
     Ok(EvalReport {
-        entity: entity.id.clone(),
+        entity: entity.id.to_string(),
         results,
     })
 }
@@ -1340,7 +1341,7 @@ pub fn apply(
             })?;
         if let Some((message, error_bound)) = note {
             notes.push(OpNote {
-                entity: e.id.clone(),
+                entity: e.id.to_string(),
                 message,
                 error_bound,
             });
@@ -1358,7 +1359,7 @@ pub fn apply(
         for (k, geometry) in geometries.into_iter().enumerate() {
             out.push(Entity {
                 id: if several {
-                    format!("{}.{}", e.id, k + 1)
+                    compact_str::format_compact!("{}.{}", e.id, k + 1)
                 } else {
                     e.id.clone()
                 },
@@ -1513,14 +1514,14 @@ fn join_curves(doc: &mut Document, tolerance: f64) -> Result<OpNote, PipelineErr
         }
     }
     let ids = id_list(curves.iter().map(|&i| &doc.entities[i]));
-    let first_id = doc.entities[*first].id.clone();
+    let first_id = doc.entities[*first].id.to_string();
     let name = doc.entities[*first].meta.name.clone();
     let source = doc.entities[*first].source.clone();
     let mut kept = Vec::with_capacity(doc.entities.len() - rest.len());
     for (i, e) in std::mem::take(&mut doc.entities).into_iter().enumerate() {
         if i == *first {
             kept.push(Entity {
-                id: first_id.clone(),
+                id: first_id.as_str().into(),
                 geometry: Geometry::Curve(joined.clone()),
                 source: source.clone(),
                 meta: exchange::Meta {

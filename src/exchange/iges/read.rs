@@ -503,7 +503,9 @@ fn read_entry(
                 }
                 Some(Composite::Pieces(list)) => {
                     for (member, mut c) in list {
-                        c.meta.used_by.push(format!("D{}", entry.pointer));
+                        c.meta
+                            .used_by
+                            .push(compact_str::format_compact!("D{}", entry.pointer));
                         pieces.push((member, Geometry::Curve(c.curve), c.meta));
                     }
                 }
@@ -627,7 +629,7 @@ fn finish(
         let mut trim = Vec::new();
         let mut topo = Vec::new();
         for &(de, ty) in list {
-            meta.used_by.push(format!("D{de}"));
+            meta.used_by.push(compact_str::format_compact!("D{de}"));
             // Trimmed faces (144 with 142 boundaries), bounded surfaces (143 with 141
             // boundaries) and B-rep topology are read into the document's topology unless
             // the options ask for geometry only.
@@ -671,7 +673,7 @@ fn finish(
         }
     }
     Some(Entity {
-        id: format!("D{}", entry.pointer),
+        id: compact_str::format_compact!("D{}", entry.pointer),
         geometry,
         source: Source {
             entity: super::entity_type_name(entry.entity_type),
@@ -1065,7 +1067,10 @@ fn transforms(
 ) -> Option<Vec<Transform124>> {
     match chain::resolve(file, entry.transform, options.limits.max_nesting_depth) {
         Ok(list) => {
-            meta.transforms_applied = list.iter().map(|(de, _)| format!("D{de}")).collect();
+            meta.transforms_applied = list
+                .iter()
+                .map(|(de, _)| compact_str::format_compact!("D{de}"))
+                .collect();
             Some(list.into_iter().map(|(_, t)| t).collect())
         }
         Err(e) => {

@@ -35,7 +35,9 @@ use nurbsx_parsers::iges::records::{
 };
 
 use super::read::{Context, decoded, entity_location};
-use crate::exchange::{Diagnostic, Document, Entity, Location, Meta, Origin, Source, Topology};
+use crate::exchange::{
+    Diagnostic, Document, Entity, Label, Location, Meta, Origin, Source, Topology,
+};
 use crate::nurbs::transform::apply;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3};
@@ -285,7 +287,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .map(|(x, _)| x)
             .collect();
         let made = |what: &str, k: usize| Origin {
-            id: format!("sewn {what} {}", k + 1),
+            id: compact_str::format_compact!("sewn {what} {}", k + 1),
             source: Source {
                 entity: "144 (sewn)".into(),
                 line: None,
@@ -315,12 +317,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .open_edges
                 .iter()
                 .take(8)
-                .filter_map(|e| o.edges.get(e.0).map(|x| x.id.clone()))
+                .filter_map(|e| o.edges.get(e.0).map(|x| x.id.to_string()))
                 .collect();
             // Open edges in pairs that nearly coincide: faces that almost close, worth a
             // warning; open edges without a partner are the border of a surface model
             // (IGES 5.3 section 4.147, form 2 open shell, allows a set of faces that bounds no solid): a note.
-            let name = |e: EdgeId| o.edges.get(e.0).map_or_else(String::new, |x| x.id.clone());
+            let name = |e: EdgeId| {
+                o.edges
+                    .get(e.0)
+                    .map_or_else(String::new, |x| x.id.to_string())
+            };
             let (severity, message): (fn(_, _, _) -> Diagnostic, String) = if let Some(widest) =
                 sewing.gaps.iter().map(|g| g.2).reduce(f64::max)
             {
@@ -579,7 +585,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .unwrap_or(d)
     }
 
-    fn origin(entry: &DirectoryEntry, id: String, entity: Option<&Entity>) -> Origin {
+    fn origin(entry: &DirectoryEntry, id: Label, entity: Option<&Entity>) -> Origin {
         Origin {
             id,
             source: Source {
@@ -599,12 +605,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
     ) -> Result<EdgeId, TopologyError> {
         let range = Self::range(piece);
         let origin = Origin {
-            id: format!("D{}", piece.de),
+            id: compact_str::format_compact!("D{}", piece.de),
             source: piece.entity.source.clone(),
             name: piece.entity.meta.name.clone(),
             entity: Some(piece.entity.id.clone()),
         };
-        let vertex_origin = Self::origin(from, format!("D{}", from.pointer), None);
+        let vertex_origin = Self::origin(
+            from,
+            compact_str::format_compact!("D{}", from.pointer),
+            None,
+        );
         let start = self.shared_vertex(piece.curve.point_at_unchecked(range.0), &vertex_origin)?;
         let end = self.shared_vertex(piece.curve.point_at_unchecked(range.1), &vertex_origin)?;
         let e = self
@@ -737,7 +747,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 Ok(f) => {
                     self.topology.origins.faces.push(Self::origin(
                         entry,
-                        format!("D{}", entry.pointer),
+                        compact_str::format_compact!("D{}", entry.pointer),
                         Some(surface.0),
                     ));
                     return Some(f);
@@ -1012,7 +1022,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         match self.topology.model.add_solid(outer, voids) {
             Ok(_) => self.topology.origins.solids.push(Self::origin(
                 entry,
-                format!("D{}", entry.pointer),
+                compact_str::format_compact!("D{}", entry.pointer),
                 None,
             )),
             Err(e) => diags.push(topology_error(entry, &e)),
@@ -1056,7 +1066,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         if shell.is_some() {
             self.topology.origins.shells.push(Self::origin(
                 entry,
-                format!("D{}", entry.pointer),
+                compact_str::format_compact!("D{}", entry.pointer),
                 None,
             ));
         }
@@ -1194,7 +1204,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             }
         };
         self.topology.origins.edges.push(Origin {
-            id: format!("D{}:{index}", list.pointer),
+            id: compact_str::format_compact!("D{}:{index}", list.pointer),
             source: piece.entity.source.clone(),
             name: piece.entity.meta.name.clone(),
             entity: Some(piece.entity.id.clone()),
@@ -1258,7 +1268,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         };
         self.topology.origins.vertices.push(Self::origin(
             list,
-            format!("D{}:{index}", list.pointer),
+            compact_str::format_compact!("D{}:{index}", list.pointer),
             None,
         ));
         self.list_vertices.insert((list.pointer, index), Some(v));

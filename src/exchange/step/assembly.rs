@@ -29,7 +29,7 @@ use nurbsx_parsers::step::{RawInstance, Scanned};
 
 use super::geometry::{Converter, Items};
 use crate::exchange::assembly::{Definitions, parts_by_id, place_all};
-use crate::exchange::{Diagnostic, Entity, Location, Origin, Topology};
+use crate::exchange::{Diagnostic, Entity, Label, Location, Origin, Topology};
 use crate::nurbs::sweep::Frame;
 use crate::nurbs::transform::{Affine, IDENTITY, compose};
 use crate::nurbs::{Geometry, bounding_box_diagonal};
@@ -160,7 +160,7 @@ impl<'r, 'a> Reader<'r, '_, '_, 'a> {
             Some(P::Product { id, name }) => text(name).or_else(|| text(id)),
             _ => None,
         }
-        .unwrap_or_else(|| super::instance_label(pd))
+        .unwrap_or_else(|| super::instance_label(pd).into())
     }
 
     /// An axis placement's matrix, or a located error.
@@ -346,7 +346,7 @@ pub(super) fn apply<'a>(
                     (Ok(from), Ok(to)) => {
                         mapped_reps.extend(closure(&[rep]));
                         list.push(Use {
-                            name: Some(super::instance_label(item)),
+                            name: Some(super::instance_label(item).into()),
                             source: Some(item),
                             placement: compose(&to, &inverse_rigid(&from)),
                             part: Err(Key::Representation(rep)),
@@ -402,7 +402,7 @@ pub(super) fn apply<'a>(
                     .flatten()
                     .map(|s| s.decode_lossy().into_owned())
                     .find(|s| !s.is_empty())
-                    .unwrap_or_else(|| super::instance_label(u));
+                    .unwrap_or_else(|| super::instance_label(u).into());
                 let child_reps = closure(reps_of.get(&related).map_or(&[][..], |v| v));
                 let placement = match placement_of.get(&u) {
                     None if child_reps.iter().any(|c| mapped_reps.contains(c)) => continue,
@@ -454,7 +454,7 @@ pub(super) fn apply<'a>(
                 {
                     n.decode_lossy().into_owned()
                 }
-                _ => super::instance_label(*rep),
+                _ => super::instance_label(*rep).into(),
             },
         };
         let mut instances = Vec::with_capacity(list.len());
@@ -488,7 +488,7 @@ pub(super) fn apply<'a>(
             .into_iter()
             .map(|l| {
                 l.into_iter()
-                    .map(|s| s.map_or_else(String::new, super::instance_label))
+                    .map(|s| s.map_or_else(String::new, |i| super::instance_label(i).into()))
                     .collect()
             })
             .collect(),
@@ -528,7 +528,7 @@ fn set_edges(
     }
     curves.sort_unstable();
     curves.dedup();
-    let taken: HashSet<String> = topology
+    let taken: HashSet<Label> = topology
         .origins
         .edges
         .iter()
@@ -586,7 +586,7 @@ fn set_edges(
             continue;
         }
         let origin = |suffix: &str| Origin {
-            id: format!("{id}{suffix}"),
+            id: compact_str::format_compact!("{id}{suffix}"),
             source: entity.source.clone(),
             name: None,
             entity: None,

@@ -35,7 +35,7 @@ use nurbsx_parsers::step::geometry::{
 use nurbsx_parsers::step::schema::names_bspline_surface;
 use nurbsx_parsers::step::{RawInstance, Scanned};
 
-use crate::exchange::{Diagnostic, Entity, Location, Meta, Shape, Source};
+use crate::exchange::{Diagnostic, Entity, Label, Location, Meta, Shape, Source};
 use crate::nurbs::conic::{ConicKind, conic_arc, line_segment, parabola_arc, polyline};
 use crate::nurbs::project::invert_curve;
 use crate::nurbs::sweep::{self, Frame, QuadricMap};
@@ -609,7 +609,7 @@ impl<'a> Converter<'_, '_, 'a> {
         Location {
             line: (line > 0).then_some(line),
             column: (column > 0).then_some(column),
-            entity: Some(super::instance_label(id)),
+            entity: Some(super::instance_label(id).into()),
             ..Location::default()
         }
     }
@@ -1299,10 +1299,10 @@ impl<'a> Converter<'_, '_, 'a> {
     fn entity(
         &self,
         id: u64,
-        label: String,
+        label: Label,
         geometry: Geometry,
         shape: Option<Shape>,
-        used_by: Vec<String>,
+        used_by: Vec<Label>,
         base: Option<Meta>,
     ) -> Placed {
         let raw = self.s.get(id);
@@ -1358,7 +1358,7 @@ pub(super) struct EdgeOut {
     /// Start and end vertex are the same (the edge closes on itself).
     closed: bool,
     /// The [`Entity::id`] holding the curve (set by [`Converter::run`]).
-    pub entity: String,
+    pub entity: Label,
     /// The part of `curve` the edge uses when it is not the whole curve (a B-spline whose
     /// vertices lie inside it).
     pub range: Option<(f64, f64)>,
@@ -1419,7 +1419,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 shape,
                 bspline: bspline.is_some(),
                 closed,
-                entity: String::new(),
+                entity: Label::default(),
                 range,
             });
         }
@@ -1466,7 +1466,7 @@ impl<'a> Converter<'_, '_, 'a> {
             shape,
             bspline: false,
             closed,
-            entity: String::new(),
+            entity: Label::default(),
             range: None,
         })
     }
@@ -1793,7 +1793,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 Location {
                     line: Some(e.line),
                     column: Some(e.column),
-                    entity: e.entity.map(super::instance_label),
+                    entity: e.entity.map(|e| super::instance_label(e).into()),
                     ..Location::default()
                 },
             ));
@@ -1817,7 +1817,7 @@ impl<'a> Converter<'_, '_, 'a> {
                         let label = if *n == 1 {
                             super::instance_label(o.curve_id)
                         } else {
-                            format!("#{}@#{e}", o.curve_id)
+                            compact_str::format_compact!("#{}@#{e}", o.curve_id)
                         };
                         o.entity.clone_from(&label);
                         out.entities.push(self.entity(
@@ -1891,7 +1891,7 @@ impl<'a> Converter<'_, '_, 'a> {
             let list: Vec<String> = analytic
                 .iter()
                 .take(8)
-                .map(|&i| super::instance_label(i))
+                .map(|&i| super::instance_label(i).into())
                 .collect();
             out.analytic_pcurves = Some(Diagnostic::warning(
                 "pcurve.not_converted",

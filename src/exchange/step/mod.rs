@@ -69,26 +69,27 @@ fn closure_tolerance(points: &[crate::nurbs::Point3]) -> f64 {
 }
 
 /// `#id`: how the model names STEP instance `id` (the entity instance name of ISO 10303-21
-/// clause 6.3.4). Every converted item, origin and diagnostic location carries one, so it
-/// is built with one allocation of the exact size instead of through the formatting
-/// machinery.
-fn instance_label(id: u64) -> String {
-    let mut digits = [0u8; 20];
-    let mut start = digits.len();
+/// clause 6.3.4). Every converted item and origin carries one, so it is built inline (no
+/// allocation: a [`Label`](super::Label) holds up to 24 bytes, and `#` with 20 digits is 21) and without
+/// the formatting machinery.
+fn instance_label(id: u64) -> super::Label {
+    // `#` and up to 20 digits, written from the end.
+    let mut text = [0u8; 21];
+    let mut start = text.len();
     let mut n = id;
     loop {
         start -= 1;
         // n % 10 < 10: the cast keeps it.
-        digits[start] = b'0' + (n % 10) as u8;
+        text[start] = b'0' + (n % 10) as u8;
         n /= 10;
         if n == 0 {
             break;
         }
     }
-    let mut label = String::with_capacity(1 + digits.len() - start);
-    label.push('#');
-    label.extend(digits[start..].iter().map(|&d| char::from(d)));
-    label
+    start -= 1;
+    text[start] = b'#';
+    // ASCII, so always text; copied inline.
+    std::str::from_utf8(&text[start..]).map_or_else(|_| super::Label::default(), super::Label::new)
 }
 
 #[cfg(test)]
@@ -103,7 +104,10 @@ mod label_tests {
             ids.extend([p - 1, p, p + 1]);
         }
         for id in ids {
-            assert_eq!(super::instance_label(id), format!("#{id}"));
+            let label = super::instance_label(id);
+            assert_eq!(label, format!("#{id}"));
+            // Every label fits inline: none is a heap allocation.
+            assert!(!label.is_heap_allocated(), "{label}");
         }
     }
 }

@@ -607,7 +607,7 @@ impl Presentation {
                 Location {
                     line,
                     column,
-                    entity: Some(super::instance_label(first)),
+                    entity: Some(super::instance_label(first).into()),
                     ..Location::default()
                 },
             )
@@ -790,7 +790,7 @@ fn plane_angle(s: &Scanned<'_>, complex: &[&RawInstance<'_>], doc: &mut Document
             Location {
                 line: Some(line),
                 column: Some(column),
-                entity: Some(super::instance_label(id)),
+                entity: Some(super::instance_label(id).into()),
                 ..Location::default()
             },
         ));
@@ -828,7 +828,7 @@ fn schema_diagnostic(e: &SchemaError) -> Diagnostic {
         Location {
             line: Some(e.line),
             column: Some(e.column),
-            entity: Some(super::instance_label(e.entity)),
+            entity: Some(super::instance_label(e.entity).into()),
             ..Location::default()
         },
     )
@@ -839,7 +839,7 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
     let loc = Location {
         line: Some(e.line),
         column: Some(e.column),
-        entity: e.entity.map(super::instance_label),
+        entity: e.entity.map(|e| super::instance_label(e).into()),
         ..Location::default()
     };
     match &e.kind {
@@ -893,7 +893,7 @@ fn file_units(
         Location {
             line: Some(line),
             column: Some(column),
-            entity: Some(super::instance_label(id)),
+            entity: Some(super::instance_label(id).into()),
             ..Location::default()
         }
     };
@@ -1003,7 +1003,7 @@ impl<'a> Ctx<'_, 'a> {
         Location {
             line: Some(line),
             column: Some(column),
-            entity: Some(super::instance_label(self.raw.id)),
+            entity: Some(super::instance_label(self.raw.id).into()),
             ..Location::default()
         }
     }
@@ -1726,7 +1726,7 @@ mod pcurve_user_tests {
     fn entity(id: &str) -> Entity {
         let line = NurbsCurve::new(1, vec![0., 0., 1., 1.], vec![[0.; 3], [1., 0., 0.]], None);
         Entity {
-            id: id.to_owned(),
+            id: id.into(),
             geometry: Geometry::Curve(line.expect("a line")),
             source: Default::default(),
             meta: Default::default(),

@@ -123,7 +123,7 @@ fn document(seed: u64, count: usize) -> Document {
             Geometry::Surface(NurbsSurface::new(pu, pv, ku, kv, pts, w).expect("valid surface"))
         };
         doc.entities.push(Entity {
-            id: format!("E{i}"),
+            id: compact_str::format_compact!("E{i}"),
             geometry,
             source: Source::default(),
             meta: Meta {

@@ -23,7 +23,7 @@ type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomSt
 use nurbsx_parsers::step::geometry::GeometryRecord as R;
 
 use super::geometry::{Converter, EdgeOut, Items};
-use crate::exchange::{Diagnostic, Entity, Location, Origin, Source, Topology};
+use crate::exchange::{Diagnostic, Entity, Label, Location, Origin, Source, Topology};
 use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::dist;
 use crate::nurbs::{
@@ -318,7 +318,7 @@ pub(super) fn build(
 }
 
 impl Build<'_, '_, '_, '_> {
-    fn origin(&self, id: u64, entity: Option<String>) -> Origin {
+    fn origin(&self, id: u64, entity: Option<Label>) -> Origin {
         let (line, _) = self.conv.line_column(id);
         let (source_entity, name) = self.conv.provenance(id);
         Origin {
@@ -340,7 +340,7 @@ impl Build<'_, '_, '_, '_> {
     }
 
     fn missing(&mut self, id: u64, what: &str, refs: &[u64]) {
-        let list: Vec<String> = refs.iter().map(|&r| super::instance_label(r)).collect();
+        let list: Vec<Label> = refs.iter().map(|&r| super::instance_label(r)).collect();
         let d = self.conv.error(
             id,
             "topology.missing",
@@ -504,7 +504,7 @@ impl Build<'_, '_, '_, '_> {
                         Ok(e) => {
                             self.poly_edges.insert(key, e);
                             let mut o = self.origin(face, None);
-                            o.id = format!("#{}-#{}", key.0, key.1);
+                            o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
                             self.topology.origins.edges.push(o);
                             e
                         }
@@ -687,7 +687,7 @@ impl Build<'_, '_, '_, '_> {
         }
     }
 
-    fn face_added(&mut self, id: u64, f: FaceId, entity: String) {
+    fn face_added(&mut self, id: u64, f: FaceId, entity: Label) {
         self.faces.insert(id, f);
         let o = self.origin(id, Some(entity));
         self.topology.origins.faces.push(o);

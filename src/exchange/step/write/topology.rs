@@ -67,7 +67,7 @@ fn entities(document: &Document) -> HashMap<&str, &Entity> {
 /// An entity standing for geometry that no document entity holds (metadata defaults).
 fn anonymous(geometry: Geometry) -> Entity {
     Entity {
-        id: String::new(),
+        id: Default::default(),
         geometry,
         source: Source::default(),
         meta: Meta::default(),
