@@ -190,65 +190,119 @@ fn attribute_suffix(a: &Option<(usize, &'static str)>) -> String {
 ///
 /// The table is built on first use (files without errors and callers that never ask for a
 /// line pay nothing) and is indexed by *byte blocks*, not lines: for every
-/// `LineIndex::BLOCK`-byte (1 KiB) block it stores the number of newlines before the block and
-/// where the line containing the block's first byte starts. Building it is one SIMD count
-/// per block (no per-newline work, which is what dominated a per-line table on a
-/// 100 MB file with a million lines), it takes 16 bytes per KiB of input (1.6 % of the
-/// file), and a lookup counts newlines in at most one block (a whole-part read looks up the
-/// line of every entity, vertex, edge and face it makes: with 4 KiB blocks these counts
-/// were 5 % of its instructions outside the pcurve fitting).
+/// `LineIndex::BLOCK`-byte (256-byte) block it stores the number of newlines before the
+/// block, as a 32-bit count relative to its superblock of `LineIndex::SUPER` blocks (16 MiB,
+/// so the count cannot wrap) plus one full count per superblock. Building it is one SIMD
+/// count per block (no per-newline work, which is what dominated a per-line table on a
+/// 100 MB file with a million lines), it takes 4 bytes per 256 of input (1.6 % of the
+/// file), and a lookup counts newlines in at most half a block, on the side of the offset
+/// nearer a block edge. A whole-part read looks up the line of every entity, vertex, edge
+/// and face it makes, mostly where the text is no longer in cache: 1 KiB blocks with a
+/// line start each made those lookups 5 % of a 100 MB B-rep read's time.
+///
+/// The start of the line (for the column) is the last newline before the offset in its
+/// block; when the block has none (a line longer than the block's start), the block that
+/// holds that newline is found by a binary search of the counts (the first block with the
+/// same count as the offset's follows it), so a file of one long line costs a logarithm per
+/// lookup, never a walk back.
 #[derive(Debug, Default)]
 pub struct LineIndex {
-    /// `blocks[k]` = (newlines in `text[..k * BLOCK]`, start of the line containing byte
-    /// `k * BLOCK`).
-    blocks: OnceLock<Vec<(usize, usize)>>,
+    table: OnceLock<LineTable>,
+}
+
+/// [`LineIndex`]'s counts.
+#[derive(Debug)]
+struct LineTable {
+    /// Newlines before each superblock.
+    base: Vec<usize>,
+    /// Newlines before each block, less its superblock's base.
+    relative: Vec<u32>,
+}
+
+impl LineTable {
+    fn new(bytes: &[u8]) -> Self {
+        let blocks = bytes.len().div_ceil(LineIndex::BLOCK);
+        let mut base = Vec::with_capacity(blocks / LineIndex::SUPER + 1);
+        let mut relative = Vec::with_capacity(blocks);
+        let mut total = 0usize;
+        for (k, chunk) in bytes.chunks(LineIndex::BLOCK).enumerate() {
+            if k % LineIndex::SUPER == 0 {
+                base.push(total);
+            }
+            let from = base.last().copied().unwrap_or(0);
+            // At most SUPER * BLOCK (2^24) bytes since the base: it fits.
+            relative.push(u32::try_from(total - from).unwrap_or(u32::MAX));
+            total += block_newlines(chunk);
+        }
+        LineTable { base, relative }
+    }
+
+    /// Newlines before block `k` (`k` < the number of blocks).
+    #[inline]
+    fn before(&self, k: usize) -> usize {
+        let base = self.base.get(k / LineIndex::SUPER).copied().unwrap_or(0);
+        let rel = self.relative.get(k).copied().unwrap_or(0);
+        base + usize::try_from(rel).unwrap_or(0)
+    }
+
+    fn blocks(&self) -> usize {
+        self.relative.len()
+    }
 }
 
 impl LineIndex {
     /// Bytes per block.
-    const BLOCK: usize = 1024;
+    const BLOCK: usize = 256;
+    /// Blocks per superblock (16 MiB: fewer newlines than a `u32` holds).
+    const SUPER: usize = 1 << 16;
 
     /// `(line, column)` of `offset` in `text`, both 1-based.
     pub fn locate(&self, text: &str, offset: usize) -> (usize, usize) {
         let bytes = text.as_bytes();
-        let blocks = self.blocks.get_or_init(|| {
-            let mut v = Vec::with_capacity(bytes.len() / Self::BLOCK + 1);
-            let (mut newlines, mut line_start) = (0, 0);
-            for (k, chunk) in bytes.chunks(Self::BLOCK).enumerate() {
-                v.push((newlines, line_start));
-                let (count, last) = block_newlines(chunk);
-                newlines += count;
-                if let Some(p) = last {
-                    line_start = k * Self::BLOCK + p + 1;
-                }
-            }
-            v
-        });
+        let table = self.table.get_or_init(|| LineTable::new(bytes));
         let offset = offset.min(bytes.len());
-        let k = offset / Self::BLOCK;
         // `offset == len` on a block boundary falls just past the table: use the last block.
-        let (k, (before, block_line_start)) = match blocks.get(k) {
-            Some(&b) => (k, b),
-            None => match blocks.len().checked_sub(1) {
-                Some(last) => (last, blocks.get(last).copied().unwrap_or((0, 0))),
-                None => (0, (0, 0)),
-            },
-        };
+        let k = (offset / Self::BLOCK).min(table.blocks().saturating_sub(1));
         let from = k * Self::BLOCK;
+        let before = table.before(k);
         let hay = bytes.get(from..offset).unwrap_or_default();
         // The newlines before `offset` in its block, counted over the shorter side: from the
-        // block's start, or back from the next block's count (every locate of a large read
-        // counted half a block on average; now at most that).
+        // block's start, or back from the next block's count.
         let to = from + Self::BLOCK;
-        let newlines = match blocks.get(k + 1) {
-            Some(&(after, _)) if offset - from > to - offset => {
-                let rest = bytes.get(offset..to).unwrap_or_default();
-                after - before - memchr::memchr_iter(b'\n', rest).count()
-            }
-            _ => memchr::memchr_iter(b'\n', hay).count(),
+        let newlines = if k + 1 < table.blocks() && offset - from > to - offset {
+            let rest = bytes.get(offset..to).unwrap_or_default();
+            table.before(k + 1) - before - block_newlines(rest)
+        } else {
+            block_newlines(hay)
         };
-        let line_start = memchr::memrchr(b'\n', hay).map_or(block_line_start, |p| from + p + 1);
+        let line_start = match memchr::memrchr(b'\n', hay) {
+            Some(p) => from + p + 1,
+            None => Self::line_start_before(table, bytes, k, before),
+        };
         (before + newlines + 1, offset - line_start + 1)
+    }
+
+    /// Where the line holding the first byte of block `k` starts, `before` being the
+    /// newlines before that block: just after the last of them, which lies in the block
+    /// before the first one whose count is `before` (found by a binary search).
+    fn line_start_before(table: &LineTable, bytes: &[u8], k: usize, before: usize) -> usize {
+        if before == 0 {
+            return 0;
+        }
+        // Blocks 0..=k: counts non-decreasing, block 0's is 0 < before.
+        let (mut lo, mut hi) = (0, k);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if table.before(mid) < before {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        // Block lo - 1 holds the newline (its count is below lo's).
+        let from = lo.saturating_sub(1) * Self::BLOCK;
+        let block = bytes.get(from..from + Self::BLOCK).unwrap_or_default();
+        memchr::memrchr(b'\n', block).map_or(0, |p| from + p + 1)
     }
 
     /// A located error at `offset`.
@@ -279,16 +333,15 @@ impl From<(RealError, String)> for ParseErrorKind {
     }
 }
 
-/// The number of `\n` in `chunk` (at most [`LineIndex::BLOCK`] bytes) and the position of
-/// the last one.
+/// The number of `\n` in `chunk` (at most [`LineIndex::BLOCK`] bytes): a block of the table,
+/// or the part of one a lookup counts.
 ///
 /// Sixteen bytes per compare: each gives 0xFF (-1) per newline lane; four are added and the
-/// sum subtracted from a byte counter per lane (a lane counts at most 64 of a 1 KiB block,
-/// and a sum of four is at least -4, so nothing wraps),
-/// summed once per block; no work per newline (a per-match count costs tens of
-/// instructions per line, which on a 10 MB file was 2 % of a whole B-spline read). The
-/// last newline is searched from the end, where it usually lies within one line's length.
-fn block_newlines(chunk: &[u8]) -> (usize, Option<usize>) {
+/// sum subtracted from a byte counter per lane (a lane counts at most 16 of a 256-byte
+/// block, and a sum of four is at least -4, so nothing wraps), summed once per block; no
+/// work per newline (a per-match count costs tens of instructions per line, which on a
+/// 10 MB file was 2 % of a whole B-spline read).
+fn block_newlines(chunk: &[u8]) -> usize {
     use wide::u8x16;
     let nl = u8x16::splat(b'\n');
     let lane = |c: &[u8]| {
@@ -308,29 +361,17 @@ fn block_newlines(chunk: &[u8]) -> (usize, Option<usize>) {
     for c in full.by_ref() {
         lanes -= lane(c);
     }
-    let tail = full.remainder();
-    let mut count: usize = lanes.to_array().iter().map(|&n| usize::from(n)).sum();
-    count += tail.iter().filter(|&&b| b == b'\n').count();
-    if count == 0 {
-        return (0, None);
-    }
-    if let Some(p) = tail.iter().rposition(|&b| b == b'\n') {
-        return (count, Some(chunk.len() - tail.len() + p));
-    }
-    let full_len = chunk.len() - tail.len();
-    let mut end = full_len;
-    while end >= 16 {
-        let mut a = [0u8; 16];
-        a.copy_from_slice(chunk.get(end - 16..end).unwrap_or(&[0; 16]));
-        // One bit per lane in the low 16 bits (never negative), so the narrowing is exact.
-        #[allow(clippy::cast_sign_loss, clippy::cast_possible_truncation)]
-        let mask = u8x16::new(a).cmp_eq(nl).move_mask() as u16;
-        if mask != 0 {
-            return (count, Some(end - 16 + 15 - mask.leading_zeros() as usize));
-        }
-        end -= 16;
-    }
-    (count, None)
+    // The sixteen lane counts (each at most 16, so any eight sum below 256) added by one
+    // multiply per half: the top byte of x * 0x0101..01 is the sum of x's bytes.
+    let a = lanes.to_array();
+    let half = |h: &[u8]| {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(h);
+        u64::from_le_bytes(b).wrapping_mul(0x0101_0101_0101_0101) >> 56
+    };
+    let (lo, hi) = a.split_at(8);
+    let count = usize::try_from(half(lo) + half(hi)).unwrap_or(0);
+    count + full.remainder().iter().filter(|&&b| b == b'\n').count()
 }
 
 #[cfg(test)]
@@ -340,7 +381,7 @@ mod tests {
     #[test]
     fn block_newline_count_agrees_with_a_byte_loop() {
         // Every block length up to a full block, newlines at every lane position, runs
-        // of newlines that fill whole lanes (a lane counts up to 64 in a full block).
+        // of newlines that fill whole lanes (a lane counts up to 16 in a full block).
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
         for len in 0..=LineIndex::BLOCK {
             for density in [0u64, 1, 8, 64, 256] {
@@ -357,15 +398,11 @@ mod tests {
                     })
                     .collect();
                 let count = block.iter().filter(|&&b| b == b'\n').count();
-                let last = block.iter().rposition(|&b| b == b'\n');
-                assert_eq!(block_newlines(&block), (count, last), "length {len}");
+                assert_eq!(block_newlines(&block), count, "length {len}");
             }
         }
         let all = vec![b'\n'; LineIndex::BLOCK];
-        assert_eq!(
-            block_newlines(&all),
-            (LineIndex::BLOCK, Some(LineIndex::BLOCK - 1))
-        );
+        assert_eq!(block_newlines(&all), LineIndex::BLOCK);
     }
 
     #[test]
@@ -397,6 +434,102 @@ mod tests {
                 "offset {offset}"
             );
         }
+    }
+
+    /// Lines of random lengths, from empty to several blocks long (line starts found
+    /// blocks back), starting with a long line (its start is the text's); every offset.
+    #[test]
+    fn line_index_agrees_with_counting_on_random_lines() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        for _ in 0..8 {
+            let mut text = "a".repeat(usize::try_from(next(3 * 256)).unwrap_or(0));
+            while text.len() < 6000 {
+                let len = match next(4) {
+                    0 => next(4),
+                    1 => next(80),
+                    2 => next(300),
+                    _ => next(1200),
+                };
+                text.push('\n');
+                text.push_str(&"b".repeat(usize::try_from(len).unwrap_or(0)));
+            }
+            let index = LineIndex::default();
+            let (mut line, mut start) = (1, 0);
+            for offset in 0..=text.len() {
+                assert_eq!(
+                    index.locate(&text, offset),
+                    (line, offset - start + 1),
+                    "offset {offset}"
+                );
+                if text.as_bytes().get(offset) == Some(&b'\n') {
+                    line += 1;
+                    start = offset + 1;
+                }
+            }
+        }
+        assert_eq!(LineIndex::default().locate("", 0), (1, 1));
+        assert_eq!(LineIndex::default().locate("\n\n", 2), (3, 1));
+    }
+
+    /// Across a superblock edge (16 MiB): the lines and columns of offsets around it, on a
+    /// text of short lines and on one long line over the edge.
+    #[test]
+    fn line_index_counts_across_superblocks() {
+        let edge = LineIndex::SUPER * LineIndex::BLOCK;
+        for line_len in [9usize, 3 * LineIndex::BLOCK + 5] {
+            let mut text = String::with_capacity(edge + 4096);
+            while text.len() < edge + 4096 {
+                text.push_str(&"c".repeat(line_len));
+                text.push('\n');
+            }
+            // The long-line text gets one line over the edge: no newline in 2 KiB before it.
+            if line_len > 9 {
+                let bytes = blank_newlines(&mut text, edge - 2048, edge + 100);
+                assert!(bytes > 0);
+            }
+            let index = LineIndex::default();
+            let head = &text[..edge - 3000];
+            let (mut line, mut start) = (
+                head.matches('\n').count() + 1,
+                head.rfind('\n').map_or(0, |p| p + 1),
+            );
+            for offset in edge - 3000..edge + 3000 {
+                assert_eq!(
+                    index.locate(&text, offset),
+                    (line, offset - start + 1),
+                    "offset {offset}, lines of {line_len}"
+                );
+                if text.as_bytes()[offset] == b'\n' {
+                    line += 1;
+                    start = offset + 1;
+                }
+            }
+        }
+    }
+
+    /// Replaces the newlines of `text[from..to]` by `d` (ASCII for ASCII: still text);
+    /// returns how many it replaced.
+    fn blank_newlines(text: &mut String, from: usize, to: usize) -> usize {
+        let mut n = 0;
+        let blanked: String = text[from..to]
+            .chars()
+            .map(|c| {
+                if c == '\n' {
+                    n += 1;
+                    'd'
+                } else {
+                    c
+                }
+            })
+            .collect();
+        text.replace_range(from..to, &blanked);
+        n
     }
 
     #[test]
