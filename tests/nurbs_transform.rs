@@ -195,6 +195,46 @@ proptest! {
         prop_assert!(s.iso_u(u1 + 1.0).is_err());
         prop_assert!(s.iso_v(f64::NAN).is_err());
     }
+
+    /// At the knots, where a knot of multiplicity `p` or a clamped end makes one basis
+    /// function 1 (NURBS Book eq. 3.10), the isocurves still run on the surface, and at a
+    /// clamped end their poles and weights are the net's boundary row exactly.
+    #[test]
+    fn iso_curves_at_knots_match_surface_points(
+        s in arb_surface(4, true, Ends::Any),
+        ku in any::<prop::sample::Index>(),
+        kv in any::<prop::sample::Index>(),
+    ) {
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let u = s.knots_u()[ku.index(s.knots_u().len())].clamp(u0, u1);
+        let v = s.knots_v()[kv.index(s.knots_v().len())].clamp(v0, v1);
+        let size = size_of(s.control_points().as_slice());
+        let (cu, cv) = (s.iso_u(u).unwrap(), s.iso_v(v).unwrap());
+        for t in grid(v0, v1, 50) {
+            prop_assert!(dist(cu.point_at(t).unwrap(), s.point_at(u, t).unwrap()) <= 1e-12 * size);
+        }
+        for t in grid(u0, u1, 50) {
+            prop_assert!(dist(cv.point_at(t).unwrap(), s.point_at(t, v).unwrap()) <= 1e-12 * size);
+        }
+        let (p, q, net) = (s.degree_u(), s.degree_v(), s.control_points());
+        let (ku, kv) = (s.knots_u(), s.knots_v());
+        if ku[..=p].iter().all(|&k| k == u0) && ku[ku.len() - p - 1..].iter().all(|&k| k == u1) {
+            let (first, last) = (s.iso_u(u0).unwrap(), s.iso_u(u1).unwrap());
+            for j in 0..net.nv() {
+                prop_assert_eq!(first.control_points()[j], *net.get(0, j));
+                prop_assert_eq!(first.weight(j), s.weight(0, j));
+                prop_assert_eq!(last.control_points()[j], *net.get(net.nu() - 1, j));
+                prop_assert_eq!(last.weight(j), s.weight(net.nu() - 1, j));
+            }
+        }
+        if kv[..=q].iter().all(|&k| k == v0) {
+            let first = s.iso_v(v0).unwrap();
+            for i in 0..net.nu() {
+                prop_assert_eq!(first.control_points()[i], *net.get(i, 0));
+                prop_assert_eq!(first.weight(i), s.weight(i, 0));
+            }
+        }
+    }
 }
 
 #[test]

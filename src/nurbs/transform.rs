@@ -168,16 +168,22 @@ impl NurbsCurve {
     }
 }
 
-/// Contracts the surface's homogeneous net at parameter `t` of one direction (`in_u`: the
-/// fixed parameter is u, the result runs along v): for every pole `j` of the other
-/// direction, `sum_k N_{k,p}(t) Pw_{k,j}` (A3.5 / A4.3 first stage). Exact in homogeneous
-/// space. Only the `p + 1` rows the basis functions touch are lifted to homogeneous form
-/// (`w x, w y, w z, w`, the same products as [`NurbsSurface::homogeneous`]), not the net.
-fn contract(s: &NurbsSurface, in_u: bool, t: f64) -> Vec<Hpoint> {
-    let (p, knots) = if in_u {
-        (s.degree_u(), s.knots_u())
+/// The isoparametric curve of `s` at parameter `t` of one direction (`in_u`: the fixed
+/// parameter is u, the curve runs along v): for every pole `j` of the other direction,
+/// `sum_k N_{k,p}(t) Pw_{k,j}` (A3.5 / A4.3 first stage), exact in homogeneous space. Only the
+/// `p + 1` rows the basis functions touch are lifted to homogeneous form (`w x, w y, w z, w`,
+/// the same products as [`NurbsSurface::homogeneous`]), not the net.
+///
+/// At a clamped end (`p + 1` equal knots; NURBS Book eq. 3.10: one basis function is 1 there,
+/// the others 0) the curve is the net's boundary row itself: its poles and weights are
+/// copied, not lifted and divided back (the same curve with the net's own digits, where the
+/// basis functions computed in floating point may sum the row with a rounding; an edge
+/// along a face's boundary asks for this on every B-rep read).
+fn iso_curve(s: &NurbsSurface, in_u: bool, t: f64) -> Result<NurbsCurve, GeometryError> {
+    let (p, knots, q, other_knots) = if in_u {
+        (s.degree_u(), s.knots_u(), s.degree_v(), s.knots_v())
     } else {
-        (s.degree_v(), s.knots_v())
+        (s.degree_v(), s.knots_v(), s.degree_u(), s.knots_u())
     };
     let net = s.control_points();
     let (fixed, free) = if in_u {
@@ -185,26 +191,62 @@ fn contract(s: &NurbsSurface, in_u: bool, t: f64) -> Vec<Hpoint> {
     } else {
         (net.nv(), net.nu())
     };
+    let at = |k: usize, j: usize| if in_u { (k, j) } else { (j, k) };
+    let dimension = s.dimension();
+    let flat = |mut x: Point3| {
+        if dimension == 2 {
+            x[2] = 0.0;
+        }
+        x
+    };
+    // A clamped end (p + 1 equal knots): the row there.
+    let clamped_row = if knots.get(..=p).is_some_and(|e| e.iter().all(|&k| k == t)) {
+        Some(0)
+    } else if knots
+        .len()
+        .checked_sub(p + 1)
+        .and_then(|k| knots.get(k..))
+        .is_some_and(|e| e.iter().all(|&k| k == t))
+    {
+        fixed.checked_sub(1)
+    } else {
+        None
+    };
+    if let Some(k) = clamped_row {
+        let points = (0..free)
+            .map(|j| {
+                let (a, b) = at(k, j);
+                flat(*net.get(a, b))
+            })
+            .collect();
+        let weights = s.is_rational().then(|| {
+            (0..free)
+                .map(|j| {
+                    let (a, b) = at(k, j);
+                    s.weight(a, b)
+                })
+                .collect()
+        });
+        return NurbsCurve::with_dimension(q, other_knots.to_vec(), points, weights, dimension);
+    }
     let span = find_span(p, fixed, knots, t);
     let mut n = [0.0; MAX_DEGREE + 1];
     basis_funs(span, t, p, knots, &mut n);
-    (0..free)
+    let basis = &n[..=p];
+    let h: Vec<Hpoint> = (0..free)
         .map(|j| {
             let mut sum = [0.0; 4];
-            for (k, nk) in n[..=p].iter().enumerate() {
-                let (a, b) = if in_u {
-                    (span - p + k, j)
-                } else {
-                    (j, span - p + k)
-                };
-                let q = super::to_homogeneous(*net.get(a, b), s.weight(a, b));
+            for (k, nk) in basis.iter().enumerate() {
+                let (a, b) = at(span - p + k, j);
+                let x = super::to_homogeneous(*net.get(a, b), s.weight(a, b));
                 for c in 0..4 {
-                    sum[c] += nk * q[c];
+                    sum[c] += nk * x[c];
                 }
             }
             sum
         })
-        .collect()
+        .collect();
+    NurbsCurve::from_homogeneous(q, other_knots.to_vec(), &h, s.is_rational(), dimension)
 }
 
 impl NurbsSurface {
@@ -321,14 +363,7 @@ impl NurbsSurface {
                 end: b,
             });
         }
-        let h = contract(self, true, u);
-        NurbsCurve::from_homogeneous(
-            self.degree_v(),
-            self.knots_v().to_vec(),
-            &h,
-            self.is_rational(),
-            self.dimension(),
-        )
+        iso_curve(self, true, u)
     }
 
     /// The isoparametric curve `u -> S(u, v)` at fixed `v` (exact, as [`iso_u`]).
@@ -343,13 +378,6 @@ impl NurbsSurface {
                 end: d,
             });
         }
-        let h = contract(self, false, v);
-        NurbsCurve::from_homogeneous(
-            self.degree_u(),
-            self.knots_u().to_vec(),
-            &h,
-            self.is_rational(),
-            self.dimension(),
-        )
+        iso_curve(self, false, v)
     }
 }
