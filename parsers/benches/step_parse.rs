@@ -60,7 +60,7 @@ fn bench(c: &mut Criterion) {
             let s = scan(&text, &limits).unwrap();
             let mut poles = 0usize;
             for raw in &s.instances {
-                if raw.keyword().is_some() {
+                if raw.keyword_initial().is_some() {
                     continue;
                 }
                 let inst = s.decode(raw).unwrap();

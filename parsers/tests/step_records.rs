@@ -224,7 +224,7 @@ fn record_writers_round_trip_every_sample_record() {
                 }
                 splines += 1;
                 Some(b)
-            } else if raw.keyword() == Some("CARTESIAN_POINT") {
+            } else if raw.keyword(s.text) == Some("CARTESIAN_POINT") {
                 let inst = s.decode(raw).unwrap();
                 let p = CartesianPoint::from_instance(&inst, at(raw.id)).unwrap();
                 write_cartesian_point(&mut out, raw.id, &p).unwrap();

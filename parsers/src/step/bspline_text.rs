@@ -53,9 +53,13 @@ use super::string::StepString;
 ///
 /// Whenever this returns `Some(x)`, the general path succeeds with a record equal to `x`
 /// and [`bspline_kind`](super::schema::bspline_kind) gives the same kind.
-pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<BSpline<'a>> {
-    let mut r = Reader::new(raw, limits);
-    let out = match raw.keyword() {
+pub(crate) fn read<'a>(
+    text: &'a str,
+    raw: &RawInstance<'a>,
+    limits: ParamLimits,
+) -> Option<BSpline<'a>> {
+    let mut r = Reader::new(text, raw, limits);
+    let out = match raw.keyword(text) {
         Some(k) => {
             r.i = k.len();
             r.simple(canonical_name(k))?
@@ -394,15 +398,19 @@ mod tests {
     use proptest::prelude::*;
 
     /// The text reader under the parameter limits the scanner derives from `limits`.
-    fn bspline_direct<'a>(raw: &RawInstance<'a>, limits: &Limits) -> Option<BSpline<'a>> {
-        read(raw, ParamLimits::from(limits))
+    fn bspline_direct<'a>(
+        text: &'a str,
+        raw: &RawInstance<'a>,
+        limits: &Limits,
+    ) -> Option<BSpline<'a>> {
+        read(text, raw, ParamLimits::from(limits))
     }
 
     /// The contract: when the direct reader answers, the general path gives the same kind
     /// and an equal record (reals compared bit for bit through `Debug`, which keeps `-0.0`).
     /// Returns whether the direct reader answered.
     fn check(s: &Scanned<'_>, raw: &RawInstance<'_>, limits: &Limits) -> bool {
-        let Some(direct) = bspline_direct(raw, limits) else {
+        let Some(direct) = bspline_direct(s.text, raw, limits) else {
             return false;
         };
         let inst = match s.decode(raw) {
@@ -419,7 +427,7 @@ mod tests {
         };
         match general {
             Ok(g) => {
-                assert_eq!(direct, g, "#{}: {}", raw.id, raw.body);
+                assert_eq!(direct, g, "#{}: {}", raw.id, raw.body(s.text));
                 assert_eq!(format!("{direct:?}"), format!("{g:?}"), "#{}", raw.id);
             }
             Err(e) => panic!("direct read #{} but the general path fails: {e}", raw.id),
@@ -461,7 +469,7 @@ mod tests {
         let s = scan(text, limits).unwrap();
         let raw = s.instances.last().unwrap();
         check(&s, raw, limits);
-        bspline_direct(raw, limits)
+        bspline_direct(text, raw, limits)
     }
 
     fn answers(data: &str) -> bool {
@@ -632,8 +640,9 @@ mod tests {
                 continue;
             };
             for raw in &s.instances {
-                if bspline_direct(raw, &Limits::default()).is_some() && raw.body.len() < 4000 {
-                    out.push(format!("#{}={};", raw.id, raw.body));
+                if bspline_direct(&text, raw, &Limits::default()).is_some() && raw.body_len() < 4000
+                {
+                    out.push(format!("#{}={};", raw.id, raw.body(&text)));
                 }
             }
         }

@@ -817,7 +817,9 @@ impl<'a> Scanned<'a> {
         &self,
         raw: &RawInstance<'a>,
     ) -> Result<Option<(Cow<'static, str>, Option<StepString<'a>>)>, DecodeError> {
-        if let Some((entity, name)) = super::geometry_text::name(raw, self.param_limits()) {
+        if let Some((entity, name)) =
+            super::geometry_text::name(self.text, raw, self.param_limits())
+        {
             return Ok(Some((Cow::Borrowed(entity), Some(name))));
         }
         self.geometry_item(raw)
@@ -835,7 +837,7 @@ impl<'a> Scanned<'a> {
         &self,
         raw: &RawInstance<'a>,
     ) -> Result<Option<GeometryItem<'a>>, DecodeError> {
-        if let Some(item) = super::geometry_text::read(raw, self.param_limits()) {
+        if let Some(item) = super::geometry_text::read(self.text, raw, self.param_limits()) {
             return Ok(Some(item));
         }
         let inst = self.decode(raw)?;

@@ -34,8 +34,12 @@ use super::string::StepString;
 /// documentation, in the usual form; `None` means "not read here" (see there).
 ///
 /// `limits` must be the limits the instance was scanned with.
-pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<GeometryItem<'a>> {
-    let (entity, shape, mut r, name) = head(raw, limits)?;
+pub(crate) fn read<'a>(
+    text: &'a str,
+    raw: &RawInstance<'a>,
+    limits: ParamLimits,
+) -> Option<GeometryItem<'a>> {
+    let (entity, shape, mut r, name) = head(text, raw, limits)?;
     use GeometryRecord as R;
     let record = match shape {
         Shape::Direction => R::Direction {
@@ -162,12 +166,13 @@ pub(crate) fn read<'a>(raw: &RawInstance<'a>, limits: ParamLimits) -> Option<Geo
 /// layout, the reader after the name, and the name.
 #[inline(always)]
 fn head<'a>(
+    text: &'a str,
     raw: &RawInstance<'a>,
     limits: ParamLimits,
 ) -> Option<(&'static str, Shape, Reader<'a>, StepString<'a>)> {
-    let keyword = raw.keyword()?;
+    let keyword = raw.keyword(text)?;
     let (entity, shape) = shape_of(keyword)?;
-    let mut r = Reader::new(raw, limits);
+    let mut r = Reader::new(text, raw, limits);
     r.i = keyword.len();
     r.byte(b'(')?;
     let name = r.string()?;
@@ -178,10 +183,11 @@ fn head<'a>(
 /// instance `read` read before (the rest of it is as it was then). `None` where `read`'s
 /// start is not met (see there).
 pub(crate) fn name<'a>(
+    text: &'a str,
     raw: &RawInstance<'a>,
     limits: ParamLimits,
 ) -> Option<(&'static str, StepString<'a>)> {
-    head(raw, limits).map(|(entity, _, _, name)| (entity, name))
+    head(text, raw, limits).map(|(entity, _, _, name)| (entity, name))
 }
 
 /// The attribute layouts read here (one per record shape).
@@ -361,7 +367,7 @@ mod tests {
     /// [`GeometryItem::from_instance`]) gives an equal item (reals compared bit for bit
     /// through `Debug`, which keeps `-0.0`). Returns whether the text reader answered.
     fn check(s: &Scanned<'_>, raw: &RawInstance<'_>, limits: &Limits) -> bool {
-        let Some(direct) = read(raw, ParamLimits::from(limits)) else {
+        let Some(direct) = read(s.text, raw, ParamLimits::from(limits)) else {
             return false;
         };
         let inst = match s.decode(raw) {
@@ -370,7 +376,7 @@ mod tests {
         };
         match GeometryItem::from_instance(&inst, At::default()) {
             Ok(Some(g)) => {
-                assert_eq!(direct, g, "#{}: {}", raw.id, raw.body);
+                assert_eq!(direct, g, "#{}: {}", raw.id, raw.body(s.text));
                 assert_eq!(format!("{direct:?}"), format!("{g:?}"), "#{}", raw.id);
             }
             other => panic!(
@@ -393,7 +399,7 @@ mod tests {
             if check(&s, raw, limits) {
                 answered += 1;
             }
-            let kind = raw.keyword().and_then(shape_of).is_some();
+            let kind = raw.keyword(s.text).and_then(shape_of).is_some();
             let general = s.decode(raw).is_ok_and(|inst| {
                 GeometryItem::from_instance(&inst, At::default()).is_ok_and(|i| i.is_some())
             });
@@ -406,7 +412,7 @@ mod tests {
                     Ok(Some((item.entity_type, item.name))),
                     "#{}: {}",
                     raw.id,
-                    raw.body
+                    raw.body(s.text)
                 );
             }
         }
@@ -498,8 +504,8 @@ mod tests {
                     continue;
                 };
                 for raw in &s.instances {
-                    if read(raw, ParamLimits::from(&Limits::default())).is_some() {
-                        out.push(format!("#{}={};", raw.id, raw.body));
+                    if read(&text, raw, ParamLimits::from(&Limits::default())).is_some() {
+                        out.push(format!("#{}={};", raw.id, raw.body(&text)));
                     }
                 }
             }

@@ -31,12 +31,13 @@ pub(super) struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    /// A reader at the start of `raw`'s body (its keyword first, for a simple instance),
-    /// under the parameter limits the instance was scanned with.
-    pub(super) fn new(raw: &RawInstance<'a>, limits: ParamLimits) -> Self {
+    /// A reader at the start of `raw`'s body in `text` (the text scanned; its keyword first,
+    /// for a simple instance), under the parameter limits the instance was scanned with.
+    pub(super) fn new(text: &'a str, raw: &RawInstance<'a>, limits: ParamLimits) -> Self {
+        let body = raw.body(text);
         Reader {
-            text: raw.body,
-            b: raw.body.as_bytes(),
+            text: body,
+            b: body.as_bytes(),
             i: 0,
             count: 0,
             max_params: limits.max_params,

@@ -18,23 +18,28 @@ use super::grammar::{self, Cursor, LexError, ParamLimits};
 use super::specials::{Specials, statement_end, statement_end_in};
 use crate::{Limits, Stop};
 
-/// An entity instance found by [`scan`], not yet decoded.
+/// An entity instance found by [`scan`], not yet decoded: where it is in the text.
 ///
-/// Kept small (32 bytes): a large file has one per statement, alive for most of the read,
-/// so its size is a direct share of the reader's peak memory (issue: peak <= 3x file
-/// size).
+/// Kept small (24 bytes, no pointer into the text: [`RawInstance::body`] and
+/// [`RawInstance::keyword`] take the scanned text): a large file has one per statement,
+/// alive for most of the read, so its size is a direct share of the reader's peak memory
+/// (issue: peak <= 3x file size).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawInstance<'a> {
     /// The instance name `n` of `#n`.
     pub id: u64,
     /// The byte offset of the `#` (low [`OFFSET_BITS`] bits), the length of the keyword at
-    /// the start of `body` (the next 16 bits; 0 for a complex instance `( ... )`) and its
+    /// the start of the body (the next 16 bits; 0 for a complex instance `( ... )`) and its
     /// first byte (the high 8 bits). The keyword's first byte is kept here so that passes
     /// over every instance (which entity kinds are there?) can reject most of them without
     /// touching the text: on a large file each such touch is a cache miss.
     packed: u64,
-    /// The body text, from after `=` to before `;`.
-    pub body: &'a str,
+    /// The bytes from the `#` to the body.
+    head_len: u32,
+    /// The body's length: from after `=` to before `;`.
+    body_len: u32,
+    /// The text the offsets are in.
+    text: std::marker::PhantomData<&'a str>,
 }
 
 /// Bits of [`RawInstance`]'s packed word holding the offset: texts up to 1 TiB.
@@ -54,18 +59,43 @@ impl<'a> RawInstance<'a> {
         usize::try_from(self.packed & MAX_OFFSET).unwrap_or(usize::MAX)
     }
 
+    /// Byte offset where the body (after `=`) starts.
+    #[inline]
+    pub fn body_offset(&self) -> usize {
+        self.offset()
+            .saturating_add(usize::try_from(self.head_len).unwrap_or(usize::MAX))
+    }
+
+    /// The body's length in bytes.
+    #[inline]
+    pub fn body_len(&self) -> usize {
+        usize::try_from(self.body_len).unwrap_or(usize::MAX)
+    }
+
+    /// The body text, from after `=` to before `;`, in `text` (the text scanned).
+    #[inline]
+    pub fn body(&self, text: &'a str) -> &'a str {
+        let start = self.body_offset();
+        text.get(start..start.saturating_add(self.body_len()))
+            .unwrap_or_default()
+    }
+
     /// The length of the keyword (0 for a complex instance).
     #[inline]
-    fn keyword_len(&self) -> usize {
+    pub(crate) fn keyword_len(&self) -> usize {
         usize::try_from((self.packed >> OFFSET_BITS) & MAX_KEYWORD_LEN).unwrap_or(0)
     }
 
-    /// The keyword of a simple instance; `None` for a complex instance `( ... )`.
+    /// The keyword of a simple instance in `text` (the text scanned); `None` for a complex
+    /// instance `( ... )`.
     #[inline]
-    pub fn keyword(&self) -> Option<&'a str> {
+    pub fn keyword(&self, text: &'a str) -> Option<&'a str> {
         match self.keyword_len() {
             0 => None,
-            n => self.body.get(..n),
+            n => {
+                let start = self.body_offset();
+                text.get(start..start.saturating_add(n))
+            }
         }
     }
 
@@ -457,33 +487,44 @@ fn scan_statements<'a>(
                     run.end = RunEnd::Eof;
                     return run;
                 }
-                // Keywords longer than 64 KiB and instances beyond 1 TiB cannot be
-                // represented; they are reported instead of truncated.
+                // Keywords longer than 64 KiB, heads or bodies of 4 GiB and more and
+                // instances beyond 1 TiB cannot be represented; they are reported instead
+                // of truncated.
                 let keyword_len = keyword.map_or(0, str::len);
                 let initial = keyword.and_then(|k| k.bytes().next()).unwrap_or(0);
+                let head_len = u32::try_from(body_offset.saturating_sub(start));
+                let body_len = u32::try_from(end.saturating_sub(body_offset));
                 match (
                     u64::try_from(start).ok().filter(|&o| o <= MAX_OFFSET),
                     u64::try_from(keyword_len)
                         .ok()
                         .filter(|&n| n <= MAX_KEYWORD_LEN),
+                    head_len.ok().zip(body_len.ok()),
                 ) {
-                    (Some(offset), Some(keyword_len)) => {
+                    (Some(offset), Some(keyword_len), Some((head_len, body_len))) => {
                         run.max_id = run.max_id.max(id);
                         run.instances.push(RawInstance {
                             id,
                             packed: offset
                                 | (keyword_len << OFFSET_BITS)
                                 | (u64::from(initial) << 56),
-                            body: text.get(body_offset..end).unwrap_or_default(),
+                            head_len,
+                            body_len,
+                            text: std::marker::PhantomData,
                         });
                     }
-                    (None, _) => run.errors.push(error(
+                    (None, ..) => run.errors.push(error(
                         ParseErrorKind::InvalidId("(instance beyond 1 TiB)".to_owned()),
                         start,
                         Some(id),
                     )),
-                    (_, None) => run.errors.push(error(
+                    (_, None, _) => run.errors.push(error(
                         ParseErrorKind::InvalidId("(keyword too long)".to_owned()),
+                        start,
+                        Some(id),
+                    )),
+                    (.., None) => run.errors.push(error(
+                        ParseErrorKind::InvalidId("(instance of 4 GiB or more)".to_owned()),
                         start,
                         Some(id),
                     )),
@@ -583,23 +624,78 @@ impl<'a> Scanned<'a> {
         self.limits
     }
 
+    /// Keeps the instances `keep` accepts and frees the room of the others: a reader that
+    /// has taken what it needs of most instances (a large file's B-spline poles, once the
+    /// B-splines are read) frees their part of the index before the rest of its work.
+    ///
+    /// Call it with a decision by id (every instance of a duplicated id kept or dropped
+    /// alike) and [`Scanned::get`] still finds the first of them. Afterwards `get` does not
+    /// find a dropped id, and the sections' ranges count the kept instances only; the
+    /// errors found while scanning stay.
+    pub fn retain(&mut self, mut keep: impl FnMut(&RawInstance<'a>) -> bool) {
+        let n = self.instances.len();
+        let (mut read, mut write) = (0, 0);
+        // One pass in place: kept instances move down; each section's range is where its
+        // kept ones land.
+        let mut pass = |until: usize, instances: &mut Vec<RawInstance<'a>>| {
+            while read < until {
+                let Some(&raw) = instances.get(read) else {
+                    break;
+                };
+                read += 1;
+                if keep(&raw) {
+                    if let Some(slot) = instances.get_mut(write) {
+                        *slot = raw;
+                    }
+                    write += 1;
+                }
+            }
+            write
+        };
+        for section in &mut self.sections {
+            let start = pass(section.instances.start.min(n), &mut self.instances);
+            let end = pass(section.instances.end.min(n), &mut self.instances);
+            section.instances = start..end;
+        }
+        let kept = pass(n, &mut self.instances);
+        self.instances.truncate(kept);
+        self.instances.shrink_to_fit();
+        match &mut self.index {
+            IdIndex::Dense(v) => {
+                v.fill(IdIndex::NONE);
+                for (pos, r) in self.instances.iter().enumerate() {
+                    let (Ok(slot), Ok(p)) = (usize::try_from(r.id), u32::try_from(pos)) else {
+                        continue;
+                    };
+                    if let Some(cell) = v.get_mut(slot) {
+                        if *cell == IdIndex::NONE {
+                            *cell = p;
+                        }
+                    }
+                }
+            }
+            IdIndex::Sparse(m) => {
+                m.clear();
+                for (pos, r) in self.instances.iter().enumerate() {
+                    if let Ok(p) = u32::try_from(pos) {
+                        m.entry(r.id).or_insert(p);
+                    }
+                }
+                m.shrink_to_fit();
+            }
+        }
+    }
+
     /// The instance `#id` (the first one if the id is duplicated).
     #[inline]
     pub fn get(&self, id: u64) -> Option<&RawInstance<'a>> {
         self.index.get(id).and_then(|i| self.instances.get(i))
     }
 
-    /// Byte offset in the text where `raw`'s body (after `=`) starts.
-    #[inline]
-    pub fn body_offset(&self, raw: &RawInstance<'a>) -> usize {
-        // Both are addresses in the one text (the body is a slice of it).
-        (raw.body.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize)
-    }
-
     /// Decodes an instance's parameters.
     pub fn decode(&self, raw: &RawInstance<'a>) -> Result<Instance<'a>, ParseError> {
-        let start = self.body_offset(raw);
-        let end = start + raw.body.len();
+        let start = raw.body_offset();
+        let end = start + raw.body_len();
         let limits = self.limits;
         grammar::run(self.text.as_bytes(), start, end, |i| {
             grammar::entity_instance_body(i, limits)
@@ -1084,7 +1180,7 @@ mod tests {
         for raw in &s.instances {
             assert_eq!(
                 raw.keyword_initial(),
-                raw.keyword().and_then(|k| k.bytes().next()),
+                raw.keyword(&text).and_then(|k| k.bytes().next()),
                 "#{}",
                 raw.id
             );
@@ -1093,6 +1189,68 @@ mod tests {
         assert_eq!(
             initials,
             [Some(b'C'), Some(b'B'), None, Some(b'Q'), Some(b'!')]
+        );
+    }
+
+    /// `retain` keeps the chosen instances in order, with the sections' ranges over them
+    /// and the index finding the first of a duplicated id; dropped ids are not found.
+    #[test]
+    fn retain_keeps_order_sections_and_the_index() {
+        let text = "ISO-10303-21;HEADER;ENDSEC;\nDATA;\n#1=A(1);\n#2=B(2);\n#3=C(3);\nENDSEC;\nDATA;\n#4=D(4);\n#2=E(5);\n#5=F(6);\nENDSEC;\nEND-ISO-10303-21;";
+        for sparse in [false, true] {
+            // Ids far apart make the index a hash map.
+            let text = if sparse {
+                text.replace("#5=", "#50000000=")
+            } else {
+                text.to_owned()
+            };
+            let mut s = scan(&text, &Limits::default()).unwrap();
+            let errors = s.errors.len();
+            assert!(errors > 0, "the duplicate #2 is reported");
+            s.retain(|r| r.id != 3 && r.id != 4);
+            let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();
+            let last = if sparse { 50_000_000 } else { 5 };
+            assert_eq!(ids, [1, 2, 2, last]);
+            let ranges: Vec<_> = s.sections.iter().map(|x| x.instances.clone()).collect();
+            assert_eq!(ranges, [0..2, 2..4]);
+            assert_eq!(s.get(2).map(|r| r.body(&text)), Some("B(2)"));
+            assert_eq!(s.get(last).map(|r| r.body(&text)), Some("F(6)"));
+            assert!(s.get(3).is_none() && s.get(4).is_none());
+            assert_eq!(s.errors.len(), errors);
+        }
+    }
+
+    /// The index's entry stays at 24 bytes (a share of every large read's peak memory).
+    #[test]
+    fn raw_instances_take_24_bytes() {
+        assert_eq!(std::mem::size_of::<RawInstance<'_>>(), 24);
+    }
+
+    /// The body and keyword read back from the text are the statement's, for the usual
+    /// head, a spaced one with a comment, and a complex instance.
+    #[test]
+    fn bodies_and_keywords_are_read_from_the_text() {
+        let text = file("DATA;\n#1=A(1);\n#22 = /* c */ BB ( 2 ) ;\n#3=(X(1)Y(2));\nENDSEC;\n");
+        let s = scan(&text, &Limits::default()).unwrap();
+        let got: Vec<_> = s
+            .instances
+            .iter()
+            .map(|r| {
+                (
+                    r.id,
+                    r.keyword(&text),
+                    r.body(&text),
+                    &text[r.offset()..r.offset() + 1],
+                )
+            })
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (1, Some("A"), "A(1)", "#"),
+                (22, Some("BB"), "BB ( 2 ) ", "#"),
+                (3, None, "(X(1)Y(2))", "#"),
+            ]
         );
     }
 
@@ -1115,7 +1273,7 @@ mod tests {
         let text = file(&format!("DATA;\n#1 = {ok}(1);\nENDSEC;\n"));
         let s = scan(&text, &Limits::default()).unwrap();
         assert_eq!(s.instances.len(), 1);
-        assert_eq!(s.instances[0].keyword().map(str::len), Some(ok.len()));
+        assert_eq!(s.instances[0].keyword(&text).map(str::len), Some(ok.len()));
         assert_eq!(s.instances[0].keyword_initial(), Some(b'A'));
     }
 

@@ -1445,11 +1445,11 @@ impl<'a> CartesianPoint<'a> {
     /// escapes in the name, errors...); callers then use [`CartesianPoint::from_instance`],
     /// which handles and reports everything. Same values as the general path, bit for bit
     /// (both use [`parse_step_real`](crate::real::parse_step_real)).
-    fn coordinates_from_text(raw: &RawInstance<'_>) -> Option<([f64; 3], usize)> {
-        if raw.keyword() != Some("CARTESIAN_POINT") {
+    fn coordinates_from_text(text: &str, raw: &RawInstance<'_>) -> Option<([f64; 3], usize)> {
+        let b = raw.body(text).as_bytes();
+        if raw.keyword_len() != "CARTESIAN_POINT".len() || !b.starts_with(b"CARTESIAN_POINT") {
             return None;
         }
-        let b = raw.body.as_bytes();
         let mut i = "CARTESIAN_POINT".len();
         let ws = |i: &mut usize| {
             while matches!(b.get(*i), Some(b' ' | b'\t' | b'\r' | b'\n')) {
@@ -1843,14 +1843,15 @@ const BSPLINE_SURFACES: [&str; 6] = [
 /// Whether instance `raw` names a B-spline surface entity, from its text alone: the keyword
 /// of a simple instance, or any of those keywords inside a complex one. No decoding, so a
 /// reader that leaves B-spline surfaces to [`Scanned::bspline`] can skip them cheaply
-/// (that decoder still checks the instance and locates its errors).
-pub fn names_bspline_surface(raw: &RawInstance<'_>) -> bool {
-    match raw.keyword() {
+/// (that decoder still checks the instance and locates its errors). `text` is the text
+/// scanned.
+pub fn names_bspline_surface(text: &str, raw: &RawInstance<'_>) -> bool {
+    match raw.keyword(text) {
         Some(k) => BSPLINE_SURFACES.contains(&canonical_name(k)),
         // These three are inside every other name of the list.
         None => ["B_SPLINE_SURFACE", "BEZIER_SURFACE", "UNIFORM_SURFACE"]
             .iter()
-            .any(|k| raw.body.contains(k)),
+            .any(|k| raw.body(text).contains(k)),
     }
 }
 
@@ -1897,7 +1898,7 @@ impl<'a> Scanned<'a> {
     /// located error.
     #[inline]
     pub fn bspline(&self, raw: &RawInstance<'a>) -> Result<Option<BSpline<'a>>, DecodeError> {
-        if let Some(record) = super::bspline_text::read(raw, self.param_limits()) {
+        if let Some(record) = super::bspline_text::read(self.text, raw, self.param_limits()) {
             return Ok(Some(record));
         }
         let inst = self.decode(raw)?;
@@ -1920,7 +1921,7 @@ impl<'a> Scanned<'a> {
     /// name, with the same values or the located error.
     #[inline]
     pub fn cartesian_point(&self, raw: &RawInstance<'a>) -> Result<([f64; 3], usize), DecodeError> {
-        if let Some(point) = CartesianPoint::coordinates_from_text(raw) {
+        if let Some(point) = CartesianPoint::coordinates_from_text(self.text, raw) {
             return Ok(point);
         }
         let p = CartesianPoint::from_instance(&self.decode(raw)?, self.at(raw))?;
@@ -1939,7 +1940,7 @@ impl Scanned<'_> {
     /// tables do not hold (it may be a subtype of anything).
     fn types_of(&self, id: u64) -> Option<Cow<'static, [&'static str]>> {
         let raw = self.get(id)?;
-        if let Some(keyword) = raw.keyword() {
+        if let Some(keyword) = raw.keyword(self.text) {
             let name = canonical_name(keyword);
             return SUPERTYPE_CHAINS
                 .iter()
@@ -1972,10 +1973,13 @@ impl Scanned<'_> {
             if types.iter().any(|t| allowed.contains(t)) {
                 return;
             }
-            let found = self.get(id).and_then(|raw| raw.keyword()).map_or_else(
-                || "complex instance".to_owned(),
-                |k| canonical_name(k).to_owned(),
-            );
+            let found = self
+                .get(id)
+                .and_then(|raw| raw.keyword(self.text))
+                .map_or_else(
+                    || "complex instance".to_owned(),
+                    |k| canonical_name(k).to_owned(),
+                );
             errors.push(SchemaError {
                 entity: a.at.id,
                 entity_type: entity.to_owned(),
@@ -2187,7 +2191,7 @@ mod point_text_tests {
             let text = format!("ISO-10303-21;HEADER;ENDSEC;DATA;\n#1=CARTESIAN_POINT( '{name}' ,({coords}) );\nENDSEC;END-ISO-10303-21;");
             let s = scan(&text, &Limits::default()).unwrap();
             let raw = s.get(1).unwrap();
-            let (fast, n) = CartesianPoint::coordinates_from_text(raw).unwrap();
+            let (fast, n) = CartesianPoint::coordinates_from_text(&text, raw).unwrap();
             let slow = CartesianPoint::from_instance(&s.decode(raw).unwrap(), at(1)).unwrap();
             prop_assert_eq!(n, xs.len());
             for (f, g) in fast.iter().zip(slow.coordinates.iter()) {
@@ -2206,7 +2210,7 @@ mod point_text_tests {
             );
             let s = scan(&text, &Limits::default()).unwrap();
             assert_eq!(
-                CartesianPoint::coordinates_from_text(s.get(1).unwrap()),
+                CartesianPoint::coordinates_from_text(&text, s.get(1).unwrap()),
                 None,
                 "{body}"
             );
@@ -2235,7 +2239,7 @@ mod point_text_tests {
             let s = scan(&text, &Limits::default()).unwrap();
             let raw = s.get(1).unwrap();
             let decoded = bspline_kind(&s.decode(raw).unwrap().body) == Some(BSplineKind::Surface);
-            assert_eq!(names_bspline_surface(raw), decoded, "{body}");
+            assert_eq!(names_bspline_surface(&text, raw), decoded, "{body}");
         }
     }
 

@@ -2025,7 +2025,12 @@ impl<'a> Converter<'_, '_, 'a> {
     ) -> Res<Option<FaceSurface>> {
         // A B-spline surface: the reader's B-spline path converts it (and reports what is
         // wrong with it); decoding it here too would only find that out.
-        if !self.items.contains_key(&id) && self.s.get(id).is_some_and(names_bspline_surface) {
+        if !self.items.contains_key(&id)
+            && self
+                .s
+                .get(id)
+                .is_some_and(|raw| names_bspline_surface(self.s.text, raw))
+        {
             return Ok(None);
         }
         let basis = self.surface_basis(id, id, 0)?;

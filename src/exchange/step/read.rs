@@ -43,7 +43,12 @@ use crate::nurbs::{Geometry, Grid, NurbsCurve, NurbsSurface, Point3, distance};
 /// the scan meets one, as in a file written all in lower case, the first read stops after
 /// the scan).
 pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic> {
-    let first = read_text(text, options);
+    // The read runs on a thread of the pool its parallel parts use, not on the caller's:
+    // glibc gives each thread its own heap (arena), and memory one frees is taken again
+    // only by allocations of the same thread. On the caller's thread, the topology could
+    // not reuse what the B-spline pass had freed on the pool's, and a one-thread read of a
+    // 100 MB B-rep peaked 0.12x of the file higher.
+    let first = rayon::scope(|_| read_text(text, options));
     let lower_case = |d: &Diagnostic| d.code == LOWER_CASE_KEYWORD;
     match &first {
         Ok(doc) if !doc.diagnostics.iter().any(lower_case) => return first,
@@ -111,7 +116,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let cancel = &options.cancel;
-    let scanned = scan_parallel(
+    let mut scanned = scan_parallel(
         text,
         &options.limits,
         rayon::current_num_threads(),
@@ -149,14 +154,14 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
         // Most instances of a file are CARTESIAN_POINTs, which none of the lists below
         // takes (the entities using them read them): one comparison turns them away.
-        if raw.keyword_initial() == Some(b'C') && raw.keyword() == Some("CARTESIAN_POINT") {
+        if raw.keyword_initial() == Some(b'C') && raw.keyword(text) == Some("CARTESIAN_POINT") {
             continue;
         }
         if raw.keyword_initial().is_none() {
             // A simple instance whose keyword has lower-case letters (the scanner keeps
             // upper-case keywords only): [`read`] reads the file again upper-cased and keeps
             // nothing else of this reading, so nothing is decoded here.
-            if raw.body.starts_with(|c: char| c.is_ascii_lowercase()) {
+            if raw.body(text).starts_with(|c: char| c.is_ascii_lowercase()) {
                 if let Err(e) = scanned.decode(raw) {
                     if matches!(e.kind, ParseErrorKind::LowercaseKeyword(_)) {
                         doc.diagnostics = vec![parse_diagnostic(&e)];
@@ -166,10 +171,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
             complex.push(raw);
         }
-        presentation.count(raw);
+        presentation.count(text, raw);
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset()) == Some(raw.offset());
-        if maybe_bspline(raw) {
+        if maybe_bspline(text, raw) {
             // No B-spline keyword is a product-structure one; a complex B-spline candidate
             // (a rational B-spline's long body) is searched for product partials only if
             // it does not decode as a B-spline (below).
@@ -178,10 +183,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
             continue;
         }
-        if maybe_product(raw) && indexed() {
+        if maybe_product(text, raw) && indexed() {
             product_candidates.push(raw);
         }
-        if maybe_geometry(raw) && indexed() {
+        if maybe_geometry(text, raw) && indexed() {
             geometry_candidates.push(raw);
         }
     }
@@ -316,7 +321,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     if !options.geometry_only
         && !candidates
             .iter()
-            .any(|raw| raw.keyword().is_none() && maybe_product(raw))
+            .any(|raw| raw.keyword_initial().is_none() && maybe_product(text, raw))
     {
         let early = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
         edge_pcurves = keep_for_topology(&mut items, &early);
@@ -330,6 +335,30 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // read's peak of memory.
     let mut placed: Vec<(usize, Entity)> = converted.entities;
     placed.reserve_exact(candidates.len());
+    // The B-splines converted above for the edges and sweeps that use them (and not
+    // consumed by them) are entities of their own: moved into `placed` now, in file order,
+    // and left out of the pass. Their table is freed before the pass fills `placed`: held
+    // through it (a few hundred bytes an entry), it was a sixth of the file at the read's
+    // peak. What was noticed on the way is reported where the pass would have reported it.
+    let mut converted_notes: std::collections::VecDeque<(usize, Vec<Diagnostic>)> =
+        Default::default();
+    if let Ok(mut map) = converted_bsplines.lock() {
+        if !map.is_empty() {
+            candidates.retain(|raw| match map.remove(&raw.id) {
+                Some((e, diags)) => {
+                    placed.push((raw.offset(), e));
+                    if !diags.is_empty() {
+                        converted_notes.push_back((raw.offset(), diags));
+                    }
+                    false
+                }
+                None => true,
+            });
+        }
+        // Only the consumed B-splines are left: their entities are the edges' and sweeps'
+        // own.
+        *map = Default::default();
+    }
     let mut late_products = false;
     for (c, chunk) in candidates.chunks(BSPLINE_CHUNK).enumerate() {
         let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = chunk
@@ -339,14 +368,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 if cancel.skip(c * BSPLINE_CHUNK + i, &stopped) {
                     return (None, Vec::new());
                 }
-                let taken = converted_bsplines
-                    .lock()
-                    .ok()
-                    .and_then(|mut c| c.remove(&raw.id));
-                let (result, mut diags) = match taken {
-                    Some((e, diags)) => (Ok(Some(e)), diags),
-                    None => decode(raw),
-                };
+                let (result, mut diags) = decode(raw);
                 match result {
                     Ok(e) => (e, diags),
                     Err(d) => {
@@ -358,20 +380,25 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             .collect();
         cancel.stop_read()?;
         for ((entity, diags), raw) in results.into_iter().zip(chunk) {
+            while converted_notes
+                .front()
+                .is_some_and(|(at, _)| *at < raw.offset())
+            {
+                doc.diagnostics
+                    .extend(converted_notes.pop_front().into_iter().flat_map(|(_, d)| d));
+            }
             doc.diagnostics.extend(diags);
-            if entity.is_none() && raw.keyword().is_none() && maybe_product(raw) {
+            if entity.is_none() && raw.keyword_initial().is_none() && maybe_product(text, raw) {
                 product_candidates.push(raw);
                 late_products = true;
             }
             placed.extend(entity.map(|e| (raw.offset(), e)));
         }
     }
+    doc.diagnostics
+        .extend(converted_notes.into_iter().flat_map(|(_, d)| d));
     placed.shrink_to_fit();
     drop(candidates);
-    // Only the consumed B-splines are left: their entities are the edges' and sweeps' own.
-    if let Ok(mut c) = converted_bsplines.lock() {
-        *c = Default::default();
-    }
     if late_products {
         product_candidates.sort_by_key(|raw| raw.offset());
     }
@@ -410,8 +437,23 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 p
             }
         };
-        drop(std::mem::take(&mut product_candidates));
-        let converter = Converter::new(&scanned, &items, units, &bspline);
+        drop(product_candidates);
+        // The conformance checks below look at every instance: with them the index is kept
+        // whole.
+        if !options.conformance {
+            keep_points_in_use(&mut scanned, &items);
+        }
+        // Every B-spline is converted by now, and the topology and the product structure
+        // read none (a face's surface and an edge's curve are entities by now): one asked
+        // for here would be a reader error, and is reported as one.
+        let no_bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
+            Err(Diagnostic::error(
+                "internal",
+                format!("B-spline #{} asked for after the B-spline pass", raw.id),
+                Location::default(),
+            ))
+        };
+        let converter = Converter::new(&scanned, &items, units, &no_bspline);
         let built = super::topology::build(
             &converter,
             &edges,
@@ -443,7 +485,6 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The instance index and the decoded items are freed before the labels below are made
     // (the read's peak of memory was there, with both alive).
     drop(items);
-    drop(product_candidates);
     drop(scanned);
     label_pcurve_users(&mut doc.entities, pcurve_users);
     // The same finding reached by two paths (a syntax error in a B-spline instance is met by
@@ -471,6 +512,44 @@ fn keep_for_topology(
     let frames = super::assembly::frame_items(products, items);
     items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
     edge_pcurves
+}
+
+/// Frees the index's CARTESIAN_POINTs that nothing left to read looks up, before the
+/// topology (the read's peak): after the B-spline pass, the points read are those of the
+/// items kept for the topology and the product structure ([`keep_for_topology`]): a
+/// VERTEX_POINT's, a POLY_LOOP's, and a placement's location (the frames of the product
+/// structure). Every other instance stays (the topology's are read again for their names
+/// and lines). On a B-spline B-rep the poles are two fifths of the instances.
+fn keep_points_in_use(scanned: &mut Scanned<'_>, items: &Items<'_>) {
+    use nurbsx_parsers::step::geometry::GeometryRecord as R;
+    let mut points: Vec<u64> = Vec::new();
+    for (_, item) in items.iter() {
+        match &item.record {
+            R::VertexPoint { vertex_geometry } => points.push(*vertex_geometry),
+            R::PolyLoop { polygon } => points.extend_from_slice(polygon),
+            R::Axis1Placement { location, .. }
+            | R::Axis2Placement2d { location, .. }
+            | R::Axis2Placement3d { location, .. } => points.push(*location),
+            _ => {}
+        }
+    }
+    points.sort_unstable();
+    points.dedup();
+    let text = scanned.text;
+    // Ids come in ascending order in most files: each search gallops on from the last.
+    let mut cursor = 0;
+    scanned.retain(|raw| {
+        if raw.keyword_initial() != Some(b'C') || raw.keyword(text) != Some("CARTESIAN_POINT") {
+            return true;
+        }
+        let id = raw.id;
+        cursor = if cursor > 0 && points.get(cursor - 1).is_some_and(|&p| p >= id) {
+            points.partition_point(|&p| p < id)
+        } else {
+            cursor + first_not_below(points.get(cursor..).unwrap_or_default(), id, |&p| p)
+        };
+        points.get(cursor) == Some(&id)
+    });
 }
 
 /// The product-structure candidates decoded (assembly.rs); errors are diagnostics.
@@ -511,7 +590,7 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
         let start = if cursor > 0 && pairs[cursor - 1].0 >= id {
             pairs.partition_point(|&(curve, _)| curve < id)
         } else {
-            cursor + first_not_below(&pairs[cursor..], id)
+            cursor + first_not_below(&pairs[cursor..], id, |&(curve, _)| curve)
         };
         let end = start
             + pairs[start..]
@@ -533,19 +612,19 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
 
 /// The first index of `pairs` (sorted by their first element) whose first element is not
 /// below `id`, found by galloping from the start: a few steps when it is near.
-fn first_not_below(pairs: &[(u64, u64)], id: u64) -> usize {
-    // pairs[..lo] are all below `id`; the probe at lo + step - 1 either is too, or ends
+fn first_not_below<T>(sorted: &[T], id: u64, key: impl Fn(&T) -> u64) -> usize {
+    // sorted[..lo] are all below `id`; the probe at lo + step - 1 either is too, or ends
     // the gallop.
     let (mut lo, mut step) = (0, 1);
-    while let Some(&(first, _)) = pairs.get(lo + step - 1) {
-        if first >= id {
+    while let Some(x) = sorted.get(lo + step - 1) {
+        if key(x) >= id {
             break;
         }
         lo += step;
         step *= 2;
     }
-    let hi = (lo + step).min(pairs.len());
-    lo + pairs[lo..hi].partition_point(|&(first, _)| first < id)
+    let hi = (lo + step).min(sorted.len());
+    lo + sorted[lo..hi].partition_point(|x| key(x) < id)
 }
 
 /// The presentation and property data of a file, which nurbsx does not carry into its
@@ -567,9 +646,9 @@ struct Presentation {
 
 impl Presentation {
     /// Counts `raw` when it is one of the kinds above (one byte compared for most instances).
-    fn count(&mut self, raw: &RawInstance<'_>) {
+    fn count(&mut self, text: &str, raw: &RawInstance<'_>) {
         let slot = match raw.keyword_initial() {
-            Some(b'S' | b'O' | b'P') => match raw.keyword() {
+            Some(b'S' | b'O' | b'P') => match raw.keyword(text) {
                 Some("STYLED_ITEM" | "OVER_RIDING_STYLED_ITEM") => &mut self.styled,
                 Some("PRESENTATION_LAYER_ASSIGNMENT") => &mut self.layers,
                 Some("PROPERTY_DEFINITION") => &mut self.properties,
@@ -710,7 +789,7 @@ fn conformance(
 
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
 /// substring search of their body.
-fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
+fn maybe_bspline(text: &str, raw: &RawInstance<'_>) -> bool {
     // Every name below starts with B, U or Q: most instances (points, directions, topology)
     // are rejected by their first letter, which the scanner kept (no read of the text).
     if raw
@@ -719,7 +798,7 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
     {
         return false;
     }
-    match raw.keyword() {
+    match raw.keyword(text) {
         // (A keyword with lower-case letters is a syntax error, ISO 10303-21 6.4, that the
         // scanner itself reports: such a statement never becomes a `RawInstance`.)
         Some(k) => matches!(
@@ -737,12 +816,12 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
         ),
         // A simple instance whose keyword starts lower-case has no keyword here (the
         // scanner only takes upper-case ones); decode it so the syntax error is reported.
-        None if raw.body.starts_with(|c: char| c.is_ascii_lowercase()) => true,
+        None if raw.body(text).starts_with(|c: char| c.is_ascii_lowercase()) => true,
         // A complex instance: one of the B-spline partials, long or short form, upper or
         // lower case. Found from the `B`/`b` bytes (one SIMD pass): most complex instances
         // of a file are representation contexts, with none.
         None => {
-            let b = raw.body.as_bytes();
+            let b = raw.body(text).as_bytes();
             memchr::memchr2_iter(b'B', b'b', b).any(|i| {
                 let rest = b.get(i..).unwrap_or_default();
                 [
@@ -761,20 +840,22 @@ fn maybe_bspline(raw: &RawInstance<'_>) -> bool {
 
 /// Cheap keyword test for the product structure (`assembly.rs`): simple instances by
 /// keyword, complex ones by a substring search of their body.
-fn maybe_product(raw: &RawInstance<'_>) -> bool {
-    match raw.keyword() {
+#[inline]
+fn maybe_product(text: &str, raw: &RawInstance<'_>) -> bool {
+    match raw.keyword(text) {
         Some(k) => is_product_entity(k),
-        None => maybe_complex_product(raw.body),
+        None => maybe_complex_product(raw.body(text)),
     }
 }
 
 /// Cheap keyword test for the other geometry and topology entities (`geometry.rs`):
 /// simple instances by keyword, every complex instance (few, and the decoder ignores those
 /// without a geometry partial).
-fn maybe_geometry(raw: &RawInstance<'_>) -> bool {
-    match raw.keyword() {
+#[inline]
+fn maybe_geometry(text: &str, raw: &RawInstance<'_>) -> bool {
+    match raw.keyword(text) {
         Some(k) => is_geometry_entity(k),
-        None => maybe_complex_geometry(raw.body),
+        None => maybe_complex_geometry(raw.body(text)),
     }
 }
 

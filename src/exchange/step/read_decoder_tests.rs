@@ -164,7 +164,7 @@ fn bspline_spans(text: &str) -> Vec<(usize, usize)> {
     s.instances
         .iter()
         .filter(|r| matches!(s.bspline(r), Ok(Some(_))))
-        .map(|r| (s.body_offset(r), s.body_offset(r) + r.body.len()))
+        .map(|r| (r.body_offset(), r.body_offset() + r.body_len()))
         .collect()
 }
 

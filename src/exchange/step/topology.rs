@@ -149,6 +149,9 @@ pub(super) fn edge_pcurve_curves(items: &Items<'_>) -> Vec<(u64, u64)> {
             }
         }
     }
+    // Held through the B-spline pass and the topology (the read's peak): without the
+    // growth's spare room.
+    out.shrink_to_fit();
     out
 }
 

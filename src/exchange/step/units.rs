@@ -187,7 +187,7 @@ pub(super) fn context_units(
     // long bodies are searched in full.
     let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
     for &raw in complex {
-        if finder.find(raw.body.as_bytes()).is_none() {
+        if finder.find(raw.body(s.text).as_bytes()).is_none() {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
@@ -337,7 +337,7 @@ pub(super) fn context_plane_angle(
     let mut problems = Vec::new();
     let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
     for &raw in complex {
-        if finder.find(raw.body.as_bytes()).is_none() {
+        if finder.find(raw.body(s.text).as_bytes()).is_none() {
             continue;
         }
         let Ok(inst) = s.decode(raw) else { continue };
