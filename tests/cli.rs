@@ -22,8 +22,9 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// A fresh, empty temporary folder unique to this process and call.
-fn temp_dir(tag: &str) -> PathBuf {
+/// A fresh, empty temporary folder unique to this process and call, removed with its
+/// contents when the test is done with it (also when the test fails).
+fn temp_dir(tag: &str) -> TempDir {
     static N: AtomicUsize = AtomicUsize::new(0);
     let dir = std::env::temp_dir().join(format!(
         "nurbsx-cli-{}-{}-{}",
@@ -33,7 +34,35 @@ fn temp_dir(tag: &str) -> PathBuf {
     ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir
+    TempDir(dir)
+}
+
+/// A folder of [`temp_dir`], read as its path.
+struct TempDir(PathBuf);
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TempDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for TempDir {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.as_os_str()
+    }
 }
 
 fn nurbsx<I, S>(args: I) -> Output
@@ -198,7 +227,8 @@ fn serve_reads_its_settings_from_the_environment() {
 
 #[test]
 fn a_missing_file_exits_2_with_one_error_line() {
-    let missing = temp_dir("missing").join("nope.step");
+    let dir = temp_dir("missing");
+    let missing = dir.join("nope.step");
     let m = missing.to_str().unwrap();
     for args in [
         vec!["info", m],
@@ -617,7 +647,8 @@ fn colours_and_geometry_only_pcurves_are_said_to_be_left_out() {
         "{err}"
     );
     assert!(!err.contains("pcurve.not_converted"), "{err}");
-    let out = temp_dir("colours").join("cube.igs");
+    let dir = temp_dir("colours");
+    let out = dir.join("cube.igs");
     let o = nurbsx([
         "convert",
         "--geometry-only",
@@ -809,7 +840,8 @@ fn validate_sarif_is_sarif_2_1_0_with_located_results() {
 
 #[test]
 fn validate_with_a_missing_file_reports_it_and_exits_2() {
-    let missing = temp_dir("validate-missing").join("gone.igs");
+    let dir = temp_dir("validate-missing");
+    let missing = dir.join("gone.igs");
     let o = nurbsx([
         "validate",
         "--format",
