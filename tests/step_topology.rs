@@ -379,6 +379,10 @@ fn freecad_reimports_the_written_parts() {
             ));
         }
     }
+    // The outputs stay for a look only when something failed.
+    if failures.is_empty() {
+        let _ = std::fs::remove_dir_all(&work);
+    }
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
