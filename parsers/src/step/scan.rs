@@ -624,7 +624,8 @@ impl<'a> Scanned<'a> {
         self.limits
     }
 
-    /// Keeps the instances `keep` accepts and frees the room of the others: a reader that
+    /// Keeps the instances `keep` accepts (given each one's position in
+    /// [`Scanned::instances`] before the call) and frees the room of the others: a reader that
     /// has taken what it needs of most instances (a large file's B-spline poles, once the
     /// B-splines are read) frees their part of the index before the rest of its work.
     ///
@@ -632,7 +633,7 @@ impl<'a> Scanned<'a> {
     /// alike) and [`Scanned::get`] still finds the first of them. Afterwards `get` does not
     /// find a dropped id, and the sections' ranges count the kept instances only; the
     /// errors found while scanning stay.
-    pub fn retain(&mut self, mut keep: impl FnMut(&RawInstance<'a>) -> bool) {
+    pub fn retain(&mut self, mut keep: impl FnMut(usize, &RawInstance<'a>) -> bool) {
         let n = self.instances.len();
         let (mut read, mut write) = (0, 0);
         // One pass in place: kept instances move down; each section's range is where its
@@ -643,7 +644,7 @@ impl<'a> Scanned<'a> {
                     break;
                 };
                 read += 1;
-                if keep(&raw) {
+                if keep(read - 1, &raw) {
                     if let Some(slot) = instances.get_mut(write) {
                         *slot = raw;
                     }
@@ -1207,7 +1208,12 @@ mod tests {
             let mut s = scan(&text, &Limits::default()).unwrap();
             let errors = s.errors.len();
             assert!(errors > 0, "the duplicate #2 is reported");
-            s.retain(|r| r.id != 3 && r.id != 4);
+            let mut positions = Vec::new();
+            s.retain(|k, r| {
+                positions.push(k);
+                r.id != 3 && r.id != 4
+            });
+            assert_eq!(positions, [0, 1, 2, 3, 4, 5]);
             let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();
             let last = if sparse { 50_000_000 } else { 5 };
             assert_eq!(ids, [1, 2, 2, last]);

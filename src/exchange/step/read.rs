@@ -148,6 +148,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut presentation = Presentation::default();
+    // Which instances are CARTESIAN_POINTs, a bit each by position: the index drops the
+    // unused ones after the B-spline pass without reading their text again.
+    let mut points = vec![0u64; scanned.instances.len().div_ceil(64)];
     for (k, raw) in scanned.instances.iter().enumerate() {
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
@@ -155,6 +158,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         // Most instances of a file are CARTESIAN_POINTs, which none of the lists below
         // takes (the entities using them read them): one comparison turns them away.
         if raw.keyword_initial() == Some(b'C') && raw.keyword(text) == Some("CARTESIAN_POINT") {
+            if let Some(w) = points.get_mut(k / 64) {
+                *w |= 1 << (k % 64);
+            }
             continue;
         }
         if raw.keyword_initial().is_none() {
@@ -441,7 +447,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         // The conformance checks below look at every instance: with them the index is kept
         // whole.
         if !options.conformance {
-            keep_points_in_use(&mut scanned, &items);
+            keep_points_in_use(&mut scanned, &items, &points);
         }
         // Every B-spline is converted by now, and the topology and the product structure
         // read none (a face's surface and an edge's curve are entities by now): one asked
@@ -519,8 +525,9 @@ fn keep_for_topology(
 /// items kept for the topology and the product structure ([`keep_for_topology`]): a
 /// VERTEX_POINT's, a POLY_LOOP's, and a placement's location (the frames of the product
 /// structure). Every other instance stays (the topology's are read again for their names
-/// and lines). On a B-spline B-rep the poles are two fifths of the instances.
-fn keep_points_in_use(scanned: &mut Scanned<'_>, items: &Items<'_>) {
+/// and lines). On a B-spline B-rep the poles are two fifths of the instances. `is_point`
+/// has a bit per position in the index as scanned, set for each CARTESIAN_POINT.
+fn keep_points_in_use(scanned: &mut Scanned<'_>, items: &Items<'_>, is_point: &[u64]) {
     use nurbsx_parsers::step::geometry::GeometryRecord as R;
     let mut points: Vec<u64> = Vec::new();
     for (_, item) in items.iter() {
@@ -535,11 +542,13 @@ fn keep_points_in_use(scanned: &mut Scanned<'_>, items: &Items<'_>) {
     }
     points.sort_unstable();
     points.dedup();
-    let text = scanned.text;
     // Ids come in ascending order in most files: each search gallops on from the last.
     let mut cursor = 0;
-    scanned.retain(|raw| {
-        if raw.keyword_initial() != Some(b'C') || raw.keyword(text) != Some("CARTESIAN_POINT") {
+    scanned.retain(|k, raw| {
+        if is_point
+            .get(k / 64)
+            .is_none_or(|w| w & (1 << (k % 64)) == 0)
+        {
             return true;
         }
         let id = raw.id;
