@@ -245,13 +245,31 @@ impl NurbsSurface {
         let (du, dv) = (order.min(p), order.min(q));
         let su = find_span(p, net.nu(), self.knots_u(), u);
         let sv = find_span(q, net.nv(), self.knots_v(), v);
-        let mut nu = vec![0.0; (du + 1) * (p + 1)];
-        let mut nv = vec![0.0; (dv + 1) * (q + 1)];
-        ders_basis_funs(su, u, p, du, self.knots_u(), &mut nu);
-        ders_basis_funs(sv, v, q, dv, self.knots_v(), &mut nv);
+        // The basis-function tables and the row of partial sums on the stack for the first
+        // derivatives (the area and normal evaluations of every face, many points each),
+        // on the heap above.
+        let (mut nu_stack, mut nv_stack) =
+            ([0.0; (MAX_DEGREE + 1) * 2], [0.0; (MAX_DEGREE + 1) * 2]);
+        let (mut nu_heap, mut nv_heap);
+        let (need_u, need_v) = ((du + 1) * (p + 1), (dv + 1) * (q + 1));
+        let nu: &mut [f64] = if need_u <= nu_stack.len() {
+            &mut nu_stack[..need_u]
+        } else {
+            nu_heap = vec![0.0; need_u];
+            &mut nu_heap
+        };
+        let nv: &mut [f64] = if need_v <= nv_stack.len() {
+            &mut nv_stack[..need_v]
+        } else {
+            nv_heap = vec![0.0; need_v];
+            &mut nv_heap
+        };
+        ders_basis_funs(su, u, p, du, self.knots_u(), nu);
+        ders_basis_funs(sv, v, q, dv, self.knots_v(), nv);
         let mut out: Vec<Vec<Hpoint>> =
             (0..=order).map(|k| vec![[0.0; 4]; order - k + 1]).collect();
-        let mut temp = vec![[0.0; 4]; q + 1];
+        let mut temp_stack = [[0.0; 4]; MAX_DEGREE + 1];
+        let temp = &mut temp_stack[..=q];
         for k in 0..=du {
             for (s, t) in temp.iter_mut().enumerate() {
                 *t = [0.0; 4];
