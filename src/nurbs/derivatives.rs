@@ -104,15 +104,8 @@ impl NurbsCurve {
         let p = self.degree();
         let du = order.min(p);
         let span = find_span(p, self.num_poles(), self.knots(), u);
-        let mut nders = [0.0; (MAX_DEGREE + 1) * 2];
-        let mut heap;
-        let need = (du + 1) * (p + 1);
-        let table: &mut [f64] = if need <= nders.len() {
-            &mut nders[..need]
-        } else {
-            heap = vec![0.0; need];
-            &mut heap
-        };
+        let (mut stack, mut heap) = ([0.0; BASIS_TABLE], Vec::new());
+        let table = basis_table(&mut stack, &mut heap, (du + 1) * (p + 1));
         ders_basis_funs(span, u, p, du, self.knots(), table);
         let pts = self.control_points();
         let mut out = vec![[0.0; 4]; order + 1];
@@ -130,6 +123,25 @@ impl NurbsCurve {
             }
         }
         out
+    }
+}
+
+/// Entries of a basis-function derivative table (A2.3's `ders`) held on the stack: the
+/// values and first derivatives of any degree.
+const BASIS_TABLE: usize = (MAX_DEGREE + 1) * 2;
+
+/// A table of `need` entries for A2.3: the front of `stack` when it fits, else `heap`
+/// sized to it (higher derivatives).
+fn basis_table<'a>(
+    stack: &'a mut [f64; BASIS_TABLE],
+    heap: &'a mut Vec<f64>,
+    need: usize,
+) -> &'a mut [f64] {
+    if need <= BASIS_TABLE {
+        &mut stack[..need]
+    } else {
+        heap.resize(need, 0.0);
+        heap
     }
 }
 
@@ -248,22 +260,10 @@ impl NurbsSurface {
         // The basis-function tables and the row of partial sums on the stack for the first
         // derivatives (the area and normal evaluations of every face, many points each),
         // on the heap above.
-        let (mut nu_stack, mut nv_stack) =
-            ([0.0; (MAX_DEGREE + 1) * 2], [0.0; (MAX_DEGREE + 1) * 2]);
-        let (mut nu_heap, mut nv_heap);
-        let (need_u, need_v) = ((du + 1) * (p + 1), (dv + 1) * (q + 1));
-        let nu: &mut [f64] = if need_u <= nu_stack.len() {
-            &mut nu_stack[..need_u]
-        } else {
-            nu_heap = vec![0.0; need_u];
-            &mut nu_heap
-        };
-        let nv: &mut [f64] = if need_v <= nv_stack.len() {
-            &mut nv_stack[..need_v]
-        } else {
-            nv_heap = vec![0.0; need_v];
-            &mut nv_heap
-        };
+        let (mut nu_stack, mut nu_heap) = ([0.0; BASIS_TABLE], Vec::new());
+        let (mut nv_stack, mut nv_heap) = ([0.0; BASIS_TABLE], Vec::new());
+        let nu = basis_table(&mut nu_stack, &mut nu_heap, (du + 1) * (p + 1));
+        let nv = basis_table(&mut nv_stack, &mut nv_heap, (dv + 1) * (q + 1));
         ders_basis_funs(su, u, p, du, self.knots_u(), nu);
         ders_basis_funs(sv, v, q, dv, self.knots_v(), nv);
         let mut out: Vec<Vec<Hpoint>> =
