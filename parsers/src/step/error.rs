@@ -259,13 +259,31 @@ impl LineIndex {
     /// `(line, column)` of `offset` in `text`, both 1-based.
     pub fn locate(&self, text: &str, offset: usize) -> (usize, usize) {
         let bytes = text.as_bytes();
+        let (table, offset, k, line) = self.count(bytes, offset);
+        let from = k * Self::BLOCK;
+        let hay = bytes.get(from..offset).unwrap_or_default();
+        let line_start = match memchr::memrchr(b'\n', hay) {
+            Some(p) => from + p + 1,
+            None => Self::line_start_before(table, bytes, k, table.before(k)),
+        };
+        (line, offset - line_start + 1)
+    }
+
+    /// The 1-based line of `offset` in `text`: [`LineIndex::locate`]'s line, without
+    /// looking for where the line starts.
+    pub fn line(&self, text: &str, offset: usize) -> usize {
+        self.count(text.as_bytes(), offset).3
+    }
+
+    /// The table, `offset` within `bytes`, the block holding it and its 1-based line.
+    #[inline]
+    fn count(&self, bytes: &[u8], offset: usize) -> (&LineTable, usize, usize, usize) {
         let table = self.table.get_or_init(|| LineTable::new(bytes));
         let offset = offset.min(bytes.len());
         // `offset == len` on a block boundary falls just past the table: use the last block.
         let k = (offset / Self::BLOCK).min(table.blocks().saturating_sub(1));
         let from = k * Self::BLOCK;
         let before = table.before(k);
-        let hay = bytes.get(from..offset).unwrap_or_default();
         // The newlines before `offset` in its block, counted over the shorter side: from the
         // block's start, or back from the next block's count.
         let to = from + Self::BLOCK;
@@ -273,13 +291,9 @@ impl LineIndex {
             let rest = bytes.get(offset..to).unwrap_or_default();
             table.before(k + 1) - before - block_newlines(rest)
         } else {
-            block_newlines(hay)
+            block_newlines(bytes.get(from..offset).unwrap_or_default())
         };
-        let line_start = match memchr::memrchr(b'\n', hay) {
-            Some(p) => from + p + 1,
-            None => Self::line_start_before(table, bytes, k, before),
-        };
-        (before + newlines + 1, offset - line_start + 1)
+        (table, offset, k, before + newlines + 1)
     }
 
     /// Where the line holding the first byte of block `k` starts, `before` being the
@@ -467,6 +481,7 @@ mod tests {
                     (line, offset - start + 1),
                     "offset {offset}"
                 );
+                assert_eq!(index.line(&text, offset), line, "offset {offset}");
                 if text.as_bytes().get(offset) == Some(&b'\n') {
                     line += 1;
                     start = offset + 1;
@@ -505,6 +520,7 @@ mod tests {
                     (line, offset - start + 1),
                     "offset {offset}, lines of {line_len}"
                 );
+                assert_eq!(index.line(&text, offset), line, "offset {offset}");
                 if text.as_bytes()[offset] == b'\n' {
                     line += 1;
                     start = offset + 1;

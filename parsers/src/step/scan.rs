@@ -619,6 +619,11 @@ impl<'a> Scanned<'a> {
         self.lines.locate(self.text, offset)
     }
 
+    /// The 1-based line of a byte offset ([`Scanned::locate`]'s line alone).
+    pub fn line(&self, offset: usize) -> usize {
+        self.lines.line(self.text, offset)
+    }
+
     /// The parameter limits the instances are decoded under.
     pub(crate) fn param_limits(&self) -> ParamLimits {
         self.limits

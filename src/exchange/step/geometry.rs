@@ -616,7 +616,7 @@ impl<'a> Converter<'_, '_, 'a> {
 
     /// The 1-based line and column where instance `#id` starts; (0, 0) when it is not in
     /// the file.
-    pub(super) fn line_column(&self, id: u64) -> (usize, usize) {
+    fn line_column(&self, id: u64) -> (usize, usize) {
         self.s
             .get(id)
             .map_or((0, 0), |raw| self.s.locate(raw.offset()))
@@ -1305,46 +1305,73 @@ impl<'a> Converter<'_, '_, 'a> {
         used_by: Vec<Label>,
         base: Option<Meta>,
     ) -> Placed {
-        let raw = self.s.get(id);
-        let offset = raw.map_or(0, |r| r.offset());
         let mut meta = base.unwrap_or_default();
-        let (entity, name) = self.provenance(id);
-        if name.is_some() {
-            meta.name = name;
+        let found = self.provenance(id);
+        if found.name.is_some() {
+            meta.name = found.name;
         }
         meta.shape = shape;
         meta.used_by = used_by;
         (
-            offset,
+            found.offset,
             Entity {
                 id: label,
                 geometry,
                 source: Source {
-                    entity,
-                    line: raw.map(|r| self.s.locate(r.offset()).0),
+                    entity: found.entity,
+                    line: found.line,
                 },
                 meta,
             },
         )
     }
 
-    /// The entity type as written and the name (when not empty) of item `#id`, read again
-    /// from its instance (see [`Kept`]); the default (an empty type, no name) when `#id` is
-    /// no item.
-    pub(super) fn provenance(&self, id: u64) -> (Cow<'static, str>, Option<String>) {
+    /// Where instance `#id` is (offset and line, one look-up of the index), and the entity
+    /// type as written and the name (when not empty) of item `#id`, read again from its
+    /// instance (see [`Kept`]); an empty type and no name when `#id` is no item.
+    pub(super) fn provenance(&self, id: u64) -> Provenance {
+        let Some(raw) = self.s.get(id) else {
+            return Provenance::default();
+        };
+        let offset = raw.offset();
+        let line = Some(self.s.line(offset));
         if !self.items.contains_key(&id) {
-            return Default::default();
+            return Provenance {
+                offset,
+                line,
+                ..Provenance::default()
+            };
         }
         // Decoded before, so read again (the decoders are pure functions of the text).
-        match self.s.get(id).map(|raw| self.s.geometry_provenance(raw)) {
-            Some(Ok(Some((entity, name)))) => (
+        let (entity, name) = match self.s.geometry_provenance(raw) {
+            Ok(Some((entity, name))) => (
                 entity,
                 name.map(|n| n.decode_lossy().into_owned())
                     .filter(|n| !n.is_empty()),
             ),
             _ => Default::default(),
+        };
+        Provenance {
+            offset,
+            line,
+            entity,
+            name,
         }
     }
+}
+
+/// Where an item's instance is and what it is ([`Converter::provenance`]): all zero, empty
+/// and `None` for an id that is not in the file.
+#[derive(Debug, Default)]
+pub(super) struct Provenance {
+    /// The instance's byte offset.
+    pub offset: usize,
+    /// Its 1-based line.
+    pub line: Option<usize>,
+    /// The entity type as written; empty when the id is no geometry item.
+    pub entity: Cow<'static, str>,
+    /// The name, when the item has one that is not empty.
+    pub name: Option<String>,
 }
 
 /// An edge's curve after bounding: the NURBS, the curve instance it came from, and whether

@@ -218,14 +218,26 @@ pub(super) fn build(
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
     };
-    // Vertices first: their box gives the tolerance.
-    let mut points: Vec<(u64, Point3)> = Vec::new();
+    // The items of each kind the model is built from, in one walk of the items (each walk
+    // reads all of them: on a large file, several were a visible part of the read).
+    let mut kinds = Kinds::default();
     for (id, item) in conv.items.iter() {
-        if let R::VertexPoint { vertex_geometry } = item.record {
-            match conv.point(vertex_geometry, id) {
-                Ok(p) => points.push((id, p)),
-                Err(d) => b.diagnostics.push(d),
-            }
+        match item.record {
+            R::VertexPoint { vertex_geometry } => kinds.vertices.push((id, vertex_geometry)),
+            R::EdgeCurve { .. } => kinds.edges.push(id),
+            R::FaceSurface { .. } => kinds.faces.push(id),
+            R::Shell { .. } => kinds.shells.push(id),
+            R::OrientedClosedShell { .. } => kinds.oriented_shells.push(id),
+            R::ManifoldSolidBrep { .. } => kinds.solids.push(id),
+            _ => {}
+        }
+    }
+    // Vertices first: their box gives the tolerance.
+    let mut points: Vec<(u64, Point3)> = Vec::with_capacity(kinds.vertices.len());
+    for &(id, vertex_geometry) in &kinds.vertices {
+        match conv.point(vertex_geometry, id) {
+            Ok(p) => points.push((id, p)),
+            Err(d) => b.diagnostics.push(d),
         }
     }
     let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
@@ -249,11 +261,7 @@ pub(super) fn build(
     }
     // The model's lists and their origins at the size the file gives them (grown by
     // doubling, up to half of each would be unused room at the read's peak of memory).
-    let faces = conv
-        .items
-        .values()
-        .filter(|i| matches!(i.record, R::FaceSurface { .. }))
-        .count();
+    let faces = kinds.faces.len();
     let (model, origins) = (&mut b.topology.model, &mut b.topology.origins);
     model.vertices.reserve_exact(points.len());
     origins.vertices.reserve_exact(points.len());
@@ -270,11 +278,9 @@ pub(super) fn build(
             Err(e) => b.refuse(id, &e),
         }
     }
-    for (id, item) in conv.items.iter() {
-        if let R::EdgeCurve { .. } = item.record {
-            if let Some(out) = edges.get(&id) {
-                b.edge(id, out);
-            }
+    for &id in &kinds.edges {
+        if let Some(out) = edges.get(&id) {
+            b.edge(id, out);
         }
     }
     let surfaces: HashMap<&str, &Entity> = entities
@@ -282,25 +288,17 @@ pub(super) fn build(
         .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
         .map(|e| (e.id.as_str(), e))
         .collect();
-    for (id, item) in conv.items.iter() {
-        if let R::FaceSurface { .. } = item.record {
-            b.face(id, &surfaces);
-        }
+    for &id in &kinds.faces {
+        b.face(id, &surfaces);
     }
-    for (id, item) in conv.items.iter() {
-        if let R::Shell { .. } = item.record {
-            b.shell(id);
-        }
+    for &id in &kinds.shells {
+        b.shell(id);
     }
-    for (id, item) in conv.items.iter() {
-        if let R::OrientedClosedShell { .. } = item.record {
-            b.oriented_shell(id);
-        }
+    for &id in &kinds.oriented_shells {
+        b.oriented_shell(id);
     }
-    for (id, item) in conv.items.iter() {
-        if let R::ManifoldSolidBrep { .. } = item.record {
-            b.solid(id);
-        }
+    for &id in &kinds.solids {
+        b.solid(id);
     }
     if b.missing_pcurves > 0 {
         b.diagnostics.push(Diagnostic::warning(
@@ -320,17 +318,28 @@ pub(super) fn build(
     }
 }
 
+/// The ids of the items [`build`] makes the model from, by kind, in item order.
+#[derive(Default)]
+struct Kinds {
+    /// VERTEX_POINTs with their point.
+    vertices: Vec<(u64, u64)>,
+    edges: Vec<u64>,
+    faces: Vec<u64>,
+    shells: Vec<u64>,
+    oriented_shells: Vec<u64>,
+    solids: Vec<u64>,
+}
+
 impl Build<'_, '_, '_, '_> {
     fn origin(&self, id: u64, entity: Option<Label>) -> Origin {
-        let (line, _) = self.conv.line_column(id);
-        let (source_entity, name) = self.conv.provenance(id);
+        let found = self.conv.provenance(id);
         Origin {
             id: super::instance_label(id),
             source: Source {
-                entity: source_entity,
-                line: (line > 0).then_some(line),
+                entity: found.entity,
+                line: found.line,
             },
-            name,
+            name: found.name,
             entity,
         }
     }
