@@ -18,8 +18,9 @@
 //! checked elsewhere).
 
 use super::{Face, FaceId, Model, ShellId, SolidId, loop_counter_clockwise};
+use crate::nurbs::batch::SurfaceEvaluator;
 use crate::nurbs::vector::{cross, dist, dot, norm};
-use crate::nurbs::{NurbsCurve, NurbsSurface, Point3};
+use crate::nurbs::{NurbsCurve, Point3};
 
 /// What could not be measured.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -185,49 +186,59 @@ fn rules() -> &'static Rules {
     })
 }
 
-/// The distinct knots of the domain `[k_p, k_{n}]` inside `(a, b)`, with `a` and `b`.
-fn breaks(knots: &[f64], p: usize, a: f64, b: f64) -> Vec<f64> {
-    let mut out = vec![a];
+/// The pieces `(x, y)` between consecutive breaks from `a` to `b`: `a`, the distinct knots
+/// of the domain `[k_p, k_{n}]` strictly between `a` and `b` in walking order, and `b`, with
+/// repeated values skipped (no empty piece). Nothing is allocated: the integrals ask for
+/// these at every boundary point.
+fn break_windows(knots: &[f64], p: usize, a: f64, b: f64) -> impl Iterator<Item = (f64, f64)> {
     let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
-    let inner = knots
-        .get(p..knots.len().saturating_sub(p))
-        .unwrap_or(&[])
-        .iter()
-        .copied()
-        .filter(|&k| k > lo && k < hi);
-    if a <= b {
-        out.extend(inner);
-    } else {
-        let mut v: Vec<f64> = inner.collect();
-        v.reverse();
-        out.extend(v);
-    }
-    out.push(b);
-    out.dedup();
-    out
+    let inner = knots.get(p..knots.len().saturating_sub(p)).unwrap_or(&[]);
+    // The knots are non-decreasing: those inside (lo, hi) are one run.
+    let start = inner.partition_point(|&k| k <= lo);
+    let end = inner.partition_point(|&k| k < hi).max(start);
+    let mid = inner.get(start..end).unwrap_or(&[]);
+    let n = mid.len();
+    let forward = a <= b;
+    let mut prev = a;
+    (1..=n + 1).filter_map(move |i| {
+        let x = if i > n {
+            b
+        } else if forward {
+            mid.get(i - 1).copied().unwrap_or(b)
+        } else {
+            mid.get(n - i).copied().unwrap_or(b)
+        };
+        if x == prev {
+            return None;
+        }
+        let piece = (prev, x);
+        prev = x;
+        Some(piece)
+    })
 }
 
-/// The integrand at `(u, v)`: `[|c|, |c| x, |c| y, |c| z, S · c]` with `c = S_u × S_v`.
-fn integrand(s: &NurbsSurface, u: f64, v: f64) -> Vec5 {
-    let ((u0, u1), (v0, v1)) = s.domain();
+/// The integrand at `(u, v)`: `[|c|, |c| x, |c| y, |c| z, S · c]` with `c = S_u × S_v`
+/// (the partials by A3.6 + A4.4, from the surface's net packed once per face).
+fn integrand(s: &SurfaceEvaluator<'_>, u: f64, v: f64) -> Vec5 {
+    let ((u0, u1), (v0, v1)) = s.surface().domain();
     let (u, v) = (u.clamp(u0, u1), v.clamp(v0, v1));
-    let Ok(d) = s.derivatives(u, v, 1) else {
+    let Ok([p, su, sv]) = s.point_and_partials(u, v) else {
         return [f64::NAN; 5];
     };
-    let (p, c) = (d[0][0], cross(d[1][0], d[0][1]));
+    let c = cross(su, sv);
     let g = norm(c);
     [g, g * p[0], g * p[1], g * p[2], dot(p, c)]
 }
 
 /// `H(u, v) = ∫_{u_0}^{u} h(s, v) ds`, 20-point rules on each knot span; the evaluations
 /// are taken from `budget` before they are made.
-fn inner(s: &NurbsSurface, u: f64, v: f64, budget: &Budget) -> Result<Vec5, MeasureError> {
-    let ((u0, _), _) = s.domain();
+fn inner(s: &SurfaceEvaluator<'_>, u: f64, v: f64, budget: &Budget) -> Result<Vec5, MeasureError> {
+    let ((u0, _), _) = s.surface().domain();
     let mut total = [0.0; 5];
-    let b = breaks(s.knots_u(), s.degree_u(), u0, u);
-    budget.take((b.len().saturating_sub(1) * rules().high.len()) as u64)?;
-    for w in b.windows(2) {
-        let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
+    let pieces = || break_windows(s.surface().knots_u(), s.surface().degree_u(), u0, u);
+    budget.take((pieces().count() * rules().high.len()) as u64)?;
+    for (x, y) in pieces() {
+        let (mid, half) = (0.5 * (x + y), 0.5 * (y - x));
         for &(x, wt) in &rules().high {
             add5(&mut total, &integrand(s, mid + half * x, v), wt * half);
         }
@@ -238,7 +249,7 @@ fn inner(s: &NurbsSurface, u: f64, v: f64, budget: &Budget) -> Result<Vec5, Meas
 /// `∫ H(pc(t)) v'(t) dt` over `[a, b]` with one rule, and the same sum of absolute terms
 /// (the scale its rounding errors are relative to).
 fn boundary_rule(
-    s: &NurbsSurface,
+    s: &SurfaceEvaluator<'_>,
     pc: &NurbsCurve,
     a: f64,
     b: f64,
@@ -275,18 +286,18 @@ const MAX_PIECES: usize = 1 << 10;
 /// the rounding `floor` stands for (a pcurve along `v` = const fitted by projection has
 /// hundreds of spans and only rounding in `v`).
 fn boundary(
-    s: &NurbsSurface,
+    s: &SurfaceEvaluator<'_>,
     pc: &NurbsCurve,
     (a, b): (f64, f64),
     (floor, flat): (f64, f64),
     budget: &Budget,
 ) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
-    for w in breaks(pc.knots(), pc.degree(), a, b).windows(2) {
-        if variation_v(pc, 0.5 * (w[0] + w[1])) <= flat {
+    for (x, y) in break_windows(pc.knots(), pc.degree(), a, b) {
+        if variation_v(pc, 0.5 * (x + y)) <= flat {
             continue;
         }
-        let mut stack = vec![(w[0], w[1])];
+        let mut stack = vec![(x, y)];
         let mut pieces = 0;
         while let Some((x, y)) = stack.pop() {
             let (high, mass) = boundary_rule(s, pc, x, y, &rules().high, budget)?;
@@ -328,7 +339,7 @@ fn variation_v(pc: &NurbsCurve, t: f64) -> f64 {
 /// `∫ H dv` along the straight segment from `p` to `q` (closing a small gap between
 /// pcurves), 20-point rule.
 fn segment(
-    s: &NurbsSurface,
+    s: &SurfaceEvaluator<'_>,
     p: [f64; 2],
     q: [f64; 2],
     budget: &Budget,
@@ -348,14 +359,15 @@ fn segment(
 
 /// `∫_{va}^{vb} H(u, v) dv` along `u` fixed, 20-point rules on each knot span in v.
 fn column(
-    s: &NurbsSurface,
+    s: &SurfaceEvaluator<'_>,
     u: f64,
     (va, vb): (f64, f64),
     budget: &Budget,
 ) -> Result<Vec5, MeasureError> {
     let mut total = [0.0; 5];
-    for w in breaks(s.knots_v(), s.degree_v(), va, vb).windows(2) {
-        let (mid, half) = (0.5 * (w[0] + w[1]), 0.5 * (w[1] - w[0]));
+    let surface = s.surface();
+    for (x, y) in break_windows(surface.knots_v(), surface.degree_v(), va, vb) {
+        let (mid, half) = (0.5 * (x + y), 0.5 * (y - x));
         for &(x, wt) in &rules().high {
             add5(&mut total, &inner(s, u, mid + half * x, budget)?, wt * half);
         }
@@ -410,15 +422,16 @@ impl Model {
     ) -> Result<FaceMeasure, MeasureError> {
         let s = &face.surface;
         let ((u0, u1), (v0, v1)) = s.domain();
+        let eval = SurfaceEvaluator::new(s);
         let mut region = [0.0; 5];
         if face.loops.is_empty() {
-            region = column(s, u1, (v0, v1), budget)?;
+            region = column(&eval, u1, (v0, v1), budget)?;
         } else {
             let closure = 1e-3 * ((u1 - u0).hypot(v1 - v0));
             // The size of the face's integrals: H across the whole domain times its v extent.
             let floor = 1e-14
                 * (v1 - v0)
-                * inner(s, u1, 0.5 * (v0 + v1), budget)?
+                * inner(&eval, u1, 0.5 * (v0 + v1), budget)?
                     .iter()
                     .fold(0.0f64, |m, x| m.max(x.abs()));
             // A pcurve span along which v varies by no more than this holds at most about
@@ -453,9 +466,9 @@ impl Model {
                     // Walking the pcurve backwards negates the integral: boundary() takes
                     // its bounds in walking order.
                     let part = if a <= b {
-                        boundary(s, pc, (a, b), (floor, flat), budget)?
+                        boundary(&eval, pc, (a, b), (floor, flat), budget)?
                     } else {
-                        let mut r = boundary(s, pc, (b, a), (floor, flat), budget)?;
+                        let mut r = boundary(&eval, pc, (b, a), (floor, flat), budget)?;
                         r.iter_mut().for_each(|x| *x = -*x);
                         r
                     };
@@ -466,7 +479,7 @@ impl Model {
                     let (p, q) = (ends[k].1, ends[(k + 1) % n].0);
                     let gap = (q[0] - p[0]).hypot(q[1] - p[1]);
                     if gap <= closure {
-                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
+                        add5(&mut total, &segment(&eval, p, q, budget)?, 1.0);
                         continue;
                     }
                     let same = dist(on(p), on(q)) <= tolerances[k];
@@ -487,13 +500,13 @@ impl Model {
                         // along its seam, the degenerate edge not written): the gap is the
                         // pole's parameter line, one 3-D point, and its segment closes the
                         // region as a degenerate edge's pcurve would.
-                        add5(&mut total, &segment(s, p, q, budget)?, 1.0);
+                        add5(&mut total, &segment(&eval, p, q, budget)?, 1.0);
                     } else if wrap_u {
                         // The loop went once around a surface closed in u (no seam edge):
                         // closed through v = v0, where it encloses the part of the domain
                         // below it (H vanishes on u = u0, and dv = 0 along v0).
-                        add5(&mut total, &column(s, p[0], (p[1], v0), budget)?, 1.0);
-                        add5(&mut total, &column(s, q[0], (v0, q[1]), budget)?, 1.0);
+                        add5(&mut total, &column(&eval, p[0], (p[1], v0), budget)?, 1.0);
+                        add5(&mut total, &column(&eval, q[0], (v0, q[1]), budget)?, 1.0);
                         winding += if p[0] > q[0] { 1 } else { -1 };
                         wraps = true;
                     } else if wrap_v {
@@ -530,7 +543,7 @@ impl Model {
                     add5(&mut region, total, o);
                 }
                 if turns == 1 {
-                    add5(&mut region, &column(s, u1, (v0, v1), budget)?, 1.0);
+                    add5(&mut region, &column(&eval, u1, (v0, v1), budget)?, 1.0);
                 }
                 if region[0] < 0.0 {
                     region.iter_mut().for_each(|x| *x = -*x);
@@ -734,7 +747,7 @@ impl Model {
 
 #[cfg(test)]
 mod tests {
-    use super::{FACE_EVALUATIONS, MeasureError, gauss_legendre};
+    use super::{FACE_EVALUATIONS, MeasureError, break_windows, gauss_legendre};
     use crate::nurbs::grid::Grid;
     use crate::nurbs::{NurbsCurve, NurbsSurface};
     use crate::topology::{Coedge, Face, Loop, Model};
@@ -840,6 +853,39 @@ mod tests {
         assert!((totals.area - 2.0).abs() <= 1e-14, "{totals:?}");
         // Within the default budget all four are measured.
         assert_eq!(m.totals().unmeasured, 0);
+    }
+
+    /// The pieces agree with the list written out: `a`, every domain knot strictly
+    /// between (walking order), `b`, consecutive repeats dropped, paired up.
+    #[test]
+    fn break_windows_walk_the_knots_between_the_ends() {
+        let reference = |knots: &[f64], p: usize, a: f64, b: f64| -> Vec<(f64, f64)> {
+            let (lo, hi) = (a.min(b), a.max(b));
+            let mut inner: Vec<f64> = knots[p..knots.len() - p]
+                .iter()
+                .copied()
+                .filter(|&k| k > lo && k < hi)
+                .collect();
+            if a > b {
+                inner.reverse();
+            }
+            let mut all = vec![a];
+            all.extend(inner);
+            all.push(b);
+            all.dedup();
+            all.windows(2).map(|w| (w[0], w[1])).collect()
+        };
+        let knots = [0.0, 0.0, 0.0, 0.25, 0.5, 0.5, 0.75, 1.0, 1.0, 1.0];
+        let ends = [0.0, 0.1, 0.25, 0.5, 0.6, 0.75, 1.0, -0.5, 1.5];
+        for &a in &ends {
+            for &b in &ends {
+                let got: Vec<(f64, f64)> = break_windows(&knots, 2, a, b).collect();
+                assert_eq!(got, reference(&knots, 2, a, b), "{a} -> {b}");
+            }
+        }
+        assert_eq!(break_windows(&knots, 2, 0.3, 0.3).count(), 0);
+        let nan: Vec<(f64, f64)> = break_windows(&knots, 2, 0.0, f64::NAN).collect();
+        assert!(nan.len() == 1 && nan[0].0 == 0.0 && nan[0].1.is_nan());
     }
 
     /// The rules integrate x^k exactly up to degree 2n - 1 (checked against 2 / (k + 1)).
