@@ -1,7 +1,5 @@
 //! The checks of the constructors in [`super::Model`].
 
-use std::collections::BTreeMap;
-
 use super::{EdgeId, FaceId, Loop, Model, ShellId, TopologyError, VertexId};
 use crate::nurbs::vector::dist;
 use crate::nurbs::{NurbsCurve, NurbsSurface};
@@ -145,27 +143,24 @@ pub(super) fn shell(
     faces: &[(FaceId, bool)],
     declared_closed: bool,
 ) -> Result<bool, TopologyError> {
-    let mut uses: BTreeMap<EdgeId, (usize, usize)> = BTreeMap::new();
+    // Every use of an edge, (edge, whether with the face's orientation), sorted: the uses
+    // of one edge are then a run (a sort of one list, no tree node per edge).
+    let mut uses: Vec<(EdgeId, bool)> = Vec::new();
     for &(f, orientation) in faces {
         let face = m.faces.get(f.0).ok_or(TopologyError::Missing {
             what: "face",
             index: f.0,
         })?;
         for l in &face.loops {
-            for c in &l.coedges {
-                let u = uses.entry(c.edge).or_default();
-                if c.forward == orientation {
-                    u.0 += 1;
-                } else {
-                    u.1 += 1;
-                }
-            }
+            uses.extend(l.coedges.iter().map(|c| (c.edge, c.forward == orientation)));
         }
     }
+    uses.sort_unstable();
+    // An edge is bad unless it is used exactly once each way.
     let bad: Vec<EdgeId> = uses
-        .iter()
-        .filter(|(_, u)| **u != (1, 1))
-        .map(|(&e, _)| e)
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|run| !matches!(run, [(_, false), (_, true)]))
+        .filter_map(|run| run.first().map(|u| u.0))
         .collect();
     // Without any edge (faces bounded by their surfaces alone, as a sphere whose only bound
     // is a vertex loop) the shell is closed when each face's surface closes on itself.

@@ -1447,7 +1447,7 @@ impl<'a> Ctx<'_, 'a> {
             geometry,
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.s.locate(self.raw.offset()).0),
+                line: Some(self.s.line(self.raw.offset())),
             },
             meta,
         })
@@ -1576,7 +1576,7 @@ impl<'a> Ctx<'_, 'a> {
             geometry,
             source: Source {
                 entity: r.entity_type,
-                line: Some(self.s.locate(self.raw.offset()).0),
+                line: Some(self.s.line(self.raw.offset())),
             },
             meta,
         })

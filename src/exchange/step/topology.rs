@@ -178,6 +178,21 @@ struct Build<'c, 'm, 's, 'a> {
     pcurve_entities: Vec<(u64, u64)>,
     /// [`edge_pcurve_curves`] of the file.
     edge_pcurves: &'c [(u64, u64)],
+    /// The origins pushed so far whose source and name are still to be read: (instance,
+    /// list, position). They are read at the end, in instance order ([`Build::resolve`]).
+    pending: Vec<(u64, List, usize)>,
+    /// Origins that copy another once it is read: (from, to), in the order made.
+    copies: Vec<((List, usize), (List, usize))>,
+}
+
+/// One of the origin lists of [`Origins`] the builder fills.
+#[derive(Debug, Clone, Copy)]
+enum List {
+    Vertices,
+    Edges,
+    Faces,
+    Shells,
+    Solids,
 }
 
 /// What [`build`] made.
@@ -217,6 +232,8 @@ pub(super) fn build(
         missing_pcurves: 0,
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
+        pending: Vec::new(),
+        copies: Vec::new(),
     };
     // The items of each kind the model is built from, in one walk of the items (each walk
     // reads all of them: on a large file, several were a visible part of the read).
@@ -273,7 +290,7 @@ pub(super) fn build(
         match b.topology.model.add_vertex(p, b.tolerance) {
             Ok(v) => {
                 b.vertices.insert(id, v);
-                b.topology.origins.vertices.push(b.origin(id, None));
+                b.push_origin(List::Vertices, id, None);
             }
             Err(e) => b.refuse(id, &e),
         }
@@ -300,6 +317,7 @@ pub(super) fn build(
     for &id in &kinds.solids {
         b.solid(id);
     }
+    b.resolve();
     if b.missing_pcurves > 0 {
         b.diagnostics.push(Diagnostic::warning(
             "pcurve.not_computed",
@@ -331,16 +349,61 @@ struct Kinds {
 }
 
 impl Build<'_, '_, '_, '_> {
-    fn origin(&self, id: u64, entity: Option<Label>) -> Origin {
-        let found = self.conv.provenance(id);
-        Origin {
+    fn list(&mut self, list: List) -> &mut Vec<Origin> {
+        let o = &mut self.topology.origins;
+        match list {
+            List::Vertices => &mut o.vertices,
+            List::Edges => &mut o.edges,
+            List::Faces => &mut o.faces,
+            List::Shells => &mut o.shells,
+            List::Solids => &mut o.solids,
+        }
+    }
+
+    /// Pushes the origin of an item made from instance `#id` onto `list`; its source and
+    /// name are read by [`Build::resolve`].
+    fn push_origin(&mut self, list: List, id: u64, entity: Option<Label>) {
+        let origins = self.list(list);
+        let at = origins.len();
+        origins.push(Origin {
             id: super::instance_label(id),
-            source: Source {
-                entity: found.entity,
-                line: found.line,
-            },
-            name: found.name,
             entity,
+            ..Origin::default()
+        });
+        self.pending.push((id, list, at));
+    }
+
+    /// Pushes a copy of the origin at `from` onto `to` (a copy of it as read, once read).
+    fn copy_origin(&mut self, from: (List, usize), to: List) {
+        let o = self.list(from.0).get(from.1).cloned().unwrap_or_default();
+        let origins = self.list(to);
+        origins.push(o);
+        let at = origins.len() - 1;
+        self.copies.push((from, (to, at)));
+    }
+
+    /// Reads the source entity, line and name of every origin pushed, in instance order:
+    /// the index, the line counts and the text are then walked forward instead of at
+    /// random, each look-up independent of the one before (on a large B-rep this was a
+    /// tenth of the read when done as each item was made). Then makes the copies.
+    fn resolve(&mut self) {
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.sort_unstable_by_key(|&(id, _, _)| id);
+        for (id, list, at) in pending {
+            let found = self.conv.provenance(id);
+            if let Some(o) = self.list(list).get_mut(at) {
+                o.source = Source {
+                    entity: found.entity,
+                    line: found.line,
+                };
+                o.name = found.name;
+            }
+        }
+        for ((from, i), (to, j)) in std::mem::take(&mut self.copies) {
+            let o = self.list(from).get(i).cloned().unwrap_or_default();
+            if let Some(slot) = self.list(to).get_mut(j) {
+                *slot = o;
+            }
         }
     }
 
@@ -389,8 +452,7 @@ impl Build<'_, '_, '_, '_> {
         {
             Ok(e) => {
                 self.edges.insert(id, (e, same_sense));
-                let o = self.origin(id, Some(out.entity.clone()));
-                self.topology.origins.edges.push(o);
+                self.push_origin(List::Edges, id, Some(out.entity.clone()));
                 self.note_pcurves(id);
             }
             Err(e) => self.refuse(id, &e),
@@ -479,8 +541,7 @@ impl Build<'_, '_, '_, '_> {
                                 match self.topology.model.add_vertex(point, self.tolerance) {
                                     Ok(v) => {
                                         self.vertices.insert(p, v);
-                                        let o = self.origin(p, None);
-                                        self.topology.origins.vertices.push(o);
+                                        self.push_origin(List::Vertices, p, None);
                                         v
                                     }
                                     Err(e) => {
@@ -515,9 +576,10 @@ impl Build<'_, '_, '_, '_> {
                     ) {
                         Ok(e) => {
                             self.poly_edges.insert(key, e);
-                            let mut o = self.origin(face, None);
-                            o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
-                            self.topology.origins.edges.push(o);
+                            self.push_origin(List::Edges, face, None);
+                            if let Some(o) = self.topology.origins.edges.last_mut() {
+                                o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
+                            }
                             e
                         }
                         Err(e) => {
@@ -680,15 +742,20 @@ impl Build<'_, '_, '_, '_> {
             Ok((vertex, second)) => {
                 // Without pcurves (cleared by the caller) the coedges always split.
                 let _ = model.split_coedges(loops, edge, second);
-                let origins = &mut self.topology.origins;
-                let o = origins.edges.get(edge.0).cloned().unwrap_or_default();
-                origins.vertices.push(o.clone());
-                origins.edges.push(o.clone());
+                let label = self
+                    .topology
+                    .origins
+                    .edges
+                    .get(edge.0)
+                    .map(|o| o.id.clone())
+                    .unwrap_or_default();
+                self.copy_origin((List::Edges, edge.0), List::Vertices);
+                self.copy_origin((List::Edges, edge.0), List::Edges);
                 let d = Diagnostic::info(
                     "topology.edge_split_at_seam",
                     format!(
                         "edge {} is split in two at the seam of face #{face}'s NURBS surface (new vertex {}): the face has no seam edge, its loops need the seam where this edge runs, and a pcurve must stay inside the surface's domain; the geometry is unchanged",
-                        o.id, vertex.0
+                        label, vertex.0
                     ),
                     self.conv.location(face),
                 );
@@ -701,8 +768,7 @@ impl Build<'_, '_, '_, '_> {
 
     fn face_added(&mut self, id: u64, f: FaceId, entity: Label) {
         self.faces.insert(id, f);
-        let o = self.origin(id, Some(entity));
-        self.topology.origins.faces.push(o);
+        self.push_origin(List::Faces, id, Some(entity));
     }
 
     /// The pcurve of every coedge on the face's NURBS surface ([`edge_pcurve`]: exact on
@@ -818,8 +884,7 @@ impl Build<'_, '_, '_, '_> {
         };
         if let Some(s) = shell {
             self.shells.insert(id, s);
-            let o = self.origin(id, None);
-            self.topology.origins.shells.push(o);
+            self.push_origin(List::Shells, id, None);
         }
     }
 
@@ -845,8 +910,7 @@ impl Build<'_, '_, '_, '_> {
         match self.topology.model.add_shell(faces, true) {
             Ok(s) => {
                 self.shells.insert(id, s);
-                let o = self.origin(id, None);
-                self.topology.origins.shells.push(o);
+                self.push_origin(List::Shells, id, None);
             }
             Err(e) => self.refuse(id, &e),
         }
@@ -872,8 +936,7 @@ impl Build<'_, '_, '_, '_> {
         let outer = shells.remove(0);
         match self.topology.model.add_solid(outer, shells) {
             Ok(_) => {
-                let o = self.origin(id, None);
-                self.topology.origins.solids.push(o);
+                self.push_origin(List::Solids, id, None);
             }
             Err(e) => self.refuse(id, &e),
         }
