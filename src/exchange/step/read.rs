@@ -269,21 +269,22 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // their poles) instead of decoding them again. What was noticed on the way is kept with
     // them; for the B-splines consumed by other entities (not converted again below) it is
     // reported from `bspline_notes`.
-    let converted_bsplines =
-        std::sync::Mutex::new(ConvertedBsplines::with_capacity(candidates.len()));
+    let converted_bsplines: std::sync::Mutex<
+        super::geometry::HashMap<u64, (Entity, Vec<Diagnostic>)>,
+    > = Default::default();
     let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
     let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
-        if let Some(e) = converted_bsplines
+        if let Some((e, _)) = converted_bsplines
             .lock()
             .ok()
-            .and_then(|c| c.get(raw.id).cloned())
+            .and_then(|c| c.get(&raw.id).cloned())
         {
             return Ok(Some(e));
         }
         let (r, diags) = decode(raw);
         if let Ok(Some(e)) = &r {
             if let Ok(mut c) = converted_bsplines.lock() {
-                c.insert(raw.id, e, &diags);
+                c.insert(raw.id, (e.clone(), diags.clone()));
             }
         }
         if !diags.is_empty() {
@@ -347,10 +348,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // peak. What was noticed on the way is reported where the pass would have reported it.
     let mut converted_notes: std::collections::VecDeque<(usize, Vec<Diagnostic>)> =
         Default::default();
-    if let Ok(mut converted) = converted_bsplines.lock() {
-        let mut converted = std::mem::take(&mut *converted);
-        if !converted.is_empty() {
-            candidates.retain(|raw| match converted.take(raw.id) {
+    if let Ok(mut map) = converted_bsplines.lock() {
+        if !map.is_empty() {
+            candidates.retain(|raw| match map.remove(&raw.id) {
                 Some((e, diags)) => {
                     placed.push((raw.offset(), e));
                     if !diags.is_empty() {
@@ -361,8 +361,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 None => true,
             });
         }
-        // Only the consumed B-splines are left (dropped here): their entities are the
-        // edges' and sweeps' own.
+        // Only the consumed B-splines are left: their entities are the edges' and sweeps'
+        // own.
+        *map = Default::default();
     }
     let mut late_products = false;
     for (c, chunk) in candidates.chunks(BSPLINE_CHUNK).enumerate() {
@@ -504,56 +505,6 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 /// into the document's list: enough to keep the threads busy, few enough that the chunk's
 /// results are a small part of the read's memory.
 const BSPLINE_CHUNK: usize = 4096;
-
-/// The B-splines the geometry pass converted for the edges, trims and sweeps that use them,
-/// each with what was noticed on the way, found by id. The entities sit in a vector in the
-/// order converted, the table holds only their positions: a hash table of the entities
-/// themselves moved every one (a few hundred bytes) each time it grew.
-#[derive(Default)]
-struct ConvertedBsplines {
-    position: super::geometry::HashMap<u64, u32>,
-    entries: Vec<Option<(Entity, Vec<Diagnostic>)>>,
-}
-
-impl ConvertedBsplines {
-    /// Room for `n` entities, one per B-spline candidate (each is converted here at most
-    /// once): a reservation of address space whose pages are touched only as entities
-    /// arrive, so the vector never moves them while it grows.
-    fn with_capacity(n: usize) -> Self {
-        ConvertedBsplines {
-            position: Default::default(),
-            entries: Vec::with_capacity(n),
-        }
-    }
-
-    fn is_empty(&self) -> bool {
-        self.position.is_empty()
-    }
-
-    /// The entity of B-spline `#id`, while it has not been taken.
-    fn get(&self, id: u64) -> Option<&Entity> {
-        let k = usize::try_from(*self.position.get(&id)?).ok()?;
-        self.entries.get(k)?.as_ref().map(|(e, _)| e)
-    }
-
-    /// Keeps `#id`'s entity and notes (a copy of each); the first conversion stays when
-    /// two threads converted the same B-spline.
-    fn insert(&mut self, id: u64, entity: &Entity, notes: &[Diagnostic]) {
-        let Ok(k) = u32::try_from(self.entries.len()) else {
-            return;
-        };
-        if let std::collections::hash_map::Entry::Vacant(slot) = self.position.entry(id) {
-            slot.insert(k);
-            self.entries.push(Some((entity.clone(), notes.to_vec())));
-        }
-    }
-
-    /// Takes `#id`'s entity and notes out.
-    fn take(&mut self, id: u64) -> Option<(Entity, Vec<Diagnostic>)> {
-        let k = usize::try_from(*self.position.get(&id)?).ok()?;
-        self.entries.get_mut(k)?.take()
-    }
-}
 
 /// Frees the decoded items the topology and the product structure do not read (the
 /// curves and surfaces are converted by now), keeping the placements `products` reads as

@@ -178,11 +178,10 @@ struct Build<'c, 'm, 's, 'a> {
     pcurve_entities: Vec<(u64, u64)>,
     /// [`edge_pcurve_curves`] of the file.
     edge_pcurves: &'c [(u64, u64)],
-    /// The origins pushed so far whose source and name are still to be read: (instance,
-    /// list, position). They are read at the end, in instance order ([`Build::resolve`]).
-    pending: Vec<(u64, List, usize)>,
-    /// Origins that copy another once it is read: (from, to), in the order made.
-    copies: Vec<((List, usize), (List, usize))>,
+    /// The instance of each origin pushed, list by list (index-aligned with
+    /// [`Topology::origins`]' lists): their source and name are read at the end
+    /// ([`Build::resolve`]).
+    sources: [Vec<u64>; 5],
 }
 
 /// One of the origin lists of [`Origins`] the builder fills.
@@ -232,8 +231,7 @@ pub(super) fn build(
         missing_pcurves: 0,
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
-        pending: Vec::new(),
-        copies: Vec::new(),
+        sources: Default::default(),
     };
     // The items of each kind the model is built from, in one walk of the items (each walk
     // reads all of them: on a large file, several were a visible part of the read).
@@ -257,8 +255,10 @@ pub(super) fn build(
             Err(d) => b.diagnostics.push(d),
         }
     }
-    let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
-    let diagonal = bounding_box_diagonal(&all);
+    let diagonal = {
+        let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
+        bounding_box_diagonal(&all)
+    };
     b.tolerance = (diagonal * RELATIVE_TOLERANCE).max(1e-9);
     // Without two distinct vertices there is nothing for a tolerance to join.
     if uncertainty > b.tolerance && diagonal > 0.0 {
@@ -286,6 +286,12 @@ pub(super) fn build(
     origins.edges.reserve_exact(edges.len());
     model.faces.reserve_exact(faces);
     origins.faces.reserve_exact(faces);
+    let [vertex_sources, edge_sources, face_sources, ..] = &mut b.sources;
+    vertex_sources.reserve_exact(points.len());
+    edge_sources.reserve_exact(edges.len());
+    face_sources.reserve_exact(faces);
+    // What is walked below is freed once walked (the read's peak comes at the end).
+    kinds.vertices = Vec::new();
     for (id, p) in points {
         match b.topology.model.add_vertex(p, b.tolerance) {
             Ok(v) => {
@@ -295,7 +301,7 @@ pub(super) fn build(
             Err(e) => b.refuse(id, &e),
         }
     }
-    for &id in &kinds.edges {
+    for id in std::mem::take(&mut kinds.edges) {
         if let Some(out) = edges.get(&id) {
             b.edge(id, out);
         }
@@ -305,7 +311,7 @@ pub(super) fn build(
         .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
         .map(|e| (e.id.as_str(), e))
         .collect();
-    for &id in &kinds.faces {
+    for id in std::mem::take(&mut kinds.faces) {
         b.face(id, &surfaces);
     }
     for &id in &kinds.shells {
@@ -349,60 +355,67 @@ struct Kinds {
 }
 
 impl Build<'_, '_, '_, '_> {
-    fn list(&mut self, list: List) -> &mut Vec<Origin> {
+    /// `list` of the model's origins and the instances of its items.
+    fn list(&mut self, list: List) -> (&mut Vec<Origin>, &mut Vec<u64>) {
         let o = &mut self.topology.origins;
+        let [v, e, f, s, b] = &mut self.sources;
         match list {
-            List::Vertices => &mut o.vertices,
-            List::Edges => &mut o.edges,
-            List::Faces => &mut o.faces,
-            List::Shells => &mut o.shells,
-            List::Solids => &mut o.solids,
+            List::Vertices => (&mut o.vertices, v),
+            List::Edges => (&mut o.edges, e),
+            List::Faces => (&mut o.faces, f),
+            List::Shells => (&mut o.shells, s),
+            List::Solids => (&mut o.solids, b),
         }
     }
 
     /// Pushes the origin of an item made from instance `#id` onto `list`; its source and
     /// name are read by [`Build::resolve`].
     fn push_origin(&mut self, list: List, id: u64, entity: Option<Label>) {
-        let origins = self.list(list);
-        let at = origins.len();
+        let (origins, sources) = self.list(list);
         origins.push(Origin {
             id: super::instance_label(id),
             entity,
             ..Origin::default()
         });
-        self.pending.push((id, list, at));
+        sources.push(id);
     }
 
-    /// Pushes a copy of the origin at `from` onto `to` (a copy of it as read, once read).
+    /// Pushes a copy of the origin at `from` onto `to` (read from the same instance).
     fn copy_origin(&mut self, from: (List, usize), to: List) {
-        let o = self.list(from.0).get(from.1).cloned().unwrap_or_default();
-        let origins = self.list(to);
+        let (origins, sources) = self.list(from.0);
+        let o = origins.get(from.1).cloned().unwrap_or_default();
+        let id = sources.get(from.1).copied().unwrap_or(0);
+        let (origins, sources) = self.list(to);
         origins.push(o);
-        let at = origins.len() - 1;
-        self.copies.push((from, (to, at)));
+        sources.push(id);
     }
 
-    /// Reads the source entity, line and name of every origin pushed, in instance order:
-    /// the index, the line counts and the text are then walked forward instead of at
-    /// random, each look-up independent of the one before (on a large B-rep this was a
-    /// tenth of the read when done as each item was made). Then makes the copies.
+    /// Reads the source entity, line and name of every origin pushed, list by list. Each
+    /// list was made in instance order (the items are walked by id), so the index, the line
+    /// counts and the text are walked forward, each look-up independent of the one before:
+    /// on a large B-rep, reading them as each item was made (at random, between the
+    /// model's work) was a tenth of the read.
     fn resolve(&mut self) {
-        let mut pending = std::mem::take(&mut self.pending);
-        pending.sort_unstable_by_key(|&(id, _, _)| id);
-        for (id, list, at) in pending {
-            let found = self.conv.provenance(id);
-            if let Some(o) = self.list(list).get_mut(at) {
-                o.source = Source {
-                    entity: found.entity,
-                    line: found.line,
-                };
-                o.name = found.name;
-            }
-        }
-        for ((from, i), (to, j)) in std::mem::take(&mut self.copies) {
-            let o = self.list(from).get(i).cloned().unwrap_or_default();
-            if let Some(slot) = self.list(to).get_mut(j) {
-                *slot = o;
+        let sources = std::mem::take(&mut self.sources);
+        for (list, ids) in [
+            List::Vertices,
+            List::Edges,
+            List::Faces,
+            List::Shells,
+            List::Solids,
+        ]
+        .into_iter()
+        .zip(sources)
+        {
+            for (at, id) in ids.into_iter().enumerate() {
+                let found = self.conv.provenance(id);
+                if let Some(o) = self.list(list).0.get_mut(at) {
+                    o.source = Source {
+                        entity: found.entity,
+                        line: found.line,
+                    };
+                    o.name = found.name;
+                }
             }
         }
     }
