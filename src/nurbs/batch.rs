@@ -29,7 +29,7 @@
 //! **Errors:** a parameter outside the domain stops the call with
 //! [`GeometryError::OutOfDomain`] naming it; `out` then holds the values computed before it.
 
-use super::basis::{basis_funs_ders1_in, basis_funs_in};
+use super::basis::{basis_funs, basis_funs_ders1, basis_funs_ders1_in, basis_funs_in};
 use super::kernels::{SpanIndex, basis, basis_lanes, basis_pair};
 use super::knots::find_span;
 use super::{GeometryError, Grid, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
@@ -635,11 +635,13 @@ impl Bases {
             span = span_from_hint(p, poles, knots, t, span);
             spans.push(span);
             let row = &mut vals[k * stride..(k + 1) * stride];
+            // Scratch sized by the degree (zeroing the largest scratch for every parameter
+            // was most of a small grid's time); the same arithmetic in every size.
             if d == 0 {
-                basis_funs_in::<{ MAX_DEGREE + 1 }>(span, t, p, knots, row);
+                basis_funs(span, t, p, knots, row);
             } else {
                 let (n0, n1) = row.split_at_mut(p + 1);
-                basis_funs_ders1_in::<{ MAX_DEGREE + 1 }>(span, t, p, knots, n0, n1);
+                basis_funs_ders1(span, t, p, knots, n0, n1);
             }
         }
         Ok(Bases {
