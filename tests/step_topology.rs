@@ -927,7 +927,7 @@ fn pcurve_curves_are_used_by_their_edges() {
     assert_eq!(found, expected);
 }
 
-/// Every topological item's origin names its instance as the file does: for `#N`, the line
+/// Every topological item's origin, and every entity, names its instance as the file does: for `#N`, the line
 /// where `#N =` starts, the keyword written there (simple instances) and the name string
 /// when it is not empty, found here by reading the text line by line (an oracle apart from
 /// the reader's index and line table). The origins are read after the model is built, in
@@ -948,6 +948,12 @@ fn origins_name_their_instance_line_keyword_and_name() {
             "VERTEX_POINT",
             "CLOSED_SHELL",
             "OPEN_SHELL",
+            "PLANE",
+            "CYLINDRICAL_SURFACE",
+            "CIRCLE",
+            "LINE",
+            "B_SPLINE_CURVE_WITH_KNOTS",
+            "B_SPLINE_SURFACE_WITH_KNOTS",
         ] {
             let mut k = 0;
             let pattern = format!("{keyword}(''");
@@ -960,7 +966,7 @@ fn origins_name_their_instance_line_keyword_and_name() {
     }
     assert!(checked > 500, "only {checked} origins checked");
     assert!(named > 500, "only {named} names checked");
-    eprintln!("{checked} origins checked, {named} names");
+    eprintln!("{checked} origins and entities checked, {named} names");
 }
 
 /// Checks the origins of the document read from `text` against the text (see above):
@@ -983,17 +989,22 @@ fn check_origins(label: &str, text: &str) -> (usize, usize) {
     }
     let doc = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
     let o = &doc.topology.origins;
-    let (mut checked, mut named) = (0, 0);
-    for origin in o
+    // (label, line, entity type, name) of every origin and every entity.
+    let origins = o
         .vertices
         .iter()
         .chain(&o.edges)
         .chain(&o.faces)
         .chain(&o.shells)
         .chain(&o.solids)
-    {
-        let Some(id) = origin
-            .id
+        .map(|x| (&x.id, x.source.line, &x.source.entity, &x.name));
+    let entities = doc
+        .entities
+        .iter()
+        .map(|e| (&e.id, e.source.line, &e.source.entity, &e.meta.name));
+    let (mut checked, mut named) = (0, 0);
+    for (id_label, found_line, entity, found_name) in origins.chain(entities) {
+        let Some(id) = id_label
             .strip_prefix('#')
             .and_then(|d| d.parse::<u64>().ok())
         else {
@@ -1001,26 +1012,21 @@ fn check_origins(label: &str, text: &str) -> (usize, usize) {
         };
         let &(line, statement) = at
             .get(&id)
-            .unwrap_or_else(|| panic!("{label}: origin {} is no instance", origin.id));
-        assert_eq!(
-            origin.source.line,
-            Some(line),
-            "{label}: line of {}",
-            origin.id
-        );
+            .unwrap_or_else(|| panic!("{label}: {id_label} is no instance"));
+        assert_eq!(found_line, Some(line), "{label}: line of {id_label}");
         let body = statement.split_once('=').unwrap().1.trim_start();
         if !body.starts_with('(') {
             let keyword = body.split('(').next().unwrap().trim();
-            assert_eq!(origin.source.entity, keyword, "{label}: {}", origin.id);
+            assert_eq!(entity, keyword, "{label}: {id_label}");
             let first = body[keyword.len()..].trim_start().trim_start_matches('(');
             if let Some(quoted) = first.trim_start().strip_prefix('\'') {
                 let name = quoted.split('\'').next().unwrap();
                 if quoted.starts_with("''") {
                     // An empty name, or one starting with an escaped quote: not checked.
                 } else if name.is_empty() {
-                    assert_eq!(origin.name, None, "{label}: {}", origin.id);
+                    assert_eq!(found_name, &None, "{label}: {id_label}");
                 } else if !name.contains('\\') {
-                    assert_eq!(origin.name.as_deref(), Some(name), "{label}: {}", origin.id);
+                    assert_eq!(found_name.as_deref(), Some(name), "{label}: {id_label}");
                     named += 1;
                 }
             }
