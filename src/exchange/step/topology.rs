@@ -178,20 +178,6 @@ struct Build<'c, 'm, 's, 'a> {
     pcurve_entities: Vec<(u64, u64)>,
     /// [`edge_pcurve_curves`] of the file.
     edge_pcurves: &'c [(u64, u64)],
-    /// The instance of each origin pushed, list by list (index-aligned with
-    /// [`Topology::origins`]' lists): their source and name are read at the end
-    /// ([`Build::resolve`]).
-    sources: [Vec<u64>; 5],
-}
-
-/// One of the origin lists of [`Origins`] the builder fills.
-#[derive(Debug, Clone, Copy)]
-enum List {
-    Vertices,
-    Edges,
-    Faces,
-    Shells,
-    Solids,
 }
 
 /// What [`build`] made.
@@ -231,7 +217,6 @@ pub(super) fn build(
         missing_pcurves: 0,
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
-        sources: Default::default(),
     };
     // The items of each kind the model is built from, in one walk of the items (each walk
     // reads all of them: on a large file, several were a visible part of the read).
@@ -255,6 +240,8 @@ pub(super) fn build(
             Err(d) => b.diagnostics.push(d),
         }
     }
+    // What is walked is freed once walked (the read's peak of memory comes at the end).
+    kinds.vertices = Vec::new();
     let diagonal = {
         let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
         bounding_box_diagonal(&all)
@@ -286,17 +273,11 @@ pub(super) fn build(
     origins.edges.reserve_exact(edges.len());
     model.faces.reserve_exact(faces);
     origins.faces.reserve_exact(faces);
-    let [vertex_sources, edge_sources, face_sources, ..] = &mut b.sources;
-    vertex_sources.reserve_exact(points.len());
-    edge_sources.reserve_exact(edges.len());
-    face_sources.reserve_exact(faces);
-    // What is walked below is freed once walked (the read's peak comes at the end).
-    kinds.vertices = Vec::new();
     for (id, p) in points {
         match b.topology.model.add_vertex(p, b.tolerance) {
             Ok(v) => {
                 b.vertices.insert(id, v);
-                b.push_origin(List::Vertices, id, None);
+                b.topology.origins.vertices.push(b.origin(id, None));
             }
             Err(e) => b.refuse(id, &e),
         }
@@ -323,7 +304,6 @@ pub(super) fn build(
     for &id in &kinds.solids {
         b.solid(id);
     }
-    b.resolve();
     if b.missing_pcurves > 0 {
         b.diagnostics.push(Diagnostic::warning(
             "pcurve.not_computed",
@@ -355,68 +335,16 @@ struct Kinds {
 }
 
 impl Build<'_, '_, '_, '_> {
-    /// `list` of the model's origins and the instances of its items.
-    fn list(&mut self, list: List) -> (&mut Vec<Origin>, &mut Vec<u64>) {
-        let o = &mut self.topology.origins;
-        let [v, e, f, s, b] = &mut self.sources;
-        match list {
-            List::Vertices => (&mut o.vertices, v),
-            List::Edges => (&mut o.edges, e),
-            List::Faces => (&mut o.faces, f),
-            List::Shells => (&mut o.shells, s),
-            List::Solids => (&mut o.solids, b),
-        }
-    }
-
-    /// Pushes the origin of an item made from instance `#id` onto `list`; its source and
-    /// name are read by [`Build::resolve`].
-    fn push_origin(&mut self, list: List, id: u64, entity: Option<Label>) {
-        let (origins, sources) = self.list(list);
-        origins.push(Origin {
+    fn origin(&self, id: u64, entity: Option<Label>) -> Origin {
+        let found = self.conv.provenance(id);
+        Origin {
             id: super::instance_label(id),
+            source: Source {
+                entity: found.entity,
+                line: found.line,
+            },
+            name: found.name,
             entity,
-            ..Origin::default()
-        });
-        sources.push(id);
-    }
-
-    /// Pushes a copy of the origin at `from` onto `to` (read from the same instance).
-    fn copy_origin(&mut self, from: (List, usize), to: List) {
-        let (origins, sources) = self.list(from.0);
-        let o = origins.get(from.1).cloned().unwrap_or_default();
-        let id = sources.get(from.1).copied().unwrap_or(0);
-        let (origins, sources) = self.list(to);
-        origins.push(o);
-        sources.push(id);
-    }
-
-    /// Reads the source entity, line and name of every origin pushed, list by list. Each
-    /// list was made in instance order (the items are walked by id), so the index, the line
-    /// counts and the text are walked forward, each look-up independent of the one before:
-    /// on a large B-rep, reading them as each item was made (at random, between the
-    /// model's work) was a tenth of the read.
-    fn resolve(&mut self) {
-        let sources = std::mem::take(&mut self.sources);
-        for (list, ids) in [
-            List::Vertices,
-            List::Edges,
-            List::Faces,
-            List::Shells,
-            List::Solids,
-        ]
-        .into_iter()
-        .zip(sources)
-        {
-            for (at, id) in ids.into_iter().enumerate() {
-                let found = self.conv.provenance(id);
-                if let Some(o) = self.list(list).0.get_mut(at) {
-                    o.source = Source {
-                        entity: found.entity,
-                        line: found.line,
-                    };
-                    o.name = found.name;
-                }
-            }
         }
     }
 
@@ -465,7 +393,8 @@ impl Build<'_, '_, '_, '_> {
         {
             Ok(e) => {
                 self.edges.insert(id, (e, same_sense));
-                self.push_origin(List::Edges, id, Some(out.entity.clone()));
+                let o = self.origin(id, Some(out.entity.clone()));
+                self.topology.origins.edges.push(o);
                 self.note_pcurves(id);
             }
             Err(e) => self.refuse(id, &e),
@@ -554,7 +483,8 @@ impl Build<'_, '_, '_, '_> {
                                 match self.topology.model.add_vertex(point, self.tolerance) {
                                     Ok(v) => {
                                         self.vertices.insert(p, v);
-                                        self.push_origin(List::Vertices, p, None);
+                                        let o = self.origin(p, None);
+                                        self.topology.origins.vertices.push(o);
                                         v
                                     }
                                     Err(e) => {
@@ -589,10 +519,9 @@ impl Build<'_, '_, '_, '_> {
                     ) {
                         Ok(e) => {
                             self.poly_edges.insert(key, e);
-                            self.push_origin(List::Edges, face, None);
-                            if let Some(o) = self.topology.origins.edges.last_mut() {
-                                o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
-                            }
+                            let mut o = self.origin(face, None);
+                            o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
+                            self.topology.origins.edges.push(o);
                             e
                         }
                         Err(e) => {
@@ -755,20 +684,15 @@ impl Build<'_, '_, '_, '_> {
             Ok((vertex, second)) => {
                 // Without pcurves (cleared by the caller) the coedges always split.
                 let _ = model.split_coedges(loops, edge, second);
-                let label = self
-                    .topology
-                    .origins
-                    .edges
-                    .get(edge.0)
-                    .map(|o| o.id.clone())
-                    .unwrap_or_default();
-                self.copy_origin((List::Edges, edge.0), List::Vertices);
-                self.copy_origin((List::Edges, edge.0), List::Edges);
+                let origins = &mut self.topology.origins;
+                let o = origins.edges.get(edge.0).cloned().unwrap_or_default();
+                origins.vertices.push(o.clone());
+                origins.edges.push(o.clone());
                 let d = Diagnostic::info(
                     "topology.edge_split_at_seam",
                     format!(
                         "edge {} is split in two at the seam of face #{face}'s NURBS surface (new vertex {}): the face has no seam edge, its loops need the seam where this edge runs, and a pcurve must stay inside the surface's domain; the geometry is unchanged",
-                        label, vertex.0
+                        o.id, vertex.0
                     ),
                     self.conv.location(face),
                 );
@@ -781,7 +705,8 @@ impl Build<'_, '_, '_, '_> {
 
     fn face_added(&mut self, id: u64, f: FaceId, entity: Label) {
         self.faces.insert(id, f);
-        self.push_origin(List::Faces, id, Some(entity));
+        let o = self.origin(id, Some(entity));
+        self.topology.origins.faces.push(o);
     }
 
     /// The pcurve of every coedge on the face's NURBS surface ([`edge_pcurve`]: exact on
@@ -897,7 +822,8 @@ impl Build<'_, '_, '_, '_> {
         };
         if let Some(s) = shell {
             self.shells.insert(id, s);
-            self.push_origin(List::Shells, id, None);
+            let o = self.origin(id, None);
+            self.topology.origins.shells.push(o);
         }
     }
 
@@ -923,7 +849,8 @@ impl Build<'_, '_, '_, '_> {
         match self.topology.model.add_shell(faces, true) {
             Ok(s) => {
                 self.shells.insert(id, s);
-                self.push_origin(List::Shells, id, None);
+                let o = self.origin(id, None);
+                self.topology.origins.shells.push(o);
             }
             Err(e) => self.refuse(id, &e),
         }
@@ -949,7 +876,8 @@ impl Build<'_, '_, '_, '_> {
         let outer = shells.remove(0);
         match self.topology.model.add_solid(outer, shells) {
             Ok(_) => {
-                self.push_origin(List::Solids, id, None);
+                let o = self.origin(id, None);
+                self.topology.origins.solids.push(o);
             }
             Err(e) => self.refuse(id, &e),
         }
