@@ -13,7 +13,7 @@
 //! - surfaces of equal degree 1-5 evaluate random points two at a time, the A2.2 recurrences
 //!   of both as the lanes of packed operations (`kernels::basis_pair`);
 //! - first derivatives of the basis come from the last level of A2.2 at no extra division
-//!   ([`basis_funs_ders1`](super::basis::basis_funs_ders1));
+//!   ([`basis_funs_ders1`]);
 //! - sorted parameters reuse the previous knot span (incremental span search instead of
 //!   A2.1's binary search);
 //! - grids ([`NurbsSurface::evaluate_grid`]) compute every u-basis and v-basis once, and the
