@@ -236,22 +236,23 @@ fn inner(s: &SurfaceEvaluator<'_>, u: f64, v: f64, budget: &Budget) -> Result<Ve
     let rule = &rules().high;
     let n = pieces().count() * rule.len();
     budget.take(n as u64)?;
-    // Nodes and weights, at the nearest parameters inside the domain.
+    // The nodes, at the nearest parameters inside the domain; their weights are walked
+    // again with the values.
     let mut nodes = Vec::with_capacity(n);
-    let mut weights = Vec::with_capacity(n);
     for (x, y) in pieces() {
         let (mid, half) = (0.5 * (x + y), 0.5 * (y - x));
-        for &(t, wt) in rule {
-            nodes.push((mid + half * t).clamp(u0, u1));
-            weights.push(wt * half);
-        }
+        nodes.extend(rule.iter().map(|&(t, _)| (mid + half * t).clamp(u0, u1)));
     }
+    let weights = pieces().flat_map(|(x, y)| {
+        let half = 0.5 * (y - x);
+        rule.iter().map(move |&(_, wt)| wt * half)
+    });
     let mut total = [0.0; 5];
     let Ok(grid) = s.grid_with_partials(&nodes, &[v.clamp(v0, v1)]) else {
         return Ok([f64::NAN; 5]);
     };
-    for (d, w) in grid.as_slice().iter().zip(&weights) {
-        add5(&mut total, &integrand(*d), *w);
+    for (d, w) in grid.as_slice().iter().zip(weights) {
+        add5(&mut total, &integrand(*d), w);
     }
     Ok(total)
 }

@@ -234,14 +234,13 @@ pub(super) fn build(
     }
     // Vertices first: their box gives the tolerance.
     let mut points: Vec<(u64, Point3)> = Vec::with_capacity(kinds.vertices.len());
-    for &(id, vertex_geometry) in &kinds.vertices {
+    // Each list is freed once walked (the read's peak of memory comes at the end).
+    for (id, vertex_geometry) in std::mem::take(&mut kinds.vertices) {
         match conv.point(vertex_geometry, id) {
             Ok(p) => points.push((id, p)),
             Err(d) => b.diagnostics.push(d),
         }
     }
-    // What is walked is freed once walked (the read's peak of memory comes at the end).
-    kinds.vertices = Vec::new();
     let diagonal = {
         let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
         bounding_box_diagonal(&all)
