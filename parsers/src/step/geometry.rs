@@ -401,7 +401,7 @@ pub struct GeometryItem<'a> {
     /// `name` of REPRESENTATION_ITEM (or REPRESENTATION), when present.
     pub name: Option<StepString<'a>>,
     /// The most specific entity type read (`CIRCLE`, `SEAM_CURVE`, `ADVANCED_FACE`...).
-    pub entity: &'static str,
+    pub entity: GeometryEntity,
     /// The entity type as written (`(BOUNDED_CURVE,...)` for a complex instance); for a
     /// simple instance the long name, [`GeometryItem::entity`] (no allocation per item).
     pub entity_type: Cow<'static, str>,
@@ -484,23 +484,98 @@ const FIRST_LETTERS: u32 = {
     mask
 };
 
+/// One of [`GEOMETRY_ENTITIES`], held as its position in the table (one byte: a reader
+/// keeps one per decoded item, and a large B-rep has millions).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct GeometryEntity(u8);
+
+impl GeometryEntity {
+    /// The entry named `name` (a long-form name), if the table has it.
+    pub const fn named(name: &str) -> Option<Self> {
+        let name = name.as_bytes();
+        // Below 256 entries (checked below): a byte counts them.
+        let mut i: u8 = 0;
+        while (i as usize) < GEOMETRY_ENTITIES.len() {
+            let entry = GEOMETRY_ENTITIES[i as usize].as_bytes();
+            if entry.len() == name.len() {
+                let mut k = 0;
+                while k < entry.len() && entry[k] == name[k] {
+                    k += 1;
+                }
+                if k == entry.len() {
+                    return Some(GeometryEntity(i));
+                }
+            }
+            i += 1;
+        }
+        None
+    }
+
+    /// The entity's long name.
+    pub fn name(self) -> &'static str {
+        GEOMETRY_ENTITIES
+            .get(usize::from(self.0))
+            .copied()
+            .unwrap_or_default()
+    }
+}
+
+// One byte holds every position of the table, and counts past the last.
+const _: () = assert!(GEOMETRY_ENTITIES.len() < 256);
+
+/// `GeometryEntity::named(name)` in a constant (a compile error when the table lacks it).
+macro_rules! known_entity {
+    ($name:literal) => {
+        const {
+            match $crate::step::geometry::GeometryEntity::named($name) {
+                Some(e) => e,
+                None => panic!(concat!("not in GEOMETRY_ENTITIES: ", $name)),
+            }
+        }
+    };
+}
+pub(crate) use known_entity;
+
+impl PartialEq<&str> for GeometryEntity {
+    fn eq(&self, other: &&str) -> bool {
+        self.name() == *other
+    }
+}
+
+impl std::fmt::Debug for GeometryEntity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(self.name(), f)
+    }
+}
+
+impl std::fmt::Display for GeometryEntity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The entry of [`GEOMETRY_ENTITIES`] equal to `name` (a long-form name). The entries are
 /// grouped by length on first use, so a name is compared with the few of its length only
 /// (every geometry instance of a file is looked up here, and the table has over 40
 /// entries).
-fn geometry_entity(name: &str) -> Option<&'static str> {
-    static BY_LENGTH: std::sync::OnceLock<Vec<Vec<&'static str>>> = std::sync::OnceLock::new();
+fn geometry_entity(name: &str) -> Option<GeometryEntity> {
+    type ByLength = Vec<Vec<(&'static str, GeometryEntity)>>;
+    static BY_LENGTH: std::sync::OnceLock<ByLength> = std::sync::OnceLock::new();
     let table = BY_LENGTH.get_or_init(|| {
         let longest = GEOMETRY_ENTITIES.iter().map(|e| e.len()).max().unwrap_or(0);
         let mut table = vec![Vec::new(); longest + 1];
-        for &e in GEOMETRY_ENTITIES {
-            if let Some(group) = table.get_mut(e.len()) {
-                group.push(e);
+        for (k, &e) in GEOMETRY_ENTITIES.iter().enumerate() {
+            if let (Some(group), Ok(k)) = (table.get_mut(e.len()), u8::try_from(k)) {
+                group.push((e, GeometryEntity(k)));
             }
         }
         table
     });
-    table.get(name.len())?.iter().copied().find(|&e| e == name)
+    table
+        .get(name.len())?
+        .iter()
+        .find(|(e, _)| *e == name)
+        .map(|&(_, g)| g)
 }
 
 /// Whether the body of a complex instance may hold a partial record this module reads. The
@@ -589,10 +664,16 @@ impl<'a> GeometryItem<'a> {
             Body::Complex(_) => None,
         };
         let a = Attributes::of(inst, at)?;
-        let Some(entity) = simple.or_else(|| GEOMETRY_ENTITIES.iter().copied().find(|e| a.has(e)))
-        else {
+        let Some(kind) = simple.or_else(|| {
+            GEOMETRY_ENTITIES
+                .iter()
+                .position(|e| a.has(e))
+                .and_then(|k| u8::try_from(k).ok())
+                .map(GeometryEntity)
+        }) else {
             return Ok(None);
         };
+        let entity = kind.name();
         use GeometryRecord as R;
         let record = match entity {
             "DIRECTION" => R::Direction {
@@ -798,9 +879,9 @@ impl<'a> GeometryItem<'a> {
             .ok();
         Ok(Some(GeometryItem {
             name,
-            entity,
+            entity: kind,
             entity_type: match simple {
-                Some(e) => Cow::Borrowed(e),
+                Some(e) => Cow::Borrowed(e.name()),
                 None => Cow::Owned(a.entity_type().to_owned()),
             },
             record,

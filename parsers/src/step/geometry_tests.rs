@@ -597,5 +597,32 @@ fn geometry_entity_names() {
         "VERTEX_POINS",
     ] {
         assert!(!is_geometry_entity(other), "{other}");
+        assert_eq!(GeometryEntity::named(other), None, "{other}");
+    }
+}
+
+/// A `GeometryEntity` names the table entry it was made from: every entry, found by its
+/// name at compile time, at run time and through the decoders, is itself again; distinct
+/// entries are distinct values.
+#[test]
+fn geometry_entities_are_their_table_entries() {
+    let mut seen = std::collections::HashSet::new();
+    for name in GEOMETRY_ENTITIES {
+        let e = GeometryEntity::named(name).expect("in the table");
+        assert_eq!(e.name(), *name);
+        assert_eq!(e, *name);
+        assert_eq!(e.to_string(), *name);
+        assert_eq!(geometry_entity(name), Some(e));
+        assert!(seen.insert(e), "{name} twice");
+    }
+    assert_eq!(known_entity!("SEAM_CURVE").name(), "SEAM_CURVE");
+    // The one-pass reader (a simple instance) and the general path (a complex one) give
+    // the table's entry.
+    let circle = GeometryEntity::named("CIRCLE").expect("in the table");
+    for text in [
+        "#1=CIRCLE('c',#2,5.);",
+        "#1=( CURVE() GEOMETRIC_REPRESENTATION_ITEM() CIRCLE(5.) CONIC(#2) REPRESENTATION_ITEM('c') );",
+    ] {
+        assert_eq!(item(text).unwrap().unwrap().entity, circle, "{text}");
     }
 }

@@ -24,7 +24,7 @@
 //! located error. The tests compare both paths on every repository STEP file and on damaged
 //! copies of their instances.
 
-use super::geometry::{GeometryItem, GeometryRecord, Ratios};
+use super::geometry::{GeometryEntity, GeometryItem, GeometryRecord, Ratios, known_entity};
 use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
@@ -157,7 +157,7 @@ pub(crate) fn read<'a>(
     (r.i == r.b.len()).then(|| GeometryItem {
         name: Some(name),
         entity,
-        entity_type: entity.into(),
+        entity_type: entity.name().into(),
         record,
     })
 }
@@ -169,7 +169,7 @@ fn head<'a>(
     text: &'a str,
     raw: &RawInstance<'a>,
     limits: ParamLimits,
-) -> Option<(&'static str, Shape, Reader<'a>, StepString<'a>)> {
+) -> Option<(GeometryEntity, Shape, Reader<'a>, StepString<'a>)> {
     let keyword = raw.keyword(text)?;
     let (entity, shape) = shape_of(keyword)?;
     let mut r = Reader::new(text, raw, limits);
@@ -187,7 +187,7 @@ pub(crate) fn name<'a>(
     raw: &RawInstance<'a>,
     limits: ParamLimits,
 ) -> Option<(&'static str, StepString<'a>)> {
-    head(text, raw, limits).map(|(entity, _, _, name)| (entity, name))
+    head(text, raw, limits).map(|(entity, _, _, name)| (entity.name(), name))
 }
 
 /// The attribute layouts read here (one per record shape).
@@ -221,39 +221,40 @@ enum Shape {
 
 /// The entity (as [`GEOMETRY_ENTITIES`](super::geometry::GEOMETRY_ENTITIES) names it) and
 /// the layout of a keyword read here.
-fn shape_of(keyword: &str) -> Option<(&'static str, Shape)> {
+fn shape_of(keyword: &str) -> Option<(GeometryEntity, Shape)> {
     use Shape as S;
     Some(match keyword {
-        "DIRECTION" => ("DIRECTION", S::Direction),
-        "VECTOR" => ("VECTOR", S::Vector),
-        "AXIS1_PLACEMENT" => ("AXIS1_PLACEMENT", S::Axis1),
-        "AXIS2_PLACEMENT_2D" => ("AXIS2_PLACEMENT_2D", S::Axis2d),
-        "AXIS2_PLACEMENT_3D" => ("AXIS2_PLACEMENT_3D", S::Axis3d),
-        "LINE" => ("LINE", S::Line),
-        "CIRCLE" => ("CIRCLE", S::Circle),
-        "ELLIPSE" => ("ELLIPSE", S::Ellipse),
-        "PLANE" => ("PLANE", S::Plane),
-        "CYLINDRICAL_SURFACE" => ("CYLINDRICAL_SURFACE", S::Cylinder),
-        "CONICAL_SURFACE" => ("CONICAL_SURFACE", S::Cone),
-        "SPHERICAL_SURFACE" => ("SPHERICAL_SURFACE", S::Sphere),
-        "TOROIDAL_SURFACE" => ("TOROIDAL_SURFACE", S::Torus),
-        "SURFACE_CURVE" => ("SURFACE_CURVE", S::SurfaceCurve),
-        "SEAM_CURVE" => ("SEAM_CURVE", S::SurfaceCurve),
-        "PCURVE" => ("PCURVE", S::Pcurve),
-        "DEFINITIONAL_REPRESENTATION" => {
-            ("DEFINITIONAL_REPRESENTATION", S::DefinitionalRepresentation)
-        }
-        "VERTEX_POINT" => ("VERTEX_POINT", S::VertexPoint),
-        "EDGE_CURVE" => ("EDGE_CURVE", S::EdgeCurve),
-        "ORIENTED_EDGE" => ("ORIENTED_EDGE", S::OrientedEdge),
-        "EDGE_LOOP" => ("EDGE_LOOP", S::EdgeLoop),
-        "FACE_BOUND" => ("FACE_BOUND", S::FaceBound),
-        "FACE_OUTER_BOUND" => ("FACE_OUTER_BOUND", S::FaceBound),
-        "ADVANCED_FACE" => ("ADVANCED_FACE", S::Face),
-        "FACE_SURFACE" => ("FACE_SURFACE", S::Face),
-        "OPEN_SHELL" => ("OPEN_SHELL", S::Shell),
-        "CLOSED_SHELL" => ("CLOSED_SHELL", S::Shell),
-        "MANIFOLD_SOLID_BREP" => ("MANIFOLD_SOLID_BREP", S::Solid),
+        "DIRECTION" => (known_entity!("DIRECTION"), S::Direction),
+        "VECTOR" => (known_entity!("VECTOR"), S::Vector),
+        "AXIS1_PLACEMENT" => (known_entity!("AXIS1_PLACEMENT"), S::Axis1),
+        "AXIS2_PLACEMENT_2D" => (known_entity!("AXIS2_PLACEMENT_2D"), S::Axis2d),
+        "AXIS2_PLACEMENT_3D" => (known_entity!("AXIS2_PLACEMENT_3D"), S::Axis3d),
+        "LINE" => (known_entity!("LINE"), S::Line),
+        "CIRCLE" => (known_entity!("CIRCLE"), S::Circle),
+        "ELLIPSE" => (known_entity!("ELLIPSE"), S::Ellipse),
+        "PLANE" => (known_entity!("PLANE"), S::Plane),
+        "CYLINDRICAL_SURFACE" => (known_entity!("CYLINDRICAL_SURFACE"), S::Cylinder),
+        "CONICAL_SURFACE" => (known_entity!("CONICAL_SURFACE"), S::Cone),
+        "SPHERICAL_SURFACE" => (known_entity!("SPHERICAL_SURFACE"), S::Sphere),
+        "TOROIDAL_SURFACE" => (known_entity!("TOROIDAL_SURFACE"), S::Torus),
+        "SURFACE_CURVE" => (known_entity!("SURFACE_CURVE"), S::SurfaceCurve),
+        "SEAM_CURVE" => (known_entity!("SEAM_CURVE"), S::SurfaceCurve),
+        "PCURVE" => (known_entity!("PCURVE"), S::Pcurve),
+        "DEFINITIONAL_REPRESENTATION" => (
+            known_entity!("DEFINITIONAL_REPRESENTATION"),
+            S::DefinitionalRepresentation,
+        ),
+        "VERTEX_POINT" => (known_entity!("VERTEX_POINT"), S::VertexPoint),
+        "EDGE_CURVE" => (known_entity!("EDGE_CURVE"), S::EdgeCurve),
+        "ORIENTED_EDGE" => (known_entity!("ORIENTED_EDGE"), S::OrientedEdge),
+        "EDGE_LOOP" => (known_entity!("EDGE_LOOP"), S::EdgeLoop),
+        "FACE_BOUND" => (known_entity!("FACE_BOUND"), S::FaceBound),
+        "FACE_OUTER_BOUND" => (known_entity!("FACE_OUTER_BOUND"), S::FaceBound),
+        "ADVANCED_FACE" => (known_entity!("ADVANCED_FACE"), S::Face),
+        "FACE_SURFACE" => (known_entity!("FACE_SURFACE"), S::Face),
+        "OPEN_SHELL" => (known_entity!("OPEN_SHELL"), S::Shell),
+        "CLOSED_SHELL" => (known_entity!("CLOSED_SHELL"), S::Shell),
+        "MANIFOLD_SOLID_BREP" => (known_entity!("MANIFOLD_SOLID_BREP"), S::Solid),
         _ => return None,
     })
 }

@@ -30,7 +30,7 @@ use std::borrow::Cow;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 use nurbsx_parsers::step::geometry::{
-    GeometryItem, GeometryRecord as R, RectangularTrim, Trimming, TrimmingSelect,
+    GeometryEntity, GeometryItem, GeometryRecord as R, RectangularTrim, Trimming, TrimmingSelect,
 };
 use nurbsx_parsers::step::schema::names_bspline_surface;
 use nurbsx_parsers::step::{RawInstance, Scanned};
@@ -395,24 +395,56 @@ fn curve_param(b: &Basis) -> Param {
     }
 }
 
-/// A decoded geometry item as the reader keeps it: the most specific entity type read and
-/// the attributes. The name and the entity type as written, which only the entities and
-/// origins made from it need, are read again from the instance then
-/// ([`Converter::provenance`]): holding them for every item made each 136 bytes with its
-/// id instead of 72, and the items are the read's largest structure.
+/// A decoded geometry item as the reader keeps it: the most specific entity type read, the
+/// attributes, and where the item's provenance needs no second reading of its instance. The
+/// name and the entity type as written, which only the entities and origins made from it
+/// need, are read again from the instance then ([`Converter::provenance`]) unless the
+/// instance is plain (a simple instance with an empty name: its type as written is
+/// `entity`, and it has no name): holding them for every item made each 136 bytes with its
+/// id instead of 64, and the items are the read's largest structure.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Kept<'a> {
-    /// [`GeometryItem::entity`].
-    pub entity: &'static str,
     /// [`GeometryItem::record`].
     pub record: R<'a>,
+    /// [`GeometryItem::entity`].
+    pub entity: GeometryEntity,
+    /// Whether the instance is simple and its name empty.
+    plain: bool,
+    /// The instance's 1-based line when it was looked up while the instance was decoded
+    /// (plain items of the kinds that become entities and origins), else 0.
+    line: u32,
 }
 
-impl<'a> From<GeometryItem<'a>> for Kept<'a> {
-    fn from(item: GeometryItem<'a>) -> Self {
+impl<'a> Kept<'a> {
+    /// The item of `item`, whose instance is at `offset` of the text `s` indexes.
+    pub(super) fn new(item: GeometryItem<'a>, s: &Scanned<'_>, offset: usize) -> Self {
+        let plain = item.name.as_ref().is_none_or(|n| n.raw.is_empty())
+            && item.entity_type == item.entity.name();
+        // Placements, directions, oriented edges, loops, bounds and pcurves become no
+        // entity or origin of their own: their line is not looked up.
+        let own = !matches!(
+            item.record,
+            R::Direction { .. }
+                | R::Vector { .. }
+                | R::Axis1Placement { .. }
+                | R::Axis2Placement2d { .. }
+                | R::Axis2Placement3d { .. }
+                | R::OrientedEdge { .. }
+                | R::EdgeLoop { .. }
+                | R::FaceBound { .. }
+                | R::Pcurve { .. }
+                | R::DefinitionalRepresentation { .. }
+        );
+        let line = if plain && own {
+            u32::try_from(s.line(offset)).unwrap_or(0)
+        } else {
+            0
+        };
         Kept {
-            entity: item.entity,
             record: item.record,
+            entity: item.entity,
+            plain,
+            line,
         }
     }
 }
@@ -1334,8 +1366,18 @@ impl<'a> Converter<'_, '_, 'a> {
             return Provenance::default();
         };
         let offset = raw.offset();
+        let item = self.items.get(&id);
+        // A plain item whose line was found when it was decoded: nothing to read again.
+        if let Some(k) = item.filter(|k| k.plain && k.line > 0) {
+            return Provenance {
+                offset,
+                line: usize::try_from(k.line).ok(),
+                entity: Cow::Borrowed(k.entity.name()),
+                name: None,
+            };
+        }
         let line = Some(self.s.line(offset));
-        if !self.items.contains_key(&id) {
+        if item.is_none() {
             return Provenance {
                 offset,
                 line,
@@ -1959,7 +2001,7 @@ impl<'a> Converter<'_, '_, 'a> {
         };
         match &item.record {
             R::Line { .. } | R::Hyperbola { .. } | R::Parabola { .. } => {
-                (None, Some(unbounded(item.entity)))
+                (None, Some(unbounded(item.entity.name())))
             }
             R::TrimmedCurve { .. } => match self.trimmed(id, item, 0) {
                 Ok((c, shape, meta)) => (
@@ -1985,7 +2027,7 @@ impl<'a> Converter<'_, '_, 'a> {
                     Basis::Nurbs { curve, .. } => Ok(curve),
                     other => match other.natural_range() {
                         Some((a, c)) => other.bounded(a, c).map_err(|e| self.geometry_error(id, e)),
-                        None => return (None, Some(unbounded(item.entity))),
+                        None => return (None, Some(unbounded(item.entity.name()))),
                     },
                 };
                 match curve {
@@ -2017,7 +2059,7 @@ impl<'a> Converter<'_, '_, 'a> {
                                 .build(u, v)
                                 .map(|(s, _)| (s, b.shape()))
                                 .map_err(|e| self.geometry_error(id, e)),
-                            _ => Err(unbounded(item.entity)),
+                            _ => Err(unbounded(item.entity.name())),
                         }
                     })
                 };
@@ -2142,10 +2184,12 @@ mod tests {
     /// An item of the given id (a DIRECTION whose ratio is the id, to tell them apart).
     fn item(id: u64) -> (u64, Kept<'static>) {
         let item = Kept {
-            entity: "DIRECTION",
+            entity: GeometryEntity::named("DIRECTION").expect("a geometry entity"),
             record: R::Direction {
                 direction_ratios: Ratios::new(&[id as f64]).expect("one ratio"),
             },
+            plain: true,
+            line: 0,
         };
         (id, item)
     }

@@ -205,6 +205,9 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // Kept as the reader keeps them (`Kept`: no name or type text), with the rare errors
     // boxed, so that this vector, the largest of the read while it lives, is no larger
     // than the items it becomes.
+    // The decoders look up the lines of the items (`Kept::new`): the line table is built
+    // here, before them, not by the first of them while the others wait.
+    let _ = scanned.line(0);
     let decoded: Vec<(u64, Decoded<'_>)> = geometry_candidates
         .par_iter()
         .enumerate()
@@ -213,7 +216,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 return (raw.id, Ok(None));
             }
             let item = scanned.geometry_item(raw);
-            (raw.id, item.map(|i| i.map(Kept::from)).map_err(Box::new))
+            let kept = |i| Kept::new(i, &scanned, raw.offset());
+            (raw.id, item.map(|i| i.map(kept)).map_err(Box::new))
         })
         .collect();
     // Every instance index no longer needed is freed before the read's peak (the topology,
@@ -462,7 +466,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         let converter = Converter::new(&scanned, &items, units, &no_bspline);
         let built = super::topology::build(
             &converter,
-            &edges,
+            edges,
             &quadric_maps,
             &doc.entities,
             uncertainty,

@@ -191,12 +191,13 @@ pub(super) struct Built {
     pub pcurve_entities: Vec<(u64, u64)>,
 }
 
-/// Builds the topology of the decoded items over the converted edges and the document's
+/// Builds the topology of the decoded items over the converted edges (moved into the
+/// model's edges, each curve without a copy) and the document's
 /// entities (face surfaces by id). The tolerance is [`RELATIVE_TOLERANCE`] of the
 /// vertices' box, or the file's length `uncertainty` (model unit) when that is larger.
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
-    edges: &HashMap<u64, EdgeOut>,
+    mut edges: HashMap<u64, EdgeOut>,
     quadric_maps: &HashMap<u64, QuadricMap>,
     entities: &[Entity],
     uncertainty: f64,
@@ -282,10 +283,12 @@ pub(super) fn build(
         }
     }
     for id in std::mem::take(&mut kinds.edges) {
-        if let Some(out) = edges.get(&id) {
+        if let Some(out) = edges.remove(&id) {
             b.edge(id, out);
         }
     }
+    // Freed before the faces (the read's peak of memory comes at their end).
+    drop(edges);
     let surfaces: HashMap<&str, &Entity> = entities
         .iter()
         .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
@@ -368,7 +371,7 @@ impl Build<'_, '_, '_, '_> {
     }
 
     /// An EDGE_CURVE (ISO 10303-42 5.4, edge_curve).
-    fn edge(&mut self, id: u64, out: &EdgeOut) {
+    fn edge(&mut self, id: u64, out: EdgeOut) {
         let Some(&R::EdgeCurve {
             edge_start,
             edge_end,
@@ -388,11 +391,11 @@ impl Build<'_, '_, '_, '_> {
         match self
             .topology
             .model
-            .add_edge(out.curve.clone(), range, start, end, self.tolerance)
+            .add_edge(out.curve, range, start, end, self.tolerance)
         {
             Ok(e) => {
                 self.edges.insert(id, (e, same_sense));
-                let o = self.origin(id, Some(out.entity.clone()));
+                let o = self.origin(id, Some(out.entity));
                 self.topology.origins.edges.push(o);
                 self.note_pcurves(id);
             }
