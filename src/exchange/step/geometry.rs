@@ -502,12 +502,32 @@ impl<'a> Items<'a> {
         slots
     }
 
-    /// Keeps the items `keep` accepts and frees the room of the others (the index is
-    /// rebuilt).
+    /// Keeps the items `keep` accepts and frees the room of the others. The slot table is
+    /// updated in place as the items are walked (once each, in order: the kept ones take
+    /// the next positions), not built again (its memory set and filled anew were a visible
+    /// part of a large read).
     pub(super) fn retain(&mut self, mut keep: impl FnMut(u64, &R<'a>) -> bool) {
-        self.entries.retain(|(id, item)| keep(*id, &item.record));
+        let slots = &mut self.slots;
+        let mut next: u32 = 0;
+        self.entries.retain(|(id, item)| {
+            let kept = keep(*id, &item.record);
+            if let Some(cell) = usize::try_from(*id).ok().and_then(|i| slots.get_mut(i)) {
+                *cell = if kept { next } else { Self::NONE };
+            }
+            // Fewer entries than before, whose positions fit a slot (`Items::slots`).
+            next += u32::from(kept);
+            kept
+        });
         self.entries.shrink_to_fit();
-        self.slots = Self::slots(&self.entries);
+        // Cut after the largest id left. The table is kept even where the items left are
+        // too few for `Items::dense` (a B-rep keeps about a quarter of its ids): its size
+        // was bounded by the items it was made for, and the topology's look-ups, most of a
+        // large read's, would search instead.
+        let last = self.entries.last().map_or(0, |(id, _)| *id);
+        if let Ok(last) = usize::try_from(last) {
+            self.slots.truncate(last.saturating_add(1));
+            self.slots.shrink_to_fit();
+        }
     }
 
     /// The item `#id`.
@@ -2222,6 +2242,31 @@ mod tests {
             for absent in [0, u64::MAX, 3, 1 << 23] {
                 assert!(!items.contains_key(&absent));
             }
+            // After a retain, the kept ones (every id whose quotient by 2 or by 2^25 is odd)
+            // are found with their records, the others are not.
+            let mut items = items;
+            let kept = |id: u64| (id / 2) % 2 == 1 || (id >> 25) % 2 == 1;
+            items.retain(|id, _| kept(id));
+            let expect: Vec<u64> = sorted.iter().copied().filter(|&i| kept(i)).collect();
+            assert!(!expect.is_empty() && expect.len() < sorted.len());
+            assert_eq!(items.keys().copied().collect::<Vec<_>>(), expect);
+            for &id in &ids {
+                let found = items.get(&id).map(|i| &i.record);
+                let record = R::Direction {
+                    direction_ratios: Ratios::new(&[id as f64]).expect("one ratio"),
+                };
+                assert_eq!(found, kept(id).then_some(&record), "#{id}");
+            }
+        }
+        // Dense ids of which a few far apart are kept: the table is cut after the last.
+        let mut items = Items::new((1..=3000).map(item).collect());
+        items.retain(|id, _| id == 1 || (2000..2010).contains(&id));
+        assert_eq!(items.slots.len(), 2010);
+        for id in 0..=3001 {
+            assert_eq!(
+                items.contains_key(&id),
+                id == 1 || (2000..2010).contains(&id)
+            );
         }
         assert!(Items::new(Vec::new()).is_empty());
     }
