@@ -19,7 +19,7 @@ use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 use super::closure_tolerance;
 use super::geometry::{Converter, Items, Kept, Units};
 use super::implicit::{KnotForm, implicit_knots};
-use super::units::{FileUnit, context_plane_angle, context_units};
+use super::units::{FileUnit, context_plane_angle, context_units, unit_contexts};
 use crate::exchange::{
     Diagnostic, Document, Entity, Format, ImportOptions, LengthUnit, Location, Meta, Source,
 };
@@ -196,7 +196,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             geometry_candidates.push(raw);
         }
     }
-    let (scale, uncertainty) = file_units(&scanned, &complex, options, &mut doc);
+    let contexts = unit_contexts(&scanned, complex);
+    let (scale, uncertainty) = file_units(&scanned, &contexts, options, &mut doc);
 
     // The other ISO 10303-42 geometry and the topology bounding it: decoded in parallel,
     // then converted (geometry.rs), which also says which B-splines it built into other
@@ -245,10 +246,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let radians = if items.is_empty() {
         1.0
     } else {
-        plane_angle(&scanned, &complex, &mut doc)
+        plane_angle(&scanned, &contexts, &mut doc)
     };
     // The candidate lists are freed once used (each is a pointer per instance of its kind).
-    drop(complex);
+    drop(contexts);
     // One B-spline instance, decoded and converted: the entity (or why not) and what was
     // noticed on the way.
     let decode = |raw: &RawInstance<'_>| -> (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>) {
@@ -874,8 +875,8 @@ fn maybe_geometry(text: &str, raw: &RawInstance<'_>) -> bool {
 
 /// Radians per unit of the file's plane angle (ISO 10303-41 plane_angle_unit of the
 /// representation context), recorded in `doc`'s diagnostics; radians when none is declared.
-fn plane_angle(s: &Scanned<'_>, complex: &[&RawInstance<'_>], doc: &mut Document) -> f64 {
-    let (found, problems) = context_plane_angle(s, complex);
+fn plane_angle(s: &Scanned<'_>, contexts: &[&RawInstance<'_>], doc: &mut Document) -> f64 {
+    let (found, problems) = context_plane_angle(s, contexts);
     for (id, offset, m) in problems {
         let (line, column) = s.locate(offset);
         doc.diagnostics.push(Diagnostic::warning(
@@ -977,11 +978,11 @@ fn parse_diagnostic(e: &ParseError) -> Diagnostic {
 /// in the model's unit (0 when it declares none).
 fn file_units(
     s: &Scanned<'_>,
-    complex: &[&RawInstance<'_>],
+    contexts: &[&RawInstance<'_>],
     options: &ImportOptions,
     doc: &mut Document,
 ) -> (f64, f64) {
-    let (found, problems, uncertainties) = context_units(s, complex);
+    let (found, problems, uncertainties) = context_units(s, contexts);
     let loc = |id: u64, offset: usize| {
         let (line, column) = s.locate(offset);
         Location {

@@ -167,29 +167,37 @@ fn conversion(s: &Scanned<'_>, id: u64, of: u64) -> Result<(f64, u64), String> {
 /// A unit problem: the context's id, its byte offset, and the message.
 pub(super) type UnitProblem = (u64, usize, String);
 
+/// Keeps the instances of `complex` that may be contexts assigning units: the file's
+/// complex instances in file order (a context assigning units is one, ISO 10303-41
+/// `global_unit_assigned_context` being a partial of it; simple instances cannot be),
+/// searched once for that partial's name. A SIMD substring search: rational B-splines
+/// are complex instances too, their long bodies searched in full, and a B-rep written by
+/// Open CASCADE has a complex parameter-space context for every pcurve.
+pub(super) fn unit_contexts<'a, 'r>(
+    s: &Scanned<'a>,
+    mut complex: Vec<&'r RawInstance<'a>>,
+) -> Vec<&'r RawInstance<'a>> {
+    let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
+    complex.retain(|raw| finder.find(raw.body(s.text).as_bytes()).is_some());
+    complex.shrink_to_fit();
+    complex
+}
+
 /// The length units of the contexts that assign units, in file order:
-/// `(context id, unit)`, plus messages for units that could not be understood. `complex`
-/// is the file's complex instances in file order (a context assigning units is one,
-/// ISO 10303-42 `global_unit_assigned_context` being a partial of it); simple instances
-/// cannot be and are not passed.
+/// `(context id, unit)`, plus messages for units that could not be understood. `contexts`
+/// are the instances [`unit_contexts`] kept.
 ///
 /// The third list holds the contexts' length uncertainties in millimetres
 /// (`GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT` naming `UNCERTAINTY_MEASURE_WITH_UNIT`s whose unit
 /// is a length, ISO 10303-43 `global_uncertainty_assigned_context`).
 pub(super) fn context_units(
     s: &Scanned<'_>,
-    complex: &[&RawInstance<'_>],
+    contexts: &[&RawInstance<'_>],
 ) -> (Vec<(u64, FileUnit)>, Vec<UnitProblem>, Vec<f64>) {
     let mut found = Vec::new();
     let mut problems = Vec::new();
     let mut uncertainties = Vec::new();
-    // A SIMD substring search: rational B-splines are complex instances too, and their
-    // long bodies are searched in full.
-    let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
-    for &raw in complex {
-        if finder.find(raw.body(s.text).as_bytes()).is_none() {
-            continue;
-        }
+    for &raw in contexts {
         let Ok(inst) = s.decode(raw) else { continue };
         let (line, column) = s.locate(raw.offset());
         let at = At {
@@ -329,17 +337,14 @@ pub(super) fn resolve_plane_angle(
 }
 
 /// The plane-angle unit of the first context that assigns one (with its context id), and
-/// messages for plane-angle units that could not be understood.
+/// messages for plane-angle units that could not be understood. `contexts` are the
+/// instances [`unit_contexts`] kept.
 pub(super) fn context_plane_angle(
     s: &Scanned<'_>,
-    complex: &[&RawInstance<'_>],
+    contexts: &[&RawInstance<'_>],
 ) -> (Option<(u64, AngleUnit)>, Vec<UnitProblem>) {
     let mut problems = Vec::new();
-    let finder = memchr::memmem::Finder::new("GLOBAL_UNIT_ASSIGNED_CONTEXT");
-    for &raw in complex {
-        if finder.find(raw.body(s.text).as_bytes()).is_none() {
-            continue;
-        }
+    for &raw in contexts {
         let Ok(inst) = s.decode(raw) else { continue };
         let Ok(Some(ctx)) = RepresentationContext::from_instance(&inst, s.at(raw)) else {
             continue;
