@@ -533,16 +533,26 @@ impl<'a> Items<'a> {
     /// The item `#id`.
     #[inline]
     pub(super) fn get(&self, id: &u64) -> Option<&Kept<'a>> {
-        let k = if self.slots.is_empty() {
-            self.entries.binary_search_by_key(id, |(i, _)| *i).ok()?
-        } else {
-            let slot = *self.slots.get(usize::try_from(*id).ok()?)?;
-            if slot == Self::NONE {
-                return None;
-            }
-            usize::try_from(slot).ok()?
-        };
+        let k = self.position(*id)?;
         self.entries.get(k).map(|(_, item)| item)
+    }
+
+    /// The position of item `#id` in the ascending order of [`Items::iter`].
+    #[inline]
+    pub(super) fn position(&self, id: u64) -> Option<usize> {
+        if self.slots.is_empty() {
+            return self.entries.binary_search_by_key(&id, |(i, _)| *i).ok();
+        }
+        let slot = *self.slots.get(usize::try_from(id).ok()?)?;
+        if slot == Self::NONE {
+            return None;
+        }
+        usize::try_from(slot).ok()
+    }
+
+    /// The number of items.
+    pub(super) fn len(&self) -> usize {
+        self.entries.len()
     }
 
     /// Whether `#id` is an item.
@@ -1800,51 +1810,56 @@ impl<'a> Converter<'_, '_, 'a> {
     pub(super) fn run(&self) -> Output {
         use rayon::prelude::*;
         let mut out = Output::default();
-        // Uses: which instances are parts of other ones.
-        let mut consumed: HashSet<u64> = HashSet::default();
+        // Uses: which items are parts of other ones, a flag per item by its position in
+        // `items` (ids that are no item are parts of nothing converted here).
+        let mut consumed = vec![false; self.items.len()];
+        let mut consume = |id: u64| {
+            if let Some(c) = self.items.position(id).and_then(|k| consumed.get_mut(k)) {
+                *c = true;
+            }
+        };
         let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::default();
         let mut pcurve_items: Vec<u64> = Vec::new();
         let mut edges: Vec<u64> = Vec::new();
-        let order: Vec<u64> = self.items.keys().copied().collect();
         for (id, item) in self.items.iter() {
             match &item.record {
                 R::TrimmedCurve { basis_curve, .. } => {
-                    consumed.insert(*basis_curve);
+                    consume(*basis_curve);
                     out.consumed_bsplines.insert(*basis_curve);
                 }
                 R::CompositeCurveSegment { parent_curve, .. } => {
-                    consumed.insert(*parent_curve);
+                    consume(*parent_curve);
                     out.consumed_bsplines.insert(*parent_curve);
                 }
                 R::SurfaceCurve { curve_3d, .. } => {
-                    consumed.insert(*curve_3d);
+                    consume(*curve_3d);
                 }
                 R::EdgeCurve { edge_geometry, .. } => {
-                    consumed.insert(*edge_geometry);
+                    consume(*edge_geometry);
                     edges.push(id);
                 }
                 R::SurfaceOfRevolution { swept_curve, .. }
                 | R::SurfaceOfLinearExtrusion { swept_curve, .. } => {
-                    consumed.insert(*swept_curve);
+                    consume(*swept_curve);
                     out.consumed_bsplines.insert(*swept_curve);
                 }
                 R::RectangularTrimmedSurface { basis_surface, .. } => {
-                    consumed.insert(*basis_surface);
+                    consume(*basis_surface);
                     out.consumed_bsplines.insert(*basis_surface);
                 }
                 R::Offset { basis } => {
-                    consumed.insert(*basis);
+                    consume(*basis);
                 }
                 R::DefinitionalRepresentation { items, .. } => {
                     for i in items {
-                        consumed.insert(*i);
+                        consume(*i);
                         if self.items.contains_key(i) {
                             pcurve_items.push(*i);
                         }
                     }
                 }
                 R::FaceSurface { face_geometry, .. } => {
-                    consumed.insert(*face_geometry);
+                    consume(*face_geometry);
                     faces_of.entry(*face_geometry).or_default().push(id);
                 }
                 _ => {}
@@ -1855,12 +1870,14 @@ impl<'a> Converter<'_, '_, 'a> {
         // trimmed, composite and rectangular trimmed entities, followed by the scanner's
         // iterative search; a surface curve on itself is a self-reference, converted and
         // refused by the nesting limit).
-        consumed.retain(|id| {
-            !matches!(
-                self.items.get(id).map(|i| &i.record),
-                Some(R::TrimmedCurve { basis_curve: c, .. } | R::SurfaceCurve { curve_3d: c, .. }) if c == id
-            )
-        });
+        for ((id, item), c) in self.items.iter().zip(consumed.iter_mut()) {
+            if matches!(
+                &item.record,
+                R::TrimmedCurve { basis_curve: b, .. } | R::SurfaceCurve { curve_3d: b, .. } if *b == id
+            ) {
+                *c = false;
+            }
+        }
         let builders: Vec<u64> = self
             .items
             .iter()
@@ -1925,11 +1942,14 @@ impl<'a> Converter<'_, '_, 'a> {
         }
 
         // Free-standing curves and every surface, in parallel.
-        let jobs: Vec<u64> = order
-            .iter()
-            .copied()
-            .filter(|id| !consumed.contains(id))
+        let jobs: Vec<u64> = self
+            .items
+            .keys()
+            .zip(&consumed)
+            .filter(|&(_, c)| !c)
+            .map(|(id, _)| *id)
             .collect();
+        drop(consumed);
         // Only what produced something is kept: most items are parts of others (points,
         // placements, topology), and a slot for each would be the read's peak of memory.
         let results: Vec<(Option<Placed>, Option<Diagnostic>)> = jobs
