@@ -728,13 +728,23 @@ impl Build<'_, '_, '_, '_> {
         same_sense: bool,
     ) -> usize {
         let mut missing = 0;
-        let mut uses: HashMap<EdgeId, usize> = HashMap::default();
-        for l in loops.iter() {
-            for c in &l.coedges {
-                *uses.entry(c.edge).or_default() += 1;
+        // The face's edges, each with how many of its coedges use it, sorted: a coedge's
+        // edge is found by binary search (a face has a few, and two hash tables per face
+        // were a visible part of a large read).
+        let mut uses: Vec<(EdgeId, usize)> = Vec::new();
+        let mut all: Vec<EdgeId> = loops
+            .iter()
+            .flat_map(|l| l.coedges.iter().map(|c| c.edge))
+            .collect();
+        all.sort_unstable();
+        for e in all {
+            match uses.last_mut() {
+                Some((last, n)) if *last == e => *n += 1,
+                _ => uses.push((e, 1)),
             }
         }
-        let mut cache: HashMap<EdgeId, Option<(NurbsCurve, f64)>> = HashMap::default();
+        // The pcurve of each edge (or why none), found once per edge of the face.
+        let mut cache: Vec<Option<Option<(NurbsCurve, f64)>>> = vec![None; uses.len()];
         let size = bounding_box_diagonal(surface.control_points().as_slice());
         let closed = [
             surface.is_closed_u(1e-9 * size),
@@ -743,21 +753,24 @@ impl Build<'_, '_, '_, '_> {
         for l in loops.iter_mut() {
             for c in &mut l.coedges {
                 let edge = &self.topology.model.edges[c.edge.0];
-                let p = cache
-                    .entry(c.edge)
-                    .or_insert_with(|| {
-                        edge_pcurve(surface, map, &edge.curve, edge.range, edge.tolerance)
-                            .ok()
-                            .filter(|p| p.deviation <= edge.tolerance)
-                            .map(|p| (p.curve, p.deviation))
-                    })
-                    .clone();
+                let find = || {
+                    edge_pcurve(surface, map, &edge.curve, edge.range, edge.tolerance)
+                        .ok()
+                        .filter(|p| p.deviation <= edge.tolerance)
+                        .map(|p| (p.curve, p.deviation))
+                };
+                // Every coedge's edge is in `uses` (made from these loops).
+                let k = uses.binary_search_by_key(&c.edge, |(e, _)| *e).ok();
+                let p = match k.and_then(|k| cache.get_mut(k)) {
+                    Some(slot) => slot.get_or_insert_with(find).clone(),
+                    None => find(),
+                };
                 // The deviation measured with the pcurve is kept (the face check then
                 // compares it with the tolerance instead of sampling again), unless the
                 // pcurve moves to the other side of a seam, where it is measured anew.
                 (c.pcurve, c.pcurve_deviation) = match p {
                     Some((p, deviation)) => {
-                        let twice = uses[&c.edge] == 2;
+                        let twice = k.and_then(|k| uses.get(k)).is_some_and(|(_, n)| *n == 2);
                         let seam = [closed[0] || twice, closed[1] || twice];
                         match seam_side(surface, &p, c.forward == same_sense, seam) {
                             Some(moved) => (Some(moved), None),
