@@ -420,8 +420,9 @@ impl<'a> Kept<'a> {
     pub(super) fn new(item: GeometryItem<'a>, s: &Scanned<'_>, offset: usize) -> Self {
         let plain = item.name.as_ref().is_none_or(|n| n.raw.is_empty())
             && item.entity_type == item.entity.name();
-        // Placements, directions, oriented edges, loops, bounds and pcurves become no
-        // entity or origin of their own: their line is not looked up.
+        // Placements, directions, oriented edges, loops, bounds, pcurves and surface curves
+        // (an edge's entity is its 3-D curve) become no entity or origin of their own: their
+        // line is not looked up.
         let own = !matches!(
             item.record,
             R::Direction { .. }
@@ -434,6 +435,7 @@ impl<'a> Kept<'a> {
                 | R::FaceBound { .. }
                 | R::Pcurve { .. }
                 | R::DefinitionalRepresentation { .. }
+                | R::SurfaceCurve { .. }
         );
         let line = if plain && own {
             u32::try_from(s.line(offset)).unwrap_or(0)
