@@ -13,26 +13,40 @@ use super::{GeometryError, NurbsCurve, NurbsSurface};
 
 /// Splits every row at `t`, strictly inside the domain (checked by the callers).
 fn split_bundle(b: &Bundle, t: f64) -> (Bundle, Bundle) {
-    let p = b.degree;
+    let ins = inserted(b, t);
+    (left_of(&ins, t), right_of(&ins, t))
+}
+
+/// `b` with `t` inserted up to multiplicity `p` (A5.1).
+fn inserted(b: &Bundle, t: f64) -> Bundle {
     let s = multiplicity(&b.knots, t);
-    let ins = insert_bundle(b, t, p.saturating_sub(s));
+    insert_bundle(b, t, b.degree.saturating_sub(s))
+}
+
+/// The part of `ins` (where `t` has multiplicity `p`, [`inserted`]) on `[u_p, t]`.
+fn left_of(ins: &Bundle, t: f64) -> Bundle {
+    let p = ins.degree;
     let lo = ins.knots.partition_point(|&x| x < t);
-    let hi = ins.knots.partition_point(|&x| x <= t) - 1;
-    let mut left_knots = ins.knots[..lo].to_vec();
-    left_knots.extend(std::iter::repeat_n(t, p + 1));
-    let mut right_knots = vec![t; p + 1];
-    right_knots.extend_from_slice(&ins.knots[hi + 1..]);
-    let left = Bundle {
+    let mut knots = ins.knots[..lo].to_vec();
+    knots.extend(std::iter::repeat_n(t, p + 1));
+    Bundle {
         degree: p,
-        knots: left_knots,
+        knots,
         rows: ins.rows.iter().map(|r| r[..lo].to_vec()).collect(),
-    };
-    let right = Bundle {
+    }
+}
+
+/// The part of `ins` (where `t` has multiplicity `p`, [`inserted`]) on `[t, u_{n+1}]`.
+fn right_of(ins: &Bundle, t: f64) -> Bundle {
+    let p = ins.degree;
+    let hi = ins.knots.partition_point(|&x| x <= t) - 1;
+    let mut knots = vec![t; p + 1];
+    knots.extend_from_slice(&ins.knots[hi + 1..]);
+    Bundle {
         degree: p,
-        knots: right_knots,
+        knots,
         rows: ins.rows.iter().map(|r| r[hi - p..].to_vec()).collect(),
-    };
-    (left, right)
+    }
 }
 
 fn check_split(b: &Bundle, t: f64) -> Result<(), GeometryError> {
@@ -57,8 +71,9 @@ impl NurbsCurve {
     }
 
     /// The piece of the curve on `[a, b]`, `u_p <= a < b <= u_{n+1}`, keeping its parameters:
-    /// [`split_at`](Self::split_at) at each end strictly inside the domain (NURBS Book A5.1,
-    /// exact). Error if the range is not inside the domain or is empty.
+    /// cut as [`split_at`](Self::split_at) cuts at each end strictly inside the domain
+    /// (NURBS Book A5.1, exact), keeping only the part on the range's side. Error if the
+    /// range is not inside the domain or is empty.
     pub fn piece(&self, a: f64, b: f64) -> Result<NurbsCurve, GeometryError> {
         let (s, e) = self.domain();
         if !(s <= a && a < b && b <= e) {
@@ -66,14 +81,18 @@ impl NurbsCurve {
                 "range [{a}, {b}] is not inside the curve's domain [{s}, {e}]"
             )));
         }
-        let mut out = self.clone();
+        if a == s && b == e {
+            return Ok(self.clone());
+        }
+        // Cut in homogeneous form, only the part kept at each end, one curve built.
+        let mut cut = self.to_bundle();
         if a > s {
-            out = out.split_at(a)?.1;
+            cut = right_of(&inserted(&cut, a), a);
         }
         if b < e {
-            out = out.split_at(b)?.0;
+            cut = left_of(&inserted(&cut, b), b);
         }
-        Ok(out)
+        self.with_bundle(cut)
     }
 
     /// Joins `other` after `self`: the end of `self` must meet the start of `other` within
