@@ -490,8 +490,33 @@ const FIRST_LETTERS: u32 = {
 pub struct GeometryEntity(u8);
 
 impl GeometryEntity {
-    /// The entry named `name` (a long-form name), if the table has it.
-    pub const fn named(name: &str) -> Option<Self> {
+    /// The entry named `name` (a long-form name), if the table has it. The entries are
+    /// grouped by length on first use, so a name is compared with the few of its length
+    /// only (every geometry instance of a file is looked up here, and the table has over 40
+    /// entries).
+    pub fn named(name: &str) -> Option<Self> {
+        type ByLength = Vec<Vec<(&'static str, GeometryEntity)>>;
+        static BY_LENGTH: std::sync::OnceLock<ByLength> = std::sync::OnceLock::new();
+        let table = BY_LENGTH.get_or_init(|| {
+            let longest = GEOMETRY_ENTITIES.iter().map(|e| e.len()).max().unwrap_or(0);
+            let mut table = vec![Vec::new(); longest + 1];
+            for (k, &e) in GEOMETRY_ENTITIES.iter().enumerate() {
+                if let (Some(group), Ok(k)) = (table.get_mut(e.len()), u8::try_from(k)) {
+                    group.push((e, GeometryEntity(k)));
+                }
+            }
+            table
+        });
+        table
+            .get(name.len())?
+            .iter()
+            .find(|(e, _)| *e == name)
+            .map(|&(_, g)| g)
+    }
+
+    /// [`GeometryEntity::named`] where a constant is needed ([`known_entity`]): a plain
+    /// search of the table, evaluated by the compiler.
+    pub(crate) const fn in_table(name: &str) -> Option<Self> {
         let name = name.as_bytes();
         // Below 256 entries (checked below): a byte counts them.
         let mut i: u8 = 0;
@@ -527,7 +552,7 @@ const _: () = assert!(GEOMETRY_ENTITIES.len() < 256);
 macro_rules! known_entity {
     ($name:literal) => {
         const {
-            match $crate::step::geometry::GeometryEntity::named($name) {
+            match $crate::step::geometry::GeometryEntity::in_table($name) {
                 Some(e) => e,
                 None => panic!(concat!("not in GEOMETRY_ENTITIES: ", $name)),
             }
@@ -552,30 +577,6 @@ impl std::fmt::Display for GeometryEntity {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
     }
-}
-
-/// The entry of [`GEOMETRY_ENTITIES`] equal to `name` (a long-form name). The entries are
-/// grouped by length on first use, so a name is compared with the few of its length only
-/// (every geometry instance of a file is looked up here, and the table has over 40
-/// entries).
-fn geometry_entity(name: &str) -> Option<GeometryEntity> {
-    type ByLength = Vec<Vec<(&'static str, GeometryEntity)>>;
-    static BY_LENGTH: std::sync::OnceLock<ByLength> = std::sync::OnceLock::new();
-    let table = BY_LENGTH.get_or_init(|| {
-        let longest = GEOMETRY_ENTITIES.iter().map(|e| e.len()).max().unwrap_or(0);
-        let mut table = vec![Vec::new(); longest + 1];
-        for (k, &e) in GEOMETRY_ENTITIES.iter().enumerate() {
-            if let (Some(group), Ok(k)) = (table.get_mut(e.len()), u8::try_from(k)) {
-                group.push((e, GeometryEntity(k)));
-            }
-        }
-        table
-    });
-    table
-        .get(name.len())?
-        .iter()
-        .find(|(e, _)| *e == name)
-        .map(|&(_, g)| g)
 }
 
 /// Whether the body of a complex instance may hold a partial record this module reads. The
@@ -605,7 +606,7 @@ pub fn is_geometry_entity(keyword: &str) -> bool {
     };
     let letter = first.wrapping_sub(b'A');
     if letter < 26 && FIRST_LETTERS & (1 << letter) != 0 {
-        k != "CARTESIAN_POINT" && geometry_entity(k).is_some()
+        k != "CARTESIAN_POINT" && GeometryEntity::named(k).is_some()
     } else {
         first == b'B' && k == BREP_WITH_VOIDS
     }
@@ -656,7 +657,7 @@ impl<'a> GeometryItem<'a> {
         let simple = match &inst.body {
             Body::Simple(r) => {
                 let name = canonical_name(r.keyword);
-                match geometry_entity(name) {
+                match GeometryEntity::named(name) {
                     Some(e) => Some(e),
                     None => return Ok(None),
                 }

@@ -522,7 +522,8 @@ impl<'a> Items<'a> {
         });
         self.entries.shrink_to_fit();
         // Cut after the largest id left. The table is kept even where the items left are
-        // too few for `Items::dense` (a B-rep keeps about a quarter of its ids): its size
+        // too few for the density rule of `Items::slots` (a B-rep keeps about a quarter of
+        // its ids): its size
         // was bounded by the items it was made for, and the topology's look-ups, most of a
         // large read's, would search instead.
         let last = self.entries.last().map_or(0, |(id, _)| *id);

@@ -731,18 +731,15 @@ impl Build<'_, '_, '_, '_> {
         // The face's edges, each with how many of its coedges use it, sorted: a coedge's
         // edge is found by binary search (a face has a few, and two hash tables per face
         // were a visible part of a large read).
-        let mut uses: Vec<(EdgeId, usize)> = Vec::new();
         let mut all: Vec<EdgeId> = loops
             .iter()
             .flat_map(|l| l.coedges.iter().map(|c| c.edge))
             .collect();
         all.sort_unstable();
-        for e in all {
-            match uses.last_mut() {
-                Some((last, n)) if *last == e => *n += 1,
-                _ => uses.push((e, 1)),
-            }
-        }
+        let uses: Vec<(EdgeId, usize)> = all
+            .chunk_by(|a, b| a == b)
+            .filter_map(|run| run.first().map(|&e| (e, run.len())))
+            .collect();
         // The pcurve of each edge (or why none), found once per edge of the face.
         let mut cache: Vec<Option<Option<(NurbsCurve, f64)>>> = vec![None; uses.len()];
         let size = bounding_box_diagonal(surface.control_points().as_slice());
