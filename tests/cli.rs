@@ -2176,10 +2176,11 @@ fn sarif_names_the_tool_honestly_and_describes_its_rules() {
 
 #[test]
 fn modify_commands_say_what_they_leave_out() {
-    // The filleted box: 26 faces over 26 surfaces, 48 3-D edge curves and 96 2-D pcurves.
-    // `convert` carries the faces, pcurves included (IGES 144 with 142 boundaries); the
-    // operations work on loose curves and surfaces, so they say that the faces are not
-    // carried and, in IGES, that the pcurves have no place outside a trimmed surface.
+    // The filleted box: 26 faces over 26 surfaces, 48 3-D edge curves, and 96 coedges whose
+    // pcurves the reader computes on the faces' NURBS surfaces (the file's own 96 PCURVE
+    // curves are not separate entities then). `convert` carries the faces, pcurves included
+    // (IGES 144 with 142 boundaries); the operations work on loose curves and surfaces, so
+    // they say that the faces, edges and pcurves are not carried.
     let dir = temp_dir("left-out");
     let step =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
@@ -2202,15 +2203,14 @@ fn modify_commands_say_what_they_leave_out() {
         let o = nurbsx(&a);
         assert_exit(&o, 0);
         let err = stderr(&o);
-        assert!(err.contains("warning[topology.dropped]"), "{args:?}: {err}");
         assert!(
-            err.contains(
-                "warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"
-            ),
+            err.contains("warning[topology.dropped]")
+                && err.contains("26 face(s), 48 edge(s), 96 coedge pcurve(s))"),
             "{args:?}: {err}"
         );
+        assert!(!err.contains("pcurve_not_written"), "{args:?}: {err}");
         assert!(
-            err.contains("read 170 curves and surfaces, wrote 74 as IGES, left out 96"),
+            err.contains("read 74 curves and surfaces, wrote 74 as IGES"),
             "{args:?}: {err}"
         );
         // The file holds what the summary says: 26 surfaces and 48 curves.
@@ -2223,12 +2223,38 @@ fn modify_commands_say_what_they_leave_out() {
         );
         assert!(entities.iter().all(|e| e["dimension"] == 3));
     }
-    // STEP output keeps them: nothing to say.
     let out = dir.join("box.step");
     let o = nurbsx(["clamp", step, "-o", out.to_str().unwrap()]);
     assert_exit(&o, 0);
-    assert!(!stderr(&o).contains("pcurve_not_written"));
-    assert!(stderr(&o).contains("wrote 170 as STEP"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning[topology.dropped]"));
+    assert!(stderr(&o).contains("wrote 74 as STEP"), "{}", stderr(&o));
+    // Read as geometry only, the file's 96 PCURVE curves are loose 2-D curves: IGES has no
+    // place for them outside a trimmed surface (said, and counted as left out); STEP keeps
+    // them, with nothing to say.
+    let geometry_only = |ext: &str| {
+        let out = dir.join(format!("geometry.{ext}"));
+        let o = nurbsx([
+            "convert",
+            step,
+            "--geometry-only",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_exit(&o, 0);
+        stderr(&o)
+    };
+    let err = geometry_only("igs");
+    assert!(
+        err.contains("warning[pcurve_not_written]: 96 2-D parameter-space curve(s) not written"),
+        "{err}"
+    );
+    assert!(
+        err.contains("read 170 curves and surfaces, wrote 74 as IGES, left out 96"),
+        "{err}"
+    );
+    let err = geometry_only("step");
+    assert!(!err.contains("pcurve_not_written"));
+    assert!(err.contains("wrote 170 as STEP"), "{err}");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -2374,18 +2400,40 @@ fn three_d_outputs_leave_out_parameter_space_curves_with_a_warning() {
     let dir = temp_dir("mesh-pcurves");
     let step =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/brep_filleted_box_nurbs.step");
+    // Read as geometry only, the box's 96 PCURVE curves are loose 2-D curves: a 3-D output
+    // cannot draw them and says so.
+    let loose = dir.join("loose.step");
+    let o = nurbsx([
+        "convert".as_ref(),
+        step.as_os_str(),
+        "--geometry-only".as_ref(),
+        "-o".as_ref(),
+        loose.as_os_str(),
+    ]);
+    assert_exit(&o, 0);
     for ext in ["obj", "glb", "svg"] {
-        let out = dir.join(format!("box.{ext}"));
-        let o = tessellate_to(&step, &out, "0.1");
+        let o = tessellate_to(&loose, &dir.join(format!("loose.{ext}")), "0.1");
         assert_exit(&o, 0);
         assert!(
             stderr(&o).contains("warning[pcurve_not_written]: 96 curve(s) not drawn"),
             "{ext}: {}",
             stderr(&o)
         );
+    }
+    // The part itself: its faces are trimmed by their coedges' pcurves, so no curve is
+    // left out.
+    for ext in ["obj", "glb", "svg"] {
+        let out = dir.join(format!("box.{ext}"));
+        let o = tessellate_to(&step, &out, "0.1");
+        assert_exit(&o, 0);
+        assert!(
+            !stderr(&o).contains("pcurve_not_written"),
+            "{ext}: {}",
+            stderr(&o)
+        );
         assert!(
             // The part is drawn as its faces (trimmed) and edges: the 26 B-spline
-            // surfaces and 48 curves of the 170 entities, named by face and edge ids.
+            // surfaces and 48 curves, named by face and edge ids.
             stderr(&o).contains(
                 "drew 74 item(s): 26 trimmed face(s), 48 edge(s), 0 free curve(s) and surface(s)"
             ),

@@ -855,16 +855,11 @@ fn a_seam_moved_to_a_vertex_an_ulp_off_a_knot_keeps_every_pcurve() {
     assert!((v - want).abs() <= 1e-6 * want, "{v} vs {want}");
 }
 
-/// Every 2-D curve of the file's PCURVEs is marked as used by the EDGE_CURVEs whose
-/// SURFACE_CURVE (or SEAM_CURVE) lists it (ISO 10303-42 surface_curve ->
-/// pcurve -> definitional_representation), as the file text says: the chain is followed
-/// here in the text itself, one instance per `;`.
-#[test]
-fn pcurve_curves_are_used_by_their_edges() {
-    let path = root().join("samples/freecad/brep_filleted_box_nurbs.step");
-    let text = std::fs::read_to_string(&path).unwrap();
+/// Every instance of a STEP text by id: its keyword and the instances it references, in
+/// order, found in the text itself (one instance per `;`), apart from the reader.
+fn instances_of(text: &str) -> std::collections::HashMap<u64, (String, Vec<u64>)> {
     let data = &text[text.find("DATA;").unwrap()..];
-    let mut body: std::collections::HashMap<u64, (String, Vec<u64>)> = Default::default();
+    let mut body = std::collections::HashMap::new();
     for statement in data.split(';') {
         let Some((head, rest)) = statement.split_once('=') else {
             continue;
@@ -887,11 +882,24 @@ fn pcurve_curves_are_used_by_their_edges() {
             .collect();
         body.insert(id, (keyword, refs));
     }
-    let mut expected: std::collections::BTreeMap<String, Vec<String>> = Default::default();
-    for (&edge, (keyword, refs)) in &body {
-        if keyword != "EDGE_CURVE" {
-            continue;
-        }
+    body
+}
+
+/// The file's PCURVEs of each EDGE_CURVE, as the text says (ISO 10303-42 edge_curve ->
+/// surface_curve or seam_curve -> pcurve -> definitional_representation): (edge, the
+/// pcurve's surface, the 2-D curve), in text order of the edges' lists.
+fn edge_pcurves_in(
+    body: &std::collections::HashMap<u64, (String, Vec<u64>)>,
+) -> Vec<(u64, u64, u64)> {
+    let mut out = Vec::new();
+    let mut edges: Vec<u64> = body
+        .iter()
+        .filter(|(_, (k, _))| k == "EDGE_CURVE")
+        .map(|(&id, _)| id)
+        .collect();
+    edges.sort_unstable();
+    for edge in edges {
+        let refs = &body[&edge].1;
         let Some((k, curve_refs)) = body.get(&refs[2]) else {
             continue;
         };
@@ -903,28 +911,190 @@ fn pcurve_curves_are_used_by_their_edges() {
             assert_eq!(k, "PCURVE");
             let (k, items) = &body[&p[1]];
             assert_eq!(k, "DEFINITIONAL_REPRESENTATION");
-            for c in &items[..items.len() - 1] {
-                expected
-                    .entry(format!("#{c}"))
-                    .or_default()
-                    .push(format!("#{edge}"));
+            for &c in &items[..items.len() - 1] {
+                out.push((edge, p[0], c));
             }
         }
     }
-    assert!(expected.len() >= 48, "{} pcurve curves", expected.len());
+    out
+}
+
+/// `#N` -> N.
+fn instance(label: &str) -> u64 {
+    label.trim_start_matches('#').parse().unwrap()
+}
+
+/// A whole-part read carries every coedge's pcurve, computed on the face's NURBS surface;
+/// the file's own PCURVE curves are then no entities of their own. On a part of B-spline
+/// faces the two are in the same parameters: each coedge's pcurve runs where the file's
+/// PCURVE curve on that face's surface runs (compared on the surface, at the edge's
+/// parameters, within the edge's tolerance). The file's curves are read as entities with
+/// `geometry_only` (ISO 10303-42 surface_curve -> pcurve -> definitional_representation
+/// followed in the text itself).
+#[test]
+fn coedge_pcurves_run_where_the_files_pcurves_do() {
+    let path = root().join("samples/freecad/brep_filleted_box_nurbs.step");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let body = instances_of(&text);
+    let pairs = edge_pcurves_in(&body);
+    assert!(pairs.len() >= 96, "{} pcurves", pairs.len());
     let doc = read_path(&path);
-    let mut found: std::collections::BTreeMap<String, Vec<String>> = Default::default();
-    for e in &doc.entities {
-        if expected.contains_key(e.id.as_str()) {
-            let mut users: Vec<String> = e.meta.used_by.iter().map(|u| u.to_string()).collect();
-            users.sort();
-            found.insert(e.id.to_string(), users);
+    let loose = exchange::read(
+        text.as_bytes(),
+        &ImportOptions {
+            geometry_only: true,
+            ..ImportOptions::default()
+        },
+    )
+    .unwrap();
+    let file_curve = |id: u64| {
+        loose
+            .entities
+            .iter()
+            .find(|e| e.id == format!("#{id}"))
+            .and_then(|e| match &e.geometry {
+                nurbsx::nurbs::Geometry::Curve(c) if c.dimension() == 2 => Some(c.clone()),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("#{id} is a 2-D curve read as geometry only"))
+    };
+    for &(_, _, c) in &pairs {
+        assert!(
+            !doc.entities.iter().any(|e| e.id == format!("#{c}")),
+            "#{c} is a coedge's pcurve, not an entity"
+        );
+    }
+    let (m, o) = (&doc.topology.model, &doc.topology.origins);
+    let mut compared = 0;
+    for (f, face) in m.faces.iter().enumerate() {
+        // ADVANCED_FACE(name, bounds, face_geometry, same_sense): the surface is its last
+        // reference.
+        let surface = *body[&instance(&o.faces[f].id)].1.last().unwrap();
+        for c in face.loops.iter().flat_map(|l| &l.coedges) {
+            let edge = &m.edges[c.edge.0];
+            let id = instance(&o.edges[c.edge.0].id);
+            let files: Vec<u64> = pairs
+                .iter()
+                .filter(|&&(e, s, _)| e == id && s == surface)
+                .map(|&(_, _, c)| c)
+                .collect();
+            assert_eq!(files.len(), 1, "edge #{id} on #{surface}");
+            let theirs = file_curve(files[0]);
+            let ours = c
+                .pcurve
+                .as_ref()
+                .expect("every coedge of the box has a pcurve");
+            let (a, b) = edge.range;
+            for k in 0..=16 {
+                let t = a + (b - a) * k as f64 / 16.0;
+                let (p, q) = (ours.point_at(t).unwrap(), theirs.point_at(t).unwrap());
+                // The file's values may be a rounding outside the domain.
+                let ((u0, u1), (v0, v1)) = face.surface.domain();
+                let on = |p: nurbsx::nurbs::Point3| {
+                    face.surface
+                        .point_at(p[0].clamp(u0, u1), p[1].clamp(v0, v1))
+                        .unwrap()
+                };
+                let d = nurbsx::nurbs::distance(on(p), on(q));
+                assert!(
+                    d <= edge.tolerance,
+                    "edge #{id} on #{surface} at {t}: {d:e}"
+                );
+            }
+            compared += 1;
         }
     }
-    for users in expected.values_mut() {
-        users.sort();
+    assert_eq!(compared, 96);
+}
+
+/// The file's PCURVE curves of an edge the topology does not carry with pcurves are
+/// entities: those of an edge refused (a vertex missing), free; those of an edge all of
+/// whose faces are refused (their surfaces missing, or an edge of theirs), used by the edge.
+/// No other PCURVE curve is.
+#[test]
+fn pcurves_of_edges_without_coedge_pcurves_are_entities() {
+    let path = root().join("samples/freecad/brep_filleted_box_nurbs.step");
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    let body = instances_of(&text);
+    let pairs = edge_pcurves_in(&body);
+    // The faces using each edge, through their loops' oriented edges.
+    let faces_of = |edge: u64| -> Vec<u64> {
+        let mut out: Vec<u64> = body
+            .iter()
+            .filter(|(_, (k, _))| k == "ADVANCED_FACE")
+            .filter(|(_, (_, refs))| {
+                refs[..refs.len() - 1].iter().any(|bound| {
+                    body[&body[bound].1[0]]
+                        .1
+                        .iter()
+                        .any(|oe| body[oe].1[0] == edge)
+                })
+            })
+            .map(|(&id, _)| id)
+            .collect();
+        out.sort_unstable();
+        out
+    };
+    let mut edges: Vec<u64> = pairs.iter().map(|&(e, _, _)| e).collect();
+    edges.dedup();
+    let refused = edges[0];
+    let near: Vec<u64> = faces_of(refused);
+    // An edge away from the refused edge's faces.
+    let unused = *edges
+        .iter()
+        .find(|&&e| faces_of(e).iter().all(|f| !near.contains(f)))
+        .unwrap();
+    let replace = |text: &mut String, id: u64, from: &str, to: &str| {
+        let head = format!("#{id} = ");
+        let at = text.find(&head).unwrap();
+        let end = at + text[at..].find(';').unwrap();
+        let statement = text[at..end].replacen(from, to, 1);
+        assert_ne!(statement, text[at..end]);
+        text.replace_range(at..end, &statement);
+    };
+    let (keyword, refs) = &body[&refused];
+    assert_eq!(keyword, "EDGE_CURVE");
+    replace(&mut text, refused, &format!("#{},", refs[0]), "#999999,");
+    for f in faces_of(unused) {
+        let surface = *body[&f].1.last().unwrap();
+        replace(&mut text, f, &format!("#{surface},"), "#999998,");
     }
+    let doc = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    let mut found: Vec<(u64, Vec<String>)> = doc
+        .entities
+        .iter()
+        .filter(|e| pairs.iter().any(|&(_, _, c)| e.id == format!("#{c}")))
+        .map(|e| {
+            let users = e.meta.used_by.iter().map(|u| u.to_string()).collect();
+            (instance(&e.id), users)
+        })
+        .collect();
+    found.sort();
+    // Refused: the faces of the refused edge and of the edge whose surfaces are missing.
+    // An edge all of whose faces are refused has no coedge left.
+    let refused_faces: Vec<u64> = near.iter().chain(&faces_of(unused)).copied().collect();
+    let mut expected: Vec<(u64, Vec<String>)> = pairs
+        .iter()
+        .filter_map(|&(e, _, c)| {
+            if e == refused {
+                Some((c, Vec::new()))
+            } else if faces_of(e).iter().all(|f| refused_faces.contains(f)) {
+                Some((c, vec![format!("#{e}")]))
+            } else {
+                None
+            }
+        })
+        .collect();
+    expected.sort();
+    assert!(expected.len() >= 4, "{expected:?}");
+    assert!(
+        expected
+            .iter()
+            .any(|(_, users)| users == &[format!("#{unused}")])
+    );
     assert_eq!(found, expected);
+    let d = &doc.diagnostics;
+    assert!(d.iter().any(|d| d.code == "topology.missing"), "{d:?}");
 }
 
 /// Every topological item's origin, and every entity, names its instance as the file does: for `#N`, the line

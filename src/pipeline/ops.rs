@@ -1391,8 +1391,15 @@ fn drop_topology(doc: &mut Document) {
     } else {
         String::new()
     };
+    let pcurves = m
+        .faces
+        .iter()
+        .flat_map(|f| &f.loops)
+        .flat_map(|l| &l.coedges)
+        .filter(|c| c.pcurve.is_some())
+        .count();
     let message = format!(
-        "the operation works on curves and surfaces: the boundary representation ({} solid(s), {} shell(s), {} face(s), {} edge(s)){assembly} is not carried to the output, whose faces are written as untrimmed surfaces",
+        "the operation works on curves and surfaces: the boundary representation ({} solid(s), {} shell(s), {} face(s), {} edge(s), {pcurves} coedge pcurve(s)){assembly} is not carried to the output, whose faces are written as untrimmed surfaces",
         m.solids.len(),
         m.shells.len(),
         m.faces.len(),

@@ -629,69 +629,6 @@ impl<'a> Scanned<'a> {
         self.limits
     }
 
-    /// Keeps the instances `keep` accepts (given each one's position in
-    /// [`Scanned::instances`] before the call) and frees the room of the others: a reader that
-    /// has taken what it needs of most instances (a large file's B-spline poles, once the
-    /// B-splines are read) frees their part of the index before the rest of its work.
-    ///
-    /// Call it with a decision by id (every instance of a duplicated id kept or dropped
-    /// alike) and [`Scanned::get`] still finds the first of them. Afterwards `get` does not
-    /// find a dropped id, and the sections' ranges count the kept instances only; the
-    /// errors found while scanning stay.
-    pub fn retain(&mut self, mut keep: impl FnMut(usize, &RawInstance<'a>) -> bool) {
-        let n = self.instances.len();
-        let (mut read, mut write) = (0, 0);
-        // One pass in place: kept instances move down; each section's range is where its
-        // kept ones land.
-        let mut pass = |until: usize, instances: &mut Vec<RawInstance<'a>>| {
-            while read < until {
-                let Some(&raw) = instances.get(read) else {
-                    break;
-                };
-                read += 1;
-                if keep(read - 1, &raw) {
-                    if let Some(slot) = instances.get_mut(write) {
-                        *slot = raw;
-                    }
-                    write += 1;
-                }
-            }
-            write
-        };
-        for section in &mut self.sections {
-            let start = pass(section.instances.start.min(n), &mut self.instances);
-            let end = pass(section.instances.end.min(n), &mut self.instances);
-            section.instances = start..end;
-        }
-        let kept = pass(n, &mut self.instances);
-        self.instances.truncate(kept);
-        self.instances.shrink_to_fit();
-        match &mut self.index {
-            IdIndex::Dense(v) => {
-                v.fill(IdIndex::NONE);
-                for (pos, r) in self.instances.iter().enumerate() {
-                    let (Ok(slot), Ok(p)) = (usize::try_from(r.id), u32::try_from(pos)) else {
-                        continue;
-                    };
-                    if let Some(cell) = v.get_mut(slot) {
-                        if *cell == IdIndex::NONE {
-                            *cell = p;
-                        }
-                    }
-                }
-            }
-            IdIndex::Sparse(m) => {
-                m.clear();
-                for (pos, r) in self.instances.iter().enumerate() {
-                    if let Ok(p) = u32::try_from(pos) {
-                        m.entry(r.id).or_insert(p);
-                    }
-                }
-                m.shrink_to_fit();
-            }
-        }
-    }
-
     /// The instance `#id` (the first one if the id is duplicated).
     #[inline]
     pub fn get(&self, id: u64) -> Option<&RawInstance<'a>> {
@@ -1196,39 +1133,6 @@ mod tests {
             initials,
             [Some(b'C'), Some(b'B'), None, Some(b'Q'), Some(b'!')]
         );
-    }
-
-    /// `retain` keeps the chosen instances in order, with the sections' ranges over them
-    /// and the index finding the first of a duplicated id; dropped ids are not found.
-    #[test]
-    fn retain_keeps_order_sections_and_the_index() {
-        let text = "ISO-10303-21;HEADER;ENDSEC;\nDATA;\n#1=A(1);\n#2=B(2);\n#3=C(3);\nENDSEC;\nDATA;\n#4=D(4);\n#2=E(5);\n#5=F(6);\nENDSEC;\nEND-ISO-10303-21;";
-        for sparse in [false, true] {
-            // Ids far apart make the index a hash map.
-            let text = if sparse {
-                text.replace("#5=", "#50000000=")
-            } else {
-                text.to_owned()
-            };
-            let mut s = scan(&text, &Limits::default()).unwrap();
-            let errors = s.errors.len();
-            assert!(errors > 0, "the duplicate #2 is reported");
-            let mut positions = Vec::new();
-            s.retain(|k, r| {
-                positions.push(k);
-                r.id != 3 && r.id != 4
-            });
-            assert_eq!(positions, [0, 1, 2, 3, 4, 5]);
-            let ids: Vec<u64> = s.instances.iter().map(|r| r.id).collect();
-            let last = if sparse { 50_000_000 } else { 5 };
-            assert_eq!(ids, [1, 2, 2, last]);
-            let ranges: Vec<_> = s.sections.iter().map(|x| x.instances.clone()).collect();
-            assert_eq!(ranges, [0..2, 2..4]);
-            assert_eq!(s.get(2).map(|r| r.body(&text)), Some("B(2)"));
-            assert_eq!(s.get(last).map(|r| r.body(&text)), Some("F(6)"));
-            assert!(s.get(3).is_none() && s.get(4).is_none());
-            assert_eq!(s.errors.len(), errors);
-        }
     }
 
     /// The index's entry stays at 24 bytes (a share of every large read's peak memory).

@@ -116,7 +116,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The scan splits large DATA sections over the same threads that decode the B-splines
     // below (identical result to a one-thread scan; see `scan_parallel`).
     let cancel = &options.cancel;
-    let mut scanned = scan_parallel(
+    let scanned = scan_parallel(
         text,
         &options.limits,
         rayon::current_num_threads(),
@@ -148,9 +148,6 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut presentation = Presentation::default();
-    // Which instances are CARTESIAN_POINTs, a bit each by position: the index drops the
-    // unused ones after the B-spline pass without reading their text again.
-    let mut points = vec![0u64; scanned.instances.len().div_ceil(64)];
     for (k, raw) in scanned.instances.iter().enumerate() {
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
@@ -158,9 +155,6 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         // Most instances of a file are CARTESIAN_POINTs, which none of the lists below
         // takes (the entities using them read them): one comparison turns them away.
         if raw.keyword_initial() == Some(b'C') && raw.keyword(text) == Some("CARTESIAN_POINT") {
-            if let Some(w) = points.get_mut(k / 64) {
-                *w |= 1 << (k % 64);
-            }
             continue;
         }
         if raw.keyword_initial().is_none() {
@@ -250,25 +244,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     };
     // The candidate lists are freed once used (each is a pointer per instance of its kind).
     drop(contexts);
-    // One B-spline instance, decoded and converted: the entity (or why not) and what was
-    // noticed on the way.
-    let decode = |raw: &RawInstance<'_>| -> (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>) {
-        let ctx = Ctx {
-            s: &scanned,
-            raw,
-            options,
-            scale,
-        };
-        let mut diags = Vec::new();
-        let r = match scanned.bspline(raw) {
-            Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags).map(Some),
-            Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags).map(Some),
-            Ok(None) => Ok(None),
-            Err(DecodeError::Syntax(e)) => Err(parse_diagnostic(&e)),
-            Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
-        };
-        (r, diags)
-    };
+    let decode = |raw: &RawInstance<'_>| decode_bspline(&scanned, raw, options, scale);
     // The B-splines the geometry below builds into edges, trims and sweeps, converted once:
     // the B-spline pass after it takes them from here (an edge's curve and its entity share
     // their poles) instead of decoding them again. What was noticed on the way is kept with
@@ -320,6 +296,12 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         }
     }
     candidates.retain(|raw| !consumed.contains(&raw.id));
+    // The 2-D curves of the edges' PCURVEs, read before the items they come from are freed.
+    let edge_pcurves = if options.geometry_only {
+        Vec::new()
+    } else {
+        super::topology::edge_pcurve_curves(&items)
+    };
     // The curves and surfaces are converted: what the topology and the product structure
     // read is kept, the rest of the decoded items freed before the read's peak of memory
     // (the B-spline entities below, then the topology). The product structure is decoded
@@ -328,14 +310,13 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // for the B-spline pass.
     let mut product_diagnostics = Vec::new();
     let mut products = None;
-    let mut edge_pcurves = Vec::new();
     if !options.geometry_only
         && !candidates
             .iter()
             .any(|raw| raw.keyword_initial().is_none() && maybe_product(text, raw))
     {
         let early = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
-        edge_pcurves = keep_for_topology(&mut items, &early);
+        keep_for_topology(&mut items, &early);
         products = Some(early);
     }
 
@@ -370,6 +351,14 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         // own.
         *map = Default::default();
     }
+    // The B-spline 2-D curves of the edges' PCURVEs wait for the topology, which computes
+    // its own pcurves: converted after it only where it did not (`defer_pcurve_curves`).
+    // The conformance checks read every instance as it is.
+    let deferred = if options.conformance {
+        Vec::new()
+    } else {
+        defer_pcurve_curves(&mut candidates, &edge_pcurves, text)
+    };
     let mut late_products = false;
     for (c, chunk) in candidates.chunks(BSPLINE_CHUNK).enumerate() {
         let results: Vec<(Option<Entity>, Vec<Diagnostic>)> = chunk
@@ -444,16 +433,11 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             Some(p) => p,
             None => {
                 let p = decode_products(&scanned, &product_candidates, &mut product_diagnostics);
-                edge_pcurves = keep_for_topology(&mut items, &p);
+                keep_for_topology(&mut items, &p);
                 p
             }
         };
         drop(product_candidates);
-        // The conformance checks below look at every instance: with them the index is kept
-        // whole.
-        if !options.conformance {
-            keep_points_in_use(&mut scanned, &items, &points);
-        }
         // Every B-spline is converted by now, and the topology and the product structure
         // read none (a face's surface and an edge's curve are entities by now): one asked
         // for here would be a reader error, and is reported as one.
@@ -473,8 +457,22 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             uncertainty,
             &edge_pcurves,
         );
-        drop(edge_pcurves);
         cancel.stop_read()?;
+        // The file's 2-D curves of the edges whose coedges did not all get a pcurve.
+        let needed = pcurve_curves_needed(deferred, &edge_pcurves, &built.edges_with_pcurves);
+        drop(edge_pcurves);
+        let late: Vec<BSplineRead> = needed
+            .par_iter()
+            .filter_map(|&id| scanned.get(id))
+            .map(|raw| decode_bspline(&scanned, raw, options, scale))
+            .collect();
+        for (r, diags) in late {
+            doc.diagnostics.extend(diags);
+            match r {
+                Ok(e) => doc.entities.extend(e),
+                Err(d) => doc.diagnostics.push(d),
+            }
+        }
         doc.topology = built.topology;
         doc.diagnostics.extend(built.diagnostics);
         doc.diagnostics.extend(product_diagnostics);
@@ -511,59 +509,94 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 /// results are a small part of the read's memory.
 const BSPLINE_CHUNK: usize = 4096;
 
-/// Frees the decoded items the topology and the product structure do not read (the
-/// curves and surfaces are converted by now), keeping the placements `products` reads as
-/// frames; returns the edges' PCURVE curves, read from the items freed
-/// (`topology::edge_pcurve_curves`).
-fn keep_for_topology(
-    items: &mut Items<'_>,
-    products: &super::assembly::Products<'_>,
-) -> Vec<(u64, u64)> {
-    let edge_pcurves = super::topology::edge_pcurve_curves(items);
-    let frames = super::assembly::frame_items(products, items);
-    items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
-    edge_pcurves
+/// A B-spline instance read ([`decode_bspline`]): the entity (or why not) and what was
+/// noticed on the way.
+type BSplineRead = (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>);
+
+/// One B-spline instance, decoded and converted.
+fn decode_bspline(
+    s: &Scanned<'_>,
+    raw: &RawInstance<'_>,
+    options: &ImportOptions,
+    scale: f64,
+) -> BSplineRead {
+    let ctx = Ctx {
+        s,
+        raw,
+        options,
+        scale,
+    };
+    let mut diags = Vec::new();
+    let r = match s.bspline(raw) {
+        Ok(Some(BSpline::Curve(r))) => ctx.curve_record(r, &mut diags).map(Some),
+        Ok(Some(BSpline::Surface(r))) => ctx.surface_record(r, &mut diags).map(Some),
+        Ok(None) => Ok(None),
+        Err(DecodeError::Syntax(e)) => Err(parse_diagnostic(&e)),
+        Err(DecodeError::Schema(e)) => Err(ctx.error("step.schema", e.detail())),
+    };
+    (r, diags)
 }
 
-/// Frees the index's CARTESIAN_POINTs that nothing left to read looks up, before the
-/// topology (the read's peak): after the B-spline pass, the points read are those of the
-/// items kept for the topology and the product structure ([`keep_for_topology`]): a
-/// VERTEX_POINT's, a POLY_LOOP's, and a placement's location (the frames of the product
-/// structure). Every other instance stays (the topology's are read again for their names
-/// and lines). On a B-spline B-rep the poles are two fifths of the instances. `is_point`
-/// has a bit per position in the index as scanned, set for each CARTESIAN_POINT.
-fn keep_points_in_use(scanned: &mut Scanned<'_>, items: &Items<'_>, is_point: &[u64]) {
-    use nurbsx_parsers::step::geometry::GeometryRecord as R;
-    let mut points: Vec<u64> = Vec::new();
-    for (_, item) in items.iter() {
-        match &item.record {
-            R::VertexPoint { vertex_geometry } => points.push(*vertex_geometry),
-            R::PolyLoop { polygon } => points.extend_from_slice(polygon),
-            R::Axis1Placement { location, .. }
-            | R::Axis2Placement2d { location, .. }
-            | R::Axis2Placement3d { location, .. } => points.push(*location),
-            _ => {}
-        }
+/// Takes the B-spline candidates that are 2-D curves of the edges' PCURVEs (`edge_pcurves`,
+/// `(edge, curve)` pairs) out of `candidates`, and returns their ids in file order. The
+/// topology computes every coedge's pcurve on its face's NURBS surface (the file's are in
+/// the parameters of the file's surfaces, which for an analytic surface are not the NURBS
+/// ones); the file's own curve is converted after it only for an edge whose coedges did not
+/// all get one ([`pcurve_curves_needed`]). On a B-spline B-rep these are most of the
+/// B-spline instances. A complex instance that may be a product item stays a candidate (it
+/// is looked at as one if it is no B-spline).
+fn defer_pcurve_curves(
+    candidates: &mut Vec<&RawInstance<'_>>,
+    edge_pcurves: &[(u64, u64)],
+    text: &str,
+) -> Vec<u64> {
+    if edge_pcurves.is_empty() {
+        return Vec::new();
     }
-    points.sort_unstable();
-    points.dedup();
-    // Ids come in ascending order in most files: each search gallops on from the last.
-    let mut cursor = 0;
-    scanned.retain(|k, raw| {
-        if is_point
-            .get(k / 64)
-            .is_none_or(|w| w & (1 << (k % 64)) == 0)
-        {
-            return true;
+    let mut curves: Vec<u64> = edge_pcurves.iter().map(|&(_, c)| c).collect();
+    curves.sort_unstable();
+    curves.dedup();
+    let mut deferred = Vec::new();
+    candidates.retain(|raw| {
+        let pcurve = curves.binary_search(&raw.id).is_ok()
+            && !(raw.keyword_initial().is_none() && maybe_product(text, raw));
+        if pcurve {
+            deferred.push(raw.id);
         }
-        let id = raw.id;
-        cursor = if cursor > 0 && points.get(cursor - 1).is_some_and(|&p| p >= id) {
-            points.partition_point(|&p| p < id)
-        } else {
-            cursor + first_not_below(points.get(cursor..).unwrap_or_default(), id, |&p| p)
-        };
-        points.get(cursor) == Some(&id)
+        !pcurve
     });
+    deferred
+}
+
+/// The deferred 2-D curves ([`defer_pcurve_curves`]) that some edge listing them needs
+/// converted: an edge not in the topology, or one with a coedge left without a pcurve
+/// (`carried`: the edges whose every coedge has one, ascending; `edge_pcurves` as there).
+/// In `deferred`'s order.
+fn pcurve_curves_needed(
+    mut deferred: Vec<u64>,
+    edge_pcurves: &[(u64, u64)],
+    carried: &[u64],
+) -> Vec<u64> {
+    if deferred.is_empty() {
+        return deferred;
+    }
+    let mut needed: Vec<u64> = edge_pcurves
+        .iter()
+        .filter(|(edge, _)| carried.binary_search(edge).is_err())
+        .map(|&(_, curve)| curve)
+        .collect();
+    needed.sort_unstable();
+    needed.dedup();
+    deferred.retain(|id| needed.binary_search(id).is_ok());
+    deferred
+}
+
+/// Frees the decoded items the topology and the product structure do not read (the
+/// curves and surfaces are converted by now), keeping the placements `products` reads as
+/// frames.
+fn keep_for_topology(items: &mut Items<'_>, products: &super::assembly::Products<'_>) {
+    let frames = super::assembly::frame_items(products, items);
+    items.retain(|id, record| super::topology::reads(record) || frames.contains(&id));
 }
 
 /// The product-structure candidates decoded (assembly.rs); errors are diagnostics.

@@ -176,6 +176,8 @@ struct Build<'c, 'm, 's, 'a> {
     splits: Vec<(EdgeId, EdgeId)>,
     /// (instance of a PCURVE's 2-D curve, the EDGE_CURVE using it).
     pcurve_entities: Vec<(u64, u64)>,
+    /// The EDGE_CURVE of each model edge, by edge index (`None` for a POLY_LOOP side).
+    edge_instances: Vec<Option<u64>>,
     /// [`edge_pcurve_curves`] of the file.
     edge_pcurves: &'c [(u64, u64)],
 }
@@ -189,6 +191,9 @@ pub(super) struct Built {
     /// (curve instance, EDGE_CURVE instance): the 2-D curves of the file's PCURVEs of edges
     /// in the topology, to be marked as used by those edges.
     pub pcurve_entities: Vec<(u64, u64)>,
+    /// The EDGE_CURVEs in the topology whose every coedge carries a pcurve (ascending; see
+    /// [`Build::edges_with_pcurves`]).
+    pub edges_with_pcurves: Vec<u64>,
 }
 
 /// Builds the topology of the decoded items over the converted edges (moved into the
@@ -218,6 +223,7 @@ pub(super) fn build(
         missing_pcurves: 0,
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
+        edge_instances: Vec::new(),
     };
     // The items of each kind the model is built from, in one walk of the items (each walk
     // reads all of them: on a large file, several were a visible part of the read).
@@ -318,6 +324,7 @@ pub(super) fn build(
         .not_carried());
     }
     Built {
+        edges_with_pcurves: b.edges_with_pcurves(),
         topology: b.topology,
         diagnostics: b.diagnostics,
         pcurve_entities: b.pcurve_entities,
@@ -397,6 +404,7 @@ impl Build<'_, '_, '_, '_> {
                 self.edges.insert(id, (e, same_sense));
                 let o = self.origin(id, Some(out.entity));
                 self.topology.origins.edges.push(o);
+                self.edge_instances.push(Some(id));
                 self.note_pcurves(id);
             }
             Err(e) => self.refuse(id, &e),
@@ -411,6 +419,39 @@ impl Build<'_, '_, '_, '_> {
         for &(_, curve) in pairs[start..].iter().take_while(|&&(e, _)| e == edge) {
             self.pcurve_entities.push((curve, edge));
         }
+    }
+
+    /// The EDGE_CURVEs of the model (ascending) used by at least one coedge and whose every
+    /// coedge, on every face and on both halves of an edge split at a seam, carries a pcurve:
+    /// the model holds their parameter-space curves, computed on its NURBS surfaces, so the
+    /// 2-D curves of their PCURVEs in the file are not needed (the reader converts the
+    /// others).
+    fn edges_with_pcurves(&self) -> Vec<u64> {
+        let model = &self.topology.model;
+        // Per model edge: bit 0 for a coedge with a pcurve, bit 1 for one without.
+        let mut seen = vec![0u8; model.edges.len()];
+        for c in model
+            .faces
+            .iter()
+            .flat_map(|f| &f.loops)
+            .flat_map(|l| &l.coedges)
+        {
+            if let Some(s) = seen.get_mut(c.edge.0) {
+                *s |= if c.pcurve.is_some() { 1 } else { 2 };
+            }
+        }
+        let mut by_instance: Vec<(u64, u8)> = self
+            .edge_instances
+            .iter()
+            .zip(&seen)
+            .filter_map(|(i, &s)| Some(((*i)?, s)))
+            .collect();
+        by_instance.sort_unstable_by_key(|&(i, _)| i);
+        by_instance
+            .chunk_by(|a, b| a.0 == b.0)
+            .filter(|run| run.iter().fold(0, |all, &(_, s)| all | s) == 1)
+            .filter_map(|run| run.first().map(|&(i, _)| i))
+            .collect()
     }
 
     /// The coedges of an EDGE_LOOP, as the file lists them.
@@ -524,6 +565,7 @@ impl Build<'_, '_, '_, '_> {
                             let mut o = self.origin(face, None);
                             o.id = compact_str::format_compact!("#{}-#{}", key.0, key.1);
                             self.topology.origins.edges.push(o);
+                            self.edge_instances.push(None);
                             e
                         }
                         Err(e) => {
@@ -690,6 +732,8 @@ impl Build<'_, '_, '_, '_> {
                 let o = origins.edges.get(edge.0).cloned().unwrap_or_default();
                 origins.vertices.push(o.clone());
                 origins.edges.push(o.clone());
+                let instance = self.edge_instances.get(edge.0).copied().flatten();
+                self.edge_instances.push(instance);
                 let d = Diagnostic::info(
                     "topology.edge_split_at_seam",
                     format!(
