@@ -644,8 +644,9 @@ pub(super) struct Output {
     /// B-spline instances that became part of another entity (a trimmed or composite curve,
     /// a swept or rectangular trimmed surface): not converted again on their own.
     pub consumed_bsplines: HashSet<u64>,
-    /// The converted EDGE_CURVEs by instance id (for the topology).
-    pub edges: HashMap<u64, EdgeOut>,
+    /// The converted EDGE_CURVEs with their instance ids, in item order (for the topology,
+    /// which builds them in that order).
+    pub edges: Vec<(u64, EdgeOut)>,
     /// The closed-form inverses of the face surfaces that are quadrics, by surface instance
     /// id (for the pcurves of the topology).
     pub quadric_maps: HashMap<u64, QuadricMap>,
@@ -1466,6 +1467,28 @@ pub(super) struct EdgeOut {
     pub range: Option<(f64, f64)>,
 }
 
+/// The converted edges in item order (the topology builds them in that order, moving each
+/// out), found by id through a table of places: a hash table of the edges themselves moved
+/// them at every growth.
+#[derive(Default)]
+pub(super) struct EdgeList {
+    list: Vec<(u64, EdgeOut)>,
+    /// Instance id -> index in `list`.
+    at: HashMap<u64, usize>,
+}
+
+impl EdgeList {
+    fn push(&mut self, id: u64, edge: EdgeOut) {
+        self.at.insert(id, self.list.len());
+        self.list.push((id, edge));
+    }
+
+    fn get(&self, id: u64) -> Option<&EdgeOut> {
+        let k = *self.at.get(&id)?;
+        self.list.get(k).map(|(_, o)| o)
+    }
+}
+
 impl<'a> Converter<'_, '_, 'a> {
     /// The curve instance under an edge's geometry (through surface curves).
     fn edge_curve_id(&self, mut id: u64) -> u64 {
@@ -1914,7 +1937,7 @@ impl<'a> Converter<'_, '_, 'a> {
         // Edges, in parallel (each independent), kept for the faces' boxes.
         let edge_results: Vec<(u64, Res<EdgeOut>)> =
             edges.par_iter().map(|&e| (e, self.edge(e))).collect();
-        let mut edge_map: HashMap<u64, EdgeOut> = HashMap::default();
+        let mut edge_list = EdgeList::default();
         let mut uses: HashMap<u64, usize> = HashMap::default();
         for (e, r) in edge_results {
             match r {
@@ -1938,7 +1961,7 @@ impl<'a> Converter<'_, '_, 'a> {
                             None,
                         ));
                     }
-                    edge_map.insert(e, o);
+                    edge_list.push(e, o);
                 }
                 Err(d) => out.diagnostics.push(d),
             }
@@ -1971,7 +1994,7 @@ impl<'a> Converter<'_, '_, 'a> {
         face_surfaces.sort_unstable();
         let results: Vec<(u64, Res<Option<FaceSurface>>)> = face_surfaces
             .par_iter()
-            .map(|&sid| (sid, self.face_surface(sid, &faces_of[&sid], &edge_map)))
+            .map(|&sid| (sid, self.face_surface(sid, &faces_of[&sid], &edge_list)))
             .collect();
         for (sid, r) in results {
             match r {
@@ -1986,7 +2009,7 @@ impl<'a> Converter<'_, '_, 'a> {
         if let Ok(mut w) = self.warnings.lock() {
             out.diagnostics.append(&mut w);
         }
-        out.edges = edge_map;
+        out.edges = edge_list.list;
         // Parameter-space curves of analytic type are not converted: said once when the
         // topology is not read (see `Output::analytic_pcurves`).
         let analytic: Vec<u64> = pcurve_items
@@ -2129,12 +2152,7 @@ impl<'a> Converter<'_, '_, 'a> {
     /// A surface used by faces: bounded in each unbounded (or angular) direction by the
     /// parameter box of the faces' edges ([`face_box`]), with the closed-form inverse of
     /// its parameterisation when it is a quadric.
-    fn face_surface(
-        &self,
-        id: u64,
-        faces: &[u64],
-        edges: &HashMap<u64, EdgeOut>,
-    ) -> Res<Option<FaceSurface>> {
+    fn face_surface(&self, id: u64, faces: &[u64], edges: &EdgeList) -> Res<Option<FaceSurface>> {
         // A B-spline surface: the reader's B-spline path converts it (and reports what is
         // wrong with it); decoding it here too would only find that out.
         if !self.items.contains_key(&id)
@@ -2164,7 +2182,7 @@ impl<'a> Converter<'_, '_, 'a> {
             // extent; on the axis they take no part in the angular span).
             poles.extend_from_slice(&apexes);
             for e in face_edges {
-                let Some(o) = edges.get(&e) else {
+                let Some(o) = edges.get(e) else {
                     return Err(self.error(
                         f,
                         "geometry.invalid",

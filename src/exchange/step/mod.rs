@@ -92,6 +92,15 @@ fn instance_label(id: u64) -> super::Label {
     std::str::from_utf8(&text[start..]).map_or_else(|_| super::Label::default(), super::Label::new)
 }
 
+/// The instance a label names: `N` for `#N` as [`instance_label`] writes it (decimal
+/// digits, no leading zero); `None` for any other label.
+fn instance_of(label: &str) -> Option<u64> {
+    let digits = label.strip_prefix('#')?;
+    let canonical =
+        digits.bytes().all(|b| b.is_ascii_digit()) && (digits == "0" || !digits.starts_with('0'));
+    canonical.then(|| digits.parse().ok()).flatten()
+}
+
 #[cfg(test)]
 mod label_tests {
     /// The label agrees with the formatting machinery's decimal digits at the ends of the
@@ -106,8 +115,21 @@ mod label_tests {
         for id in ids {
             let label = super::instance_label(id);
             assert_eq!(label, format!("#{id}"));
+            assert_eq!(super::instance_of(&label), Some(id));
             // Every label fits inline: none is a heap allocation.
             assert!(!label.is_heap_allocated(), "{label}");
+        }
+        // Labels of no one instance, or not as the reader writes it.
+        for other in [
+            "#",
+            "#007",
+            "#12@#3",
+            "D5",
+            "12",
+            "#-1",
+            "#18446744073709551616",
+        ] {
+            assert_eq!(super::instance_of(other), None, "{other}");
         }
     }
 }

@@ -250,22 +250,20 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // their poles) instead of decoding them again. What was noticed on the way is kept with
     // them; for the B-splines consumed by other entities (not converted again below) it is
     // reported from `bspline_notes`.
-    let converted_bsplines: std::sync::Mutex<
-        super::geometry::HashMap<u64, (Entity, Vec<Diagnostic>)>,
-    > = Default::default();
+    let converted_bsplines: std::sync::Mutex<ConvertedBsplines> = Default::default();
     let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
     let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
-        if let Some((e, _)) = converted_bsplines
+        if let Some(e) = converted_bsplines
             .lock()
             .ok()
-            .and_then(|c| c.get(&raw.id).cloned())
+            .and_then(|c| c.get(raw.id).cloned())
         {
             return Ok(Some(e));
         }
         let (r, diags) = decode(raw);
         if let Ok(Some(e)) = &r {
             if let Ok(mut c) = converted_bsplines.lock() {
-                c.insert(raw.id, (e.clone(), diags.clone()));
+                c.insert(raw.id, e.clone(), diags.clone());
             }
         }
         if !diags.is_empty() {
@@ -335,8 +333,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let mut converted_notes: std::collections::VecDeque<(usize, Vec<Diagnostic>)> =
         Default::default();
     if let Ok(mut map) = converted_bsplines.lock() {
-        if !map.is_empty() {
-            candidates.retain(|raw| match map.remove(&raw.id) {
+        if !map.entries.is_empty() {
+            candidates.retain(|raw| match map.take(raw.id) {
                 Some((e, diags)) => {
                     placed.push((raw.offset(), e));
                     if !diags.is_empty() {
@@ -509,6 +507,40 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 /// results are a small part of the read's memory.
 const BSPLINE_CHUNK: usize = 4096;
 
+/// The B-splines converted while the other geometry is (an edge's curve, a trim's or a
+/// sweep's basis), each with what was noticed on the way: in the order converted, found by
+/// instance id through a table of places. The entities move once, into the list: a hash
+/// table of the entities themselves (a few hundred bytes each) moved them at every growth,
+/// and was a visible part of a B-spline B-rep's read.
+#[derive(Default)]
+struct ConvertedBsplines {
+    /// Instance id -> index in `entries`.
+    at: super::geometry::HashMap<u64, usize>,
+    /// `None` once taken.
+    entries: Vec<Option<(Entity, Vec<Diagnostic>)>>,
+}
+
+impl ConvertedBsplines {
+    fn get(&self, id: u64) -> Option<&Entity> {
+        let k = *self.at.get(&id)?;
+        self.entries.get(k)?.as_ref().map(|(e, _)| e)
+    }
+
+    /// Keeps the first entity converted for `id` (two threads may convert one B-spline at
+    /// once; the results are equal).
+    fn insert(&mut self, id: u64, e: Entity, diags: Vec<Diagnostic>) {
+        if let std::collections::hash_map::Entry::Vacant(v) = self.at.entry(id) {
+            v.insert(self.entries.len());
+            self.entries.push(Some((e, diags)));
+        }
+    }
+
+    fn take(&mut self, id: u64) -> Option<(Entity, Vec<Diagnostic>)> {
+        let k = *self.at.get(&id)?;
+        self.entries.get_mut(k)?.take()
+    }
+}
+
 /// A B-spline instance read ([`decode_bspline`]): the entity (or why not) and what was
 /// noticed on the way.
 type BSplineRead = (Result<Option<Entity>, Diagnostic>, Vec<Diagnostic>);
@@ -624,11 +656,7 @@ fn label_pcurve_users(entities: &mut [Entity], mut pairs: Vec<(u64, u64)>) {
     let mut taken = vec![false; pairs.len()];
     let mut cursor = 0;
     for e in entities {
-        let Some(id) =
-            e.id.strip_prefix('#')
-                .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))
-                .and_then(|d| d.parse::<u64>().ok())
-        else {
+        let Some(id) = super::instance_of(&e.id) else {
             continue;
         };
         // Entities come in file order, ids ascending in most files: the search gallops on

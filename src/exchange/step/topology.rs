@@ -202,7 +202,7 @@ pub(super) struct Built {
 /// vertices' box, or the file's length `uncertainty` (model unit) when that is larger.
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
-    mut edges: HashMap<u64, EdgeOut>,
+    edges: Vec<(u64, EdgeOut)>,
     quadric_maps: &HashMap<u64, QuadricMap>,
     entities: &[Entity],
     uncertainty: f64,
@@ -231,7 +231,6 @@ pub(super) fn build(
     for (id, item) in conv.items.iter() {
         match item.record {
             R::VertexPoint { vertex_geometry } => kinds.vertices.push((id, vertex_geometry)),
-            R::EdgeCurve { .. } => kinds.edges.push(id),
             R::FaceSurface { .. } => kinds.faces.push(id),
             R::Shell { .. } => kinds.shells.push(id),
             R::OrientedClosedShell { .. } => kinds.oriented_shells.push(id),
@@ -288,18 +287,18 @@ pub(super) fn build(
             Err(e) => b.refuse(id, &e),
         }
     }
-    for id in std::mem::take(&mut kinds.edges) {
-        if let Some(out) = edges.remove(&id) {
-            b.edge(id, out);
+    // In item order; each curve moves into the model.
+    for (id, out) in edges {
+        b.edge(id, out);
+    }
+    // The surfaces by the instance their label names (`#N`; the first of several with one
+    // label): a face finds its surface by number, without making and hashing the label.
+    let mut surfaces: HashMap<u64, &Entity> = HashMap::default();
+    for e in entities {
+        if let (Geometry::Surface(_), Some(id)) = (&e.geometry, super::instance_of(&e.id)) {
+            surfaces.entry(id).or_insert(e);
         }
     }
-    // Freed before the faces (the read's peak of memory comes at their end).
-    drop(edges);
-    let surfaces: HashMap<&str, &Entity> = entities
-        .iter()
-        .filter(|e| matches!(e.geometry, Geometry::Surface(_)))
-        .map(|e| (e.id.as_str(), e))
-        .collect();
     for id in std::mem::take(&mut kinds.faces) {
         b.face(id, &surfaces);
     }
@@ -336,7 +335,6 @@ pub(super) fn build(
 struct Kinds {
     /// VERTEX_POINTs with their point.
     vertices: Vec<(u64, u64)>,
-    edges: Vec<u64>,
     faces: Vec<u64>,
     shells: Vec<u64>,
     oriented_shells: Vec<u64>,
@@ -586,7 +584,7 @@ impl Build<'_, '_, '_, '_> {
     }
 
     /// An ADVANCED_FACE or FACE_SURFACE (ISO 10303-42 5.4, face_surface).
-    fn face(&mut self, id: u64, surfaces: &HashMap<&str, &Entity>) {
+    fn face(&mut self, id: u64, surfaces: &HashMap<u64, &Entity>) {
         let Some(&R::FaceSurface {
             ref bounds,
             face_geometry,
@@ -595,8 +593,7 @@ impl Build<'_, '_, '_, '_> {
         else {
             return;
         };
-        let label = super::instance_label(face_geometry);
-        let Some(entity) = surfaces.get(label.as_str()) else {
+        let Some(entity) = surfaces.get(&face_geometry) else {
             self.missing(id, "the face's surface", &[face_geometry]);
             return;
         };
