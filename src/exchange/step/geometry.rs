@@ -1372,6 +1372,7 @@ impl<'a> Converter<'_, '_, 'a> {
         base: Option<Meta>,
     ) -> Placed {
         let mut meta = base.unwrap_or_default();
+        let offset = self.s.get(id).map_or(0, |raw| raw.offset());
         let found = self.provenance(id);
         if found.name.is_some() {
             meta.name = found.name;
@@ -1379,7 +1380,7 @@ impl<'a> Converter<'_, '_, 'a> {
         meta.shape = shape;
         meta.used_by = used_by;
         (
-            found.offset,
+            offset,
             Entity {
                 id: label,
                 geometry,
@@ -1392,28 +1393,26 @@ impl<'a> Converter<'_, '_, 'a> {
         )
     }
 
-    /// Where instance `#id` is (offset and line, one look-up of the index), and the entity
-    /// type as written and the name (when not empty) of item `#id`, read again from its
-    /// instance (see [`Kept`]); an empty type and no name when `#id` is no item.
+    /// The line of instance `#id`, and the entity type as written and the name (when not
+    /// empty) of item `#id`, read again from its instance (see [`Kept`]); an empty type and
+    /// no name when `#id` is no item.
     pub(super) fn provenance(&self, id: u64) -> Provenance {
-        let Some(raw) = self.s.get(id) else {
-            return Provenance::default();
-        };
-        let offset = raw.offset();
         let item = self.items.get(&id);
-        // A plain item whose line was found when it was decoded: nothing to read again.
+        // A plain item whose line was found when it was decoded: nothing to read again, not
+        // even the index.
         if let Some(k) = item.filter(|k| k.plain && k.line > 0) {
             return Provenance {
-                offset,
                 line: usize::try_from(k.line).ok(),
                 entity: Cow::Borrowed(k.entity.name()),
                 name: None,
             };
         }
-        let line = Some(self.s.line(offset));
+        let Some(raw) = self.s.get(id) else {
+            return Provenance::default();
+        };
+        let line = Some(self.s.line(raw.offset()));
         if item.is_none() {
             return Provenance {
-                offset,
                 line,
                 ..Provenance::default()
             };
@@ -1427,22 +1426,15 @@ impl<'a> Converter<'_, '_, 'a> {
             ),
             _ => Default::default(),
         };
-        Provenance {
-            offset,
-            line,
-            entity,
-            name,
-        }
+        Provenance { line, entity, name }
     }
 }
 
-/// Where an item's instance is and what it is ([`Converter::provenance`]): all zero, empty
-/// and `None` for an id that is not in the file.
+/// Where an item's instance is and what it is ([`Converter::provenance`]): empty and `None`
+/// for an id that is not in the file.
 #[derive(Debug, Default)]
 pub(super) struct Provenance {
-    /// The instance's byte offset.
-    pub offset: usize,
-    /// Its 1-based line.
+    /// The instance's 1-based line.
     pub line: Option<usize>,
     /// The entity type as written; empty when the id is no geometry item.
     pub entity: Cow<'static, str>,
