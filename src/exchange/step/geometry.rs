@@ -1459,25 +1459,51 @@ pub(super) struct EdgeOut {
     pub range: Option<(f64, f64)>,
 }
 
-/// The converted edges in item order (the topology builds them in that order, moving each
-/// out), found by id through a table of places: a hash table of the edges themselves moved
-/// them at every growth.
-#[derive(Default)]
-pub(super) struct EdgeList {
-    list: Vec<(u64, EdgeOut)>,
+/// Values by instance id, in the order added, found through a table of places. The
+/// values (converted edges, entities of a few hundred bytes) move once, into the list: a
+/// hash table of the values themselves moved them at every growth and probed across them,
+/// a visible part of a large read.
+pub(super) struct ByInstance<T> {
+    list: Vec<(u64, T)>,
     /// Instance id -> index in `list`.
     at: HashMap<u64, usize>,
 }
 
-impl EdgeList {
-    fn push(&mut self, id: u64, edge: EdgeOut) {
-        self.at.insert(id, self.list.len());
-        self.list.push((id, edge));
+impl<T> Default for ByInstance<T> {
+    fn default() -> Self {
+        ByInstance {
+            list: Vec::new(),
+            at: HashMap::default(),
+        }
+    }
+}
+
+impl<T> ByInstance<T> {
+    /// Adds the value of `#id`; the first one added for an id stays.
+    pub(super) fn push(&mut self, id: u64, value: T) {
+        if let std::collections::hash_map::Entry::Vacant(v) = self.at.entry(id) {
+            v.insert(self.list.len());
+            self.list.push((id, value));
+        }
     }
 
-    fn get(&self, id: u64) -> Option<&EdgeOut> {
+    pub(super) fn get(&self, id: u64) -> Option<&T> {
         let k = *self.at.get(&id)?;
-        self.list.get(k).map(|(_, o)| o)
+        self.list.get(k).map(|(_, v)| v)
+    }
+
+    pub(super) fn get_mut(&mut self, id: u64) -> Option<&mut T> {
+        let k = *self.at.get(&id)?;
+        self.list.get_mut(k).map(|(_, v)| v)
+    }
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// The values with their ids, in the order added.
+    pub(super) fn into_list(self) -> Vec<(u64, T)> {
+        self.list
     }
 }
 
@@ -1929,7 +1955,7 @@ impl<'a> Converter<'_, '_, 'a> {
         // Edges, in parallel (each independent), kept for the faces' boxes.
         let edge_results: Vec<(u64, Res<EdgeOut>)> =
             edges.par_iter().map(|&e| (e, self.edge(e))).collect();
-        let mut edge_list = EdgeList::default();
+        let mut edge_list: ByInstance<EdgeOut> = ByInstance::default();
         let mut uses: HashMap<u64, usize> = HashMap::default();
         for (e, r) in edge_results {
             match r {
@@ -2001,7 +2027,7 @@ impl<'a> Converter<'_, '_, 'a> {
         if let Ok(mut w) = self.warnings.lock() {
             out.diagnostics.append(&mut w);
         }
-        out.edges = edge_list.list;
+        out.edges = edge_list.into_list();
         // Parameter-space curves of analytic type are not converted: said once when the
         // topology is not read (see `Output::analytic_pcurves`).
         let analytic: Vec<u64> = pcurve_items
@@ -2144,7 +2170,12 @@ impl<'a> Converter<'_, '_, 'a> {
     /// A surface used by faces: bounded in each unbounded (or angular) direction by the
     /// parameter box of the faces' edges ([`face_box`]), with the closed-form inverse of
     /// its parameterisation when it is a quadric.
-    fn face_surface(&self, id: u64, faces: &[u64], edges: &EdgeList) -> Res<Option<FaceSurface>> {
+    fn face_surface(
+        &self,
+        id: u64,
+        faces: &[u64],
+        edges: &ByInstance<EdgeOut>,
+    ) -> Res<Option<FaceSurface>> {
         // A B-spline surface: the reader's B-spline path converts it (and reports what is
         // wrong with it); decoding it here too would only find that out.
         if !self.items.contains_key(&id)

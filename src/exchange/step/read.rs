@@ -17,7 +17,7 @@ use nurbsx_parsers::step::geometry::{is_geometry_entity, maybe_complex_geometry}
 use nurbsx_parsers::step::product::{is_product_entity, maybe_complex_product};
 
 use super::closure_tolerance;
-use super::geometry::{Converter, Items, Kept, Units};
+use super::geometry::{ByInstance, Converter, Items, Kept, Units};
 use super::implicit::{KnotForm, implicit_knots};
 use super::units::{FileUnit, context_plane_angle, context_units, unit_contexts};
 use crate::exchange::{
@@ -249,21 +249,22 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // the B-spline pass after it takes them from here (an edge's curve and its entity share
     // their poles) instead of decoding them again. What was noticed on the way is kept with
     // them; for the B-splines consumed by other entities (not converted again below) it is
-    // reported from `bspline_notes`.
-    let converted_bsplines: std::sync::Mutex<ConvertedBsplines> = Default::default();
+    // reported from `bspline_notes`. `None` once moved into the entities; the first
+    // converted stays (two threads may convert one B-spline at once, equally).
+    let converted_bsplines: std::sync::Mutex<ByInstance<Option<Noted>>> = Default::default();
     let bspline_notes: std::sync::Mutex<Vec<(u64, Vec<Diagnostic>)>> = Default::default();
     let bspline = |raw: &RawInstance<'_>| -> Result<Option<Entity>, Diagnostic> {
-        if let Some(e) = converted_bsplines
-            .lock()
-            .ok()
-            .and_then(|c| c.get(raw.id).cloned())
-        {
+        if let Some(e) = converted_bsplines.lock().ok().and_then(|c| {
+            c.get(raw.id)
+                .and_then(Option::as_ref)
+                .map(|(e, _)| e.clone())
+        }) {
             return Ok(Some(e));
         }
         let (r, diags) = decode(raw);
         if let Ok(Some(e)) = &r {
             if let Ok(mut c) = converted_bsplines.lock() {
-                c.insert(raw.id, e.clone(), diags.clone());
+                c.push(raw.id, Some((e.clone(), diags.clone())));
             }
         }
         if !diags.is_empty() {
@@ -333,8 +334,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let mut converted_notes: std::collections::VecDeque<(usize, Vec<Diagnostic>)> =
         Default::default();
     if let Ok(mut map) = converted_bsplines.lock() {
-        if !map.entries.is_empty() {
-            candidates.retain(|raw| match map.take(raw.id) {
+        if !map.is_empty() {
+            candidates.retain(|raw| match map.get_mut(raw.id).and_then(Option::take) {
                 Some((e, diags)) => {
                     placed.push((raw.offset(), e));
                     if !diags.is_empty() {
@@ -507,39 +508,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
 /// results are a small part of the read's memory.
 const BSPLINE_CHUNK: usize = 4096;
 
-/// The B-splines converted while the other geometry is (an edge's curve, a trim's or a
-/// sweep's basis), each with what was noticed on the way: in the order converted, found by
-/// instance id through a table of places. The entities move once, into the list: a hash
-/// table of the entities themselves (a few hundred bytes each) moved them at every growth,
-/// and was a visible part of a B-spline B-rep's read.
-#[derive(Default)]
-struct ConvertedBsplines {
-    /// Instance id -> index in `entries`.
-    at: super::geometry::HashMap<u64, usize>,
-    /// `None` once taken.
-    entries: Vec<Option<(Entity, Vec<Diagnostic>)>>,
-}
-
-impl ConvertedBsplines {
-    fn get(&self, id: u64) -> Option<&Entity> {
-        let k = *self.at.get(&id)?;
-        self.entries.get(k)?.as_ref().map(|(e, _)| e)
-    }
-
-    /// Keeps the first entity converted for `id` (two threads may convert one B-spline at
-    /// once; the results are equal).
-    fn insert(&mut self, id: u64, e: Entity, diags: Vec<Diagnostic>) {
-        if let std::collections::hash_map::Entry::Vacant(v) = self.at.entry(id) {
-            v.insert(self.entries.len());
-            self.entries.push(Some((e, diags)));
-        }
-    }
-
-    fn take(&mut self, id: u64) -> Option<(Entity, Vec<Diagnostic>)> {
-        let k = *self.at.get(&id)?;
-        self.entries.get_mut(k)?.take()
-    }
-}
+/// An entity with what was noticed while converting it.
+type Noted = (Entity, Vec<Diagnostic>);
 
 /// A B-spline instance read ([`decode_bspline`]): the entity (or why not) and what was
 /// noticed on the way.
