@@ -36,7 +36,9 @@ use super::{Coedge, EdgeId, Loop, Model};
 use crate::nurbs::project::{invert_curve, invert_surface, pcurve_by_projection};
 use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::{add, cross, dist, dot, norm, sub};
-use crate::nurbs::{GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
+use crate::nurbs::{
+    GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box, bounding_box_diagonal, distance,
+};
 
 /// How a pcurve was obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -124,7 +126,10 @@ pub fn exact_pcurve(
         }
         None => {
             let found = iso(surface, map, curve, range, size)?;
-            let bound = iso_bound(curve, range, &found);
+            let bound = match &found.along {
+                Along::Line { line, ends } => iso_bound(curve, range, line, *ends),
+                Along::Bound(bound) => *bound,
+            };
             (found.pcurve, PcurveMethod::Iso, bound, EXACT * size)
         }
     };
@@ -628,14 +633,24 @@ fn deviation(
     if worst.is_nan() { f64::INFINITY } else { worst }
 }
 
-/// An iso-parametric pcurve with the isocurve it runs along.
+/// An iso-parametric pcurve with what bounds its deviation.
 struct Iso {
     /// The line `t -> (u, v)` over the edge's range `[a, b]`.
     pcurve: NurbsCurve,
-    /// The surface's isocurve through it, parameterised by the surface's free parameter.
-    line: NurbsCurve,
-    /// The free parameter at `a` and at `b`.
-    ends: (f64, f64),
+    /// The isocurve it runs along, or the bound already found.
+    along: Along,
+}
+
+/// What an [`Iso`] runs along.
+enum Along {
+    /// The surface's isocurve through the pcurve, parameterised by the surface's free
+    /// parameter, with the free parameter at `a` and at `b` ([`iso_bound`] compares the
+    /// edge with its piece).
+    Line { line: NurbsCurve, ends: (f64, f64) },
+    /// A bound of the deviation, found without building the isocurve (a boundary row of
+    /// the net compared with the edge's poles: [`boundary_row`]); `None` when the
+    /// comparison gave none.
+    Bound(Option<f64>),
 }
 
 /// A bound of the deviation of a plane's pcurve ([`affine`]): the map is the orthogonal
@@ -676,14 +691,18 @@ fn plane_bound(surface: &NurbsSurface, curve: &NurbsCurve, p: &NurbsCurve) -> Op
 }
 
 /// A bound of the deviation of an iso-parametric pcurve: the edge's piece over `[a, b]` and
-/// the isocurve's piece between `found.ends` (reversed when the edge runs down it), each cut
-/// out exactly (NURBS Book A5.1), compared pole by pole ([`same_curve_bound`]). `None` when
-/// their knots, degrees or pole counts do not match (the sampling then decides).
-fn iso_bound(curve: &NurbsCurve, (a, b): (f64, f64), found: &Iso) -> Option<f64> {
-    let (fa, fb) = found.ends;
+/// the piece of the isocurve `line` between `ends` (reversed when the edge runs down it),
+/// each cut out exactly (NURBS Book A5.1), compared pole by pole ([`same_curve_bound`]).
+/// `None` when their knots, degrees or pole counts do not match (the sampling then decides).
+fn iso_bound(
+    curve: &NurbsCurve,
+    (a, b): (f64, f64),
+    line: &NurbsCurve,
+    (fa, fb): (f64, f64),
+) -> Option<f64> {
     let (lo, hi) = (fa.min(fb), fa.max(fb));
     let edge = curve.piece(a, b).ok()?;
-    let mut line = found.line.piece(lo, hi).ok()?;
+    let mut line = line.piece(lo, hi).ok()?;
     if fa > fb {
         line = line.reverse().ok()?;
     }
@@ -705,49 +724,62 @@ fn iso_bound(curve: &NurbsCurve, (a, b): (f64, f64), found: &Iso) -> Option<f64>
 ///
 /// `None` when the structure differs or the mismatches are not rounding-sized.
 fn same_curve_bound(c: &NurbsCurve, d: &NurbsCurve) -> Option<f64> {
-    let p = c.degree();
-    let (kc, kd) = (c.knots(), d.knots());
-    if d.degree() != p || kc.len() != kd.len() || c.num_poles() != d.num_poles() {
+    let kd = d.knots();
+    if d.degree() != c.degree() || c.knots().len() != kd.len() {
         return None;
     }
+    let poles = d.control_points();
+    matched_bound(c, |k| kd[k], |i| (&poles[i], d.weight(i)))
+}
+
+/// [`same_curve_bound`] of `c` against a curve `D` of `c`'s degree and knot count given by
+/// its knots `d_knot(k)` (non-decreasing) and its poles and weights `d_pole(i)`, for `k`
+/// and `i` over `c`'s knot and pole indices: a boundary row of a surface's net is compared
+/// with an edge this way without being built as a curve first ([`boundary_row`]).
+fn matched_bound<'a>(
+    c: &'a NurbsCurve,
+    d_knot: impl Fn(usize) -> f64,
+    d_pole: impl Fn(usize) -> (&'a Point3, f64),
+) -> Option<f64> {
+    let p = c.degree();
+    let kc = c.knots();
+    let n = c.num_poles();
     let (c0, c1) = c.domain();
-    let (d0, d1) = d.domain();
+    let (d0, d1) = (d_knot(p), d_knot(n));
     let alpha = (d1 - d0) / (c1 - c0);
     if !(alpha.is_finite() && alpha > 0.0) {
         return None;
     }
     let span = d1 - d0;
-    let knot_off = kc
-        .iter()
-        .zip(kd)
-        .map(|(&x, &y)| (d0 + (x - c0) * alpha - y).abs())
-        .fold(0.0f64, f64::max);
-    let shortest = kd
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|&h| h > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let ratio = d.weight(0) / c.weight(0);
-    let weight_off = (0..c.num_poles())
-        .map(|i| (d.weight(i) / (ratio * c.weight(i)) - 1.0).abs())
-        .fold(0.0f64, f64::max);
-    if !(knot_off <= 1e-12 * span && weight_off <= 1e-9 && ratio.is_finite() && ratio > 0.0) {
+    let mut knot_off = 0.0f64;
+    let mut shortest = f64::INFINITY;
+    for (k, &x) in kc.iter().enumerate() {
+        let y = d_knot(k);
+        knot_off = knot_off.max((d0 + (x - c0) * alpha - y).abs());
+        if k > 0 {
+            let h = y - d_knot(k - 1);
+            if h > 0.0 {
+                shortest = shortest.min(h);
+            }
+        }
+    }
+    let ratio = d_pole(0).1 / c.weight(0);
+    if !(knot_off <= 1e-12 * span && ratio.is_finite() && ratio > 0.0) {
         return None;
     }
-    let all: Vec<Point3> = c
-        .control_points()
-        .iter()
-        .chain(d.control_points())
-        .copied()
-        .collect();
-    let extent = bounding_box_diagonal(&all);
-    let poles = c
-        .control_points()
-        .iter()
-        .zip(d.control_points())
-        .map(|(x, y)| dist(*x, *y))
-        .fold(0.0f64, f64::max);
-    let magnitude = all.iter().map(|q| norm(*q)).fold(0.0f64, f64::max);
+    let (mut weight_off, mut poles, mut magnitude) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, x) in c.control_points().iter().enumerate() {
+        let (y, wy) = d_pole(i);
+        weight_off = weight_off.max((wy / (ratio * c.weight(i)) - 1.0).abs());
+        poles = poles.max(dist(*x, *y));
+        magnitude = magnitude.max(norm(*x)).max(norm(*y));
+    }
+    // (A NaN pole distance would make the bound NaN: refused here as there.)
+    if !(weight_off <= 1e-9 && poles.is_finite()) {
+        return None;
+    }
+    let (lo, hi) = bounding_box(c.control_points().iter().chain((0..n).map(|i| d_pole(i).0)));
+    let extent = distance(lo, hi);
     let pf = p as f64;
     let bound = poles
         + 4.0 * weight_off * extent
@@ -983,8 +1015,10 @@ fn iso(
             .ok()?;
     Some(Iso {
         pcurve,
-        line,
-        ends: (fa, fb),
+        along: Along::Line {
+            line,
+            ends: (fa, fb),
+        },
     })
 }
 
@@ -1031,7 +1065,7 @@ fn boundary_row(
     // The pole and weight `k` along the free direction of a candidate's row.
     let row = |fixed: usize, index: usize, k: usize| {
         let (i, j) = if fixed == 1 { (k, index) } else { (index, k) };
-        (*grid.get(i, j), w(i, j))
+        (grid.get(i, j), w(i, j))
     };
     let tol = 1e-12 * size;
     for (fixed, c, index) in candidates {
@@ -1049,7 +1083,7 @@ fn boundary_row(
             let ratio = curve.weight(0) / at(0).1;
             let same = (0..n).all(|k| {
                 let (q, wq) = at(k);
-                dist(poles[k], q) <= tol && (curve.weight(k) - ratio * wq).abs() <= 1e-12 * ratio
+                dist(poles[k], *q) <= tol && (curve.weight(k) - ratio * wq).abs() <= 1e-12 * ratio
             });
             if !same {
                 continue;
@@ -1079,17 +1113,25 @@ fn boundary_row(
             let pcurve =
                 NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(a), point(b)], None, 2)
                     .ok()?;
-            // The row's isocurve (NURBS Book eq. 3.10 at a clamped end: the row itself).
-            let line = if fixed == 0 {
-                surface.iso_u(c).ok()?
+            // The row is the isocurve there (NURBS Book eq. 3.10 at a clamped end). Over the
+            // whole edge curve it is compared with the edge's poles as they are (its knots
+            // negated when it runs the other way, an increasing affine image); over part of
+            // it, both are cut first ([`iso_bound`]).
+            let along = if (a, b) == curve.domain() {
+                let sign = if reversed { -1.0 } else { 1.0 };
+                Along::Bound(matched_bound(curve, |k| sign * s_of(k), at))
             } else {
-                surface.iso_v(c).ok()?
+                let line = if fixed == 0 {
+                    surface.iso_u(c).ok()?
+                } else {
+                    surface.iso_v(c).ok()?
+                };
+                Along::Line {
+                    line,
+                    ends: (s(a), s(b)),
+                }
             };
-            return Some(Iso {
-                pcurve,
-                line,
-                ends: (s(a), s(b)),
-            });
+            return Some(Iso { pcurve, along });
         }
     }
     None

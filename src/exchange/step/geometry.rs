@@ -472,12 +472,82 @@ impl<'a> Items<'a> {
 
     /// The items `(id, item)`, in any order; of a repeated id the first is kept (the
     /// reader decodes only the indexed instance of a duplicated id).
-    pub(super) fn new(mut entries: Vec<(u64, Kept<'a>)>) -> Self {
-        // Files list instances in ascending id order almost always: the sort then only
-        // checks the order (a linear pass).
-        entries.sort_by_key(|(id, _)| *id);
-        entries.dedup_by_key(|(id, _)| *id);
-        let slots = Self::slots(&entries);
+    #[cfg(test)]
+    pub(super) fn new(entries: Vec<(u64, Kept<'a>)>) -> Self {
+        Self::gather(entries, Some)
+    }
+
+    /// The items `item(x)` makes of `list`'s `(id, x)` (those it gives), in any order; of a
+    /// repeated id the first is kept. Files list instances in ascending id order almost
+    /// always: then one pass, in place where `x` and an item are of one size (the standard
+    /// library reuses `list`'s buffer), keeps the items, checks the order, drops repeated
+    /// ids and fills the slot table (each pass over the items is a pass over the read's
+    /// largest structure); the items are sorted and their table built afterwards only when
+    /// the ids turn out not to ascend.
+    pub(super) fn gather<T>(
+        list: Vec<(u64, T)>,
+        mut item: impl FnMut(T) -> Option<Kept<'a>>,
+    ) -> Self {
+        // Ids above this make the table too sparse whatever is kept (`Items::slots`); the
+        // table is not grown past it.
+        let limit = list.len().saturating_mul(4).saturating_add(1024);
+        let hint = list
+            .last()
+            .and_then(|(id, _)| usize::try_from(*id).ok())
+            .map_or(0, |id| id.min(limit).saturating_add(1));
+        let mut slots: Vec<u32> = Vec::with_capacity(hint);
+        let (mut ascending, mut dense) = (true, true);
+        let mut last: Option<u64> = None;
+        let mut count: usize = 0;
+        let mut entries: Vec<(u64, Kept<'a>)> = list
+            .into_iter()
+            .filter_map(|(id, x)| {
+                let kept = item(x)?;
+                if ascending {
+                    match last {
+                        Some(l) if id == l => return None,
+                        Some(l) if id < l => ascending = false,
+                        _ => {}
+                    }
+                }
+                if ascending && dense {
+                    match (
+                        usize::try_from(id).ok().filter(|&i| i <= limit),
+                        u32::try_from(count),
+                    ) {
+                        // Ascending ids: the table ends before `i`.
+                        (Some(i), Ok(k)) => {
+                            if slots.len() < i {
+                                slots.resize(i, Self::NONE);
+                            }
+                            slots.push(k);
+                        }
+                        _ => dense = false,
+                    }
+                }
+                last = Some(id);
+                count += 1;
+                Some((id, kept))
+            })
+            .collect();
+        entries.shrink_to_fit();
+        if !ascending {
+            entries.sort_by_key(|(id, _)| *id);
+            entries.dedup_by_key(|(id, _)| *id);
+            let slots = Self::slots(&entries);
+            return Items { entries, slots };
+        }
+        // The same density rule as `Items::slots`, on the items kept.
+        let max = entries.last().map_or(0, |(id, _)| *id);
+        let fits = usize::try_from(max).is_ok_and(|m| {
+            m <= entries.len().saturating_mul(4).saturating_add(1024)
+                && u32::try_from(entries.len()).is_ok()
+        });
+        if dense && fits {
+            slots.shrink_to_fit();
+        } else {
+            slots = Vec::new();
+        }
         Items { entries, slots }
     }
 
@@ -568,11 +638,6 @@ impl<'a> Items<'a> {
         self.entries.iter().map(|(id, item)| (*id, item))
     }
 
-    /// The ids, ascending.
-    pub(super) fn keys(&self) -> impl Iterator<Item = &u64> {
-        self.entries.iter().map(|(id, _)| id)
-    }
-
     /// The items, in ascending id order.
     pub(super) fn values(&self) -> impl Iterator<Item = &Kept<'a>> {
         self.entries.iter().map(|(_, item)| item)
@@ -582,6 +647,33 @@ impl<'a> Items<'a> {
     pub(super) fn is_empty(&self) -> bool {
         self.entries.is_empty()
     }
+}
+
+/// Whether an item that nothing else uses becomes an entity of its own (or a diagnostic)
+/// in [`Converter::free_item`]: the curves and surfaces (the other items are parts of
+/// them: placements, directions, topology).
+fn stands_alone(record: &R<'_>) -> bool {
+    matches!(
+        record,
+        R::Line { .. }
+            | R::Hyperbola { .. }
+            | R::Parabola { .. }
+            | R::TrimmedCurve { .. }
+            | R::Circle { .. }
+            | R::Ellipse { .. }
+            | R::Polyline { .. }
+            | R::CompositeCurve { .. }
+            | R::SurfaceCurve { .. }
+            | R::Plane { .. }
+            | R::CylindricalSurface { .. }
+            | R::ConicalSurface { .. }
+            | R::SphericalSurface { .. }
+            | R::ToroidalSurface { .. }
+            | R::SurfaceOfRevolution { .. }
+            | R::SurfaceOfLinearExtrusion { .. }
+            | R::RectangularTrimmedSurface { .. }
+            | R::Offset { .. }
+    )
 }
 
 /// One converted entity with the byte offset of its instance (for file order).
@@ -604,6 +696,45 @@ pub(super) struct Converter<'m, 's, 'a> {
     pub bspline: &'m (dyn Fn(&RawInstance<'a>) -> Result<Option<Entity>, Diagnostic> + Sync),
     /// Warnings found while converting (parallel workers push here).
     pub warnings: std::sync::Mutex<Vec<Diagnostic>>,
+    /// The points the conversion reads, read once ([`Converter::run`] fills it).
+    points: std::sync::OnceLock<Points>,
+}
+
+/// The CARTESIAN_POINTs that placements, vertices and the 3-D lines of edges name, read
+/// once each, in id order (file order, as the text lies), their coordinates as written
+/// (unscaled): [`Converter::point`] finds them here instead of reading each one's text
+/// wherever it is used (a vertex's point once per edge end and again for the topology),
+/// by then long out of the cache. A point that does not read is not held: its users read
+/// it themselves and report what is wrong.
+#[derive(Default)]
+pub(super) struct Points {
+    /// `(id, coordinates)`, ids ascending and unique.
+    read: Vec<(u64, Point3)>,
+}
+
+impl Points {
+    /// The points `#id` of `ids` (any order, repeats allowed) of `s`.
+    fn read(s: &Scanned<'_>, mut ids: Vec<u64>) -> Self {
+        use rayon::prelude::*;
+        ids.sort_unstable();
+        ids.dedup();
+        let read: Vec<Option<(u64, Point3)>> = ids
+            .par_iter()
+            .map(|&id| {
+                let raw = s.get(id)?;
+                s.cartesian_point(raw).ok().map(|(c, _)| (id, c))
+            })
+            .collect();
+        Points {
+            read: read.into_iter().flatten().collect(),
+        }
+    }
+
+    /// The coordinates of point `#id`, when held.
+    fn get(&self, id: u64) -> Option<Point3> {
+        let k = self.read.binary_search_by_key(&id, |(i, _)| *i).ok()?;
+        self.read.get(k).map(|(_, c)| *c)
+    }
 }
 
 /// The file's units as the conversion applies them (see [`Converter`]'s fields).
@@ -630,7 +761,22 @@ impl<'m, 's, 'a> Converter<'m, 's, 'a> {
             uncertainty: units.uncertainty,
             bspline,
             warnings: std::sync::Mutex::new(Vec::new()),
+            points: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The points this converter read ([`Converter::run`]), for a converter of the same
+    /// file after it ([`Converter::with_points`]).
+    pub(super) fn into_points(self) -> Option<Points> {
+        self.points.into_inner()
+    }
+
+    /// This converter with the points an earlier one of the same file read.
+    pub(super) fn with_points(self, points: Option<Points>) -> Self {
+        if let Some(p) = points {
+            let _ = self.points.set(p);
+        }
+        self
     }
 }
 
@@ -647,6 +793,9 @@ pub(super) struct Output {
     /// The converted EDGE_CURVEs with their instance ids, in item order (for the topology,
     /// which builds them in that order).
     pub edges: Vec<(u64, EdgeOut)>,
+    /// Every EDGE_CURVE item's id, converted or not, in item order (the topology reads their
+    /// pcurves: `topology::edge_pcurve_curves`).
+    pub edge_items: Vec<u64>,
     /// The closed-form inverses of the face surfaces that are quadrics, by surface instance
     /// id (for the pcurves of the topology).
     pub quadric_maps: HashMap<u64, QuadricMap>,
@@ -733,6 +882,9 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     pub(super) fn point(&self, id: u64, from: u64) -> Res<Point3> {
+        if let Some(c) = self.points.get().and_then(|p| p.get(id)) {
+            return Ok(mul(c, self.scale));
+        }
         let raw = self
             .s
             .get(id)
@@ -1479,6 +1631,15 @@ impl<T> Default for ByInstance<T> {
 }
 
 impl<T> ByInstance<T> {
+    /// An empty one with room for `n` values (no growth, which moves every value, while
+    /// at most `n` are added).
+    pub(super) fn with_capacity(n: usize) -> Self {
+        ByInstance {
+            list: Vec::with_capacity(n),
+            at: HashMap::with_capacity_and_hasher(n, Default::default()),
+        }
+    }
+
     /// Adds the value of `#id`; the first one added for an id stays.
     pub(super) fn push(&mut self, id: u64, value: T) {
         if let std::collections::hash_map::Entry::Vacant(v) = self.at.entry(id) {
@@ -1850,8 +2011,9 @@ fn face_box(basis: &SurfaceBasis, poles: &[Point3], full_turn: bool, sizes: f64)
 
 impl<'a> Converter<'_, '_, 'a> {
     /// Converts every curve and surface item of the file into entities (see the module
-    /// documentation for what is emitted where).
-    pub(super) fn run(&self) -> Output {
+    /// documentation for what is emitted where). The entities have room for `extra` more
+    /// (the B-splines the reader adds after them).
+    pub(super) fn run(&self, extra: usize) -> Output {
         use rayon::prelude::*;
         let mut out = Output::default();
         // Uses: which items are parts of other ones, a flag per item by its position in
@@ -1865,8 +2027,51 @@ impl<'a> Converter<'_, '_, 'a> {
         let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::default();
         let mut pcurve_items: Vec<u64> = Vec::new();
         let mut edges: Vec<u64> = Vec::new();
-        for (id, item) in self.items.iter() {
-            match &item.record {
+        // A curve or surface built on itself (directly or through others) would be
+        // consumed and never converted: such reference cycles are reported (the ones through
+        // trimmed, composite and rectangular trimmed entities, followed by the scanner's
+        // iterative search; a surface curve on itself is a self-reference, converted and
+        // refused by the nesting limit). The same pass over the items (each is a pass over
+        // the read's largest structure) lists those and the curves and surfaces that may
+        // stand alone, with their positions (converted below unless used by others) and
+        // whether they are built on themselves.
+        let mut builders: Vec<u64> = Vec::new();
+        let mut alone: Vec<(usize, u64, bool)> = Vec::new();
+        // The points read below ([`Points`]), and the curves of edges (whose lines' points
+        // are too).
+        let mut points: Vec<u64> = Vec::new();
+        let mut edge_curves: Vec<u64> = Vec::new();
+        for (k, (id, item)) in self.items.iter().enumerate() {
+            let record = &item.record;
+            match record {
+                R::VertexPoint { vertex_geometry: p }
+                | R::Axis2Placement3d { location: p, .. }
+                | R::Axis1Placement { location: p, .. } => points.push(*p),
+                R::SurfaceCurve { curve_3d: c, .. }
+                | R::EdgeCurve {
+                    edge_geometry: c, ..
+                } => {
+                    edge_curves.push(*c);
+                }
+                _ => {}
+            }
+            if matches!(
+                record,
+                R::TrimmedCurve { .. }
+                    | R::CompositeCurve { .. }
+                    | R::CompositeCurveSegment { .. }
+                    | R::RectangularTrimmedSurface { .. }
+            ) {
+                builders.push(id);
+            }
+            if stands_alone(record) {
+                let on_itself = matches!(
+                    record,
+                    R::TrimmedCurve { basis_curve: b, .. } | R::SurfaceCurve { curve_3d: b, .. } if *b == id
+                );
+                alone.push((k, id, on_itself));
+            }
+            match record {
                 R::TrimmedCurve { basis_curve, .. } => {
                     consume(*basis_curve);
                     out.consumed_bsplines.insert(*basis_curve);
@@ -1909,33 +2114,24 @@ impl<'a> Converter<'_, '_, 'a> {
                 _ => {}
             }
         }
-        // A curve or surface built on itself (directly or through others) would be
-        // consumed and never converted: such reference cycles are reported (the ones through
-        // trimmed, composite and rectangular trimmed entities, followed by the scanner's
-        // iterative search; a surface curve on itself is a self-reference, converted and
-        // refused by the nesting limit).
-        for ((id, item), c) in self.items.iter().zip(consumed.iter_mut()) {
-            if matches!(
-                &item.record,
-                R::TrimmedCurve { basis_curve: b, .. } | R::SurfaceCurve { curve_3d: b, .. } if *b == id
-            ) {
-                *c = false;
-            }
+        points.extend(edge_curves.iter().filter_map(|c| match self.items.get(c) {
+            Some(Kept {
+                record: R::Line { pnt, .. },
+                ..
+            }) => Some(*pnt),
+            _ => None,
+        }));
+        drop(edge_curves);
+        // Set once, here, before any point is read (unless given: `with_points`).
+        if self.points.get().is_none() {
+            let _ = self.points.set(Points::read(self.s, points));
         }
-        let builders: Vec<u64> = self
-            .items
-            .iter()
-            .filter(|(_, item)| {
-                matches!(
-                    item.record,
-                    R::TrimmedCurve { .. }
-                        | R::CompositeCurve { .. }
-                        | R::CompositeCurveSegment { .. }
-                        | R::RectangularTrimmedSurface { .. }
-                )
-            })
-            .map(|(id, _)| id)
+        let jobs: Vec<u64> = alone
+            .into_iter()
+            .filter(|&(k, _, on_itself)| on_itself || !consumed.get(k).copied().unwrap_or(false))
+            .map(|(_, id, _)| id)
             .collect();
+        drop(consumed);
         for e in self.s.find_cycles(builders) {
             out.diagnostics.push(Diagnostic::error(
                 "step.reference_cycle",
@@ -1955,8 +2151,15 @@ impl<'a> Converter<'_, '_, 'a> {
         // Edges, in parallel (each independent), kept for the faces' boxes.
         let edge_results: Vec<(u64, Res<EdgeOut>)> =
             edges.par_iter().map(|&e| (e, self.edge(e))).collect();
-        let mut edge_list: ByInstance<EdgeOut> = ByInstance::default();
-        let mut uses: HashMap<u64, usize> = HashMap::default();
+        // Room for everything this run may add (an entity per edge, free item and face
+        // surface, and `extra` more for the caller), so that no growth copies the entities
+        // (a few hundred bytes each) or rehashes.
+        out.entities
+            .reserve_exact(edges.len() + jobs.len() + faces_of.len() + extra);
+        out.quadric_maps.reserve(faces_of.len());
+        let mut edge_list: ByInstance<EdgeOut> = ByInstance::with_capacity(edges.len());
+        let mut uses: HashMap<u64, usize> =
+            HashMap::with_capacity_and_hasher(edges.len(), Default::default());
         for (e, r) in edge_results {
             match r {
                 Ok(mut o) => {
@@ -1986,14 +2189,6 @@ impl<'a> Converter<'_, '_, 'a> {
         }
 
         // Free-standing curves and every surface, in parallel.
-        let jobs: Vec<u64> = self
-            .items
-            .keys()
-            .zip(&consumed)
-            .filter(|&(_, c)| !c)
-            .map(|(id, _)| *id)
-            .collect();
-        drop(consumed);
         // Only what produced something is kept: most items are parts of others (points,
         // placements, topology), and a slot for each would be the read's peak of memory.
         let results: Vec<(Option<Placed>, Option<Diagnostic>)> = jobs
@@ -2028,6 +2223,7 @@ impl<'a> Converter<'_, '_, 'a> {
             out.diagnostics.append(&mut w);
         }
         out.edges = edge_list.into_list();
+        out.edge_items = edges;
         // Parameter-space curves of analytic type are not converted: said once when the
         // topology is not read (see `Output::analytic_pcurves`).
         let analytic: Vec<u64> = pcurve_items
@@ -2067,7 +2263,7 @@ impl<'a> Converter<'_, '_, 'a> {
         id: u64,
         faces_of: &HashMap<u64, Vec<u64>>,
     ) -> (Option<Placed>, Option<Diagnostic>) {
-        let Some(item) = self.items.get(&id) else {
+        let Some(item) = self.items.get(&id).filter(|i| stands_alone(&i.record)) else {
             return (None, None);
         };
         // Most items produce nothing here (they are parts of others): the label is made
@@ -2290,7 +2486,7 @@ mod tests {
             assert_eq!(items.is_empty(), ids.is_empty());
             let mut sorted = ids.clone();
             sorted.sort_unstable();
-            assert_eq!(items.keys().copied().collect::<Vec<_>>(), sorted);
+            assert_eq!(items.iter().map(|(id, _)| id).collect::<Vec<_>>(), sorted);
             for &id in &ids {
                 let found = items.get(&id).map(|i| &i.record);
                 assert_eq!(
@@ -2313,7 +2509,7 @@ mod tests {
             items.retain(|id, _| kept(id));
             let expect: Vec<u64> = sorted.iter().copied().filter(|&i| kept(i)).collect();
             assert!(!expect.is_empty() && expect.len() < sorted.len());
-            assert_eq!(items.keys().copied().collect::<Vec<_>>(), expect);
+            assert_eq!(items.iter().map(|(id, _)| id).collect::<Vec<_>>(), expect);
             for &id in &ids {
                 let found = items.get(&id).map(|i| &i.record);
                 let record = R::Direction {

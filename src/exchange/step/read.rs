@@ -219,24 +219,18 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // below).
     drop(geometry_candidates);
     cancel.stop_read()?;
-    // Collected in place (the standard library reuses `decoded`'s buffer, then fits it):
-    // a second vector of every item beside it was the read's peak of memory.
-    let mut kept: Vec<(u64, Kept<'_>)> = decoded
-        .into_iter()
-        .filter_map(|(id, r)| match r {
-            Ok(Some(item)) => Some((id, item)),
-            Ok(None) => None,
-            Err(e) => {
-                doc.diagnostics.push(match *e {
-                    DecodeError::Syntax(e) => parse_diagnostic(&e),
-                    DecodeError::Schema(e) => schema_diagnostic(&e),
-                });
-                None
-            }
-        })
-        .collect();
-    kept.shrink_to_fit();
-    let mut items = Items::new(kept);
+    // Gathered in place (the standard library reuses `decoded`'s buffer, then fits it): a
+    // second vector of every item beside it was the read's peak of memory.
+    let mut items = Items::gather(decoded, |r| match r {
+        Ok(item) => item,
+        Err(e) => {
+            doc.diagnostics.push(match *e {
+                DecodeError::Syntax(e) => parse_diagnostic(&e),
+                DecodeError::Schema(e) => schema_diagnostic(&e),
+            });
+            None
+        }
+    });
     let radians = if items.is_empty() {
         1.0
     } else {
@@ -279,7 +273,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         radians,
         uncertainty,
     };
-    let mut converted = Converter::new(&scanned, &items, units, &bspline).run();
+    let converter = Converter::new(&scanned, &items, units, &bspline);
+    let mut converted = converter.run(candidates.len());
+    // Read once by the conversion, for the topology's vertices.
+    let points = converter.into_points();
     cancel.stop_read()?;
     let edges = std::mem::take(&mut converted.edges);
     let quadric_maps = std::mem::take(&mut converted.quadric_maps);
@@ -299,7 +296,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     let edge_pcurves = if options.geometry_only {
         Vec::new()
     } else {
-        super::topology::edge_pcurve_curves(&items)
+        super::topology::edge_pcurve_curves(&items, &std::mem::take(&mut converted.edge_items))
     };
     // The curves and surfaces are converted: what the topology and the product structure
     // read is kept, the rest of the decoded items freed before the read's peak of memory
@@ -447,7 +444,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
                 Location::default(),
             ))
         };
-        let converter = Converter::new(&scanned, &items, units, &no_bspline);
+        let converter = Converter::new(&scanned, &items, units, &no_bspline).with_points(points);
         let built = super::topology::build(
             &converter,
             edges,
