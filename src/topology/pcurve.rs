@@ -1222,6 +1222,55 @@ mod tests {
         }
     }
 
+    /// An edge that is a boundary row of the net (a cylinder's bottom parallel, either way
+    /// round) gets its iso line with a deviation bound taken from the row itself, which
+    /// covers what dense evaluation finds; the row with one pole moved by 1e-7 is refused.
+    #[test]
+    fn a_boundary_row_is_bounded_from_the_net() {
+        let (cyl, map) =
+            cylinder(&frame(), 2.0, (0.0, 2.0 * std::f64::consts::PI), (0.0, 4.0)).unwrap();
+        let size = bounding_box_diagonal(cyl.control_points().as_slice());
+        let ((_, _), (v0, _)) = cyl.domain();
+        let row = cyl.iso_v(v0).unwrap();
+        for edge in [row.clone(), row.reverse().unwrap()] {
+            let found = boundary_row(&cyl, &edge, edge.domain(), size).expect("a boundary row");
+            assert!(matches!(found.along, Along::Bound(Some(_))));
+            let p = exact_pcurve(&cyl, Some(&map), &edge, edge.domain(), 1e-9).expect("exact");
+            assert_eq!(p.method, PcurveMethod::Iso);
+            let (a, b) = edge.domain();
+            let mut worst: f64 = 0.0;
+            for k in 0..=1000 {
+                let t = a + (b - a) * k as f64 / 1000.0;
+                worst = worst.max(dist(
+                    on_surface(&cyl, &p.curve, t),
+                    edge.point_at_unchecked(t),
+                ));
+            }
+            assert!(worst <= p.deviation, "{worst:e} {:e}", p.deviation);
+            assert!(p.deviation <= EXACT * size, "{:e}", p.deviation);
+        }
+        let mut poles = row.control_points().to_vec();
+        poles[3][0] += 1e-7;
+        let moved = NurbsCurve::new(
+            row.degree(),
+            row.knots().to_vec(),
+            poles,
+            row.weights().map(<[f64]>::to_vec),
+        )
+        .unwrap();
+        assert!(exact_pcurve(&cyl, Some(&map), &moved, moved.domain(), 1e-9).is_none());
+        // The bound of the moved row against the row covers their distance found densely.
+        let (kr, pr) = (row.knots(), row.control_points());
+        let bound = matched_bound(&moved, |k| kr[k], |i| (&pr[i], row.weight(i))).expect("bound");
+        let (a, b) = row.domain();
+        let mut worst: f64 = 0.0;
+        for k in 0..=1000 {
+            let t = a + (b - a) * k as f64 / 1000.0;
+            worst = worst.max(dist(moved.point_at_unchecked(t), row.point_at_unchecked(t)));
+        }
+        assert!(worst > 1e-9 && worst <= bound, "{worst:e} {bound:e}");
+    }
+
     /// Generators and parallels of a cylinder get exact iso lines, the same whether the
     /// edge's points are located by point inversion or by the cylinder's closed-form map.
     #[test]

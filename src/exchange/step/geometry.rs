@@ -488,8 +488,8 @@ impl<'a> Items<'a> {
         list: Vec<(u64, T)>,
         mut item: impl FnMut(T) -> Option<Kept<'a>>,
     ) -> Self {
-        // Ids above this make the table too sparse whatever is kept (`Items::slots`); the
-        // table is not grown past it.
+        // Ids above this make the table too sparse whatever is kept
+        // (`Items::dense_table`); the table is not grown past it.
         let limit = list.len().saturating_mul(4).saturating_add(1024);
         let hint = list
             .last()
@@ -537,13 +537,7 @@ impl<'a> Items<'a> {
             let slots = Self::slots(&entries);
             return Items { entries, slots };
         }
-        // The same density rule as `Items::slots`, on the items kept.
-        let max = entries.last().map_or(0, |(id, _)| *id);
-        let fits = usize::try_from(max).is_ok_and(|m| {
-            m <= entries.len().saturating_mul(4).saturating_add(1024)
-                && u32::try_from(entries.len()).is_ok()
-        });
-        if dense && fits {
+        if dense && Self::dense_table(&entries).is_some() {
             slots.shrink_to_fit();
         } else {
             slots = Vec::new();
@@ -551,16 +545,22 @@ impl<'a> Items<'a> {
         Items { entries, slots }
     }
 
+    /// The largest id of `entries` (sorted by id) when the ids are dense enough for a slot
+    /// table: the largest at most four times their count (plus 1024), the positions within
+    /// a `u32`. `None` when lookups should search instead.
+    fn dense_table(entries: &[(u64, Kept<'a>)]) -> Option<usize> {
+        let max = entries.last().map_or(0, |(id, _)| *id);
+        usize::try_from(max).ok().filter(|&m| {
+            m <= entries.len().saturating_mul(4).saturating_add(1024)
+                && u32::try_from(entries.len()).is_ok()
+        })
+    }
+
     /// The dense id -> entry index of `entries` (sorted by id), or none when the ids are
     /// too sparse for one (lookups then search).
     fn slots(entries: &[(u64, Kept<'a>)]) -> Vec<u32> {
-        let max = entries.last().map_or(0, |(id, _)| *id);
-        let dense = usize::try_from(max).ok().filter(|&m| {
-            m <= entries.len().saturating_mul(4).saturating_add(1024)
-                && u32::try_from(entries.len()).is_ok()
-        });
         let mut slots = Vec::new();
-        if let Some(m) = dense {
+        if let Some(m) = Self::dense_table(entries) {
             slots = vec![Self::NONE; m + 1];
             for (k, (id, _)) in entries.iter().enumerate() {
                 if let (Some(cell), Ok(k)) = (
@@ -2529,6 +2529,58 @@ mod tests {
             );
         }
         assert!(Items::new(Vec::new()).is_empty());
+    }
+
+    /// Gathering ids in file order (ascending, with a repeated id and gaps, some refused)
+    /// in its one pass gives the items and the slot table that sorting the same items and
+    /// building the table from them give; the first of a repeated id stays.
+    #[test]
+    fn gathering_in_order_equals_sorting() {
+        let ids: Vec<u64> = vec![2, 3, 3, 7, 8, 20, 21, 22, 40, 41, 90];
+        let refused = |id: u64| id == 8 || id == 40;
+        let list: Vec<(u64, (u64, usize))> = ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id, (id, k)))
+            .collect();
+        // Each item records its position in the list (the ratio), to tell repeats apart.
+        let make = |(id, k): (u64, usize)| {
+            (!refused(id)).then(|| Kept {
+                entity: GeometryEntity::named("DIRECTION").expect("a geometry entity"),
+                record: R::Direction {
+                    direction_ratios: Ratios::new(&[k as f64]).expect("one ratio"),
+                },
+                plain: true,
+                line: 0,
+            })
+        };
+        // The sorting construction: the items made, sorted stably by id, the first of a
+        // repeated id kept, and their table.
+        let mut sorted: Vec<(u64, Kept<'static>)> = list
+            .iter()
+            .filter_map(|&(id, x)| make(x).map(|k| (id, k)))
+            .collect();
+        sorted.sort_by_key(|(id, _)| *id);
+        sorted.dedup_by_key(|(id, _)| *id);
+        let gathered = Items::gather(list, make);
+        assert!(!gathered.slots.is_empty());
+        assert_eq!(gathered.slots, Items::slots(&sorted));
+        assert_eq!(gathered.entries, sorted);
+        let expect: Vec<u64> = vec![2, 3, 7, 20, 21, 22, 41, 90];
+        assert_eq!(
+            gathered.iter().map(|(id, _)| id).collect::<Vec<_>>(),
+            expect
+        );
+        // #3 is the first of the two (list position 1).
+        assert_eq!(
+            gathered.get(&3).map(|i| &i.record),
+            Some(&R::Direction {
+                direction_ratios: Ratios::new(&[1.0]).expect("one ratio")
+            })
+        );
+        for id in 0..=100 {
+            assert_eq!(gathered.contains_key(&id), expect.contains(&id), "#{id}");
+        }
     }
 
     /// An item with its id stays within 64 bytes: the items are the read's largest
