@@ -507,10 +507,12 @@ impl GeometryEntity {
             }
             table
         });
+        // The first byte before the whole text: most names of one length differ there.
+        let first = name.as_bytes().first();
         table
             .get(name.len())?
             .iter()
-            .find(|(e, _)| *e == name)
+            .find(|(e, _)| e.as_bytes().first() == first && *e == name)
             .map(|&(_, g)| g)
     }
 

@@ -418,8 +418,11 @@ pub(super) struct Kept<'a> {
 impl<'a> Kept<'a> {
     /// The item of `item`, whose instance is at `offset` of the text `s` indexes.
     pub(super) fn new(item: GeometryItem<'a>, s: &Scanned<'_>, offset: usize) -> Self {
-        let plain = item.name.as_ref().is_none_or(|n| n.raw.is_empty())
-            && item.entity_type == item.entity.name();
+        // The decoders name a simple instance's type by the table's own text: the same
+        // text is the same type without comparing it (a `memcmp` per item otherwise).
+        let name = item.entity.name();
+        let same_type = std::ptr::eq(item.entity_type.as_ref(), name) || item.entity_type == name;
+        let plain = item.name.as_ref().is_none_or(|n| n.raw.is_empty()) && same_type;
         // Placements, directions, oriented edges, loops, bounds, pcurves and surface curves
         // (an edge's entity is its 3-D curve) become no entity or origin of their own: their
         // line is not looked up.
@@ -674,6 +677,60 @@ fn stands_alone(record: &R<'_>) -> bool {
             | R::RectangularTrimmedSurface { .. }
             | R::Offset { .. }
     )
+}
+
+/// The faces of each surface that faces use: the surfaces ascending, each with its faces in
+/// item order, in three lists (a hash table of a vector per surface was an allocation and
+/// a hashing per face surface).
+struct FacesOf {
+    /// The surfaces, ascending and unique.
+    surfaces: Vec<u64>,
+    /// Where each surface's faces start in `faces` (one more entry: the end).
+    starts: Vec<usize>,
+    /// The faces, grouped by surface.
+    faces: Vec<u64>,
+}
+
+impl FacesOf {
+    /// From `(surface, face)` pairs in item order.
+    fn new(mut pairs: Vec<(u64, u64)>) -> Self {
+        // Stable: each surface's faces stay in item order.
+        pairs.sort_by_key(|&(surface, _)| surface);
+        let mut surfaces = Vec::new();
+        let mut starts = Vec::new();
+        let mut at = 0;
+        for run in pairs.chunk_by(|a, b| a.0 == b.0) {
+            if let Some(&(surface, _)) = run.first() {
+                surfaces.push(surface);
+                starts.push(at);
+            }
+            at += run.len();
+        }
+        starts.push(pairs.len());
+        FacesOf {
+            surfaces,
+            starts,
+            faces: pairs.into_iter().map(|(_, face)| face).collect(),
+        }
+    }
+
+    /// The faces of the `k`-th surface.
+    fn faces(&self, k: usize) -> &[u64] {
+        match (self.starts.get(k), self.starts.get(k + 1)) {
+            (Some(&a), Some(&b)) => self.faces.get(a..b).unwrap_or_default(),
+            _ => &[],
+        }
+    }
+
+    /// Whether faces use surface `#id`.
+    fn contains(&self, id: u64) -> bool {
+        self.surfaces.binary_search(&id).is_ok()
+    }
+
+    /// The number of surfaces.
+    fn len(&self) -> usize {
+        self.surfaces.len()
+    }
 }
 
 /// One converted entity with the byte offset of its instance (for file order).
@@ -2024,7 +2081,8 @@ impl<'a> Converter<'_, '_, 'a> {
                 *c = true;
             }
         };
-        let mut faces_of: HashMap<u64, Vec<u64>> = HashMap::default();
+        // (surface, face) of every FACE_SURFACE, grouped by surface after the pass.
+        let mut face_pairs: Vec<(u64, u64)> = Vec::new();
         let mut pcurve_items: Vec<u64> = Vec::new();
         let mut edges: Vec<u64> = Vec::new();
         // A curve or surface built on itself (directly or through others) would be
@@ -2109,7 +2167,7 @@ impl<'a> Converter<'_, '_, 'a> {
                 }
                 R::FaceSurface { face_geometry, .. } => {
                     consume(*face_geometry);
-                    faces_of.entry(*face_geometry).or_default().push(id);
+                    face_pairs.push((*face_geometry, id));
                 }
                 _ => {}
             }
@@ -2126,6 +2184,7 @@ impl<'a> Converter<'_, '_, 'a> {
         if self.points.get().is_none() {
             let _ = self.points.set(Points::read(self.s, points));
         }
+        let faces_of = FacesOf::new(face_pairs);
         let jobs: Vec<u64> = alone
             .into_iter()
             .filter(|&(k, _, on_itself)| on_itself || !consumed.get(k).copied().unwrap_or(false))
@@ -2203,11 +2262,11 @@ impl<'a> Converter<'_, '_, 'a> {
             out.diagnostics.extend(d);
         }
         // Surfaces used by faces are consumed above but converted here, bounded by them.
-        let mut face_surfaces: Vec<u64> = faces_of.keys().copied().collect();
-        face_surfaces.sort_unstable();
-        let results: Vec<(u64, Res<Option<FaceSurface>>)> = face_surfaces
+        let results: Vec<(u64, Res<Option<FaceSurface>>)> = faces_of
+            .surfaces
             .par_iter()
-            .map(|&sid| (sid, self.face_surface(sid, &faces_of[&sid], &edge_list)))
+            .enumerate()
+            .map(|(k, &sid)| (sid, self.face_surface(sid, faces_of.faces(k), &edge_list)))
             .collect();
         for (sid, r) in results {
             match r {
@@ -2258,11 +2317,7 @@ impl<'a> Converter<'_, '_, 'a> {
     }
 
     /// A curve or surface item that nothing else uses.
-    fn free_item(
-        &self,
-        id: u64,
-        faces_of: &HashMap<u64, Vec<u64>>,
-    ) -> (Option<Placed>, Option<Diagnostic>) {
+    fn free_item(&self, id: u64, faces_of: &FacesOf) -> (Option<Placed>, Option<Diagnostic>) {
         let Some(item) = self.items.get(&id).filter(|i| stands_alone(&i.record)) else {
             return (None, None);
         };
@@ -2326,7 +2381,7 @@ impl<'a> Converter<'_, '_, 'a> {
             | R::SurfaceOfRevolution { .. }
             | R::SurfaceOfLinearExtrusion { .. }
             | R::RectangularTrimmedSurface { .. } => {
-                if faces_of.contains_key(&id) {
+                if faces_of.contains(id) {
                     return (None, None);
                 }
                 let r = if let R::RectangularTrimmedSurface { .. } = item.record {
