@@ -118,8 +118,8 @@ pub(super) fn reads(record: &R<'_>) -> bool {
 }
 
 /// `(EDGE_CURVE, 2-D curve)` instance pairs of the EDGE_CURVEs `edges` (ascending), in
-/// their order: the 2-D curves of each edge's PCURVEs (ISO 10303-42 surface_curve -> pcurve -> definitional_representation), in
-/// the order the file lists them. Read before the surface curves, pcurves and their
+/// their order: the 2-D curves of each edge's PCURVEs (ISO 10303-42 surface_curve ->
+/// pcurve -> definitional_representation), in the order the file lists them. Read before the surface curves, pcurves and their
 /// representations are freed ([`reads`]): the topology needs nothing else of them (it
 /// recomputes the pcurves on its NURBS surfaces), and a pair is a fraction of their items.
 pub(super) fn edge_pcurve_curves(items: &Items<'_>, edges: &[u64]) -> Vec<(u64, u64)> {
