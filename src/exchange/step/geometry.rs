@@ -655,7 +655,7 @@ impl<'a> Items<'a> {
 /// Whether an item that nothing else uses becomes an entity of its own (or a diagnostic)
 /// in [`Converter::free_item`]: the curves and surfaces (the other items are parts of
 /// them: placements, directions, topology).
-fn stands_alone(record: &R<'_>) -> bool {
+pub(super) fn stands_alone(record: &R<'_>) -> bool {
     matches!(
         record,
         R::Line { .. }

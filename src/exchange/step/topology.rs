@@ -86,42 +86,26 @@ pub(super) fn count(conv: &Converter<'_, '_, '_>) -> Counts {
 /// whose NURBS are the entities now (the few placements the product structure reads as
 /// frames are kept by the reader, `assembly::frame_items`). Any kind not listed stays.
 pub(super) fn reads(record: &R<'_>) -> bool {
-    !matches!(
-        record,
-        R::Direction { .. }
-            | R::Vector { .. }
-            | R::Axis1Placement { .. }
-            | R::Axis2Placement2d { .. }
-            | R::Axis2Placement3d { .. }
-            | R::Line { .. }
-            | R::Circle { .. }
-            | R::Ellipse { .. }
-            | R::Hyperbola { .. }
-            | R::Parabola { .. }
-            | R::Polyline { .. }
-            | R::TrimmedCurve { .. }
-            | R::CompositeCurve { .. }
-            | R::CompositeCurveSegment { .. }
-            | R::Plane { .. }
-            | R::CylindricalSurface { .. }
-            | R::ConicalSurface { .. }
-            | R::SphericalSurface { .. }
-            | R::ToroidalSurface { .. }
-            | R::SurfaceOfLinearExtrusion { .. }
-            | R::SurfaceOfRevolution { .. }
-            | R::RectangularTrimmedSurface { .. }
-            | R::Offset { .. }
-            | R::SurfaceCurve { .. }
-            | R::Pcurve { .. }
-            | R::DefinitionalRepresentation { .. }
-    )
+    !(super::geometry::stands_alone(record)
+        || matches!(
+            record,
+            R::Direction { .. }
+                | R::Vector { .. }
+                | R::Axis1Placement { .. }
+                | R::Axis2Placement2d { .. }
+                | R::Axis2Placement3d { .. }
+                | R::CompositeCurveSegment { .. }
+                | R::Pcurve { .. }
+                | R::DefinitionalRepresentation { .. }
+        ))
 }
 
 /// `(EDGE_CURVE, 2-D curve)` instance pairs of the EDGE_CURVEs `edges` (ascending), in
 /// their order: the 2-D curves of each edge's PCURVEs (ISO 10303-42 surface_curve ->
-/// pcurve -> definitional_representation), in the order the file lists them. Read before the surface curves, pcurves and their
-/// representations are freed ([`reads`]): the topology needs nothing else of them (it
-/// recomputes the pcurves on its NURBS surfaces), and a pair is a fraction of their items.
+/// pcurve -> definitional_representation), in the order the file lists them. Read before
+/// the surface curves, pcurves and their representations are freed ([`reads`]): the
+/// topology needs nothing else of them (it recomputes the pcurves on its NURBS surfaces),
+/// and a pair is a fraction of their items.
 pub(super) fn edge_pcurve_curves(items: &Items<'_>, edges: &[u64]) -> Vec<(u64, u64)> {
     let mut out = Vec::new();
     for &edge in edges {
