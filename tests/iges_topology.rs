@@ -885,3 +885,69 @@ fn pointers_of_arrays_instances_and_templates_are_checked() {
         at(missing412)[0].message
     );
 }
+
+/// The curves and surfaces of a document, by dimension: (3-D curves, 2-D curves, surfaces).
+fn kinds(doc: &Document) -> (usize, usize, usize) {
+    let (mut c3, mut c2, mut s) = (0, 0, 0);
+    for e in &doc.entities {
+        match &e.geometry {
+            nurbsx::nurbs::Geometry::Curve(c) if c.dimension() == 2 => c2 += 1,
+            nurbsx::nurbs::Geometry::Curve(_) => c3 += 1,
+            nurbsx::nurbs::Geometry::Surface(_) => s += 1,
+        }
+    }
+    (c3, c2, s)
+}
+
+/// FreeCAD's 144 export of the filleted box gives each face its own boundary curves (two
+/// per edge) and, in parameter space, B(t) curves; nurbsx sews the faces into the solid.
+/// The boundary curves of the edges sewing merged into their twins, and the parameter-space
+/// curves the coedges carry, are not loose geometry: the part reads as FreeCAD's STEP export
+/// of the same box does (its 26 faces' surfaces and 48 edges' curves, nothing else), its
+/// STEP output holds no loose curve set and no 2-D representation, and IGES -> IGES keeps
+/// it so. `validate` (the conformance reading) still reads every curve of the file: the
+/// file's 192 126 entities and 26 128s, counted from its Directory Entry section.
+#[test]
+fn sewn_faces_carry_their_boundary_and_parameter_curves() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad");
+    let igs = std::fs::read_to_string(root.join("brep_filleted_box_nurbs.igs")).unwrap();
+    let step = std::fs::read(root.join("brep_filleted_box_nurbs.step")).unwrap();
+    let doc = read_text(&igs);
+    let twin = exchange::read(&step, &ImportOptions::default()).unwrap();
+    assert_eq!(kinds(&twin), (48, 0, 26), "the STEP export of the same box");
+    assert_eq!(kinds(&doc), kinds(&twin));
+    let m = &doc.topology.model;
+    assert_eq!((m.solids.len(), m.faces.len(), m.edges.len()), (1, 26, 48));
+    let options = ExportOptions {
+        timestamp: Some("2026-01-01T00:00:00".into()),
+        ..ExportOptions::default()
+    };
+    let text = exchange::step::write(&doc, &options).unwrap();
+    assert!(
+        !text.contains("GEOMETRIC_CURVE_SET"),
+        "loose curves written"
+    );
+    assert!(!text.contains("'2D curves'"), "loose 2-D curves written");
+    let back = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(kinds(&back), (48, 0, 26));
+    let again = read_text(&exchange::iges::write(&doc, &options).unwrap());
+    assert_eq!(kinds(&again), (48, 0, 26));
+    assert_eq!(again.topology.model.solids.len(), 1);
+    // Every curve and surface of the file, by the types of its Directory Entries (the odd
+    // lines of the D section; the type in columns 1-8).
+    let types: Vec<i64> = igs
+        .lines()
+        .filter(|l| l.len() >= 80 && &l[72..73] == "D")
+        .step_by(2)
+        .map(|l| l[0..8].trim().parse().unwrap())
+        .collect();
+    let count = |t: i64| types.iter().filter(|&&x| x == t).count();
+    assert_eq!((count(126), count(128)), (192, 26));
+    let conformance = ImportOptions {
+        conformance: true,
+        ..ImportOptions::default()
+    };
+    let all = exchange::iges::read(&igs, &conformance).unwrap();
+    let (c3, c2, s) = kinds(&all);
+    assert_eq!((c3 + c2, s), (count(126), count(128)));
+}

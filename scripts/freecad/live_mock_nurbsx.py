@@ -4,7 +4,7 @@
 It implements the two commands the live check calls, with nurbsx's interface:
 
     live_mock_nurbsx.py convert S -o OUT --to step|iges
-    live_mock_nurbsx.py info --json OUT
+    live_mock_nurbsx.py info --json [--geometry-only] OUT
 
 "convert" does NOT parse S: it writes the B-spline curves and surfaces of FreeCAD's
 committed reading of S (``S.json`` next to S) as loose geometry, the way nurbsx is specified
@@ -536,6 +536,9 @@ def convert(src, out, fmt):
 def main(argv):
     if len(argv) >= 5 and argv[0] == "convert" and argv[2] == "-o" and argv[4] == "--to":
         return convert(argv[1], argv[3], argv[5] if len(argv) > 5 else "")
+    # `--geometry-only` changes nothing here: the mock's reading is geometry only anyway.
+    if argv[:3] == ["info", "--json", "--geometry-only"]:
+        argv = argv[:2] + argv[3:]
     if len(argv) == 3 and argv[0] == "info" and argv[1] == "--json":
         if os.path.exists(argv[2] + ".mock.json"):  # a file the mock wrote
             with open(argv[2] + ".mock.json", encoding="utf-8") as f:
@@ -555,7 +558,8 @@ def main(argv):
         else:  # a sample: its entities are those of FreeCAD's reading
             json.dump(info_json(read_entities(argv[2]), "?"), sys.stdout)
         return 0
-    print("usage: live_mock_nurbsx.py convert S -o OUT --to step|iges | info --json OUT",
+    print("usage: live_mock_nurbsx.py convert S -o OUT --to step|iges | info --json "
+          "[--geometry-only] OUT",
           file=sys.stderr)
     return 2
 

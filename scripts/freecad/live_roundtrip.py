@@ -681,9 +681,11 @@ def convert(binary, samples, src, fmt, work, what):
     try:
         boundary = iges_boundary_curves(out) if fmt == "iges" else frozenset()
         curves, surfaces, curves2 = expected_from_info(info, fmt, boundary)
-        # nurbsx must write every 3-D curve and surface it reads from S ...
+        # nurbsx must write every 3-D curve and surface it reads from S (in the same reading,
+        # geometry only: a whole-part reading carries sewn twins and pcurves in its edges) ...
         n_out = expected_from_info(info, "step")
-        src_info = json.loads(run_nurbsx([binary, "info", "--json", src], what + " (info S)"))
+        src_info = json.loads(run_nurbsx([binary, "info", "--json", "--geometry-only", src],
+                                         what + " (info S)"))
         n_src = expected_from_info(src_info, "step")
     except (KeyError, IndexError, TypeError, ValueError) as ex:
         raise Failure("%s: cannot read entity list of `nurbsx info --json`: %r" % (what, ex))

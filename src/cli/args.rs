@@ -810,6 +810,10 @@ pub struct InfoArgs {
     /// warning.
     #[arg(long)]
     pub strict: bool,
+    /// Show the reading `convert --geometry-only` makes: every curve and surface of the file
+    /// as loose geometry (faces, edges, shells, solids, placements left out, warned).
+    #[arg(long)]
+    pub geometry_only: bool,
 }
 
 /// Output formats of `validate`.

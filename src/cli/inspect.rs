@@ -30,10 +30,11 @@ pub fn no_bspline_warning(diagnostics: usize) -> Diagnostic {
 /// as a table on stdout (diagnostics on stderr) or as one JSON document (diagnostics inside).
 pub fn info(ctx: &Context, a: InfoArgs) -> Result<Outcome, CliError> {
     let name = display_name(&a.input);
-    let loaded = if a.strict {
-        let mut strict = ctx.clone();
-        strict.settings.strict = true;
-        load_file(&strict, &a.input)?
+    let loaded = if a.strict || a.geometry_only {
+        let mut read = ctx.clone();
+        read.settings.strict |= a.strict;
+        read.settings.import.geometry_only = a.geometry_only;
+        load_file(&read, &a.input)?
     } else {
         load_file(ctx, &a.input)?
     };

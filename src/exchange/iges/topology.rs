@@ -146,7 +146,15 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
     b.report(diags);
     doc.topology = b.topology;
+    let carried = b.carried;
     super::subfigure::apply(cx, &mut doc.topology, diags);
+    // What the model carries without naming it is not an entity of its own (a
+    // parameter-space curve left to no coedge, or whose face was not read, stays one).
+    // The conformance checks of `validate` keep every curve of the file (as the STEP
+    // reader converts every PCURVE curve for them).
+    if !carried.is_empty() && !cx.options.conformance {
+        doc.entities.retain(|e| !carried.contains(&e.id));
+    }
 }
 
 /// Builds the topology of one file.
@@ -175,6 +183,19 @@ struct Builder<'c, 'f, 'a> {
     /// Coedges built, and those left without a pcurve.
     coedges: usize,
     no_pcurve: usize,
+    /// The file's parameter-space curve (B(t) piece, 141 PSCPT, 508 CURV) given for each
+    /// coedge of the face being built, in the order of its loops and coedges.
+    given: Vec<Option<Label>>,
+    /// The curves of the face being built's boundary pieces collapsed to a point (model
+    /// space, and the parameter-space piece given with it): the loop's vertex carries them.
+    collapsed: Vec<Label>,
+    /// The entities the model carries without naming them, which are not entities of
+    /// their own in the document: the parameter-space curves of coedges of faces in the
+    /// model (each such coedge has its pcurve: the given curve on a 128, else computed; as
+    /// a STEP file's PCURVE curves are not entities), the boundary curves of edges that
+    /// sewing merged into others (the same edge within the tolerance), and the boundary
+    /// pieces of those faces collapsed to a point.
+    carried: std::collections::HashSet<Label>,
 }
 
 /// A curve of the document with its DE pointer.
@@ -227,6 +248,9 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             degenerate_pieces: 0,
             coedges: 0,
             no_pcurve: 0,
+            given: Vec::new(),
+            collapsed: Vec::new(),
+            carried: std::collections::HashSet::new(),
         }
     }
 
@@ -278,7 +302,23 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .map(|(x, _)| x)
                 .collect();
         };
+        // The boundary curves of the edges merged into others are those edges' curves
+        // (within the tolerance), not free curves: carried, unless a kept edge names them.
+        let merged: Vec<Label> = o
+            .edges
+            .iter()
+            .zip(&sewing.edge_map)
+            .filter(|(_, m)| m.is_none())
+            .filter_map(|(x, _)| x.entity.clone())
+            .collect();
         keep(&mut o.edges, &sewing.edge_map);
+        let named = o.entity_ids();
+        let merged: Vec<Label> = merged
+            .into_iter()
+            .filter(|id| !named.contains(id.as_str()))
+            .collect();
+        self.carried.extend(merged);
+        let o = &mut self.topology.origins;
         let old = std::mem::take(&mut o.vertices);
         o.vertices = old
             .into_iter()
@@ -750,6 +790,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                         compact_str::format_compact!("D{}", entry.pointer),
                         Some(surface.0),
                     ));
+                    let coedges = loops.iter().flat_map(|l| &l.coedges);
+                    for (c, given) in coedges.zip(std::mem::take(&mut self.given)) {
+                        if let (Some(_), Some(id)) = (&c.pcurve, given) {
+                            self.carried.insert(id);
+                        }
+                    }
+                    self.carried.extend(self.collapsed.drain(..));
                     return Some(f);
                 }
                 Err(TopologyError::PcurveDeviates { index, coedge, .. }) => {
@@ -809,6 +856,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// A 143 Bounded Surface as a face; whether it was built.
     fn face143(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        self.given.clear();
+        self.collapsed.clear();
         let Some(rec) = decoded(self.cx.file.decode::<BoundedSurface143>(entry), diags) else {
             return false;
         };
@@ -894,6 +943,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// A 144 Trimmed Surface as a face; whether it was built.
     fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        self.given.clear();
+        self.collapsed.clear();
         let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
             return false;
         };
@@ -983,11 +1034,15 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             });
             if point && model.len() > 1 {
                 self.degenerate_pieces += 1;
+                self.collapsed.push(piece.entity.id.clone());
+                self.collapsed
+                    .extend(params.and_then(|ps| ps.get(i)).map(|q| q.entity.id.clone()));
                 continue;
             }
             let edge = self.boundary_edge(from, piece)?;
-            let given = params.and_then(|ps| ps.get(i)).map(|q| q.curve);
-            let pcurve = self.pcurve(surface, given, edge);
+            let given = params.and_then(|ps| ps.get(i));
+            self.given.push(given.map(|q| q.entity.id.clone()));
+            let pcurve = self.pcurve(surface, given.map(|q| q.curve), edge);
             coedges.push(Coedge {
                 edge,
                 forward,
@@ -1080,6 +1135,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             return *f;
         }
         self.faces.insert(entry.pointer, None);
+        self.given.clear();
+        self.collapsed.clear();
         let rec = decoded(self.cx.file.decode::<Face510>(entry), diags)?;
         let surface = self.surface(entry, "SURF", rec.surface, diags)?;
         let mut loops = Vec::with_capacity(rec.loops.len());
@@ -1119,11 +1176,11 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 [(_, c)] if *c != 0 => self
                     .curves(entry, "CURV", *c, diags)
                     .filter(|p| p.len() == 1)
-                    .and_then(|mut p| p.pop())
-                    .map(|p| p.curve),
+                    .and_then(|mut p| p.pop()),
                 _ => None,
             };
-            let pcurve = self.pcurve(surface, given, edge);
+            self.given.push(given.as_ref().map(|q| q.entity.id.clone()));
+            let pcurve = self.pcurve(surface, given.map(|q| q.curve), edge);
             coedges.push(Coedge {
                 edge,
                 forward: use_.orientation != 0,
