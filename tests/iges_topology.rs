@@ -95,11 +95,14 @@ fn samples_read_with_freecads_counts() {
             own["counts"]["faces"].as_u64().unwrap(),
             "{file}"
         );
-        // FreeCAD reads a faces-mode (144) file as loose faces; nurbsx sews them, so its
-        // shells and solids are those of FreeCAD's reading of the same part's STEP file.
+        // FreeCAD reads a faces-mode (144) file as loose faces; nurbsx sews them (a lone
+        // face to itself where its boundary runs twice along its seam), so its shells and
+        // solids are those of FreeCAD's reading of the same part's STEP file.
         let step = p.with_extension("step");
-        let sewn =
-            fe_has(&own, "144") && !fe_has(&own, "186") && step.exists() && m.faces.len() > 1;
+        let sewn = fe_has(&own, "144")
+            && !fe_has(&own, "186")
+            && step.exists()
+            && doc.diagnostics.iter().any(|d| d.code == "topology.sewn");
         let reference = if sewn { reading(&step) } else { own };
         let c = &reference["counts"];
         assert_eq!(
@@ -950,4 +953,42 @@ fn sewn_faces_carry_their_boundary_and_parameter_curves() {
     let all = exchange::iges::read(&igs, &conformance).unwrap();
     let (c3, c2, s) = kinds(&all);
     assert_eq!((c3 + c2, s), (count(126), count(128)));
+}
+
+/// A face closed on itself (a sphere, a torus) is a whole solid in a 144 file: its
+/// boundary runs twice along its seam, once per side. The lone face is sewn to itself,
+/// and reads as the solid its STEP export is (FreeCAD's committed reading of the STEP
+/// twin); so does a sphere written by nurbsx as 144 faces from FreeCAD's B-rep (186) file.
+/// A lone face with nothing of its own to share (a plane rectangle) stays a loose face.
+#[test]
+fn a_face_closed_on_itself_is_sewn_into_its_solid() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/analytic");
+    for case in ["sphere", "torus"] {
+        let doc = read_text(&std::fs::read_to_string(root.join(format!("{case}.igs"))).unwrap());
+        let twin = reading(&root.join(format!("{case}.step")));
+        let m = &doc.topology.model;
+        assert_eq!(m.faces.len(), 1, "{case}");
+        assert_eq!(
+            (m.shells.len() as u64, m.solids.len() as u64),
+            (
+                twin["counts"]["shells"].as_u64().unwrap(),
+                twin["counts"]["solids"].as_u64().unwrap()
+            ),
+            "{case}"
+        );
+        assert_eq!(m.solids.len(), 1, "{case}");
+        assert!(m.shells[0].closed, "{case}");
+    }
+    let brep = read_text(&std::fs::read_to_string(root.join("sphere_brep.igs")).unwrap());
+    assert_eq!(brep.topology.model.solids.len(), 1);
+    let options = ExportOptions {
+        timestamp: Some("2026-01-01T00:00:00".into()),
+        ..ExportOptions::default()
+    };
+    let faces = read_text(&exchange::iges::write(&brep, &options).unwrap());
+    let m = &faces.topology.model;
+    assert_eq!((m.solids.len(), m.faces.len(), m.edges.len()), (1, 1, 1));
+    let plane = read_text(&std::fs::read_to_string(root.join("plane_rectangle.igs")).unwrap());
+    let m = &plane.topology.model;
+    assert_eq!((m.faces.len(), m.shells.len()), (1, 0));
 }

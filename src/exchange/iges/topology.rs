@@ -185,7 +185,7 @@ struct Builder<'c, 'f, 'a> {
     no_pcurve: usize,
     /// The file's parameter-space curve (B(t) piece, 141 PSCPT, 508 CURV) given for each
     /// coedge of the face being built, in the order of its loops and coedges.
-    given: Vec<Option<Label>>,
+    given: Vec<Vec<Label>>,
     /// The curves of the face being built's boundary pieces collapsed to a point (model
     /// space, and the parameter-space piece given with it): the loop's vertex carries them.
     collapsed: Vec<Label>,
@@ -271,13 +271,19 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             .filter(|&i| !in_shell[i])
             .map(FaceId)
             .collect();
-        // A lone face has nothing to be sewn to (it stays a loose face).
-        if loose.len() < 2 {
+        if loose.is_empty() {
             return;
         }
         let tol = self.tol;
         let before = self.topology.model.clone();
         let sewing = match self.topology.model.sew(&loose, tol) {
+            // A lone face is sewn only to itself: where its boundary runs twice along one
+            // edge (a sphere's or a closed extrusion's seam, written once per side in a 144
+            // file), else it stays a loose face.
+            Ok(s) if loose.len() == 1 && s.merged_edges == 0 => {
+                self.topology.model = before;
+                return;
+            }
             Ok(s) => s,
             Err(e) => {
                 self.topology.model = before;
@@ -792,8 +798,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     ));
                     let coedges = loops.iter().flat_map(|l| &l.coedges);
                     for (c, given) in coedges.zip(std::mem::take(&mut self.given)) {
-                        if let (Some(_), Some(id)) = (&c.pcurve, given) {
-                            self.carried.insert(id);
+                        if c.pcurve.is_some() {
+                            self.carried.extend(given);
                         }
                     }
                     self.carried.extend(self.collapsed.drain(..));
@@ -1041,7 +1047,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             }
             let edge = self.boundary_edge(from, piece)?;
             let given = params.and_then(|ps| ps.get(i));
-            self.given.push(given.map(|q| q.entity.id.clone()));
+            self.given
+                .push(given.map(|q| q.entity.id.clone()).into_iter().collect());
             let pcurve = self.pcurve(surface, given.map(|q| q.curve), edge);
             coedges.push(Coedge {
                 edge,
@@ -1179,7 +1186,17 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     .and_then(|mut p| p.pop()),
                 _ => None,
             };
-            self.given.push(given.as_ref().map(|q| q.entity.id.clone()));
+            // Every curve of the use's parameter-space list (one, or the pieces of one
+            // curve; a list of several is not taken as the given pcurve) is the coedge's.
+            self.given.push(
+                use_.parameter_curves
+                    .iter()
+                    .filter_map(|&(_, c)| usize::try_from(c).ok())
+                    .filter_map(|c| self.by_de.get(&c))
+                    .filter_map(|&i| self.entities.get(i))
+                    .map(|e| e.id.clone())
+                    .collect(),
+            );
             let pcurve = self.pcurve(surface, given.map(|q| q.curve), edge);
             coedges.push(Coedge {
                 edge,
