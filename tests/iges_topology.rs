@@ -992,3 +992,35 @@ fn a_face_closed_on_itself_is_sewn_into_its_solid() {
     let m = &plane.topology.model;
     assert_eq!((m.faces.len(), m.shells.len()), (1, 0));
 }
+
+/// A torus's B-rep has one vertex, where its two seam edges meet: the part's size (and so
+/// the tolerance its edges are checked within) comes from the edges' curves, not from the
+/// vertices' box (a point). FreeCAD's 186 file of the torus, written as STEP, reads back
+/// as the solid FreeCAD reads from it (before: its seam edge was checked within 1e-9 and
+/// refused at 5.7e-9, and the face, shell and solid with it).
+#[test]
+fn a_part_with_one_vertex_keeps_its_solid_through_step() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/analytic/torus_brep.igs");
+    let doc = read_text(&std::fs::read_to_string(&p).unwrap());
+    let c = &reading(&p)["counts"];
+    let m = &doc.topology.model;
+    assert_eq!(m.vertices.len(), 1);
+    assert_eq!(m.solids.len() as u64, c["solids"].as_u64().unwrap());
+    let options = ExportOptions {
+        timestamp: Some("2026-01-01T00:00:00".into()),
+        ..ExportOptions::default()
+    };
+    let text = exchange::step::write(&doc, &options).unwrap();
+    let back = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    let errors: Vec<_> = back
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    let b = &back.topology.model;
+    assert_eq!(
+        (b.solids.len(), b.faces.len(), b.edges.len()),
+        (m.solids.len(), m.faces.len(), m.edges.len())
+    );
+}

@@ -183,7 +183,8 @@ pub(super) struct Built {
 /// Builds the topology of the decoded items over the converted edges (moved into the
 /// model's edges, each curve without a copy) and the document's
 /// entities (face surfaces by id). The tolerance is [`RELATIVE_TOLERANCE`] of the
-/// vertices' box, or the file's length `uncertainty` (model unit) when that is larger.
+/// vertices' box (of the edges' curves when the vertices span nothing), or the file's
+/// length `uncertainty` (model unit) when that is larger.
 pub(super) fn build(
     conv: &Converter<'_, '_, '_>,
     edges: Vec<(u64, EdgeOut)>,
@@ -234,6 +235,17 @@ pub(super) fn build(
     let diagonal = {
         let all: Vec<Point3> = points.iter().map(|(_, p)| *p).collect();
         bounding_box_diagonal(&all)
+    };
+    // A part whose vertices span nothing (one vertex: a torus's seams, a sphere's) has the
+    // size of its edges' curves.
+    let diagonal = if diagonal > 0.0 {
+        diagonal
+    } else {
+        let poles: Vec<Point3> = edges
+            .iter()
+            .flat_map(|(_, e)| e.curve.control_points().iter().copied())
+            .collect();
+        bounding_box_diagonal(&poles)
     };
     b.tolerance = (diagonal * RELATIVE_TOLERANCE).max(1e-9);
     // Without two distinct vertices there is nothing for a tolerance to join.
