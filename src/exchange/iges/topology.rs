@@ -860,10 +860,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         }
     }
 
-    /// A 143 Bounded Surface as a face; whether it was built.
-    fn face143(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+    /// Forgets what the last face built noted of its boundary ([`Builder::given`],
+    /// [`Builder::collapsed`]): a face read in part leaves them behind.
+    fn start_face(&mut self) {
         self.given.clear();
         self.collapsed.clear();
+    }
+
+    /// A 143 Bounded Surface as a face; whether it was built.
+    fn face143(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
+        self.start_face();
         let Some(rec) = decoded(self.cx.file.decode::<BoundedSurface143>(entry), diags) else {
             return false;
         };
@@ -949,8 +955,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// A 144 Trimmed Surface as a face; whether it was built.
     fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
-        self.given.clear();
-        self.collapsed.clear();
+        self.start_face();
         let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
             return false;
         };
@@ -1142,8 +1147,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             return *f;
         }
         self.faces.insert(entry.pointer, None);
-        self.given.clear();
-        self.collapsed.clear();
+        self.start_face();
         let rec = decoded(self.cx.file.decode::<Face510>(entry), diags)?;
         let surface = self.surface(entry, "SURF", rec.surface, diags)?;
         let mut loops = Vec::with_capacity(rec.loops.len());
