@@ -1023,4 +1023,55 @@ fn a_part_with_one_vertex_keeps_its_solid_through_step() {
         (b.solids.len(), b.faces.len(), b.edges.len()),
         (m.solids.len(), m.faces.len(), m.edges.len())
     );
+    // The reader moved the torus's seam to the vertex (FreeCAD's torus has its v seam on
+    // the inner equator, `v = -pi`): the document lists the surface the face carries, and
+    // the STEP file's surface is that one, bit for bit.
+    let surfaces = |d: &Document| -> Vec<String> {
+        d.entities
+            .iter()
+            .filter(|e| matches!(e.geometry, nurbsx::nurbs::Geometry::Surface(_)))
+            .map(|e| format!("{:?}", e.geometry))
+            .collect()
+    };
+    assert_eq!(surfaces(&doc).len(), 1);
+    assert_eq!(surfaces(&back), surfaces(&doc));
+}
+
+/// Every surface a face names (once, outside any assembly instance) is listed as the face
+/// carries it, bit for bit: where a reader moved a seam, the entity moved with it.
+#[test]
+fn faces_carry_the_surfaces_the_document_lists() {
+    let mut moved = 0;
+    for p in samples() {
+        let doc = read_text(&std::fs::read_to_string(&p).unwrap());
+        let t = &doc.topology;
+        if !t.instances.is_empty() {
+            continue;
+        }
+        for (face, o) in t.model.faces.iter().zip(&t.origins.faces) {
+            let Some(label) = &o.entity else { continue };
+            let named = t
+                .origins
+                .faces
+                .iter()
+                .filter(|x| x.entity.as_ref() == Some(label));
+            if named.count() != 1 {
+                continue;
+            }
+            let e = doc.entities.iter().find(|e| e.id == *label).unwrap();
+            assert_eq!(
+                format!("{:?}", e.geometry),
+                format!(
+                    "{:?}",
+                    nurbsx::nurbs::Geometry::Surface(face.surface.clone())
+                ),
+                "{}: face {} and its surface {label}",
+                p.display(),
+                o.id
+            );
+            moved += usize::from(e.id == "D7" && p.ends_with("torus_brep.igs"));
+        }
+    }
+    // The torus's face is among them (its seam moved: see the test above).
+    assert_eq!(moved, 1);
 }

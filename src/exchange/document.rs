@@ -187,6 +187,54 @@ impl Document {
         }
     }
 
+    /// Makes the entity of each face in `faces` the surface that face carries, for faces
+    /// whose reader moved their surface's seam (exactly: the same surface with other poles
+    /// and knots, [`crate::topology::moved_seams`], [`crate::topology::seam_splits`]).
+    /// Writers write a face's surface, not its entity, so without this the document would
+    /// list a surface it never writes, and a file read, written and read again would list
+    /// another. A surface that several faces name stays as read (each face carries its
+    /// own). Called by the readers before any placement moves the model.
+    pub(crate) fn adopt_moved_surfaces(&mut self, faces: &[crate::topology::FaceId]) {
+        if faces.is_empty() {
+            return;
+        }
+        // How many faces name each entity, and where each entity is (one pass each, made
+        // only when a seam moved).
+        let mut named: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+        for o in &self.topology.origins.faces {
+            if let Some(label) = &o.entity {
+                *named.entry(label.as_str()).or_default() += 1;
+            }
+        }
+        let index: std::collections::HashMap<&str, usize> = self
+            .entities
+            .iter()
+            .enumerate()
+            .map(|(k, e)| (e.id.as_str(), k))
+            .collect();
+        let mut adopted: Vec<(usize, crate::topology::FaceId)> = faces
+            .iter()
+            .filter_map(|&f| {
+                let label = self.topology.origins.faces.get(f.0)?.entity.as_deref()?;
+                (named.get(label) == Some(&1)).then_some((*index.get(label)?, f))
+            })
+            .collect();
+        adopted.dedup();
+        for (k, f) in adopted {
+            let (Some(entity), Some(face)) =
+                (self.entities.get_mut(k), self.topology.model.faces.get(f.0))
+            else {
+                continue;
+            };
+            if matches!(entity.geometry, Geometry::Surface(_)) {
+                entity.geometry = Geometry::Surface(face.surface.clone());
+                // A range declared in the old parameters (IGES 128 U(0)..V(1)) says
+                // nothing of the new ones.
+                entity.meta.parameter_range = None;
+            }
+        }
+    }
+
     /// Whether any diagnostic is an error.
     pub fn has_errors(&self) -> bool {
         self.diagnostics

@@ -145,8 +145,9 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     b.report(diags);
+    let (carried, moved_faces) = (b.carried, b.moved_faces);
     doc.topology = b.topology;
-    let carried = b.carried;
+    doc.adopt_moved_surfaces(&moved_faces);
     super::subfigure::apply(cx, &mut doc.topology, diags);
     // What the model carries without naming it is not an entity of its own (a
     // parameter-space curve left to no coedge, or whose face was not read, stays one).
@@ -196,6 +197,8 @@ struct Builder<'c, 'f, 'a> {
     /// sewing merged into others (the same edge within the tolerance), and the boundary
     /// pieces of those faces collapsed to a point.
     carried: std::collections::HashSet<Label>,
+    /// The faces added with their surface's seam moved ([`Builder::with_moved_seam`]).
+    moved_faces: Vec<FaceId>,
 }
 
 /// A curve of the document with its DE pointer.
@@ -251,6 +254,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             given: Vec::new(),
             collapsed: Vec::new(),
             carried: std::collections::HashSet::new(),
+            moved_faces: Vec::new(),
         }
     }
 
@@ -803,6 +807,9 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                         }
                     }
                     self.carried.extend(self.collapsed.drain(..));
+                    if moved.is_some() {
+                        self.moved_faces.push(f);
+                    }
                     return Some(f);
                 }
                 Err(TopologyError::PcurveDeviates { index, coedge, .. }) => {

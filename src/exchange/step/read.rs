@@ -470,6 +470,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
         }
         doc.topology = built.topology;
+        doc.adopt_moved_surfaces(&built.moved_faces);
         doc.diagnostics.extend(built.diagnostics);
         doc.diagnostics.extend(product_diagnostics);
         doc.diagnostics.extend(super::assembly::apply(

@@ -162,6 +162,8 @@ struct Build<'c, 'm, 's, 'a> {
     pcurve_entities: Vec<(u64, u64)>,
     /// The EDGE_CURVE of each model edge, by edge index (`None` for a POLY_LOOP side).
     edge_instances: Vec<Option<u64>>,
+    /// The faces added with their surface's seam moved.
+    moved_faces: Vec<FaceId>,
     /// [`edge_pcurve_curves`] of the file.
     edge_pcurves: &'c [(u64, u64)],
 }
@@ -178,6 +180,9 @@ pub(super) struct Built {
     /// The EDGE_CURVEs in the topology whose every coedge carries a pcurve (ascending; see
     /// [`Build::edges_with_pcurves`]).
     pub edges_with_pcurves: Vec<u64>,
+    /// The faces whose surface has its seam moved (for
+    /// [`Document::adopt_moved_surfaces`](crate::exchange::Document::adopt_moved_surfaces)).
+    pub moved_faces: Vec<FaceId>,
 }
 
 /// Builds the topology of the decoded items over the converted edges (moved into the
@@ -209,6 +214,7 @@ pub(super) fn build(
         splits: Vec::new(),
         pcurve_entities: Vec::new(),
         edge_instances: Vec::new(),
+        moved_faces: Vec::new(),
     };
     // The items of each kind the model is built from, in one walk of the items (each walk
     // reads all of them: on a large file, several were a visible part of the read).
@@ -323,6 +329,7 @@ pub(super) fn build(
         topology: b.topology,
         diagnostics: b.diagnostics,
         pcurve_entities: b.pcurve_entities,
+        moved_faces: b.moved_faces,
     }
 }
 
@@ -686,7 +693,7 @@ impl Build<'_, '_, '_, '_> {
             .model
             .add_face(surface.clone(), with_pcurves, same_sense)
         {
-            Ok(f) => self.face_added(id, f, entity.id.clone()),
+            Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some()),
             Err(e @ TopologyError::PcurveDeviates { .. }) => {
                 // A pcurve the check refuses is left out (said here), the face kept.
                 let d = self.conv.error(
@@ -705,7 +712,7 @@ impl Build<'_, '_, '_, '_> {
                     .model
                     .add_face(surface.clone(), loops, same_sense)
                 {
-                    Ok(f) => self.face_added(id, f, entity.id.clone()),
+                    Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some()),
                     Err(e) => self.refuse(id, &e),
                 }
             }
@@ -742,8 +749,12 @@ impl Build<'_, '_, '_, '_> {
         }
     }
 
-    fn face_added(&mut self, id: u64, f: FaceId, entity: Label) {
+    /// `moved`: the face carries its surface with the seam moved.
+    fn face_added(&mut self, id: u64, f: FaceId, entity: Label, moved: bool) {
         self.faces.insert(id, f);
+        if moved {
+            self.moved_faces.push(f);
+        }
         let o = self.origin(id, Some(entity));
         self.topology.origins.faces.push(o);
     }
