@@ -57,7 +57,7 @@ pub struct ArcMap {
 
 impl ArcMap {
     /// The map of `[t0, t1]` split into the standard number of segments.
-    fn new(kind: ConicKind, t0: f64, t1: f64) -> Result<Self, GeometryError> {
+    pub(super) fn new(kind: ConicKind, t0: f64, t1: f64) -> Result<Self, GeometryError> {
         if !(t0.is_finite() && t1.is_finite()) || t0 >= t1 {
             return Err(GeometryError::InvalidArgument(format!(
                 "conic arc range [{t0}, {t1}] is not an increasing finite interval"

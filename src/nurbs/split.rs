@@ -84,6 +84,35 @@ impl NurbsCurve {
         if a == s && b == e {
             return Ok(self.clone());
         }
+        let (p, knots) = (self.degree(), self.knots());
+        // Cut where a knot already has multiplicity `p` (a breakpoint of arcs): A5.1 inserts
+        // nothing there, and the piece is a slice of the knots, poles and weights (copied,
+        // not passed through the homogeneous form), as `right_of` and `left_of` cut.
+        if (a == s || multiplicity(knots, a) >= p) && (b == e || multiplicity(knots, b) >= p) {
+            let (k0, first, mut cut) = if a > s {
+                let hi = knots.partition_point(|&x| x <= a) - 1;
+                (hi + 1, hi - p, vec![a; p + 1])
+            } else {
+                (0, 0, Vec::with_capacity(knots.len()))
+            };
+            let (k1, last) = if b < e {
+                let lo = knots.partition_point(|&x| x < b);
+                (lo, lo)
+            } else {
+                (knots.len(), self.num_poles())
+            };
+            cut.extend_from_slice(&knots[k0..k1]);
+            if b < e {
+                cut.extend(std::iter::repeat_n(b, p + 1));
+            }
+            return NurbsCurve::with_dimension(
+                p,
+                cut,
+                self.control_points()[first..last].to_vec(),
+                self.weights().map(|w| w[first..last].to_vec()),
+                self.dimension(),
+            );
+        }
         // Cut in homogeneous form, only the part kept at each end, one curve built.
         let mut cut = self.to_bundle();
         if a > s {
@@ -345,6 +374,70 @@ mod tests {
             y: [0.0, 0.0, 1.0],
             z: [1.0, 0.0, 0.0],
         }
+    }
+
+    /// A piece cut at breakpoints (knots of multiplicity `p`) is the slice of the net, and
+    /// every piece, cut there or inside a span, traces the curve: compared by evaluation
+    /// with the whole curve at 101 parameters of the range, and the slice pole for pole.
+    #[test]
+    fn pieces_at_breakpoints_are_slices_of_the_curve() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let (t, _) = torus(&frame(), 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        // A full circle of quarter arcs (double knots at the quarters), rational.
+        let c = t.iso_v(0.0).unwrap();
+        let k = c.knots().to_vec();
+        let q = k[3];
+        assert_eq!((k[3], k[4]), (q, q));
+        let (s, e) = c.domain();
+        for (a, b) in [
+            (q, 2.0 * q),
+            (s, q),
+            (q, e),
+            (q, 0.3 * e),
+            (0.1 * e, 3.0 * q),
+        ] {
+            let piece = c.piece(a, b).unwrap();
+            assert_eq!(piece.domain(), (a, b));
+            for i in 0..=100 {
+                let x = a + (b - a) * f64::from(i) / 100.0;
+                let d = dist(piece.point_at_unchecked(x), c.point_at_unchecked(x));
+                assert!(d <= 1e-12 * 30.0, "[{a}, {b}] at {x}: {d:e}");
+            }
+        }
+        // Both ends on breakpoints: the poles and weights themselves, and the knots between.
+        let piece = c.piece(q, 2.0 * q).unwrap();
+        assert_eq!(piece.control_points(), &c.control_points()[2..5]);
+        assert_eq!(piece.weights().unwrap(), &c.weights().unwrap()[2..5]);
+        assert_eq!(piece.knots(), &[q, q, q, 2.0 * q, 2.0 * q, 2.0 * q]);
+    }
+
+    /// The isocurve at an interior breakpoint of the net (a double knot of the quadratic
+    /// arcs) is that row of poles and weights, and traces the surface there (evaluation of
+    /// the surface at 101 points).
+    #[test]
+    fn an_isocurve_at_a_breakpoint_is_a_row_of_the_net() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let (t, _) = torus(&frame(), 30.0, 6.0, (0.0, tau), (0.0, tau)).unwrap();
+        let ku = t.knots_u().to_vec();
+        let q = ku[3];
+        assert_eq!(ku[4], q);
+        let iso = t.iso_u(q).unwrap();
+        let g = t.control_points();
+        let row: Vec<_> = (0..g.nv()).map(|j| *g.get(2, j)).collect();
+        assert_eq!(iso.control_points(), row.as_slice());
+        let ((_, _), (v0, v1)) = t.domain();
+        for i in 0..=100 {
+            let v = v0 + (v1 - v0) * f64::from(i) / 100.0;
+            let d = dist(iso.point_at_unchecked(v), t.point_at_unchecked(q, v));
+            assert!(d <= 1e-12 * 36.0, "{v}: {d:e}");
+        }
+        // Inside a span, the contraction (A3.5) still traces the surface.
+        let inside = t.iso_u(0.5 * q).unwrap();
+        let d = dist(
+            inside.point_at_unchecked(1.0),
+            t.point_at_unchecked(0.5 * q, 1.0),
+        );
+        assert!(d <= 1e-12 * 36.0, "{d:e}");
     }
 
     /// The surface with its seam moved is the same surface, evaluated at the shifted

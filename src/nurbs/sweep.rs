@@ -109,15 +109,8 @@ pub fn revolve(
             "axis of revolution is not a finite unit vector".into(),
         ));
     }
-    // The unit circle's arc gives the map (and checks the sweep).
-    let (_, map) = conic_arc(
-        ConicKind::Elliptic,
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        theta0,
-        theta1,
-    )?;
+    // The arc layout of the sweep (checked); `rotation_net` builds the unit circle's arc.
+    let map = ArcMap::new(ConicKind::Elliptic, theta0, theta1)?;
     let rows: Vec<Row> = profile
         .control_points()
         .iter()
@@ -303,14 +296,7 @@ fn revolve_in_frame(
     u: (f64, f64),
 ) -> Result<(NurbsSurface, ArcMap), GeometryError> {
     check_frame(f)?;
-    let (_, map) = conic_arc(
-        ConicKind::Elliptic,
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        u.0,
-        u.1,
-    )?;
+    let map = ArcMap::new(ConicKind::Elliptic, u.0, u.1)?;
     let rows: Vec<Row> = profile
         .control_points()
         .iter()

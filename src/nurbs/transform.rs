@@ -200,7 +200,7 @@ fn iso_curve(s: &NurbsSurface, in_u: bool, t: f64) -> Result<NurbsCurve, Geometr
         x
     };
     // A clamped end (p + 1 equal knots): the row there.
-    let clamped_row = if knots.get(..=p).is_some_and(|e| e.iter().all(|&k| k == t)) {
+    let row = if knots.get(..=p).is_some_and(|e| e.iter().all(|&k| k == t)) {
         Some(0)
     } else if knots
         .len()
@@ -210,9 +210,17 @@ fn iso_curve(s: &NurbsSurface, in_u: bool, t: f64) -> Result<NurbsCurve, Geometr
     {
         fixed.checked_sub(1)
     } else {
-        None
+        // An interior knot of multiplicity p (a breakpoint between arcs): there the basis
+        // function of the pole before the knot's first copy is 1 and all others 0 (NURBS
+        // Book eq. 2.5 evaluated at the knot), so the isocurve is that row too.
+        let k = knots.partition_point(|&x| x < t);
+        let m = knots
+            .get(k..)
+            .map_or(0, |r| r.iter().take_while(|&&x| x == t).count());
+        let end = knots.len().saturating_sub(p + 1);
+        (m == p && k > p && k + m <= end && k - 1 < fixed).then(|| k - 1)
     };
-    if let Some(k) = clamped_row {
+    if let Some(k) = row {
         let points = (0..free)
             .map(|j| {
                 let (a, b) = at(k, j);

@@ -45,7 +45,7 @@ pub use measure::{FACE_EVALUATIONS, FaceMeasure, MODEL_EVALUATIONS, MeasureError
 pub use mesh::{FaceMeshError, MAX_ROUNDS, PartMesh};
 pub use pcurve::{
     EdgePcurve, PcurveMethod, SeamPlan, edge_pcurve, exact_pcurve, loop_counter_clockwise,
-    moved_seams, seam_side, seam_sides_by_continuity, seam_splits,
+    moved_seams, same_trace, seam_side, seam_sides_by_continuity, seam_splits,
 };
 pub use sew::Sewing;
 

@@ -23,13 +23,15 @@
 //!   pole, an apex) takes the iso's `u_c`. The edge's points are located on the surface
 //!   by the closed-form inverse of a quadric's parameterisation when the caller has it
 //!   ([`QuadricMap`]: cylinders, cones, spheres, tori as [`crate::nurbs::sweep`] builds
-//!   them), by point inversion (NURBS Book section 6.1) otherwise or where it misses.
+//!   them; unchecked there, since the isocurve they select must hold the edge's ends and
+//!   pass the deviation check below), by point inversion (NURBS Book section 6.1) otherwise.
 //! - **Otherwise** (a rational change of parameter, a freeform surface): projection of the
 //!   curve onto the surface within the edge tolerance
 //!   ([`crate::nurbs::project::pcurve_by_projection`]).
 //!
-//! The deviation returned is measured by sampling `S(pcurve(t))` against `C(t)`, never
-//! assumed: an exact pcurve shows rounding only (it is accepted as exact below 1e-12 of the
+//! The deviation returned is an upper bound from the poles (strong convex hull property) or
+//! measured by sampling `S(pcurve(t))` against `C(t)`, never assumed: an exact pcurve shows
+//! rounding only (it is accepted as exact below 1e-12 of the
 //! surface's size; above, projection is used).
 
 use super::{Coedge, EdgeId, Loop, Model};
@@ -163,14 +165,21 @@ pub fn seam_side(
     ccw: bool,
     seam: [bool; 2],
 ) -> Option<NurbsCurve> {
+    if !(seam[0] || seam[1]) {
+        return None;
+    }
     let ((u0, u1), (v0, v1)) = surface.domain();
     let poles = p.control_points();
-    let (a, b) = p.domain();
-    let (s, e) = (p.point_at_unchecked(a), p.point_at_unchecked(b));
+    let ends = || {
+        let (a, b) = p.domain();
+        (p.point_at_unchecked(a), p.point_at_unchecked(b))
+    };
     let on = |k: usize, at: f64, span: f64| poles.iter().all(|q| (q[k] - at).abs() <= 1e-9 * span);
     let (k, lo, hi, rising) = if seam[0] && (on(0, u0, u1 - u0) || on(0, u1, u1 - u0)) {
+        let (s, e) = ends();
         (0, u0, u1, e[1] > s[1])
     } else if seam[1] && (on(1, v0, v1 - v0) || on(1, v1, v1 - v0)) {
+        let (s, e) = ends();
         (1, v0, v1, e[0] < s[0])
     } else {
         return None;
@@ -178,6 +187,54 @@ pub fn seam_side(
     // rising: the pcurve's own direction is the one that belongs on the high side.
     let high = rising == ccw;
     at_coordinate(p, k, if high { hi } else { lo })
+}
+
+/// Whether `moved` ([`seam_side`] of `p`) traces on `surface` exactly what `p` traces, so
+/// that a deviation measured with `p` holds for it: `moved` is `p`, or `p` lies exactly on
+/// one side of a seam (every pole's coordinate at one end of the domain) and `moved` on the
+/// other, of a surface clamped there whose first and last rows of poles and weights across
+/// it are equal. `S(u0, v)` and `S(u1, v)` are then the same rational curve (at a clamped
+/// end the isocurve is that row: NURBS Book eq. 3.10 there). Decided from the poles, without
+/// evaluation.
+pub fn same_trace(surface: &NurbsSurface, p: &NurbsCurve, moved: &NurbsCurve) -> bool {
+    if moved == p {
+        return true;
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let (a, b) = (p.control_points(), moved.control_points());
+    if a.len() != b.len() {
+        return false;
+    }
+    let all_at = |poles: &[Point3], k: usize, x: f64| poles.iter().all(|q| q[k] == x);
+    let crossed = |k: usize, lo: f64, hi: f64| {
+        (all_at(a, k, lo) && all_at(b, k, hi)) || (all_at(a, k, hi) && all_at(b, k, lo))
+    };
+    let other_same = |k: usize| a.iter().zip(b).all(|(x, y)| x[1 - k] == y[1 - k]);
+    let grid = surface.control_points();
+    let w = |i: usize, j: usize| surface.weights().map(|g| *g.get(i, j));
+    let (nu, nv) = (grid.nu(), grid.nv());
+    if nu == 0 || nv == 0 {
+        return false;
+    }
+    if crossed(0, u0, u1) && other_same(0) {
+        let ends = knot_ends_clamped(surface.knots_u(), surface.degree_u());
+        return ends
+            && (0..nv).all(|j| grid.get(0, j) == grid.get(nu - 1, j) && w(0, j) == w(nu - 1, j));
+    }
+    if crossed(1, v0, v1) && other_same(1) {
+        let ends = knot_ends_clamped(surface.knots_v(), surface.degree_v());
+        return ends
+            && (0..nu).all(|i| grid.get(i, 0) == grid.get(i, nv - 1) && w(i, 0) == w(i, nv - 1));
+    }
+    false
+}
+
+/// Whether the first and the last `p + 1` knots are each one value (a clamped knot vector).
+fn knot_ends_clamped(knots: &[f64], p: usize) -> bool {
+    let n = knots.len();
+    n > 2 * p + 1
+        && knots[..=p].iter().all(|&k| k == knots[0])
+        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1])
 }
 
 /// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
@@ -887,10 +944,12 @@ fn iso(
         return Some(found);
     }
     let ((u0, u1), (v0, v1)) = surface.domain();
-    // The quadric's closed-form parameters of a point, when they land on it.
+    // The quadric's closed-form parameters of a point. Not checked here: the isocurve they
+    // choose is checked at the edge's ends below and against the whole edge by the bound
+    // (`iso_bound`) or the sampling of [`exact_pcurve`], which refuse a wrong one.
     let located = |point: Point3| {
         let (u, v) = map?.parameters(point);
-        (dist(surface.point_at_unchecked(u, v), point) <= EXACT * size).then_some([u, v])
+        (u.is_finite() && v.is_finite()).then_some([u, v])
     };
     // Three interior points of the edge on the surface.
     let mut inner = [[0.0f64; 2]; 3];
@@ -1049,16 +1108,17 @@ fn boundary_row(
         };
         ends.is_some_and(|e| e.iter().all(|&k| k == e[0]))
     };
-    // (fixed direction, its value, the index of the net's row or column there).
-    let mut candidates: Vec<(usize, f64, usize)> = Vec::with_capacity(4);
-    for (start, c) in [(true, v0), (false, v1)] {
+    // (fixed direction, its value, the index of the net's row or column there); at most
+    // four, held without an allocation (this runs for every coedge of a read).
+    let mut candidates: [Option<(usize, f64, usize)>; 4] = [None; 4];
+    for (k, (start, c)) in [(true, v0), (false, v1)].into_iter().enumerate() {
         if clamped(surface.knots_v(), surface.degree_v(), start) && nu == n {
-            candidates.push((1, c, if start { 0 } else { nv - 1 }));
+            candidates[k] = Some((1, c, if start { 0 } else { nv - 1 }));
         }
     }
-    for (start, c) in [(true, u0), (false, u1)] {
+    for (k, (start, c)) in [(true, u0), (false, u1)].into_iter().enumerate() {
         if clamped(surface.knots_u(), surface.degree_u(), start) && nv == n {
-            candidates.push((0, c, if start { 0 } else { nu - 1 }));
+            candidates[2 + k] = Some((0, c, if start { 0 } else { nu - 1 }));
         }
     }
     let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
@@ -1068,7 +1128,7 @@ fn boundary_row(
         (grid.get(i, j), w(i, j))
     };
     let tol = 1e-12 * size;
-    for (fixed, c, index) in candidates {
+    for (fixed, c, index) in candidates.into_iter().flatten() {
         let free = 1 - fixed;
         let (degree, knots) = if free == 0 {
             (surface.degree_u(), surface.knots_u())
@@ -1145,7 +1205,7 @@ mod tests {
         let [u, v, _] = p.point_at_unchecked(t);
         surface.point_at_unchecked(u, v)
     }
-    use crate::nurbs::sweep::{Frame, cylinder, plane};
+    use crate::nurbs::sweep::{Frame, cylinder, plane, sphere};
 
     fn frame() -> Frame {
         Frame {
@@ -1310,6 +1370,86 @@ mod tests {
                 assert!(dist(*x, *y) <= 1e-14 * (u1 - u0), "{x:?} {y:?}");
             }
         }
+    }
+
+    /// The closed-form parameters are not checked where they are used: a map of another
+    /// sphere (another centre) must still give no wrong pcurve. Whatever `edge_pcurve`
+    /// returns for a meridian and a parallel of the sphere traces the edge within the
+    /// deviation it reports (201 evaluations), and that deviation is within the tolerance.
+    #[test]
+    fn a_wrong_closed_form_map_gives_no_wrong_pcurve() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let half = 0.5 * std::f64::consts::PI;
+        let (s, right) = sphere(&frame(), 5.0, (0.0, tau), (-half, half)).unwrap();
+        let mut moved = frame();
+        moved.origin = [1.5, 2.0, 3.25];
+        let (_, wrong) = sphere(&moved, 4.0, (0.0, tau), (-half, half)).unwrap();
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let meridian = s.iso_u(u0 + 0.25 * (u1 - u0)).unwrap();
+        let parallel = s.iso_v(v0 + 0.5 * (v1 - v0)).unwrap();
+        let tolerance = 1e-6;
+        for edge in [&meridian, &parallel] {
+            let (a, b) = edge.domain();
+            let range = (a + 0.1 * (b - a), a + 0.6 * (b - a));
+            let good = edge_pcurve(&s, Some(&right), edge, range, tolerance).unwrap();
+            assert_eq!(good.method, PcurveMethod::Iso);
+            let Ok(p) = edge_pcurve(&s, Some(&wrong), edge, range, tolerance) else {
+                continue;
+            };
+            assert!(p.deviation <= tolerance, "{:e}", p.deviation);
+            for k in 0..=200 {
+                let t = range.0 + (range.1 - range.0) * f64::from(k) / 200.0;
+                let d = dist(on_surface(&s, &p.curve, t), edge.point_at_unchecked(t));
+                assert!(
+                    d <= p.deviation.max(1e-14 * 5.0),
+                    "{:?} at {t}: {d:e}",
+                    p.method
+                );
+            }
+        }
+    }
+
+    /// `same_trace`: a pcurve moved from one side of the seam of a closed NURBS cylinder
+    /// (exactly closed: its first and last pole columns equal) traces the same points, one
+    /// moved by a period on a surface whose seam columns differ does not, and one left where
+    /// it was is the same curve. Checked against evaluation of the two traces.
+    #[test]
+    fn a_pcurve_moved_across_an_exact_seam_traces_the_same_points() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let (s, _) = cylinder(&frame(), 2.0, (0.0, tau), (0.0, 1.0)).unwrap();
+        assert!(s.is_closed_u(0.0));
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let at = |u: f64| {
+            NurbsCurve::with_dimension(
+                1,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![[u, v0, 0.0], [u, v1, 0.0]],
+                None,
+                2,
+            )
+            .unwrap()
+        };
+        let (low, high) = (at(u0), at(u1));
+        assert!(same_trace(&s, &low, &high));
+        assert!(same_trace(&s, &high, &low));
+        assert!(same_trace(&s, &low, &low));
+        for k in 0..=20 {
+            let t = f64::from(k) / 20.0;
+            assert_eq!(on_surface(&s, &low, t), on_surface(&s, &high, t));
+        }
+        // Not across a seam: a line inside the domain moved elsewhere.
+        let mid = at(0.5 * (u0 + u1));
+        assert!(!same_trace(&s, &mid, &low));
+        // A half cylinder is not closed: its two ends are different lines.
+        let (half, _) = cylinder(&frame(), 2.0, (0.0, 0.5 * tau), (0.0, 1.0)).unwrap();
+        let ((h0, h1), _) = half.domain();
+        assert!(!same_trace(&half, &at(h0), &at(h1)));
+        assert!(
+            dist(
+                on_surface(&half, &at(h0), 0.5),
+                on_surface(&half, &at(h1), 0.5)
+            ) > 1.0
+        );
     }
 
     /// The half cylinder `[h, 2h] x [0, 1]` of the NURBS domain `[0, 2h]` (h its mid

@@ -148,6 +148,7 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
     // The product structure (assembly.rs).
     let mut product_candidates: Vec<&RawInstance<'_>> = Vec::new();
     let mut presentation = Presentation::default();
+    let mut classes = Classes::default();
     for (k, raw) in scanned.instances.iter().enumerate() {
         if k % crate::exchange::READ_POLL == 0 {
             cancel.stop_read()?;
@@ -174,7 +175,8 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
         presentation.count(text, raw);
         // A duplicated id was reported by the scanner; only the indexed (first) one is read.
         let indexed = || scanned.get(raw.id).map(|r| r.offset()) == Some(raw.offset());
-        if maybe_bspline(text, raw) {
+        let class = classes.of(text, raw);
+        if class.bspline {
             // No B-spline keyword is a product-structure one; a complex B-spline candidate
             // (a rational B-spline's long body) is searched for product partials only if
             // it does not decode as a B-spline (below).
@@ -183,10 +185,10 @@ fn read_text(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic
             }
             continue;
         }
-        if maybe_product(text, raw) && indexed() {
+        if class.product && indexed() {
             product_candidates.push(raw);
         }
-        if maybe_geometry(text, raw) && indexed() {
+        if class.geometry && indexed() {
             geometry_candidates.push(raw);
         }
     }
@@ -828,6 +830,67 @@ fn conformance(
     }
     diags.extend(s.find_cycles(ids).iter().map(parse_diagnostic));
     Ok(())
+}
+
+/// Which of the reader's lists may take an instance: [`maybe_bspline`], [`maybe_product`]
+/// and [`maybe_geometry`] of it.
+#[derive(Debug, Clone, Copy)]
+struct Class {
+    bspline: bool,
+    product: bool,
+    geometry: bool,
+}
+
+/// Slots of [`Classes`] (a power of two).
+const CLASS_SLOTS: usize = 256;
+
+/// The [`Class`] of the instances met so far by their keyword (a simple instance) or whole
+/// body (a complex one), in a table of recent texts: a file has a few dozen keywords and
+/// complex instances repeated thousands of times (Open CASCADE writes one 2-D context per
+/// pcurve), each classified once instead of once per instance. A text whose slot holds
+/// another is classified again, with the same answer.
+struct Classes<'t> {
+    slots: Vec<Option<(&'t str, Class)>>,
+}
+
+impl Default for Classes<'_> {
+    fn default() -> Self {
+        Classes {
+            slots: vec![None; CLASS_SLOTS],
+        }
+    }
+}
+
+impl<'t> Classes<'t> {
+    fn of(&mut self, text: &'t str, raw: &RawInstance<'t>) -> Class {
+        let key = raw.keyword(text).unwrap_or_else(|| raw.body(text));
+        let b = key.as_bytes();
+        // The first and last 8 bytes and the length (a long B-spline body is not read
+        // whole to find its slot).
+        let word = |x: &[u8]| {
+            let mut w = [0u8; 8];
+            let n = x.len().min(8);
+            w[..n].copy_from_slice(&x[..n]);
+            u64::from_le_bytes(w)
+        };
+        let h = (word(b) ^ word(&b[b.len().saturating_sub(8)..]).rotate_left(29) ^ b.len() as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let slot = (h >> 56) as usize % self.slots.len().max(1);
+        if let Some(Some((k, c))) = self.slots.get(slot) {
+            if *k == key {
+                return *c;
+            }
+        }
+        let c = Class {
+            bspline: maybe_bspline(text, raw),
+            product: maybe_product(text, raw),
+            geometry: maybe_geometry(text, raw),
+        };
+        if let Some(s) = self.slots.get_mut(slot) {
+            *s = Some((key, c));
+        }
+        c
+    }
 }
 
 /// Cheap keyword test before decoding: simple instances by keyword, complex ones by a
@@ -1889,5 +1952,57 @@ mod pcurve_user_tests {
                 prop_assert_eq!(&e.meta.used_by, &expected, "{}", label);
             }
         }
+    }
+}
+
+/// [`Classes`] answers as the three keyword tests it remembers: for every instance of
+/// samples with simple and complex instances (B-splines, products, contexts, Open CASCADE's
+/// 2-D contexts repeated per pcurve), read twice so that the second pass is answered from
+/// the table, and with texts that share a slot.
+#[cfg(test)]
+mod class_tests {
+    use super::*;
+
+    #[test]
+    fn remembered_classes_are_the_keyword_tests() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples");
+        let mut checked = 0;
+        for name in [
+            "freecad/parts/assembly_links.step",
+            "freecad/analytic/torus.step",
+            "freecad/brep_filleted_box_nurbs.step",
+            "public/autodesk_atf_conical_surface.step",
+        ] {
+            let text = std::fs::read_to_string(root.join(name)).unwrap();
+            let scanned = nurbsx_parsers::step::scan(&text, &Default::default()).unwrap();
+            let mut classes = Classes::default();
+            for _ in 0..2 {
+                for raw in &scanned.instances {
+                    let c = classes.of(&text, raw);
+                    let expected = (
+                        maybe_bspline(&text, raw),
+                        maybe_product(&text, raw),
+                        maybe_geometry(&text, raw),
+                    );
+                    assert_eq!(
+                        (c.bspline, c.product, c.geometry),
+                        expected,
+                        "{name} #{}",
+                        raw.id
+                    );
+                    checked += 1;
+                }
+            }
+            // One slot for every text: each lookup meets another text there, or its own.
+            let mut crowded = Classes {
+                slots: vec![None; 1],
+            };
+            for raw in scanned.instances.iter().rev() {
+                let c = crowded.of(&text, raw);
+                let expected = (maybe_product(&text, raw), maybe_geometry(&text, raw));
+                assert_eq!((c.product, c.geometry), expected, "{name} #{}", raw.id);
+            }
+        }
+        assert!(checked > 1000, "{checked}");
     }
 }

@@ -31,7 +31,7 @@ use crate::nurbs::{
 };
 use crate::topology::{
     Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
-    seam_side, seam_splits,
+    same_trace, seam_side, seam_splits,
 };
 
 /// Relative tolerance of the topology (of the part's size).
@@ -812,13 +812,17 @@ impl Build<'_, '_, '_, '_> {
                 };
                 // The deviation measured with the pcurve is kept (the face check then
                 // compares it with the tolerance instead of sampling again), unless the
-                // pcurve moves to the other side of a seam, where it is measured anew.
+                // pcurve moves to the other side of a seam that is not the same curve
+                // (`same_trace`), where it is measured anew.
                 (c.pcurve, c.pcurve_deviation) = match p {
                     Some((p, deviation)) => {
                         let twice = k.and_then(|k| uses.get(k)).is_some_and(|(_, n)| *n == 2);
                         let seam = [closed[0] || twice, closed[1] || twice];
                         match seam_side(surface, &p, c.forward == same_sense, seam) {
-                            Some(moved) => (Some(moved), None),
+                            Some(moved) => {
+                                let same = same_trace(surface, &p, &moved);
+                                (Some(moved), same.then_some(deviation))
+                            }
                             None => (Some(p), Some(deviation)),
                         }
                     }
