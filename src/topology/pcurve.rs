@@ -704,8 +704,8 @@ enum Along {
     /// parameter, with the free parameter at `a` and at `b` ([`iso_bound`] compares the
     /// edge with its piece).
     Line { line: NurbsCurve, ends: (f64, f64) },
-    /// A bound of the deviation, found without building the isocurve (a boundary row of
-    /// the net compared with the edge's poles: [`boundary_row`]); `None` when the
+    /// A bound of the deviation, found without building the isocurve (a row of the net
+    /// compared with the edge's poles: [`net_row`]); `None` when the
     /// comparison gave none.
     Bound(Option<f64>),
 }
@@ -791,8 +791,8 @@ fn same_curve_bound(c: &NurbsCurve, d: &NurbsCurve) -> Option<f64> {
 
 /// [`same_curve_bound`] of `c` against a curve `D` of `c`'s degree and knot count given by
 /// its knots `d_knot(k)` (non-decreasing) and its poles and weights `d_pole(i)`, for `k`
-/// and `i` over `c`'s knot and pole indices: a boundary row of a surface's net is compared
-/// with an edge this way without being built as a curve first ([`boundary_row`]).
+/// and `i` over `c`'s knot and pole indices: a row of a surface's net is compared with an
+/// edge this way without being built as a curve first ([`net_row`]).
 fn matched_bound<'a>(
     c: &'a NurbsCurve,
     d_knot: impl Fn(usize) -> f64,
@@ -940,7 +940,7 @@ fn iso(
     (a, b): (f64, f64),
     size: f64,
 ) -> Option<Iso> {
-    if let Some(found) = boundary_row(surface, curve, (a, b), size) {
+    if let Some(found) = net_row(surface, curve, (a, b), size) {
         return Some(found);
     }
     let ((u0, u1), (v0, v1)) = surface.domain();
@@ -1081,14 +1081,50 @@ fn iso(
     })
 }
 
-/// The fast path of [`iso`], without any point inversion: the edge's curve is a boundary
-/// row or column of the surface's control net where the surface is clamped (its isocurve
-/// there has exactly those poles, weights, degree and knots: NURBS Book eq. 3.10 at a
-/// clamped end), with the same poles and proportional weights in the same or the reverse
-/// order and its knots an affine image of the surface's. The pcurve is then the line at that
-/// end, its free parameter the inverse of the affine map; [`exact_pcurve`] still checks it
-/// by evaluation.
-fn boundary_row(
+/// The breakpoints of a knot vector of degree `p` (clamped, or not): its clamped ends and
+/// every knot strictly inside the domain with multiplicity exactly `p`, each with the index
+/// of the pole the curve passes through there (NURBS Book eq. 3.10 at a clamped end; at an
+/// interior knot of multiplicity `p`, eq. 2.5 leaves one basis function, of the pole before
+/// the knot's first copy), in increasing order.
+fn breakpoints(knots: &[f64], p: usize) -> impl Iterator<Item = (f64, usize)> + '_ {
+    let len = knots.len();
+    let poles = len.saturating_sub(p + 1);
+    let mut k = 0;
+    std::iter::from_fn(move || {
+        while k < len {
+            let (start, x) = (k, knots[k]);
+            while k < len && knots[k] == x {
+                k += 1;
+            }
+            let m = k - start;
+            if start == 0 {
+                if m == p + 1 {
+                    return Some((x, 0));
+                }
+            } else if k == len {
+                if m == p + 1 && poles > 0 {
+                    return Some((x, poles - 1));
+                }
+            } else if m == p && start > p && k <= poles {
+                return Some((x, start - 1));
+            }
+        }
+        None
+    })
+}
+
+/// The fast path of [`iso`], without any point inversion: the edge's curve is a row or
+/// column of the surface's control net at a breakpoint of the fixed direction (a clamped
+/// end, or an interior knot of multiplicity `p`: the isocurve there has exactly that row's
+/// poles and weights, [`breakpoints`]), between two breakpoints of the free direction (the
+/// isocurve's piece there is that slice of the row with the knots between, NURBS Book A5.1
+/// inserting nothing at a breakpoint): the same poles and proportional weights in the same
+/// or the reverse order, and the edge's knots an affine image of the piece's. A sphere's
+/// meridian and parallel arcs between quarter points, a cylinder's circles and generators.
+/// The pcurve is the line at that row, its free parameter the inverse of the affine map;
+/// the deviation is bounded by comparing the edge with the slice pole by pole
+/// ([`matched_bound`]) over the whole edge curve, which bounds it over any range of it.
+fn net_row(
     surface: &NurbsSurface,
     curve: &NurbsCurve,
     (a, b): (f64, f64),
@@ -1096,102 +1132,123 @@ fn boundary_row(
 ) -> Option<Iso> {
     let grid = surface.control_points();
     let weights = surface.weights();
-    let (nu, nv) = (grid.nu(), grid.nv());
     let poles = curve.control_points();
     let n = poles.len();
-    let ((u0, u1), (v0, v1)) = surface.domain();
-    let clamped = |knots: &[f64], p: usize, start: bool| {
-        let ends = if start {
-            knots.get(..=p)
-        } else {
-            knots.len().checked_sub(p + 1).and_then(|k| knots.get(k..))
-        };
-        ends.is_some_and(|e| e.iter().all(|&k| k == e[0]))
-    };
-    // (fixed direction, its value, the index of the net's row or column there); at most
-    // four, held without an allocation (this runs for every coedge of a read).
-    let mut candidates: [Option<(usize, f64, usize)>; 4] = [None; 4];
-    for (k, (start, c)) in [(true, v0), (false, v1)].into_iter().enumerate() {
-        if clamped(surface.knots_v(), surface.degree_v(), start) && nu == n {
-            candidates[k] = Some((1, c, if start { 0 } else { nv - 1 }));
-        }
-    }
-    for (k, (start, c)) in [(true, u0), (false, u1)].into_iter().enumerate() {
-        if clamped(surface.knots_u(), surface.degree_u(), start) && nv == n {
-            candidates[2 + k] = Some((0, c, if start { 0 } else { nu - 1 }));
-        }
-    }
-    let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
-    // The pole and weight `k` along the free direction of a candidate's row.
-    let row = |fixed: usize, index: usize, k: usize| {
-        let (i, j) = if fixed == 1 { (k, index) } else { (index, k) };
-        (grid.get(i, j), w(i, j))
-    };
+    let (first, last) = (*poles.first()?, *poles.last()?);
     let tol = 1e-12 * size;
-    for (fixed, c, index) in candidates.into_iter().flatten() {
+    let w = |i: usize, j: usize| weights.map_or(1.0, |g| *g.get(i, j));
+    let t = curve.knots();
+    for fixed in [1, 0] {
         let free = 1 - fixed;
-        let (degree, knots) = if free == 0 {
-            (surface.degree_u(), surface.knots_u())
+        let (fixed_knots, fixed_degree) = if fixed == 0 {
+            (surface.knots_u(), surface.degree_u())
         } else {
-            (surface.degree_v(), surface.knots_v())
+            (surface.knots_v(), surface.degree_v())
         };
-        if curve.degree() != degree || curve.knots().len() != knots.len() {
+        let (knots, degree) = if free == 0 {
+            (surface.knots_u(), surface.degree_u())
+        } else {
+            (surface.knots_v(), surface.degree_v())
+        };
+        if curve.degree() != degree {
             continue;
         }
-        for reversed in [false, true] {
-            let at = |k: usize| row(fixed, index, if reversed { n - 1 - k } else { k });
-            let ratio = curve.weight(0) / at(0).1;
-            let same = (0..n).all(|k| {
-                let (q, wq) = at(k);
-                dist(poles[k], *q) <= tol && (curve.weight(k) - ratio * wq).abs() <= 1e-12 * ratio
-            });
-            if !same {
-                continue;
-            }
-            // t = alpha s + beta, s the surface parameter (mirrored when reversed).
-            let m = knots.len() - 1;
-            let s_of = |k: usize| if reversed { knots[m - k] } else { knots[k] };
-            let t = curve.knots();
-            let (s0, s1) = (s_of(0), s_of(m));
-            if s0 == s1 {
-                continue;
-            }
-            let alpha = (t[m] - t[0]) / (s1 - s0);
-            let span = (t[m] - t[0]).abs();
-            let affine =
-                (0..=m).all(|k| (t[k] - (t[0] + alpha * (s_of(k) - s0))).abs() <= 1e-12 * span);
-            if !affine || !alpha.is_finite() || alpha == 0.0 {
-                continue;
-            }
-            let s = |x: f64| s0 + (x - t[0]) / alpha;
-            let point = |x: f64| {
-                let mut q = [0.0; 3];
-                q[fixed] = c;
-                q[free] = s(x);
-                q
-            };
-            let pcurve =
-                NurbsCurve::with_dimension(1, vec![a, a, b, b], vec![point(a), point(b)], None, 2)
-                    .ok()?;
-            // The row is the isocurve there (NURBS Book eq. 3.10 at a clamped end). Over the
-            // whole edge curve it is compared with the edge's poles as they are (its knots
-            // negated when it runs the other way, an increasing affine image); over part of
-            // it, both are cut first ([`iso_bound`]).
-            let along = if (a, b) == curve.domain() {
-                let sign = if reversed { -1.0 } else { 1.0 };
-                Along::Bound(matched_bound(curve, |k| sign * s_of(k), at))
-            } else {
-                let line = if fixed == 0 {
-                    surface.iso_u(c).ok()?
-                } else {
-                    surface.iso_v(c).ok()?
+        // The pole `k` of the net's row (column) `index` along the free direction.
+        let at = |index: usize, k: usize| {
+            let (i, j) = if fixed == 1 { (k, index) } else { (index, k) };
+            (grid.get(i, j), w(i, j))
+        };
+        for (c, index) in breakpoints(fixed_knots, fixed_degree) {
+            for (lo, ia) in breakpoints(knots, degree) {
+                // The edge starts or ends at this breakpoint's pole (the cheap test first).
+                let near = |x: Point3| {
+                    let q = at(index, ia).0;
+                    (x[0] - q[0]).abs() <= tol
+                        && (x[1] - q[1]).abs() <= tol
+                        && (x[2] - q[2]).abs() <= tol
                 };
-                Along::Line {
-                    line,
-                    ends: (s(a), s(b)),
+                if !(near(first) || near(last)) {
+                    continue;
                 }
-            };
-            return Some(Iso { pcurve, along });
+                let ib = ia + n - 1;
+                // The piece from this breakpoint to the one at pole `ib`, if there is one.
+                let Some((hi, _)) = breakpoints(knots, degree).find(|&(_, k)| k == ib) else {
+                    continue;
+                };
+                if hi <= lo {
+                    continue;
+                }
+                // Its knots: `lo` and `hi` p + 1 times, the free direction's knots between.
+                let piece_knot = |k: usize| {
+                    if k <= degree {
+                        lo
+                    } else if k >= n {
+                        hi
+                    } else {
+                        knots[ia + k]
+                    }
+                };
+                for reversed in [false, true] {
+                    let start = if reversed { last } else { first };
+                    if dist(start, *at(index, ia).0) > tol {
+                        continue;
+                    }
+                    let pole = |k: usize| at(index, if reversed { ib - k } else { ia + k });
+                    let ratio = curve.weight(0) / pole(0).1;
+                    let same = (0..n).all(|k| {
+                        let (q, wq) = pole(k);
+                        dist(poles[k], *q) <= tol
+                            && (curve.weight(k) - ratio * wq).abs() <= 1e-12 * ratio
+                    });
+                    if !same {
+                        continue;
+                    }
+                    // t = alpha s + beta, s the surface parameter (mirrored when reversed).
+                    let m = n + degree;
+                    let s_of = |k: usize| {
+                        if reversed {
+                            piece_knot(m - k)
+                        } else {
+                            piece_knot(k)
+                        }
+                    };
+                    if t.len() != m + 1 {
+                        continue;
+                    }
+                    let (s0, s1) = (s_of(0), s_of(m));
+                    let alpha = (t[m] - t[0]) / (s1 - s0);
+                    let span = (t[m] - t[0]).abs();
+                    let affine = (0..=m)
+                        .all(|k| (t[k] - (t[0] + alpha * (s_of(k) - s0))).abs() <= 1e-12 * span);
+                    if !affine || !alpha.is_finite() || alpha == 0.0 {
+                        continue;
+                    }
+                    let s = |x: f64| s0 + (x - t[0]) / alpha;
+                    let point = |x: f64| {
+                        let mut q = [0.0; 3];
+                        q[fixed] = c;
+                        q[free] = s(x);
+                        q
+                    };
+                    let pcurve = NurbsCurve::with_dimension(
+                        1,
+                        vec![a, a, b, b],
+                        vec![point(a), point(b)],
+                        None,
+                        2,
+                    )
+                    .ok()?;
+                    // The slice is the isocurve's piece (see above); compared with the whole
+                    // edge curve (its knots negated when it runs the other way, an
+                    // increasing affine image).
+                    let sign = if reversed { -1.0 } else { 1.0 };
+                    let bound = matched_bound(curve, |k| sign * s_of(k), pole);
+                    return Some(Iso {
+                        pcurve,
+                        along: Along::Bound(bound),
+                    });
+                }
+            }
         }
     }
     None
@@ -1293,7 +1350,7 @@ mod tests {
         let ((_, _), (v0, _)) = cyl.domain();
         let row = cyl.iso_v(v0).unwrap();
         for edge in [row.clone(), row.reverse().unwrap()] {
-            let found = boundary_row(&cyl, &edge, edge.domain(), size).expect("a boundary row");
+            let found = net_row(&cyl, &edge, edge.domain(), size).expect("a boundary row");
             assert!(matches!(found.along, Along::Bound(Some(_))));
             let p = exact_pcurve(&cyl, Some(&map), &edge, edge.domain(), 1e-9).expect("exact");
             assert_eq!(p.method, PcurveMethod::Iso);
@@ -1368,6 +1425,49 @@ mod tests {
             );
             for (x, y) in pi.iter().zip(pm) {
                 assert!(dist(*x, *y) <= 1e-14 * (u1 - u0), "{x:?} {y:?}");
+            }
+        }
+    }
+
+    /// Arcs of a sphere between its quarter points (a meridian from the pole to the
+    /// equator, a parallel along a quarter of the equator; reparameterised, and reversed)
+    /// are slices of its net's rows at breakpoints: found without inversion (no map given)
+    /// with a bound from the poles that covers what dense evaluation finds and is rounding.
+    #[test]
+    fn arcs_between_breakpoints_are_slices_of_the_net() {
+        let tau = 2.0 * std::f64::consts::PI;
+        let half = 0.5 * std::f64::consts::PI;
+        let (s, _) = sphere(&frame(), 5.0, (0.0, tau), (-half, half)).unwrap();
+        let size = bounding_box_diagonal(s.control_points().as_slice());
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let (qu, vm) = (u0 + 0.25 * (u1 - u0), 0.5 * (v0 + v1));
+        let meridian = s.iso_u(qu).unwrap().piece(v0, vm).unwrap();
+        let parallel = s
+            .iso_v(vm)
+            .unwrap()
+            .piece(qu, u0 + 0.5 * (u1 - u0))
+            .unwrap();
+        for arc in [meridian, parallel] {
+            for edge in [
+                arc.reparameterize(10.0, 20.0).unwrap(),
+                arc.reverse().unwrap(),
+            ] {
+                let found = net_row(&s, &edge, edge.domain(), size).expect("a slice of a row");
+                assert!(matches!(found.along, Along::Bound(Some(_))));
+                let (a, b) = edge.domain();
+                let range = (a + 0.2 * (b - a), b);
+                let p = exact_pcurve(&s, None, &edge, range, 1e-9).expect("exact");
+                assert_eq!(p.method, PcurveMethod::Iso);
+                assert!(p.deviation <= EXACT * size, "{:e}", p.deviation);
+                let mut worst: f64 = 0.0;
+                for k in 0..=400 {
+                    let t = range.0 + (range.1 - range.0) * f64::from(k) / 400.0;
+                    worst = worst.max(dist(
+                        on_surface(&s, &p.curve, t),
+                        edge.point_at_unchecked(t),
+                    ));
+                }
+                assert!(worst <= p.deviation, "{worst:e} {:e}", p.deviation);
             }
         }
     }
