@@ -77,6 +77,35 @@ pub fn runs(knots: &[f64]) -> impl Iterator<Item = (usize, f64, usize)> + '_ {
     })
 }
 
+/// Whether both ends of a knot vector of degree `p` repeat `p + 1` times (the usual
+/// clamped form: the boundary curve at each end is then the end row of poles).
+pub fn clamped(knots: &[f64], p: usize) -> bool {
+    let n = knots.len();
+    n > 2 * p + 1
+        && knots[..=p].iter().all(|&k| k == knots[0])
+        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1])
+}
+
+/// The breakpoints of a knot vector of degree `p` (clamped or not), in increasing order:
+/// its clamped ends and every knot strictly inside the domain with multiplicity exactly
+/// `p`, each with the index of the pole the curve passes through there (NURBS Book
+/// eq. 3.10 at a clamped end; at an interior knot of multiplicity `p`, eq. 2.5 leaves one
+/// basis function, of the pole before the knot's first copy). A curve cut at breakpoints is
+/// a slice of its poles, and a surface's isocurve at one is a row of its net.
+pub fn breakpoints(knots: &[f64], p: usize) -> impl Iterator<Item = (f64, usize)> + '_ {
+    let len = knots.len();
+    let poles = len.saturating_sub(p + 1);
+    runs(knots).filter_map(move |(start, x, m)| {
+        if start == 0 {
+            (m == p + 1).then_some((x, 0))
+        } else if start + m == len {
+            (m == p + 1 && poles > 0).then(|| (x, poles - 1))
+        } else {
+            (m == p && start > p && start + m <= poles).then(|| (x, start - 1))
+        }
+    })
+}
+
 /// The distinct knot values and their multiplicities (STEP's `knots` and
 /// `knot_multiplicities`).
 pub fn to_distinct(knots: &[f64]) -> (Vec<f64>, Vec<usize>) {
@@ -140,6 +169,39 @@ pub fn multiplicity(knots: &[f64], u: f64) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Breakpoints are the knots where one basis function is 1 (A2.2 evaluated there):
+    /// the clamped ends and the interior knots of multiplicity `p`, not a simple knot nor
+    /// an unclamped end, each with that function's pole.
+    #[test]
+    fn breakpoints_are_where_one_basis_function_is_one() {
+        let cases: [(usize, &[f64]); 3] = [
+            (3, &[0., 0., 0., 0., 1., 1., 1., 2., 3., 3., 3., 3.]),
+            (2, &[0., 0., 0., 1., 1., 2., 3., 3., 4., 4., 4.]),
+            (2, &[0., 1., 2., 3., 3., 4., 5., 6.]),
+        ];
+        for (p, knots) in cases {
+            let poles = knots.len() - p - 1;
+            let found: Vec<(f64, usize)> = breakpoints(knots, p).collect();
+            let (a, b) = domain(p, poles, knots);
+            let mut expected = Vec::new();
+            let mut values: Vec<f64> = knots.to_vec();
+            values.dedup();
+            for x in values.into_iter().filter(|&x| x >= a && x <= b) {
+                let span = find_span(p, poles, knots, x);
+                let mut n = vec![0.0; p + 1];
+                crate::nurbs::basis::basis_funs(span, x, p, knots, &mut n);
+                if let Some(j) = n.iter().position(|&v| v == 1.0) {
+                    let interior = x > a && x < b;
+                    // An end counts only when clamped (p + 1 copies).
+                    if interior || multiplicity(knots, x) == p + 1 {
+                        expected.push((x, span - p + j));
+                    }
+                }
+            }
+            assert_eq!(found, expected, "{knots:?}");
+        }
+    }
 
     #[test]
     fn span_search_matches_linear_scan() {

@@ -18,7 +18,7 @@
 //! multiplicity `p + 1 - w` (C^(w-1)), e.g. the degree-2 circle of spec.md c.4 with `w = 1`.
 
 use super::insert::{Bundle, Dir};
-use super::knots::to_distinct;
+use super::knots::{clamped, to_distinct};
 use super::{NurbsCurve, NurbsSurface};
 
 /// Relative tolerance (of the knot range) for comparing knot values and spacings.
@@ -285,15 +285,6 @@ impl NurbsSurface {
             None => classify_knots(b.degree, &b.knots),
         }
     }
-}
-
-/// Whether `knots` of degree `p` are clamped at both ends (the boundary curve at each end
-/// is then the end row of poles).
-fn clamped(knots: &[f64], p: usize) -> bool {
-    let n = knots.len();
-    n > 2 * p + 1
-        && knots[..=p].iter().all(|&k| k == knots[0])
-        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1])
 }
 
 fn close(p: [f64; 3], q: [f64; 3], tolerance: f64) -> bool {

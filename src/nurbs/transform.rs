@@ -3,7 +3,7 @@
 //! 5.x reversal, A3.5 / A4.3 for the iso-curve contraction).
 
 use super::basis::basis_funs;
-use super::knots::find_span;
+use super::knots::{breakpoints, find_span};
 use super::{GeometryError, Grid, Hpoint, MAX_DEGREE, NurbsCurve, NurbsSurface, Point3};
 
 /// A 3x4 affine matrix `[[r11, r12, r13, t1], [r21, r22, r23, t2], [r31, r32, r33, t3]]`,
@@ -174,11 +174,12 @@ impl NurbsCurve {
 /// `p + 1` rows the basis functions touch are lifted to homogeneous form (`w x, w y, w z, w`,
 /// the same products as [`NurbsSurface::homogeneous`]), not the net.
 ///
-/// At a clamped end (`p + 1` equal knots; NURBS Book eq. 3.10: one basis function is 1 there,
-/// the others 0) the curve is the net's boundary row itself: its poles and weights are
-/// copied, not lifted and divided back (the same curve with the net's own digits, where the
-/// basis functions computed in floating point may sum the row with a rounding; an edge
-/// along a face's boundary asks for this on every B-rep read).
+/// At a breakpoint ([`breakpoints`]: a clamped end, NURBS Book eq. 3.10, or an interior
+/// knot of multiplicity `p`; one basis function is 1 there, the others 0) the curve is that
+/// row of the net itself: its poles and weights are copied, not lifted and divided back (the
+/// same curve with the net's own digits, where the basis functions computed in floating
+/// point may sum the row with a rounding; an edge along a face's boundary asks for this on
+/// every B-rep read).
 fn iso_curve(s: &NurbsSurface, in_u: bool, t: f64) -> Result<NurbsCurve, GeometryError> {
     let (p, knots, q, other_knots) = if in_u {
         (s.degree_u(), s.knots_u(), s.degree_v(), s.knots_v())
@@ -199,27 +200,12 @@ fn iso_curve(s: &NurbsSurface, in_u: bool, t: f64) -> Result<NurbsCurve, Geometr
         }
         x
     };
-    // A clamped end (p + 1 equal knots): the row there.
-    let row = if knots.get(..=p).is_some_and(|e| e.iter().all(|&k| k == t)) {
-        Some(0)
-    } else if knots
-        .len()
-        .checked_sub(p + 1)
-        .and_then(|k| knots.get(k..))
-        .is_some_and(|e| e.iter().all(|&k| k == t))
-    {
-        fixed.checked_sub(1)
-    } else {
-        // An interior knot of multiplicity p (a breakpoint between arcs): there the basis
-        // function of the pole before the knot's first copy is 1 and all others 0 (NURBS
-        // Book eq. 2.5 evaluated at the knot), so the isocurve is that row too.
-        let k = knots.partition_point(|&x| x < t);
-        let m = knots
-            .get(k..)
-            .map_or(0, |r| r.iter().take_while(|&&x| x == t).count());
-        let end = knots.len().saturating_sub(p + 1);
-        (m == p && k > p && k + m <= end && k - 1 < fixed).then(|| k - 1)
-    };
+    // At a breakpoint (a clamped end, or an interior knot of multiplicity p, between arcs)
+    // one basis function is 1 and the others 0: the isocurve is that row of the net.
+    let row = breakpoints(knots, p)
+        .find(|&(x, _)| x == t)
+        .map(|(_, k)| k)
+        .filter(|&k| k < fixed);
     if let Some(k) = row {
         let points = (0..free)
             .map(|j| {

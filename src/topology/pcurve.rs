@@ -40,6 +40,7 @@ use crate::nurbs::sweep::QuadricMap;
 use crate::nurbs::vector::{add, cross, dist, dot, norm, sub};
 use crate::nurbs::{
     GeometryError, NurbsCurve, NurbsSurface, Point3, bounding_box, bounding_box_diagonal, distance,
+    knots::{breakpoints, clamped},
 };
 
 /// How a pcurve was obtained.
@@ -217,24 +218,16 @@ pub fn same_trace(surface: &NurbsSurface, p: &NurbsCurve, moved: &NurbsCurve) ->
         return false;
     }
     if crossed(0, u0, u1) && other_same(0) {
-        let ends = knot_ends_clamped(surface.knots_u(), surface.degree_u());
+        let ends = clamped(surface.knots_u(), surface.degree_u());
         return ends
             && (0..nv).all(|j| grid.get(0, j) == grid.get(nu - 1, j) && w(0, j) == w(nu - 1, j));
     }
     if crossed(1, v0, v1) && other_same(1) {
-        let ends = knot_ends_clamped(surface.knots_v(), surface.degree_v());
+        let ends = clamped(surface.knots_v(), surface.degree_v());
         return ends
             && (0..nu).all(|i| grid.get(i, 0) == grid.get(i, nv - 1) && w(i, 0) == w(i, nv - 1));
     }
     false
-}
-
-/// Whether the first and the last `p + 1` knots are each one value (a clamped knot vector).
-fn knot_ends_clamped(knots: &[f64], p: usize) -> bool {
-    let n = knots.len();
-    n > 2 * p + 1
-        && knots[..=p].iter().all(|&k| k == knots[0])
-        && knots[n - p - 1..].iter().all(|&k| k == knots[n - 1])
 }
 
 /// The two sides of the seam edges of a loop whose orientation in `(u, v)` is not known (IGES
@@ -1078,38 +1071,6 @@ fn iso(
             line,
             ends: (fa, fb),
         },
-    })
-}
-
-/// The breakpoints of a knot vector of degree `p` (clamped, or not): its clamped ends and
-/// every knot strictly inside the domain with multiplicity exactly `p`, each with the index
-/// of the pole the curve passes through there (NURBS Book eq. 3.10 at a clamped end; at an
-/// interior knot of multiplicity `p`, eq. 2.5 leaves one basis function, of the pole before
-/// the knot's first copy), in increasing order.
-fn breakpoints(knots: &[f64], p: usize) -> impl Iterator<Item = (f64, usize)> + '_ {
-    let len = knots.len();
-    let poles = len.saturating_sub(p + 1);
-    let mut k = 0;
-    std::iter::from_fn(move || {
-        while k < len {
-            let (start, x) = (k, knots[k]);
-            while k < len && knots[k] == x {
-                k += 1;
-            }
-            let m = k - start;
-            if start == 0 {
-                if m == p + 1 {
-                    return Some((x, 0));
-                }
-            } else if k == len {
-                if m == p + 1 && poles > 0 {
-                    return Some((x, poles - 1));
-                }
-            } else if m == p && start > p && k <= poles {
-                return Some((x, start - 1));
-            }
-        }
-        None
     })
 }
 

@@ -25,14 +25,7 @@ pub fn tolerance_of(values: impl Iterator<Item = f64>) -> f64 {
 }
 
 /// Whether both ends of a knot vector repeat `degree + 1` times (the usual clamped form).
-pub fn clamped(knots: &[f64], degree: usize) -> bool {
-    let m = knots.len();
-    if m < 2 * (degree + 1) {
-        return false;
-    }
-    knots[..=degree].iter().all(|&k| k == knots[0])
-        && knots[m - degree - 1..].iter().all(|&k| k == knots[m - 1])
-}
+pub use crate::nurbs::knots::clamped;
 
 /// Whether the knots and poles are a periodic B-spline written out flat (the form Open
 /// CASCADE's `SetNotPeriodic` produces, and the uniform textbook form): with period
