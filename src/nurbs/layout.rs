@@ -243,6 +243,12 @@ impl NurbsSurface {
         {
             return true;
         }
+        // Clamped both ways, the boundary curves start and end at the corner poles (NURBS
+        // Book eq. 3.10): corners apart decide "open" without evaluating, as the first and
+        // last samples would.
+        if self.corners_apart(Dir::U, tolerance) {
+            return false;
+        }
         let ((u0, u1), (v0, v1)) = self.domain();
         sample_params(v0, v1, self.knots_v()).all(|v| {
             close(
@@ -268,6 +274,9 @@ impl NurbsSurface {
         {
             return true;
         }
+        if self.corners_apart(Dir::V, tolerance) {
+            return false;
+        }
         let ((u0, u1), (v0, v1)) = self.domain();
         sample_params(u0, u1, self.knots_u()).all(|u| {
             close(
@@ -276,6 +285,29 @@ impl NurbsSurface {
                 tolerance,
             )
         })
+    }
+
+    /// Whether the surface is clamped in both directions and a pair of corner poles facing
+    /// each other across `dir` (first and last row of `dir`, at either end of the other
+    /// direction) is farther apart than `tolerance`: the two boundary curves of `dir` then
+    /// differ at that end, where each passes through its corner pole.
+    fn corners_apart(&self, dir: Dir, tolerance: f64) -> bool {
+        let poles = self.control_points();
+        let (nu, nv) = (poles.nu(), poles.nv());
+        if nu == 0
+            || nv == 0
+            || !clamped(self.knots_u(), self.degree_u())
+            || !clamped(self.knots_v(), self.degree_v())
+        {
+            return false;
+        }
+        let pairs = match dir {
+            Dir::U => [((0, 0), (nu - 1, 0)), ((0, nv - 1), (nu - 1, nv - 1))],
+            Dir::V => [((0, 0), (0, nv - 1)), ((nu - 1, 0), (nu - 1, nv - 1))],
+        };
+        pairs
+            .iter()
+            .any(|&((i, j), (k, l))| !close(*poles.get(i, j), *poles.get(k, l), tolerance))
     }
 
     fn layout_dir(&self, dir: Dir, tolerance: f64) -> Layout {
@@ -354,5 +386,74 @@ mod tests {
             assert_eq!(boundary_gap(&s, true) <= tol, want);
             assert!(!s.is_closed_v(tol) && boundary_gap(&s, false) > tol);
         }
+    }
+
+    /// Nets closed in one direction and open in the other, with the rows facing each other
+    /// across the open direction apart at one corner only, or only inside (corners within
+    /// tolerance: the sampled check decides): every verdict is the dense evaluation's.
+    #[test]
+    fn corner_poles_decide_only_what_evaluation_decides() {
+        let tol = 1e-6;
+        // A bicubic-by-quadratic net, rows i (u) and columns j (v); `bend` moves one pole
+        // of the last row (u = 1) by `by` in z.
+        let net = |bend: (usize, usize), by: f64, closed_u: bool| {
+            Grid::from_fn(4, 3, |i, j| {
+                let mut p = [i as f64, (j * j) as f64, (i * j) as f64 * 0.25];
+                if closed_u && i == 3 {
+                    p = [0.0, (j * j) as f64, 0.0];
+                }
+                if (i, j) == bend {
+                    p[2] += by;
+                }
+                p
+            })
+        };
+        let surface = |poles| {
+            NurbsSurface::new(
+                3,
+                2,
+                vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+                vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+                poles,
+                None,
+            )
+            .unwrap()
+        };
+        for (bend, by) in [
+            ((3, 0), 0.5 * tol),
+            ((3, 0), 2.0 * tol),
+            ((3, 2), 2.0 * tol),
+            // Inside only: the boundary curves are 0.75 and 1.5 tolerances apart at most
+            // (the quadratic middle basis function peaks at 1/2).
+            ((3, 1), 1.5 * tol),
+            ((3, 1), 3.0 * tol),
+        ] {
+            let s = surface(net(bend, by, true));
+            assert_eq!(
+                s.is_closed_u(tol),
+                boundary_gap(&s, true) <= tol,
+                "{bend:?} {by}"
+            );
+            assert_eq!(
+                s.is_closed_v(tol),
+                boundary_gap(&s, false) <= tol,
+                "{bend:?} {by}"
+            );
+            // The transposed net: the same verdicts across v.
+            let t = surface(net(bend, by, true)).swap_uv().unwrap();
+            assert_eq!(
+                t.is_closed_v(tol),
+                boundary_gap(&t, false) <= tol,
+                "{bend:?} {by}"
+            );
+            assert_eq!(
+                t.is_closed_u(tol),
+                boundary_gap(&t, true) <= tol,
+                "{bend:?} {by}"
+            );
+        }
+        // Closed across u with every corner in place; open across v at every corner.
+        let s = surface(net((0, 0), 0.0, true));
+        assert!(s.is_closed_u(tol) && !s.is_closed_v(tol));
     }
 }

@@ -378,12 +378,29 @@ impl Model {
     pub fn add_face(
         &mut self,
         surface: NurbsSurface,
-        mut loops: Vec<Loop>,
+        loops: Vec<Loop>,
         same_sense: bool,
     ) -> Result<FaceId, TopologyError> {
+        self.try_add_face(surface, loops, same_sense)
+            .map_err(|r| r.error)
+    }
+
+    /// [`Model::add_face`], giving the loops back when the check refuses them, for a caller
+    /// that retries without what was refused (a pcurve that deviates). The loops are as the
+    /// check left them: the coedges checked before the refusal carry the deviations
+    /// measured, which a later check takes as measured.
+    pub fn try_add_face(
+        &mut self,
+        surface: NurbsSurface,
+        mut loops: Vec<Loop>,
+        same_sense: bool,
+    ) -> Result<FaceId, RefusedFace> {
         let id = FaceId(self.faces.len());
-        for (index, l) in loops.iter_mut().enumerate() {
-            check::face_loop(self, id, index, &surface, l)?;
+        for index in 0..loops.len() {
+            let Some(l) = loops.get_mut(index) else { break };
+            if let Err(error) = check::face_loop(self, id, index, &surface, l) {
+                return Err(RefusedFace { error, loops });
+            }
         }
         self.faces.push(Face {
             surface,
@@ -429,6 +446,15 @@ impl Model {
         self.solids.push(Solid { outer, voids });
         Ok(SolidId(self.solids.len() - 1))
     }
+}
+
+/// A face [`Model::try_add_face`] refused: why, and its loops.
+#[derive(Debug)]
+pub struct RefusedFace {
+    /// What the check found.
+    pub error: TopologyError,
+    /// The face's loops, as the check left them.
+    pub loops: Vec<Loop>,
 }
 
 /// A coedge's pcurve cut at `t` of its edge's range `[a, b]`: `[None, None]` without one.

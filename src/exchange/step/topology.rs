@@ -30,8 +30,8 @@ use crate::nurbs::{
     Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal, conic::line_segment,
 };
 use crate::topology::{
-    Coedge, EdgeId, FaceId, Loop, ShellId, TopologyError, VertexId, edge_pcurve, moved_seams,
-    same_trace, seam_side, seam_splits,
+    Coedge, EdgeId, FaceId, Loop, RefusedFace, ShellId, TopologyError, VertexId, edge_pcurve,
+    moved_seams, same_trace, seam_side, seam_splits,
 };
 
 /// Relative tolerance of the topology (of the part's size).
@@ -687,14 +687,16 @@ impl Build<'_, '_, '_, '_> {
                 loops[k].outer = true;
             }
         }
-        let with_pcurves = loops.clone();
         match self
             .topology
             .model
-            .add_face(surface.clone(), with_pcurves, same_sense)
+            .try_add_face(surface.clone(), loops, same_sense)
         {
             Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some()),
-            Err(e @ TopologyError::PcurveDeviates { .. }) => {
+            Err(RefusedFace {
+                error: e @ TopologyError::PcurveDeviates { .. },
+                mut loops,
+            }) => {
                 // A pcurve the check refuses is left out (said here), the face kept.
                 let d = self.conv.error(
                     id,
@@ -705,6 +707,7 @@ impl Build<'_, '_, '_, '_> {
                 for l in &mut loops {
                     for c in &mut l.coedges {
                         c.pcurve = None;
+                        c.pcurve_deviation = None;
                     }
                 }
                 match self
@@ -716,7 +719,7 @@ impl Build<'_, '_, '_, '_> {
                     Err(e) => self.refuse(id, &e),
                 }
             }
-            Err(e) => self.refuse(id, &e),
+            Err(r) => self.refuse(id, &r.error),
         }
     }
 
