@@ -1075,3 +1075,60 @@ fn faces_carry_the_surfaces_the_document_lists() {
     // The torus's face is among them (its seam moved: see the test above).
     assert_eq!(moved, 1);
 }
+
+/// Two faces on one cylinder (a hand-written file, `tests/data/step/shared_cylinder_seam.step`):
+/// the first runs across the cylinder's seam, so the reader moves the seam for it (exactly:
+/// the same cylinder with other poles and knots), the second does not. The document lists
+/// every surface a face carries, bit for bit, under the face's own entity: the cylinder as
+/// read for the second face, and the moved one under a label of its own for the first,
+/// which keeps the source entity and kind. Written as STEP (a surface per face) and read
+/// again, the same surfaces are listed.
+#[test]
+fn a_surface_two_faces_share_is_listed_as_each_face_carries_it() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/step/shared_cylinder_seam.step");
+    let doc = exchange::read(&std::fs::read(&p).unwrap(), &ImportOptions::default()).unwrap();
+    let t = &doc.topology;
+    assert_eq!(t.model.faces.len(), 2);
+    let debug = |g: &nurbsx::nurbs::Geometry| format!("{g:?}");
+    // Each face's entity holds the surface the face carries.
+    let mut labels = Vec::new();
+    for (face, o) in t.model.faces.iter().zip(&t.origins.faces) {
+        let label = o.entity.clone().unwrap();
+        let e = doc.entities.iter().find(|e| e.id == label).unwrap();
+        assert_eq!(
+            debug(&e.geometry),
+            debug(&nurbsx::nurbs::Geometry::Surface(face.surface.clone())),
+            "face {} and {label}",
+            o.id
+        );
+        assert_eq!(e.source.entity, "CYLINDRICAL_SURFACE");
+        assert_eq!(e.meta.shape, Some(nurbsx::exchange::Shape::Cylinder));
+        labels.push(label);
+    }
+    // The two faces carry different surfaces (one seam moved), so two entities.
+    assert_ne!(
+        debug(&nurbsx::nurbs::Geometry::Surface(
+            t.model.faces[0].surface.clone()
+        )),
+        debug(&nurbsx::nurbs::Geometry::Surface(
+            t.model.faces[1].surface.clone()
+        ))
+    );
+    assert_ne!(labels[0], labels[1]);
+    let surfaces = |d: &Document| -> BTreeSet<String> {
+        d.entities
+            .iter()
+            .filter(|e| matches!(e.geometry, nurbsx::nurbs::Geometry::Surface(_)))
+            .map(|e| debug(&e.geometry))
+            .collect()
+    };
+    assert_eq!(surfaces(&doc).len(), 2);
+    let options = ExportOptions {
+        timestamp: Some("2026-01-01T00:00:00".into()),
+        ..ExportOptions::default()
+    };
+    let text = exchange::step::write(&doc, &options).unwrap();
+    let back = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(back.topology.model.faces.len(), 2);
+    assert_eq!(surfaces(&back), surfaces(&doc));
+}

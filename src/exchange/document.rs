@@ -187,51 +187,116 @@ impl Document {
         }
     }
 
-    /// Makes the entity of each face in `faces` the surface that face carries, for faces
-    /// whose reader moved their surface's seam (exactly: the same surface with other poles
-    /// and knots, [`crate::topology::moved_seams`], [`crate::topology::seam_splits`]).
+    /// Makes the document list the surface each face in `faces` carries, for faces whose
+    /// reader moved their surface's seam (exactly: the same surface with other poles and
+    /// knots, [`crate::topology::moved_seams`], [`crate::topology::seam_splits`]).
     /// Writers write a face's surface, not its entity, so without this the document would
     /// list a surface it never writes, and a file read, written and read again would list
-    /// another. A surface that several faces name stays as read (each face carries its
-    /// own). Called by the readers before any placement moves the model.
+    /// another. Where no other face carries the surface as read, the face's entity becomes
+    /// the moved surface. Where others do (a surface several faces share), the moved
+    /// surface is listed beside it as an entity of its own, labelled `<surface>@<face>` as
+    /// the readers label a curve several edges share, with the same source and metadata,
+    /// and the face names it. Called by the readers before any placement moves the model.
     pub(crate) fn adopt_moved_surfaces(&mut self, faces: &[crate::topology::FaceId]) {
         if faces.is_empty() {
             return;
         }
-        // How many faces name each entity, and where each entity is (one pass each, made
-        // only when a seam moved).
-        let mut named: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
-        for o in &self.topology.origins.faces {
+        let moved: std::collections::HashSet<usize> = faces.iter().map(|f| f.0).collect();
+        // The faces naming each entity, in face order (made only when a seam moved).
+        let mut naming: std::collections::HashMap<Label, Vec<usize>> =
+            std::collections::HashMap::new();
+        for (k, o) in self.topology.origins.faces.iter().enumerate() {
             if let Some(label) = &o.entity {
-                *named.entry(label.as_str()).or_default() += 1;
+                naming.entry(label.clone()).or_default().push(k);
             }
         }
-        let index: std::collections::HashMap<&str, usize> = self
-            .entities
-            .iter()
-            .enumerate()
-            .map(|(k, e)| (e.id.as_str(), k))
-            .collect();
-        let mut adopted: Vec<(usize, crate::topology::FaceId)> = faces
-            .iter()
-            .filter_map(|&f| {
-                let label = self.topology.origins.faces.get(f.0)?.entity.as_deref()?;
-                (named.get(label) == Some(&1)).then_some((*index.get(label)?, f))
-            })
-            .collect();
-        adopted.dedup();
-        for (k, f) in adopted {
-            let (Some(entity), Some(face)) =
-                (self.entities.get_mut(k), self.topology.model.faces.get(f.0))
+        // Per entity that a moved face names: the surfaces to list after it.
+        let mut added: Vec<(usize, Vec<Entity>)> = Vec::new();
+        let mut done: std::collections::HashSet<Label> = std::collections::HashSet::new();
+        for &f in faces {
+            let Some(label) = self
+                .topology
+                .origins
+                .faces
+                .get(f.0)
+                .and_then(|o| o.entity.clone())
             else {
                 continue;
             };
-            if matches!(entity.geometry, Geometry::Surface(_)) {
-                entity.geometry = Geometry::Surface(face.surface.clone());
-                // A range declared in the old parameters (IGES 128 U(0)..V(1)) says
-                // nothing of the new ones.
-                entity.meta.parameter_range = None;
+            if !done.insert(label.clone()) {
+                continue;
             }
+            let Some(k) = self.entities.iter().position(|e| e.id == label) else {
+                continue;
+            };
+            if !matches!(self.entities[k].geometry, Geometry::Surface(_)) {
+                continue;
+            }
+            let all = naming.get(&label).map_or(&[][..], Vec::as_slice);
+            // Does a face still carry the surface as read?
+            let read_carried = all.iter().any(|&g| {
+                !moved.contains(&g)
+                    && self.topology.model.faces.get(g).is_some_and(|face| {
+                        matches!(&self.entities[k].geometry, Geometry::Surface(x) if *x == face.surface)
+                    })
+            });
+            let mut extra: Vec<Entity> = Vec::new();
+            let mut first = !read_carried;
+            for &g in all.iter().filter(|g| moved.contains(g)) {
+                let (Some(face), Some(origin)) = (
+                    self.topology.model.faces.get(g),
+                    self.topology.origins.faces.get(g),
+                ) else {
+                    continue;
+                };
+                let surface = Geometry::Surface(face.surface.clone());
+                let face_label = origin.id.clone();
+                let entity = &mut self.entities[k];
+                if first {
+                    // No face carries the surface as read: the entity becomes this one.
+                    first = false;
+                    entity.geometry = surface;
+                    // A range declared in the old parameters (IGES 128 U(0)..V(1)) says
+                    // nothing of the new ones.
+                    entity.meta.parameter_range = None;
+                    continue;
+                }
+                if entity.geometry == surface {
+                    continue;
+                }
+                entity.meta.used_by.retain(|u| *u != face_label);
+                let new_label = compact_str::format_compact!("{label}@{face_label}");
+                let listed = extra.iter().position(|e| e.geometry == surface);
+                let target = match listed {
+                    Some(i) => {
+                        extra[i].meta.used_by.push(face_label);
+                        extra[i].id.clone()
+                    }
+                    None => {
+                        let mut e = entity.clone();
+                        e.id = new_label;
+                        e.geometry = surface;
+                        e.meta.parameter_range = None;
+                        e.meta.used_by = vec![face_label];
+                        let id = e.id.clone();
+                        extra.push(e);
+                        id
+                    }
+                };
+                if let Some(o) = self.topology.origins.faces.get_mut(g) {
+                    o.entity = Some(target);
+                }
+            }
+            if !extra.is_empty() {
+                added.push((k, extra));
+            }
+        }
+        // Each entity's new neighbours listed right after it (from the last, so that the
+        // positions before stay valid).
+        added.sort_by_key(|(k, _)| *k);
+        for (k, extra) in added.into_iter().rev() {
+            let at = (k + 1).min(self.entities.len());
+            self.entities.splice(at..at, extra);
         }
     }
 
