@@ -92,6 +92,10 @@ pub struct RectangularTrim {
     pub vsense: bool,
 }
 
+/// A list of instance references held inline up to two (one allocation less per list
+/// for the commonest lists of a B-rep file); a slice by `Deref`.
+pub type Refs = smallvec::SmallVec<[u64; 2]>;
+
 /// One ISO 10303-42 entity of those this module reads; each variant carries its explicit
 /// attributes under their EXPRESS names (inherited `position`/`location` included).
 #[derive(Debug, Clone, PartialEq)]
@@ -204,7 +208,8 @@ pub enum GeometryRecord<'a> {
         /// `curve_3d`.
         curve_3d: u64,
         /// `associated_geometry` (PCURVEs or surfaces, 1 or 2). A boxed slice, not a
-        /// vector: this record is common, and sets the size of all of them.
+        /// vector or an inline [`Refs`]: this record is common, and sets the size of all of
+        /// them.
         associated_geometry: Box<[u64]>,
         /// `master_representation` without dots (`CURVE_3D`, `PCURVE_S1`, `PCURVE_S2`).
         master_representation: &'a str,
@@ -218,8 +223,8 @@ pub enum GeometryRecord<'a> {
     },
     /// `definitional_representation` (ISO 10303-43): `items`, `context_of_items`.
     DefinitionalRepresentation {
-        /// `items`.
-        items: Vec<u64>,
+        /// `items` (one 2-D curve in the files of every CAD system seen: held inline).
+        items: Refs,
         /// `context_of_items`.
         context_of_items: u64,
     },
@@ -328,8 +333,8 @@ pub enum GeometryRecord<'a> {
     /// `face_surface` (5.4.22) and `advanced_face` (5.4.23): `bounds`, `face_geometry`,
     /// `same_sense`.
     FaceSurface {
-        /// `bounds` (FACE_BOUNDs).
-        bounds: Vec<u64>,
+        /// `bounds` (FACE_BOUNDs; one or two on most faces: held inline).
+        bounds: Refs,
         /// `face_geometry`.
         face_geometry: u64,
         /// `same_sense`.
@@ -761,7 +766,7 @@ impl<'a> GeometryItem<'a> {
                 reference_to_curve: a.reference(entity, "reference_to_curve")?,
             },
             "DEFINITIONAL_REPRESENTATION" => R::DefinitionalRepresentation {
-                items: a.references("REPRESENTATION", "items")?,
+                items: Refs::from_vec(a.references("REPRESENTATION", "items")?),
                 context_of_items: a.reference("REPRESENTATION", "context_of_items")?,
             },
             "PLANE" => R::Plane {
@@ -871,7 +876,7 @@ impl<'a> GeometryItem<'a> {
                 elements: a.references("GEOMETRIC_SET", "elements")?,
             },
             _ => R::FaceSurface {
-                bounds: a.references("FACE", "bounds")?,
+                bounds: Refs::from_vec(a.references("FACE", "bounds")?),
                 face_geometry: a.reference("FACE_SURFACE", "face_geometry")?,
                 same_sense: a.boolean("FACE_SURFACE", "same_sense")?,
             },

@@ -152,7 +152,7 @@ fn valid_simple_instances() {
         (
             "#1=DEFINITIONAL_REPRESENTATION('',(#2),#3);",
             R::DefinitionalRepresentation {
-                items: vec![2],
+                items: vec![2].into(),
                 context_of_items: 3,
             },
         ),
@@ -262,7 +262,7 @@ fn valid_simple_instances() {
         (
             "#1=ADVANCED_FACE('',(#2,#3),#4,.F.);",
             R::FaceSurface {
-                bounds: vec![2, 3],
+                bounds: vec![2, 3].into(),
                 face_geometry: 4,
                 same_sense: false,
             },

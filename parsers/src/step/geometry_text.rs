@@ -24,7 +24,7 @@
 //! located error. The tests compare both paths on every repository STEP file and on damaged
 //! copies of their instances.
 
-use super::geometry::{GeometryEntity, GeometryItem, GeometryRecord, Ratios, known_entity};
+use super::geometry::{GeometryEntity, GeometryItem, GeometryRecord, Ratios, Refs, known_entity};
 use super::grammar::ParamLimits;
 use super::instance_text::Reader;
 use super::scan::RawInstance;
@@ -99,7 +99,7 @@ pub(crate) fn read<'a>(
         },
         Shape::SurfaceCurve => R::SurfaceCurve {
             curve_3d: r.next_reference()?,
-            associated_geometry: r.next_references()?.into_boxed_slice(),
+            associated_geometry: r.next_references()?.into_vec().into_boxed_slice(),
             master_representation: {
                 r.byte(b',')?;
                 r.enumeration()?
@@ -132,7 +132,7 @@ pub(crate) fn read<'a>(
             }
         }
         Shape::EdgeLoop => R::EdgeLoop {
-            edge_list: r.next_references()?,
+            edge_list: r.next_references()?.into_vec(),
         },
         Shape::FaceBound => R::FaceBound {
             bound: r.next_reference()?,
@@ -144,7 +144,7 @@ pub(crate) fn read<'a>(
             same_sense: r.next_boolean()?,
         },
         Shape::Shell => R::Shell {
-            cfs_faces: r.next_references()?,
+            cfs_faces: r.next_references()?.into_vec(),
             closed: entity == "CLOSED_SHELL",
         },
         Shape::Solid => R::ManifoldSolidBrep {
@@ -305,10 +305,18 @@ impl Reader<'_> {
         }
     }
 
-    /// `,` then a list of references.
-    fn next_references(&mut self) -> Option<Vec<u64>> {
+    /// `,` then a list of references: held inline up to two (no allocation), else in one
+    /// allocation of the counted length, which [`Refs::into_vec`] keeps for a vector.
+    fn next_references(&mut self) -> Option<Refs> {
         self.byte(b',')?;
-        self.list(1, Self::reference_token, None)
+        let reserve = self.open_list(1, None)?;
+        let mut refs = Refs::new();
+        refs.reserve_exact(reserve);
+        self.elements(Self::reference_token, |v| {
+            refs.push(v);
+            Some(())
+        })?;
+        Some(refs)
     }
 
     /// `,` then a DIRECTION's list of REALs, read without an allocation; `None` for more
