@@ -1205,3 +1205,65 @@ fn check_origins(label: &str, text: &str) -> (usize, usize) {
     }
     (checked, named)
 }
+
+/// A surface several faces share (CATIA V5 splits faces on one surface: 16 faces on 9
+/// surfaces here) is written once, as read, so that read -> write -> read lists the same
+/// entities; every face still names a surface whose geometry is its own, bit for bit. An
+/// edge between two faces on the shared surface is a SURFACE_CURVE with a pcurve for each
+/// face; SEAM_CURVE stays for an edge one face uses twice (the cylinder sample's seam).
+#[test]
+fn a_surface_faces_share_is_written_once() {
+    let path = root().join("samples/public/catia_sg1-c5-214.stp");
+    let once = read_path(&path);
+    let faces = once.topology.model.faces.len();
+    let surfaces = |d: &Document| {
+        d.entities
+            .iter()
+            .filter(|e| matches!(e.geometry, nurbsx::nurbs::Geometry::Surface(_)))
+            .count()
+    };
+    assert!(
+        surfaces(&once) < faces,
+        "{} surfaces, {faces} faces",
+        surfaces(&once)
+    );
+    let text = exchange::write(&once, Format::Step, &ExportOptions::default()).unwrap();
+    let body = instances_of(&text);
+    let faces_text = body.values().filter(|(k, _)| k == "ADVANCED_FACE").count();
+    assert_eq!(faces_text, faces);
+    // Every ADVANCED_FACE's surface, distinct ones counted.
+    let face_surfaces: std::collections::BTreeSet<u64> = body
+        .values()
+        .filter(|(k, _)| k == "ADVANCED_FACE")
+        .filter_map(|(_, refs)| refs.last().copied())
+        .collect();
+    assert_eq!(face_surfaces.len(), surfaces(&once));
+    let twice = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(twice.entities.len(), once.entities.len());
+    assert_eq!(surfaces(&twice), surfaces(&once));
+    for (x, y) in once
+        .topology
+        .model
+        .faces
+        .iter()
+        .zip(&twice.topology.model.faces)
+    {
+        assert_eq!(x.surface, y.surface);
+    }
+    for t in [&once.topology, &twice.topology] {
+        for (face, o) in t.model.faces.iter().zip(&t.origins.faces) {
+            let label = o.entity.as_ref().unwrap();
+            let e = [&once, &twice]
+                .iter()
+                .flat_map(|d| &d.entities)
+                .find(|e| e.id == *label && matches!(&e.geometry, nurbsx::nurbs::Geometry::Surface(s) if *s == face.surface));
+            assert!(e.is_some(), "face {} names {label}", o.id);
+        }
+    }
+    // Edges between two faces on one surface are surface curves; no seam is invented.
+    assert_eq!(text.matches("SEAM_CURVE").count(), 0);
+    // A real seam stays one.
+    let cylinder = read_path(&root().join("samples/freecad/analytic/cylinder_full.step"));
+    let text = exchange::write(&cylinder, Format::Step, &ExportOptions::default()).unwrap();
+    assert_eq!(text.matches("SEAM_CURVE").count(), 1);
+}

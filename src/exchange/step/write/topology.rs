@@ -317,8 +317,11 @@ pub(super) fn write_model(
         write_point(&mut w.text, p, &v.point, 3, scale)?;
         vertex_ids.push(w.put("VERTEX_POINT", vec![s(""), Parameter::Reference(p)])?);
     }
-    // Face surfaces before the edges: the edges' pcurves name them.
+    // Face surfaces before the edges: the edges' pcurves name them. A surface several
+    // faces share (they name one entity and each carries its geometry bit for bit) is
+    // written once, as read.
     let mut surface_ids = Vec::with_capacity(m.faces.len());
+    let mut shared: HashMap<&str, u64> = HashMap::new();
     for (k, face) in m.faces.iter().enumerate() {
         let entity = held(
             o.faces.get(k),
@@ -326,6 +329,14 @@ pub(super) fn write_model(
             |g| matches!(g, Geometry::Surface(x) if *x == face.surface),
             || Geometry::Surface(face.surface.clone()),
         );
+        let label = match &entity {
+            Cow::Borrowed(_) => o.faces.get(k).and_then(|x| x.entity.as_deref()),
+            Cow::Owned(_) => None,
+        };
+        if let Some(&id) = label.and_then(|l| shared.get(l)) {
+            surface_ids.push(id);
+            continue;
+        }
         write_surface(
             &mut w.text,
             &mut w.id,
@@ -335,21 +346,24 @@ pub(super) fn write_model(
             options,
         )?;
         surface_ids.push(w.id - 1);
+        if let Some(l) = label {
+            shared.insert(l, w.id - 1);
+        }
     }
-    // The pcurves of each edge: (surface, pcurve, coedge runs with the edge), the
+    // The pcurves of each edge: (surface, pcurve, coedge runs with the edge, face), the
     // coedge running with the edge first (a seam's two sides, ISO 10303-42 seam_curve).
-    let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool)>> = vec![Vec::new(); m.edges.len()];
+    let mut pcurves: Vec<Vec<(u64, &NurbsCurve, bool, usize)>> = vec![Vec::new(); m.edges.len()];
     for (k, face) in m.faces.iter().enumerate() {
         for l in &face.loops {
             for c in &l.coedges {
                 if let (Some(p), Some(list)) = (&c.pcurve, pcurves.get_mut(c.edge.0)) {
-                    list.push((surface_ids[k], p, c.forward));
+                    list.push((surface_ids[k], p, c.forward, k));
                 }
             }
         }
     }
     for list in &mut pcurves {
-        list.sort_by_key(|(_, _, forward)| !forward);
+        list.sort_by_key(|(_, _, forward, _)| !forward);
     }
     let context2 = if pcurves.iter().any(|l| !l.is_empty()) {
         let id = w.next();
@@ -402,13 +416,14 @@ pub(super) fn write_model(
         write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
         let mut curve = w.id - 1;
         curve_ids.push(curve);
-        // With pcurves: a SURFACE_CURVE (SEAM_CURVE when both are on one surface) over
+        // With pcurves: a SURFACE_CURVE (SEAM_CURVE when one face uses it twice, its two
+        // pcurves then on that face's surface) over
         // the 3-D curve, each PCURVE a 2-D B-spline in the surface's (u, v) (not scaled:
         // parameters have no unit) in a DEFINITIONAL_REPRESENTATION.
         let on = &pcurves[k];
         if !on.is_empty() {
             let mut refs = Vec::with_capacity(on.len());
-            for &(surface, p, _) in on {
+            for &(surface, p, _, _) in on {
                 let holder = anonymous(Geometry::Curve(p.clone()));
                 write_curve(&mut w.text, &mut w.id, p, &holder, 1.0, options)?;
                 let c2 = w.id - 1;
@@ -429,7 +444,7 @@ pub(super) fn write_model(
                     ],
                 )?);
             }
-            let seam = on.len() == 2 && on[0].0 == on[1].0;
+            let seam = on.len() == 2 && on[0].3 == on[1].3;
             curve = w.put(
                 if seam { "SEAM_CURVE" } else { "SURFACE_CURVE" },
                 vec![
