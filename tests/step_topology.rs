@@ -1207,8 +1207,8 @@ fn check_origins(label: &str, text: &str) -> (usize, usize) {
 }
 
 /// A surface several faces share (CATIA V5 splits faces on one surface: 16 faces on 9
-/// surfaces here) is written once, as read, so that read -> write -> read lists the same
-/// entities; every face still names a surface whose geometry is its own, bit for bit. An
+/// surfaces here) is written once, as read, to STEP and to IGES (144 and 186), so that
+/// read -> write -> read lists the same entities; every face still names a surface whose geometry is its own, bit for bit. An
 /// edge between two faces on the shared surface is a SURFACE_CURVE with a pcurve for each
 /// face; SEAM_CURVE stays for an edge one face uses twice (the cylinder sample's seam).
 #[test]
@@ -1262,6 +1262,28 @@ fn a_surface_faces_share_is_written_once() {
     }
     // Edges between two faces on one surface are surface curves; no seam is invented.
     assert_eq!(text.matches("SEAM_CURVE").count(), 0);
+    // IGES, as 144s and as a 186 B-rep: one 128 per shared surface, the same listing back.
+    for iges_brep in [false, true] {
+        let options = ExportOptions {
+            iges_brep,
+            ..ExportOptions::default()
+        };
+        let text = exchange::write(&once, Format::Iges, &options).unwrap();
+        let surfaces_128 = text
+            .lines()
+            .filter(|l| l.len() == 80 && &l[72..73] == "D")
+            .step_by(2)
+            .filter(|l| l[..8].trim() == "128")
+            .count();
+        assert_eq!(surfaces_128, surfaces(&once), "iges_brep {iges_brep}");
+        let back = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+        assert_eq!(
+            back.entities.len(),
+            once.entities.len(),
+            "iges_brep {iges_brep}"
+        );
+        assert_eq!(back.topology.model.faces.len(), faces);
+    }
     // A real seam stays one.
     let cylinder = read_path(&root().join("samples/freecad/analytic/cylinder_full.step"));
     let text = exchange::write(&cylinder, Format::Step, &ExportOptions::default()).unwrap();

@@ -34,7 +34,7 @@ use nurbsx_parsers::iges::records::{
 
 use super::write::Items;
 use crate::exchange::{Cancel, Document, Entity, Meta, ParameterRange};
-use crate::nurbs::{NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
+use crate::nurbs::{Geometry, NurbsCurve, NurbsSurface, Point3, bounding_box_diagonal};
 use crate::topology::{Coedge, EdgeId, Face, FaceId, Loop, Model, VertexId};
 
 /// Relative distance (of the surface's parameter domain) within which consecutive pcurves
@@ -74,6 +74,28 @@ pub(super) fn write<'d>(
     };
     let face_meta = |f: FaceId| meta_of(topology.origins.faces.get(f.0));
     let edge_meta = |e: EdgeId| meta_of(topology.origins.edges.get(e.0));
+    // A surface several faces share (they name one entity and each carries its geometry
+    // bit for bit, as CATIA writes split faces) is written once, as read: its 128 is the
+    // surface of each of their 510s or 144s.
+    let shared_label = |f: FaceId| -> Option<&'d str> {
+        let label = topology.origins.faces.get(f.0)?.entity.as_deref()?;
+        let face = model.faces.get(f.0)?;
+        matches!(&entities.get(label)?.geometry, Geometry::Surface(x) if *x == face.surface)
+            .then_some(label)
+    };
+    let mut shared: HashMap<&'d str, i64> = HashMap::new();
+    let mut surface_de = |f: FaceId, items: &mut Items<'d>| -> i64 {
+        let label = shared_label(f);
+        if let Some(&de) = label.and_then(|l| shared.get(l)) {
+            return de;
+        }
+        let face = &model.faces[f.0];
+        let de = items.surface(Cow::Borrowed(&face.surface), &face_meta(f), 1);
+        if let Some(l) = label {
+            shared.insert(l, de);
+        }
+        de
+    };
     let mut in_brep: HashSet<FaceId> = HashSet::new();
     if brep {
         let mut w = Brep {
@@ -143,7 +165,7 @@ pub(super) fn write<'d>(
                 return named;
             }
             let face = &model.faces[f.0];
-            let surface = items.surface(Cow::Borrowed(&face.surface), &face_meta(f), 1);
+            let surface = surface_de(f, items);
             let mut loops = Vec::with_capacity(face.loops.len());
             // The outer loop first (510 OF = 1).
             let mut ordered: Vec<_> = face.loops.iter().collect();
@@ -217,7 +239,8 @@ pub(super) fn write<'d>(
         if in_brep.contains(&f) {
             continue;
         }
-        trimmed_face(model, face, &face_meta(f), &edge_meta, items);
+        let surface = surface_de(f, items);
+        trimmed_face(model, face, surface, &edge_meta, items);
     }
     named
 }
@@ -257,15 +280,14 @@ fn written_coedges<'d>(face: &Face, l: &'d Loop) -> Vec<(&'d Coedge, bool)> {
     }
 }
 
-/// A face as a 144 with its 142 boundaries (module documentation).
+/// A face as a 144 with its 142 boundaries (module documentation), over the 128 `surface`.
 fn trimmed_face<'d>(
     model: &'d Model,
     face: &'d Face,
-    meta: &Meta,
+    surface: i64,
     edge_meta: &dyn Fn(EdgeId) -> Meta,
     items: &mut Items<'d>,
 ) {
-    let surface = items.surface(Cow::Borrowed(&face.surface), meta, 1);
     let mut ordered: Vec<_> = face.loops.iter().collect();
     ordered.sort_by_key(|l| !l.outer);
     let loops: Vec<Boundary<'d>> = ordered
