@@ -265,7 +265,6 @@ impl Document {
                     continue;
                 }
                 entity.meta.used_by.retain(|u| *u != face_label);
-                let new_label = compact_str::format_compact!("{label}@{face_label}");
                 let listed = extra.iter().position(|e| e.geometry == surface);
                 let target = match listed {
                     Some(i) => {
@@ -274,7 +273,7 @@ impl Document {
                     }
                     None => {
                         let mut e = entity.clone();
-                        e.id = new_label;
+                        e.id = compact_str::format_compact!("{label}@{face_label}");
                         e.geometry = surface;
                         e.meta.parameter_range = None;
                         e.meta.used_by = vec![face_label];

@@ -428,29 +428,14 @@ mod tests {
             ((3, 1), 1.5 * tol),
             ((3, 1), 3.0 * tol),
         ] {
+            // The net and its transpose (the same verdicts across v).
             let s = surface(net(bend, by, true));
-            assert_eq!(
-                s.is_closed_u(tol),
-                boundary_gap(&s, true) <= tol,
-                "{bend:?} {by}"
-            );
-            assert_eq!(
-                s.is_closed_v(tol),
-                boundary_gap(&s, false) <= tol,
-                "{bend:?} {by}"
-            );
-            // The transposed net: the same verdicts across v.
-            let t = surface(net(bend, by, true)).swap_uv().unwrap();
-            assert_eq!(
-                t.is_closed_v(tol),
-                boundary_gap(&t, false) <= tol,
-                "{bend:?} {by}"
-            );
-            assert_eq!(
-                t.is_closed_u(tol),
-                boundary_gap(&t, true) <= tol,
-                "{bend:?} {by}"
-            );
+            let t = s.swap_uv().unwrap();
+            for x in [&s, &t] {
+                let at = format!("{bend:?} {by}");
+                assert_eq!(x.is_closed_u(tol), boundary_gap(x, true) <= tol, "{at}");
+                assert_eq!(x.is_closed_v(tol), boundary_gap(x, false) <= tol, "{at}");
+            }
         }
         // Closed across u with every corner in place; open across v at every corner.
         let s = surface(net((0, 0), 0.0, true));
