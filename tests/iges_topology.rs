@@ -1132,3 +1132,93 @@ fn a_surface_two_faces_share_is_listed_as_each_face_carries_it() {
     assert_eq!(back.topology.model.faces.len(), 2);
     assert_eq!(surfaces(&back), surfaces(&doc));
 }
+
+/// Solids that touch without being fused (`samples/freecad/parts/touching_solids`: a box
+/// with a second box against one face and a third on top of it, sharing that whole face, and
+/// a cylinder standing on the third). In an IGES 144 file their faces meet along edges that
+/// four faces use; sewn all together they made one solid and an open shell. Open CASCADE
+/// writes each shell's faces in a 402 group (IGES 5.3 section 4.81), and nurbsx sews each
+/// group on its own: FreeCAD's file reads as the four solids of FreeCAD's source shape, each
+/// with its volume (1e-9 relative); nurbsx's own 144 output of the STEP file lists each
+/// solid's faces in a 402 form 7 group (section 4.83) and reads back the same way.
+#[test]
+fn touching_solids_stay_apart_through_iges_144() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/freecad/parts");
+    let source: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("touching_solids.source.json")).unwrap(),
+    )
+    .unwrap();
+    let mut want: Vec<f64> = source["solids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["volume"].as_f64().unwrap())
+        .collect();
+    want.sort_by(f64::total_cmp);
+    assert_eq!(want.len(), 4);
+    let volumes = |doc: &Document| -> Vec<f64> {
+        let m = &doc.topology.model;
+        let mut v: Vec<f64> = (0..m.solids.len())
+            .map(|k| m.solid_volume(nurbsx::topology::SolidId(k)).unwrap())
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let same = |got: &[f64], what: &str| {
+        assert_eq!(got.len(), want.len(), "{what}: {got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() <= 1e-9 * w, "{what}: {got:?} vs {want:?}");
+        }
+    };
+    let freecad = read_text(&std::fs::read_to_string(dir.join("touching_solids.igs")).unwrap());
+    assert_eq!(freecad.topology.model.shells.len(), 4);
+    same(&volumes(&freecad), "FreeCAD's IGES 144");
+    // The groups are read: not reported as skipped (the one group of groups, FreeCAD's
+    // compound, is).
+    let skipped = freecad
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "entities_skipped")
+        .unwrap();
+    assert!(skipped.message.contains("1 x 402"), "{}", skipped.message);
+
+    let step = exchange::read(
+        &std::fs::read(dir.join("touching_solids.step")).unwrap(),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    same(&volumes(&step), "STEP");
+    let text = exchange::write(&step, exchange::Format::Iges, &ExportOptions::default()).unwrap();
+    let file = nurbsx_parsers::iges::parse(&text).unwrap();
+    let groups: Vec<Vec<i64>> = file
+        .entries
+        .iter()
+        .flatten()
+        .filter(|e| e.entity_type == 402)
+        .map(|e| {
+            assert_eq!(e.form, 7);
+            file.decode::<nurbsx_parsers::iges::records::Group402>(e)
+                .record
+                .unwrap()
+                .members
+        })
+        .collect();
+    let mut sizes: Vec<usize> = groups.iter().map(Vec::len).collect();
+    sizes.sort_unstable();
+    assert_eq!(sizes, [3, 6, 6, 6]);
+    for g in &groups {
+        for &m in g {
+            let member = file.entry(m).unwrap();
+            assert_eq!(member.entity_type, 144);
+            assert_eq!(member.status.subordinate, 2);
+        }
+    }
+    let back = read_text(&text);
+    same(&volumes(&back), "nurbsx's IGES 144");
+    assert!(
+        !back
+            .diagnostics
+            .iter()
+            .any(|d| d.code == "entities_skipped")
+    );
+}

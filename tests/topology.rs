@@ -747,7 +747,7 @@ fn loose_faces_sew_into_a_solid() {
 fn sew_the_cube(inward: bool) {
     let (mut m, faces) = loose_cube(&[], inward);
     assert_eq!((m.vertices.len(), m.edges.len()), (24, 24));
-    let sewing = m.sew(&faces, 1e-7).unwrap();
+    let sewing = m.sew(std::slice::from_ref(&faces), 1e-7).unwrap();
     assert_eq!(sewing.merged_edges, 12);
     assert_eq!(sewing.lost_pcurves, 0);
     assert_eq!((m.vertices.len(), m.edges.len()), (8, 12));
@@ -772,12 +772,82 @@ fn sew_the_cube(inward: bool) {
     }
 }
 
+/// Two loose cubes side by side, the second at x = A: they touch along a whole face, and
+/// each of that face's four edges is a boundary of four faces, two of each cube. Sewn as two
+/// groups (as the 402 groups of an IGES file give them), each cube closes on its own: two
+/// solids of volume A^3, 8 vertices and 12 edges each, nothing shared between them, no
+/// open edge.
+#[test]
+fn touching_cubes_sewn_as_two_groups_stay_two_solids() {
+    let (mut m, a) = loose_cube(&[], false);
+    let (other, b) = loose_cube(&[], false);
+    let shift: Affine = [
+        [1.0, 0.0, 0.0, A],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ];
+    let (nv, ne, nf) = (m.vertices.len(), m.edges.len(), m.faces.len());
+    for mut v in other.vertices {
+        v.point[0] += A;
+        m.vertices.push(v);
+    }
+    for mut e in other.edges {
+        e.curve = e.curve.transform(&shift).unwrap();
+        e.start.0 += nv;
+        e.end.0 += nv;
+        m.edges.push(e);
+    }
+    for mut f in other.faces {
+        f.surface = f.surface.transform(&shift).unwrap();
+        for c in f.loops.iter_mut().flat_map(|l| &mut l.coedges) {
+            c.edge.0 += ne;
+        }
+        m.faces.push(f);
+    }
+    let b: Vec<FaceId> = b.iter().map(|f| FaceId(f.0 + nf)).collect();
+    let sewing = m.sew(&[a.clone(), b.clone()], 1e-7).unwrap();
+    assert_eq!(sewing.merged_edges, 24);
+    assert!(sewing.open_edges.is_empty(), "{:?}", sewing.open_edges);
+    assert_eq!((m.vertices.len(), m.edges.len()), (16, 24));
+    assert_eq!(sewing.solids.len(), 2);
+    for (solid, group) in sewing.solids.iter().zip([&a, &b]) {
+        let v = m.solid_volume(*solid).unwrap();
+        assert!((v - A * A * A).abs() <= 1e-12 * A * A * A, "{v}");
+        let shell = &m.shells[m.solids[solid.0].outer.0];
+        assert!(shell.closed);
+        let mut faces: Vec<FaceId> = shell.faces.iter().map(|(f, _)| *f).collect();
+        faces.sort();
+        let mut want = group.clone();
+        want.sort();
+        assert_eq!(faces, want);
+    }
+    // No edge or vertex is used by both cubes.
+    let used = |group: &[FaceId]| {
+        let mut vertices = std::collections::BTreeSet::new();
+        for f in group {
+            for c in m.faces[f.0].loops.iter().flat_map(|l| &l.coedges) {
+                let e = &m.edges[c.edge.0];
+                vertices.insert((c.edge.0, e.start.0, e.end.0));
+            }
+        }
+        vertices
+    };
+    let (ua, ub) = (used(&a), used(&b));
+    for (e, s, t) in &ua {
+        assert!(
+            !ub.iter()
+                .any(|(f, u, w)| f == e || [u, w].contains(&s) || [u, w].contains(&t)),
+            "edge {e} or its vertices shared"
+        );
+    }
+}
+
 /// Five faces (the top left off) sew into one open shell whose four rim edges are reported;
 /// no solid.
 #[test]
 fn an_open_box_stays_an_open_shell() {
     let (mut m, faces) = loose_cube(&[5], false);
-    let sewing = m.sew(&faces, 1e-7).unwrap();
+    let sewing = m.sew(std::slice::from_ref(&faces), 1e-7).unwrap();
     assert_eq!(sewing.solids.len(), 0);
     assert_eq!(sewing.shells.len(), 1);
     assert!(!m.shells[sewing.shells[0].0].closed);
@@ -818,7 +888,7 @@ fn open_edges_that_nearly_meet_are_told_from_a_border() {
             m.vertices[v].point[2] = A + delta;
         }
     }
-    let sewing = m.sew(&faces, 1e-7).unwrap();
+    let sewing = m.sew(std::slice::from_ref(&faces), 1e-7).unwrap();
     assert!(sewing.solids.is_empty());
     assert_eq!(sewing.open_edges.len(), 8, "{:?}", sewing.open_edges);
     assert!(sewing.gaps_complete);
@@ -832,7 +902,7 @@ fn open_edges_that_nearly_meet_are_told_from_a_border() {
     }
 
     let (mut m, faces) = loose_cube(&[5], false);
-    let sewing = m.sew(&faces, 1e-7).unwrap();
+    let sewing = m.sew(std::slice::from_ref(&faces), 1e-7).unwrap();
     assert_eq!(sewing.open_edges.len(), 4);
     assert!(sewing.gaps_complete);
     assert!(sewing.gaps.is_empty(), "{:?}", sewing.gaps);

@@ -415,6 +415,7 @@ fn lone_trimmed_face_area() {
                 surface: m.faces[0].surface.clone(),
                 loops: Vec::new(),
                 same_sense: true,
+                vertex_loops: Vec::new(),
             })
             .unwrap()
             .area;

@@ -1,4 +1,5 @@
-//! The B-rep and structure records (IGES 5.3 types 141, 143, 186, 308, 408, 502, 514):
+//! The B-rep and structure records (IGES 5.3 types 141, 143, 186, 308, 402 groups, 408,
+//! 502, 514):
 //! hand-formatted fixtures decode field by field, and the topology records written by the
 //! crate's writer parse back to the same records.
 // Test helpers outside #[test] functions may unwrap and panic too.
@@ -11,7 +12,7 @@ use nurbsx_parsers::iges::{
     self, DirectoryEntry, ErrorKind, Global,
     records::{
         Boundary141, BoundaryCurve, BoundedSurface143, BrepSolid186, CompositeCurve102,
-        CurveOnSurface142, Edge, EdgeList504, Face510, Loop508, LoopEdge, Shell514,
+        CurveOnSurface142, Edge, EdgeList504, Face510, Group402, Loop508, LoopEdge, Shell514,
         SubfigureDefinition308, SubfigureInstance408, TrimmedSurface144, VertexList502,
     },
     writer::{WriteParams, write_with},
@@ -45,6 +46,14 @@ fn brep_records_decode_by_their_declarations() {
     let si = b.entity(ty(408), "408,11,1.,2.,3.,2.;"); // D13
     let si1 = b.entity(ty(408), "408,11,1.,2.,3.;"); // D15
     let short = b.entity(ty(514), "514,2,9,1;"); // D17
+    let group = b.entity(
+        De {
+            ty: 402,
+            form: 7,
+            ..De::default()
+        },
+        "402,3,9,11,13;",
+    ); // D19
     let text = b.build();
     let file = iges::parse(&text).unwrap();
     let entry = |de: usize| file.entry(i64::try_from(de).unwrap()).unwrap();
@@ -59,6 +68,13 @@ fn brep_records_decode_by_their_declarations() {
         Shell514 {
             faces: vec![(9, 1), (11, 0)],
             form: 1
+        }
+    );
+    assert_eq!(
+        file.decode::<Group402>(entry(group)).record.unwrap(),
+        Group402 {
+            members: vec![9, 11, 13],
+            form: 7
         }
     );
     assert_eq!(
@@ -233,6 +249,14 @@ fn topology_records_write_and_read_back() {
                 voids: vec![],
             }),
         ),
+        (
+            402,
+            7,
+            Box::new(Group402 {
+                members: vec![5, 13],
+                form: 7,
+            }),
+        ),
     ];
     let des: Vec<DirectoryEntry> = records
         .iter()
@@ -297,5 +321,12 @@ fn topology_records_write_and_read_back() {
     assert_eq!(
         file.decode::<BrepSolid186>(e(8)).record.unwrap().shell,
         (15, 1)
+    );
+    assert_eq!(
+        file.decode::<Group402>(e(9)).record.unwrap(),
+        Group402 {
+            members: vec![5, 13],
+            form: 7
+        }
     );
 }

@@ -172,7 +172,8 @@ pub fn write_reporting(
 ) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
     let written = match format {
         Format::Step => step::write_reporting(document, options),
-        Format::Iges => iges::write(document, options).map(|text| (text, Vec::new())),
+        Format::Iges => iges::write(document, options)
+            .map(|text| (text, iges::write_warnings(document, options.iges_brep))),
     };
     // A stopped writer's text is partial, or its error stands for the stop.
     options.cancel.stop_write()?;

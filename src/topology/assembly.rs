@@ -232,6 +232,11 @@ impl Model {
                 vertices.insert(edge.end);
             }
         }
+        for f in &faces {
+            if let Some(face) = self.faces.get(f.0) {
+                vertices.extend(face.vertex_loops.iter().copied());
+            }
+        }
         let solids = usize::from(matches!(part, Part::Solid(_)));
         Ok(vertices.len() + edges.len() + faces.len() + shells.len() + solids)
     }
@@ -314,11 +319,30 @@ impl Model {
                         .collect(),
                 })
                 .collect();
+            // The vertices of its vertex loops, copied as the edges' are.
+            let mut vertex_loops = Vec::with_capacity(face.vertex_loops.len());
+            for v in &face.vertex_loops {
+                let next = VertexId(target.vertices.len() + new_vertices.len());
+                let id = *vertex_map.entry(*v).or_insert(next);
+                if id == next {
+                    let vertex = self
+                        .vertices
+                        .get(v.0)
+                        .ok_or_else(|| missing("vertex", v.0))?;
+                    new_vertices.push(Vertex {
+                        point: apply(placement, vertex.point),
+                        tolerance: vertex.tolerance * grow,
+                    });
+                    copied.vertices.push(*v);
+                }
+                vertex_loops.push(id);
+            }
             face_map.insert(f, FaceId(target.faces.len() + new_faces.len()));
             new_faces.push(Face {
                 surface: face.surface.transform(placement).map_err(geometry)?,
                 loops,
                 same_sense: face.same_sense,
+                vertex_loops,
             });
             copied.faces.push(f);
         }

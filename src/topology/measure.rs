@@ -818,6 +818,7 @@ mod tests {
                 outer: true,
             }],
             same_sense: true,
+            vertex_loops: Vec::new(),
         };
         (m, face)
     }

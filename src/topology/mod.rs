@@ -133,6 +133,10 @@ pub struct Face {
     pub loops: Vec<Loop>,
     /// `true` when the face normal is the surface normal (ISO 10303-42 `same_sense`).
     pub same_sense: bool,
+    /// The vertices its vertex loops name (ISO 10303-42 vertex_loop; an IGES 508 loop of a
+    /// vertex use): degenerate bounds at a cone's apex or a sphere's pole, which bound
+    /// nothing in the surface's parameters and use no edge. Set after [`Model::add_face`].
+    pub vertex_loops: Vec<VertexId>,
 }
 
 /// A connected set of faces (ISO 10303-42 open_shell / closed_shell; IGES 514).
@@ -406,6 +410,7 @@ impl Model {
             surface,
             loops,
             same_sense,
+            vertex_loops: Vec::new(),
         });
         Ok(id)
     }

@@ -3,6 +3,8 @@
 //! Files of trimmed surfaces (IGES 144 with 142 boundaries, STEP face sets) give each face
 //! its own boundary curves: two neighbouring faces meet along two copies of one edge. Sewing
 //! makes them share it, as ISO 10303-42 clause 5 requires of a connected face set:
+//! 0. the faces come in groups, each sewn on its own (a 402 group of a shell's trimmed
+//!    surfaces, as Open CASCADE writes them): nothing below joins two groups;
 //! 1. vertices closer than the tolerance become one (grid buckets of the tolerance's size);
 //! 2. edges between the same two vertices whose curves coincide within the tolerance (the
 //!    points of one at seven interior parameters lie on the other) become one edge; the
@@ -214,9 +216,12 @@ fn carried_pcurve(
 }
 
 impl Model {
-    /// Sews `faces` (see the module): merges vertices and coinciding edges within
-    /// `tolerance`, builds shells, and solids on the closed ones.
-    pub fn sew(&mut self, faces: &[FaceId], tolerance: f64) -> Result<Sewing, TopologyError> {
+    /// Sews each group of `groups` (see the module) on its own: merges the vertices and
+    /// the coinciding edges of a group's faces within `tolerance`, builds shells, and
+    /// solids on the closed ones. Nothing is shared between two groups, so solids that
+    /// touch (a bolt in its hole, two blocks face to face) stay apart when each is a group,
+    /// as a 402 group of a shell's trimmed surfaces says they are (IGES 5.3 section 4.81).
+    pub fn sew(&mut self, groups: &[Vec<FaceId>], tolerance: f64) -> Result<Sewing, TopologyError> {
         if !(tolerance > 0.0 && tolerance.is_finite()) {
             return Err(TopologyError::BadVertex {
                 point: [f64::NAN; 3],
@@ -224,17 +229,49 @@ impl Model {
             });
         }
         let mut report = Sewing::default();
-        // 1. Vertices.
+        let mut faces: Vec<FaceId> = Vec::with_capacity(groups.iter().map(Vec::len).sum());
+        // The group of each vertex and edge the faces use (the first group that uses it).
+        let mut vertex_group: Vec<Option<usize>> = vec![None; self.vertices.len()];
+        let mut edge_group: Vec<Option<usize>> = vec![None; self.edges.len()];
+        for (g, list) in groups.iter().enumerate() {
+            for f in list {
+                let Some(face) = self.faces.get(f.0) else {
+                    return Err(TopologyError::Missing {
+                        what: "face",
+                        index: f.0,
+                    });
+                };
+                faces.push(*f);
+                for c in face.loops.iter().flat_map(|l| &l.coedges) {
+                    let (Some(slot), Some(e)) =
+                        (edge_group.get_mut(c.edge.0), self.edges.get(c.edge.0))
+                    else {
+                        return Err(TopologyError::Missing {
+                            what: "edge",
+                            index: c.edge.0,
+                        });
+                    };
+                    slot.get_or_insert(g);
+                    for v in [e.start, e.end] {
+                        if let Some(x) = vertex_group.get_mut(v.0) {
+                            x.get_or_insert(g);
+                        }
+                    }
+                }
+            }
+        }
+        // 1. Vertices, within each group.
         let nv = self.vertices.len();
         let mut uf = UnionFind::new(nv);
-        let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        let mut grid: HashMap<(usize, [i64; 3]), Vec<usize>> = HashMap::new();
         let cell = |p: Point3| p.map(|x| (x / tolerance).floor() as i64);
         for (i, v) in self.vertices.iter().enumerate() {
+            let Some(g) = vertex_group[i] else { continue };
             let c = cell(v.point);
             for dx in -1..=1 {
                 for dy in -1..=1 {
                     for dz in -1..=1 {
-                        if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        if let Some(list) = grid.get(&(g, [c[0] + dx, c[1] + dy, c[2] + dz])) {
                             for &j in list {
                                 if dist(self.vertices[j].point, v.point) <= tolerance {
                                     uf.union(i, j);
@@ -244,36 +281,34 @@ impl Model {
                     }
                 }
             }
-            grid.entry(c).or_default().push(i);
+            grid.entry((g, c)).or_default().push(i);
         }
-        for e in &mut self.edges {
+        for (k, e) in self.edges.iter_mut().enumerate() {
+            if edge_group[k].is_none() {
+                continue;
+            }
             e.start = VertexId(uf.find(e.start.0));
             e.end = VertexId(uf.find(e.end.0));
             e.tolerance = e.tolerance.max(tolerance);
         }
-        // 2. Edges used by the faces, grouped by their pair of vertices.
-        let mut groups: BTreeMap<(VertexId, VertexId), Vec<EdgeId>> = BTreeMap::new();
+        // 2. Edges used by the faces, grouped by their group and pair of vertices.
+        let mut pairs: BTreeMap<(usize, VertexId, VertexId), Vec<EdgeId>> = BTreeMap::new();
         let mut seen = vec![false; self.edges.len()];
-        for f in faces {
-            let Some(face) = self.faces.get(f.0) else {
-                return Err(TopologyError::Missing {
-                    what: "face",
-                    index: f.0,
-                });
-            };
-            for c in face.loops.iter().flat_map(|l| &l.coedges) {
+        for f in &faces {
+            for c in self.faces[f.0].loops.iter().flat_map(|l| &l.coedges) {
                 if std::mem::replace(&mut seen[c.edge.0], true) {
                     continue;
                 }
                 let e = &self.edges[c.edge.0];
-                groups
-                    .entry((e.start.min(e.end), e.start.max(e.end)))
+                let g = edge_group[c.edge.0].unwrap_or(0);
+                pairs
+                    .entry((g, e.start.min(e.end), e.start.max(e.end)))
                     .or_default()
                     .push(c.edge);
             }
         }
         let mut replace: HashMap<EdgeId, (EdgeId, Match)> = HashMap::new();
-        for list in groups.values() {
+        for list in pairs.values() {
             let mut kept: Vec<EdgeId> = Vec::new();
             for &e in list {
                 let found = kept
@@ -288,7 +323,7 @@ impl Model {
             }
         }
         report.merged_edges = replace.len();
-        for &f in faces {
+        for &f in &faces {
             let loops = std::mem::take(&mut self.faces[f.0].loops);
             let mut new_loops = loops.clone();
             for l in &mut new_loops {
@@ -532,6 +567,10 @@ impl Model {
         for f in &mut self.faces {
             for c in f.loops.iter_mut().flat_map(|l| &mut l.coedges) {
                 c.edge = edge_map[c.edge.0].unwrap_or(c.edge);
+            }
+            for v in &mut f.vertex_loops {
+                let rep = vertex_rep.get(v.0).copied().unwrap_or(v.0);
+                *v = vertex_map.get(rep).copied().flatten().unwrap_or(*v);
             }
         }
         for a in &mut self.assemblies {

@@ -191,6 +191,16 @@ def several_solids():
     ])
 
 
+def touching_solids():
+    """Solids that touch without fusing: a sewing reader must keep them apart."""
+    return Part.Compound([
+        Part.makeBox(10.0, 10.0, 10.0),
+        Part.makeBox(8.0, 10.0, 6.0, V(10.0, 0, 0)),
+        Part.makeBox(10.0, 10.0, 4.0, V(0, 0, 10.0)),
+        Part.makeCylinder(3.0, 5.0, V(5.0, 5.0, 14.0)),
+    ])
+
+
 def inch_plate():
     inch = 25.4
     plate = Part.makeBox(4 * inch, 2 * inch, 0.25 * inch)
@@ -281,6 +291,9 @@ PARTS = [
      "ellipse, cubic B-spline, open polyline of 3 segments", free_edges, {"genus": None}),
     ("several_solids", "three disjoint solids in one compound: box 10^3, box 8 x 12 x 6, "
      "cylinder r=4 h=10", several_solids, {"genus": 0}),
+    ("touching_solids", "four solids that touch and are not fused: box 10^3; box 8 x 10 x 6 "
+     "against its x = 10 face (one edge in common); box 10 x 10 x 4 on its top face (the whole "
+     "face in common); cylinder r=3 h=5 standing on that box", touching_solids, {"genus": 0}),
     ("assembly_links", "App::Part 'Assembly' of App::Links: 'Bracket' (box 20 x 10 x 5 with a "
      "hole r=2) used twice (Bracket_1 at the origin, Bracket_2 at (40,0,0) rotated 30 deg about "
      "(1,1,0)) and 'Pin' (cylinder r=2 h=15) at (10,5,-5) rotated 15 deg about y; "

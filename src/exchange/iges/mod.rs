@@ -40,6 +40,7 @@ pub(crate) use forms::checked_label;
 pub use forms::{form, form_warnings};
 pub use read::read;
 pub use write::{range_warnings, write};
+pub(crate) use write_topology::write_warnings;
 
 /// The source entity type of IGES entity type number `n` (IGES 5.3 section 4): the
 /// numbers nurbsx reads spelt without an allocation per entity, any other one formatted.

@@ -523,6 +523,12 @@ fn read_entry(
         t if matches!(t, 308 | 408) || super::topology::TOPOLOGY_TYPES.iter().any(|x| x.0 == t) => {
             return Outcome::Nothing;
         }
+        // A group of trimmed faces is the shell the topology pass sews them into.
+        402 if !cx.options.geometry_only
+            && !super::topology::face_group_members(cx, entry).is_empty() =>
+        {
+            return Outcome::Nothing;
+        }
         t => {
             if let Some(why) = inexact(t) {
                 diags.push(

@@ -11,7 +11,11 @@
 //!   pcurve is computed ([`edge_pcurve`]: exact on planes and along isocurves, else by
 //!   projection within the edge tolerance).
 //!   The edges' ends become vertices shared across the file within the tolerance (the larger
-//!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size).
+//!   of the file's resolution, Global parameter 19, and 1e-7 of the model's size), and
+//!   within the face's group: a 402 Group Associativity (forms 1, 7, 14, 15, IGES 5.3
+//!   sections 4.81-4.89) that lists trimmed surfaces holds the faces of one shell, as Open
+//!   CASCADE and nurbsx write them, and the faces of two groups share nothing (two solids
+//!   that touch stay two solids). The faces no group lists form one group.
 //! - 143 Bounded Surface (IGES 5.3 type 143): a face on its surface (SPTR) bounded by its
 //!   141 Boundaries (BDPT, the first the outer one). Each 141 gives a loop of its model-space
 //!   curves (CRVPT, a 102's constituents one edge each), reversed where SENSE = 2, with the
@@ -31,7 +35,7 @@ use std::collections::{BTreeMap, HashMap};
 use nurbsx_parsers::iges::DirectoryEntry;
 use nurbsx_parsers::iges::records::{
     Boundary141, BoundedSurface143, BrepSolid186, CURVES, CompositeCurve102, CurveOnSurface142,
-    EdgeList504, Face510, Loop508, SURFACES, Shell514, TrimmedSurface144, VertexList502,
+    EdgeList504, Face510, Group402, Loop508, SURFACES, Shell514, TrimmedSurface144, VertexList502,
 };
 
 use super::read::{Context, decoded, entity_location};
@@ -158,6 +162,43 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
 }
 
+/// The group of each trimmed face (143, 144) that a 402 Group Associativity lists directly
+/// ([`face_group_members`]), by DE pointer, numbered from 1 in file order; a face several
+/// groups list is in the first.
+fn face_groups(cx: &Context<'_, '_>) -> HashMap<usize, usize> {
+    let mut out = HashMap::new();
+    let mut next = 1;
+    for entry in cx.file.entries.iter().flatten() {
+        let faces = face_group_members(cx, entry);
+        for &f in &faces {
+            out.entry(f).or_insert(next);
+        }
+        next += usize::from(!faces.is_empty());
+    }
+    out
+}
+
+/// The trimmed faces (143, 144; DE pointers) that `entry` lists when it is a 402 Group
+/// Associativity (forms 1, 7, 14 and 15, IGES 5.3 sections 4.81, 4.83, 4.88, 4.89): the
+/// faces of one shell, as Open CASCADE writes them. Empty for anything else, and for a
+/// group of groups (Open CASCADE writes a compound so), which lists no face directly. A
+/// group that does not decode is reported where the file's entities are checked.
+pub(super) fn face_group_members(cx: &Context<'_, '_>, entry: &DirectoryEntry) -> Vec<usize> {
+    if entry.entity_type != 402 || ![1, 7, 14, 15].contains(&entry.form) {
+        return Vec::new();
+    }
+    let Ok(group) = cx.file.decode::<Group402>(entry).record else {
+        return Vec::new();
+    };
+    group
+        .members
+        .iter()
+        .filter_map(|&m| cx.file.entry(m))
+        .filter(|m| matches!(m.entity_type, 143 | 144))
+        .map(|m| m.pointer)
+        .collect()
+}
+
 /// Builds the topology of one file.
 struct Builder<'c, 'f, 'a> {
     cx: &'c Context<'f, 'a>,
@@ -167,8 +208,15 @@ struct Builder<'c, 'f, 'a> {
     topology: Topology,
     /// The file's tolerance (module documentation).
     tol: f64,
-    /// Vertices of the 142 curves' ends by grid cell of size `2 tol`.
-    grid: HashMap<[i64; 3], Vec<VertexId>>,
+    /// Vertices of the 142 curves' ends by group and grid cell of size `2 tol`.
+    grid: HashMap<(usize, [i64; 3]), Vec<VertexId>>,
+    /// The group of each trimmed face (143, 144) a 402 group lists, by DE pointer
+    /// ([`face_groups`]; from 1, the faces no group lists are group 0).
+    group_of: HashMap<usize, usize>,
+    /// The group of the face being built.
+    group: usize,
+    /// The group of each face built ([`Builder::group_of`]).
+    face_group: HashMap<FaceId, usize>,
     list_vertices: BTreeMap<(usize, i64), Option<VertexId>>,
     list_edges: BTreeMap<(usize, i64), Option<EdgeId>>,
     vertex_lists: BTreeMap<usize, Option<VertexList502>>,
@@ -240,6 +288,9 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             topology: Topology::default(),
             tol,
             grid: HashMap::new(),
+            group_of: face_groups(cx),
+            group: 0,
+            face_group: HashMap::new(),
             list_vertices: BTreeMap::new(),
             list_edges: BTreeMap::new(),
             vertex_lists: BTreeMap::new(),
@@ -278,9 +329,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         if loose.is_empty() {
             return;
         }
+        // The loose faces by group (module documentation), groups in file order.
+        let mut by_group: BTreeMap<usize, Vec<FaceId>> = BTreeMap::new();
+        for &f in &loose {
+            let g = self.face_group.get(&f).copied().unwrap_or(0);
+            by_group.entry(g).or_default().push(f);
+        }
+        let groups: Vec<Vec<FaceId>> = by_group.into_values().collect();
         let tol = self.tol;
         let before = self.topology.model.clone();
-        let sewing = match self.topology.model.sew(&loose, tol) {
+        let sewing = match self.topology.model.sew(&groups, tol) {
             // A lone face is sewn only to itself: where its boundary runs twice along one
             // edge (a sphere's or a closed extrusion's seam, written once per side in a 144
             // file), else it stays a loose face.
@@ -605,7 +663,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     let c = [k[0] + dx, k[1] + dy, k[2] + dz];
-                    if let Some(list) = self.grid.get(&c)
+                    if let Some(list) = self.grid.get(&(self.group, c))
                         && let Some(&v) = list
                             .iter()
                             .find(|v| dist(model.vertices[v.0].point, p) <= self.tol)
@@ -617,7 +675,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         }
         let v = self.topology.model.add_vertex(p, self.tol)?;
         self.topology.origins.vertices.push(origin.clone());
-        self.grid.entry(k).or_default().push(v);
+        self.grid.entry((self.group, k)).or_default().push(v);
         Ok(v)
     }
 
@@ -795,6 +853,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 .add_face(nurbs.clone(), loops.clone(), true)
             {
                 Ok(f) => {
+                    self.face_group.insert(f, self.group);
                     self.topology.origins.faces.push(Self::origin(
                         entry,
                         compact_str::format_compact!("D{}", entry.pointer),
@@ -869,14 +928,15 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// Forgets what the last face built noted of its boundary ([`Builder::given`],
     /// [`Builder::collapsed`]): a face read in part leaves them behind.
-    fn start_face(&mut self) {
+    fn start_face(&mut self, entry: &DirectoryEntry) {
         self.given.clear();
         self.collapsed.clear();
+        self.group = self.group_of.get(&entry.pointer).copied().unwrap_or(0);
     }
 
     /// A 143 Bounded Surface as a face; whether it was built.
     fn face143(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
-        self.start_face();
+        self.start_face(entry);
         let Some(rec) = decoded(self.cx.file.decode::<BoundedSurface143>(entry), diags) else {
             return false;
         };
@@ -962,7 +1022,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
 
     /// A 144 Trimmed Surface as a face; whether it was built.
     fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
-        self.start_face();
+        self.start_face(entry);
         let Some(rec) = decoded(self.cx.file.decode::<TrimmedSurface144>(entry), diags) else {
             return false;
         };
@@ -1154,31 +1214,49 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             return *f;
         }
         self.faces.insert(entry.pointer, None);
-        self.start_face();
+        self.start_face(entry);
         let rec = decoded(self.cx.file.decode::<Face510>(entry), diags)?;
         let surface = self.surface(entry, "SURF", rec.surface, diags)?;
         let mut loops = Vec::with_capacity(rec.loops.len());
         let mut at = Vec::with_capacity(rec.loops.len());
+        let mut vertex_loops = Vec::new();
         for (k, &l) in rec.loops.iter().enumerate() {
             let outer = k == 0 && rec.outer_first != 0;
             let lp = self.target(entry, "LOOP", l, &[508], diags)?;
-            loops.push(self.loop508(lp, outer, surface, diags)?);
-            at.push(lp);
+            match self.loop508(lp, outer, surface, diags)? {
+                Ok(l) => {
+                    loops.push(l);
+                    at.push(lp);
+                }
+                Err(v) => vertex_loops.push(v),
+            }
         }
         let f = self.add_face(entry, surface, loops, &at, false, diags);
+        if let Some(face) = f.and_then(|f| self.topology.model.faces.get_mut(f.0)) {
+            face.vertex_loops = vertex_loops;
+        }
         self.faces.insert(entry.pointer, f);
         f
     }
 
-    /// A 508 Loop: its edge uses with their orientation flags and pcurves.
+    /// A 508 Loop: its edge uses with their orientation flags and pcurves; `Err` with the
+    /// vertex for a loop of one vertex use alone (a vertex loop: a sphere's pole, a cone's
+    /// apex, ISO 10303-42 vertex_loop).
     fn loop508(
         &mut self,
         entry: &DirectoryEntry,
         outer: bool,
         surface: (&'c Entity, &'c NurbsSurface),
         diags: &mut Vec<Diagnostic>,
-    ) -> Option<Loop> {
+    ) -> Option<Result<Loop, VertexId>> {
         let rec = decoded(self.cx.file.decode::<Loop508>(entry), diags)?;
+        if let [use_] = rec.edges.as_slice()
+            && use_.kind == 1
+        {
+            return self
+                .list_vertex(entry, "EDGE", (use_.edge, use_.index), diags)
+                .map(Err);
+        }
         let mut coedges = Vec::with_capacity(rec.edges.len());
         for use_ in &rec.edges {
             if use_.kind != 0 {
@@ -1216,7 +1294,7 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 pcurve_deviation: None,
             });
         }
-        Some(Loop { coedges, outer })
+        Some(Ok(Loop { coedges, outer }))
     }
 
     /// Edge `index` (from 1) of a 504 Edge List, built once.

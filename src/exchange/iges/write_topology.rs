@@ -17,19 +17,25 @@
 //!   of a shell as a 510 Face with its 508 Loops (form 1), the edges in one 504 Edge List
 //!   and the vertices in one 502 Vertex List (each written once however many loops use it),
 //!   each coedge with its orientation flag and its 2-D pcurve when it has one (IGES 5.3
-//!   types 186, 502-514). A face's orientation in its shell is the 514 OF flag (the shell's
-//!   orientation combined with the face's `same_sense`); the loops of a face with
-//!   `same_sense` false run the other way round, as in a 144.
+//!   types 186, 502-514); a vertex loop is a 508 of one vertex use (TYPE = 1). A face's
+//!   orientation in its shell is the 514 OF flag (the shell's orientation combined with
+//!   the face's `same_sense`); the loops of a face with `same_sense` false run the other
+//!   way round, as in a 144.
+//! - Free edges (in no face) as independent 126s on their range.
+//! - The faces of a shell of several faces, written as 144s, are listed by a 402 form 7
+//!   group (IGES 5.3 section 4.83), as Open CASCADE writes a shell: a reader that sews
+//!   sews each group on its own.
 //!
 //! Every entity another one names is written physically dependent (DE status digits 3-4 =
-//! 01), so a reader takes the 144s and 186s as the roots.
+//! 01), so a reader takes the 144s, 402s and 186s as the roots; a 144 a group lists is
+//! logically dependent (02).
 
 use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use nurbsx_parsers::iges::records::{
     BrepSolid186, CompositeCurve102, CurveOnSurface142, Edge as Edge504, EdgeList504, Face510,
-    Loop508, LoopEdge, Shell514, TrimmedSurface144, VertexList502,
+    Group402, Loop508, LoopEdge, Shell514, TrimmedSurface144, VertexList502,
 };
 
 use super::write::Items;
@@ -114,6 +120,10 @@ pub(super) fn write<'d>(
             if cancel.is_set() {
                 return named;
             }
+            for &v in &model.faces[f.0].vertex_loops {
+                let n = w.vertices.len();
+                w.vertices.entry(v).or_insert(n);
+            }
             for c in model.faces[f.0].loops.iter().flat_map(|l| &l.coedges) {
                 let next = w.edges.len();
                 if let std::collections::btree_map::Entry::Vacant(slot) = w.edges.entry(c.edge) {
@@ -189,6 +199,18 @@ pub(super) fn write<'d>(
                 }
                 loops.push(items.record(508, 1, 1, 0, Loop508 { edges: uses }));
             }
+            // A vertex loop: a 508 of one vertex use (TYPE = 1) naming the 502 vertex.
+            for &v in &face.vertex_loops {
+                let vertex = LoopEdge {
+                    kind: 1,
+                    edge: vertex_list,
+                    index: w.vertex_index(v),
+                    orientation: 1,
+                    parameter_curves: Vec::new(),
+                };
+                let edges = vec![vertex];
+                loops.push(items.record(508, 1, 1, 0, Loop508 { edges }));
+            }
             let outer_first = i64::from(ordered.first().is_some_and(|l| l.outer));
             let de = items.record(
                 510,
@@ -230,7 +252,18 @@ pub(super) fn write<'d>(
             items.record(186, 0, 0, 0, BrepSolid186 { shell, voids });
         }
     }
-    // Faces as 144 (all of them, or those no shell holds in B-rep mode).
+    // Faces as 144 (all of them, or those no shell holds in B-rep mode). The faces of a
+    // shell of several faces are listed by a 402 form 7 group (IGES 5.3 section 4.83), as
+    // Open CASCADE writes a shell: a reader that sews (nurbsx does) sews each group on its
+    // own, so that solids which touch stay apart; the 144s it lists are logically
+    // dependent (DE status digits 3-4 = 02, section 2.2.4.4.9.2).
+    let mut grouped: HashSet<FaceId> = HashSet::new();
+    if !brep {
+        for shell in model.shells.iter().filter(|s| s.faces.len() > 1) {
+            grouped.extend(shell.faces.iter().map(|&(f, _)| f));
+        }
+    }
+    let mut face_de: HashMap<FaceId, i64> = HashMap::new();
     for (i, face) in model.faces.iter().enumerate() {
         let f = FaceId(i);
         if cancel.is_set() {
@@ -240,7 +273,48 @@ pub(super) fn write<'d>(
             continue;
         }
         let surface = surface_de(f, items);
-        trimmed_face(model, face, surface, &edge_meta, items);
+        let subordinate = if grouped.contains(&f) { 2 } else { 0 };
+        let de = trimmed_face(model, face, surface, subordinate, &edge_meta, items);
+        face_de.insert(f, de);
+    }
+    // Free edges (in no face: the curves of a STEP GEOMETRIC_SET placed by an assembly) as
+    // independent 126s on their range, with their entity's metadata.
+    let mut in_face = vec![false; model.edges.len()];
+    for c in model
+        .faces
+        .iter()
+        .flat_map(|f| &f.loops)
+        .flat_map(|l| &l.coedges)
+    {
+        if let Some(x) = in_face.get_mut(c.edge.0) {
+            *x = true;
+        }
+    }
+    for (k, edge) in model.edges.iter().enumerate() {
+        if in_face[k] {
+            continue;
+        }
+        if cancel.is_set() {
+            return named;
+        }
+        let mut meta = edge_meta(EdgeId(k));
+        meta.parameter_range = (edge.range != edge.curve.domain()).then(|| {
+            Box::new(ParameterRange {
+                u: edge.range,
+                v: None,
+            })
+        });
+        items.curve(Cow::Borrowed(&edge.curve), &meta, 0);
+    }
+    for shell in model.shells.iter().filter(|s| s.faces.len() > 1) {
+        let members: Vec<i64> = shell
+            .faces
+            .iter()
+            .filter_map(|(f, _)| face_de.get(f).copied())
+            .collect();
+        if members.len() > 1 {
+            items.record(402, 7, 0, 0, Group402 { members, form: 7 });
+        }
     }
     named
 }
@@ -285,9 +359,10 @@ fn trimmed_face<'d>(
     model: &'d Model,
     face: &'d Face,
     surface: i64,
+    subordinate: u8,
     edge_meta: &dyn Fn(EdgeId) -> Meta,
     items: &mut Items<'d>,
-) {
+) -> i64 {
     let mut ordered: Vec<_> = face.loops.iter().collect();
     ordered.sort_by_key(|l| !l.outer);
     let loops: Vec<Boundary<'d>> = ordered
@@ -380,7 +455,7 @@ fn trimmed_face<'d>(
     items.record(
         144,
         0,
-        0,
+        subordinate,
         0,
         TrimmedSurface144 {
             surface,
@@ -388,7 +463,7 @@ fn trimmed_face<'d>(
             outer: outer_ptr,
             inner,
         },
-    );
+    )
 }
 
 /// One piece of a 144 boundary: its model-space curve on its range with the metadata of
@@ -795,4 +870,48 @@ fn chains(surface: &NurbsSurface, segments: &[Segment<'_>]) -> bool {
         let start = b.point_at_unchecked(rb.0);
         (end[0] - start[0]).abs().max((end[1] - start[1]).abs()) <= tol
     })
+}
+
+/// What [`write`] leaves out of the file it writes for `document` in the mode `brep`: the
+/// vertex loops ([`Face::vertex_loops`]: a cone's apex, a sphere's pole) of the faces it
+/// writes as 144s, which a 144 cannot hold (its boundaries are curves, IGES 5.3 section
+/// 4.34); the B-rep mode writes a face of a shell with a 508 vertex use instead.
+pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exchange::Diagnostic> {
+    let model = &document.topology.model;
+    let mut in_shell = vec![false; model.faces.len()];
+    if brep {
+        for &(f, _) in model.shells.iter().flat_map(|s| &s.faces) {
+            if let Some(x) = in_shell.get_mut(f.0) {
+                *x = true;
+            }
+        }
+    }
+    let faces: Vec<usize> = (0..model.faces.len())
+        .filter(|&k| !in_shell[k] && !model.faces[k].vertex_loops.is_empty())
+        .collect();
+    let Some(&first) = faces.first() else {
+        return Vec::new();
+    };
+    let loops: usize = faces
+        .iter()
+        .map(|&k| model.faces[k].vertex_loops.len())
+        .sum();
+    let location = document
+        .topology
+        .origins
+        .faces
+        .get(first)
+        .map(|o| crate::exchange::Location::at_entity(o.id.clone()))
+        .unwrap_or_default();
+    vec![
+        crate::exchange::Diagnostic::warning(
+            "topology.vertex_loop_not_written",
+            format!(
+                "{loops} vertex loop(s) of {} face(s) (the degenerate bound at a cone's apex or a sphere's pole) are not written: a 144 trimmed surface is bounded by curves only; each face is written with its other boundaries (a sphere with none: its surface's whole domain), which bound the same region, and --iges-brep writes the vertex loops of faces in shells (508 vertex uses)",
+                faces.len()
+            ),
+            location,
+        )
+        .not_carried(),
+    ]
 }

@@ -10,7 +10,8 @@
 //!   model's edge starts at `edge_end` then and the oriented edges using it are flipped.
 //! - A face_bound with `orientation = .F.` is its loop reversed (ISO 10303-42 face_bound).
 //!   A face_outer_bound is the outer loop; a face with a single bound has it as its outer
-//!   loop. A vertex_loop (a degenerate bound, a cone's apex) adds no edge and is not kept.
+//!   loop. A vertex_loop (a degenerate bound, a cone's apex) adds no edge: its vertex is
+//!   kept on the face ([`crate::topology::Face::vertex_loops`]).
 //! - Tolerance of vertices and edges: 1e-7 of the part's size (the diagonal of the box of
 //!   all its vertices), at least 1e-9 in the file's unit.
 //! - Every refused item is a located diagnostic (`topology.*`) and is skipped; a
@@ -604,6 +605,7 @@ impl Build<'_, '_, '_, '_> {
             return;
         };
         let mut loops = Vec::with_capacity(bounds.len());
+        let mut vertex_loops = Vec::new();
         for &fb in bounds {
             let Some(item) = self.conv.items.get(&fb) else {
                 self.missing(id, "the face bound", &[fb]);
@@ -617,7 +619,17 @@ impl Build<'_, '_, '_, '_> {
             let coedges = match self.conv.items.get(&bound).map(|i| &i.record) {
                 Some(R::EdgeLoop { edge_list }) => self.edge_loop(id, edge_list),
                 Some(R::PolyLoop { polygon }) => self.poly_loop(id, polygon),
-                Some(R::VertexLoop { .. }) => continue,
+                Some(R::VertexLoop { loop_vertex }) => {
+                    // A degenerate bound (a cone's apex, a sphere's pole): kept on the face.
+                    match self.vertices.get(loop_vertex) {
+                        Some(&v) => vertex_loops.push(v),
+                        None => {
+                            self.missing(id, "the loop's vertex", &[*loop_vertex]);
+                            return;
+                        }
+                    }
+                    continue;
+                }
                 _ => {
                     self.missing(id, "the loop", &[bound]);
                     return;
@@ -692,7 +704,7 @@ impl Build<'_, '_, '_, '_> {
             .model
             .try_add_face(surface.clone(), loops, same_sense)
         {
-            Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some()),
+            Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some(), vertex_loops),
             Err(RefusedFace {
                 error: e @ TopologyError::PcurveDeviates { .. },
                 mut loops,
@@ -715,7 +727,9 @@ impl Build<'_, '_, '_, '_> {
                     .model
                     .add_face(surface.clone(), loops, same_sense)
                 {
-                    Ok(f) => self.face_added(id, f, entity.id.clone(), moved.is_some()),
+                    Ok(f) => {
+                        self.face_added(id, f, entity.id.clone(), moved.is_some(), vertex_loops);
+                    }
                     Err(e) => self.refuse(id, &e),
                 }
             }
@@ -752,8 +766,19 @@ impl Build<'_, '_, '_, '_> {
         }
     }
 
-    /// `moved`: the face carries its surface with the seam moved.
-    fn face_added(&mut self, id: u64, f: FaceId, entity: Label, moved: bool) {
+    /// `moved`: the face carries its surface with the seam moved; `vertex_loops`: the
+    /// vertices of its vertex_loop bounds.
+    fn face_added(
+        &mut self,
+        id: u64,
+        f: FaceId,
+        entity: Label,
+        moved: bool,
+        vertex_loops: Vec<VertexId>,
+    ) {
+        if let Some(face) = self.topology.model.faces.get_mut(f.0) {
+            face.vertex_loops = vertex_loops;
+        }
         self.faces.insert(id, f);
         if moved {
             self.moved_faces.push(f);

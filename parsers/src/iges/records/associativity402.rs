@@ -1,7 +1,9 @@
 //! Entity 402, Associativity Instance (IGES 5.3 section 4.80; its
 //! predefined forms sections 4.81-4.95): the forms whose parameters
-//! hold DE pointers, declared for the pointer and arity checks. nurbsx converts none of
-//! them; a group's members are read through the entities themselves.
+//! hold DE pointers, declared for the pointer and arity checks. The groups (forms 1, 7, 14
+//! and 15) have a typed record, [`Group402`]: a group of trimmed surfaces is the set of
+//! faces a reader sews into one shell (Open CASCADE writes a shell's faces so); the other
+//! forms are converted to nothing.
 //!
 //! The parameter layout depends on the form (the Associativity Definition each form
 //! stands for, IGES 5.3 type 302, section 4.69, and the predefined forms of type 402):
@@ -27,7 +29,9 @@
 //! forms 3 and 4 and the labelled entity of form 5 name entities whose DE view or label
 //! display field names the 402 in turn: a pair of pointers by design, not a cycle.
 
-use super::{Count, Field, Schema, Type};
+use super::{Count, DirectoryEntry, Entity, Field, Schema, Type, Values};
+use crate::iges::writer::{ParamWriter, WriteParams};
+use crate::real::NonFiniteReal;
 
 /// The entities a view pointer of these forms may name: a 410 View (form 0) or Perspective
 /// View (form 1), or a 402 standing for views (forms 3, 4 and 19), as the DE view field.
@@ -46,6 +50,40 @@ pub(super) const GROUP: Schema = Schema {
         Field::times("DE", Type::Pointer(&[]), Count::Field("N")),
     ],
 };
+
+/// Entity 402 forms 1, 7, 14 and 15, a Group Associativity (IGES 5.3 sections 4.81, 4.83,
+/// 4.88 and 4.89): form 1 unordered with back pointers, 7 unordered without, 14 ordered
+/// with, 15 ordered without. Decode it only from an entry of one of those forms (the other
+/// forms of 402 have other layouts).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Group402 {
+    /// The members' DE pointers.
+    pub members: Vec<i64>,
+    /// Form number (1, 7, 14 or 15).
+    pub form: i64,
+}
+
+impl Entity for Group402 {
+    const SCHEMA: Schema = GROUP;
+
+    fn from_values(mut v: Values<'_>, entry: &DirectoryEntry) -> Self {
+        Group402 {
+            members: v.ints("DE"),
+            form: entry.form,
+        }
+    }
+}
+
+impl WriteParams for Group402 {
+    fn write_params(&self, w: &mut ParamWriter<'_>) -> Result<(), NonFiniteReal> {
+        w.int(402);
+        w.int(super::count(self.members.len()));
+        for &m in &self.members {
+            w.int(m);
+        }
+        Ok(())
+    }
+}
 
 /// Form 3: `NV`, `NE`, the `NV` views in which the entities are visible, then the `NE`
 /// displayed entities.

@@ -58,6 +58,7 @@ mod vertex_list502;
 mod view410_drawing404;
 
 pub use analytic_surfaces190_198::{Cone194, Cylinder192, PlaneSurface190, Sphere196, Torus198};
+pub use associativity402::Group402;
 pub use bounded_surface143::{Boundary141, BoundaryCurve, BoundedSurface143};
 pub use brep_solid186::BrepSolid186;
 pub use circular_arc100::CircularArc100;

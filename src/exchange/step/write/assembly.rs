@@ -322,6 +322,7 @@ pub(super) fn write(
         for &a in &plan.products {
             let mut items = Vec::new();
             let (mut shells, mut faces, mut curves) = (Vec::new(), Vec::new(), Vec::new());
+            let mut listed = std::collections::HashSet::new();
             for part in &plan.own[a] {
                 match *part {
                     Part::Solid(x) => {
@@ -331,7 +332,10 @@ pub(super) fn write(
                     }
                     Part::Shell(x) => shells.extend(written.shells.get(x.0).copied().flatten()),
                     Part::Face(x) => faces.extend(written.faces.get(x.0)),
-                    Part::Edge(x) => curves.extend(written.curves.get(x.0)),
+                    // A curve several free edges share is listed once.
+                    Part::Edge(x) => {
+                        curves.extend(written.curves.get(x.0).filter(|c| listed.insert(**c)))
+                    }
                     Part::Assembly(_) => {}
                 }
             }

@@ -4,7 +4,8 @@
 //!   B_SPLINE_CURVE_WITH_KNOTS, which the vertices bound, running from its start to its end
 //!   vertex, `same_sense` `.T.`), shared by the ORIENTED_EDGEs of the faces that use it;
 //! - faces as ADVANCED_FACE over their B_SPLINE_SURFACE_WITH_KNOTS (rational: the complex
-//!   instance), bounds as FACE_OUTER_BOUND / FACE_BOUND of EDGE_LOOPs;
+//!   instance), bounds as FACE_OUTER_BOUND / FACE_BOUND of EDGE_LOOPs, and a FACE_BOUND of
+//!   a VERTEX_LOOP for each vertex loop;
 //! - shells bounding solids as CLOSED_SHELL in MANIFOLD_SOLID_BREP (BREP_WITH_VOIDS with
 //!   ORIENTED_CLOSED_SHELL voids), the other shells and the faces in no shell as
 //!   OPEN_SHELL / CLOSED_SHELL in one SHELL_BASED_SURFACE_MODEL;
@@ -217,8 +218,10 @@ pub(super) fn write(
             surfaces,
         } = write_free(&mut w, document, &topo.origins, scale, options)?;
         let written = write_model(&mut w, document, m, &topo.origins, scale, options)?;
+        // The curves of edges in no face (one a curve several of them share).
+        let mut listed = std::collections::HashSet::new();
         for (k, curve) in written.curves.iter().enumerate() {
-            if !written.in_face[k] {
+            if !written.in_face[k] && listed.insert(*curve) {
                 curves3.push(*curve);
             }
         }
@@ -403,6 +406,10 @@ pub(super) fn write_model(
     }
     let mut edge_ids = Vec::with_capacity(m.edges.len());
     let mut curve_ids = Vec::with_capacity(m.edges.len());
+    // A curve several edges share (they name one entity and each carries its geometry bit
+    // for bit: a B-spline several edges use, or the halves of an edge the reader split at
+    // a seam) is written once, as read, each edge bounded by its own vertices.
+    let mut shared_curves: HashMap<&str, u64> = HashMap::new();
     for (k, e) in m.edges.iter().enumerate() {
         // The whole curve: the edge's vertices bound it (ISO 10303-42 edge_curve), as
         // the files write a B-spline edge that uses part of its curve.
@@ -413,8 +420,20 @@ pub(super) fn write_model(
             |g| matches!(g, Geometry::Curve(x) if x == piece),
             || Geometry::Curve(piece.clone()),
         );
-        write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
-        let mut curve = w.id - 1;
+        let label = match &entity {
+            Cow::Borrowed(_) => o.edges.get(k).and_then(|x| x.entity.as_deref()),
+            Cow::Owned(_) => None,
+        };
+        let mut curve = match label.and_then(|l| shared_curves.get(l)) {
+            Some(&id) => id,
+            None => {
+                write_curve(&mut w.text, &mut w.id, piece, &entity, scale, options)?;
+                if let Some(l) = label {
+                    shared_curves.insert(l, w.id - 1);
+                }
+                w.id - 1
+            }
+        };
         curve_ids.push(curve);
         // With pcurves: a SURFACE_CURVE (SEAM_CURVE when one face uses it twice, its two
         // pcurves then on that face's surface) over
@@ -535,6 +554,17 @@ pub(super) fn write_model(
                     "FACE_BOUND"
                 },
                 vec![s(""), Parameter::Reference(lp), boolean(!reversed[k])],
+            )?);
+        }
+        // Its vertex loops (a cone's apex, a sphere's pole: ISO 10303-42 vertex_loop).
+        for v in &face.vertex_loops {
+            let Some(&vertex) = vertex_ids.get(v.0) else {
+                continue;
+            };
+            let lp = w.put("VERTEX_LOOP", vec![s(""), Parameter::Reference(vertex)])?;
+            bounds.push(w.put(
+                "FACE_BOUND",
+                vec![s(""), Parameter::Reference(lp), boolean(true)],
             )?);
         }
         face_ids.push(w.put(
