@@ -961,3 +961,57 @@ fn a_face_past_its_evaluation_budget_ends_unconverged() {
         other => panic!("expected Unconverged, got {other:?}"),
     }
 }
+
+/// A solid with a void written as IGES 144 faces, which hold no solid: a reader that sews
+/// them (nurbsx does) makes each closed shell a solid, the void's too, so the writer says
+/// so (`topology.voids_not_written`); the B-rep mode writes the void and says nothing.
+#[test]
+fn iges_faces_mode_warns_of_voids() {
+    use nurbsx::exchange::{self, Document, ExportOptions, Format, LengthUnit};
+    let mut outer = cube(0.0).unwrap();
+    let inner = cube(0.0).unwrap();
+    let all: Vec<_> = outer.faces.iter().map(|&f| (f, true)).collect();
+    let shell = outer.model.add_shell(all, true).unwrap();
+    // The void: a second cube's faces, reversed (ISO 10303-42 brep_with_voids: the void
+    // shells face inwards), appended to the model.
+    let (nv, ne, nf) = (
+        outer.model.vertices.len(),
+        outer.model.edges.len(),
+        outer.model.faces.len(),
+    );
+    outer.model.vertices.extend(inner.model.vertices);
+    for mut e in inner.model.edges {
+        e.start.0 += nv;
+        e.end.0 += nv;
+        outer.model.edges.push(e);
+    }
+    for mut f in inner.model.faces {
+        for c in f.loops.iter_mut().flat_map(|l| &mut l.coedges) {
+            c.edge.0 += ne;
+        }
+        outer.model.faces.push(f);
+    }
+    let void: Vec<_> = (0..6).map(|k| (FaceId(nf + k), false)).collect();
+    let void = outer.model.add_shell(void, true).unwrap();
+    outer.model.add_solid(shell, vec![void]).unwrap();
+    let mut doc = Document::new(Format::Step, LengthUnit::Mm);
+    doc.topology.model = outer.model;
+    let (_, warnings) =
+        exchange::write_reporting(&doc, Format::Iges, &ExportOptions::default()).unwrap();
+    let w: Vec<_> = warnings
+        .iter()
+        .filter(|d| d.code == "topology.voids_not_written")
+        .collect();
+    assert_eq!(w.len(), 1, "{warnings:?}");
+    assert!(
+        w[0].message.starts_with("1 solid(s) with voids"),
+        "{}",
+        w[0].message
+    );
+    let brep = ExportOptions {
+        iges_brep: true,
+        ..ExportOptions::default()
+    };
+    let (_, warnings) = exchange::write_reporting(&doc, Format::Iges, &brep).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+}

@@ -875,9 +875,35 @@ fn chains(surface: &NurbsSurface, segments: &[Segment<'_>]) -> bool {
 /// What [`write`] leaves out of the file it writes for `document` in the mode `brep`: the
 /// vertex loops ([`Face::vertex_loops`]: a cone's apex, a sphere's pole) of the faces it
 /// writes as 144s, which a 144 cannot hold (its boundaries are curves, IGES 5.3 section
-/// 4.34); the B-rep mode writes a face of a shell with a 508 vertex use instead.
+/// 4.34; the B-rep mode writes a face of a shell with a 508 vertex use instead), and, in
+/// the faces mode, which solids have voids: 144 faces hold no solid, and a reader that
+/// sews makes each closed shell a solid of its own, the void one too.
 pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exchange::Diagnostic> {
     let model = &document.topology.model;
+    let mut out = Vec::new();
+    let with_voids: Vec<usize> = (0..model.solids.len())
+        .filter(|&k| !brep && !model.solids[k].voids.is_empty())
+        .collect();
+    if let Some(&first) = with_voids.first() {
+        let location = document
+            .topology
+            .origins
+            .solids
+            .get(first)
+            .map(|o| crate::exchange::Location::at_entity(o.id.clone()))
+            .unwrap_or_default();
+        out.push(
+            crate::exchange::Diagnostic::warning(
+                "topology.voids_not_written",
+                format!(
+                    "{} solid(s) with voids written as 144 trimmed faces, which hold no solid: a reader that sews them (nurbsx does) makes each closed shell a solid, the void's too; --iges-brep writes them as 186 solids with their voids",
+                    with_voids.len()
+                ),
+                location,
+            )
+            .not_carried(),
+        );
+    }
     let mut in_shell = vec![false; model.faces.len()];
     if brep {
         for &(f, _) in model.shells.iter().flat_map(|s| &s.faces) {
@@ -890,7 +916,7 @@ pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exch
         .filter(|&k| !in_shell[k] && !model.faces[k].vertex_loops.is_empty())
         .collect();
     let Some(&first) = faces.first() else {
-        return Vec::new();
+        return out;
     };
     let loops: usize = faces
         .iter()
@@ -903,7 +929,7 @@ pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exch
         .get(first)
         .map(|o| crate::exchange::Location::at_entity(o.id.clone()))
         .unwrap_or_default();
-    vec![
+    out.push(
         crate::exchange::Diagnostic::warning(
             "topology.vertex_loop_not_written",
             format!(
@@ -913,5 +939,6 @@ pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exch
             location,
         )
         .not_carried(),
-    ]
+    );
+    out
 }
