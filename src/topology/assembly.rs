@@ -265,28 +265,19 @@ impl Model {
         let (shells, faces, edges) = self.part_items(part).ok_or_else(|| missing("part", 0))?;
         let mut copied = Copied::default();
         // Build the copies first, then append them all (nothing appended on an error).
-        let mut vertex_map: HashMap<VertexId, VertexId> = HashMap::new();
-        let mut new_vertices = Vec::new();
+        let mut vertices = VertexCopies {
+            base: target.vertices.len(),
+            map: HashMap::new(),
+            new: Vec::new(),
+            sources: Vec::new(),
+        };
         let mut edge_map: HashMap<EdgeId, EdgeId> = HashMap::new();
         let mut new_edges = Vec::with_capacity(edges.len());
         for &e in &edges {
             let edge = self.edges.get(e.0).ok_or_else(|| missing("edge", e.0))?;
             let mut ends = [edge.start, edge.end];
             for v in &mut ends {
-                let next = VertexId(target.vertices.len() + new_vertices.len());
-                let id = *vertex_map.entry(*v).or_insert(next);
-                if id == next {
-                    let vertex = self
-                        .vertices
-                        .get(v.0)
-                        .ok_or_else(|| missing("vertex", v.0))?;
-                    new_vertices.push(Vertex {
-                        point: apply(placement, vertex.point),
-                        tolerance: vertex.tolerance * grow,
-                    });
-                    copied.vertices.push(*v);
-                }
-                *v = id;
+                *v = vertices.copy(self, *v, placement, grow)?;
             }
             edge_map.insert(e, EdgeId(target.edges.len() + new_edges.len()));
             new_edges.push(Edge {
@@ -320,23 +311,11 @@ impl Model {
                 })
                 .collect();
             // The vertices of its vertex loops, copied as the edges' are.
-            let mut vertex_loops = Vec::with_capacity(face.vertex_loops.len());
-            for v in &face.vertex_loops {
-                let next = VertexId(target.vertices.len() + new_vertices.len());
-                let id = *vertex_map.entry(*v).or_insert(next);
-                if id == next {
-                    let vertex = self
-                        .vertices
-                        .get(v.0)
-                        .ok_or_else(|| missing("vertex", v.0))?;
-                    new_vertices.push(Vertex {
-                        point: apply(placement, vertex.point),
-                        tolerance: vertex.tolerance * grow,
-                    });
-                    copied.vertices.push(*v);
-                }
-                vertex_loops.push(id);
-            }
+            let vertex_loops = face
+                .vertex_loops
+                .iter()
+                .map(|&v| vertices.copy(self, v, placement, grow))
+                .collect::<Result<Vec<_>, _>>()?;
             face_map.insert(f, FaceId(target.faces.len() + new_faces.len()));
             new_faces.push(Face {
                 surface: face.surface.transform(placement).map_err(geometry)?,
@@ -371,7 +350,8 @@ impl Model {
             Part::Edge(e) => Part::Edge(edge_map[&e]),
             Part::Assembly(a) => return Err(missing("part (an assembly)", a.0)),
         };
-        target.vertices.extend(new_vertices);
+        target.vertices.extend(vertices.new);
+        copied.vertices = vertices.sources;
         target.edges.extend(new_edges);
         target.faces.extend(new_faces);
         target.shells.extend(new_shells);
@@ -383,5 +363,43 @@ impl Model {
             });
         }
         Ok((placed, copied))
+    }
+}
+
+/// The vertices [`Model::place`] copies, each once however many edges and vertex loops use
+/// it: source -> copy (numbered from `base`, the target's vertex count), the copies, and
+/// their sources in the same order.
+struct VertexCopies {
+    base: usize,
+    map: HashMap<VertexId, VertexId>,
+    new: Vec<Vertex>,
+    sources: Vec<VertexId>,
+}
+
+impl VertexCopies {
+    /// The copy of `v` of `source`, placed by `placement` with its tolerance grown by
+    /// `grow`; made on first use.
+    fn copy(
+        &mut self,
+        source: &Model,
+        v: VertexId,
+        placement: &Affine,
+        grow: f64,
+    ) -> Result<VertexId, TopologyError> {
+        if let Some(&id) = self.map.get(&v) {
+            return Ok(id);
+        }
+        let vertex = source.vertices.get(v.0).ok_or(TopologyError::Missing {
+            what: "vertex",
+            index: v.0,
+        })?;
+        let id = VertexId(self.base + self.new.len());
+        self.new.push(Vertex {
+            point: apply(placement, vertex.point),
+            tolerance: vertex.tolerance * grow,
+        });
+        self.sources.push(v);
+        self.map.insert(v, id);
+        Ok(id)
     }
 }

@@ -885,24 +885,15 @@ pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exch
         .filter(|&k| !brep && !model.solids[k].voids.is_empty())
         .collect();
     if let Some(&first) = with_voids.first() {
-        let location = document
-            .topology
-            .origins
-            .solids
-            .get(first)
-            .map(|o| crate::exchange::Location::at_entity(o.id.clone()))
-            .unwrap_or_default();
-        out.push(
-            crate::exchange::Diagnostic::warning(
-                "topology.voids_not_written",
-                format!(
-                    "{} solid(s) with voids written as 144 trimmed faces, which hold no solid: a reader that sews them (nurbsx does) makes each closed shell a solid, the void's too; --iges-brep writes them as 186 solids with their voids",
-                    with_voids.len()
-                ),
-                location,
-            )
-            .not_carried(),
-        );
+        out.push(not_written(
+            "topology.voids_not_written",
+            format!(
+                "{} solid(s) with voids written as 144 trimmed faces, which hold no solid: a reader that sews them (nurbsx does) makes each closed shell a solid, the void's too; --iges-brep writes them as 186 solids with their voids",
+                with_voids.len()
+            ),
+            &document.topology.origins.solids,
+            first,
+        ));
     }
     let mut in_shell = vec![false; model.faces.len()];
     if brep {
@@ -922,23 +913,29 @@ pub(crate) fn write_warnings(document: &Document, brep: bool) -> Vec<crate::exch
         .iter()
         .map(|&k| model.faces[k].vertex_loops.len())
         .sum();
-    let location = document
-        .topology
-        .origins
-        .faces
-        .get(first)
+    out.push(not_written(
+        "topology.vertex_loop_not_written",
+        format!(
+            "{loops} vertex loop(s) of {} face(s) (the degenerate bound at a cone's apex or a sphere's pole) are not written: a 144 trimmed surface is bounded by curves only; each face is written with its other boundaries (a sphere with none: its surface's whole domain), which bound the same region, and --iges-brep writes the vertex loops of faces in shells (508 vertex uses)",
+            faces.len()
+        ),
+        &document.topology.origins.faces,
+        first,
+    ));
+    out
+}
+
+/// A warning that something the model carries is not written, located at item `k` of
+/// `origins` (its id).
+fn not_written(
+    code: &'static str,
+    message: String,
+    origins: &[crate::exchange::Origin],
+    k: usize,
+) -> crate::exchange::Diagnostic {
+    let location = origins
+        .get(k)
         .map(|o| crate::exchange::Location::at_entity(o.id.clone()))
         .unwrap_or_default();
-    out.push(
-        crate::exchange::Diagnostic::warning(
-            "topology.vertex_loop_not_written",
-            format!(
-                "{loops} vertex loop(s) of {} face(s) (the degenerate bound at a cone's apex or a sphere's pole) are not written: a 144 trimmed surface is bounded by curves only; each face is written with its other boundaries (a sphere with none: its surface's whole domain), which bound the same region, and --iges-brep writes the vertex loops of faces in shells (508 vertex uses)",
-                faces.len()
-            ),
-            location,
-        )
-        .not_carried(),
-    );
-    out
+    crate::exchange::Diagnostic::warning(code, message, location).not_carried()
 }
