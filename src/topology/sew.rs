@@ -20,7 +20,11 @@
 //! Unused edges and vertices are removed at the end; the maps from old to new indices are
 //! returned so that the reader can carry its provenance over.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+/// The sewing's hash maps: foldhash's `quality` hasher (grid cells and ids far apart do not
+/// share buckets), a fraction of SipHash's cost per lookup.
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::quality::RandomState>;
 
 use super::measure::{MODEL_EVALUATIONS, faces_outward};
 use super::{Coedge, EdgeId, FaceId, Model, ShellId, SolidId, TopologyError, VertexId, check};
@@ -263,7 +267,7 @@ impl Model {
         // 1. Vertices, within each group.
         let nv = self.vertices.len();
         let mut uf = UnionFind::new(nv);
-        let mut grid: HashMap<(usize, [i64; 3]), Vec<usize>> = HashMap::new();
+        let mut grid: HashMap<(usize, [i64; 3]), Vec<usize>> = HashMap::default();
         let cell = |p: Point3| p.map(|x| (x / tolerance).floor() as i64);
         for (i, v) in self.vertices.iter().enumerate() {
             let Some(g) = vertex_group[i] else { continue };
@@ -307,7 +311,7 @@ impl Model {
                     .push(c.edge);
             }
         }
-        let mut replace: HashMap<EdgeId, (EdgeId, Match)> = HashMap::new();
+        let mut replace: HashMap<EdgeId, (EdgeId, Match)> = HashMap::default();
         for list in pairs.values() {
             let mut kept: Vec<EdgeId> = Vec::new();
             for &e in list {

@@ -50,6 +50,10 @@ use crate::topology::{
     seam_sides_by_continuity,
 };
 
+/// The builder's hash maps keyed by grid cells and ids: foldhash's `quality` hasher, a
+/// fraction of SipHash's cost per lookup.
+type FoldMap<K, V> = HashMap<K, V, foldhash::quality::RandomState>;
+
 /// Points (plus one) at which a file's parameter-space curve is checked against its edge.
 const GIVEN_SAMPLES: usize = 32;
 
@@ -165,8 +169,8 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
 /// The group of each trimmed face (143, 144) that a 402 Group Associativity lists directly
 /// ([`face_group_members`]), by DE pointer, numbered from 1 in file order; a face several
 /// groups list is in the first.
-fn face_groups(cx: &Context<'_, '_>) -> HashMap<usize, usize> {
-    let mut out = HashMap::new();
+fn face_groups(cx: &Context<'_, '_>) -> FoldMap<usize, usize> {
+    let mut out = FoldMap::default();
     let mut next = 1;
     for entry in cx.file.entries.iter().flatten() {
         let faces = face_group_members(cx, entry);
@@ -209,14 +213,14 @@ struct Builder<'c, 'f, 'a> {
     /// The file's tolerance (module documentation).
     tol: f64,
     /// Vertices of the 142 curves' ends by group and grid cell of size `2 tol`.
-    grid: HashMap<(usize, [i64; 3]), Vec<VertexId>>,
+    grid: FoldMap<(usize, [i64; 3]), Vec<VertexId>>,
     /// The group of each trimmed face (143, 144) a 402 group lists, by DE pointer
     /// ([`face_groups`]; from 1, the faces no group lists are group 0).
-    group_of: HashMap<usize, usize>,
+    group_of: FoldMap<usize, usize>,
     /// The group of the face being built.
     group: usize,
     /// The group of each face built ([`Builder::group_of`]).
-    face_group: HashMap<FaceId, usize>,
+    face_group: FoldMap<FaceId, usize>,
     list_vertices: BTreeMap<(usize, i64), Option<VertexId>>,
     list_edges: BTreeMap<(usize, i64), Option<EdgeId>>,
     vertex_lists: BTreeMap<usize, Option<VertexList502>>,
@@ -287,10 +291,10 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             entities,
             topology: Topology::default(),
             tol,
-            grid: HashMap::new(),
+            grid: FoldMap::default(),
             group_of: face_groups(cx),
             group: 0,
-            face_group: HashMap::new(),
+            face_group: FoldMap::default(),
             list_vertices: BTreeMap::new(),
             list_edges: BTreeMap::new(),
             vertex_lists: BTreeMap::new(),
