@@ -638,7 +638,11 @@ fn freecad_file_matches_freecad_evaluations() {
     let doc = exchange::iges::read(&text, &ImportOptions::default()).unwrap();
     assert!(!doc.has_errors(), "{:#?}", doc.diagnostics);
     assert_eq!(doc.units, LengthUnit::Mm);
-    assert_eq!(doc.entities.len(), 2);
+    // The file's curve and surface, and the four sides of the domain that bounds its face
+    // (a 144 with N1 = 0: the face's outer loop, `tests/iges_topology.rs`).
+    let boundary = |e: &&nurbsx::exchange::Entity| e.source.entity == "144 (domain boundary)";
+    assert_eq!(doc.entities.iter().filter(|e| !boundary(e)).count(), 2);
+    assert_eq!(doc.entities.iter().filter(boundary).count(), 4);
     // OCCT writes 9 significant digits (weights 0.707106781): agreement to ~1e-8.
     let tol = 1e-7;
     let c = curve(&doc, "D7");
@@ -657,11 +661,12 @@ fn freecad_file_matches_freecad_evaluations() {
     }
     let se = doc.entities.iter().find(|e| e.id == "D5").unwrap();
     assert_eq!(se.meta.used_by, vec!["D3".to_owned()]);
-    // The 144 (N1 = 0: bounded by the surface's own domain) is read as a face with no
-    // loop on that surface, so no trim is left unapplied.
+    // The 144 (N1 = 0: bounded by the surface's own domain) is read as a face on that
+    // surface bounded by the domain's four sides, so no trim is left unapplied.
     let faces = &doc.topology.model.faces;
     assert_eq!(faces.len(), 1);
-    assert!(faces[0].loops.is_empty());
+    assert_eq!(faces[0].loops.len(), 1);
+    assert_eq!(faces[0].loops[0].coedges.len(), 4);
     assert_eq!(doc.topology.origins.faces[0].id, "D3");
     assert_eq!(doc.topology.origins.faces[0].entity.as_deref(), Some("D5"));
     assert!(!doc.diagnostics.iter().any(|d| d.code == "trim_ignored"));

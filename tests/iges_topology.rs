@@ -1222,3 +1222,97 @@ fn touching_solids_stay_apart_through_iges_144() {
             .any(|d| d.code == "entities_skipped")
     );
 }
+
+/// A face bounded by its surface's own domain (a 144 with `N1 = 0`: Open CASCADE writes so a
+/// face that is its whole surface, FreeCAD's `Part.Face(surface)` in
+/// `tests/data/iges/freecad_arc_surface.igs`) gets that boundary as its outer loop: an edge
+/// over the iso-curve at each end of the domain, its pcurve the side of the domain, the
+/// curves listed as `D<face>:u0` .. `:v1`. Before, the face had no loop: nurbsx's STEP
+/// output wrote an ADVANCED_FACE without a bound (ISO 10303-42 face.bounds is SET [1:?]),
+/// and such a face shared no edge with a neighbour to sew. The area stays the untrimmed
+/// surface's, 20.082356846872056 by an independent 40-point Gauss-Legendre rule per knot
+/// span over FreeCAD's own surface derivatives (FreeCAD's Face.Area says 20.2268: its fixed
+/// rule's error on this rational surface). STEP and both IGES modes read back with the same
+/// four edges. A sphere written bounded by its domain comes back with its seam edge (the
+/// poles give no edge) and closes into its solid, of volume 4/3 pi r^3.
+#[test]
+fn a_face_bounded_by_its_domain_gets_that_boundary() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = read_text(
+        &std::fs::read_to_string(root.join("tests/data/iges/freecad_arc_surface.igs")).unwrap(),
+    );
+    let m = &doc.topology.model;
+    assert_eq!(m.faces.len(), 1);
+    let face = &m.faces[0];
+    assert_eq!(face.loops.len(), 1);
+    assert_eq!((m.edges.len(), m.vertices.len()), (4, 4));
+    let ((u0, u1), (v0, v1)) = face.surface.domain();
+    let corners = [[u0, v0], [u1, v0], [u1, v1], [u0, v1]];
+    // Counter-clockwise in (u, v) from (u0, v0): each coedge's pcurve runs along one side.
+    for (k, c) in face.loops[0].coedges.iter().enumerate() {
+        let p = c.pcurve.as_ref().unwrap();
+        let (a, b) = p.domain();
+        let (s, e) = if c.forward { (a, b) } else { (b, a) };
+        let (ps, pe) = (p.point_at(s).unwrap(), p.point_at(e).unwrap());
+        assert_eq!([ps[0], ps[1]], corners[k], "coedge {k}");
+        assert_eq!([pe[0], pe[1]], corners[(k + 1) % 4], "coedge {k}");
+        // The edge's curve runs on the surface along that side.
+        let edge = &m.edges[c.edge.0];
+        for i in 0..=8 {
+            let t = a + (b - a) * f64::from(i) / 8.0;
+            let q = p.point_at(t).unwrap();
+            let on = face.surface.point_at(q[0], q[1]).unwrap();
+            let at = edge.curve.point_at(t).unwrap();
+            assert!(
+                (0..3).all(|j| (on[j] - at[j]).abs() <= 1e-12),
+                "{on:?} {at:?}"
+            );
+        }
+    }
+    let ids: Vec<&str> = doc.entities.iter().map(|e| e.id.as_str()).collect();
+    for side in ["D3:v0", "D3:u1", "D3:v1", "D3:u0"] {
+        assert!(ids.contains(&side), "{ids:?}");
+    }
+    let area = m.measure_face(face).unwrap().area;
+    let independent = 20.082356846872056;
+    assert!((area - independent).abs() <= 1e-12 * independent, "{area}");
+    let step = exchange::write(&doc, exchange::Format::Step, &ExportOptions::default()).unwrap();
+    assert!(!step.contains("ADVANCED_FACE('',()"));
+    for (format, iges_brep) in [
+        (exchange::Format::Step, false),
+        (exchange::Format::Iges, false),
+        (exchange::Format::Iges, true),
+    ] {
+        let options = ExportOptions {
+            iges_brep,
+            ..ExportOptions::default()
+        };
+        let text = exchange::write(&doc, format, &options).unwrap();
+        let back = exchange::read(text.as_bytes(), &ImportOptions::default()).unwrap();
+        let b = &back.topology.model;
+        assert_eq!(
+            (b.faces.len(), b.edges.len(), b.vertices.len()),
+            (1, 4, 4),
+            "{format:?} {iges_brep}"
+        );
+        let a = b.measure_face(&b.faces[0]).unwrap().area;
+        assert!((a - independent).abs() <= 1e-12 * independent, "{a}");
+    }
+
+    // A sphere bounded only by a vertex loop is written as a 144 bounded by its domain.
+    let sphere = exchange::read(
+        &std::fs::read(root.join("samples/freecad/analytic/sphere.step")).unwrap(),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let text = exchange::write(&sphere, exchange::Format::Iges, &ExportOptions::default()).unwrap();
+    let back = read_text(&text);
+    let b = &back.topology.model;
+    assert_eq!((b.edges.len(), b.vertices.len()), (1, 2));
+    assert_eq!(b.faces[0].loops[0].coedges.len(), 2);
+    assert_eq!(b.solids.len(), 1);
+    let r: f64 = 10.0;
+    let want = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let v = b.solid_volume(nurbsx::topology::SolidId(0)).unwrap();
+    assert!((v - want).abs() <= 1e-9 * want, "{v} vs {want}");
+}

@@ -3,7 +3,8 @@
 //!
 //! - 144 Trimmed Surface (IGES 5.3 section 4.34): a face on its surface (PTS) whose outer
 //!   loop is PTO's 142 and whose holes are the PTI 142s; `N1 = 0` (the surface's own
-//!   boundary) gives a face with no loop. Each 142 Curve on a Parametric Surface (section
+//!   boundary) gives a face whose outer loop is that boundary, an edge over the iso-curve
+//!   at each end of the domain (`Builder::natural_loop`). Each 142 Curve on a Parametric Surface (section
 //!   4.32) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
 //!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
 //!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
@@ -153,8 +154,9 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
         }
     }
     b.report(diags);
-    let (carried, moved_faces) = (b.carried, b.moved_faces);
+    let (carried, moved_faces, natural) = (b.carried, b.moved_faces, b.natural);
     doc.topology = b.topology;
+    doc.entities.extend(natural);
     doc.adopt_moved_surfaces(&moved_faces);
     super::subfigure::apply(cx, &mut doc.topology, diags);
     // What the model carries without naming it is not an entity of its own (a
@@ -251,6 +253,11 @@ struct Builder<'c, 'f, 'a> {
     carried: std::collections::HashSet<Label>,
     /// The faces added with their surface's seam moved ([`Builder::with_moved_seam`]).
     moved_faces: Vec<FaceId>,
+    /// The curves of the domain boundaries given to faces bounded by their surface's domain
+    /// ([`Builder::natural_loop`]), entities the document lists.
+    natural: Vec<Entity>,
+    /// How many faces got their domain's boundary as a loop.
+    natural_faces: usize,
 }
 
 /// A curve of the document with its DE pointer.
@@ -310,6 +317,8 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             collapsed: Vec::new(),
             carried: std::collections::HashSet::new(),
             moved_faces: Vec::new(),
+            natural: Vec::new(),
+            natural_faces: 0,
         }
     }
 
@@ -345,8 +354,9 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         let sewing = match self.topology.model.sew(&groups, tol) {
             // A lone face is sewn only to itself: where its boundary runs twice along one
             // edge (a sphere's or a closed extrusion's seam, written once per side in a 144
-            // file), else it stays a loose face.
-            Ok(s) if loose.len() == 1 && s.merged_edges == 0 => {
+            // file, or the one seam edge of a face bounded by its closed surface's domain),
+            // else it stays a loose face.
+            Ok(s) if loose.len() == 1 && s.merged_edges == 0 && s.solids.is_empty() => {
                 self.topology.model = before;
                 return;
             }
@@ -504,6 +514,16 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                 format!(
                     "{} B-rep edges end further than the file tolerance {:e} from their vertices; each keeps the gap as its tolerance (at most {MAX_GAP_FACTOR} x the file tolerance)",
                     self.widened, self.tol
+                ),
+                Location::default(),
+            ));
+        }
+        if self.natural_faces > 0 {
+            diags.push(Diagnostic::info(
+                "topology.domain_boundary",
+                format!(
+                    "{} faces bounded by their surface's own domain (144 N1 = 0) get that boundary as their outer loop: the iso-curves at the domain's ends (exact), one seam edge where the surface closes, none where a side collapses to a pole; they are listed as curves D<face>:u0 .. :v1",
+                    self.natural_faces
                 ),
                 Location::default(),
             ));
@@ -1024,6 +1044,114 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
         Some((Loop { coedges, outer }, e))
     }
 
+    /// The outer loop of a face bounded by its surface's own domain (a 144 with `N1 = 0`,
+    /// IGES 5.3 section 4.34, as Open CASCADE writes a face that is its whole surface): the
+    /// four iso-curves at the ends of the domain (exact, NURBS Book section 5.4's iso-curves
+    /// of the net), counter-clockwise in (u, v), each an edge between vertices shared with
+    /// the rest of the face's group, with the line along the side as its pcurve. A side that
+    /// collapses to a point (a pole) gives no edge; on a surface closed across a pair of
+    /// sides both use one seam edge, each with its own pcurve. The curves are listed as
+    /// entities of their own (`D<face>:u0`, `:u1`, `:v0`, `:v1`, source `144 (domain
+    /// boundary)`), so that a writer writes them and a reader finds them again. `None`
+    /// (the face stays bounded by the domain) when a side cannot be made.
+    fn natural_loop(
+        &mut self,
+        entry: &DirectoryEntry,
+        surface: (&'c Entity, &'c NurbsSurface),
+    ) -> Option<Loop> {
+        let s = surface.1;
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let tol = self.tol;
+        let closed = [s.is_closed_u(tol), s.is_closed_v(tol)];
+        // (label, iso-curve, fixed direction 0 = u, its value, the pcurve's other
+        // coordinate, coedge forward): bottom, right, top, left.
+        let sides = [
+            ("v0", s.iso_v(v0).ok()?, 1, v0, true),
+            ("u1", s.iso_u(u1).ok()?, 0, u1, true),
+            ("v1", s.iso_v(v1).ok()?, 1, v1, false),
+            ("u0", s.iso_u(u0).ok()?, 0, u0, false),
+        ];
+        let vertex_origin = Self::origin(
+            entry,
+            compact_str::format_compact!("D{}", entry.pointer),
+            None,
+        );
+        let mut coedges = Vec::with_capacity(4);
+        // The seam edges made so far: (fixed direction, edge).
+        let mut seams: Vec<(usize, EdgeId)> = Vec::new();
+        for (label, iso, d, at, forward) in sides {
+            let poles = iso.control_points();
+            let first = *poles.first()?;
+            if poles.iter().all(|p| dist(*p, first) <= tol) {
+                continue; // a pole: no edge
+            }
+            let range = iso.domain();
+            // The pcurve: the side's line in (u, v), parameterised as the edge's curve.
+            let (a, b) = range;
+            let ends = if d == 0 {
+                [[at, a, 0.0], [at, b, 0.0]]
+            } else {
+                [[a, at, 0.0], [b, at, 0.0]]
+            };
+            let pcurve =
+                NurbsCurve::with_dimension(1, vec![a, a, b, b], ends.to_vec(), None, 2).ok()?;
+            // On a closed surface the second side of the pair reuses the first one's edge
+            // (the curves are the same within the tolerance; the first is kept).
+            let edge = match seams.iter().find(|(k, _)| *k == d).map(|&(_, e)| e) {
+                Some(e) if closed[d] => e,
+                _ => {
+                    let start = self
+                        .shared_vertex(iso.point_at_unchecked(a), &vertex_origin)
+                        .ok()?;
+                    let end = self
+                        .shared_vertex(iso.point_at_unchecked(b), &vertex_origin)
+                        .ok()?;
+                    let id = compact_str::format_compact!("D{}:{label}", entry.pointer);
+                    let e = self
+                        .topology
+                        .model
+                        .add_edge(iso.clone(), range, start, end, tol)
+                        .ok()?;
+                    let mut meta = Meta::default();
+                    meta.used_by
+                        .push(compact_str::format_compact!("D{}", entry.pointer));
+                    self.natural.push(Entity {
+                        id: id.clone(),
+                        geometry: Geometry::Curve(iso),
+                        source: Source {
+                            entity: "144 (domain boundary)".into(),
+                            line: Some(entry.line),
+                        },
+                        meta,
+                    });
+                    self.topology.origins.edges.push(Origin {
+                        id: id.clone(),
+                        source: Source {
+                            entity: "144 (domain boundary)".into(),
+                            line: Some(entry.line),
+                        },
+                        name: None,
+                        entity: Some(id),
+                    });
+                    seams.push((d, e));
+                    e
+                }
+            };
+            self.given.push(Vec::new());
+            coedges.push(Coedge {
+                edge,
+                forward,
+                pcurve: Some(pcurve),
+                pcurve_deviation: None,
+            });
+        }
+        self.natural_faces += 1;
+        Some(Loop {
+            coedges,
+            outer: true,
+        })
+    }
+
     /// A 144 Trimmed Surface as a face; whether it was built.
     fn face144(&mut self, entry: &DirectoryEntry, diags: &mut Vec<Diagnostic>) -> bool {
         self.start_face(entry);
@@ -1044,6 +1172,13 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             ));
         }
         let outer = (rec.outer_given != 0 && rec.outer != 0).then_some(("PTO", rec.outer, true));
+        if outer.is_none() {
+            // Bounded by the surface's own domain: that boundary, as edges.
+            if let Some(l) = self.natural_loop(entry, surface) {
+                loops.push(l);
+                at.push(entry);
+            }
+        }
         let inner = rec.inner.iter().map(|&b| ("PTI", b, false));
         for (field, p, is_outer) in outer.into_iter().chain(inner) {
             let Some((l, e)) = self.loop142(entry, field, p, is_outer, surface, diags) else {
