@@ -1071,23 +1071,17 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             ("v1", s.iso_v(v1).ok()?, 1, v1, false),
             ("u0", s.iso_u(u0).ok()?, 0, u0, false),
         ];
-        let vertex_origin = Self::origin(
-            entry,
-            compact_str::format_compact!("D{}", entry.pointer),
-            None,
-        );
-        let mut coedges = Vec::with_capacity(4);
-        // The seam edges made so far: (fixed direction, edge).
-        let mut seams: Vec<(usize, EdgeId)> = Vec::new();
+        // First everything that can fail, so that a side that cannot be made leaves the
+        // model as it was: per side that is not a pole, its curve, pcurve and end points.
+        let mut planned = Vec::with_capacity(4);
         for (label, iso, d, at, forward) in sides {
             let poles = iso.control_points();
             let first = *poles.first()?;
             if poles.iter().all(|p| dist(*p, first) <= tol) {
                 continue; // a pole: no edge
             }
-            let range = iso.domain();
             // The pcurve: the side's line in (u, v), parameterised as the edge's curve.
-            let (a, b) = range;
+            let (a, b) = iso.domain();
             let ends = if d == 0 {
                 [[at, a, 0.0], [at, b, 0.0]]
             } else {
@@ -1095,18 +1089,33 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             };
             let pcurve =
                 NurbsCurve::with_dimension(1, vec![a, a, b, b], ends.to_vec(), None, 2).ok()?;
+            let points = [iso.point_at(a).ok()?, iso.point_at(b).ok()?];
+            if !points.iter().flatten().all(|x| x.is_finite()) {
+                return None;
+            }
+            planned.push((label, iso, d, forward, pcurve, points));
+        }
+        if planned.is_empty() {
+            return None;
+        }
+        let vertex_origin = Self::origin(
+            entry,
+            compact_str::format_compact!("D{}", entry.pointer),
+            None,
+        );
+        let mut coedges = Vec::with_capacity(planned.len());
+        // The seam edges made so far: (fixed direction, edge).
+        let mut seams: Vec<(usize, EdgeId)> = Vec::new();
+        for (label, iso, d, forward, pcurve, points) in planned {
             // On a closed surface the second side of the pair reuses the first one's edge
             // (the curves are the same within the tolerance; the first is kept).
             let edge = match seams.iter().find(|(k, _)| *k == d).map(|&(_, e)| e) {
                 Some(e) if closed[d] => e,
                 _ => {
-                    let start = self
-                        .shared_vertex(iso.point_at_unchecked(a), &vertex_origin)
-                        .ok()?;
-                    let end = self
-                        .shared_vertex(iso.point_at_unchecked(b), &vertex_origin)
-                        .ok()?;
+                    let start = self.shared_vertex(points[0], &vertex_origin).ok()?;
+                    let end = self.shared_vertex(points[1], &vertex_origin).ok()?;
                     let id = compact_str::format_compact!("D{}:{label}", entry.pointer);
+                    let range = iso.domain();
                     let e = self
                         .topology
                         .model
@@ -1115,21 +1124,19 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
                     let mut meta = Meta::default();
                     meta.used_by
                         .push(compact_str::format_compact!("D{}", entry.pointer));
+                    let source = Source {
+                        entity: "144 (domain boundary)".into(),
+                        line: Some(entry.line),
+                    };
                     self.natural.push(Entity {
                         id: id.clone(),
                         geometry: Geometry::Curve(iso),
-                        source: Source {
-                            entity: "144 (domain boundary)".into(),
-                            line: Some(entry.line),
-                        },
+                        source: source.clone(),
                         meta,
                     });
                     self.topology.origins.edges.push(Origin {
                         id: id.clone(),
-                        source: Source {
-                            entity: "144 (domain boundary)".into(),
-                            line: Some(entry.line),
-                        },
+                        source,
                         name: None,
                         entity: Some(id),
                     });
