@@ -708,12 +708,42 @@ fn fuzz_regressions_replay() {
                     .unwrap_or_else(|e| {
                         panic!("{}: {format:?} output unreadable: {e}", path.display())
                     });
+                let part = !doc.topology.is_empty();
+                if part && format == exchange::Format::Iges {
+                    // IGES holds a part's topology in its own way (the `roundtrip` target's
+                    // header says how); read back is what is checked here.
+                    continue;
+                }
                 assert_eq!(
                     back.entities.len(),
                     doc.entities.len(),
                     "{}",
                     path.display()
                 );
+                if part {
+                    // A part's entities come back in the writer's order, each one of the
+                    // read geometry (an edge's curve possibly reversed), each once.
+                    let mut read: Vec<&nurbsx::nurbs::Geometry> =
+                        doc.entities.iter().map(|e| &e.geometry).collect();
+                    for e in &back.entities {
+                        let k = read.iter().position(|g| match (g, &e.geometry) {
+                            (
+                                nurbsx::nurbs::Geometry::Curve(a),
+                                nurbsx::nurbs::Geometry::Curve(b),
+                            ) => a == b || a.reverse().is_ok_and(|r| &r == b),
+                            (a, b) => *a == b,
+                        });
+                        let k = k.unwrap_or_else(|| {
+                            panic!(
+                                "{}: {:?} is none of the read geometry",
+                                path.display(),
+                                e.id
+                            )
+                        });
+                        read.swap_remove(k);
+                    }
+                    continue;
+                }
                 for (a, b) in doc.entities.iter().zip(&back.entities) {
                     assert_eq!(a.geometry, b.geometry, "{}: {format:?}", path.display());
                 }

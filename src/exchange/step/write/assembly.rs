@@ -316,7 +316,7 @@ pub(super) fn write(
     };
     // The shape items of each product: (kind, id) as `representation` takes them.
     let body = (|| -> Result<_, NonFiniteReal> {
-        let free = write_free(&mut w, document, plan.origins, scale, options)?;
+        let free = write_free(&mut w, document, &plan.model, plan.origins, scale, options)?;
         let written = write_model(&mut w, document, &plan.model, plan.origins, scale, options)?;
         let mut shapes: Vec<Shape> = Vec::new();
         for &a in &plan.products {

@@ -145,18 +145,38 @@ pub(super) struct Free {
     pub surfaces: Vec<u64>,
 }
 
-/// Writes the free geometry of a document: the entities no item of `o` names (not the 2-D
-/// curves the edges carry as pcurves).
+/// Writes the free geometry of a document: the entities no item of `o` (the provenance of
+/// `m`'s items) names, and not the 2-D curves the edges carry as pcurves.
 pub(super) fn write_free(
     w: &mut Out,
     document: &Document,
+    m: &Model,
     o: &Origins,
     scale: f64,
     options: &ExportOptions,
 ) -> Result<Free, NonFiniteReal> {
     let named = o.entity_ids();
-    // The 2-D curves of the source's pcurves of written edges: the edges carry their own.
-    let edge_ids: HashSet<&str> = o.edges.iter().map(|x| x.id.as_str()).collect();
+    // The 2-D curves of the source's pcurves of edges whose every coedge carries a pcurve
+    // (the reader's rule for not converting them): the edges carry their own. An edge of a
+    // face the reader refused, or of none, carries none, and its file curves are written.
+    let mut carried = vec![(false, true); m.edges.len()];
+    for c in m
+        .faces
+        .iter()
+        .flat_map(|f| &f.loops)
+        .flat_map(|l| &l.coedges)
+    {
+        if let Some(x) = carried.get_mut(c.edge.0) {
+            *x = (true, x.1 && c.pcurve.is_some());
+        }
+    }
+    let edge_ids: HashSet<&str> = o
+        .edges
+        .iter()
+        .zip(&carried)
+        .filter(|(_, c)| c.0 && c.1)
+        .map(|(x, _)| x.id.as_str())
+        .collect();
     let is_pcurve = |e: &Entity| {
         matches!(&e.geometry, Geometry::Curve(c) if c.dimension() == 2)
             && e.meta.used_by.iter().any(|u| edge_ids.contains(u.as_str()))
@@ -216,7 +236,7 @@ pub(super) fn write(
             mut curves3,
             curves2,
             surfaces,
-        } = write_free(&mut w, document, &topo.origins, scale, options)?;
+        } = write_free(&mut w, document, m, &topo.origins, scale, options)?;
         let written = write_model(&mut w, document, m, &topo.origins, scale, options)?;
         // The curves of edges in no face (one a curve several of them share).
         let mut listed = std::collections::HashSet::new();
