@@ -54,6 +54,8 @@ pub(super) struct Context<'f, 'a> {
     /// The 102s that are face boundaries (named by a 142, 504 or 508): their constituents
     /// are that boundary's edges and stay separate curves.
     pub edge_chains: &'f BTreeSet<usize>,
+    /// The 402 groups of trimmed faces and the group of each face they list.
+    pub face_groups: &'f super::topology::FaceGroups,
 }
 
 impl Context<'_, '_> {
@@ -156,6 +158,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
     let boundaries = boundaries(&file);
     let members = composite_members(&file);
     let edge_chains = edge_chains(&file);
+    let face_groups = super::topology::FaceGroups::of(&file);
     let cx = Context {
         file: &file,
         options,
@@ -163,6 +166,7 @@ pub fn read(text: &str, options: &ImportOptions) -> Result<Document, Diagnostic>
         parametric: &parametric,
         boundaries: &boundaries,
         edge_chains: &edge_chains,
+        face_groups: &face_groups,
     };
     let mut doc = Document::new(Format::Iges, units);
     doc.schema = file.global.version_name().map(str::to_owned);
@@ -524,9 +528,7 @@ fn read_entry(
             return Outcome::Nothing;
         }
         // A group of trimmed faces is the shell the topology pass sews them into.
-        402 if !cx.options.geometry_only
-            && !super::topology::face_group_members(cx, entry).is_empty() =>
-        {
+        402 if !cx.options.geometry_only && cx.face_groups.groups.contains(&entry.pointer) => {
             return Outcome::Nothing;
         }
         t => {

@@ -4,8 +4,8 @@
 //! - 144 Trimmed Surface (IGES 5.3 section 4.34): a face on its surface (PTS) whose outer
 //!   loop is PTO's 142 and whose holes are the PTI 142s; `N1 = 0` (the surface's own
 //!   boundary) gives a face whose outer loop is that boundary, an edge over the iso-curve
-//!   at each end of the domain (`Builder::natural_loop`). Each 142 Curve on a Parametric Surface (section
-//!   4.32) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
+//!   at each end of the domain (`Builder::natural_loop`). Each 142 Curve on a Parametric
+//!   Surface (section 4.32) gives the loop's edges from its model-space curve C(t) (CPTR; the constituents of
 //!   a 102 Composite Curve, section 4.4, are one edge each) and their pcurves from B(t)
 //!   (BPTR) where the surface is a 128, whose parameter space is the NURBS surface's own;
 //!   elsewhere (the analytic surfaces, whose IGES parameters are not the NURBS ones) the
@@ -53,7 +53,7 @@ use crate::topology::{
 
 /// The builder's hash maps keyed by grid cells and ids: foldhash's `quality` hasher, a
 /// fraction of SipHash's cost per lookup.
-type FoldMap<K, V> = HashMap<K, V, foldhash::quality::RandomState>;
+pub(super) type FoldMap<K, V> = HashMap<K, V, foldhash::quality::RandomState>;
 
 /// Points (plus one) at which a file's parameter-space curve is checked against its edge.
 const GIVEN_SAMPLES: usize = 32;
@@ -168,41 +168,45 @@ pub(super) fn read(cx: &Context<'_, '_>, doc: &mut Document, diags: &mut Vec<Dia
     }
 }
 
-/// The group of each trimmed face (143, 144) that a 402 Group Associativity lists directly
-/// ([`face_group_members`]), by DE pointer, numbered from 1 in file order; a face several
-/// groups list is in the first.
-fn face_groups(cx: &Context<'_, '_>) -> FoldMap<usize, usize> {
-    let mut out = FoldMap::default();
-    let mut next = 1;
-    for entry in cx.file.entries.iter().flatten() {
-        let faces = face_group_members(cx, entry);
-        for &f in &faces {
-            out.entry(f).or_insert(next);
-        }
-        next += usize::from(!faces.is_empty());
-    }
-    out
+/// The 402 Group Associativities (forms 1, 7, 14 and 15, IGES 5.3 sections 4.81, 4.83,
+/// 4.88, 4.89) that list trimmed faces (143, 144) directly: the faces of one shell, as Open
+/// CASCADE writes them. Found once per file, before the entities are decoded. A group of
+/// groups (Open CASCADE writes a compound so) lists no face directly and is none of them;
+/// a group that does not decode is reported where the file's entities are checked.
+#[derive(Debug, Default)]
+pub(super) struct FaceGroups {
+    /// The group of each face such a group lists, by DE pointer, numbered from 1 in file
+    /// order (a face several groups list is in the first); the faces no group lists are
+    /// group 0.
+    pub of_face: FoldMap<usize, usize>,
+    /// The DE pointers of those groups.
+    pub groups: std::collections::BTreeSet<usize>,
 }
 
-/// The trimmed faces (143, 144; DE pointers) that `entry` lists when it is a 402 Group
-/// Associativity (forms 1, 7, 14 and 15, IGES 5.3 sections 4.81, 4.83, 4.88, 4.89): the
-/// faces of one shell, as Open CASCADE writes them. Empty for anything else, and for a
-/// group of groups (Open CASCADE writes a compound so), which lists no face directly. A
-/// group that does not decode is reported where the file's entities are checked.
-pub(super) fn face_group_members(cx: &Context<'_, '_>, entry: &DirectoryEntry) -> Vec<usize> {
-    if entry.entity_type != 402 || ![1, 7, 14, 15].contains(&entry.form) {
-        return Vec::new();
+impl FaceGroups {
+    pub(super) fn of(file: &nurbsx_parsers::iges::IgesFile<'_>) -> Self {
+        let mut out = FaceGroups::default();
+        for entry in file.entries.iter().flatten() {
+            if entry.entity_type != 402 || ![1, 7, 14, 15].contains(&entry.form) {
+                continue;
+            }
+            let Ok(group) = file.decode::<Group402>(entry).record else {
+                continue;
+            };
+            let next = out.groups.len() + 1;
+            let mut any = false;
+            for member in group.members.iter().filter_map(|&m| file.entry(m)) {
+                if matches!(member.entity_type, 143 | 144) {
+                    out.of_face.entry(member.pointer).or_insert(next);
+                    any = true;
+                }
+            }
+            if any {
+                out.groups.insert(entry.pointer);
+            }
+        }
+        out
     }
-    let Ok(group) = cx.file.decode::<Group402>(entry).record else {
-        return Vec::new();
-    };
-    group
-        .members
-        .iter()
-        .filter_map(|&m| cx.file.entry(m))
-        .filter(|m| matches!(m.entity_type, 143 | 144))
-        .map(|m| m.pointer)
-        .collect()
 }
 
 /// Builds the topology of one file.
@@ -216,12 +220,9 @@ struct Builder<'c, 'f, 'a> {
     tol: f64,
     /// Vertices of the 142 curves' ends by group and grid cell of size `2 tol`.
     grid: FoldMap<(usize, [i64; 3]), Vec<VertexId>>,
-    /// The group of each trimmed face (143, 144) a 402 group lists, by DE pointer
-    /// ([`face_groups`]; from 1, the faces no group lists are group 0).
-    group_of: FoldMap<usize, usize>,
-    /// The group of the face being built.
+    /// The group of the face being built ([`FaceGroups::of_face`]).
     group: usize,
-    /// The group of each face built ([`Builder::group_of`]).
+    /// The group of each face built.
     face_group: FoldMap<FaceId, usize>,
     list_vertices: BTreeMap<(usize, i64), Option<VertexId>>,
     list_edges: BTreeMap<(usize, i64), Option<EdgeId>>,
@@ -299,7 +300,6 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
             topology: Topology::default(),
             tol,
             grid: FoldMap::default(),
-            group_of: face_groups(cx),
             group: 0,
             face_group: FoldMap::default(),
             list_vertices: BTreeMap::new(),
@@ -955,7 +955,10 @@ impl<'c, 'f, 'a> Builder<'c, 'f, 'a> {
     fn start_face(&mut self, entry: &DirectoryEntry) {
         self.given.clear();
         self.collapsed.clear();
-        self.group = self.group_of.get(&entry.pointer).copied().unwrap_or(0);
+        self.group = (self.cx.face_groups.of_face)
+            .get(&entry.pointer)
+            .copied()
+            .unwrap_or(0);
     }
 
     /// A 143 Bounded Surface as a face; whether it was built.
